@@ -1,0 +1,81 @@
+// The `gazetrace` command line. Every error reaches the user as one line on stderr and a
+// non-zero exit status; stdout carries only what was asked for (--json).
+#include <cstdio>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "render_command.hpp"
+#include "scene/builtin_scenes.hpp"
+#include "vk/context.hpp"
+
+namespace {
+
+int fail(const std::string& message) {
+    std::fprintf(stderr, "gazetrace: error: %s\n", message.c_str());
+    return 1;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"gazetrace — foveated ray tracing with eye tracking"};
+    app.require_subcommand(1);
+    bool quiet = false;
+    app.add_flag("-q,--quiet", quiet, "Only print errors");
+
+    gt::app::RenderOptions render;
+    bool renderJson = false;
+    CLI::App* renderCmd = app.add_subcommand("render", "Render one frame headless to a PNG");
+    renderCmd->add_option("--scene", render.scene, "builtin:market | builtin:cornell | FILE.gltf | FILE.glb")
+        ->capture_default_str();
+    renderCmd->add_option("--width", render.width, "Image width in pixels")
+        ->check(CLI::Range(1u, 16384u))
+        ->capture_default_str();
+    renderCmd->add_option("--height", render.height, "Image height in pixels")
+        ->check(CLI::Range(1u, 16384u))
+        ->capture_default_str();
+    renderCmd->add_option("--spp", render.spp, "Rays per pixel (stratified, jittered)")
+        ->check(CLI::Range(1u, 4096u))
+        ->capture_default_str();
+    renderCmd->add_option("--seed", render.seed, "Frame seed for the jitter")->capture_default_str();
+    renderCmd->add_option("--method", render.method, "reference")->capture_default_str();
+    renderCmd->add_option("--out", render.out, "Output PNG")->capture_default_str();
+    renderCmd->add_option("--graph", render.graphDot, "Write the compiled render graph as Graphviz");
+    renderCmd->add_flag("--validate", render.validate, "Enable the Khronos validation layer");
+    renderCmd->add_flag("--json", renderJson, "Print a JSON summary on stdout");
+
+    CLI::App* devicesCmd = app.add_subcommand("devices", "List the Vulkan devices");
+    CLI::App* scenesCmd = app.add_subcommand("scenes", "List the built-in scenes");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        return fail(e.what());
+    }
+    if (quiet) gt::log::setLevel(gt::log::Level::Error);
+
+    try {
+        if (renderCmd->parsed()) {
+            const nlohmann::json result = gt::app::runRender(render);
+            if (renderJson) std::cout << result.dump() << std::endl;
+            else gt::log::info("wrote " + render.out);
+        } else if (devicesCmd->parsed()) {
+            for (const std::string& line : gt::vk::Context::listDevices()) std::cout << line << "\n";
+        } else if (scenesCmd->parsed()) {
+            for (const std::string& s : gt::scene::builtinSceneNames()) std::cout << s << "\n";
+        }
+    } catch (const gt::Error& e) {
+        return fail(e.what());
+    } catch (const std::exception& e) {
+        return fail(e.what());
+    }
+    return 0;
+}

@@ -1,0 +1,710 @@
+#include "render_graph/render_graph.hpp"
+
+#include <algorithm>
+#include <map>
+#include <queue>
+#include <set>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "vk/context.hpp"
+#include "vk/query_pool.hpp"
+#include "vk/resources.hpp"
+
+namespace gt::rg {
+
+// ---------------------------------------------------------------------------------------------
+// Access vocabulary
+
+AccessInfo accessInfo(Access a) noexcept {
+    constexpr auto cs = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+    switch (a) {
+    case Access::StorageRead:
+        return {cs, VK_ACCESS_2_SHADER_STORAGE_READ_BIT, VK_IMAGE_LAYOUT_GENERAL, false, true};
+    case Access::StorageWrite:
+        return {cs, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_IMAGE_LAYOUT_GENERAL, true, false};
+    case Access::StorageReadWrite:
+        return {cs, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                VK_IMAGE_LAYOUT_GENERAL, true, true};
+    case Access::SampledCompute:
+        return {cs, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                false, true};
+    case Access::UniformRead:
+        return {cs, VK_ACCESS_2_UNIFORM_READ_BIT | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT,
+                VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, false, true};
+    case Access::TransferSrc:
+        return {VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
+                VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, false, true};
+    case Access::TransferDst:
+        return {VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_CLEAR_BIT,
+                VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, true, false};
+    case Access::HostRead:
+        return {VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT, VK_IMAGE_LAYOUT_GENERAL,
+                false, true};
+    case Access::Present:
+        return {VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, false,
+                true};
+    }
+    return {};
+}
+
+const char* toString(Access a) noexcept {
+    switch (a) {
+    case Access::StorageRead: return "storage-read";
+    case Access::StorageWrite: return "storage-write";
+    case Access::StorageReadWrite: return "storage-read-write";
+    case Access::SampledCompute: return "sampled";
+    case Access::UniformRead: return "uniform";
+    case Access::TransferSrc: return "transfer-src";
+    case Access::TransferDst: return "transfer-dst";
+    case Access::HostRead: return "host-read";
+    case Access::Present: return "present";
+    }
+    return "?";
+}
+
+namespace {
+const char* formatName(VkFormat f) {
+    switch (f) {
+    case VK_FORMAT_R8G8B8A8_UNORM: return "R8G8B8A8_UNORM";
+    case VK_FORMAT_R8G8B8A8_SRGB: return "R8G8B8A8_SRGB";
+    case VK_FORMAT_B8G8R8A8_UNORM: return "B8G8R8A8_UNORM";
+    case VK_FORMAT_R16G16B16A16_SFLOAT: return "R16G16B16A16_SFLOAT";
+    case VK_FORMAT_R32G32B32A32_SFLOAT: return "R32G32B32A32_SFLOAT";
+    case VK_FORMAT_R32G32_SFLOAT: return "R32G32_SFLOAT";
+    case VK_FORMAT_R32_SFLOAT: return "R32_SFLOAT";
+    case VK_FORMAT_R32_UINT: return "R32_UINT";
+    default: return "VkFormat(other)";
+    }
+}
+} // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Declarations
+
+struct RenderGraph::Resource {
+    std::string name;
+    bool image = false;
+    bool imported = false;
+    TextureDesc texture;
+    BufferDesc buffer;
+    ImportedTexture importedTexture;
+    ImportedBuffer importedBuffer;
+    uint32_t versions = 1; // highest version handed out + 1
+};
+
+struct RenderGraph::Use {
+    uint32_t resource = 0;
+    uint32_t version = 0; // version read, or version written (the new one)
+    Access access = Access::StorageRead;
+    bool write = false;
+    VkFormat expected = VK_FORMAT_UNDEFINED;
+};
+
+struct RenderGraph::Pass {
+    std::string name;
+    std::vector<Use> uses;
+    std::vector<std::string> after;
+    bool sideEffect = false;
+    Execute execute;
+};
+
+RenderGraph::RenderGraph(uint32_t outputWidth, uint32_t outputHeight)
+    : mWidth(outputWidth), mHeight(outputHeight) {
+    if (outputWidth == 0 || outputHeight == 0) throw GraphError("render graph output size is 0");
+}
+RenderGraph::~RenderGraph() = default;
+
+std::size_t RenderGraph::passCount() const noexcept { return mPasses.size(); }
+const std::string& RenderGraph::passName(uint32_t pass) const { return mPasses.at(pass).name; }
+const std::string& RenderGraph::resourceName(uint32_t r) const { return mResources.at(r).name; }
+
+uint32_t RenderGraph::beginPass(std::string_view name) {
+    for (const Pass& p : mPasses) {
+        if (p.name == name) throw GraphError("two passes are named '" + std::string(name) + "'");
+    }
+    mPasses.push_back(Pass{std::string(name), {}, {}, false, {}});
+    return static_cast<uint32_t>(mPasses.size() - 1);
+}
+
+void RenderGraph::setExecute(uint32_t pass, Execute execute) {
+    mPasses[pass].execute = std::move(execute);
+}
+
+uint32_t RenderGraph::addResource(Resource resource) {
+    for (const Resource& r : mResources) {
+        if (r.name == resource.name) {
+            throw GraphError("two resources are named '" + resource.name + "'");
+        }
+    }
+    mResources.push_back(std::move(resource));
+    return static_cast<uint32_t>(mResources.size() - 1);
+}
+
+void RenderGraph::addUse(uint32_t pass, Use use) { mPasses[pass].uses.push_back(use); }
+
+TextureId RenderGraph::importTexture(std::string_view name, const ImportedTexture& texture) {
+    Resource r;
+    r.name = name;
+    r.image = true;
+    r.imported = true;
+    r.importedTexture = texture;
+    r.texture = {texture.format, SizeMode::Absolute, static_cast<float>(texture.width),
+                 static_cast<float>(texture.height)};
+    return {addResource(std::move(r)), 0};
+}
+
+BufferId RenderGraph::importBuffer(std::string_view name, const ImportedBuffer& buffer) {
+    Resource r;
+    r.name = name;
+    r.imported = true;
+    r.importedBuffer = buffer;
+    r.buffer = {buffer.size};
+    return {addResource(std::move(r)), 0};
+}
+
+TextureId PassBuilder::createTexture(std::string_view name, const TextureDesc& desc) {
+    RenderGraph::Resource r;
+    r.name = name;
+    r.image = true;
+    r.texture = desc;
+    return {mGraph.addResource(std::move(r)), 0};
+}
+
+BufferId PassBuilder::createBuffer(std::string_view name, const BufferDesc& desc) {
+    RenderGraph::Resource r;
+    r.name = name;
+    r.buffer = desc;
+    return {mGraph.addResource(std::move(r)), 0};
+}
+
+TextureId PassBuilder::read(TextureId t, Access a, VkFormat expected) {
+    if (!t.valid() || t.index >= mGraph.mResources.size() || !mGraph.mResources[t.index].image) {
+        throw GraphError("pass '" + mGraph.mPasses[mPass].name + "' reads an invalid texture");
+    }
+    mGraph.addUse(mPass, {t.index, t.version, a, false, expected});
+    return t;
+}
+
+BufferId PassBuilder::read(BufferId b, Access a) {
+    if (!b.valid() || b.index >= mGraph.mResources.size() || mGraph.mResources[b.index].image) {
+        throw GraphError("pass '" + mGraph.mPasses[mPass].name + "' reads an invalid buffer");
+    }
+    mGraph.addUse(mPass, {b.index, b.version, a, false, VK_FORMAT_UNDEFINED});
+    return b;
+}
+
+TextureId PassBuilder::write(TextureId t, Access a, VkFormat expected) {
+    if (!t.valid() || t.index >= mGraph.mResources.size() || !mGraph.mResources[t.index].image) {
+        throw GraphError("pass '" + mGraph.mPasses[mPass].name + "' writes an invalid texture");
+    }
+    // A read-modify-write also reads the incoming version.
+    if (accessInfo(a).reads) mGraph.addUse(mPass, {t.index, t.version, a, false, expected});
+    auto& r = mGraph.mResources[t.index];
+    r.versions = std::max(r.versions, t.version + 2);
+    mGraph.addUse(mPass, {t.index, t.version + 1, a, true, expected});
+    return {t.index, t.version + 1};
+}
+
+BufferId PassBuilder::write(BufferId b, Access a) {
+    if (!b.valid() || b.index >= mGraph.mResources.size() || mGraph.mResources[b.index].image) {
+        throw GraphError("pass '" + mGraph.mPasses[mPass].name + "' writes an invalid buffer");
+    }
+    if (accessInfo(a).reads) mGraph.addUse(mPass, {b.index, b.version, a, false, VK_FORMAT_UNDEFINED});
+    auto& r = mGraph.mResources[b.index];
+    r.versions = std::max(r.versions, b.version + 2);
+    mGraph.addUse(mPass, {b.index, b.version + 1, a, true, VK_FORMAT_UNDEFINED});
+    return {b.index, b.version + 1};
+}
+
+void PassBuilder::dependsOn(std::string_view passName) {
+    mGraph.mPasses[mPass].after.emplace_back(passName);
+}
+
+void PassBuilder::sideEffect() { mGraph.mPasses[mPass].sideEffect = true; }
+
+std::pair<uint32_t, uint32_t> RenderGraph::textureExtent(const Resource& r) const {
+    if (r.imported) return {r.importedTexture.width, r.importedTexture.height};
+    if (r.texture.sizeMode == SizeMode::Absolute) {
+        return {static_cast<uint32_t>(r.texture.width), static_cast<uint32_t>(r.texture.height)};
+    }
+    return {std::max(1u, static_cast<uint32_t>(r.texture.width * static_cast<float>(mWidth))),
+            std::max(1u, static_cast<uint32_t>(r.texture.height * static_cast<float>(mHeight)))};
+}
+
+std::vector<uint32_t> CompiledGraph::order() const {
+    std::vector<uint32_t> o;
+    o.reserve(passes.size());
+    for (const auto& p : passes) o.push_back(p.pass);
+    return o;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Compile
+
+CompiledGraph RenderGraph::compile() const {
+    const uint32_t passCount = static_cast<uint32_t>(mPasses.size());
+    // Who writes each (resource, version)?
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> writer;
+    for (uint32_t p = 0; p < passCount; ++p) {
+        for (const Use& u : mPasses[p].uses) {
+            const Resource& r = mResources[u.resource];
+            if (u.expected != VK_FORMAT_UNDEFINED && r.image && r.texture.format != u.expected) {
+                throw GraphError("pass '" + mPasses[p].name + "' expects " +
+                                 formatName(u.expected) + " for '" + r.name + "', which is " +
+                                 formatName(r.texture.format));
+            }
+            if (!u.write) continue;
+            auto [it, inserted] = writer.emplace(std::make_pair(u.resource, u.version), p);
+            if (!inserted && it->second != p) {
+                throw GraphError("passes '" + mPasses[it->second].name + "' and '" +
+                                 mPasses[p].name + "' both write '" + r.name +
+                                 "' without an order between them (write through a stale handle)");
+            }
+        }
+    }
+    // Dependency edges: producer -> consumer, readers of v -> writer of v+1, explicit order.
+    std::vector<std::set<uint32_t>> preds(passCount);
+    std::map<std::pair<uint32_t, uint32_t>, std::vector<uint32_t>> readers;
+    for (uint32_t p = 0; p < passCount; ++p) {
+        for (const Use& u : mPasses[p].uses) {
+            if (u.write) {
+                if (u.version >= 2) {
+                    auto w = writer.find({u.resource, u.version - 1});
+                    if (w != writer.end() && w->second != p) preds[p].insert(w->second);
+                }
+                continue;
+            }
+            const Resource& r = mResources[u.resource];
+            auto w = writer.find({u.resource, u.version});
+            if (w == writer.end()) {
+                if (!(r.imported && u.version == 0)) {
+                    throw GraphError("pass '" + mPasses[p].name + "' reads '" + r.name +
+                                     "', which nothing writes");
+                }
+            } else if (w->second != p) {
+                preds[p].insert(w->second);
+            }
+            readers[{u.resource, u.version}].push_back(p);
+        }
+        for (const std::string& name : mPasses[p].after) {
+            auto it = std::find_if(mPasses.begin(), mPasses.end(),
+                                   [&](const Pass& q) { return q.name == name; });
+            if (it == mPasses.end()) {
+                throw GraphError("pass '" + mPasses[p].name + "' depends on unknown pass '" +
+                                 name + "'");
+            }
+            preds[p].insert(static_cast<uint32_t>(it - mPasses.begin()));
+        }
+    }
+    for (const auto& [key, list] : readers) {
+        auto w = writer.find({key.first, key.second + 1});
+        if (w == writer.end()) continue;
+        for (uint32_t reader : list) {
+            if (reader != w->second) preds[w->second].insert(reader);
+        }
+    }
+
+    // Culling: keep passes with side effects or writes to imported resources, and everything
+    // they (transitively) depend on.
+    std::vector<bool> alive(passCount, false);
+    std::vector<uint32_t> stack;
+    for (uint32_t p = 0; p < passCount; ++p) {
+        bool root = mPasses[p].sideEffect;
+        for (const Use& u : mPasses[p].uses) root |= u.write && mResources[u.resource].imported;
+        if (root) {
+            alive[p] = true;
+            stack.push_back(p);
+        }
+    }
+    while (!stack.empty()) {
+        const uint32_t p = stack.back();
+        stack.pop_back();
+        for (uint32_t q : preds[p]) {
+            // Only data producers and explicit orders keep a pass alive; a reader that must
+            // precede a later writer (WAR) does not, unless it is alive for its own reasons.
+            bool needed = std::find(mPasses[p].after.begin(), mPasses[p].after.end(),
+                                    mPasses[q].name) != mPasses[p].after.end();
+            for (const Use& u : mPasses[p].uses) {
+                if (u.write && u.version < 2) continue;
+                const uint32_t v = u.write ? u.version - 1 : u.version;
+                auto w = writer.find({u.resource, v});
+                if (w != writer.end() && w->second == q) needed = true;
+            }
+            if (needed && !alive[q]) {
+                alive[q] = true;
+                stack.push_back(q);
+            }
+        }
+    }
+
+    // Topological order (Kahn), ties broken by declaration order so the plan is stable.
+    std::vector<uint32_t> indegree(passCount, 0);
+    std::vector<std::vector<uint32_t>> succs(passCount);
+    for (uint32_t p = 0; p < passCount; ++p) {
+        if (!alive[p]) continue;
+        for (uint32_t q : preds[p]) {
+            if (!alive[q]) continue;
+            ++indegree[p];
+            succs[q].push_back(p);
+        }
+    }
+    std::priority_queue<uint32_t, std::vector<uint32_t>, std::greater<>> ready;
+    for (uint32_t p = 0; p < passCount; ++p) {
+        if (alive[p] && indegree[p] == 0) ready.push(p);
+    }
+    CompiledGraph out;
+    while (!ready.empty()) {
+        const uint32_t p = ready.top();
+        ready.pop();
+        out.passes.push_back({p, {}});
+        for (uint32_t s : succs[p]) {
+            if (--indegree[s] == 0) ready.push(s);
+        }
+    }
+    const auto aliveCount = static_cast<std::size_t>(std::count(alive.begin(), alive.end(), true));
+    if (out.passes.size() != aliveCount) {
+        std::string names;
+        for (uint32_t p = 0; p < passCount; ++p) {
+            if (alive[p] && indegree[p] > 0) names += (names.empty() ? "'" : ", '") + mPasses[p].name + "'";
+        }
+        throw GraphError("render graph has a cycle through passes " + names);
+    }
+    for (uint32_t p = 0; p < passCount; ++p) {
+        if (!alive[p]) out.culled.push_back(p);
+    }
+
+    // Lifetimes, usage flags and barriers, walking the passes in execution order.
+    const std::size_t rc = mResources.size();
+    out.lifetimes.assign(rc, {});
+    out.imageUsage.assign(rc, 0);
+    out.bufferUsage.assign(rc, 0);
+    struct State {
+        VkPipelineStageFlags2 writeStage = VK_PIPELINE_STAGE_2_NONE;
+        VkAccessFlags2 writeAccess = VK_ACCESS_2_NONE;
+        VkPipelineStageFlags2 readStages = VK_PIPELINE_STAGE_2_NONE; // since the last write
+        VkPipelineStageFlags2 visibleStages = VK_PIPELINE_STAGE_2_NONE;
+        VkAccessFlags2 visibleAccess = VK_ACCESS_2_NONE;
+        VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
+    };
+    std::vector<State> state(rc);
+    for (uint32_t r = 0; r < rc; ++r) {
+        const Resource& res = mResources[r];
+        const std::optional<Access> init =
+            res.image ? res.importedTexture.initialAccess : res.importedBuffer.initialAccess;
+        if (res.imported && init) {
+            const AccessInfo ai = accessInfo(*init);
+            state[r].layout = res.image ? ai.layout : VK_IMAGE_LAYOUT_UNDEFINED;
+            // Whatever happened before this frame is treated as a write to wait for.
+            state[r].writeStage = ai.stage == VK_PIPELINE_STAGE_2_NONE
+                                      ? VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT
+                                      : ai.stage;
+            state[r].writeAccess = ai.writes ? ai.access : VK_ACCESS_2_NONE;
+        }
+    }
+    auto usageBits = [&](uint32_t r, Access a) {
+        if (mResources[r].image) {
+            switch (a) {
+            case Access::StorageRead:
+            case Access::StorageWrite:
+            case Access::StorageReadWrite: out.imageUsage[r] |= VK_IMAGE_USAGE_STORAGE_BIT; break;
+            case Access::SampledCompute:
+            case Access::UniformRead: out.imageUsage[r] |= VK_IMAGE_USAGE_SAMPLED_BIT; break;
+            case Access::TransferSrc: out.imageUsage[r] |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT; break;
+            case Access::TransferDst: out.imageUsage[r] |= VK_IMAGE_USAGE_TRANSFER_DST_BIT; break;
+            default: break;
+            }
+        } else {
+            switch (a) {
+            case Access::UniformRead:
+                out.bufferUsage[r] |= VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
+                                      VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+                break;
+            case Access::TransferSrc:
+            case Access::TransferDst:
+            case Access::HostRead: break;
+            default: out.bufferUsage[r] |= VK_BUFFER_USAGE_STORAGE_BUFFER_BIT; break;
+            }
+        }
+    };
+    auto place = [&](std::vector<Barrier>& list, uint32_t r, const AccessInfo& use) {
+        State& s = state[r];
+        const bool image = mResources[r].image;
+        const bool layoutChange = image && s.layout != use.layout;
+        Barrier b;
+        b.resource = r;
+        b.image = image;
+        b.oldLayout = s.layout;
+        b.newLayout = image ? use.layout : VK_IMAGE_LAYOUT_UNDEFINED;
+        b.dstStage = use.stage == VK_PIPELINE_STAGE_2_NONE ? VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT
+                                                           : use.stage;
+        b.dstAccess = use.access;
+        bool needed = layoutChange;
+        if (use.writes) {
+            // WAW: wait for and make available the last write; WAR: wait for the readers.
+            if (s.writeStage != VK_PIPELINE_STAGE_2_NONE) {
+                b.srcStage |= s.writeStage;
+                b.srcAccess |= s.writeAccess;
+                needed = true;
+            }
+            if (s.readStages != VK_PIPELINE_STAGE_2_NONE) {
+                b.srcStage |= s.readStages;
+                needed = true;
+            }
+        } else if (s.writeStage != VK_PIPELINE_STAGE_2_NONE) {
+            // RAW: needed unless an earlier barrier already made the write visible here.
+            const bool covered = (s.visibleStages & use.stage) == use.stage &&
+                                 (s.visibleAccess & use.access) == use.access;
+            if (!covered || layoutChange) {
+                b.srcStage |= s.writeStage;
+                b.srcAccess |= s.writeAccess;
+                needed = true;
+            }
+        }
+        if (layoutChange) {
+            // The transition itself is a write: order it after every earlier access.
+            b.srcStage |= s.writeStage | s.readStages;
+            b.srcAccess |= s.writeAccess;
+        }
+        if (needed) list.push_back(b);
+        // Update the tracked state.
+        if (image) s.layout = use.layout;
+        if (use.writes || layoutChange) {
+            s.writeStage = use.writes ? use.stage : b.dstStage;
+            s.writeAccess = use.writes ? use.access : VK_ACCESS_2_NONE;
+            s.readStages = use.writes ? VK_PIPELINE_STAGE_2_NONE : use.stage;
+            s.visibleStages = use.writes ? VK_PIPELINE_STAGE_2_NONE : use.stage;
+            s.visibleAccess = use.writes ? VK_ACCESS_2_NONE : use.access;
+        } else {
+            s.readStages |= use.stage;
+            if (needed) {
+                s.visibleStages |= use.stage;
+                s.visibleAccess |= use.access;
+            }
+        }
+    };
+
+    for (std::size_t pos = 0; pos < out.passes.size(); ++pos) {
+        const Pass& pass = mPasses[out.passes[pos].pass];
+        // Merge the uses of one resource within the pass into one access.
+        std::map<uint32_t, AccessInfo> merged;
+        for (const Use& u : pass.uses) {
+            usageBits(u.resource, u.access);
+            Lifetime& lt = out.lifetimes[u.resource];
+            if (lt.firstPass < 0) lt.firstPass = static_cast<int>(pos);
+            lt.lastPass = static_cast<int>(pos);
+            const AccessInfo ai = accessInfo(u.access);
+            auto [it, inserted] = merged.emplace(u.resource, ai);
+            if (!inserted) {
+                if (mResources[u.resource].image && it->second.layout != ai.layout) {
+                    throw GraphError("pass '" + pass.name + "' uses '" +
+                                     mResources[u.resource].name +
+                                     "' in two layouts at once (" + toString(u.access) + ")");
+                }
+                it->second.stage |= ai.stage;
+                it->second.access |= ai.access;
+                it->second.writes |= ai.writes;
+                it->second.reads |= ai.reads;
+            }
+        }
+        for (const auto& [r, ai] : merged) place(out.passes[pos].barriers, r, ai);
+    }
+    for (uint32_t r = 0; r < rc; ++r) {
+        const Resource& res = mResources[r];
+        const std::optional<Access> fin =
+            res.image ? res.importedTexture.finalAccess : res.importedBuffer.finalAccess;
+        if (res.imported && fin && out.lifetimes[r].firstPass >= 0) {
+            usageBits(r, *fin);
+            place(out.finalBarriers, r, accessInfo(*fin));
+        }
+    }
+    return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Execute
+
+const ResolvedTexture& PassResources::texture(TextureId t) const { return mTextures.at(t.index); }
+VkBuffer PassResources::buffer(BufferId b) const { return mBuffers.at(b.index).first; }
+VkDeviceSize PassResources::bufferSize(BufferId b) const { return mBuffers.at(b.index).second; }
+
+struct TransientPool::Impl {
+    std::map<std::string, vk::Image> images;
+    std::map<std::string, vk::Buffer> buffers;
+};
+
+TransientPool::TransientPool(vk::Context& ctx) : mCtx(ctx), mImpl(std::make_unique<Impl>()) {}
+TransientPool::~TransientPool() = default;
+
+vk::Image& TransientPool::image(const std::string& name, uint32_t w, uint32_t h, VkFormat f,
+                                VkImageUsageFlags usage) {
+    auto it = mImpl->images.find(name);
+    if (it != mImpl->images.end()) {
+        const vk::ImageDesc& d = it->second.desc();
+        if (d.width == w && d.height == h && d.format == f && (d.usage & usage) == usage) {
+            return it->second;
+        }
+        mImpl->images.erase(it);
+    }
+    return mImpl->images.emplace(name, vk::Image(mCtx, {w, h, f, usage, name})).first->second;
+}
+
+vk::Buffer& TransientPool::buffer(const std::string& name, VkDeviceSize size,
+                                  VkBufferUsageFlags usage) {
+    auto it = mImpl->buffers.find(name);
+    if (it != mImpl->buffers.end() && it->second.size() == size) return it->second;
+    if (it != mImpl->buffers.end()) mImpl->buffers.erase(it);
+    return mImpl->buffers
+        .emplace(name, vk::Buffer(mCtx, {size, usage, vk::MemoryUsage::GpuOnly, name}))
+        .first->second;
+}
+
+namespace {
+void recordBarriers(VkCommandBuffer cmd, const std::vector<Barrier>& barriers,
+                    const PassResources& res, const std::vector<VkImage>& images,
+                    const std::vector<VkBuffer>& buffers) {
+    (void)res;
+    if (barriers.empty()) return;
+    std::vector<VkImageMemoryBarrier2> ib;
+    std::vector<VkBufferMemoryBarrier2> bb;
+    for (const Barrier& b : barriers) {
+        if (b.image) {
+            VkImageMemoryBarrier2 x{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+            x.srcStageMask = b.srcStage;
+            x.srcAccessMask = b.srcAccess;
+            x.dstStageMask = b.dstStage;
+            x.dstAccessMask = b.dstAccess;
+            x.oldLayout = b.oldLayout;
+            x.newLayout = b.newLayout;
+            x.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+            x.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+            x.image = images[b.resource];
+            x.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+            ib.push_back(x);
+        } else {
+            VkBufferMemoryBarrier2 x{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
+            x.srcStageMask = b.srcStage;
+            x.srcAccessMask = b.srcAccess;
+            x.dstStageMask = b.dstStage;
+            x.dstAccessMask = b.dstAccess;
+            x.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+            x.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+            x.buffer = buffers[b.resource];
+            x.offset = 0;
+            x.size = VK_WHOLE_SIZE;
+            bb.push_back(x);
+        }
+    }
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dep.imageMemoryBarrierCount = static_cast<uint32_t>(ib.size());
+    dep.pImageMemoryBarriers = ib.data();
+    dep.bufferMemoryBarrierCount = static_cast<uint32_t>(bb.size());
+    dep.pBufferMemoryBarriers = bb.data();
+    vkCmdPipelineBarrier2(cmd, &dep);
+}
+} // namespace
+
+FrameTimings RenderGraph::execute(const CompiledGraph& compiled, TransientPool& pool) {
+    vk::Context& ctx = pool.context();
+    PassResources res;
+    const std::size_t rc = mResources.size();
+    res.mTextures.resize(rc);
+    res.mBuffers.resize(rc);
+    std::vector<VkImage> images(rc, VK_NULL_HANDLE);
+    std::vector<VkBuffer> buffers(rc, VK_NULL_HANDLE);
+    for (uint32_t r = 0; r < rc; ++r) {
+        const Resource& x = mResources[r];
+        if (compiled.lifetimes[r].firstPass < 0) continue; // unused this frame
+        if (x.image) {
+            const auto [w, h] = textureExtent(x);
+            if (x.imported) {
+                res.mTextures[r] = {x.importedTexture.image, x.importedTexture.view,
+                                    x.importedTexture.format, w, h};
+            } else {
+                vk::Image& img = pool.image(x.name, w, h, x.texture.format, compiled.imageUsage[r]);
+                res.mTextures[r] = {img.handle(), img.view(), x.texture.format, w, h};
+            }
+            images[r] = res.mTextures[r].image;
+        } else {
+            if (x.imported) {
+                res.mBuffers[r] = {x.importedBuffer.buffer, x.importedBuffer.size};
+            } else {
+                vk::Buffer& buf = pool.buffer(x.name, x.buffer.size, compiled.bufferUsage[r]);
+                res.mBuffers[r] = {buf.handle(), buf.size()};
+            }
+            buffers[r] = res.mBuffers[r].first;
+        }
+    }
+    const auto passTotal = static_cast<uint32_t>(compiled.passes.size());
+    vk::TimestampPool timestamps(ctx, std::max(2u, passTotal * 2));
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        for (uint32_t i = 0; i < passTotal; ++i) {
+            const CompiledPass& cp = compiled.passes[i];
+            const Pass& pass = mPasses[cp.pass];
+            ctx.beginLabel(cmd, pass.name);
+            recordBarriers(cmd, cp.barriers, res, images, buffers);
+            timestamps.write(cmd, 2 * i, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
+            if (pass.execute) pass.execute(res, cmd);
+            timestamps.write(cmd, 2 * i + 1, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
+            ctx.endLabel(cmd);
+        }
+        recordBarriers(cmd, compiled.finalBarriers, res, images, buffers);
+    });
+    FrameTimings t;
+    const std::vector<uint64_t> ticks = timestamps.read();
+    if (!ticks.empty() && passTotal > 0) {
+        const double toMs = timestamps.tickToMs();
+        for (uint32_t i = 0; i < passTotal; ++i) {
+            t.passes.push_back({mPasses[compiled.passes[i].pass].name,
+                                static_cast<double>(ticks[2 * i + 1] - ticks[2 * i]) * toMs});
+        }
+        t.gpuMs = static_cast<double>(ticks[2 * passTotal - 1] - ticks[0]) * toMs;
+    }
+    return t;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Graphviz
+
+std::string RenderGraph::toDot(const CompiledGraph& compiled) const {
+    std::ostringstream os;
+    os << "digraph gazetrace {\n  rankdir=LR;\n  node [fontname=\"Helvetica\"];\n";
+    std::vector<int> position(mPasses.size(), -1);
+    for (std::size_t i = 0; i < compiled.passes.size(); ++i) {
+        position[compiled.passes[i].pass] = static_cast<int>(i);
+    }
+    for (uint32_t p = 0; p < mPasses.size(); ++p) {
+        os << "  p" << p << " [shape=box, style=\"" << (position[p] < 0 ? "dashed" : "filled")
+           << "\", fillcolor=\"#ffd27f\", label=\"" << mPasses[p].name;
+        if (position[p] >= 0) {
+            os << "\\n#" << position[p] << ", " << compiled.passes[position[p]].barriers.size()
+               << " barrier(s)";
+        } else {
+            os << "\\n(culled)";
+        }
+        os << "\"];\n";
+    }
+    for (uint32_t r = 0; r < mResources.size(); ++r) {
+        const Resource& x = mResources[r];
+        for (uint32_t v = 0; v < x.versions; ++v) {
+            os << "  r" << r << "_" << v << " [shape=ellipse, style=filled, fillcolor=\""
+               << (x.imported ? "#9fd0ff" : "#c8f0c8") << "\", label=\"" << x.name << " v" << v
+               << "\"];\n";
+        }
+    }
+    for (uint32_t p = 0; p < mPasses.size(); ++p) {
+        for (const Use& u : mPasses[p].uses) {
+            if (u.write) {
+                os << "  p" << p << " -> r" << u.resource << "_" << u.version << " [label=\""
+                   << toString(u.access) << "\", color=red];\n";
+            } else {
+                os << "  r" << u.resource << "_" << u.version << " -> p" << p << " [label=\""
+                   << toString(u.access) << "\"];\n";
+            }
+        }
+    }
+    os << "}\n";
+    return os.str();
+}
+
+} // namespace gt::rg

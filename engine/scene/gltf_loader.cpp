@@ -1,0 +1,488 @@
+#include "scene/gltf_loader.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <functional>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <tiny_gltf.h>
+
+#include "core/error.hpp"
+#include "scene/builtin_scenes.hpp"
+#include "scene/image_io.hpp"
+
+namespace gt::scene {
+
+namespace {
+
+constexpr uint32_t kMaxTextureSize = 2048; // larger base-colour textures are box-filtered down
+
+std::string oneLine(std::string s) {
+    std::replace(s.begin(), s.end(), '\n', ' ');
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\r')) s.pop_back();
+    return s;
+}
+
+struct ImageLoaderState {
+    std::vector<std::string>* warnings;
+    std::string file;
+};
+
+// Decodes with stb ourselves so that unsupported formats (webp, ktx2) become a warning and a
+// missing texture instead of a failed load, while corrupt PNG/JPEG data is still an error.
+bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::string* /*warn*/,
+               int /*reqW*/, int /*reqH*/, const unsigned char* bytes, int size, void* user) {
+    auto* state = static_cast<ImageLoaderState*>(user);
+    const bool png = size >= 8 && std::memcmp(bytes, "\x89PNG", 4) == 0;
+    const bool jpeg = size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8;
+    if (!png && !jpeg) {
+        state->warnings->push_back("image " + std::to_string(index) + " (" + image->mimeType +
+                                   ") is not PNG or JPEG; its texture is ignored");
+        image->width = image->height = 0;
+        image->image.clear();
+        return true;
+    }
+    try {
+        const image::DecodedImage d = image::decode(
+            std::span(bytes, static_cast<std::size_t>(size)), "image " + std::to_string(index));
+        image->width = static_cast<int>(d.width);
+        image->height = static_cast<int>(d.height);
+        image->component = 4;
+        image->bits = 8;
+        image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+        image->image = d.rgba;
+        return true;
+    } catch (const Error& e) {
+        if (err) *err += e.what();
+        return false;
+    }
+}
+
+class Loader {
+public:
+    Loader(const tinygltf::Model& model, std::string file, GltfLoadReport& report)
+        : mModel(model), mFile(std::move(file)), mReport(report) {}
+
+    Scene load() {
+        mScene.name = mFile;
+        loadTextures();
+        loadMaterials();
+        const int sceneIndex = mModel.defaultScene >= 0 ? mModel.defaultScene : 0;
+        if (mModel.scenes.empty()) {
+            // No scene list: treat every root node as part of the scene.
+            std::vector<bool> child(mModel.nodes.size(), false);
+            for (const auto& n : mModel.nodes) {
+                for (int c : n.children) {
+                    if (c >= 0 && static_cast<std::size_t>(c) < child.size()) child[c] = true;
+                }
+            }
+            for (std::size_t i = 0; i < mModel.nodes.size(); ++i) {
+                if (!child[i]) visit(static_cast<int>(i), glm::mat4(1.0f), 0);
+            }
+        } else {
+            if (sceneIndex >= static_cast<int>(mModel.scenes.size())) fail("default scene out of range");
+            for (int n : mModel.scenes[sceneIndex].nodes) visit(n, glm::mat4(1.0f), 0);
+        }
+        if (mScene.triangleCount() == 0) fail("contains no triangle meshes");
+        finish();
+        return std::move(mScene);
+    }
+
+private:
+    [[noreturn]] void fail(const std::string& what) const { throw LoadError(mFile + ": " + what); }
+
+    void loadTextures() {
+        mTextureOfImage.assign(mModel.images.size(), -1);
+        for (std::size_t i = 0; i < mModel.images.size(); ++i) {
+            const tinygltf::Image& img = mModel.images[i];
+            if (img.width <= 0 || img.height <= 0 || img.image.empty()) continue;
+            if (img.component != 4 || img.bits != 8) fail("image " + std::to_string(i) + " is not 8-bit");
+            Texture t;
+            t.name = img.name.empty() ? img.uri : img.name;
+            uint32_t w = static_cast<uint32_t>(img.width), h = static_cast<uint32_t>(img.height);
+            std::vector<uint8_t> px(img.image.begin(), img.image.end());
+            while (w > kMaxTextureSize || h > kMaxTextureSize) {
+                const uint32_t nw = std::max(1u, w / 2), nh = std::max(1u, h / 2);
+                std::vector<uint8_t> down(static_cast<std::size_t>(nw) * nh * 4);
+                for (uint32_t y = 0; y < nh; ++y) {
+                    for (uint32_t x = 0; x < nw; ++x) {
+                        for (uint32_t c = 0; c < 4; ++c) {
+                            uint32_t sum = 0;
+                            for (uint32_t dy = 0; dy < 2; ++dy) {
+                                for (uint32_t dx = 0; dx < 2; ++dx) {
+                                    const uint32_t sx = std::min(w - 1, 2 * x + dx);
+                                    const uint32_t sy = std::min(h - 1, 2 * y + dy);
+                                    sum += px[(static_cast<std::size_t>(sy) * w + sx) * 4 + c];
+                                }
+                            }
+                            down[(static_cast<std::size_t>(y) * nw + x) * 4 + c] =
+                                static_cast<uint8_t>((sum + 2) / 4);
+                        }
+                    }
+                }
+                px = std::move(down);
+                w = nw;
+                h = nh;
+            }
+            t.width = w;
+            t.height = h;
+            t.rgba.resize(static_cast<std::size_t>(w) * h);
+            std::memcpy(t.rgba.data(), px.data(), px.size());
+            mTextureOfImage[i] = static_cast<int>(mScene.textures.size());
+            mScene.textures.push_back(std::move(t));
+        }
+    }
+
+    int textureFor(int textureIndex) const {
+        if (textureIndex < 0) return -1;
+        if (static_cast<std::size_t>(textureIndex) >= mModel.textures.size()) {
+            fail("texture index " + std::to_string(textureIndex) + " out of range");
+        }
+        const int source = mModel.textures[textureIndex].source;
+        if (source < 0 || static_cast<std::size_t>(source) >= mModel.images.size()) return -1;
+        return mTextureOfImage[source];
+    }
+
+    void loadMaterials() {
+        for (const tinygltf::Material& m : mModel.materials) {
+            Material out;
+            out.name = m.name;
+            const auto& pbr = m.pbrMetallicRoughness;
+            if (pbr.baseColorFactor.size() == 4) {
+                out.baseColor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1],
+                                          pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
+            }
+            out.baseColorTexture = textureFor(pbr.baseColorTexture.index);
+            if (pbr.baseColorTexture.index >= 0 && out.baseColorTexture < 0) {
+                mReport.warnings.push_back("material '" + m.name +
+                                           "': base-colour texture not available, using the factor");
+            }
+            out.metallic = static_cast<float>(std::clamp(pbr.metallicFactor, 0.0, 1.0));
+            out.roughness = static_cast<float>(std::clamp(pbr.roughnessFactor, 0.0, 1.0));
+            if (m.emissiveFactor.size() == 3) {
+                out.emissive = glm::vec3(m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]);
+            }
+            auto strength = m.extensions.find("KHR_materials_emissive_strength");
+            if (strength != m.extensions.end() && strength->second.Has("emissiveStrength")) {
+                out.emissive *= static_cast<float>(
+                    strength->second.Get("emissiveStrength").GetNumberAsDouble());
+            }
+            mScene.materials.push_back(out);
+        }
+        mDefaultMaterial = static_cast<uint32_t>(mScene.materials.size());
+        Material grey;
+        grey.baseColor = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
+        grey.name = "default";
+        mScene.materials.push_back(grey);
+    }
+
+    // Reads `count` elements of an accessor as floats (normalised integers are converted).
+    std::vector<float> readFloats(int accessorIndex, int components) const {
+        const tinygltf::Accessor& a = accessor(accessorIndex);
+        const int n = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
+        if (n != components) {
+            fail("accessor " + std::to_string(accessorIndex) + " has " + std::to_string(n) +
+                 " components, expected " + std::to_string(components));
+        }
+        const auto [data, stride] = span(a, accessorIndex);
+        std::vector<float> out(a.count * static_cast<std::size_t>(n));
+        for (std::size_t i = 0; i < a.count; ++i) {
+            const unsigned char* e = data + i * stride;
+            for (int c = 0; c < n; ++c) {
+                float v = 0.0f;
+                switch (a.componentType) {
+                case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&v, e + 4 * c, 4); break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v = e[c] / 255.0f; break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                    uint16_t s;
+                    std::memcpy(&s, e + 2 * c, 2);
+                    v = s / 65535.0f;
+                    break;
+                }
+                default:
+                    fail("accessor " + std::to_string(accessorIndex) +
+                         " has an unsupported component type " + std::to_string(a.componentType));
+                }
+                out[i * n + c] = v;
+            }
+        }
+        return out;
+    }
+
+    std::vector<uint32_t> readIndices(int accessorIndex) const {
+        const tinygltf::Accessor& a = accessor(accessorIndex);
+        if (a.type != TINYGLTF_TYPE_SCALAR) fail("index accessor is not scalar");
+        const auto [data, stride] = span(a, accessorIndex);
+        std::vector<uint32_t> out(a.count);
+        for (std::size_t i = 0; i < a.count; ++i) {
+            const unsigned char* e = data + i * stride;
+            switch (a.componentType) {
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: out[i] = e[0]; break;
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                uint16_t s;
+                std::memcpy(&s, e, 2);
+                out[i] = s;
+                break;
+            }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: std::memcpy(&out[i], e, 4); break;
+            default: fail("index accessor has an unsupported component type");
+            }
+        }
+        return out;
+    }
+
+    const tinygltf::Accessor& accessor(int index) const {
+        if (index < 0 || static_cast<std::size_t>(index) >= mModel.accessors.size()) {
+            fail("accessor index " + std::to_string(index) + " out of range");
+        }
+        return mModel.accessors[index];
+    }
+
+    // Start pointer and stride of an accessor, after checking it lies inside its buffer.
+    std::pair<const unsigned char*, std::size_t> span(const tinygltf::Accessor& a, int index) const {
+        const std::string where = "accessor " + std::to_string(index);
+        if (a.sparse.isSparse) fail(where + " is sparse (unsupported)");
+        if (a.bufferView < 0 || static_cast<std::size_t>(a.bufferView) >= mModel.bufferViews.size()) {
+            fail(where + " has no valid bufferView");
+        }
+        const tinygltf::BufferView& view = mModel.bufferViews[a.bufferView];
+        if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= mModel.buffers.size()) {
+            fail(where + ": bufferView " + std::to_string(a.bufferView) + " has no valid buffer");
+        }
+        const tinygltf::Buffer& buffer = mModel.buffers[view.buffer];
+        const int compSize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
+        const int comps = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
+        if (compSize <= 0 || comps <= 0) fail(where + " has an invalid type");
+        const std::size_t elementSize = static_cast<std::size_t>(compSize) * comps;
+        const std::size_t stride = view.byteStride ? view.byteStride : elementSize;
+        if (view.byteOffset + view.byteLength > buffer.data.size()) {
+            fail("bufferView " + std::to_string(a.bufferView) + " runs past the end of buffer " +
+                 std::to_string(view.buffer) + " (" + std::to_string(buffer.data.size()) +
+                 " bytes; truncated or missing file?)");
+        }
+        if (a.count > 0 && a.byteOffset + (a.count - 1) * stride + elementSize > view.byteLength) {
+            fail(where + " runs past the end of bufferView " + std::to_string(a.bufferView));
+        }
+        return {buffer.data.data() + view.byteOffset + a.byteOffset, stride};
+    }
+
+    glm::mat4 localMatrix(const tinygltf::Node& n) const {
+        if (n.matrix.size() == 16) {
+            glm::mat4 m;
+            for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = static_cast<float>(n.matrix[i]);
+            return m;
+        }
+        glm::mat4 m(1.0f);
+        if (n.translation.size() == 3) {
+            m = glm::translate(m, glm::vec3(n.translation[0], n.translation[1], n.translation[2]));
+        }
+        if (n.rotation.size() == 4) {
+            const glm::quat q(static_cast<float>(n.rotation[3]), static_cast<float>(n.rotation[0]),
+                              static_cast<float>(n.rotation[1]), static_cast<float>(n.rotation[2]));
+            m = m * glm::mat4_cast(q);
+        }
+        if (n.scale.size() == 3) m = glm::scale(m, glm::vec3(n.scale[0], n.scale[1], n.scale[2]));
+        return m;
+    }
+
+    void visit(int nodeIndex, const glm::mat4& parent, int depth) {
+        if (nodeIndex < 0 || static_cast<std::size_t>(nodeIndex) >= mModel.nodes.size()) {
+            fail("node index " + std::to_string(nodeIndex) + " out of range");
+        }
+        if (depth > 256) fail("node hierarchy deeper than 256 (a cycle?)");
+        const tinygltf::Node& node = mModel.nodes[nodeIndex];
+        const glm::mat4 world = parent * localMatrix(node);
+        if (node.mesh >= 0) {
+            if (static_cast<std::size_t>(node.mesh) >= mModel.meshes.size()) {
+                fail("node " + std::to_string(nodeIndex) + " has mesh index out of range");
+            }
+            addMesh(mModel.meshes[node.mesh], world);
+        }
+        if (node.camera >= 0 && !mHaveCamera &&
+            static_cast<std::size_t>(node.camera) < mModel.cameras.size()) {
+            const tinygltf::Camera& c = mModel.cameras[node.camera];
+            mScene.camera.position = glm::vec3(world[3]);
+            mScene.camera.forward = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
+            mScene.camera.up = glm::normalize(glm::vec3(world * glm::vec4(0, 1, 0, 0)));
+            if (c.type == "perspective" && c.perspective.yfov > 0.0) {
+                mScene.camera.yfov = static_cast<float>(c.perspective.yfov);
+            }
+            mHaveCamera = true;
+        }
+        auto light = node.extensions.find("KHR_lights_punctual");
+        if (light != node.extensions.end() && light->second.Has("light")) {
+            const int li = light->second.Get("light").GetNumberAsInt();
+            if (li < 0 || static_cast<std::size_t>(li) >= mModel.lights.size()) {
+                fail("node " + std::to_string(nodeIndex) + " references light " +
+                     std::to_string(li) + ", which does not exist");
+            }
+            addLight(mModel.lights[li], world);
+        }
+        for (int c : node.children) visit(c, world, depth + 1);
+    }
+
+    void addLight(const tinygltf::Light& l, const glm::mat4& world) {
+        Light out;
+        if (l.type == "directional") out.type = LightType::Directional;
+        else if (l.type == "spot") out.type = LightType::Spot;
+        else if (l.type == "point") out.type = LightType::Point;
+        else fail("light type '" + l.type + "' is not point, spot or directional");
+        out.position = glm::vec3(world[3]);
+        out.direction = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
+        if (l.color.size() == 3) out.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
+        out.intensity = static_cast<float>(l.intensity);
+        out.range = static_cast<float>(l.range);
+        out.innerConeCos = static_cast<float>(std::cos(l.spot.innerConeAngle));
+        out.outerConeCos = static_cast<float>(std::cos(l.spot.outerConeAngle));
+        mScene.lights.push_back(out);
+    }
+
+    void addMesh(const tinygltf::Mesh& mesh, const glm::mat4& world) {
+        const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(world)));
+        for (const tinygltf::Primitive& prim : mesh.primitives) {
+            if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+                prim.mode != TINYGLTF_MODE_TRIANGLE_FAN && prim.mode != -1) {
+                mReport.warnings.push_back("mesh '" + mesh.name + "': skipped a primitive of mode " +
+                                           std::to_string(prim.mode) + " (points or lines)");
+                continue;
+            }
+            auto pos = prim.attributes.find("POSITION");
+            if (pos == prim.attributes.end()) fail("mesh '" + mesh.name + "' has a primitive without POSITION");
+            const std::vector<float> p = readFloats(pos->second, 3);
+            const std::size_t vertexCount = p.size() / 3;
+            std::vector<float> n, uv;
+            if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
+                n = readFloats(it->second, 3);
+                if (n.size() != p.size()) fail("mesh '" + mesh.name + "': NORMAL count differs from POSITION");
+            }
+            if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
+                uv = readFloats(it->second, 2);
+                if (uv.size() / 2 != vertexCount) fail("mesh '" + mesh.name + "': TEXCOORD_0 count differs from POSITION");
+            }
+            std::vector<uint32_t> idx;
+            if (prim.indices >= 0) {
+                idx = readIndices(prim.indices);
+            } else {
+                idx.resize(vertexCount);
+                for (uint32_t i = 0; i < vertexCount; ++i) idx[i] = i;
+            }
+            for (uint32_t i : idx) {
+                if (i >= vertexCount) fail("mesh '" + mesh.name + "': index " + std::to_string(i) + " out of range");
+            }
+            std::vector<uint32_t> tris;
+            if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+                for (std::size_t i = 2; i < idx.size(); ++i) {
+                    if (i % 2 == 0) tris.insert(tris.end(), {idx[i - 2], idx[i - 1], idx[i]});
+                    else tris.insert(tris.end(), {idx[i - 1], idx[i - 2], idx[i]});
+                }
+            } else if (prim.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+                for (std::size_t i = 2; i < idx.size(); ++i) tris.insert(tris.end(), {idx[0], idx[i - 1], idx[i]});
+            } else {
+                tris = std::move(idx);
+                tris.resize(tris.size() / 3 * 3);
+            }
+            uint32_t material = mDefaultMaterial;
+            if (prim.material >= 0) {
+                if (static_cast<std::size_t>(prim.material) >= mModel.materials.size()) {
+                    fail("mesh '" + mesh.name + "' uses material " + std::to_string(prim.material) + ", which does not exist");
+                }
+                material = static_cast<uint32_t>(prim.material);
+            }
+            for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
+                Vertex v[3];
+                for (int k = 0; k < 3; ++k) {
+                    const uint32_t i = tris[t + k];
+                    v[k].position = glm::vec3(world * glm::vec4(p[3 * i], p[3 * i + 1], p[3 * i + 2], 1.0f));
+                    v[k].uv = uv.empty() ? glm::vec2(0.0f) : glm::vec2(uv[2 * i], uv[2 * i + 1]);
+                    if (!n.empty()) v[k].normal = normalMatrix * glm::vec3(n[3 * i], n[3 * i + 1], n[3 * i + 2]);
+                }
+                const glm::vec3 face = glm::cross(v[1].position - v[0].position, v[2].position - v[0].position);
+                if (glm::dot(face, face) <= 0.0f || !std::isfinite(face.x + face.y + face.z)) continue; // degenerate
+                const glm::vec3 fn = glm::normalize(face);
+                for (Vertex& x : v) {
+                    const float len = glm::length(x.normal);
+                    x.normal = (n.empty() || !(len > 1e-12f) || !std::isfinite(len)) ? fn : x.normal / len;
+                }
+                mScene.vertices.insert(mScene.vertices.end(), {v[0], v[1], v[2]});
+                mScene.triangleMaterial.push_back(material);
+            }
+        }
+    }
+
+    void finish() {
+        const glm::vec3 lo = mScene.boundsMin(), hi = mScene.boundsMax();
+        const glm::vec3 centre = 0.5f * (lo + hi);
+        const float radius = std::max(0.5f * glm::length(hi - lo), 1e-3f);
+        if (!mHaveCamera) {
+            // Frame the whole scene from the front, slightly above.
+            const glm::vec3 dir = glm::normalize(glm::vec3(0.0f, 0.25f, 1.0f));
+            mScene.camera.yfov = glm::radians(45.0f);
+            mScene.camera.position = centre + dir * (radius / std::sin(0.5f * mScene.camera.yfov));
+            mScene.camera.forward = -dir;
+            mScene.camera.up = {0, 1, 0};
+        }
+        if (mScene.lights.empty()) {
+            // Unlit files get a sun from above-front-left so shapes and shadows read clearly.
+            Light sun;
+            sun.type = LightType::Directional;
+            sun.direction = glm::normalize(glm::vec3(0.4f, -1.0f, -0.6f));
+            sun.intensity = 3.0f;
+            sun.color = {1.0f, 0.97f, 0.92f};
+            mScene.lights.push_back(sun);
+            mScene.sky.ambient = 0.35f;
+        }
+    }
+
+    const tinygltf::Model& mModel;
+    std::string mFile;
+    GltfLoadReport& mReport;
+    Scene mScene;
+    std::vector<int> mTextureOfImage;
+    uint32_t mDefaultMaterial = 0;
+    bool mHaveCamera = false;
+};
+
+} // namespace
+
+Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
+    GltfLoadReport local;
+    GltfLoadReport& rep = report ? *report : local;
+    const std::string file = path.string();
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw LoadError(file + ": no such file");
+    if (std::filesystem::is_directory(path, ec)) throw LoadError(file + ": is a folder, not a glTF file");
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (ext != ".gltf" && ext != ".glb") {
+        throw LoadError(file + ": not a .gltf or .glb file");
+    }
+    tinygltf::TinyGLTF loader;
+    ImageLoaderState state{&rep.warnings, file};
+    loader.SetImageLoader(loadImage, &state);
+    tinygltf::Model model;
+    std::string err, warn;
+    const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, file)
+                                  : loader.LoadASCIIFromFile(&model, &err, &warn, file);
+    if (!warn.empty()) rep.warnings.push_back(oneLine(warn));
+    if (!ok) throw LoadError(file + ": " + (err.empty() ? "cannot parse glTF" : oneLine(err)));
+    for (const std::string& e : model.extensionsRequired) {
+        if (e != "KHR_lights_punctual" && e != "KHR_materials_emissive_strength" &&
+            e != "KHR_texture_transform" && e != "KHR_materials_unlit") {
+            throw LoadError(file + ": requires unsupported extension " + e);
+        }
+    }
+    for (const tinygltf::Buffer& b : model.buffers) {
+        if (b.data.empty()) throw LoadError(file + ": buffer '" + b.uri + "' is empty or missing");
+    }
+    return Loader(model, file, rep).load();
+}
+
+Scene loadScene(const std::string& spec, GltfLoadReport* report) {
+    if (spec.rfind("builtin:", 0) == 0) return makeBuiltin(spec);
+    return loadGltf(spec, report);
+}
+
+} // namespace gt::scene

@@ -1,0 +1,24 @@
+#pragma once
+// glTF 2.0 (.gltf and .glb) through tinygltf: triangle meshes (indexed or not, strips and fans
+// converted), node transforms, base-colour factor and texture, metallic/roughness factors,
+// emissive (with KHR_materials_emissive_strength), cameras, KHR_lights_punctual. Every accessor
+// is bounds-checked; a broken or unsupported file throws gt::LoadError with one line naming the
+// file and the problem.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "scene/scene.hpp"
+
+namespace gt::scene {
+
+struct GltfLoadReport {
+    std::vector<std::string> warnings; // e.g. skipped line primitives, undecodable textures
+};
+
+[[nodiscard]] Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report = nullptr);
+
+// "builtin:NAME" or a .gltf/.glb path.
+[[nodiscard]] Scene loadScene(const std::string& spec, GltfLoadReport* report = nullptr);
+
+} // namespace gt::scene

@@ -1,0 +1,114 @@
+#include "scene/scene.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace gt::scene {
+
+glm::vec3 Scene::boundsMin() const {
+    glm::vec3 m(std::numeric_limits<float>::max());
+    for (const Vertex& v : vertices) m = glm::min(m, v.position);
+    return m;
+}
+
+glm::vec3 Scene::boundsMax() const {
+    glm::vec3 m(-std::numeric_limits<float>::max());
+    for (const Vertex& v : vertices) m = glm::max(m, v.position);
+    return m;
+}
+
+uint32_t SceneBuilder::material(const Material& m) {
+    mScene.materials.push_back(m);
+    return static_cast<uint32_t>(mScene.materials.size() - 1);
+}
+
+void SceneBuilder::triangle(const Vertex& a, const Vertex& b, const Vertex& c, uint32_t material) {
+    mScene.vertices.push_back(a);
+    mScene.vertices.push_back(b);
+    mScene.vertices.push_back(c);
+    mScene.triangleMaterial.push_back(material);
+}
+
+void SceneBuilder::quad(glm::vec3 o, glm::vec3 u, glm::vec3 v, uint32_t material,
+                        glm::vec2 uvScale) {
+    const glm::vec3 n = glm::normalize(glm::cross(u, v));
+    const Vertex p00{o, n, {0, 0}};
+    const Vertex p10{o + u, n, {uvScale.x, 0}};
+    const Vertex p11{o + u + v, n, {uvScale.x, uvScale.y}};
+    const Vertex p01{o + v, n, {0, uvScale.y}};
+    triangle(p00, p10, p11, material);
+    triangle(p00, p11, p01, material);
+}
+
+namespace {
+Vertex transformed(const glm::mat4& m, const glm::mat3& nm, glm::vec3 p, glm::vec3 n, glm::vec2 uv) {
+    return {glm::vec3(m * glm::vec4(p, 1.0f)), glm::normalize(nm * n), uv};
+}
+} // namespace
+
+void SceneBuilder::box(const glm::mat4& t, uint32_t material) {
+    const glm::mat3 nm = glm::transpose(glm::inverse(glm::mat3(t)));
+    // Six faces, each as (centre normal, u axis, v axis) on the unit cube.
+    const glm::vec3 axes[6][3] = {
+        {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}}, {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
+        {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}}, {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
+        {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},  {{0, 0, -1}, {-1, 0, 0}, {0, 1, 0}},
+    };
+    for (const auto& f : axes) {
+        const glm::vec3 n = f[0], u = f[1], v = f[2];
+        const glm::vec3 o = 0.5f * n - 0.5f * u - 0.5f * v;
+        const Vertex a = transformed(t, nm, o, n, {0, 0});
+        const Vertex b = transformed(t, nm, o + u, n, {1, 0});
+        const Vertex c = transformed(t, nm, o + u + v, n, {1, 1});
+        const Vertex d = transformed(t, nm, o + v, n, {0, 1});
+        triangle(a, b, c, material);
+        triangle(a, c, d, material);
+    }
+}
+
+void SceneBuilder::cylinder(const glm::mat4& t, uint32_t material, int segments) {
+    const glm::mat3 nm = glm::transpose(glm::inverse(glm::mat3(t)));
+    const float step = 2.0f * 3.14159265f / static_cast<float>(segments);
+    for (int i = 0; i < segments; ++i) {
+        const float a0 = step * static_cast<float>(i), a1 = step * static_cast<float>(i + 1);
+        const glm::vec3 n0(std::cos(a0), 0, std::sin(a0)), n1(std::cos(a1), 0, std::sin(a1));
+        const glm::vec3 b0 = 0.5f * n0, b1 = 0.5f * n1;
+        const glm::vec3 up(0, 1, 0);
+        const float u0 = static_cast<float>(i) / static_cast<float>(segments);
+        const float u1 = static_cast<float>(i + 1) / static_cast<float>(segments);
+        const Vertex v00 = transformed(t, nm, b0, n0, {u0, 0});
+        const Vertex v10 = transformed(t, nm, b1, n1, {u1, 0});
+        const Vertex v01 = transformed(t, nm, b0 + up, n0, {u0, 1});
+        const Vertex v11 = transformed(t, nm, b1 + up, n1, {u1, 1});
+        triangle(v00, v11, v10, material);
+        triangle(v00, v01, v11, material);
+        // Caps.
+        triangle(transformed(t, nm, up, up, {0.5f, 0.5f}), transformed(t, nm, b1 + up, up, {0, 0}),
+                 transformed(t, nm, b0 + up, up, {0, 0}), material);
+        triangle(transformed(t, nm, {0, 0, 0}, -up, {0.5f, 0.5f}),
+                 transformed(t, nm, b0, -up, {0, 0}), transformed(t, nm, b1, -up, {0, 0}), material);
+    }
+}
+
+void SceneBuilder::sphere(const glm::mat4& t, uint32_t material, int rings, int segments) {
+    const glm::mat3 nm = glm::transpose(glm::inverse(glm::mat3(t)));
+    auto point = [&](int r, int s) {
+        const float theta = 3.14159265f * static_cast<float>(r) / static_cast<float>(rings);
+        const float phi = 2.0f * 3.14159265f * static_cast<float>(s) / static_cast<float>(segments);
+        const glm::vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta),
+                          std::sin(theta) * std::sin(phi));
+        return transformed(t, nm, 0.5f * n, n,
+                           {static_cast<float>(s) / static_cast<float>(segments),
+                            static_cast<float>(r) / static_cast<float>(rings)});
+    };
+    for (int r = 0; r < rings; ++r) {
+        for (int s = 0; s < segments; ++s) {
+            const Vertex a = point(r, s), b = point(r, s + 1), c = point(r + 1, s + 1),
+                         d = point(r + 1, s);
+            if (r > 0) triangle(a, b, c, material);
+            if (r < rings - 1) triangle(a, c, d, material);
+        }
+    }
+}
+
+} // namespace gt::scene

@@ -1,0 +1,97 @@
+#pragma once
+// The renderer's scene: a flat triangle list in world space (node transforms already applied),
+// materials (glTF metallic-roughness subset), base-colour textures, punctual lights, a camera
+// and a sky. Built-in scenes and the glTF loader both produce this; the BVH and the tracers
+// consume it.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace gt::scene {
+
+struct Material {
+    glm::vec4 baseColor{1.0f};  // linear RGBA factor
+    int baseColorTexture = -1; // index into Scene::textures
+    float metallic = 0.0f;
+    float roughness = 1.0f;
+    glm::vec3 emissive{0.0f}; // linear radiance added on hit
+    std::string name;
+};
+
+// 8-bit sRGB-encoded RGBA texels, row-major, top row first (as glTF images are stored).
+struct Texture {
+    uint32_t width = 0;
+    uint32_t height = 0;
+    std::vector<uint32_t> rgba; // packed little-endian R | G<<8 | B<<16 | A<<24
+    std::string name;
+};
+
+enum class LightType : uint32_t { Point = 0, Spot = 1, Directional = 2 };
+
+// KHR_lights_punctual semantics: point/spot intensity in candela, directional in lux.
+struct Light {
+    LightType type = LightType::Point;
+    glm::vec3 position{0.0f};
+    glm::vec3 direction{0.0f, -1.0f, 0.0f}; // direction the light travels
+    glm::vec3 color{1.0f};
+    float intensity = 1.0f;
+    float range = 0.0f; // 0 = infinite
+    float innerConeCos = 1.0f;
+    float outerConeCos = 0.70710678f;
+};
+
+struct Camera {
+    glm::vec3 position{0.0f, 1.0f, 5.0f};
+    glm::vec3 forward{0.0f, 0.0f, -1.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    float yfov = 0.8f; // radians, vertical
+};
+
+struct Sky {
+    glm::vec3 horizon{0.8f, 0.85f, 0.9f};
+    glm::vec3 zenith{0.35f, 0.5f, 0.8f};
+    glm::vec3 ground{0.25f, 0.23f, 0.2f};
+    float ambient = 0.15f; // share of sky radiance applied as ambient light
+};
+
+struct Vertex {
+    glm::vec3 position;
+    glm::vec3 normal;
+    glm::vec2 uv;
+};
+
+struct Scene {
+    std::string name;
+    std::vector<Vertex> vertices; // 3 per triangle, world space
+    std::vector<uint32_t> triangleMaterial;
+    std::vector<Material> materials;
+    std::vector<Texture> textures;
+    std::vector<Light> lights;
+    Camera camera;
+    Sky sky;
+    float exposure = 1.0f;
+
+    [[nodiscard]] std::size_t triangleCount() const noexcept { return triangleMaterial.size(); }
+    [[nodiscard]] glm::vec3 boundsMin() const;
+    [[nodiscard]] glm::vec3 boundsMax() const;
+};
+
+// Helpers for procedural scenes: each shape is appended with one material and a transform.
+class SceneBuilder {
+public:
+    explicit SceneBuilder(Scene& scene) : mScene(scene) {}
+    uint32_t material(const Material& m);
+    void triangle(const Vertex& a, const Vertex& b, const Vertex& c, uint32_t material);
+    // Quad from corner `o` spanned by `u` and `v`; normal = normalize(cross(u, v)).
+    void quad(glm::vec3 o, glm::vec3 u, glm::vec3 v, uint32_t material, glm::vec2 uvScale = {1, 1});
+    void box(const glm::mat4& transform, uint32_t material); // unit cube [-0.5, 0.5]^3
+    void cylinder(const glm::mat4& transform, uint32_t material, int segments = 16); // r 0.5, y 0..1
+    void sphere(const glm::mat4& transform, uint32_t material, int rings = 8, int segments = 12);
+
+private:
+    Scene& mScene;
+};
+
+} // namespace gt::scene

@@ -1,0 +1,121 @@
+#include "trace/gpu_scene.hpp"
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+
+#include "vk/context.hpp"
+#include "vk/pipeline.hpp"
+
+namespace gt::trace {
+
+namespace {
+float asFloat(uint32_t v) { return std::bit_cast<float>(v); }
+} // namespace
+
+PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh) {
+    PackedScene p;
+    for (const scene::BvhNode& n : bvh.nodes()) {
+        p.nodes.emplace_back(n.boundsMin, asFloat(n.leftFirst));
+        p.nodes.emplace_back(n.boundsMax, asFloat(n.count));
+    }
+    const auto& order = bvh.triangleOrder();
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        const scene::BvhTriangle& t = bvh.triangles()[i];
+        p.triangles.emplace_back(t.v0, 0.0f);
+        p.triangles.emplace_back(t.e1, 0.0f);
+        p.triangles.emplace_back(t.e2, 0.0f);
+        const scene::Vertex* v = &scene.vertices[3 * order[i]];
+        p.shading.emplace_back(v[0].normal, v[0].uv.x);
+        p.shading.emplace_back(v[1].normal, v[0].uv.y);
+        p.shading.emplace_back(v[2].normal, v[1].uv.x);
+        p.shading.emplace_back(v[1].uv.y, v[2].uv.x, v[2].uv.y,
+                               asFloat(scene.triangleMaterial[order[i]]));
+    }
+    for (const scene::Material& m : scene.materials) {
+        p.materials.push_back(m.baseColor);
+        p.materials.emplace_back(m.emissive, m.metallic);
+        const uint32_t tex = m.baseColorTexture < 0 ? shaders::trace::kNoTexture
+                                                    : static_cast<uint32_t>(m.baseColorTexture);
+        p.materials.emplace_back(m.roughness, asFloat(tex), 0.0f, 0.0f);
+    }
+    for (const scene::Light& l : scene.lights) {
+        p.lights.emplace_back(l.position, asFloat(static_cast<uint32_t>(l.type)));
+        p.lights.emplace_back(glm::normalize(l.direction), l.range);
+        p.lights.emplace_back(l.color * l.intensity, l.innerConeCos);
+        p.lights.emplace_back(l.outerConeCos, 0.0f, 0.0f, 0.0f);
+    }
+    for (const scene::Texture& t : scene.textures) {
+        p.textureInfo.emplace_back(static_cast<uint32_t>(p.texels.size()), t.width, t.height, 0u);
+        p.texels.insert(p.texels.end(), t.rgba.begin(), t.rgba.end());
+    }
+    p.uniforms.skyHorizon = glm::vec4(scene.sky.horizon, scene.sky.ambient);
+    p.uniforms.skyZenith = glm::vec4(scene.sky.zenith, scene.exposure);
+    p.uniforms.skyGround = glm::vec4(scene.sky.ground, 0.0f);
+    p.uniforms.counts = {static_cast<uint32_t>(scene.lights.size()),
+                         static_cast<uint32_t>(scene.materials.size()),
+                         static_cast<uint32_t>(scene.textures.size()),
+                         static_cast<uint32_t>(scene.triangleCount())};
+    return p;
+}
+
+GpuScene::Table GpuScene::upload(vk::Context& ctx, const void* data, std::size_t bytes,
+                                 VkFormat format, const char* name) {
+    // Empty tables still need a valid view: one zeroed texel.
+    const std::size_t size = std::max<std::size_t>(bytes, 16);
+    Table t;
+    t.buffer = vk::Buffer(ctx, {size, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
+                                vk::MemoryUsage::GpuOnly, name});
+    std::vector<std::byte> padded(size, std::byte{0});
+    if (bytes > 0) std::memcpy(padded.data(), data, bytes);
+    t.buffer.upload(padded);
+    t.view = vk::BufferView(ctx, t.buffer, format);
+    mBytes += size;
+    return t;
+}
+
+GpuScene::GpuScene(vk::Context& ctx, const scene::Scene& scene, const scene::Bvh& bvh) {
+    const PackedScene p = packScene(scene, bvh);
+    constexpr VkFormat f4 = VK_FORMAT_R32G32B32A32_SFLOAT;
+    mNodes = upload(ctx, p.nodes.data(), p.nodes.size() * 16, f4, "scene.bvh_nodes");
+    mTriangles = upload(ctx, p.triangles.data(), p.triangles.size() * 16, f4, "scene.triangles");
+    mShading = upload(ctx, p.shading.data(), p.shading.size() * 16, f4, "scene.shading");
+    mMaterials = upload(ctx, p.materials.data(), p.materials.size() * 16, f4, "scene.materials");
+    mLights = upload(ctx, p.lights.data(), p.lights.size() * 16, f4, "scene.lights");
+    mTexels = upload(ctx, p.texels.data(), p.texels.size() * 4, VK_FORMAT_R32_UINT,
+                     "scene.texels");
+    mTextureInfo = upload(ctx, p.textureInfo.data(), p.textureInfo.size() * 16,
+                          VK_FORMAT_R32G32B32A32_UINT, "scene.texture_info");
+    mUniforms = vk::Buffer(ctx, {sizeof(p.uniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                 vk::MemoryUsage::GpuOnly, "scene.uniforms"});
+    mUniforms.upload(std::as_bytes(std::span(&p.uniforms, 1)));
+    mBytes += sizeof(p.uniforms);
+}
+
+void GpuScene::bind(vk::DescriptorWriter& w) const {
+    namespace t = shaders::trace;
+    w.texelBuffer(t::kBindingNodes, mNodes.view.handle())
+        .texelBuffer(t::kBindingTriangles, mTriangles.view.handle())
+        .texelBuffer(t::kBindingShading, mShading.view.handle())
+        .texelBuffer(t::kBindingMaterials, mMaterials.view.handle())
+        .texelBuffer(t::kBindingLights, mLights.view.handle())
+        .texelBuffer(t::kBindingTexels, mTexels.view.handle())
+        .texelBuffer(t::kBindingTextureInfo, mTextureInfo.view.handle())
+        .uniformBuffer(t::kBindingSceneUniforms, mUniforms.handle());
+}
+
+shaders::trace::CameraPush cameraPush(const scene::Camera& camera, float aspect) {
+    const glm::vec3 f = glm::normalize(camera.forward);
+    glm::vec3 r = glm::cross(f, camera.up);
+    if (glm::length(r) < 1e-6f) r = glm::cross(f, glm::vec3(0, 0, 1));
+    r = glm::normalize(r);
+    const glm::vec3 u = glm::cross(r, f);
+    shaders::trace::CameraPush c{};
+    c.origin = glm::vec4(camera.position, std::tan(0.5f * camera.yfov));
+    c.forward = glm::vec4(f, aspect);
+    c.right = glm::vec4(r, 0.0f);
+    c.up = glm::vec4(u, 0.0f);
+    return c;
+}
+
+} // namespace gt::trace

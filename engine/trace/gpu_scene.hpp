@@ -1,0 +1,59 @@
+#pragma once
+// The scene packed for the compute-shader tracer: BVH nodes, triangles, shading data,
+// materials, lights and textures in uniform texel buffers (texel buffers beat storage buffers
+// by 1.6x for BVH nodes on lavapipe, docs/LAVAPIPE.md), plus a small uniform block.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "scene/bvh.hpp"
+#include "scene/scene.hpp"
+#include "trace_shared.h"
+#include "vk/resources.hpp"
+
+namespace gt::vk {
+class Context;
+class DescriptorWriter;
+} // namespace gt::vk
+
+namespace gt::trace {
+
+// CPU-side packing (plain data, unit-testable).
+struct PackedScene {
+    std::vector<glm::vec4> nodes;
+    std::vector<glm::vec4> triangles;
+    std::vector<glm::vec4> shading;
+    std::vector<glm::vec4> materials;
+    std::vector<glm::vec4> lights;
+    std::vector<uint32_t> texels;
+    std::vector<glm::uvec4> textureInfo;
+    shaders::trace::SceneUniforms uniforms{};
+};
+
+[[nodiscard]] PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh);
+
+class GpuScene {
+public:
+    GpuScene(vk::Context& ctx, const scene::Scene& scene, const scene::Bvh& bvh);
+    // Adds the eight scene bindings (trace::kBinding*) to a descriptor update.
+    void bind(vk::DescriptorWriter& writer) const;
+    [[nodiscard]] std::size_t bytes() const noexcept { return mBytes; }
+
+private:
+    struct Table {
+        vk::Buffer buffer;
+        vk::BufferView view;
+    };
+    Table upload(vk::Context& ctx, const void* data, std::size_t bytes, VkFormat format,
+                 const char* name);
+    Table mNodes, mTriangles, mShading, mMaterials, mLights, mTexels, mTextureInfo;
+    vk::Buffer mUniforms;
+    std::size_t mBytes = 0;
+};
+
+// The camera as push-constant vectors, for an image of the given aspect ratio.
+[[nodiscard]] shaders::trace::CameraPush cameraPush(const scene::Camera& camera, float aspect);
+
+} // namespace gt::trace

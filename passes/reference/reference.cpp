@@ -1,0 +1,58 @@
+#include "reference/reference.hpp"
+
+#include "core/error.hpp"
+#include "reference_comp.h"
+#include "reference_shared.h"
+#include "trace/gpu_scene.hpp"
+#include "vk/context.hpp"
+#include "vk/pipeline.hpp"
+
+namespace gt::passes {
+
+namespace sh = shaders::reference;
+
+ReferencePass::ReferencePass(vk::Context& ctx) : mCtx(ctx) {
+    std::vector<VkDescriptorType> bindings(shaders::trace::kSceneBindingCount,
+                                           VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
+    bindings[shaders::trace::kBindingSceneUniforms] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    bindings.push_back(VK_DESCRIPTOR_TYPE_STORAGE_IMAGE); // sh::kBindingOutput
+    mPipeline = std::make_unique<vk::ComputePipeline>(
+        ctx, vk::ComputePipelineDesc{"reference.trace", gt_spv_reference_comp, bindings,
+                                     sizeof(sh::ReferencePush)});
+}
+
+ReferencePass::~ReferencePass() = default;
+
+rg::TextureId ReferencePass::add(rg::RenderGraph& graph, const trace::GpuScene& scene,
+                                 const scene::Camera& camera,
+                                 const ReferenceSettings& settings) const {
+    if (settings.raysPerPixel == 0) throw ArgumentError("rays per pixel must be at least 1");
+    struct Data {
+        rg::TextureId output;
+    };
+    const uint32_t w = graph.outputWidth(), h = graph.outputHeight();
+    const auto cam = trace::cameraPush(camera, static_cast<float>(w) / static_cast<float>(h));
+    sh::ReferencePush push{cam.origin, cam.forward, cam.right, cam.up,
+                           glm::uvec4(w, h, settings.raysPerPixel, settings.frameSeed)};
+    const auto& data = graph.addPass<Data>(
+        "reference.trace",
+        [&](rg::PassBuilder& b, Data& d) {
+            d.output = b.write(b.createTexture("reference.radiance",
+                                               {VK_FORMAT_R32G32B32A32_SFLOAT}),
+                               rg::Access::StorageWrite);
+        },
+        [ctx = &mCtx, pipeline = mPipeline.get(), scene = &scene, push](
+            const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+            vk::DescriptorWriter writer;
+            scene->bind(writer);
+            writer.storageImage(sh::kBindingOutput, r.texture(d.output).view);
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline->handle());
+            writer.push(*ctx, cmd, *pipeline);
+            vk::dispatch(cmd, *pipeline, &push, sizeof(push),
+                         (push.params.x + sh::kGroupSizeX - 1) / sh::kGroupSizeX,
+                         (push.params.y + sh::kGroupSizeY - 1) / sh::kGroupSizeY);
+        });
+    return data.output;
+}
+
+} // namespace gt::passes

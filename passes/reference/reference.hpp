@@ -1,0 +1,38 @@
+#pragma once
+// Pass `reference`: full-resolution ray tracing with N stratified jittered rays per pixel into a
+// linear RGBA32F image — the baseline every foveated method is measured against.
+#include <cstdint>
+#include <memory>
+
+#include "render_graph/render_graph.hpp"
+#include "scene/scene.hpp"
+
+namespace gt::vk {
+class Context;
+class ComputePipeline;
+} // namespace gt::vk
+namespace gt::trace {
+class GpuScene;
+}
+
+namespace gt::passes {
+
+struct ReferenceSettings {
+    uint32_t raysPerPixel = 1;
+    uint32_t frameSeed = 0;
+};
+
+class ReferencePass {
+public:
+    explicit ReferencePass(vk::Context& ctx);
+    ~ReferencePass();
+    // Adds "reference.trace" writing a new output-sized texture "reference.radiance".
+    rg::TextureId add(rg::RenderGraph& graph, const trace::GpuScene& scene,
+                      const scene::Camera& camera, const ReferenceSettings& settings) const;
+
+private:
+    vk::Context& mCtx;
+    std::unique_ptr<vk::ComputePipeline> mPipeline;
+};
+
+} // namespace gt::passes

@@ -1,0 +1,251 @@
+// Compute-shader ray tracing over the flattened BVH (engine/scene/bvh.hpp) and the shading of
+// engine/trace/cpu_tracer.cpp, which is the reference these functions are tested against.
+// Include after declaring nothing else at the scene bindings (trace_shared.h, set 0).
+#ifndef TRACE_GLSL
+#define TRACE_GLSL
+#include "trace_shared.h"
+
+layout(set = 0, binding = kBindingNodes) uniform samplerBuffer uNodes;
+layout(set = 0, binding = kBindingTriangles) uniform samplerBuffer uTriangles;
+layout(set = 0, binding = kBindingShading) uniform samplerBuffer uShading;
+layout(set = 0, binding = kBindingMaterials) uniform samplerBuffer uMaterials;
+layout(set = 0, binding = kBindingLights) uniform samplerBuffer uLights;
+layout(set = 0, binding = kBindingTexels) uniform usamplerBuffer uTexels;
+layout(set = 0, binding = kBindingTextureInfo) uniform usamplerBuffer uTextureInfo;
+layout(std140, set = 0, binding = kBindingSceneUniforms) uniform SceneBlock {
+    SceneUniforms uScene;
+};
+
+const float kPi = 3.14159265358979;
+const float kInf = 1.0 / 0.0;
+
+struct Hit {
+    float t;
+    uint tri;
+    float u;
+    float v;
+};
+
+bool slabTest(int node, vec3 origin, vec3 invDir, float tMin, float tMax, out float tEnter) {
+    vec3 lo = texelFetch(uNodes, node * 2).xyz;
+    vec3 hi = texelFetch(uNodes, node * 2 + 1).xyz;
+    vec3 t0 = (lo - origin) * invDir;
+    vec3 t1 = (hi - origin) * invDir;
+    vec3 a = min(t0, t1), b = max(t0, t1);
+    float enter = max(max(a.x, a.y), max(a.z, tMin));
+    float exit = min(min(b.x, b.y), min(b.z, tMax));
+    tEnter = enter;
+    return enter <= exit;
+}
+
+// Möller–Trumbore, as gt::scene::intersectTriangle.
+bool triangleTest(uint tri, vec3 origin, vec3 dir, float tMin, float tMax, out float t,
+                  out float u, out float v) {
+    int base = int(tri) * 3;
+    vec3 v0 = texelFetch(uTriangles, base).xyz;
+    vec3 e1 = texelFetch(uTriangles, base + 1).xyz;
+    vec3 e2 = texelFetch(uTriangles, base + 2).xyz;
+    vec3 p = cross(dir, e2);
+    float det = dot(e1, p);
+    t = 0.0; u = 0.0; v = 0.0;
+    if (abs(det) < 1e-12) return false;
+    float inv = 1.0 / det;
+    vec3 s = origin - v0;
+    u = dot(s, p) * inv;
+    if (u < 0.0 || u > 1.0) return false;
+    vec3 q = cross(s, e1);
+    v = dot(dir, q) * inv;
+    if (v < 0.0 || u + v > 1.0) return false;
+    t = dot(e2, q) * inv;
+    return t > tMin && t < tMax;
+}
+
+Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
+    Hit best = Hit(tMax, 0xffffffffu, 0.0, 0.0);
+    vec3 invDir = 1.0 / dir;
+    uint stack[kStackSize];
+    int sp = 0;
+    stack[sp++] = 0u;
+    while (sp > 0) {
+        int node = int(stack[--sp]);
+        float tEnter;
+        if (!slabTest(node, origin, invDir, tMin, best.t, tEnter)) continue;
+        vec4 hiTexel = texelFetch(uNodes, node * 2 + 1);
+        uint count = floatBitsToUint(hiTexel.w);
+        uint leftFirst = floatBitsToUint(texelFetch(uNodes, node * 2).w);
+        if (count > 0u) {
+            for (uint i = leftFirst; i < leftFirst + count; ++i) {
+                float t, u, v;
+                if (triangleTest(i, origin, dir, tMin, kInf, t, u, v) && t <= best.t &&
+                    (t < best.t || i < best.tri) && t <= tMax) {
+                    best = Hit(t, i, u, v);
+                }
+            }
+            continue;
+        }
+        float tl, tr;
+        bool hl = slabTest(int(leftFirst), origin, invDir, tMin, best.t, tl);
+        bool hr = slabTest(int(leftFirst) + 1, origin, invDir, tMin, best.t, tr);
+        if (hl && hr) {
+            bool leftNear = tl <= tr;
+            stack[sp++] = leftNear ? leftFirst + 1u : leftFirst;
+            stack[sp++] = leftNear ? leftFirst : leftFirst + 1u;
+        } else if (hl) {
+            stack[sp++] = leftFirst;
+        } else if (hr) {
+            stack[sp++] = leftFirst + 1u;
+        }
+    }
+    if (best.tri == 0xffffffffu) best.t = kInf;
+    return best;
+}
+
+bool traceOccluded(vec3 origin, vec3 dir, float tMax) {
+    vec3 invDir = 1.0 / dir;
+    uint stack[kStackSize];
+    int sp = 0;
+    stack[sp++] = 0u;
+    while (sp > 0) {
+        int node = int(stack[--sp]);
+        float tEnter;
+        if (!slabTest(node, origin, invDir, 0.0, tMax, tEnter)) continue;
+        uint count = floatBitsToUint(texelFetch(uNodes, node * 2 + 1).w);
+        uint leftFirst = floatBitsToUint(texelFetch(uNodes, node * 2).w);
+        if (count > 0u) {
+            for (uint i = leftFirst; i < leftFirst + count; ++i) {
+                float t, u, v;
+                if (triangleTest(i, origin, dir, 0.0, tMax, t, u, v)) return true;
+            }
+            continue;
+        }
+        stack[sp++] = leftFirst + 1u;
+        stack[sp++] = leftFirst;
+    }
+    return false;
+}
+
+vec3 skyRadiance(vec3 d) {
+    if (d.y >= 0.0) return mix(uScene.skyHorizon.rgb, uScene.skyZenith.rgb, d.y);
+    return mix(uScene.skyHorizon.rgb, uScene.skyGround.rgb, min(1.0, -4.0 * d.y));
+}
+
+float srgbToLinear(float c) {
+    return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+}
+
+vec4 unpackTexel(uint p) {
+    return vec4(srgbToLinear(float(p & 0xffu) / 255.0), srgbToLinear(float((p >> 8) & 0xffu) / 255.0),
+                srgbToLinear(float((p >> 16) & 0xffu) / 255.0), float(p >> 24) / 255.0);
+}
+
+int wrapIndex(int i, int n) { return ((i % n) + n) % n; }
+
+vec4 fetchTexel(uvec4 info, int x, int y) {
+    return unpackTexel(texelFetch(uTexels, int(info.x) + y * int(info.y) + x).r);
+}
+
+vec4 materialBaseColor(uint material, vec2 uv) {
+    vec4 factor = texelFetch(uMaterials, int(material * kMaterialTexels));
+    uint tex = floatBitsToUint(texelFetch(uMaterials, int(material * kMaterialTexels) + 2).y);
+    if (tex == kNoTexture) return factor;
+    uvec4 info = texelFetch(uTextureInfo, int(tex));
+    int w = int(info.y), h = int(info.z);
+    float x = uv.x * float(w) - 0.5;
+    float y = uv.y * float(h) - 0.5;
+    float fx = floor(x), fy = floor(y);
+    float ax = x - fx, ay = y - fy;
+    int x0 = wrapIndex(int(fx), w), x1 = wrapIndex(int(fx) + 1, w);
+    int y0 = wrapIndex(int(fy), h), y1 = wrapIndex(int(fy) + 1, h);
+    vec4 c = mix(mix(fetchTexel(info, x0, y0), fetchTexel(info, x1, y0), ax),
+                 mix(fetchTexel(info, x0, y1), fetchTexel(info, x1, y1), ax), ay);
+    return factor * c;
+}
+
+float offsetScale(vec3 p) { return 1e-4 * max(1.0, max(abs(p.x), max(abs(p.y), abs(p.z)))); }
+
+// Radiance along a camera ray: see gt::trace::CpuTracer::radiance for the rules.
+// `depth` receives the distance to the first hit (kInf on a miss) for temporal passes.
+vec3 traceRadiance(vec3 origin, vec3 dir, out float depth) {
+    vec3 result = vec3(0.0);
+    vec3 throughput = vec3(1.0);
+    depth = kInf;
+    for (int bounce = 0; bounce < 2; ++bounce) {
+        Hit hit = traceClosest(origin, dir, 0.0, kInf);
+        if (bounce == 0) depth = hit.t;
+        if (hit.tri == 0xffffffffu) {
+            result += throughput * skyRadiance(dir);
+            break;
+        }
+        int sb = int(hit.tri) * 4;
+        vec4 s0 = texelFetch(uShading, sb);
+        vec4 s1 = texelFetch(uShading, sb + 1);
+        vec4 s2 = texelFetch(uShading, sb + 2);
+        vec4 s3 = texelFetch(uShading, sb + 3);
+        float w0 = 1.0 - hit.u - hit.v;
+        vec3 n = normalize(w0 * s0.xyz + hit.u * s1.xyz + hit.v * s2.xyz);
+        vec2 uv = w0 * vec2(s0.w, s1.w) + hit.u * vec2(s2.w, s3.x) + hit.v * s3.yz;
+        uint material = floatBitsToUint(s3.w);
+        int tb = int(hit.tri) * 3;
+        vec3 ng = normalize(cross(texelFetch(uTriangles, tb + 1).xyz, texelFetch(uTriangles, tb + 2).xyz));
+        if (dot(ng, dir) > 0.0) ng = -ng;
+        if (dot(n, ng) < 0.0) n = -n;
+        vec3 base = materialBaseColor(material, uv).rgb;
+        vec4 m1 = texelFetch(uMaterials, int(material * kMaterialTexels) + 1);
+        vec3 emissive = m1.rgb;
+        float metallic = m1.w;
+        vec3 p = origin + hit.t * dir;
+        vec3 offsetOrigin = p + ng * offsetScale(p);
+
+        vec3 direct = vec3(0.0);
+        uint lightCount = uScene.counts.x;
+        for (uint li = 0u; li < lightCount; ++li) {
+            int lb = int(li * kLightTexels);
+            vec4 l0 = texelFetch(uLights, lb);
+            vec4 l1 = texelFetch(uLights, lb + 1);
+            vec4 l2 = texelFetch(uLights, lb + 2);
+            vec4 l3 = texelFetch(uLights, lb + 3);
+            uint type = floatBitsToUint(l0.w);
+            vec3 toLight;
+            float dist;
+            vec3 e = l2.rgb;
+            if (type == kLightDirectional) {
+                toLight = -l1.xyz;
+                dist = kInf;
+            } else {
+                vec3 d = l0.xyz - p;
+                dist = length(d);
+                toLight = d / dist;
+                float atten = 1.0 / max(dist * dist, 1e-4);
+                if (l1.w > 0.0) {
+                    float r = dist / l1.w;
+                    atten *= clamp(1.0 - r * r * r * r, 0.0, 1.0);
+                }
+                if (type == kLightSpot) {
+                    float cd = dot(l1.xyz, -toLight);
+                    float s = clamp((cd - l3.x) / max(l2.w - l3.x, 1e-4), 0.0, 1.0);
+                    atten *= s * s;
+                }
+                e *= atten;
+            }
+            float cosTheta = dot(n, toLight);
+            if (cosTheta <= 0.0 || dot(e, e) == 0.0) continue;
+            float shadowMax = isinf(dist) ? kInf : dist * 0.999;
+            if (!traceOccluded(offsetOrigin, toLight, shadowMax)) direct += e * cosTheta;
+        }
+        vec3 albedo = base * (1.0 - metallic);
+        vec3 ambient = uScene.skyHorizon.w * skyRadiance(n);
+        result += throughput * (emissive + albedo * (direct / kPi + ambient));
+        if (metallic <= 0.0 || bounce == 1) break;
+        throughput *= metallic * base;
+        dir = reflect(dir, n);
+        origin = offsetOrigin;
+    }
+    return result;
+}
+
+vec3 cameraRay(CameraPush cam, vec2 pixel, vec2 size) {
+    float sx = (2.0 * pixel.x / size.x - 1.0) * cam.origin.w * cam.forward.w;
+    float sy = (1.0 - 2.0 * pixel.y / size.y) * cam.origin.w;
+    return normalize(cam.forward.xyz + sx * cam.right.xyz + sy * cam.up.xyz);
+}
+#endif

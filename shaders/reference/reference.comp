@@ -1,0 +1,27 @@
+#version 460
+// Pass `reference`: every pixel ray traced with N stratified jittered rays; the baseline every
+// foveated method is measured against (seed 000, section 5: "ground truth").
+#extension GL_GOOGLE_include_directive : require
+#include "reference_shared.h"
+#include "random.glsl"
+#include "trace.glsl"
+
+layout(local_size_x = kGroupSizeX, local_size_y = kGroupSizeY) in;
+layout(set = 0, binding = kBindingOutput, rgba32f) uniform writeonly image2D uOutput;
+layout(push_constant) uniform Push { ReferencePush pc; };
+
+void main() {
+    uvec2 pixel = gl_GlobalInvocationID.xy;
+    uint width = pc.params.x, height = pc.params.y, spp = pc.params.z;
+    if (pixel.x >= width || pixel.y >= height) return;
+    CameraPush cam = CameraPush(pc.origin, pc.forward, pc.right, pc.up);
+    uint pixelIndex = pixel.y * width + pixel.x;
+    vec3 sum = vec3(0.0);
+    for (uint i = 0u; i < spp; ++i) {
+        vec2 o = sampleOffset(pixelIndex, i, spp, pc.params.w);
+        vec3 dir = cameraRay(cam, vec2(pixel) + o, vec2(width, height));
+        float depth;
+        sum += traceRadiance(pc.origin.xyz, dir, depth);
+    }
+    imageStore(uOutput, ivec2(pixel), vec4(sum / float(spp), 1.0));
+}

@@ -1,0 +1,21 @@
+// Pass `reference`: full-resolution ray tracing, N stratified jittered rays per pixel.
+#ifndef REFERENCE_SHARED_H
+#define REFERENCE_SHARED_H
+#include "trace_shared.h"
+
+GT_NAMESPACE_BEGIN(reference)
+
+GT_CONST kBindingOutput = 8; // image2D rgba32f, linear radiance (after the 8 scene bindings)
+GT_CONST kGroupSizeX = 8;
+GT_CONST kGroupSizeY = 8;
+
+struct ReferencePush {
+    vec4 origin;  // camera, as trace::CameraPush
+    vec4 forward;
+    vec4 right;
+    vec4 up;
+    uvec4 params; // x = width, y = height, z = rays per pixel, w = frame seed
+};
+
+GT_NAMESPACE_END
+#endif

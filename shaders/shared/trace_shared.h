@@ -1,0 +1,49 @@
+// Layouts of the scene as the compute tracer sees it (see engine/trace/gpu_scene.hpp) and the
+// push constants of the tracing passes.
+#ifndef TRACE_SHARED_H
+#define TRACE_SHARED_H
+#include "gt_shared.h"
+
+GT_NAMESPACE_BEGIN(trace)
+
+// Descriptor bindings of the scene, identical in every tracing pass (set 0).
+GT_CONST kBindingNodes = 0;       // samplerBuffer RGBA32F, 2 texels per BVH node
+GT_CONST kBindingTriangles = 1;   // samplerBuffer RGBA32F, 3 texels per triangle (v0, e1, e2)
+GT_CONST kBindingShading = 2;     // samplerBuffer RGBA32F, 4 texels per triangle
+GT_CONST kBindingMaterials = 3;   // samplerBuffer RGBA32F, 3 texels per material
+GT_CONST kBindingLights = 4;      // samplerBuffer RGBA32F, 4 texels per light
+GT_CONST kBindingTexels = 5;      // usamplerBuffer R32UI, packed sRGB RGBA8 texels
+GT_CONST kBindingTextureInfo = 6; // usamplerBuffer RGBA32UI, (offset, width, height, 0)
+GT_CONST kBindingSceneUniforms = 7;
+GT_CONST kSceneBindingCount = 8;
+
+GT_CONST kNodeTexels = 2;
+GT_CONST kTriangleTexels = 3;
+GT_CONST kShadingTexels = 4;
+GT_CONST kMaterialTexels = 3;
+GT_CONST kLightTexels = 4;
+GT_CONST kStackSize = 128; // >= 2 * Bvh::kMaxDepth
+GT_CONST kNoTexture = 0xffffffffu;
+
+GT_CONST kLightPoint = 0;
+GT_CONST kLightSpot = 1;
+GT_CONST kLightDirectional = 2;
+
+// std140-compatible: vec4 members only.
+struct SceneUniforms {
+    vec4 skyHorizon; // rgb, w = ambient share
+    vec4 skyZenith;  // rgb, w = exposure
+    vec4 skyGround;  // rgb, w unused
+    uvec4 counts;    // x = lights, y = materials, z = textures, w = triangles
+};
+
+// Camera as a pinhole: dir = normalize(forward + sx * right + sy * up) with sx, sy in [-1, 1].
+struct CameraPush {
+    vec4 origin;  // xyz, w = tan(yfov / 2)
+    vec4 forward; // xyz, w = aspect (width / height)
+    vec4 right;   // unit
+    vec4 up;      // unit
+};
+
+GT_NAMESPACE_END
+#endif
