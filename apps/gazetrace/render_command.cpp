@@ -61,6 +61,15 @@ nlohmann::json runRender(const RenderOptions& o) {
     }
     if (o.out.empty()) throw ArgumentError("--out: empty path");
     const std::filesystem::path outPath(o.out);
+    {
+        // Fail before any work when the PNG could not be written anyway.
+        const std::filesystem::path dir = outPath.parent_path().empty() ? "." : outPath.parent_path();
+        std::error_code ec;
+        if (!std::filesystem::is_directory(dir, ec)) {
+            throw ArgumentError("--out: cannot write " + o.out + ": folder " + dir.string() +
+                                " does not exist");
+        }
+    }
     const auto t0 = Clock::now();
     scene::GltfLoadReport report;
     const scene::Scene scene = scene::loadScene(o.scene, &report);

@@ -93,8 +93,11 @@ Bvh::Bvh(const Scene& scene) {
             bounds.grow(boxes[mOrder[i]]);
             centroidBounds.grow(centroids[mOrder[i]]);
         }
-        mNodes[task.node].boundsMin = bounds.lo;
-        mNodes[task.node].boundsMax = bounds.hi;
+        // Pad each box by a few ULPs of its coordinates so the slab test can never reject a
+        // hit Möller–Trumbore accepts (flat boxes around axis-aligned triangles, grazing rays).
+        const glm::vec3 pad = 4e-6f * (glm::abs(bounds.lo) + glm::abs(bounds.hi)) + 1e-30f;
+        mNodes[task.node].boundsMin = bounds.lo - pad;
+        mNodes[task.node].boundsMax = bounds.hi + pad;
         mStats.maxDepth = std::max(mStats.maxDepth, task.depth);
         if (task.count <= 2) {
             makeLeaf(task);

@@ -66,7 +66,7 @@ uint32_t Allocator::findMemoryType(uint32_t typeBits, MemoryUsage usage) const {
     throw VulkanError(VK_ERROR_FEATURE_NOT_PRESENT, "no suitable memory type", __FILE__, __LINE__);
 }
 
-uint32_t Allocator::createBlock(uint32_t memoryType, VkDeviceSize size) {
+uint32_t Allocator::createBlock(uint32_t memoryType, VkDeviceSize size, bool dedicated) {
     VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     info.allocationSize = size;
     info.memoryTypeIndex = memoryType;
@@ -74,6 +74,7 @@ uint32_t Allocator::createBlock(uint32_t memoryType, VkDeviceSize size) {
     GT_VK_CHECK(vkAllocateMemory(mDevice, &info, nullptr, &block.memory));
     block.size = size;
     block.memoryType = memoryType;
+    block.dedicated = dedicated;
     const VkMemoryPropertyFlags flags = mMemoryProperties.memoryTypes[memoryType].propertyFlags;
     block.coherent = (flags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT) != 0;
     if (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) {
@@ -128,18 +129,18 @@ Allocation Allocator::allocate(const VkMemoryRequirements& requirements, MemoryU
     if (requirements.size <= kBlockSize / 2) {
         for (uint32_t i = 0; i < mBlocks.size(); ++i) {
             if (mBlocks[i].memory != VK_NULL_HANDLE && mBlocks[i].memoryType == type &&
-                mBlocks[i].size == kBlockSize && tryAllocateFrom(i, requirements, out)) {
+                !mBlocks[i].dedicated && tryAllocateFrom(i, requirements, out)) {
                 return out;
             }
         }
-        const uint32_t i = createBlock(type, kBlockSize);
+        const uint32_t i = createBlock(type, kBlockSize, false);
         if (!tryAllocateFrom(i, requirements, out)) {
             throw VulkanError(VK_ERROR_OUT_OF_DEVICE_MEMORY, "sub-allocation", __FILE__, __LINE__);
         }
         return out;
     }
     // Dedicated block, sized to the request.
-    const uint32_t i = createBlock(type, alignUp(requirements.size, mGranularity));
+    const uint32_t i = createBlock(type, alignUp(requirements.size, mGranularity), true);
     tryAllocateFrom(i, requirements, out);
     return out;
 }
@@ -161,7 +162,7 @@ void Allocator::free(const Allocation& a) noexcept {
             b.freeRanges.erase(it);
         }
     }
-    if (--b.liveAllocations == 0 && b.size != kBlockSize) {
+    if (--b.liveAllocations == 0 && b.dedicated) {
         // Dedicated blocks go back to the driver at once; shared blocks are kept for reuse.
         vkFreeMemory(mDevice, b.memory, nullptr);
         b = Block{};

@@ -57,11 +57,12 @@ private:
         bool coherent = true;
         std::map<VkDeviceSize, VkDeviceSize> freeRanges; // offset -> size
         std::size_t liveAllocations = 0;
+        bool dedicated = false;
     };
     [[nodiscard]] uint32_t findMemoryType(uint32_t typeBits, MemoryUsage usage) const;
     [[nodiscard]] bool tryAllocateFrom(uint32_t blockIndex, const VkMemoryRequirements& req,
                                        Allocation& out);
-    uint32_t createBlock(uint32_t memoryType, VkDeviceSize size);
+    uint32_t createBlock(uint32_t memoryType, VkDeviceSize size, bool dedicated);
 
     VkDevice mDevice;
     VkPhysicalDeviceMemoryProperties mMemoryProperties{};

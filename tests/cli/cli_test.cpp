@@ -1,1 +1,131 @@
+// `gazetrace render` end to end: the JSON summary, and bad inputs that must give one clear
+// line on stderr, a non-zero exit and no output file.
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+
+#include "support/gltf_fixtures.hpp"
+#include "support/gpu_test_context.hpp"
+
+namespace gt {
+namespace {
+
+struct Result {
+    int status = -1;
+    std::string out, err;
+};
+
+std::string slurp(const std::filesystem::path& p) {
+    std::ifstream f(p);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+Result run(const std::string& args) {
+    // Per-test names: ctest runs the CLI tests in parallel.
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    const auto dir = std::filesystem::temp_directory_path();
+    const std::string tag = info ? info->name() : "x";
+    const auto out = dir / ("gazetrace_cli_" + tag + ".out"), err = dir / ("gazetrace_cli_" + tag + ".err");
+    const std::string cmd = std::string(GT_GAZETRACE_EXE) + " " + args + " >" + out.string() +
+                            " 2>" + err.string();
+    const int raw = std::system(cmd.c_str());
+    Result r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+}
+
+int lines(const std::string& s) {
+    int n = 0;
+    for (char c : s) n += c == '\n';
+    return n;
+}
+
+void expectCleanFailure(const Result& r, const std::string& mention, const std::filesystem::path& out) {
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.err.find("error"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(mention), std::string::npos) << r.err;
+    EXPECT_EQ(lines(r.err), 1) << "expected one line, got: " << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out)) << out << " was left behind";
+    for (const auto& e : std::filesystem::directory_iterator(out.parent_path())) {
+        EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+    }
+}
+
+TEST(Cli, RenderPrintsJsonAndWritesPng) {
+    const auto dir = test::tempDir("cli");
+    const auto png = dir / "c.png";
+    const Result r = run("render --scene builtin:cornell --width 48 --height 32 --spp 2 --validate --json --out " +
+                         png.string() + " --graph " + (dir / "g.dot").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    for (const char* key : {"device", "width", "height", "method", "rays", "gpu_ms", "total_ms", "output"}) {
+        EXPECT_TRUE(j.contains(key)) << key;
+    }
+    EXPECT_EQ(j["width"], 48);
+    EXPECT_EQ(j["height"], 32);
+    EXPECT_EQ(j["rays"], 48 * 32 * 2);
+    EXPECT_EQ(j["method"], "reference");
+    EXPECT_TRUE(j["gpu_ms"].contains("reference.trace"));
+    EXPECT_GT(j["total_ms"].get<double>(), 0.0);
+    EXPECT_TRUE(std::filesystem::exists(png));
+    EXPECT_NE(slurp(dir / "g.dot").find("reference.trace"), std::string::npos);
+    EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;
+}
+
+TEST(Cli, MissingSceneFile) {
+    const auto dir = test::tempDir("cli_missing");
+    const Result r = run("render --scene " + (dir / "nope.gltf").string() + " --out " + (dir / "o.png").string());
+    expectCleanFailure(r, "nope.gltf", dir / "o.png");
+}
+
+TEST(Cli, TruncatedGlb) {
+    const auto dir = test::tempDir("cli_trunc");
+    auto glb = test::quadGlb();
+    test::writeFile(dir / "t.glb", glb.data(), glb.size() / 2);
+    const Result r = run("render --scene " + (dir / "t.glb").string() + " --out " + (dir / "o.png").string());
+    expectCleanFailure(r, "t.glb", dir / "o.png");
+}
+
+TEST(Cli, GltfWithMissingBuffer) {
+    const auto dir = test::tempDir("cli_nobuf");
+    test::writeQuadGltf(dir);
+    std::filesystem::remove(dir / "quad.bin");
+    const Result r = run("render --scene " + (dir / "quad.gltf").string() + " --out " + (dir / "o.png").string());
+    expectCleanFailure(r, "quad.gltf", dir / "o.png");
+}
+
+TEST(Cli, ZeroWidth) {
+    const auto dir = test::tempDir("cli_width");
+    const Result r = run("render --width 0 --out " + (dir / "o.png").string());
+    expectCleanFailure(r, "--width", dir / "o.png");
+}
+
+TEST(Cli, BadValues) {
+    const auto dir = test::tempDir("cli_values");
+    expectCleanFailure(run("render --spp abc --out " + (dir / "o.png").string()), "--spp", dir / "o.png");
+    expectCleanFailure(run("render --scene builtin:nowhere --out " + (dir / "o.png").string()),
+                       "builtin:nowhere", dir / "o.png");
+    expectCleanFailure(run("render --method magic --out " + (dir / "o.png").string()), "--method",
+                       dir / "o.png");
+    expectCleanFailure(run("render --width 8 --height 8 --out /nonexistent-dir/o.png"),
+                       "/nonexistent-dir", dir / "o.png");
+}
+
+TEST(Cli, HelpOnEverySubcommand) {
+    for (const char* sub : {"", "render ", "devices ", "scenes "}) {
+        const Result r = run(std::string(sub) + "--help");
+        EXPECT_EQ(r.status, 0) << sub;
+        EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
+    }
+}
+
+} // namespace
+} // namespace gt
