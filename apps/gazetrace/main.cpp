@@ -30,7 +30,9 @@ int main(int argc, char** argv) {
     gt::app::RenderOptions render;
     bool renderJson = false;
     CLI::App* renderCmd = app.add_subcommand("render", "Render one frame headless to a PNG");
-    renderCmd->add_option("--scene", render.scene, "builtin:market | builtin:cornell | FILE.gltf | FILE.glb")
+    renderCmd
+        ->add_option("--scene", render.scene,
+                     "builtin:market | builtin:cornell | FILE.gltf | FILE.glb")
         ->capture_default_str();
     renderCmd->add_option("--width", render.width, "Image width in pixels")
         ->check(CLI::Range(1u, 16384u))
@@ -41,10 +43,12 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--spp", render.spp, "Rays per pixel (stratified, jittered)")
         ->check(CLI::Range(1u, 4096u))
         ->capture_default_str();
-    renderCmd->add_option("--seed", render.seed, "Frame seed for the jitter")->capture_default_str();
+    renderCmd->add_option("--seed", render.seed, "Frame seed for the jitter")
+        ->capture_default_str();
     renderCmd->add_option("--method", render.method, "reference")->capture_default_str();
     renderCmd->add_option("--out", render.out, "Output PNG")->capture_default_str();
-    renderCmd->add_option("--graph", render.graphDot, "Write the compiled render graph as Graphviz");
+    renderCmd->add_option("--graph", render.graphDot,
+                          "Write the compiled render graph as Graphviz");
     renderCmd->add_flag("--validate", render.validate, "Enable the Khronos validation layer");
     renderCmd->add_flag("--json", renderJson, "Print a JSON summary on stdout");
 
@@ -65,12 +69,16 @@ int main(int argc, char** argv) {
     try {
         if (renderCmd->parsed()) {
             const nlohmann::json result = gt::app::runRender(render);
-            if (renderJson) std::cout << result.dump() << std::endl;
-            else gt::log::info("wrote " + render.out);
+            if (renderJson)
+                std::cout << result.dump() << std::endl;
+            else
+                gt::log::info("wrote " + render.out);
         } else if (devicesCmd->parsed()) {
-            for (const std::string& line : gt::vk::Context::listDevices()) std::cout << line << "\n";
+            for (const std::string& line : gt::vk::Context::listDevices())
+                std::cout << line << "\n";
         } else if (scenesCmd->parsed()) {
-            for (const std::string& s : gt::scene::builtinSceneNames()) std::cout << s << "\n";
+            for (const std::string& s : gt::scene::builtinSceneNames())
+                std::cout << s << "\n";
         }
     } catch (const gt::Error& e) {
         return fail(e.what());

@@ -63,7 +63,8 @@ nlohmann::json runRender(const RenderOptions& o) {
     const std::filesystem::path outPath(o.out);
     {
         // Fail before any work when the PNG could not be written anyway.
-        const std::filesystem::path dir = outPath.parent_path().empty() ? "." : outPath.parent_path();
+        const std::filesystem::path dir =
+            outPath.parent_path().empty() ? "." : outPath.parent_path();
         std::error_code ec;
         if (!std::filesystem::is_directory(dir, ec)) {
             throw ArgumentError("--out: cannot write " + o.out + ": folder " + dir.string() +
@@ -73,7 +74,8 @@ nlohmann::json runRender(const RenderOptions& o) {
     const auto t0 = Clock::now();
     scene::GltfLoadReport report;
     const scene::Scene scene = scene::loadScene(o.scene, &report);
-    for (const std::string& w : report.warnings) log::warn(o.scene + ": " + w);
+    for (const std::string& w : report.warnings)
+        log::warn(o.scene + ": " + w);
     const double loadMs = msSince(t0);
     const auto t1 = Clock::now();
     const scene::Bvh bvh(scene);
@@ -115,7 +117,8 @@ nlohmann::json runRender(const RenderOptions& o) {
     }
 
     nlohmann::json gpu = nlohmann::json::object();
-    for (const auto& p : frame.timings.passes) gpu[p.name] = p.gpuMs;
+    for (const auto& p : frame.timings.passes)
+        gpu[p.name] = p.gpuMs;
     const uint64_t rays = static_cast<uint64_t>(o.width) * o.height * o.spp;
     return {{"device", ctx.deviceName()},
             {"device_type", ctx.deviceDescription()},

@@ -15,8 +15,8 @@ struct RenderOptions {
     uint32_t seed = 0;
     std::string method = "reference";
     std::string out = "out/render.png";
-    std::string graphDot;   // --graph FILE.dot
-    bool validate = false;  // Khronos validation layer
+    std::string graphDot;  // --graph FILE.dot
+    bool validate = false; // Khronos validation layer
 };
 
 // Renders and writes the PNG; returns the JSON summary (device, width, height, method, rays,

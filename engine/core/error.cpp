@@ -12,7 +12,8 @@ VulkanError::VulkanError(VkResult result, const char* expr, const char* file, in
 const char* toString(VkResult result) noexcept {
     switch (result) {
 #define GT_CASE(x)                                                                                 \
-    case x: return #x;
+    case x:                                                                                        \
+        return #x;
         GT_CASE(VK_SUCCESS)
         GT_CASE(VK_NOT_READY)
         GT_CASE(VK_TIMEOUT)
@@ -34,7 +35,8 @@ const char* toString(VkResult result) noexcept {
         GT_CASE(VK_ERROR_OUT_OF_DATE_KHR)
         GT_CASE(VK_SUBOPTIMAL_KHR)
 #undef GT_CASE
-    default: return "VK_ERROR_(unknown)";
+    default:
+        return "VK_ERROR_(unknown)";
     }
 }
 

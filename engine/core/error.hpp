@@ -49,5 +49,6 @@ public:
 #define GT_VK_CHECK(expr)                                                                          \
     do {                                                                                           \
         const VkResult gtVkResult_ = (expr);                                                       \
-        if (gtVkResult_ != VK_SUCCESS) throw ::gt::VulkanError(gtVkResult_, #expr, __FILE__, __LINE__); \
+        if (gtVkResult_ != VK_SUCCESS)                                                             \
+            throw ::gt::VulkanError(gtVkResult_, #expr, __FILE__, __LINE__);                       \
     } while (false)

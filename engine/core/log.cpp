@@ -8,8 +8,12 @@ namespace {
 std::atomic<Level> gLevel{Level::Info};
 }
 
-void setLevel(Level level) noexcept { gLevel = level; }
-bool enabled(Level level) noexcept { return level >= gLevel.load(); }
+void setLevel(Level level) noexcept {
+    gLevel = level;
+}
+bool enabled(Level level) noexcept {
+    return level >= gLevel.load();
+}
 
 void write(Level level, std::string_view message) noexcept {
     if (!enabled(level)) return;

@@ -50,15 +50,24 @@ AccessInfo accessInfo(Access a) noexcept {
 
 const char* toString(Access a) noexcept {
     switch (a) {
-    case Access::StorageRead: return "storage-read";
-    case Access::StorageWrite: return "storage-write";
-    case Access::StorageReadWrite: return "storage-read-write";
-    case Access::SampledCompute: return "sampled";
-    case Access::UniformRead: return "uniform";
-    case Access::TransferSrc: return "transfer-src";
-    case Access::TransferDst: return "transfer-dst";
-    case Access::HostRead: return "host-read";
-    case Access::Present: return "present";
+    case Access::StorageRead:
+        return "storage-read";
+    case Access::StorageWrite:
+        return "storage-write";
+    case Access::StorageReadWrite:
+        return "storage-read-write";
+    case Access::SampledCompute:
+        return "sampled";
+    case Access::UniformRead:
+        return "uniform";
+    case Access::TransferSrc:
+        return "transfer-src";
+    case Access::TransferDst:
+        return "transfer-dst";
+    case Access::HostRead:
+        return "host-read";
+    case Access::Present:
+        return "present";
     }
     return "?";
 }
@@ -66,15 +75,24 @@ const char* toString(Access a) noexcept {
 namespace {
 const char* formatName(VkFormat f) {
     switch (f) {
-    case VK_FORMAT_R8G8B8A8_UNORM: return "R8G8B8A8_UNORM";
-    case VK_FORMAT_R8G8B8A8_SRGB: return "R8G8B8A8_SRGB";
-    case VK_FORMAT_B8G8R8A8_UNORM: return "B8G8R8A8_UNORM";
-    case VK_FORMAT_R16G16B16A16_SFLOAT: return "R16G16B16A16_SFLOAT";
-    case VK_FORMAT_R32G32B32A32_SFLOAT: return "R32G32B32A32_SFLOAT";
-    case VK_FORMAT_R32G32_SFLOAT: return "R32G32_SFLOAT";
-    case VK_FORMAT_R32_SFLOAT: return "R32_SFLOAT";
-    case VK_FORMAT_R32_UINT: return "R32_UINT";
-    default: return "VkFormat(other)";
+    case VK_FORMAT_R8G8B8A8_UNORM:
+        return "R8G8B8A8_UNORM";
+    case VK_FORMAT_R8G8B8A8_SRGB:
+        return "R8G8B8A8_SRGB";
+    case VK_FORMAT_B8G8R8A8_UNORM:
+        return "B8G8R8A8_UNORM";
+    case VK_FORMAT_R16G16B16A16_SFLOAT:
+        return "R16G16B16A16_SFLOAT";
+    case VK_FORMAT_R32G32B32A32_SFLOAT:
+        return "R32G32B32A32_SFLOAT";
+    case VK_FORMAT_R32G32_SFLOAT:
+        return "R32G32_SFLOAT";
+    case VK_FORMAT_R32_SFLOAT:
+        return "R32_SFLOAT";
+    case VK_FORMAT_R32_UINT:
+        return "R32_UINT";
+    default:
+        return "VkFormat(other)";
     }
 }
 } // namespace
@@ -115,9 +133,15 @@ RenderGraph::RenderGraph(uint32_t outputWidth, uint32_t outputHeight)
 }
 RenderGraph::~RenderGraph() = default;
 
-std::size_t RenderGraph::passCount() const noexcept { return mPasses.size(); }
-const std::string& RenderGraph::passName(uint32_t pass) const { return mPasses.at(pass).name; }
-const std::string& RenderGraph::resourceName(uint32_t r) const { return mResources.at(r).name; }
+std::size_t RenderGraph::passCount() const noexcept {
+    return mPasses.size();
+}
+const std::string& RenderGraph::passName(uint32_t pass) const {
+    return mPasses.at(pass).name;
+}
+const std::string& RenderGraph::resourceName(uint32_t r) const {
+    return mResources.at(r).name;
+}
 
 uint32_t RenderGraph::beginPass(std::string_view name) {
     for (const Pass& p : mPasses) {
@@ -141,7 +165,9 @@ uint32_t RenderGraph::addResource(Resource resource) {
     return static_cast<uint32_t>(mResources.size() - 1);
 }
 
-void RenderGraph::addUse(uint32_t pass, Use use) { mPasses[pass].uses.push_back(use); }
+void RenderGraph::addUse(uint32_t pass, Use use) {
+    mPasses[pass].uses.push_back(use);
+}
 
 TextureId RenderGraph::importTexture(std::string_view name, const ImportedTexture& texture) {
     Resource r;
@@ -210,7 +236,8 @@ BufferId PassBuilder::write(BufferId b, Access a) {
     if (!b.valid() || b.index >= mGraph.mResources.size() || mGraph.mResources[b.index].image) {
         throw GraphError("pass '" + mGraph.mPasses[mPass].name + "' writes an invalid buffer");
     }
-    if (accessInfo(a).reads) mGraph.addUse(mPass, {b.index, b.version, a, false, VK_FORMAT_UNDEFINED});
+    if (accessInfo(a).reads)
+        mGraph.addUse(mPass, {b.index, b.version, a, false, VK_FORMAT_UNDEFINED});
     auto& r = mGraph.mResources[b.index];
     r.versions = std::max(r.versions, b.version + 2);
     mGraph.addUse(mPass, {b.index, b.version + 1, a, true, VK_FORMAT_UNDEFINED});
@@ -221,7 +248,9 @@ void PassBuilder::dependsOn(std::string_view passName) {
     mGraph.mPasses[mPass].after.emplace_back(passName);
 }
 
-void PassBuilder::sideEffect() { mGraph.mPasses[mPass].sideEffect = true; }
+void PassBuilder::sideEffect() {
+    mGraph.mPasses[mPass].sideEffect = true;
+}
 
 std::pair<uint32_t, uint32_t> RenderGraph::textureExtent(const Resource& r) const {
     if (r.imported) return {r.importedTexture.width, r.importedTexture.height};
@@ -235,7 +264,8 @@ std::pair<uint32_t, uint32_t> RenderGraph::textureExtent(const Resource& r) cons
 std::vector<uint32_t> CompiledGraph::order() const {
     std::vector<uint32_t> o;
     o.reserve(passes.size());
-    for (const auto& p : passes) o.push_back(p.pass);
+    for (const auto& p : passes)
+        o.push_back(p.pass);
     return o;
 }
 
@@ -291,8 +321,8 @@ CompiledGraph RenderGraph::compile() const {
             auto it = std::find_if(mPasses.begin(), mPasses.end(),
                                    [&](const Pass& q) { return q.name == name; });
             if (it == mPasses.end()) {
-                throw GraphError("pass '" + mPasses[p].name + "' depends on unknown pass '" +
-                                 name + "'");
+                throw GraphError("pass '" + mPasses[p].name + "' depends on unknown pass '" + name +
+                                 "'");
             }
             preds[p].insert(static_cast<uint32_t>(it - mPasses.begin()));
         }
@@ -311,7 +341,8 @@ CompiledGraph RenderGraph::compile() const {
     std::vector<uint32_t> stack;
     for (uint32_t p = 0; p < passCount; ++p) {
         bool root = mPasses[p].sideEffect;
-        for (const Use& u : mPasses[p].uses) root |= u.write && mResources[u.resource].imported;
+        for (const Use& u : mPasses[p].uses)
+            root |= u.write && mResources[u.resource].imported;
         if (root) {
             alive[p] = true;
             stack.push_back(p);
@@ -366,7 +397,8 @@ CompiledGraph RenderGraph::compile() const {
     if (out.passes.size() != aliveCount) {
         std::string names;
         for (uint32_t p = 0; p < passCount; ++p) {
-            if (alive[p] && indegree[p] > 0) names += (names.empty() ? "'" : ", '") + mPasses[p].name + "'";
+            if (alive[p] && indegree[p] > 0)
+                names += (names.empty() ? "'" : ", '") + mPasses[p].name + "'";
         }
         throw GraphError("render graph has a cycle through passes " + names);
     }
@@ -407,23 +439,35 @@ CompiledGraph RenderGraph::compile() const {
             switch (a) {
             case Access::StorageRead:
             case Access::StorageWrite:
-            case Access::StorageReadWrite: out.imageUsage[r] |= VK_IMAGE_USAGE_STORAGE_BIT; break;
+            case Access::StorageReadWrite:
+                out.imageUsage[r] |= VK_IMAGE_USAGE_STORAGE_BIT;
+                break;
             case Access::SampledCompute:
-            case Access::UniformRead: out.imageUsage[r] |= VK_IMAGE_USAGE_SAMPLED_BIT; break;
-            case Access::TransferSrc: out.imageUsage[r] |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT; break;
-            case Access::TransferDst: out.imageUsage[r] |= VK_IMAGE_USAGE_TRANSFER_DST_BIT; break;
-            default: break;
+            case Access::UniformRead:
+                out.imageUsage[r] |= VK_IMAGE_USAGE_SAMPLED_BIT;
+                break;
+            case Access::TransferSrc:
+                out.imageUsage[r] |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+                break;
+            case Access::TransferDst:
+                out.imageUsage[r] |= VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+                break;
+            default:
+                break;
             }
         } else {
             switch (a) {
             case Access::UniformRead:
-                out.bufferUsage[r] |= VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
-                                      VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+                out.bufferUsage[r] |=
+                    VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
                 break;
             case Access::TransferSrc:
             case Access::TransferDst:
-            case Access::HostRead: break;
-            default: out.bufferUsage[r] |= VK_BUFFER_USAGE_STORAGE_BUFFER_BIT; break;
+            case Access::HostRead:
+                break;
+            default:
+                out.bufferUsage[r] |= VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+                break;
             }
         }
     };
@@ -498,8 +542,8 @@ CompiledGraph RenderGraph::compile() const {
             if (!inserted) {
                 if (mResources[u.resource].image && it->second.layout != ai.layout) {
                     throw GraphError("pass '" + pass.name + "' uses '" +
-                                     mResources[u.resource].name +
-                                     "' in two layouts at once (" + toString(u.access) + ")");
+                                     mResources[u.resource].name + "' in two layouts at once (" +
+                                     toString(u.access) + ")");
                 }
                 it->second.stage |= ai.stage;
                 it->second.access |= ai.access;
@@ -507,7 +551,8 @@ CompiledGraph RenderGraph::compile() const {
                 it->second.reads |= ai.reads;
             }
         }
-        for (const auto& [r, ai] : merged) place(out.passes[pos].barriers, r, ai);
+        for (const auto& [r, ai] : merged)
+            place(out.passes[pos].barriers, r, ai);
     }
     for (uint32_t r = 0; r < rc; ++r) {
         const Resource& res = mResources[r];
@@ -524,9 +569,15 @@ CompiledGraph RenderGraph::compile() const {
 // ---------------------------------------------------------------------------------------------
 // Execute
 
-const ResolvedTexture& PassResources::texture(TextureId t) const { return mTextures.at(t.index); }
-VkBuffer PassResources::buffer(BufferId b) const { return mBuffers.at(b.index).first; }
-VkDeviceSize PassResources::bufferSize(BufferId b) const { return mBuffers.at(b.index).second; }
+const ResolvedTexture& PassResources::texture(TextureId t) const {
+    return mTextures.at(t.index);
+}
+VkBuffer PassResources::buffer(BufferId b) const {
+    return mBuffers.at(b.index).first;
+}
+VkDeviceSize PassResources::bufferSize(BufferId b) const {
+    return mBuffers.at(b.index).second;
+}
 
 struct TransientPool::Impl {
     std::map<std::string, vk::Image> images;

@@ -34,8 +34,8 @@ enum class Access : uint8_t {
     UniformRead,      // uniform buffer or uniform texel buffer in a compute shader
     TransferSrc,
     TransferDst,
-    HostRead,         // the CPU reads it after the frame (readback buffers)
-    Present,          // handed to the presentation engine
+    HostRead, // the CPU reads it after the frame (readback buffers)
+    Present,  // handed to the presentation engine
 };
 
 struct AccessInfo {
@@ -197,17 +197,16 @@ public:
     using Execute = std::function<void(const PassResources&, VkCommandBuffer)>;
 
     template <typename Data, typename Setup, typename Exec>
-        requires std::invocable<Setup&, PassBuilder&, Data&> &&
-                 std::invocable<Exec&, const PassResources&, const Data&, VkCommandBuffer>
+    requires std::invocable<Setup&, PassBuilder&, Data&> &&
+        std::invocable<Exec&, const PassResources&, const Data&, VkCommandBuffer>
     const Data& addPass(std::string_view name, Setup&& setup, Exec&& execute) {
         auto data = std::make_shared<Data>();
         const uint32_t index = beginPass(name);
         PassBuilder builder(*this, index);
         setup(builder, *data);
-        setExecute(index, [data, exec = std::forward<Exec>(execute)](const PassResources& r,
-                                                                     VkCommandBuffer cmd) {
-            exec(r, *data, cmd);
-        });
+        setExecute(index,
+                   [data, exec = std::forward<Exec>(execute)](
+                       const PassResources& r, VkCommandBuffer cmd) { exec(r, *data, cmd); });
         return *data;
     }
 

@@ -14,7 +14,8 @@ namespace {
 // Small deterministic generator (PCG32), so the scenes are identical on every platform.
 class Pcg32 {
 public:
-    explicit Pcg32(uint64_t seed) : mState(seed * 6364136223846793005ull + 1442695040888963407ull) {}
+    explicit Pcg32(uint64_t seed)
+        : mState(seed * 6364136223846793005ull + 1442695040888963407ull) {}
     uint32_t next() {
         const uint64_t old = mState;
         mState = old * 6364136223846793005ull + 1442695040888963407ull;
@@ -53,10 +54,10 @@ void addFigure(SceneBuilder& b, glm::vec3 feet, float yaw, float height, uint32_
     };
     b.box(part({-0.1f, 0.42f, 0}, {0.14f, 0.84f, 0.16f}), trousers); // legs
     b.box(part({0.1f, 0.42f, 0}, {0.14f, 0.84f, 0.16f}), trousers);
-    b.box(part({0, 1.14f, 0}, {0.42f, 0.62f, 0.24f}), clothes); // torso
+    b.box(part({0, 1.14f, 0}, {0.42f, 0.62f, 0.24f}), clothes);        // torso
     b.box(part({-0.28f, 1.12f, 0.02f}, {0.1f, 0.6f, 0.12f}), clothes); // arms
     b.box(part({0.28f, 1.12f, 0.02f}, {0.1f, 0.6f, 0.12f}), clothes);
-    b.cylinder(part({0, 1.45f, 0}, {0.1f, 0.08f, 0.1f}), skin, 8); // neck
+    b.cylinder(part({0, 1.45f, 0}, {0.1f, 0.08f, 0.1f}), skin, 8);     // neck
     b.sphere(part({0, 1.62f, 0}, {0.22f, 0.26f, 0.23f}), skin, 6, 10); // head
 }
 
@@ -91,15 +92,16 @@ Scene makeMarket() {
                                     b.material(diffuse({0.85f, 0.6f, 0.1f}, "awning yellow"))};
     uint32_t leafMats[4];
     for (int i = 0; i < 4; ++i) {
-        leafMats[i] = b.material(diffuse({0.08f + 0.04f * static_cast<float>(i),
-                                          0.35f + 0.06f * static_cast<float>(i), 0.06f},
-                                         "leaf"));
+        leafMats[i] = b.material(diffuse(
+            {0.08f + 0.04f * static_cast<float>(i), 0.35f + 0.06f * static_cast<float>(i), 0.06f},
+            "leaf"));
     }
     uint32_t clothes[6];
     const glm::vec3 clothColours[6] = {{0.7f, 0.1f, 0.1f},  {0.1f, 0.2f, 0.6f},
                                        {0.9f, 0.9f, 0.85f}, {0.05f, 0.05f, 0.05f},
                                        {0.2f, 0.5f, 0.2f},  {0.8f, 0.5f, 0.1f}};
-    for (int i = 0; i < 6; ++i) clothes[i] = b.material(diffuse(clothColours[i], "clothes"));
+    for (int i = 0; i < 6; ++i)
+        clothes[i] = b.material(diffuse(clothColours[i], "clothes"));
     const uint32_t denim = b.material(diffuse({0.12f, 0.15f, 0.3f}, "trousers"));
     const uint32_t skinMats[3] = {b.material(diffuse({0.8f, 0.6f, 0.5f}, "skin")),
                                   b.material(diffuse({0.45f, 0.3f, 0.2f}, "skin")),
@@ -116,7 +118,8 @@ Scene makeMarket() {
     // each (the panels are what the eye sees, the point lights what casts the shadows).
     for (int i = 0; i < 6; ++i) {
         const float z = 6.0f - 6.5f * static_cast<float>(i);
-        for (float x : {-5.0f, 5.0f}) b.cylinder(trs({x, 0, z}, {0.7f, kH, 0.7f}), pillarMat, 20);
+        for (float x : {-5.0f, 5.0f})
+            b.cylinder(trs({x, 0, z}, {0.7f, kH, 0.7f}), pillarMat, 20);
         b.quad({-1.2f, kH - 0.02f, z - 3.6f}, {2.4f, 0, 0}, {0, 0, 0.6f}, lampMat);
         // Downlights (spots) so the ceiling around each panel stays dim: bright panels on a
         // darker ceiling, as in the study's "lights on the ceiling of a shop".
@@ -151,10 +154,10 @@ Scene makeMarket() {
             d = {rng.range(-1, 1), rng.range(-1, 1), rng.range(-1, 1)};
         } while (glm::dot(d, d) > 1.0f);
         const glm::vec3 c = treeBase + glm::vec3(0, 3.8f, 0) + d * glm::vec3(1.9f, 1.4f, 1.9f);
-        const glm::vec3 u = glm::normalize(glm::vec3(rng.range(-1, 1), rng.range(-1, 1),
-                                                     rng.range(-1, 1))) * 0.16f;
-        glm::vec3 v = glm::cross(u, glm::normalize(glm::vec3(rng.range(-1, 1), 1.0f,
-                                                             rng.range(-1, 1))));
+        const glm::vec3 u =
+            glm::normalize(glm::vec3(rng.range(-1, 1), rng.range(-1, 1), rng.range(-1, 1))) * 0.16f;
+        glm::vec3 v =
+            glm::cross(u, glm::normalize(glm::vec3(rng.range(-1, 1), 1.0f, rng.range(-1, 1))));
         v = glm::normalize(v) * 0.09f;
         b.triangle({c - u, glm::normalize(glm::cross(u, v)), {0, 0}},
                    {c + v, glm::normalize(glm::cross(u, v)), {1, 0}},
@@ -199,11 +202,11 @@ Scene makeCornell() {
     mirror.roughness = 0.0f;
     const uint32_t mirrorMat = b.material(mirror);
 
-    b.quad({-1, 0, 1}, {2, 0, 0}, {0, 0, -2}, white);  // floor
-    b.quad({-1, 2, -1}, {2, 0, 0}, {0, 0, 2}, white);  // ceiling
-    b.quad({-1, 0, -1}, {2, 0, 0}, {0, 2, 0}, white);  // back
-    b.quad({-1, 0, 1}, {0, 0, -2}, {0, 2, 0}, red);    // left
-    b.quad({1, 0, -1}, {0, 0, 2}, {0, 2, 0}, green);   // right
+    b.quad({-1, 0, 1}, {2, 0, 0}, {0, 0, -2}, white); // floor
+    b.quad({-1, 2, -1}, {2, 0, 0}, {0, 0, 2}, white); // ceiling
+    b.quad({-1, 0, -1}, {2, 0, 0}, {0, 2, 0}, white); // back
+    b.quad({-1, 0, 1}, {0, 0, -2}, {0, 2, 0}, red);   // left
+    b.quad({1, 0, -1}, {0, 0, 2}, {0, 2, 0}, green);  // right
     b.quad({-0.25f, 1.995f, -0.25f}, {0.5f, 0, 0}, {0, 0, 0.5f}, lampMat);
     b.box(trs({-0.35f, 0.6f, -0.3f}, {0.6f, 1.2f, 0.6f}, 0.3f), white);
     b.box(trs({0.35f, 0.3f, 0.3f}, {0.6f, 0.6f, 0.6f}, -0.3f), mirrorMat);
@@ -223,7 +226,9 @@ Scene makeCornell() {
     return scene;
 }
 
-std::vector<std::string> builtinSceneNames() { return {"builtin:market", "builtin:cornell"}; }
+std::vector<std::string> builtinSceneNames() {
+    return {"builtin:market", "builtin:cornell"};
+}
 
 Scene makeBuiltin(const std::string& spec) {
     if (spec == "builtin:market") return makeMarket();

@@ -67,11 +67,13 @@ Bvh::Bvh(const Scene& scene) {
     std::vector<Aabb> boxes(n);
     std::vector<glm::vec3> centroids(n);
     for (uint32_t i = 0; i < n; ++i) {
-        for (int k = 0; k < 3; ++k) boxes[i].grow(scene.vertices[3 * i + k].position);
+        for (int k = 0; k < 3; ++k)
+            boxes[i].grow(scene.vertices[3 * i + k].position);
         centroids[i] = 0.5f * (boxes[i].lo + boxes[i].hi);
     }
     mOrder.resize(n);
-    for (uint32_t i = 0; i < n; ++i) mOrder[i] = i;
+    for (uint32_t i = 0; i < n; ++i)
+        mOrder[i] = i;
     mNodes.reserve(2 * n);
     mNodes.push_back({});
 
@@ -114,7 +116,8 @@ Bvh::Bvh(const Scene& scene) {
             const float scale = static_cast<float>(kBins) / (hi - lo);
             for (uint32_t i = task.first; i < task.first + task.count; ++i) {
                 const uint32_t t = mOrder[i];
-                const int b = std::min(kBins - 1, static_cast<int>((centroids[t][axis] - lo) * scale));
+                const int b =
+                    std::min(kBins - 1, static_cast<int>((centroids[t][axis] - lo) * scale));
                 binBox[b].grow(boxes[t]);
                 ++binCount[b];
             }

@@ -31,7 +31,7 @@ struct Ray {
 
 struct Hit {
     float t = std::numeric_limits<float>::infinity();
-    uint32_t triangle = ~0u; // index into the BVH's triangle order
+    uint32_t triangle = ~0u;  // index into the BVH's triangle order
     float u = 0.0f, v = 0.0f; // barycentrics of vertices 1 and 2
     [[nodiscard]] bool valid() const noexcept { return triangle != ~0u; }
 };

@@ -22,7 +22,8 @@ constexpr uint32_t kMaxTextureSize = 2048; // larger base-colour textures are bo
 
 std::string oneLine(std::string s) {
     std::replace(s.begin(), s.end(), '\n', ' ');
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\r')) s.pop_back();
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\r'))
+        s.pop_back();
     return s;
 }
 
@@ -83,8 +84,10 @@ public:
                 if (!child[i]) visit(static_cast<int>(i), glm::mat4(1.0f), 0);
             }
         } else {
-            if (sceneIndex >= static_cast<int>(mModel.scenes.size())) fail("default scene out of range");
-            for (int n : mModel.scenes[sceneIndex].nodes) visit(n, glm::mat4(1.0f), 0);
+            if (sceneIndex >= static_cast<int>(mModel.scenes.size()))
+                fail("default scene out of range");
+            for (int n : mModel.scenes[sceneIndex].nodes)
+                visit(n, glm::mat4(1.0f), 0);
         }
         if (mScene.triangleCount() == 0) fail("contains no triangle meshes");
         finish();
@@ -99,7 +102,8 @@ private:
         for (std::size_t i = 0; i < mModel.images.size(); ++i) {
             const tinygltf::Image& img = mModel.images[i];
             if (img.width <= 0 || img.height <= 0 || img.image.empty()) continue;
-            if (img.component != 4 || img.bits != 8) fail("image " + std::to_string(i) + " is not 8-bit");
+            if (img.component != 4 || img.bits != 8)
+                fail("image " + std::to_string(i) + " is not 8-bit");
             Texture t;
             t.name = img.name.empty() ? img.uri : img.name;
             uint32_t w = static_cast<uint32_t>(img.width), h = static_cast<uint32_t>(img.height);
@@ -157,13 +161,15 @@ private:
             }
             out.baseColorTexture = textureFor(pbr.baseColorTexture.index);
             if (pbr.baseColorTexture.index >= 0 && out.baseColorTexture < 0) {
-                mReport.warnings.push_back("material '" + m.name +
-                                           "': base-colour texture not available, using the factor");
+                mReport.warnings.push_back(
+                    "material '" + m.name +
+                    "': base-colour texture not available, using the factor");
             }
             out.metallic = static_cast<float>(std::clamp(pbr.metallicFactor, 0.0, 1.0));
             out.roughness = static_cast<float>(std::clamp(pbr.roughnessFactor, 0.0, 1.0));
             if (m.emissiveFactor.size() == 3) {
-                out.emissive = glm::vec3(m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]);
+                out.emissive =
+                    glm::vec3(m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]);
             }
             auto strength = m.extensions.find("KHR_materials_emissive_strength");
             if (strength != m.extensions.end() && strength->second.Has("emissiveStrength")) {
@@ -194,8 +200,12 @@ private:
             for (int c = 0; c < n; ++c) {
                 float v = 0.0f;
                 switch (a.componentType) {
-                case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&v, e + 4 * c, 4); break;
-                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v = e[c] / 255.0f; break;
+                case TINYGLTF_COMPONENT_TYPE_FLOAT:
+                    std::memcpy(&v, e + 4 * c, 4);
+                    break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+                    v = e[c] / 255.0f;
+                    break;
                 case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
                     uint16_t s;
                     std::memcpy(&s, e + 2 * c, 2);
@@ -220,15 +230,20 @@ private:
         for (std::size_t i = 0; i < a.count; ++i) {
             const unsigned char* e = data + i * stride;
             switch (a.componentType) {
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: out[i] = e[0]; break;
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+                out[i] = e[0];
+                break;
             case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
                 uint16_t s;
                 std::memcpy(&s, e, 2);
                 out[i] = s;
                 break;
             }
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: std::memcpy(&out[i], e, 4); break;
-            default: fail("index accessor has an unsupported component type");
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+                std::memcpy(&out[i], e, 4);
+                break;
+            default:
+                fail("index accessor has an unsupported component type");
             }
         }
         return out;
@@ -242,10 +257,12 @@ private:
     }
 
     // Start pointer and stride of an accessor, after checking it lies inside its buffer.
-    std::pair<const unsigned char*, std::size_t> span(const tinygltf::Accessor& a, int index) const {
+    std::pair<const unsigned char*, std::size_t> span(const tinygltf::Accessor& a,
+                                                      int index) const {
         const std::string where = "accessor " + std::to_string(index);
         if (a.sparse.isSparse) fail(where + " is sparse (unsupported)");
-        if (a.bufferView < 0 || static_cast<std::size_t>(a.bufferView) >= mModel.bufferViews.size()) {
+        if (a.bufferView < 0 ||
+            static_cast<std::size_t>(a.bufferView) >= mModel.bufferViews.size()) {
             fail(where + " has no valid bufferView");
         }
         const tinygltf::BufferView& view = mModel.bufferViews[a.bufferView];
@@ -253,7 +270,8 @@ private:
             fail(where + ": bufferView " + std::to_string(a.bufferView) + " has no valid buffer");
         }
         const tinygltf::Buffer& buffer = mModel.buffers[view.buffer];
-        const int compSize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
+        const int compSize =
+            tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
         const int comps = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
         if (compSize <= 0 || comps <= 0) fail(where + " has an invalid type");
         const std::size_t elementSize = static_cast<std::size_t>(compSize) * comps;
@@ -272,7 +290,8 @@ private:
     glm::mat4 localMatrix(const tinygltf::Node& n) const {
         if (n.matrix.size() == 16) {
             glm::mat4 m;
-            for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = static_cast<float>(n.matrix[i]);
+            for (int i = 0; i < 16; ++i)
+                glm::value_ptr(m)[i] = static_cast<float>(n.matrix[i]);
             return m;
         }
         glm::mat4 m(1.0f);
@@ -321,15 +340,20 @@ private:
             }
             addLight(mModel.lights[li], world);
         }
-        for (int c : node.children) visit(c, world, depth + 1);
+        for (int c : node.children)
+            visit(c, world, depth + 1);
     }
 
     void addLight(const tinygltf::Light& l, const glm::mat4& world) {
         Light out;
-        if (l.type == "directional") out.type = LightType::Directional;
-        else if (l.type == "spot") out.type = LightType::Spot;
-        else if (l.type == "point") out.type = LightType::Point;
-        else fail("light type '" + l.type + "' is not point, spot or directional");
+        if (l.type == "directional")
+            out.type = LightType::Directional;
+        else if (l.type == "spot")
+            out.type = LightType::Spot;
+        else if (l.type == "point")
+            out.type = LightType::Point;
+        else
+            fail("light type '" + l.type + "' is not point, spot or directional");
         out.position = glm::vec3(world[3]);
         out.direction = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
         if (l.color.size() == 3) out.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
@@ -345,41 +369,50 @@ private:
         for (const tinygltf::Primitive& prim : mesh.primitives) {
             if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
                 prim.mode != TINYGLTF_MODE_TRIANGLE_FAN && prim.mode != -1) {
-                mReport.warnings.push_back("mesh '" + mesh.name + "': skipped a primitive of mode " +
+                mReport.warnings.push_back("mesh '" + mesh.name +
+                                           "': skipped a primitive of mode " +
                                            std::to_string(prim.mode) + " (points or lines)");
                 continue;
             }
             auto pos = prim.attributes.find("POSITION");
-            if (pos == prim.attributes.end()) fail("mesh '" + mesh.name + "' has a primitive without POSITION");
+            if (pos == prim.attributes.end())
+                fail("mesh '" + mesh.name + "' has a primitive without POSITION");
             const std::vector<float> p = readFloats(pos->second, 3);
             const std::size_t vertexCount = p.size() / 3;
             std::vector<float> n, uv;
             if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
                 n = readFloats(it->second, 3);
-                if (n.size() != p.size()) fail("mesh '" + mesh.name + "': NORMAL count differs from POSITION");
+                if (n.size() != p.size())
+                    fail("mesh '" + mesh.name + "': NORMAL count differs from POSITION");
             }
             if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
                 uv = readFloats(it->second, 2);
-                if (uv.size() / 2 != vertexCount) fail("mesh '" + mesh.name + "': TEXCOORD_0 count differs from POSITION");
+                if (uv.size() / 2 != vertexCount)
+                    fail("mesh '" + mesh.name + "': TEXCOORD_0 count differs from POSITION");
             }
             std::vector<uint32_t> idx;
             if (prim.indices >= 0) {
                 idx = readIndices(prim.indices);
             } else {
                 idx.resize(vertexCount);
-                for (uint32_t i = 0; i < vertexCount; ++i) idx[i] = i;
+                for (uint32_t i = 0; i < vertexCount; ++i)
+                    idx[i] = i;
             }
             for (uint32_t i : idx) {
-                if (i >= vertexCount) fail("mesh '" + mesh.name + "': index " + std::to_string(i) + " out of range");
+                if (i >= vertexCount)
+                    fail("mesh '" + mesh.name + "': index " + std::to_string(i) + " out of range");
             }
             std::vector<uint32_t> tris;
             if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
                 for (std::size_t i = 2; i < idx.size(); ++i) {
-                    if (i % 2 == 0) tris.insert(tris.end(), {idx[i - 2], idx[i - 1], idx[i]});
-                    else tris.insert(tris.end(), {idx[i - 1], idx[i - 2], idx[i]});
+                    if (i % 2 == 0)
+                        tris.insert(tris.end(), {idx[i - 2], idx[i - 1], idx[i]});
+                    else
+                        tris.insert(tris.end(), {idx[i - 1], idx[i - 2], idx[i]});
                 }
             } else if (prim.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
-                for (std::size_t i = 2; i < idx.size(); ++i) tris.insert(tris.end(), {idx[0], idx[i - 1], idx[i]});
+                for (std::size_t i = 2; i < idx.size(); ++i)
+                    tris.insert(tris.end(), {idx[0], idx[i - 1], idx[i]});
             } else {
                 tris = std::move(idx);
                 tris.resize(tris.size() / 3 * 3);
@@ -387,7 +420,8 @@ private:
             uint32_t material = mDefaultMaterial;
             if (prim.material >= 0) {
                 if (static_cast<std::size_t>(prim.material) >= mModel.materials.size()) {
-                    fail("mesh '" + mesh.name + "' uses material " + std::to_string(prim.material) + ", which does not exist");
+                    fail("mesh '" + mesh.name + "' uses material " + std::to_string(prim.material) +
+                         ", which does not exist");
                 }
                 material = static_cast<uint32_t>(prim.material);
             }
@@ -395,16 +429,22 @@ private:
                 Vertex v[3];
                 for (int k = 0; k < 3; ++k) {
                     const uint32_t i = tris[t + k];
-                    v[k].position = glm::vec3(world * glm::vec4(p[3 * i], p[3 * i + 1], p[3 * i + 2], 1.0f));
+                    v[k].position =
+                        glm::vec3(world * glm::vec4(p[3 * i], p[3 * i + 1], p[3 * i + 2], 1.0f));
                     v[k].uv = uv.empty() ? glm::vec2(0.0f) : glm::vec2(uv[2 * i], uv[2 * i + 1]);
-                    if (!n.empty()) v[k].normal = normalMatrix * glm::vec3(n[3 * i], n[3 * i + 1], n[3 * i + 2]);
+                    if (!n.empty())
+                        v[k].normal =
+                            normalMatrix * glm::vec3(n[3 * i], n[3 * i + 1], n[3 * i + 2]);
                 }
-                const glm::vec3 face = glm::cross(v[1].position - v[0].position, v[2].position - v[0].position);
-                if (glm::dot(face, face) <= 0.0f || !std::isfinite(face.x + face.y + face.z)) continue; // degenerate
+                const glm::vec3 face =
+                    glm::cross(v[1].position - v[0].position, v[2].position - v[0].position);
+                if (glm::dot(face, face) <= 0.0f || !std::isfinite(face.x + face.y + face.z))
+                    continue; // degenerate
                 const glm::vec3 fn = glm::normalize(face);
                 for (Vertex& x : v) {
                     const float len = glm::length(x.normal);
-                    x.normal = (n.empty() || !(len > 1e-12f) || !std::isfinite(len)) ? fn : x.normal / len;
+                    x.normal =
+                        (n.empty() || !(len > 1e-12f) || !std::isfinite(len)) ? fn : x.normal / len;
                 }
                 mScene.vertices.insert(mScene.vertices.end(), {v[0], v[1], v[2]});
                 mScene.triangleMaterial.push_back(material);
@@ -453,9 +493,11 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
     const std::string file = path.string();
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw LoadError(file + ": no such file");
-    if (std::filesystem::is_directory(path, ec)) throw LoadError(file + ": is a folder, not a glTF file");
+    if (std::filesystem::is_directory(path, ec))
+        throw LoadError(file + ": is a folder, not a glTF file");
     std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     if (ext != ".gltf" && ext != ".glb") {
         throw LoadError(file + ": not a .gltf or .glb file");
     }

@@ -24,8 +24,8 @@ void writePngAtomic(const std::filesystem::path& path, uint32_t width, uint32_t 
     }
     const std::filesystem::path tmp =
         dir / ("." + path.filename().string() + ".tmp" + std::to_string(std::random_device{}()));
-    const int ok = stbi_write_png(tmp.c_str(), static_cast<int>(width), static_cast<int>(height),
-                                  4, rgba.data(), static_cast<int>(width * 4));
+    const int ok = stbi_write_png(tmp.c_str(), static_cast<int>(width), static_cast<int>(height), 4,
+                                  rgba.data(), static_cast<int>(width * 4));
     if (!ok) {
         std::filesystem::remove(tmp, ec);
         throw Error("cannot write " + path.string() + " (disk full or no permission?)");
@@ -39,8 +39,8 @@ void writePngAtomic(const std::filesystem::path& path, uint32_t width, uint32_t 
 
 DecodedImage decode(std::span<const uint8_t> bytes, const std::string& what) {
     int w = 0, h = 0, n = 0;
-    stbi_uc* pixels = stbi_load_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h,
-                                            &n, 4);
+    stbi_uc* pixels =
+        stbi_load_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &n, 4);
     if (!pixels) {
         throw LoadError(what + ": cannot decode image (" + stbi_failure_reason() + ")");
     }
@@ -55,7 +55,8 @@ DecodedImage decode(std::span<const uint8_t> bytes, const std::string& what) {
 DecodedImage readPng(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw LoadError(path.string() + ": cannot open");
-    std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                               std::istreambuf_iterator<char>());
     return decode(bytes, path.string());
 }
 

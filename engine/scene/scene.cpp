@@ -7,13 +7,15 @@ namespace gt::scene {
 
 glm::vec3 Scene::boundsMin() const {
     glm::vec3 m(std::numeric_limits<float>::max());
-    for (const Vertex& v : vertices) m = glm::min(m, v.position);
+    for (const Vertex& v : vertices)
+        m = glm::min(m, v.position);
     return m;
 }
 
 glm::vec3 Scene::boundsMax() const {
     glm::vec3 m(-std::numeric_limits<float>::max());
-    for (const Vertex& v : vertices) m = glm::max(m, v.position);
+    for (const Vertex& v : vertices)
+        m = glm::max(m, v.position);
     return m;
 }
 
@@ -41,7 +43,8 @@ void SceneBuilder::quad(glm::vec3 o, glm::vec3 u, glm::vec3 v, uint32_t material
 }
 
 namespace {
-Vertex transformed(const glm::mat4& m, const glm::mat3& nm, glm::vec3 p, glm::vec3 n, glm::vec2 uv) {
+Vertex transformed(const glm::mat4& m, const glm::mat3& nm, glm::vec3 p, glm::vec3 n,
+                   glm::vec2 uv) {
     return {glm::vec3(m * glm::vec4(p, 1.0f)), glm::normalize(nm * n), uv};
 }
 } // namespace
@@ -86,7 +89,8 @@ void SceneBuilder::cylinder(const glm::mat4& t, uint32_t material, int segments)
         triangle(transformed(t, nm, up, up, {0.5f, 0.5f}), transformed(t, nm, b1 + up, up, {0, 0}),
                  transformed(t, nm, b0 + up, up, {0, 0}), material);
         triangle(transformed(t, nm, {0, 0, 0}, -up, {0.5f, 0.5f}),
-                 transformed(t, nm, b0, -up, {0, 0}), transformed(t, nm, b1, -up, {0, 0}), material);
+                 transformed(t, nm, b0, -up, {0, 0}), transformed(t, nm, b1, -up, {0, 0}),
+                 material);
     }
 }
 

@@ -12,7 +12,7 @@
 namespace gt::scene {
 
 struct Material {
-    glm::vec4 baseColor{1.0f};  // linear RGBA factor
+    glm::vec4 baseColor{1.0f}; // linear RGBA factor
     int baseColorTexture = -1; // index into Scene::textures
     float metallic = 0.0f;
     float roughness = 1.0f;
@@ -87,7 +87,8 @@ public:
     // Quad from corner `o` spanned by `u` and `v`; normal = normalize(cross(u, v)).
     void quad(glm::vec3 o, glm::vec3 u, glm::vec3 v, uint32_t material, glm::vec2 uvScale = {1, 1});
     void box(const glm::mat4& transform, uint32_t material); // unit cube [-0.5, 0.5]^3
-    void cylinder(const glm::mat4& transform, uint32_t material, int segments = 16); // r 0.5, y 0..1
+    void cylinder(const glm::mat4& transform, uint32_t material,
+                  int segments = 16); // r 0.5, y 0..1
     void sphere(const glm::mat4& transform, uint32_t material, int rings = 8, int segments = 12);
 
 private:

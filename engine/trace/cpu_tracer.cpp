@@ -36,7 +36,8 @@ uint32_t pcgHash(uint32_t v) noexcept {
 glm::vec2 sampleOffset(uint32_t pixelIndex, uint32_t sample, uint32_t count,
                        uint32_t frameSeed) noexcept {
     uint32_t sx = 1;
-    while (sx * sx < count) ++sx;
+    while (sx * sx < count)
+        ++sx;
     const uint32_t sy = (count + sx - 1) / sx;
     uint32_t h = pcgHash(pixelIndex ^ pcgHash(sample + frameSeed * 0x9E3779B9u));
     const float r1 = static_cast<float>(h >> 8) * (1.0f / 16777216.0f);
@@ -46,8 +47,7 @@ glm::vec2 sampleOffset(uint32_t pixelIndex, uint32_t sample, uint32_t count,
             (static_cast<float>(sample / sx) + r2) / static_cast<float>(sy)};
 }
 
-CpuTracer::CpuTracer(const scene::Scene& scene, const scene::Bvh& bvh)
-    : mScene(scene), mBvh(bvh) {}
+CpuTracer::CpuTracer(const scene::Scene& scene, const scene::Bvh& bvh) : mScene(scene), mBvh(bvh) {}
 
 glm::vec3 CpuTracer::sky(glm::vec3 d) const {
     if (d.y >= 0.0f) return glm::mix(mScene.sky.horizon, mScene.sky.zenith, d.y);
@@ -67,9 +67,11 @@ glm::vec4 CpuTracer::baseColor(uint32_t material, glm::vec2 uv) const {
     const int w = static_cast<int>(t.width), h = static_cast<int>(t.height);
     const int x0 = wrap(static_cast<int>(fx), w), x1 = wrap(static_cast<int>(fx) + 1, w);
     const int y0 = wrap(static_cast<int>(fy), h), y1 = wrap(static_cast<int>(fy) + 1, h);
-    auto at = [&](int xx, int yy) { return unpackTexel(t.rgba[static_cast<std::size_t>(yy * w + xx)]); };
-    const glm::vec4 c = glm::mix(glm::mix(at(x0, y0), at(x1, y0), ax),
-                                 glm::mix(at(x0, y1), at(x1, y1), ax), ay);
+    auto at = [&](int xx, int yy) {
+        return unpackTexel(t.rgba[static_cast<std::size_t>(yy * w + xx)]);
+    };
+    const glm::vec4 c =
+        glm::mix(glm::mix(at(x0, y0), at(x1, y0), ax), glm::mix(at(x0, y1), at(x1, y1), ax), ay);
     return m.baseColor * c;
 }
 
@@ -155,15 +157,16 @@ std::vector<glm::vec4> CpuTracer::render(const TraceSettings& s) const {
                     glm::vec3 sum(0.0f);
                     for (uint32_t i = 0; i < s.raysPerPixel; ++i) {
                         const glm::vec2 o = sampleOffset(pixel, i, s.raysPerPixel, s.frameSeed);
-                        const float sx = (2.0f * (static_cast<float>(x) + o.x) /
-                                              static_cast<float>(s.width) - 1.0f) *
-                                         cam.origin.w * cam.forward.w;
+                        const float sx =
+                            (2.0f * (static_cast<float>(x) + o.x) / static_cast<float>(s.width) -
+                             1.0f) *
+                            cam.origin.w * cam.forward.w;
                         const float sy = (1.0f - 2.0f * (static_cast<float>(y) + o.y) /
                                                      static_cast<float>(s.height)) *
                                          cam.origin.w;
-                        const glm::vec3 dir = glm::normalize(glm::vec3(cam.forward) +
-                                                             sx * glm::vec3(cam.right) +
-                                                             sy * glm::vec3(cam.up));
+                        const glm::vec3 dir =
+                            glm::normalize(glm::vec3(cam.forward) + sx * glm::vec3(cam.right) +
+                                           sy * glm::vec3(cam.up));
                         sum += radiance({glm::vec3(cam.origin), dir, 0.0f,
                                          std::numeric_limits<float>::infinity()});
                     }
@@ -172,7 +175,8 @@ std::vector<glm::vec4> CpuTracer::render(const TraceSettings& s) const {
             }
         });
     }
-    for (auto& th : pool) th.join();
+    for (auto& th : pool)
+        th.join();
     return out;
 }
 

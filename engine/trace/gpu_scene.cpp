@@ -10,7 +10,9 @@
 namespace gt::trace {
 
 namespace {
-float asFloat(uint32_t v) { return std::bit_cast<float>(v); }
+float asFloat(uint32_t v) {
+    return std::bit_cast<float>(v);
+}
 } // namespace
 
 PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh) {
@@ -52,10 +54,9 @@ PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh) {
     p.uniforms.skyHorizon = glm::vec4(scene.sky.horizon, scene.sky.ambient);
     p.uniforms.skyZenith = glm::vec4(scene.sky.zenith, scene.exposure);
     p.uniforms.skyGround = glm::vec4(scene.sky.ground, 0.0f);
-    p.uniforms.counts = {static_cast<uint32_t>(scene.lights.size()),
-                         static_cast<uint32_t>(scene.materials.size()),
-                         static_cast<uint32_t>(scene.textures.size()),
-                         static_cast<uint32_t>(scene.triangleCount())};
+    p.uniforms.counts = {
+        static_cast<uint32_t>(scene.lights.size()), static_cast<uint32_t>(scene.materials.size()),
+        static_cast<uint32_t>(scene.textures.size()), static_cast<uint32_t>(scene.triangleCount())};
     return p;
 }
 
@@ -64,8 +65,8 @@ GpuScene::Table GpuScene::upload(vk::Context& ctx, const void* data, std::size_t
     // Empty tables still need a valid view: one zeroed texel.
     const std::size_t size = std::max<std::size_t>(bytes, 16);
     Table t;
-    t.buffer = vk::Buffer(ctx, {size, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
-                                vk::MemoryUsage::GpuOnly, name});
+    t.buffer = vk::Buffer(
+        ctx, {size, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, vk::MemoryUsage::GpuOnly, name});
     std::vector<std::byte> padded(size, std::byte{0});
     if (bytes > 0) std::memcpy(padded.data(), data, bytes);
     t.buffer.upload(padded);
@@ -82,8 +83,7 @@ GpuScene::GpuScene(vk::Context& ctx, const scene::Scene& scene, const scene::Bvh
     mShading = upload(ctx, p.shading.data(), p.shading.size() * 16, f4, "scene.shading");
     mMaterials = upload(ctx, p.materials.data(), p.materials.size() * 16, f4, "scene.materials");
     mLights = upload(ctx, p.lights.data(), p.lights.size() * 16, f4, "scene.lights");
-    mTexels = upload(ctx, p.texels.data(), p.texels.size() * 4, VK_FORMAT_R32_UINT,
-                     "scene.texels");
+    mTexels = upload(ctx, p.texels.data(), p.texels.size() * 4, VK_FORMAT_R32_UINT, "scene.texels");
     mTextureInfo = upload(ctx, p.textureInfo.data(), p.textureInfo.size() * 16,
                           VK_FORMAT_R32G32B32A32_UINT, "scene.texture_info");
     mUniforms = vk::Buffer(ctx, {sizeof(p.uniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,

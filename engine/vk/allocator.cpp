@@ -7,7 +7,9 @@
 namespace gt::vk {
 
 namespace {
-VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
+VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) {
+    return (v + a - 1) / a * a;
+}
 } // namespace
 
 Allocator::Allocator(VkPhysicalDevice physicalDevice, VkDevice device) : mDevice(device) {
@@ -56,8 +58,8 @@ uint32_t Allocator::findMemoryType(uint32_t typeBits, MemoryUsage usage) const {
             const VkMemoryPropertyFlags f = mMemoryProperties.memoryTypes[i].propertyFlags;
             if (!(typeBits & (1u << i)) || (f & w.required) != w.required) continue;
             if (best == ~0u || ((f & w.preferred) == w.preferred &&
-                                (mMemoryProperties.memoryTypes[best].propertyFlags &
-                                 w.preferred) != w.preferred)) {
+                                (mMemoryProperties.memoryTypes[best].propertyFlags & w.preferred) !=
+                                    w.preferred)) {
                 best = i;
             }
         }
@@ -176,7 +178,8 @@ AllocatorStats Allocator::stats() const noexcept {
         ++s.blockCount;
         s.blockBytes += b.size;
         VkDeviceSize freeBytes = 0;
-        for (const auto& [o, sz] : b.freeRanges) freeBytes += sz;
+        for (const auto& [o, sz] : b.freeRanges)
+            freeBytes += sz;
         s.usedBytes += b.size - freeBytes;
         s.allocationCount += b.liveAllocations;
     }

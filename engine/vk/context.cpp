@@ -168,7 +168,8 @@ void Context::createInstance(const ContextOptions& options) {
         // alone; this one sees everything after it (docs/STYLE.md 3.7).
         auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
             vkGetInstanceProcAddr(mInstance, "vkCreateDebugUtilsMessengerEXT"));
-        VkDebugUtilsMessengerCreateInfoEXT m{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+        VkDebugUtilsMessengerCreateInfoEXT m{
+            VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
         m.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
                             VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
         m.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
@@ -192,7 +193,8 @@ void Context::pickPhysicalDevice(const ContextOptions& options) {
     const std::vector<VkPhysicalDevice> devices = enumerate(mInstance);
     std::vector<DeviceCandidate> candidates;
     candidates.reserve(devices.size());
-    for (VkPhysicalDevice pd : devices) candidates.push_back(describe(pd));
+    for (VkPhysicalDevice pd : devices)
+        candidates.push_back(describe(pd));
     const DeviceChoice choice = chooseDevice(candidates, options.deviceOverride);
     if (!choice.index) throw Error(choice.error);
     mPhysicalDevice = devices[*choice.index];
@@ -242,7 +244,9 @@ void Context::createDevice() {
     mAllocator = std::make_unique<Allocator>(mPhysicalDevice, mDevice);
 }
 
-Context::~Context() { release(); }
+Context::~Context() {
+    release();
+}
 
 void Context::release() noexcept {
     if (mDevice != VK_NULL_HANDLE) vkDeviceWaitIdle(mDevice);

@@ -15,10 +15,11 @@
 namespace gt::vk {
 
 struct ContextOptions {
-    bool validation = false;                // VK_LAYER_KHRONOS_validation + messenger
-    bool synchronizationValidation = false; // VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION
-    std::string deviceOverride;             // GAZETRACE_DEVICE; empty = automatic choice
-    bool announceDevice = true;             // print the chosen device on stderr
+    bool validation = false; // VK_LAYER_KHRONOS_validation + messenger
+    bool synchronizationValidation =
+        false;                  // VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION
+    std::string deviceOverride; // GAZETRACE_DEVICE; empty = automatic choice
+    bool announceDevice = true; // print the chosen device on stderr
 };
 
 // Counts what the validation layer reports; tests fail on any error.

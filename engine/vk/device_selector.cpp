@@ -7,21 +7,31 @@ namespace gt::vk {
 
 int typeRank(VkPhysicalDeviceType type) noexcept {
     switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 4;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 3;
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 1;
-    default: return 0;
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+        return 4;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+        return 3;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+        return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+        return 1;
+    default:
+        return 0;
     }
 }
 
 const char* typeName(VkPhysicalDeviceType type) noexcept {
     switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete";
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated";
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual";
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "cpu";
-    default: return "other";
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+        return "discrete";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+        return "integrated";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+        return "virtual";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+        return "cpu";
+    default:
+        return "other";
     }
 }
 
@@ -87,11 +97,10 @@ DeviceChoice chooseDevice(const std::vector<DeviceCandidate>& candidates,
         return choice;
     }
     // Stable: among equal ranks the first enumerated wins.
-    choice.index = *std::max_element(suitable.begin(), suitable.end(),
-                                      [&](std::size_t a, std::size_t b) {
-                                          return typeRank(candidates[a].type) <
-                                                 typeRank(candidates[b].type);
-                                      });
+    choice.index =
+        *std::max_element(suitable.begin(), suitable.end(), [&](std::size_t a, std::size_t b) {
+            return typeRank(candidates[a].type) < typeRank(candidates[b].type);
+        });
     return choice;
 }
 

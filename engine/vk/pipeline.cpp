@@ -36,7 +36,8 @@ ComputePipeline::ComputePipeline(Context& ctx, const ComputePipelineDesc& desc)
         info.stage.module = module;
         info.stage.pName = "main";
         info.layout = mLayout;
-        GT_VK_CHECK(vkCreateComputePipelines(mDevice, VK_NULL_HANDLE, 1, &info, nullptr, &mPipeline));
+        GT_VK_CHECK(
+            vkCreateComputePipelines(mDevice, VK_NULL_HANDLE, 1, &info, nullptr, &mPipeline));
         vkDestroyShaderModule(mDevice, module, nullptr);
     } catch (...) {
         if (module != VK_NULL_HANDLE) vkDestroyShaderModule(mDevice, module, nullptr);
@@ -54,15 +55,20 @@ ComputePipeline::~ComputePipeline() {
 }
 
 DescriptorWriter& DescriptorWriter::storageImage(uint32_t binding, VkImageView view) {
-    mEntries.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                        {VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL}, {}, VK_NULL_HANDLE});
+    mEntries.push_back({binding,
+                        VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                        {VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL},
+                        {},
+                        VK_NULL_HANDLE});
     return *this;
 }
 
 DescriptorWriter& DescriptorWriter::sampledImage(uint32_t binding, VkImageView view,
                                                  VkSampler sampler) {
-    mEntries.push_back({binding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                        {sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}, {},
+    mEntries.push_back({binding,
+                        VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                        {sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+                        {},
                         VK_NULL_HANDLE});
     return *this;
 }
@@ -97,9 +103,15 @@ void DescriptorWriter::push(const Context& ctx, VkCommandBuffer cmd,
         w.descriptorType = e.type;
         switch (e.type) {
         case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
-        case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER: w.pImageInfo = &e.image; break;
-        case VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER: w.pTexelBufferView = &e.texel; break;
-        default: w.pBufferInfo = &e.buffer; break;
+        case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER:
+            w.pImageInfo = &e.image;
+            break;
+        case VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER:
+            w.pTexelBufferView = &e.texel;
+            break;
+        default:
+            w.pBufferInfo = &e.buffer;
+            break;
         }
         writes.push_back(w);
     }

@@ -6,8 +6,7 @@
 namespace gt::vk {
 
 TimestampPool::TimestampPool(Context& ctx, uint32_t count)
-    : mDevice(ctx.device()), mCount(count),
-      mPeriodNs(ctx.properties().limits.timestampPeriod),
+    : mDevice(ctx.device()), mCount(count), mPeriodNs(ctx.properties().limits.timestampPeriod),
       mSupported(ctx.properties().limits.timestampComputeAndGraphics == VK_TRUE) {
     VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     info.queryType = VK_QUERY_TYPE_TIMESTAMP;
@@ -16,9 +15,13 @@ TimestampPool::TimestampPool(Context& ctx, uint32_t count)
     reset();
 }
 
-TimestampPool::~TimestampPool() { vkDestroyQueryPool(mDevice, mPool, nullptr); }
+TimestampPool::~TimestampPool() {
+    vkDestroyQueryPool(mDevice, mPool, nullptr);
+}
 
-void TimestampPool::reset() noexcept { vkResetQueryPool(mDevice, mPool, 0, mCount); }
+void TimestampPool::reset() noexcept {
+    vkResetQueryPool(mDevice, mPool, 0, mCount);
+}
 
 void TimestampPool::write(VkCommandBuffer cmd, uint32_t index, VkPipelineStageFlags2 stage) const {
     vkCmdWriteTimestamp2(cmd, stage, mPool, index);

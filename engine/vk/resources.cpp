@@ -30,7 +30,9 @@ Buffer::Buffer(Context& ctx, const BufferDesc& desc) : mCtx(&ctx), mSize(desc.si
     }
 }
 
-Buffer::~Buffer() { reset(); }
+Buffer::~Buffer() {
+    reset();
+}
 
 void Buffer::reset() noexcept {
     if (!mCtx) return;
@@ -70,8 +72,8 @@ void Buffer::upload(std::span<const std::byte> bytes, VkDeviceSize offset) {
         }
         return;
     }
-    Buffer staging(*mCtx, {bytes.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::Upload,
-                           "staging"});
+    Buffer staging(
+        *mCtx, {bytes.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::Upload, "staging"});
     staging.upload(bytes);
     mCtx->submitAndWait([&](VkCommandBuffer cmd) {
         VkBufferCopy region{0, offset, bytes.size()};
@@ -98,11 +100,15 @@ uint32_t bytesPerPixel(VkFormat format) {
     case VK_FORMAT_B8G8R8A8_UNORM:
     case VK_FORMAT_B8G8R8A8_SRGB:
     case VK_FORMAT_R32_SFLOAT:
-    case VK_FORMAT_R32_UINT: return 4;
+    case VK_FORMAT_R32_UINT:
+        return 4;
     case VK_FORMAT_R16G16B16A16_SFLOAT:
-    case VK_FORMAT_R32G32_SFLOAT: return 8;
-    case VK_FORMAT_R32G32B32A32_SFLOAT: return 16;
-    default: throw Error("unsupported image format " + std::to_string(format));
+    case VK_FORMAT_R32G32_SFLOAT:
+        return 8;
+    case VK_FORMAT_R32G32B32A32_SFLOAT:
+        return 16;
+    default:
+        throw Error("unsupported image format " + std::to_string(format));
     }
 }
 
@@ -125,7 +131,8 @@ Image::Image(Context& ctx, const ImageDesc& desc) : mCtx(&ctx), mDesc(desc) {
         VkMemoryRequirements req{};
         vkGetImageMemoryRequirements(ctx.device(), mImage, &req);
         mAllocation = ctx.allocator().allocate(req, MemoryUsage::GpuOnly);
-        GT_VK_CHECK(vkBindImageMemory(ctx.device(), mImage, mAllocation.memory, mAllocation.offset));
+        GT_VK_CHECK(
+            vkBindImageMemory(ctx.device(), mImage, mAllocation.memory, mAllocation.offset));
         VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
         view.image = mImage;
         view.viewType = VK_IMAGE_VIEW_TYPE_2D;
@@ -141,7 +148,9 @@ Image::Image(Context& ctx, const ImageDesc& desc) : mCtx(&ctx), mDesc(desc) {
     }
 }
 
-Image::~Image() { reset(); }
+Image::~Image() {
+    reset();
+}
 
 void Image::reset() noexcept {
     if (!mCtx) return;

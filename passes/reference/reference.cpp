@@ -37,12 +37,12 @@ rg::TextureId ReferencePass::add(rg::RenderGraph& graph, const trace::GpuScene& 
     const auto& data = graph.addPass<Data>(
         "reference.trace",
         [&](rg::PassBuilder& b, Data& d) {
-            d.output = b.write(b.createTexture("reference.radiance",
-                                               {VK_FORMAT_R32G32B32A32_SFLOAT}),
-                               rg::Access::StorageWrite);
+            d.output =
+                b.write(b.createTexture("reference.radiance", {VK_FORMAT_R32G32B32A32_SFLOAT}),
+                        rg::Access::StorageWrite);
         },
-        [ctx = &mCtx, pipeline = mPipeline.get(), scene = &scene, push](
-            const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+        [ctx = &mCtx, pipeline = mPipeline.get(), scene = &scene,
+         push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             vk::DescriptorWriter writer;
             scene->bind(writer);
             writer.storageImage(sh::kBindingOutput, r.texture(d.output).view);

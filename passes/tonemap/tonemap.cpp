@@ -11,11 +11,11 @@ namespace sh = shaders::tonemap;
 
 TonemapPass::TonemapPass(vk::Context& ctx) : mCtx(ctx) {
     mPipeline = std::make_unique<vk::ComputePipeline>(
-        ctx, vk::ComputePipelineDesc{"tonemap",
-                                     gt_spv_tonemap_comp,
-                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                                      VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-                                     sizeof(sh::TonemapPush)});
+        ctx, vk::ComputePipelineDesc{
+                 "tonemap",
+                 gt_spv_tonemap_comp,
+                 {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                 sizeof(sh::TonemapPush)});
 }
 
 TonemapPass::~TonemapPass() = default;
@@ -33,8 +33,8 @@ rg::TextureId TonemapPass::add(rg::RenderGraph& graph, rg::TextureId radiance,
             d.output = b.write(b.createTexture("tonemap.ldr", {VK_FORMAT_R8G8B8A8_UNORM}),
                                rg::Access::StorageWrite);
         },
-        [ctx = &mCtx, pipeline = mPipeline.get(), push](const rg::PassResources& r,
-                                                        const Data& d, VkCommandBuffer cmd) {
+        [ctx = &mCtx, pipeline = mPipeline.get(), push](const rg::PassResources& r, const Data& d,
+                                                        VkCommandBuffer cmd) {
             const rg::ResolvedTexture& out = r.texture(d.output);
             vk::DescriptorWriter writer;
             writer.storageImage(sh::kBindingInput, r.texture(d.input).view)

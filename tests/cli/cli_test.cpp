@@ -31,9 +31,10 @@ Result run(const std::string& args) {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     const auto dir = std::filesystem::temp_directory_path();
     const std::string tag = info ? info->name() : "x";
-    const auto out = dir / ("gazetrace_cli_" + tag + ".out"), err = dir / ("gazetrace_cli_" + tag + ".err");
-    const std::string cmd = std::string(GT_GAZETRACE_EXE) + " " + args + " >" + out.string() +
-                            " 2>" + err.string();
+    const auto out = dir / ("gazetrace_cli_" + tag + ".out"),
+               err = dir / ("gazetrace_cli_" + tag + ".err");
+    const std::string cmd =
+        std::string(GT_GAZETRACE_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
     const int raw = std::system(cmd.c_str());
     Result r;
     r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
@@ -44,11 +45,13 @@ Result run(const std::string& args) {
 
 int lines(const std::string& s) {
     int n = 0;
-    for (char c : s) n += c == '\n';
+    for (char c : s)
+        n += c == '\n';
     return n;
 }
 
-void expectCleanFailure(const Result& r, const std::string& mention, const std::filesystem::path& out) {
+void expectCleanFailure(const Result& r, const std::string& mention,
+                        const std::filesystem::path& out) {
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.err.find("error"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find(mention), std::string::npos) << r.err;
@@ -62,11 +65,13 @@ void expectCleanFailure(const Result& r, const std::string& mention, const std::
 TEST(Cli, RenderPrintsJsonAndWritesPng) {
     const auto dir = test::tempDir("cli");
     const auto png = dir / "c.png";
-    const Result r = run("render --scene builtin:cornell --width 48 --height 32 --spp 2 --validate --json --out " +
-                         png.string() + " --graph " + (dir / "g.dot").string());
+    const Result r = run(
+        "render --scene builtin:cornell --width 48 --height 32 --spp 2 --validate --json --out " +
+        png.string() + " --graph " + (dir / "g.dot").string());
     ASSERT_EQ(r.status, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
-    for (const char* key : {"device", "width", "height", "method", "rays", "gpu_ms", "total_ms", "output"}) {
+    for (const char* key :
+         {"device", "width", "height", "method", "rays", "gpu_ms", "total_ms", "output"}) {
         EXPECT_TRUE(j.contains(key)) << key;
     }
     EXPECT_EQ(j["width"], 48);
@@ -82,7 +87,8 @@ TEST(Cli, RenderPrintsJsonAndWritesPng) {
 
 TEST(Cli, MissingSceneFile) {
     const auto dir = test::tempDir("cli_missing");
-    const Result r = run("render --scene " + (dir / "nope.gltf").string() + " --out " + (dir / "o.png").string());
+    const Result r = run("render --scene " + (dir / "nope.gltf").string() + " --out " +
+                         (dir / "o.png").string());
     expectCleanFailure(r, "nope.gltf", dir / "o.png");
 }
 
@@ -90,7 +96,8 @@ TEST(Cli, TruncatedGlb) {
     const auto dir = test::tempDir("cli_trunc");
     auto glb = test::quadGlb();
     test::writeFile(dir / "t.glb", glb.data(), glb.size() / 2);
-    const Result r = run("render --scene " + (dir / "t.glb").string() + " --out " + (dir / "o.png").string());
+    const Result r =
+        run("render --scene " + (dir / "t.glb").string() + " --out " + (dir / "o.png").string());
     expectCleanFailure(r, "t.glb", dir / "o.png");
 }
 
@@ -98,7 +105,8 @@ TEST(Cli, GltfWithMissingBuffer) {
     const auto dir = test::tempDir("cli_nobuf");
     test::writeQuadGltf(dir);
     std::filesystem::remove(dir / "quad.bin");
-    const Result r = run("render --scene " + (dir / "quad.gltf").string() + " --out " + (dir / "o.png").string());
+    const Result r = run("render --scene " + (dir / "quad.gltf").string() + " --out " +
+                         (dir / "o.png").string());
     expectCleanFailure(r, "quad.gltf", dir / "o.png");
 }
 
@@ -110,7 +118,8 @@ TEST(Cli, ZeroWidth) {
 
 TEST(Cli, BadValues) {
     const auto dir = test::tempDir("cli_values");
-    expectCleanFailure(run("render --spp abc --out " + (dir / "o.png").string()), "--spp", dir / "o.png");
+    expectCleanFailure(run("render --spp abc --out " + (dir / "o.png").string()), "--spp",
+                       dir / "o.png");
     expectCleanFailure(run("render --scene builtin:nowhere --out " + (dir / "o.png").string()),
                        "builtin:nowhere", dir / "o.png");
     expectCleanFailure(run("render --method magic --out " + (dir / "o.png").string()), "--method",

@@ -23,7 +23,8 @@ TEST_F(AllocatorTest, SubAllocatesWithoutOverlapAndFreesEverything) {
         EXPECT_EQ(mid.allocationCount, before.allocationCount + 64);
         EXPECT_LE(mid.blockCount, before.blockCount + 2); // shared 64 MiB blocks, not 64
         // Free every other one, then allocate again into the holes.
-        for (std::size_t i = 0; i < buffers.size(); i += 2) buffers[i] = vk::Buffer();
+        for (std::size_t i = 0; i < buffers.size(); i += 2)
+            buffers[i] = vk::Buffer();
         for (int i = 0; i < 32; ++i) {
             buffers.emplace_back(ctx(), vk::BufferDesc{2048, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                                        vk::MemoryUsage::GpuOnly, "b"});

@@ -33,7 +33,8 @@ TEST(ContextValidation, CountsDeliberateError) {
 
 TEST_F(ContextTest, TimestampsMeasureWork) {
     vk::TimestampPool pool(ctx(), 2);
-    vk::Buffer buf(ctx(), {1 << 20, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUsage::GpuOnly, "t"});
+    vk::Buffer buf(ctx(),
+                   {1 << 20, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUsage::GpuOnly, "t"});
     ctx().submitAndWait([&](VkCommandBuffer cmd) {
         pool.write(cmd, 0, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
         vkCmdFillBuffer(cmd, buf.handle(), 0, VK_WHOLE_SIZE, 7);
@@ -46,7 +47,8 @@ TEST_F(ContextTest, TimestampsMeasureWork) {
 
 TEST_F(ContextTest, UploadAndDownloadRoundTrip) {
     std::vector<uint32_t> data(4096);
-    for (uint32_t i = 0; i < data.size(); ++i) data[i] = i * 2654435761u;
+    for (uint32_t i = 0; i < data.size(); ++i)
+        data[i] = i * 2654435761u;
     vk::Buffer gpu(ctx(), {data.size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                            vk::MemoryUsage::GpuOnly, "gpu"});
     gpu.upload(std::as_bytes(std::span(data)));

@@ -21,38 +21,50 @@ TEST_F(RenderGraphGpuTest, ClearCopyChainProducesDataAndTimings) {
     rg::TransientPool pool(ctx());
     for (uint32_t frame = 0; frame < 2; ++frame) {
         rg::RenderGraph g(16, 16);
-        const auto hostId = g.importBuffer("host", {host.handle(), 1024, std::nullopt, rg::Access::HostRead});
+        const auto hostId =
+            g.importBuffer("host", {host.handle(), 1024, std::nullopt, rg::Access::HostRead});
         struct D {
             rg::BufferId a, b;
         };
         rg::BufferId filled, copied;
         const uint32_t value = 0xABCD0000u + frame;
-        g.addPass<D>("fill", [&](rg::PassBuilder& b, D& d) {
-            d.a = filled = b.write(b.createBuffer("a", {1024}), rg::Access::TransferDst);
-        }, [value](const rg::PassResources& r, const D& d, VkCommandBuffer cmd) {
-            vkCmdFillBuffer(cmd, r.buffer(d.a), 0, VK_WHOLE_SIZE, value);
-        });
-        g.addPass<D>("copy", [&](rg::PassBuilder& b, D& d) {
-            d.a = b.read(filled, rg::Access::TransferSrc);
-            d.b = copied = b.write(b.createBuffer("b", {1024}), rg::Access::TransferDst);
-        }, [](const rg::PassResources& r, const D& d, VkCommandBuffer cmd) {
-            VkBufferCopy c{0, 0, 1024};
-            vkCmdCopyBuffer(cmd, r.buffer(d.a), r.buffer(d.b), 1, &c);
-        });
-        g.addPass<D>("download", [&](rg::PassBuilder& b, D& d) {
-            d.a = b.read(copied, rg::Access::TransferSrc);
-            d.b = b.write(hostId, rg::Access::TransferDst);
-        }, [](const rg::PassResources& r, const D& d, VkCommandBuffer cmd) {
-            VkBufferCopy c{0, 0, 1024};
-            vkCmdCopyBuffer(cmd, r.buffer(d.a), r.buffer(d.b), 1, &c);
-        });
+        g.addPass<D>(
+            "fill",
+            [&](rg::PassBuilder& b, D& d) {
+                d.a = filled = b.write(b.createBuffer("a", {1024}), rg::Access::TransferDst);
+            },
+            [value](const rg::PassResources& r, const D& d, VkCommandBuffer cmd) {
+                vkCmdFillBuffer(cmd, r.buffer(d.a), 0, VK_WHOLE_SIZE, value);
+            });
+        g.addPass<D>(
+            "copy",
+            [&](rg::PassBuilder& b, D& d) {
+                d.a = b.read(filled, rg::Access::TransferSrc);
+                d.b = copied = b.write(b.createBuffer("b", {1024}), rg::Access::TransferDst);
+            },
+            [](const rg::PassResources& r, const D& d, VkCommandBuffer cmd) {
+                VkBufferCopy c{0, 0, 1024};
+                vkCmdCopyBuffer(cmd, r.buffer(d.a), r.buffer(d.b), 1, &c);
+            });
+        g.addPass<D>(
+            "download",
+            [&](rg::PassBuilder& b, D& d) {
+                d.a = b.read(copied, rg::Access::TransferSrc);
+                d.b = b.write(hostId, rg::Access::TransferDst);
+            },
+            [](const rg::PassResources& r, const D& d, VkCommandBuffer cmd) {
+                VkBufferCopy c{0, 0, 1024};
+                vkCmdCopyBuffer(cmd, r.buffer(d.a), r.buffer(d.b), 1, &c);
+            });
         const rg::FrameTimings t = g.execute(g.compile(), pool);
         ASSERT_EQ(t.passes.size(), 3u);
         EXPECT_EQ(t.passes[0].name, "fill");
-        for (const auto& p : t.passes) EXPECT_GE(p.gpuMs, 0.0);
+        for (const auto& p : t.passes)
+            EXPECT_GE(p.gpuMs, 0.0);
         std::vector<uint32_t> back(256);
         host.download(std::as_writable_bytes(std::span(back)));
-        for (uint32_t v : back) ASSERT_EQ(v, value);
+        for (uint32_t v : back)
+            ASSERT_EQ(v, value);
     }
 }
 
@@ -64,8 +76,10 @@ TEST_F(RenderGraphGpuTest, TraceTonemapReadbackIsValidationClean) {
     const passes::TonemapPass tonemap(ctx());
     vk::Buffer host(ctx(), {32 * 32 * 4, 0, vk::MemoryUsage::Readback, "host"});
     rg::RenderGraph g(32, 32);
-    const auto hostId = g.importBuffer("host", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
-    passes::addReadbackPass(g, "ldr", tonemap.add(g, reference.add(g, gs, s.camera, {1, 0}), 1.0f), hostId);
+    const auto hostId =
+        g.importBuffer("host", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
+    passes::addReadbackPass(g, "ldr", tonemap.add(g, reference.add(g, gs, s.camera, {1, 0}), 1.0f),
+                            hostId);
     rg::TransientPool pool(ctx());
     const auto t = g.execute(g.compile(), pool);
     ASSERT_EQ(t.passes.size(), 3u);

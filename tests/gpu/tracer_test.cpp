@@ -25,9 +25,9 @@ protected:
                                      uint32_t h, uint32_t spp) {
         const trace::GpuScene gpuScene(ctx(), s, bvh);
         const passes::ReferencePass reference(ctx());
-        vk::Buffer host(ctx(), {static_cast<VkDeviceSize>(w) * h * 16,
-                                VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUsage::Readback,
-                                "test.readback"});
+        vk::Buffer host(ctx(),
+                        {static_cast<VkDeviceSize>(w) * h * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                         vk::MemoryUsage::Readback, "test.readback"});
         rg::RenderGraph graph(w, h);
         const rg::BufferId hostId = graph.importBuffer(
             "host", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
@@ -60,7 +60,8 @@ protected:
         diff /= static_cast<double>(ref.size());
         for (std::size_t i = 0; i < ref.size(); ++i) {
             const double d = (std::abs(gpu[i].x - ref[i].x) + std::abs(gpu[i].y - ref[i].y) +
-                              std::abs(gpu[i].z - ref[i].z)) / 3.0;
+                              std::abs(gpu[i].z - ref[i].z)) /
+                             3.0;
             if (d > 0.01 * mean) ++outliers;
         }
         // Tolerance: 0.5 % of the mean radiance on average, at most 1 % of pixels off.
@@ -70,9 +71,13 @@ protected:
     }
 };
 
-TEST_F(TracerTest, GpuMatchesCpuOnCornell) { compare(scene::makeCornell(), 64, 64, 2); }
+TEST_F(TracerTest, GpuMatchesCpuOnCornell) {
+    compare(scene::makeCornell(), 64, 64, 2);
+}
 
-TEST_F(TracerTest, GpuMatchesCpuOnMarket) { compare(scene::makeMarket(), 96, 64, 1); }
+TEST_F(TracerTest, GpuMatchesCpuOnMarket) {
+    compare(scene::makeMarket(), 96, 64, 1);
+}
 
 TEST_F(TracerTest, GpuMatchesCpuOnTexturedGltf) {
     const auto content = test::sharedContent();
@@ -94,8 +99,8 @@ TEST_F(TracerTest, MarketHasDarkAndBrightRegions) {
     vk::Buffer host(ctx(), {w * h * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUsage::Readback,
                             "test.ldr"});
     rg::RenderGraph graph(w, h);
-    const rg::BufferId hostId =
-        graph.importBuffer("host", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
+    const rg::BufferId hostId = graph.importBuffer(
+        "host", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
     const auto ldr = tonemap.add(graph, reference.add(graph, gpuScene, s.camera, {1, 0}), 1.0f);
     passes::addReadbackPass(graph, "ldr", ldr, hostId);
     rg::TransientPool pool(ctx());

@@ -28,7 +28,8 @@ inline std::string quadJson(const std::string& bufferUri) {
   "nodes": [{"mesh": 0, "scale": [2, 1, 2]}, {"translation": [0, 2, 0], "extensions": {"KHR_lights_punctual": {"light": 0}}}],
   "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 1.0, 1.0], "metallicFactor": 0.0}}],
   "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
-  "buffers": [{)" + uri + R"("byteLength": 60}],
+  "buffers": [{)" +
+           uri + R"("byteLength": 60}],
   "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
   "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, 0, -1], "max": [1, 0, 1]},
                 {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}]})";
@@ -50,12 +51,15 @@ inline std::filesystem::path writeQuadGltf(const std::filesystem::path& dir) {
 
 inline std::vector<uint8_t> quadGlb() {
     std::string json = quadJson("");
-    while (json.size() % 4) json += ' ';
+    while (json.size() % 4)
+        json += ' ';
     auto bin = quadBin();
-    while (bin.size() % 4) bin.push_back(0);
+    while (bin.size() % 4)
+        bin.push_back(0);
     std::vector<uint8_t> out;
     auto u32 = [&](uint32_t v) {
-        for (int i = 0; i < 4; ++i) out.push_back(static_cast<uint8_t>(v >> (8 * i)));
+        for (int i = 0; i < 4; ++i)
+            out.push_back(static_cast<uint8_t>(v >> (8 * i)));
     };
     u32(0x46546C67); // "glTF"
     u32(2);

@@ -8,16 +8,17 @@ namespace gt::test {
 vk::Context& gpuContext() {
     static std::unique_ptr<vk::Context> ctx = [] {
         const char* env = std::getenv("GAZETRACE_DEVICE");
-        return std::make_unique<vk::Context>(vk::ContextOptions{
-            .validation = true,
-            .synchronizationValidation = true,
-            .deviceOverride = env ? env : "",
-            .announceDevice = false});
+        return std::make_unique<vk::Context>(vk::ContextOptions{.validation = true,
+                                                                .synchronizationValidation = true,
+                                                                .deviceOverride = env ? env : "",
+                                                                .announceDevice = false});
     }();
     return *ctx;
 }
 
-void GpuTest::SetUp() { mErrorsBefore = gpuContext().validationErrors(); }
+void GpuTest::SetUp() {
+    mErrorsBefore = gpuContext().validationErrors();
+}
 
 void GpuTest::TearDown() {
     const uint32_t now = gpuContext().validationErrors();
@@ -38,9 +39,9 @@ std::filesystem::path sharedContent() {
 
 std::filesystem::path tempDir(const std::string& name) {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::filesystem::path p = std::filesystem::temp_directory_path() /
-                              ("gazetrace_test_" + name + "_" +
-                               (info ? std::string(info->name()) : std::string("x")));
+    std::filesystem::path p =
+        std::filesystem::temp_directory_path() /
+        ("gazetrace_test_" + name + "_" + (info ? std::string(info->name()) : std::string("x")));
     std::filesystem::remove_all(p);
     std::filesystem::create_directories(p);
     return p;

@@ -23,8 +23,9 @@ void checkAgainstBruteForce(const Scene& s, int rays, uint32_t seed) {
         // Origins inside a box 20 % larger than the scene, directions uniform on the sphere;
         // every fourth ray starts at the camera to exercise coherent rays too.
         Ray r;
-        r.origin = (i % 4 == 0) ? s.camera.position
-                                : lo - 0.1f * size + glm::vec3(u(rng), u(rng), u(rng)) * 1.2f * size;
+        r.origin = (i % 4 == 0)
+                       ? s.camera.position
+                       : lo - 0.1f * size + glm::vec3(u(rng), u(rng), u(rng)) * 1.2f * size;
         const float z = 2.0f * u(rng) - 1.0f, phi = 6.2831853f * u(rng);
         const float rxy = std::sqrt(std::max(0.0f, 1.0f - z * z));
         r.direction = {rxy * std::cos(phi), rxy * std::sin(phi), z};
@@ -39,8 +40,12 @@ void checkAgainstBruteForce(const Scene& s, int rays, uint32_t seed) {
     EXPECT_GT(hits, rays / 10) << "too few hits to be a meaningful test";
 }
 
-TEST(Bvh, MatchesBruteForceOnMarket) { checkAgainstBruteForce(makeMarket(), 10000, 1); }
-TEST(Bvh, MatchesBruteForceOnCornell) { checkAgainstBruteForce(makeCornell(), 10000, 2); }
+TEST(Bvh, MatchesBruteForceOnMarket) {
+    checkAgainstBruteForce(makeMarket(), 10000, 1);
+}
+TEST(Bvh, MatchesBruteForceOnCornell) {
+    checkAgainstBruteForce(makeCornell(), 10000, 2);
+}
 
 TEST(Bvh, MatchesBruteForceOnLoadedGltf) {
     const auto content = test::sharedContent();
@@ -81,7 +86,8 @@ TEST(Bvh, StructureIsSound) {
             }
         }
     }
-    for (int c : seen) ASSERT_EQ(c, 1); // every triangle in exactly one leaf
+    for (int c : seen)
+        ASSERT_EQ(c, 1); // every triangle in exactly one leaf
     EXPECT_LE(bvh.stats().maxDepth, Bvh::kMaxDepth);
 }
 

@@ -24,18 +24,21 @@ TEST(RenderGraph, OrdersByDependencyAndCullsUnusedPasses) {
     const BufferId host = g.importBuffer("host", hostBuffer());
     TextureId a, b;
     g.addPass<TexData>(
-        "a", [&](PassBuilder& pb, TexData& d) {
+        "a",
+        [&](PassBuilder& pb, TexData& d) {
             d.out = a = pb.write(pb.createTexture("a.out", {VK_FORMAT_R32G32B32A32_SFLOAT}),
                                  Access::StorageWrite);
         },
         noop);
     g.addPass<TexData>(
-        "c.unused", [&](PassBuilder& pb, TexData& d) {
+        "c.unused",
+        [&](PassBuilder& pb, TexData& d) {
             d.out = pb.write(pb.createTexture("c.out", {}), Access::StorageWrite);
         },
         noop);
     g.addPass<TexData>(
-        "b", [&](PassBuilder& pb, TexData& d) {
+        "b",
+        [&](PassBuilder& pb, TexData& d) {
             d.in = pb.read(a, Access::StorageRead);
             d.out = b = pb.write(pb.createTexture("b.out", {}), Access::StorageWrite);
         },
@@ -45,7 +48,8 @@ TEST(RenderGraph, OrdersByDependencyAndCullsUnusedPasses) {
         BufferId host;
     };
     g.addPass<RbData>(
-        "readback", [&](PassBuilder& pb, RbData& d) {
+        "readback",
+        [&](PassBuilder& pb, RbData& d) {
             d.t = pb.read(b, Access::TransferSrc);
             d.host = pb.write(host, Access::TransferDst);
         },
@@ -66,7 +70,8 @@ TEST(RenderGraph, PlacesReadAfterWriteBarrierWithLayout) {
     const BufferId host = g.importBuffer("host", hostBuffer());
     TextureId t;
     g.addPass<TexData>(
-        "write", [&](PassBuilder& pb, TexData& d) {
+        "write",
+        [&](PassBuilder& pb, TexData& d) {
             d.out = t = pb.write(pb.createTexture("t", {}), Access::StorageWrite);
         },
         noop);
@@ -75,7 +80,8 @@ TEST(RenderGraph, PlacesReadAfterWriteBarrierWithLayout) {
         BufferId host;
     };
     g.addPass<RbData>(
-        "copy", [&](PassBuilder& pb, RbData& d) {
+        "copy",
+        [&](PassBuilder& pb, RbData& d) {
             d.t = pb.read(t, Access::TransferSrc);
             d.host = pb.write(host, Access::TransferDst);
         },
@@ -120,24 +126,28 @@ TEST(RenderGraph, PlacesWriteAfterWriteAndWriteAfterReadBarriersOnBuffers) {
     auto none = [](const PassResources&, const BufData&, VkCommandBuffer) {};
     BufferId v1, v2, r;
     g.addPass<BufData>(
-        "w1", [&](PassBuilder& pb, BufData& d) {
+        "w1",
+        [&](PassBuilder& pb, BufData& d) {
             d.out = v1 = pb.write(pb.createBuffer("buf", {256}), Access::StorageWrite);
         },
         none);
     g.addPass<BufData>(
-        "reader", [&](PassBuilder& pb, BufData& d) {
+        "reader",
+        [&](PassBuilder& pb, BufData& d) {
             d.in = pb.read(v1, Access::StorageRead);
             d.out = r = pb.write(pb.createBuffer("result", {256}), Access::StorageWrite);
         },
         none);
     g.addPass<BufData>(
-        "w2", [&](PassBuilder& pb, BufData& d) {
+        "w2",
+        [&](PassBuilder& pb, BufData& d) {
             d.in = pb.read(r, Access::StorageRead);
             d.out = v2 = pb.write(v1, Access::StorageWrite);
         },
         none);
     g.addPass<BufData>(
-        "copy", [&](PassBuilder& pb, BufData& d) {
+        "copy",
+        [&](PassBuilder& pb, BufData& d) {
             d.in = pb.read(v2, Access::TransferSrc);
             d.out = pb.write(host, Access::TransferDst);
         },
@@ -174,27 +184,38 @@ TEST(RenderGraph, SecondReaderOfTheSameVersionNeedsNoBarrier) {
     };
     auto none = [](const PassResources&, const D&, VkCommandBuffer) {};
     TextureId t;
-    g.addPass<D>("w", [&](PassBuilder& pb, D& d) {
-        d.a = t = pb.write(pb.createTexture("t", {}), Access::StorageWrite);
-    }, none);
-    g.addPass<D>("r1", [&](PassBuilder& pb, D& d) {
-        d.a = pb.read(t, Access::StorageRead);
-        pb.sideEffect();
-    }, none);
-    g.addPass<D>("r2", [&](PassBuilder& pb, D& d) {
-        d.a = pb.read(t, Access::StorageRead);
-        d.b = pb.write(host, Access::TransferDst);
-    }, none);
+    g.addPass<D>(
+        "w",
+        [&](PassBuilder& pb, D& d) {
+            d.a = t = pb.write(pb.createTexture("t", {}), Access::StorageWrite);
+        },
+        none);
+    g.addPass<D>(
+        "r1",
+        [&](PassBuilder& pb, D& d) {
+            d.a = pb.read(t, Access::StorageRead);
+            pb.sideEffect();
+        },
+        none);
+    g.addPass<D>(
+        "r2",
+        [&](PassBuilder& pb, D& d) {
+            d.a = pb.read(t, Access::StorageRead);
+            d.b = pb.write(host, Access::TransferDst);
+        },
+        none);
     const CompiledGraph c = g.compile();
     ASSERT_EQ(c.passes.size(), 3u);
     EXPECT_EQ(c.passes[1].barriers.size(), 1u);
-    for (const Barrier& b : c.passes[2].barriers) EXPECT_NE(b.resource, t.index);
+    for (const Barrier& b : c.passes[2].barriers)
+        EXPECT_NE(b.resource, t.index);
 }
 
 TEST(RenderGraph, RejectsReadOfSomethingNothingWrites) {
     RenderGraph g(8, 8);
     g.addPass<TexData>(
-        "reader", [&](PassBuilder& pb, TexData& d) {
+        "reader",
+        [&](PassBuilder& pb, TexData& d) {
             d.in = pb.read(pb.createTexture("never.written", {}), Access::StorageRead);
             pb.sideEffect();
         },
@@ -211,29 +232,41 @@ TEST(RenderGraph, RejectsReadOfSomethingNothingWrites) {
 TEST(RenderGraph, RejectsTwoWritersWithoutOrder) {
     RenderGraph g(8, 8);
     TextureId t0;
-    g.addPass<TexData>("make", [&](PassBuilder& pb, TexData& d) {
-        t0 = pb.createTexture("shared", {});
-        d.out = pb.write(t0, Access::StorageWrite);
-        pb.sideEffect();
-    }, noop);
-    g.addPass<TexData>("stale", [&](PassBuilder& pb, TexData& d) {
-        d.out = pb.write(t0, Access::StorageWrite); // t0 is stale: "make" wrote it already
-        pb.sideEffect();
-    }, noop);
+    g.addPass<TexData>(
+        "make",
+        [&](PassBuilder& pb, TexData& d) {
+            t0 = pb.createTexture("shared", {});
+            d.out = pb.write(t0, Access::StorageWrite);
+            pb.sideEffect();
+        },
+        noop);
+    g.addPass<TexData>(
+        "stale",
+        [&](PassBuilder& pb, TexData& d) {
+            d.out = pb.write(t0, Access::StorageWrite); // t0 is stale: "make" wrote it already
+            pb.sideEffect();
+        },
+        noop);
     EXPECT_THROW((void)g.compile(), GraphError);
 }
 
 TEST(RenderGraph, RejectsCycle) {
     RenderGraph g(8, 8);
     TextureId t;
-    g.addPass<TexData>("a", [&](PassBuilder& pb, TexData& d) {
-        d.out = t = pb.write(pb.createTexture("t", {}), Access::StorageWrite);
-        pb.dependsOn("b");
-    }, noop);
-    g.addPass<TexData>("b", [&](PassBuilder& pb, TexData& d) {
-        d.in = pb.read(t, Access::StorageRead);
-        pb.sideEffect();
-    }, noop);
+    g.addPass<TexData>(
+        "a",
+        [&](PassBuilder& pb, TexData& d) {
+            d.out = t = pb.write(pb.createTexture("t", {}), Access::StorageWrite);
+            pb.dependsOn("b");
+        },
+        noop);
+    g.addPass<TexData>(
+        "b",
+        [&](PassBuilder& pb, TexData& d) {
+            d.in = pb.read(t, Access::StorageRead);
+            pb.sideEffect();
+        },
+        noop);
     try {
         (void)g.compile();
         FAIL() << "expected GraphError";
@@ -245,13 +278,20 @@ TEST(RenderGraph, RejectsCycle) {
 TEST(RenderGraph, RejectsMismatchedFormat) {
     RenderGraph g(8, 8);
     TextureId t;
-    g.addPass<TexData>("w", [&](PassBuilder& pb, TexData& d) {
-        d.out = t = pb.write(pb.createTexture("ldr", {VK_FORMAT_R8G8B8A8_UNORM}), Access::StorageWrite);
-    }, noop);
-    g.addPass<TexData>("r", [&](PassBuilder& pb, TexData& d) {
-        d.in = pb.read(t, Access::StorageRead, VK_FORMAT_R32G32B32A32_SFLOAT);
-        pb.sideEffect();
-    }, noop);
+    g.addPass<TexData>(
+        "w",
+        [&](PassBuilder& pb, TexData& d) {
+            d.out = t =
+                pb.write(pb.createTexture("ldr", {VK_FORMAT_R8G8B8A8_UNORM}), Access::StorageWrite);
+        },
+        noop);
+    g.addPass<TexData>(
+        "r",
+        [&](PassBuilder& pb, TexData& d) {
+            d.in = pb.read(t, Access::StorageRead, VK_FORMAT_R32G32B32A32_SFLOAT);
+            pb.sideEffect();
+        },
+        noop);
     try {
         (void)g.compile();
         FAIL() << "expected GraphError";
@@ -264,35 +304,50 @@ TEST(RenderGraph, RejectsMismatchedFormat) {
 TEST(RenderGraph, RejectsDuplicateNamesAndZeroSize) {
     EXPECT_THROW(RenderGraph(0, 8), GraphError);
     RenderGraph g(8, 8);
-    g.addPass<TexData>("p", [](PassBuilder&, TexData&) {}, noop);
-    EXPECT_THROW(g.addPass<TexData>("p", [](PassBuilder&, TexData&) {}, noop), GraphError);
+    g.addPass<TexData>(
+        "p", [](PassBuilder&, TexData&) {}, noop);
+    EXPECT_THROW(g.addPass<TexData>(
+                     "p", [](PassBuilder&, TexData&) {}, noop),
+                 GraphError);
 }
 
 TEST(RenderGraph, ImportedHistoryIsReadableWithoutWriterAndTransitionsAtEnd) {
     RenderGraph g(8, 8);
-    const TextureId history = g.importTexture(
-        "history", {reinterpret_cast<VkImage>(uintptr_t{2}), VK_NULL_HANDLE,
-                    VK_FORMAT_R32G32B32A32_SFLOAT, 8, 8, Access::StorageWrite, Access::StorageRead});
-    g.addPass<TexData>("taa", [&](PassBuilder& pb, TexData& d) {
-        d.in = pb.read(history, Access::SampledCompute);
-        d.out = pb.write(history, Access::StorageWrite); // write-after-read in the same graph
-    }, noop);
+    const TextureId history =
+        g.importTexture("history", {reinterpret_cast<VkImage>(uintptr_t{2}), VK_NULL_HANDLE,
+                                    VK_FORMAT_R32G32B32A32_SFLOAT, 8, 8, Access::StorageWrite,
+                                    Access::StorageRead});
+    g.addPass<TexData>(
+        "taa",
+        [&](PassBuilder& pb, TexData& d) {
+            d.in = pb.read(history, Access::SampledCompute);
+            d.out = pb.write(history, Access::StorageWrite); // write-after-read in the same graph
+        },
+        noop);
     // Fails: one pass cannot use one image in two layouts.
     EXPECT_THROW((void)g.compile(), GraphError);
 
     RenderGraph ok(8, 8);
-    const TextureId h2 = ok.importTexture(
-        "history", {reinterpret_cast<VkImage>(uintptr_t{2}), VK_NULL_HANDLE,
-                    VK_FORMAT_R32G32B32A32_SFLOAT, 8, 8, Access::StorageWrite, Access::SampledCompute});
+    const TextureId h2 =
+        ok.importTexture("history", {reinterpret_cast<VkImage>(uintptr_t{2}), VK_NULL_HANDLE,
+                                     VK_FORMAT_R32G32B32A32_SFLOAT, 8, 8, Access::StorageWrite,
+                                     Access::SampledCompute});
     TextureId cur;
-    ok.addPass<TexData>("resolve", [&](PassBuilder& pb, TexData& d) {
-        d.in = pb.read(h2, Access::StorageRead);
-        d.out = cur = pb.write(pb.createTexture("current", {VK_FORMAT_R32G32B32A32_SFLOAT}), Access::StorageWrite);
-    }, noop);
-    ok.addPass<TexData>("store", [&](PassBuilder& pb, TexData& d) {
-        d.in = pb.read(cur, Access::StorageRead);
-        d.out = pb.write(h2, Access::StorageWrite);
-    }, noop);
+    ok.addPass<TexData>(
+        "resolve",
+        [&](PassBuilder& pb, TexData& d) {
+            d.in = pb.read(h2, Access::StorageRead);
+            d.out = cur = pb.write(pb.createTexture("current", {VK_FORMAT_R32G32B32A32_SFLOAT}),
+                                   Access::StorageWrite);
+        },
+        noop);
+    ok.addPass<TexData>(
+        "store",
+        [&](PassBuilder& pb, TexData& d) {
+            d.in = pb.read(cur, Access::StorageRead);
+            d.out = pb.write(h2, Access::StorageWrite);
+        },
+        noop);
     const CompiledGraph c = ok.compile();
     EXPECT_EQ(c.order(), (std::vector<uint32_t>{0, 1}));
     ASSERT_EQ(c.finalBarriers.size(), 1u);
@@ -307,10 +362,13 @@ TEST(RenderGraph, ImportedHistoryIsReadableWithoutWriterAndTransitionsAtEnd) {
 
 TEST(RenderGraph, WritesGraphviz) {
     RenderGraph g(8, 8);
-    g.addPass<TexData>("only", [&](PassBuilder& pb, TexData& d) {
-        d.out = pb.write(pb.createTexture("img", {}), Access::StorageWrite);
-        pb.sideEffect();
-    }, noop);
+    g.addPass<TexData>(
+        "only",
+        [&](PassBuilder& pb, TexData& d) {
+            d.out = pb.write(pb.createTexture("img", {}), Access::StorageWrite);
+            pb.sideEffect();
+        },
+        noop);
     const std::string dot = g.toDot(g.compile());
     EXPECT_NE(dot.find("digraph"), std::string::npos);
     EXPECT_NE(dot.find("only"), std::string::npos);
