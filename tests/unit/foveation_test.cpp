@@ -1,0 +1,131 @@
+// The perception model (thesis eqs. 1-4) against values computed by hand, and the point set:
+// its acceptance rule, density cap, determinism and the thesis's Table 1.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "foveation/contrast_sensitivity.hpp"
+#include "foveation/point_set.hpp"
+
+namespace gt::foveation {
+namespace {
+
+TEST(ContrastSensitivity, HandComputedValues) {
+    const ContrastSensitivity csf;
+    // eq. (2) at e = 0: ln(64) / 0.106 = 39.235 cycles/degree.
+    EXPECT_NEAR(csf.cutoffFrequency(0.0), std::log(64.0) / 0.106, 1e-9);
+    EXPECT_NEAR(csf.cutoffFrequency(0.0), 39.2, 0.05);
+    // At e = e2 the cut-off halves.
+    EXPECT_NEAR(csf.cutoffFrequency(2.3), 0.5 * csf.cutoffFrequency(0.0), 1e-9);
+    // eq. (1): d = N v gives 45 degrees, times the scale.
+    EXPECT_NEAR(ContrastSensitivity::eccentricityDeg(1000.0, 1000.0, 1.0), 45.0, 1e-9);
+    EXPECT_NEAR(ContrastSensitivity::eccentricityDeg(1000.0, 1000.0, 1.0, 2.0), 90.0, 1e-9);
+    // eq. (3): pi * 1920 * 1 / 360 = 16.755 cycles/degree.
+    EXPECT_NEAR(ContrastSensitivity::displayNyquist(1920.0, 1.0), 16.7552, 1e-4);
+}
+
+TEST(ContrastSensitivity, SpacingIsCappedAtTheCentreAndGrows) {
+    const ContrastSensitivity csf;
+    const DisplayProfile d = displayProfile("fove");
+    // eq. (4) with fc >= fd: p = 1 - (1 - sqrt(1/pi)) = sqrt(1/pi) = 0.5642 px.
+    EXPECT_NEAR(csf.spacing(0.0, d), std::sqrt(1.0 / std::numbers::pi), 1e-9);
+    double last = 0.0;
+    for (double dist = 0.0; dist < 2000.0; dist += 50.0) {
+        const double p = csf.spacing(dist, d);
+        EXPECT_GE(p, last - 1e-12);
+        last = p;
+    }
+    EXPECT_GT(last, 5.0);
+    // A larger scale gives sparser sets.
+    EXPECT_GT(csf.spacing(600.0, d, 2.0), csf.spacing(600.0, d, 1.0));
+    EXPECT_THROW((void)displayProfile("oculus"), ArgumentError);
+    EXPECT_NEAR(displayProfile("desktop").viewingDistance, 59.0 / 51.0, 1e-12);
+}
+
+PointSetParams small(uint64_t seed = 1) {
+    PointSetParams p;
+    p.display = {"small", 160, 144, 0.85};
+    p.seed = seed;
+    return p;
+}
+
+TEST(PointSet, AcceptanceRuleHoldsOnOutput) {
+    const PointSet set = PointSet::generate(small());
+    const auto& pts = set.points();
+    ASSERT_GT(pts.size(), 1000u);
+    // Sweep in x: no two points closer than the smaller of their spacings (the later dart was
+    // checked against its own spacing, and spacings differ little between neighbours).
+    std::vector<Point> byX = pts;
+    std::sort(byX.begin(), byX.end(), [](const Point& a, const Point& b) { return a.x < b.x; });
+    float maxSpacing = 0.0f;
+    for (const Point& p : pts)
+        maxSpacing = std::max(maxSpacing, p.spacing);
+    std::size_t checked = 0;
+    for (std::size_t i = 0; i < byX.size(); ++i) {
+        for (std::size_t j = i + 1; j < byX.size() && byX[j].x - byX[i].x < maxSpacing; ++j) {
+            const float dx = byX[i].x - byX[j].x, dy = byX[i].y - byX[j].y;
+            const float minSpacing = std::min(byX[i].spacing, byX[j].spacing);
+            ASSERT_GE(std::sqrt(dx * dx + dy * dy), minSpacing * 0.9999f) << i << " " << j;
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, pts.size());
+}
+
+TEST(PointSet, CentreDensityWithinPoissonDiscLimits) {
+    // Min distance sqrt(1/pi) at the centre: saturated dart throwing must come close to, and
+    // never exceed, the jamming density 0.547 * 4 / (pi p^2) = 2.19 points per pixel.
+    const PointSet set = PointSet::generate(small());
+    const float cx = 160.0f, cy = 144.0f, r = 12.0f;
+    std::size_t n = 0;
+    for (const Point& p : set.points())
+        n += std::hypot(p.x - cx, p.y - cy) < r;
+    const double density = static_cast<double>(n) / (std::numbers::pi * r * r);
+    EXPECT_LE(density, 2.19);
+    EXPECT_GT(density, 1.2) << "dart throwing did not saturate the centre";
+}
+
+TEST(PointSet, DeterministicPerSeedAndMortonOrdered) {
+    const PointSet a = PointSet::generate(small(7)), b = PointSet::generate(small(7));
+    const PointSet c = PointSet::generate(small(8));
+    ASSERT_EQ(a.points().size(), b.points().size());
+    for (std::size_t i = 0; i < a.points().size(); ++i) {
+        ASSERT_EQ(a.points()[i].x, b.points()[i].x);
+        ASSERT_EQ(a.points()[i].y, b.points()[i].y);
+    }
+    EXPECT_NE(a.points()[100].x, c.points()[100].x);
+    for (std::size_t i = 1; i < a.points().size(); ++i) {
+        const auto& p = a.points()[i - 1];
+        const auto& q = a.points()[i];
+        ASSERT_LE(mortonCode(static_cast<uint32_t>(p.x), static_cast<uint32_t>(p.y)),
+                  mortonCode(static_cast<uint32_t>(q.x), static_cast<uint32_t>(q.y)));
+    }
+}
+
+TEST(PointSet, LargerScaleGivesFewerPoints) {
+    PointSetParams p = small();
+    const std::size_t n1 = PointSet::generate(p).points().size();
+    p.scale = 2.0;
+    const std::size_t n2 = PointSet::generate(p).points().size();
+    EXPECT_LT(n2, n1);
+}
+
+// The thesis's Table 1 for the fove profile at scale 1.0: 576,775 points in total, 72.86 % on
+// screen with the gaze centred and 26.68 % in the corner (with the 10-pixel margin of 4.2).
+// Issue tolerance: 10 % on the total, 3 points on the percentages.
+TEST(PointSet, ReproducesThesisTable1) {
+    PointSetParams p;
+    p.display = displayProfile("fove");
+    const PointSetStats s = PointSet::generate(p).stats(10.0f);
+    const double total = static_cast<double>(s.total);
+    EXPECT_NEAR(total, 576775.0, 57677.5);
+    EXPECT_NEAR(100.0 * static_cast<double>(s.onScreenCentre) / total, 72.86, 3.0);
+    EXPECT_NEAR(100.0 * static_cast<double>(s.onScreenCorner) / total, 26.68, 3.0);
+    RecordProperty("total", std::to_string(s.total));
+}
+
+} // namespace
+} // namespace gt::foveation
