@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "pointset_command.hpp"
 #include "render_command.hpp"
 #include "scene/builtin_scenes.hpp"
 #include "vk/context.hpp"
@@ -52,6 +53,26 @@ int main(int argc, char** argv) {
     renderCmd->add_flag("--validate", render.validate, "Enable the Khronos validation layer");
     renderCmd->add_flag("--json", renderJson, "Print a JSON summary on stdout");
 
+    gt::app::PointSetOptions pointset;
+    bool pointsetJson = false;
+    CLI::App* pointsetCmd =
+        app.add_subcommand("pointset", "Generate the perceptual point set (thesis 4.1, Table 1)");
+    pointsetCmd->add_option("--profile", pointset.profile, "fove | vive | desktop")
+        ->check(CLI::IsMember({"fove", "vive", "desktop"}))
+        ->capture_default_str();
+    pointsetCmd->add_option("--scale", pointset.scale, "Eccentricity scaling value (thesis 4.1)")
+        ->check(CLI::Range(0.01, 100.0))
+        ->capture_default_str();
+    pointsetCmd->add_option("--seed", pointset.seed, "Dart-throwing seed")->capture_default_str();
+    pointsetCmd->add_option("--out", pointset.out, "Also write the point set to this file");
+    pointsetCmd->add_option("--image", pointset.image,
+                            "Draw every point into this PNG (Figure 12)");
+    pointsetCmd->add_option("--cache", pointset.cacheDir,
+                            "Cache folder (default $GAZETRACE_CACHE or ~/.cache/gazetrace)");
+    pointsetCmd->add_option("--sweep", pointset.sweep,
+                            "Scales to sweep, e.g. 1 1.5 2 2.5 3 (Figure 14)");
+    pointsetCmd->add_flag("--json", pointsetJson, "Print a JSON summary on stdout");
+
     CLI::App* devicesCmd = app.add_subcommand("devices", "List the Vulkan devices");
     CLI::App* scenesCmd = app.add_subcommand("scenes", "List the built-in scenes");
 
@@ -73,6 +94,9 @@ int main(int argc, char** argv) {
                 std::cout << result.dump() << std::endl;
             else
                 gt::log::info("wrote " + render.out);
+        } else if (pointsetCmd->parsed()) {
+            const nlohmann::json result = gt::app::runPointSet(pointset);
+            std::cout << (pointsetJson ? result.dump() : result.dump(2)) << std::endl;
         } else if (devicesCmd->parsed()) {
             for (const std::string& line : gt::vk::Context::listDevices())
                 std::cout << line << "\n";

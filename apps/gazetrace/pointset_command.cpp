@@ -1,0 +1,118 @@
+#include "pointset_command.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include <unistd.h>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "foveation/point_set_cache.hpp"
+#include "scene/image_io.hpp"
+
+namespace gt::app {
+
+namespace {
+
+// A progress bar on stderr, only when it is a terminal.
+foveation::PointSet::Progress progressBar() {
+    if (!isatty(STDERR_FILENO)) return {};
+    return [](double f) {
+        const int width = 40, filled = static_cast<int>(f * width);
+        std::fprintf(stderr, "\rgenerating point set [%.*s%*s] %3d%%", filled,
+                     "########################################", width - filled, "",
+                     static_cast<int>(f * 100.0));
+        if (f >= 1.0) std::fprintf(stderr, "\n");
+        std::fflush(stderr);
+    };
+}
+
+// Figure 12: every point as a dark dot on white, at canvas resolution.
+void drawPoints(const foveation::PointSet& set, const std::string& path) {
+    const uint32_t w = set.canvasWidth(), h = set.canvasHeight();
+    std::vector<uint8_t> px(static_cast<std::size_t>(w) * h * 4, 255);
+    for (const foveation::Point& p : set.points()) {
+        const auto x = static_cast<uint32_t>(p.x), y = static_cast<uint32_t>(p.y);
+        if (x >= w || y >= h) continue;
+        uint8_t* c = &px[(static_cast<std::size_t>(y) * w + x) * 4];
+        c[0] = c[1] = c[2] = 0;
+    }
+    // The screen outline with the gaze centred, in red.
+    const uint32_t sw = set.params().display.width, sh = set.params().display.height;
+    for (uint32_t x = sw / 2; x < sw / 2 + sw; ++x) {
+        for (uint32_t y : {sh / 2, sh / 2 + sh - 1}) {
+            uint8_t* c = &px[(static_cast<std::size_t>(y) * w + x) * 4];
+            c[0] = 220, c[1] = 30, c[2] = 30;
+        }
+    }
+    for (uint32_t y = sh / 2; y < sh / 2 + sh; ++y) {
+        for (uint32_t x : {sw / 2, sw / 2 + sw - 1}) {
+            uint8_t* c = &px[(static_cast<std::size_t>(y) * w + x) * 4];
+            c[0] = 220, c[1] = 30, c[2] = 30;
+        }
+    }
+    image::writePngAtomic(path, w, h, px);
+}
+
+nlohmann::json describe(const foveation::CachedPointSet& c) {
+    const foveation::PointSetStats s = c.set.stats(10.0f); // 10-pixel margin, thesis 4.2
+    const double total = static_cast<double>(s.total);
+    return {{"profile", c.set.params().display.name},
+            {"width", c.set.params().display.width},
+            {"height", c.set.params().display.height},
+            {"scale", c.set.params().scale},
+            {"seed", c.set.params().seed},
+            {"viewing_distance", c.set.params().display.viewingDistance},
+            {"total", s.total},
+            {"on_screen_centre", s.onScreenCentre},
+            {"on_screen_corner", s.onScreenCorner},
+            {"on_screen_centre_percent",
+             total > 0 ? 100.0 * static_cast<double>(s.onScreenCentre) / total : 0.0},
+            {"on_screen_corner_percent",
+             total > 0 ? 100.0 * static_cast<double>(s.onScreenCorner) / total : 0.0},
+            {"from_cache", c.fromCache},
+            {"seconds", c.seconds}};
+}
+
+} // namespace
+
+nlohmann::json runPointSet(const PointSetOptions& o) {
+    foveation::PointSetParams params;
+    params.display = foveation::displayProfile(o.profile);
+    params.seed = o.seed;
+    const std::filesystem::path dir =
+        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
+    for (const std::string& f : {o.out, o.image}) {
+        if (f.empty()) continue;
+        const std::filesystem::path parent = std::filesystem::path(f).parent_path();
+        std::error_code ec;
+        if (!parent.empty() && !std::filesystem::is_directory(parent, ec)) {
+            throw ArgumentError("cannot write " + f + ": folder " + parent.string() +
+                                " does not exist");
+        }
+    }
+    auto one = [&](double scale) {
+        if (!(scale > 0.0) || scale > 100.0) throw ArgumentError("--scale must be in (0, 100]");
+        params.scale = scale;
+        foveation::CachedPointSet c = foveation::loadOrGenerate(dir, params, progressBar());
+        if (!c.warning.empty()) log::warn(c.warning);
+        return c;
+    };
+    if (!o.sweep.empty()) {
+        // Figure 14: points in the set against the scaling value.
+        nlohmann::json rows = nlohmann::json::array();
+        for (double s : o.sweep)
+            rows.push_back(describe(one(s)));
+        return {{"profile", o.profile}, {"sweep", rows}};
+    }
+    const foveation::CachedPointSet c = one(o.scale);
+    if (!o.out.empty()) foveation::savePointSet(o.out, c.set);
+    if (!o.image.empty()) drawPoints(c.set, o.image);
+    nlohmann::json j = describe(c);
+    if (!o.out.empty()) j["output"] = o.out;
+    if (!o.image.empty()) j["image"] = o.image;
+    return j;
+}
+
+} // namespace gt::app

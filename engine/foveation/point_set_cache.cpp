@@ -1,0 +1,197 @@
+#include "foveation/point_set_cache.hpp"
+
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <random>
+#include <vector>
+
+#include "core/error.hpp"
+
+namespace gt::foveation {
+
+namespace {
+
+constexpr char kMagic[4] = {'G', 'T', 'P', 'S'};
+
+uint64_t fnv1a(const uint8_t* data, std::size_t n, uint64_t h = 1469598103934665603ull) {
+    for (std::size_t i = 0; i < n; ++i) {
+        h ^= data[i];
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+class Writer {
+public:
+    template <typename T> void put(const T& v) {
+        const auto* p = reinterpret_cast<const uint8_t*>(&v);
+        bytes.insert(bytes.end(), p, p + sizeof(T));
+    }
+    std::vector<uint8_t> bytes;
+};
+
+class Reader {
+public:
+    Reader(const std::vector<uint8_t>& b) : mBytes(b) {}
+    template <typename T> bool get(T& v) {
+        if (mPos + sizeof(T) > mBytes.size()) return false;
+        std::memcpy(&v, mBytes.data() + mPos, sizeof(T));
+        mPos += sizeof(T);
+        return true;
+    }
+    [[nodiscard]] std::size_t pos() const { return mPos; }
+
+private:
+    const std::vector<uint8_t>& mBytes;
+    std::size_t mPos = 0;
+};
+
+// Every input of PointSet::generate, in a fixed order.
+void putParams(Writer& w, const PointSetParams& p) {
+    const ContrastSensitivity csf;
+    w.put(p.display.width);
+    w.put(p.display.height);
+    w.put(p.display.viewingDistance);
+    w.put(p.scale);
+    w.put(p.seed);
+    w.put(p.dartsPerCanvasPixel);
+    w.put(p.dartsPerCentrePixel);
+    w.put(csf.ct0);
+    w.put(csf.alpha);
+    w.put(csf.e2);
+}
+
+} // namespace
+
+CacheLoad loadPointSet(const std::filesystem::path& file, const PointSetParams& params) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) return {std::nullopt, "cannot open " + file.string()};
+    const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                     std::istreambuf_iterator<char>());
+    if (bytes.size() < 4 + 4 + 8 || std::memcmp(bytes.data(), kMagic, 4) != 0) {
+        return {std::nullopt, file.string() + " is not a gazetrace point-set file"};
+    }
+    if (bytes.size() < 8) return {std::nullopt, file.string() + " is truncated"};
+    uint64_t stored = 0;
+    std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
+    if (fnv1a(bytes.data(), bytes.size() - 8) != stored) {
+        return {std::nullopt, file.string() + " is corrupt (checksum mismatch)"};
+    }
+    Reader r(bytes);
+    char magic[4];
+    uint32_t version = 0;
+    r.get(magic);
+    r.get(version);
+    if (version != kPointSetCacheVersion) {
+        return {std::nullopt, file.string() + " has version " + std::to_string(version) +
+                                  ", expected " + std::to_string(kPointSetCacheVersion)};
+    }
+    Writer expected;
+    putParams(expected, params);
+    if (bytes.size() < r.pos() + expected.bytes.size() ||
+        std::memcmp(bytes.data() + r.pos(), expected.bytes.data(), expected.bytes.size()) != 0) {
+        return {std::nullopt, file.string() + " was made with other parameters (stale)"};
+    }
+    std::vector<uint8_t> skip(expected.bytes.size());
+    for (auto& b : skip)
+        r.get(b);
+    uint64_t count = 0;
+    if (!r.get(count) || count > (bytes.size() - r.pos()) / 12) {
+        return {std::nullopt, file.string() + " is truncated"};
+    }
+    if (r.pos() + count * 12 + 8 != bytes.size()) {
+        return {std::nullopt, file.string() + " has the wrong size"};
+    }
+    std::vector<Point> pts(count);
+    for (Point& p : pts) {
+        r.get(p.x);
+        r.get(p.y);
+        r.get(p.spacing);
+    }
+    return {PointSet::fromPoints(params, std::move(pts)), {}};
+}
+
+void savePointSet(const std::filesystem::path& file, const PointSet& set) {
+    Writer w;
+    for (char c : kMagic)
+        w.put(c);
+    w.put(kPointSetCacheVersion);
+    putParams(w, set.params());
+    w.put(static_cast<uint64_t>(set.points().size()));
+    for (const Point& p : set.points()) {
+        w.put(p.x);
+        w.put(p.y);
+        w.put(p.spacing);
+    }
+    w.put(fnv1a(w.bytes.data(), w.bytes.size()));
+    std::error_code ec;
+    if (!file.parent_path().empty()) std::filesystem::create_directories(file.parent_path(), ec);
+    const std::filesystem::path tmp =
+        file.string() + ".tmp" + std::to_string(std::random_device{}());
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        out.write(reinterpret_cast<const char*>(w.bytes.data()),
+                  static_cast<std::streamsize>(w.bytes.size()));
+        if (!out) {
+            out.close();
+            std::filesystem::remove(tmp, ec);
+            throw Error("cannot write point set " + file.string());
+        }
+    }
+    std::filesystem::rename(tmp, file, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw Error("cannot write point set " + file.string() + ": " + ec.message());
+    }
+}
+
+std::filesystem::path cacheFile(const std::filesystem::path& dir, const PointSetParams& params) {
+    Writer w;
+    w.put(kPointSetCacheVersion);
+    putParams(w, params);
+    const uint64_t h = fnv1a(w.bytes.data(), w.bytes.size());
+    char name[64];
+    std::snprintf(name, sizeof(name), "pointset-%ux%u-%016llx.gtps", params.display.width,
+                  params.display.height, static_cast<unsigned long long>(h));
+    return dir / name;
+}
+
+std::filesystem::path defaultCacheDir() {
+    if (const char* d = std::getenv("GAZETRACE_CACHE"); d && *d) return d;
+    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
+        return std::filesystem::path(x) / "gazetrace";
+    if (const char* h = std::getenv("HOME"); h && *h)
+        return std::filesystem::path(h) / ".cache" / "gazetrace";
+    return std::filesystem::temp_directory_path() / "gazetrace-cache";
+}
+
+CachedPointSet loadOrGenerate(const std::filesystem::path& dir, const PointSetParams& params,
+                              const PointSet::Progress& progress) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::filesystem::path file = cacheFile(dir, params);
+    CachedPointSet out;
+    std::error_code ec;
+    if (std::filesystem::exists(file, ec)) {
+        CacheLoad loaded = loadPointSet(file, params);
+        if (loaded.set) {
+            out.set = std::move(*loaded.set);
+            out.fromCache = true;
+            out.seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            return out;
+        }
+        out.warning = loaded.problem + "; regenerating";
+    }
+    out.set = PointSet::generate(params, progress);
+    try {
+        savePointSet(file, out.set);
+    } catch (const Error& e) {
+        out.warning += (out.warning.empty() ? "" : "; ") + std::string(e.what());
+    }
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return out;
+}
+
+} // namespace gt::foveation

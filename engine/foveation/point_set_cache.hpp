@@ -1,0 +1,44 @@
+#pragma once
+// On-disk cache of generated point sets. Binary, little-endian, versioned:
+//   "GTPS" | u32 version | parameters (every input of generate()) | u64 count |
+//   count x (f32 x, f32 y, f32 spacing) | u64 FNV-1a checksum of everything before it.
+// A file that is truncated, fails its checksum, has another version or was made with other
+// parameters is never trusted: load() reports why, and loadOrGenerate() warns, regenerates
+// and rewrites it. Files are written under a temporary name and renamed when complete.
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "foveation/point_set.hpp"
+
+namespace gt::foveation {
+
+inline constexpr uint32_t kPointSetCacheVersion = 1;
+
+struct CacheLoad {
+    std::optional<PointSet> set;
+    std::string problem; // why the file was not used, when set is empty
+};
+
+[[nodiscard]] CacheLoad loadPointSet(const std::filesystem::path& file,
+                                     const PointSetParams& params);
+void savePointSet(const std::filesystem::path& file, const PointSet& set);
+
+// The cache file name for these parameters (a hash of all of them) inside `dir`.
+[[nodiscard]] std::filesystem::path cacheFile(const std::filesystem::path& dir,
+                                              const PointSetParams& params);
+// $GAZETRACE_CACHE, else $XDG_CACHE_HOME/gazetrace, else ~/.cache/gazetrace.
+[[nodiscard]] std::filesystem::path defaultCacheDir();
+
+struct CachedPointSet {
+    PointSet set;
+    bool fromCache = false;
+    std::string warning; // set when an existing cache file was rejected
+    double seconds = 0.0;
+};
+
+[[nodiscard]] CachedPointSet loadOrGenerate(const std::filesystem::path& dir,
+                                            const PointSetParams& params,
+                                            const PointSet::Progress& progress = {});
+
+} // namespace gt::foveation

@@ -1,0 +1,79 @@
+// The point-set cache is never trusted when damaged or stale.
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "foveation/point_set_cache.hpp"
+#include "support/gpu_test_context.hpp"
+
+namespace gt::foveation {
+namespace {
+
+PointSetParams params(double scale = 1.0) {
+    PointSetParams p;
+    p.display = {"tiny", 96, 80, 0.85};
+    p.scale = scale;
+    return p;
+}
+
+void flipByte(const std::filesystem::path& f, std::size_t offset) {
+    std::fstream io(f, std::ios::in | std::ios::out | std::ios::binary);
+    io.seekg(static_cast<std::streamoff>(offset));
+    char c = 0;
+    io.read(&c, 1);
+    c = static_cast<char>(c ^ 0x5A);
+    io.seekp(static_cast<std::streamoff>(offset));
+    io.write(&c, 1);
+}
+
+TEST(PointSetCache, RoundTripsAndIsUsed) {
+    const auto dir = test::tempDir("psc");
+    const CachedPointSet first = loadOrGenerate(dir, params());
+    EXPECT_FALSE(first.fromCache);
+    EXPECT_TRUE(first.warning.empty());
+    const CachedPointSet second = loadOrGenerate(dir, params());
+    EXPECT_TRUE(second.fromCache);
+    ASSERT_EQ(first.set.points().size(), second.set.points().size());
+    for (std::size_t i = 0; i < first.set.points().size(); ++i) {
+        ASSERT_EQ(first.set.points()[i].x, second.set.points()[i].x);
+        ASSERT_EQ(first.set.points()[i].spacing, second.set.points()[i].spacing);
+    }
+}
+
+TEST(PointSetCache, CorruptFileIsRegeneratedWithWarning) {
+    const auto dir = test::tempDir("psc_corrupt");
+    const CachedPointSet good = loadOrGenerate(dir, params());
+    const auto file = cacheFile(dir, params());
+    flipByte(file, std::filesystem::file_size(file) / 2);
+    const CachedPointSet again = loadOrGenerate(dir, params());
+    EXPECT_FALSE(again.fromCache);
+    EXPECT_NE(again.warning.find("corrupt"), std::string::npos) << again.warning;
+    EXPECT_EQ(again.set.points().size(), good.set.points().size());
+    EXPECT_TRUE(loadOrGenerate(dir, params()).fromCache); // rewritten, good again
+}
+
+TEST(PointSetCache, TruncatedWrongMagicAndStaleFilesAreRejected) {
+    const auto dir = test::tempDir("psc_bad");
+    (void)loadOrGenerate(dir, params());
+    const auto file = cacheFile(dir, params());
+    const auto size = std::filesystem::file_size(file);
+    std::filesystem::resize_file(file, size / 3);
+    EXPECT_FALSE(loadPointSet(file, params()).set.has_value());
+    {
+        std::ofstream f(file, std::ios::binary);
+        f << "not a point set at all";
+    }
+    const CacheLoad junk = loadPointSet(file, params());
+    EXPECT_FALSE(junk.set.has_value());
+    EXPECT_NE(junk.problem.find("not a gazetrace point-set file"), std::string::npos);
+    // A valid file made with other parameters is stale.
+    const CachedPointSet other = loadOrGenerate(dir, params(2.0));
+    const CacheLoad stale = loadPointSet(cacheFile(dir, params(2.0)), params(1.0));
+    EXPECT_FALSE(stale.set.has_value());
+    EXPECT_NE(stale.problem.find("stale"), std::string::npos) << stale.problem;
+    EXPECT_NE(cacheFile(dir, params(1.0)), cacheFile(dir, params(2.0)));
+    EXPECT_FALSE(other.set.points().empty());
+}
+
+} // namespace
+} // namespace gt::foveation
