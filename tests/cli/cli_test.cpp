@@ -128,8 +128,27 @@ TEST(Cli, BadValues) {
                        "/nonexistent-dir", dir / "o.png");
 }
 
+TEST(Cli, PointSetJsonAndBadValues) {
+    const auto dir = test::tempDir("cli_pointset");
+    const Result ok = run("pointset --profile desktop --scale 3 --json --cache " + dir.string() +
+                          " --image " + (dir / "ps.png").string());
+    ASSERT_EQ(ok.status, 0) << ok.err;
+    const auto j = nlohmann::json::parse(ok.out);
+    for (const char* key :
+         {"total", "on_screen_centre", "on_screen_corner", "seconds", "viewing_distance"}) {
+        EXPECT_TRUE(j.contains(key)) << key;
+    }
+    EXPECT_GT(j["total"].get<int>(), j["on_screen_centre"].get<int>());
+    EXPECT_GT(j["on_screen_centre"].get<int>(), j["on_screen_corner"].get<int>());
+    EXPECT_TRUE(std::filesystem::exists(dir / "ps.png"));
+    expectCleanFailure(run("pointset --profile oculus --out " + (dir / "o.gtps").string()),
+                       "--profile", dir / "o.gtps");
+    expectCleanFailure(run("pointset --scale 0 --out " + (dir / "o.gtps").string()), "--scale",
+                       dir / "o.gtps");
+}
+
 TEST(Cli, HelpOnEverySubcommand) {
-    for (const char* sub : {"", "render ", "devices ", "scenes "}) {
+    for (const char* sub : {"", "render ", "pointset ", "devices ", "scenes "}) {
         const Result r = run(std::string(sub) + "--help");
         EXPECT_EQ(r.status, 0) << sub;
         EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
