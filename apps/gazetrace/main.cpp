@@ -46,8 +46,31 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     renderCmd->add_option("--seed", render.seed, "Frame seed for the jitter")
         ->capture_default_str();
-    renderCmd->add_option("--method", render.method, "reference")->capture_default_str();
-    renderCmd->add_option("--out", render.out, "Output PNG")->capture_default_str();
+    renderCmd->add_option("--method", render.method, "reference | foveated")->capture_default_str();
+    renderCmd->add_option("--out", render.out, "Output PNG, or a folder for frame_NNNN.png")
+        ->capture_default_str();
+    renderCmd
+        ->add_option("--profile", render.profile, "Foveated: display profile fove | vive | desktop")
+        ->check(CLI::IsMember({"fove", "vive", "desktop"}))
+        ->capture_default_str();
+    renderCmd->add_option("--interp", render.interp, "Foveated: interpolation nn | msm")
+        ->check(CLI::IsMember({"nn", "msm"}))
+        ->capture_default_str();
+    renderCmd->add_option("--k", render.k, "Foveated: neighbours for msm (1-20)")
+        ->check(CLI::Range(1u, 20u))
+        ->capture_default_str();
+    renderCmd->add_option("--scale", render.scale, "Foveated: point-set scaling value")
+        ->check(CLI::Range(0.01, 100.0))
+        ->capture_default_str();
+    renderCmd->add_option("--rays-per-point", render.raysPerPoint, "Foveated: rays per point")
+        ->check(CLI::Range(1u, 4096u))
+        ->capture_default_str();
+    renderCmd->add_option("--gaze", render.gaze,
+                          "Foveated: gaze point X,Y in pixels (default: centre)");
+    renderCmd->add_option("--frames", render.frames, "Frames to render")
+        ->check(CLI::Range(1u, 100000u))
+        ->capture_default_str();
+    renderCmd->add_option("--cache", render.cacheDir, "Point-set cache folder");
     renderCmd->add_option("--graph", render.graphDot,
                           "Write the compiled render graph as Graphviz");
     renderCmd->add_flag("--validate", render.validate, "Enable the Khronos validation layer");
@@ -89,6 +112,7 @@ int main(int argc, char** argv) {
 
     try {
         if (renderCmd->parsed()) {
+            render.sizeGiven = renderCmd->count("--width") + renderCmd->count("--height") > 0;
             const nlohmann::json result = gt::app::runRender(render);
             if (renderJson)
                 std::cout << result.dump() << std::endl;

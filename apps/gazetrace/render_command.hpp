@@ -17,6 +17,16 @@ struct RenderOptions {
     std::string out = "out/render.png";
     std::string graphDot;  // --graph FILE.dot
     bool validate = false; // Khronos validation layer
+    // --method foveated (seed 000):
+    std::string profile = "fove";
+    std::string interp = "nn";
+    uint32_t k = 10;
+    double scale = 1.0;
+    uint32_t raysPerPoint = 32;
+    std::string gaze; // "X,Y" in pixels; empty = screen centre
+    uint32_t frames = 1;
+    std::string cacheDir;
+    bool sizeGiven = false; // --width/--height were on the command line
 };
 
 // Renders and writes the PNG; returns the JSON summary (device, width, height, method, rays,

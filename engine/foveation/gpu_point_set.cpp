@@ -1,0 +1,29 @@
+#include "foveation/gpu_point_set.hpp"
+
+#include <glm/glm.hpp>
+
+namespace gt::foveation {
+
+GpuPointSet::GpuPointSet(vk::Context& ctx, const PointSet& set, const NeighbourIndex& index)
+    : mCount(static_cast<uint32_t>(set.points().size())), mK(index.k()),
+      mCanvasW(set.canvasWidth()), mCanvasH(set.canvasHeight()),
+      mDisplayW(set.params().display.width), mDisplayH(set.params().display.height) {
+    std::vector<glm::vec4> pts;
+    pts.reserve(set.points().size());
+    for (const Point& p : set.points())
+        pts.emplace_back(p.x, p.y, p.spacing, 0.0f);
+    auto make = [&](vk::Buffer& buffer, const void* data, std::size_t bytes, const char* name) {
+        buffer = vk::Buffer(
+            ctx, {bytes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, vk::MemoryUsage::GpuOnly, name});
+        buffer.upload(std::span(static_cast<const std::byte*>(data), bytes));
+    };
+    make(mPoints, pts.data(), pts.size() * sizeof(glm::vec4), "pointset.points");
+    make(mNearest, index.nearest().data(), index.nearest().size() * 4, "pointset.nearest");
+    make(mNeighbours, index.neighbours().data(), index.neighbours().size() * 4,
+         "pointset.neighbours");
+    mPointsView = vk::BufferView(ctx, mPoints, VK_FORMAT_R32G32B32A32_SFLOAT);
+    mNearestView = vk::BufferView(ctx, mNearest, VK_FORMAT_R32_UINT);
+    mNeighboursView = vk::BufferView(ctx, mNeighbours, VK_FORMAT_R32_UINT);
+}
+
+} // namespace gt::foveation

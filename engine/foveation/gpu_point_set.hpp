@@ -1,0 +1,32 @@
+#pragma once
+// A point set and its neighbour index on the GPU, as uniform texel buffers: points (x, y, p),
+// the nearest point per canvas pixel, and the stored neighbours per point.
+#include <cstdint>
+
+#include "foveation/neighbour_index.hpp"
+#include "foveation/point_set.hpp"
+#include "vk/resources.hpp"
+
+namespace gt::foveation {
+
+class GpuPointSet {
+public:
+    GpuPointSet(vk::Context& ctx, const PointSet& set, const NeighbourIndex& index);
+
+    [[nodiscard]] VkBufferView points() const noexcept { return mPointsView.handle(); }
+    [[nodiscard]] VkBufferView nearest() const noexcept { return mNearestView.handle(); }
+    [[nodiscard]] VkBufferView neighbours() const noexcept { return mNeighboursView.handle(); }
+    [[nodiscard]] uint32_t count() const noexcept { return mCount; }
+    [[nodiscard]] uint32_t storedNeighbours() const noexcept { return mK; }
+    [[nodiscard]] uint32_t canvasWidth() const noexcept { return mCanvasW; }
+    [[nodiscard]] uint32_t canvasHeight() const noexcept { return mCanvasH; }
+    [[nodiscard]] uint32_t displayWidth() const noexcept { return mDisplayW; }
+    [[nodiscard]] uint32_t displayHeight() const noexcept { return mDisplayH; }
+
+private:
+    vk::Buffer mPoints, mNearest, mNeighbours;
+    vk::BufferView mPointsView, mNearestView, mNeighboursView;
+    uint32_t mCount, mK, mCanvasW, mCanvasH, mDisplayW, mDisplayH;
+};
+
+} // namespace gt::foveation

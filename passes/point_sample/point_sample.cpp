@@ -1,0 +1,71 @@
+#include "point_sample/point_sample.hpp"
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "foveated_shared.h"
+#include "foveation/gpu_point_set.hpp"
+#include "point_sample_comp.h"
+#include "trace/gpu_scene.hpp"
+#include "vk/context.hpp"
+#include "vk/pipeline.hpp"
+
+namespace gt::passes {
+
+namespace sh = shaders::foveated;
+
+glm::vec2 gazeOffset(glm::vec2 gaze, uint32_t displayWidth, uint32_t displayHeight) {
+    return {std::round(gaze.x) - static_cast<float>(displayWidth),
+            std::round(gaze.y) - static_cast<float>(displayHeight)};
+}
+
+PointSamplePass::PointSamplePass(vk::Context& ctx) : mCtx(ctx) {
+    std::vector<VkDescriptorType> bindings(shaders::trace::kSceneBindingCount,
+                                           VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
+    bindings[shaders::trace::kBindingSceneUniforms] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    bindings.push_back(VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER); // kBindingPoints
+    bindings.push_back(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);       // kBindingSamples
+    mPipeline = std::make_unique<vk::ComputePipeline>(
+        ctx, vk::ComputePipelineDesc{"point_sample", gt_spv_point_sample_comp, bindings,
+                                     sizeof(sh::PointSamplePush)});
+}
+
+PointSamplePass::~PointSamplePass() = default;
+
+rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene& scene,
+                                  const scene::Camera& camera, const foveation::GpuPointSet& points,
+                                  glm::vec2 gaze, uint32_t raysPerPoint) const {
+    if (raysPerPoint == 0) throw ArgumentError("--rays-per-point must be at least 1");
+    const uint32_t w = graph.outputWidth(), h = graph.outputHeight();
+    const auto cam = trace::cameraPush(camera, static_cast<float>(w) / static_cast<float>(h));
+    const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());
+    const sh::PointSamplePush push{cam.origin,
+                                   cam.forward,
+                                   cam.right,
+                                   cam.up,
+                                   glm::vec4(off, kSampleMargin, 0.0f),
+                                   glm::uvec4(w, h, raysPerPoint, points.count())};
+    struct Data {
+        rg::BufferId samples;
+    };
+    const auto& data = graph.addPass<Data>(
+        "point_sample",
+        [&](rg::PassBuilder& b, Data& d) {
+            d.samples = b.write(b.createBuffer("point_sample.samples",
+                                               {static_cast<VkDeviceSize>(points.count()) * 16}),
+                                rg::Access::StorageWrite);
+        },
+        [ctx = &mCtx, pipeline = mPipeline.get(), scene = &scene, pts = &points,
+         push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+            vk::DescriptorWriter writer;
+            scene->bind(writer);
+            writer.texelBuffer(sh::kBindingPoints, pts->points())
+                .storageBuffer(sh::kBindingSamples, r.buffer(d.samples));
+            writer.push(*ctx, cmd, *pipeline);
+            vk::dispatch(cmd, *pipeline, &push, sizeof(push),
+                         (push.params.w + sh::kSampleGroupSize - 1) / sh::kSampleGroupSize, 1);
+        });
+    return data.samples;
+}
+
+} // namespace gt::passes

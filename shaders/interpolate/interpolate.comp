@@ -1,0 +1,69 @@
+#version 460
+// Pass `interpolate` (seed 000, 4.3): every screen pixel from the k nearest sampled points.
+// Nearest neighbour takes the nearest point's colour; the Modified Shepard method weighs the k
+// neighbours by w_i = ((R - h_i) / (R h_i))^q with R the distance to the farthest of them
+// (thesis eqs. 5-6, q = 1; Renka 1988 uses q = 2).
+#extension GL_GOOGLE_include_directive : require
+#include "foveated_shared.h"
+
+layout(local_size_x = kInterpGroupX, local_size_y = kInterpGroupY) in;
+layout(set = 0, binding = kBindingInterpPoints) uniform samplerBuffer uPoints;
+layout(std430, set = 0, binding = kBindingInterpSamples) readonly buffer Samples { vec4 samples[]; };
+layout(set = 0, binding = kBindingNearest) uniform usamplerBuffer uNearest;
+layout(set = 0, binding = kBindingNeighbours) uniform usamplerBuffer uNeighbours;
+layout(set = 0, binding = kBindingInterpOutput, rgba32f) uniform writeonly image2D uOutput;
+layout(push_constant) uniform Push { InterpolatePush pc; };
+
+void main() {
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = ivec2(pc.params.xy);
+    if (any(greaterThanEqual(px, size))) return;
+    vec2 pos = vec2(px) + 0.5;
+    vec2 offset = pc.offset.xy;
+    float margin = pc.offset.z;
+    ivec2 c = clamp(ivec2(floor(pos - offset)), ivec2(0), ivec2(pc.canvas.xy) - 1);
+    uint q = texelFetch(uNearest, c.y * int(pc.canvas.x) + c.x).r;
+    uint k = min(pc.params.z, kMaxK);
+
+    // Candidates: the nearest point and its stored neighbours, kept sorted by distance; points
+    // that point_sample skipped (beyond the margin) are left out.
+    uint idx[kMaxK + 1];
+    float d2[kMaxK + 1];
+    uint n = 0u;
+    for (uint j = 0u; j <= pc.canvas.z; ++j) {
+        uint i = j == 0u ? q : texelFetch(uNeighbours, int(q * pc.canvas.z + j - 1u)).r;
+        vec2 s = texelFetch(uPoints, int(i)).xy + offset;
+        if (any(lessThan(s, vec2(-margin))) || any(greaterThanEqual(s, vec2(size) + margin))) continue;
+        vec2 d = s - pos;
+        float dd = dot(d, d);
+        if (n == k && dd >= d2[n - 1u]) continue;
+        uint m = min(n, k - 1u);
+        while (m > 0u && d2[m - 1u] > dd) {
+            idx[m] = idx[m - 1u];
+            d2[m] = d2[m - 1u];
+            --m;
+        }
+        idx[m] = i;
+        d2[m] = dd;
+        n = min(n + 1u, k);
+        if (k == 1u && j == 0u) break; // nearest neighbour: the table's answer is exact
+    }
+    vec3 colour = vec3(0.0);
+    if (n > 0u) {
+        colour = samples[idx[0]].rgb;
+        if (pc.params.w == kMethodShepard && n > 1u) {
+            float r = sqrt(d2[n - 1u]);
+            vec3 sum = vec3(0.0);
+            float wsum = 0.0;
+            for (uint j = 0u; j < n; ++j) {
+                float h = sqrt(d2[j]);
+                if (h < 1e-6) { sum = samples[idx[j]].rgb; wsum = 1.0; break; }
+                float w = pow(max(r - h, 0.0) / (r * h), pc.offset.w);
+                sum += w * samples[idx[j]].rgb;
+                wsum += w;
+            }
+            if (wsum > 0.0) colour = sum / wsum;
+        }
+    }
+    imageStore(uOutput, px, vec4(colour, 1.0));
+}

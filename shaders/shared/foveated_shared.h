@@ -1,0 +1,42 @@
+// Passes `point_sample` and `interpolate` (seed 000, sections 4.2 and 4.3).
+#ifndef FOVEATED_SHARED_H
+#define FOVEATED_SHARED_H
+#include "trace_shared.h"
+
+GT_NAMESPACE_BEGIN(foveated)
+
+// point_sample: the eight scene bindings (trace_shared.h), then:
+GT_CONST kBindingPoints = 8;  // samplerBuffer RGBA32F: canvas x, y, spacing p, 0
+GT_CONST kBindingSamples = 9; // buffer of vec4: mean radiance rgb, first-hit distance
+GT_CONST kSampleGroupSize = 64;
+
+struct PointSamplePush {
+    vec4 origin; // camera, as trace::CameraPush
+    vec4 forward;
+    vec4 right;
+    vec4 up;
+    vec4 offset;  // x, y: canvas -> screen offset (gaze - (W, H)); z: margin in pixels
+    uvec4 params; // x = width, y = height, z = rays per point, w = point count
+};
+
+// interpolate:
+GT_CONST kBindingInterpPoints = 0;    // samplerBuffer RGBA32F (as kBindingPoints)
+GT_CONST kBindingInterpSamples = 1;   // buffer of vec4 (as kBindingSamples)
+GT_CONST kBindingNearest = 2;         // usamplerBuffer R32UI: nearest point per canvas pixel
+GT_CONST kBindingNeighbours = 3;      // usamplerBuffer R32UI: kMax neighbours per point
+GT_CONST kBindingInterpOutput = 4;    // image2D rgba32f
+GT_CONST kInterpGroupX = 8;
+GT_CONST kInterpGroupY = 8;
+GT_CONST kMaxK = 20;
+
+GT_CONST kMethodNearest = 0;
+GT_CONST kMethodShepard = 1;
+
+struct InterpolatePush {
+    vec4 offset;  // x, y: canvas -> screen offset; z: margin; w: Shepard power (1 thesis, 2 Renka)
+    uvec4 params; // x = width, y = height, z = k, w = method
+    uvec4 canvas; // x = canvas width, y = canvas height, z = neighbours stored per point
+};
+
+GT_NAMESPACE_END
+#endif
