@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "bench_command.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "pointset_command.hpp"
@@ -96,6 +97,15 @@ int main(int argc, char** argv) {
                             "Scales to sweep, e.g. 1 1.5 2 2.5 3 (Figure 14)");
     pointsetCmd->add_flag("--json", pointsetJson, "Print a JSON summary on stdout");
 
+    gt::app::BenchOptions bench;
+    CLI::App* benchCmd = app.add_subcommand(
+        "bench", "Table 1, Table 2 and foveated vs reference on the market (Google Benchmark)");
+    benchCmd->add_option("--json", bench.json, "Also write the results as JSON to this file");
+    benchCmd->add_flag("--quick", bench.quick, "Smoke test: fewer frames, no 32-ray frames");
+    benchCmd->add_option("--scene", bench.scene, "Scene for the headline comparison")
+        ->capture_default_str();
+    benchCmd->add_option("--cache", bench.cacheDir, "Point-set cache folder");
+
     CLI::App* devicesCmd = app.add_subcommand("devices", "List the Vulkan devices");
     CLI::App* scenesCmd = app.add_subcommand("scenes", "List the built-in scenes");
 
@@ -121,6 +131,8 @@ int main(int argc, char** argv) {
         } else if (pointsetCmd->parsed()) {
             const nlohmann::json result = gt::app::runPointSet(pointset);
             std::cout << (pointsetJson ? result.dump() : result.dump(2)) << std::endl;
+        } else if (benchCmd->parsed()) {
+            (void)gt::app::runBench(bench);
         } else if (devicesCmd->parsed()) {
             for (const std::string& line : gt::vk::Context::listDevices())
                 std::cout << line << "\n";

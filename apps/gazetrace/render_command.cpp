@@ -1,68 +1,22 @@
 #include "render_command.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <functional>
-#include <optional>
 
 #include "core/error.hpp"
-#include "core/log.hpp"
-#include "foveation/gpu_point_set.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
-#include "interpolate/interpolate.hpp"
 #include "point_sample/point_sample.hpp"
-#include "readback/readback.hpp"
-#include "reference/reference.hpp"
-#include "render_graph/render_graph.hpp"
-#include "scene/bvh.hpp"
-#include "scene/gltf_loader.hpp"
+#include "render_session.hpp"
 #include "scene/image_io.hpp"
-#include "tonemap/tonemap.hpp"
-#include "trace/gpu_scene.hpp"
 #include "vk/context.hpp"
-#include "vk/resources.hpp"
 
 namespace gt::app {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
-struct Frame {
-    rg::FrameTimings timings;
-    std::vector<uint8_t> pixels;
-    std::string dot;
-};
-
-using AddRadiance = std::function<rg::TextureId(rg::RenderGraph&)>;
-
-// Builds and runs one frame: <radiance passes> -> tonemap -> readback.
-Frame renderFrame(vk::Context& ctx, rg::TransientPool& pool, const passes::TonemapPass& tonemap,
-                  const AddRadiance& addRadiance, float exposure, uint32_t w, uint32_t h,
-                  bool wantDot) {
-    vk::Buffer host(ctx, {static_cast<VkDeviceSize>(w) * h * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                          vk::MemoryUsage::Readback, "readback.frame"});
-    rg::RenderGraph graph(w, h);
-    const rg::BufferId hostId = graph.importBuffer(
-        "frame.host", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
-    const rg::TextureId ldr = tonemap.add(graph, addRadiance(graph), exposure);
-    passes::addReadbackPass(graph, "frame", ldr, hostId);
-    const rg::CompiledGraph compiled = graph.compile();
-    Frame f;
-    if (wantDot) f.dot = graph.toDot(compiled);
-    f.timings = graph.execute(compiled, pool);
-    f.pixels.resize(host.size());
-    host.download(std::as_writable_bytes(std::span(f.pixels)));
-    return f;
-}
 
 glm::vec2 parseGaze(const std::string& text, uint32_t w, uint32_t h) {
     if (text.empty()) return {0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h)};
@@ -137,81 +91,31 @@ nlohmann::json runRender(const RenderOptions& o) {
                                 " does not exist");
         }
     }
-    const auto t0 = Clock::now();
-    scene::GltfLoadReport report;
-    const scene::Scene scene = scene::loadScene(o.scene, &report);
-    for (const std::string& w : report.warnings)
-        log::warn(o.scene + ": " + w);
-    const double loadMs = msSince(t0);
-    const auto t1 = Clock::now();
-    const scene::Bvh bvh(scene);
-    const double bvhMs = msSince(t1);
-
-    std::optional<foveation::CachedPointSet> pointSet;
-    std::optional<foveation::NeighbourIndex> neighbours;
-    double pointSetMs = 0.0, neighbourMs = 0.0;
+    RenderSession session(o.scene, o.validate);
+    FoveatedSettings fs;
     if (foveated) {
-        const auto t = Clock::now();
-        pointSet = foveation::loadOrGenerate(o.cacheDir.empty() ? foveation::defaultCacheDir()
-                                                                : std::filesystem::path(o.cacheDir),
-                                             psParams);
-        if (!pointSet->warning.empty()) log::warn(pointSet->warning);
-        pointSetMs = msSince(t);
-        neighbours.emplace(pointSet->set,
-                           std::max(1u, std::min(o.k, foveation::NeighbourIndex::kMaxNeighbours)));
-        neighbourMs = neighbours->buildSeconds() * 1e3;
+        session.preparePointSet(psParams, o.cacheDir.empty() ? foveation::defaultCacheDir()
+                                                             : std::filesystem::path(o.cacheDir));
+        fs.gaze = gaze;
+        fs.raysPerPoint = o.raysPerPoint;
+        fs.interpolation = interp;
     }
-
-    const char* env = std::getenv("GAZETRACE_DEVICE");
-    vk::Context ctx({.validation = o.validate,
-                     .synchronizationValidation = o.validate,
-                     .deviceOverride = env ? env : ""});
-    const trace::GpuScene gpuScene(ctx, scene, bvh);
-    const passes::ReferencePass reference(ctx);
-    const passes::TonemapPass tonemap(ctx);
-    std::optional<foveation::GpuPointSet> gpuPoints;
-    std::optional<passes::PointSamplePass> pointSample;
-    std::optional<passes::InterpolatePass> interpolate;
-    if (foveated) {
-        gpuPoints.emplace(ctx, pointSet->set, *neighbours);
-        pointSample.emplace(ctx);
-        interpolate.emplace(ctx);
-    }
-    auto radianceFor = [&](uint32_t frame) -> AddRadiance {
-        if (!foveated) {
-            return [&, frame](rg::RenderGraph& g) {
-                return reference.add(g, gpuScene, scene.camera, {o.spp, o.seed + frame});
-            };
-        }
-        return [&](rg::RenderGraph& g) {
-            const rg::BufferId samples =
-                pointSample->add(g, gpuScene, scene.camera, *gpuPoints, gaze, o.raysPerPoint);
-            return interpolate->add(g, *gpuPoints, samples, gaze, interp);
-        };
-    };
-    {
-        // Warm-up: lavapipe compiles shaders at their first dispatch, which would otherwise be
-        // counted in the timed frame (docs/LAVAPIPE.md).
-        rg::TransientPool warmPool(ctx);
-        (void)renderFrame(ctx, warmPool, tonemap, radianceFor(0), scene.exposure,
-                          foveated ? width : 16, foveated ? height : 16, false);
-    }
-    rg::TransientPool pool(ctx);
-    Frame frame;
+    FrameResult frame;
     std::vector<double> frameMs;
     std::vector<std::string> outputs;
     for (uint32_t i = 0; i < o.frames; ++i) {
-        const auto t2 = Clock::now();
-        frame = renderFrame(ctx, pool, tonemap, radianceFor(i), scene.exposure, width, height,
-                            !o.graphDot.empty() && i == 0);
-        frameMs.push_back(msSince(t2));
-        if (i == 0 && !o.graphDot.empty()) writeText(o.graphDot, frame.dot);
+        const bool dot = !o.graphDot.empty() && i == 0;
+        frame = foveated ? session.foveated(fs, true, dot)
+                         : session.reference(width, height, o.spp, o.seed + i, true, dot);
+        frameMs.push_back(frame.wallMs);
+        if (dot) writeText(o.graphDot, frame.dot);
         char name[32];
         std::snprintf(name, sizeof(name), "frame_%04u.png", i);
         const std::filesystem::path file = toFolder ? outPath / name : outPath;
         image::writePngAtomic(file, width, height, frame.pixels);
         outputs.push_back(file.string());
     }
+    vk::Context& ctx = session.context();
     if (ctx.validationErrors() > 0) {
         throw Error(std::to_string(ctx.validationErrors()) + " Vulkan validation error(s)");
     }
@@ -226,7 +130,7 @@ nlohmann::json runRender(const RenderOptions& o) {
     nlohmann::json j = {{"device", ctx.deviceName()},
                         {"device_type", ctx.deviceDescription()},
                         {"scene", o.scene},
-                        {"triangles", scene.triangleCount()},
+                        {"triangles", session.scene().triangleCount()},
                         {"width", width},
                         {"height", height},
                         {"method", o.method},
@@ -234,26 +138,23 @@ nlohmann::json runRender(const RenderOptions& o) {
                         {"gpu_total_ms", frame.timings.gpuMs},
                         {"total_ms", totalMs},
                         {"frames", o.frames},
-                        {"load_ms", loadMs},
-                        {"bvh_ms", bvhMs},
+                        {"load_ms", session.loadMs()},
+                        {"bvh_ms", session.bvhMs()},
                         {"output", toFolder ? outPath.string() : outputs.front()}};
     if (foveated) {
-        const glm::vec2 off = passes::gazeOffset(gaze, width, height);
-        const std::size_t sampled =
-            pointSet->set.countOnScreen(off.x + static_cast<float>(width),
-                                        off.y + static_cast<float>(height), passes::kSampleMargin);
+        const std::size_t sampled = session.pointsSampled(gaze);
         rays = static_cast<uint64_t>(sampled) * o.raysPerPoint;
         j["points_sampled"] = sampled;
-        j["points_total"] = pointSet->set.points().size();
+        j["points_total"] = session.pointSet().points().size();
         j["rays_per_point"] = o.raysPerPoint;
         j["interp"] = o.interp;
         j["k"] = interp.method == passes::Interpolation::Nearest ? 1u : o.k;
         j["scale"] = o.scale;
         j["profile"] = o.profile;
         j["gaze"] = {gaze.x, gaze.y};
-        j["point_set_ms"] = pointSetMs;
-        j["neighbour_index_ms"] = neighbourMs;
-        j["neighbour_index_mb"] = static_cast<double>(neighbours->bytes()) / 1e6;
+        j["point_set_ms"] = session.pointSetMs();
+        j["neighbour_index_ms"] = session.neighbourIndexMs();
+        j["neighbour_index_mb"] = session.neighbourIndexMb();
     } else {
         j["spp"] = o.spp;
     }

@@ -1,0 +1,219 @@
+#include "bench_command.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include <benchmark/benchmark.h>
+
+#include "core/error.hpp"
+#include "foveation/point_set_cache.hpp"
+#include "render_session.hpp"
+#include "vk/context.hpp"
+
+namespace gt::app {
+
+namespace {
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double passMs(const FrameResult& f, const std::string& name) {
+    for (const auto& p : f.timings.passes) {
+        if (p.name == name) return p.gpuMs;
+    }
+    return 0.0;
+}
+
+// The GPU time of a whole frame: first pass start to last pass end, every pass counted.
+double frameMs(const FrameResult& f) {
+    return f.timings.gpuMs;
+}
+
+} // namespace
+
+nlohmann::json runBench(const BenchOptions& o) {
+    if (!o.json.empty()) {
+        const auto parent = std::filesystem::path(o.json).parent_path();
+        std::error_code ec;
+        if (!parent.empty() && !std::filesystem::is_directory(parent, ec)) {
+            throw ArgumentError("--json: folder " + parent.string() + " does not exist");
+        }
+    }
+    const int frames = o.quick ? 2 : 5; // median of >= 5 frames for Table 2 (issue)
+    foveation::PointSetParams params;
+    params.display = foveation::displayProfile("fove");
+    const std::filesystem::path cache =
+        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
+
+    RenderSession session(o.scene, false);
+    session.preparePointSet(params, cache);
+    const uint32_t w = params.display.width, h = params.display.height;
+    const glm::vec2 centre(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h));
+    const foveation::PointSetStats t1 = session.pointSet().stats(10.0f);
+
+    std::map<std::string, std::vector<double>> samples; // benchmark name -> GPU ms per frame
+    std::map<std::string, std::vector<double>> walls;
+    auto fov = [&](passes::Interpolation m, uint32_t k, uint32_t rays) {
+        FoveatedSettings s;
+        s.gaze = centre;
+        s.raysPerPoint = rays;
+        s.interpolation = {m, k, 1.0f};
+        return s;
+    };
+    // Table 2: interpolation time per method and k (GPU timestamps of the interpolate pass).
+    std::vector<std::pair<std::string, FoveatedSettings>> table2 = {
+        {"table2/nn", fov(passes::Interpolation::Nearest, 1, 1)}};
+    for (uint32_t k : {5u, 10u, 15u, 20u}) {
+        table2.push_back(
+            {"table2/msm/k:" + std::to_string(k), fov(passes::Interpolation::Shepard, k, 1)});
+    }
+    for (const auto& [name, settings] : table2) {
+        benchmark::RegisterBenchmark(name.c_str(),
+                                     [&, name = name, settings = settings](benchmark::State& st) {
+                                         for (auto _ : st) {
+                                             const FrameResult f =
+                                                 session.foveated(settings, false);
+                                             const double ms = passMs(f, "interpolate");
+                                             samples[name].push_back(ms);
+                                             st.SetIterationTime(ms * 1e-3);
+                                         }
+                                     })
+            ->UseManualTime()
+            ->Iterations(frames)
+            ->Unit(benchmark::kMillisecond);
+    }
+    // Headline: foveated (nn, scale 1.0, centred gaze) against the reference, equal rays per
+    // point and per pixel, whole frames (every pass) measured in this run.
+    std::vector<uint32_t> rayCounts =
+        o.quick ? std::vector<uint32_t>{1, 4} : std::vector<uint32_t>{1, 32};
+    for (uint32_t rays : rayCounts) {
+        const int n = rays == 1 ? frames : (o.quick ? 1 : 2);
+        const std::string ref = "headline/reference/rays:" + std::to_string(rays);
+        const std::string fv = "headline/foveated/rays:" + std::to_string(rays);
+        benchmark::RegisterBenchmark(ref.c_str(),
+                                     [&, ref, rays](benchmark::State& st) {
+                                         for (auto _ : st) {
+                                             const FrameResult f =
+                                                 session.reference(w, h, rays, 0, false);
+                                             samples[ref].push_back(frameMs(f));
+                                             walls[ref].push_back(f.wallMs);
+                                             st.SetIterationTime(frameMs(f) * 1e-3);
+                                         }
+                                     })
+            ->UseManualTime()
+            ->Iterations(n)
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(
+            fv.c_str(),
+            [&, fv, rays](benchmark::State& st) {
+                for (auto _ : st) {
+                    const FrameResult f =
+                        session.foveated(fov(passes::Interpolation::Nearest, 1, rays), false);
+                    samples[fv].push_back(frameMs(f));
+                    walls[fv].push_back(f.wallMs);
+                    st.SetIterationTime(frameMs(f) * 1e-3);
+                }
+            })
+            ->UseManualTime()
+            ->Iterations(n)
+            ->Unit(benchmark::kMillisecond);
+    }
+    std::printf("gazetrace bench on %s (%s)\n", session.context().deviceName().c_str(),
+                session.context().deviceDescription().c_str());
+    std::fflush(stdout);
+    int argc = 1;
+    char arg0[] = "gazetrace";
+    char* argv[] = {arg0, nullptr};
+    benchmark::Initialize(&argc, argv);
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::ClearRegisteredBenchmarks();
+
+    nlohmann::json table2json = nlohmann::json::array();
+    for (const auto& [name, settings] : table2) {
+        table2json.push_back(
+            {{"method",
+              settings.interpolation.method == passes::Interpolation::Nearest ? "nn" : "msm"},
+             {"k", settings.interpolation.k},
+             {"median_ms", median(samples[name])},
+             {"frames", samples[name].size()}});
+    }
+    nlohmann::json headline = nlohmann::json::array();
+    const double pixels = static_cast<double>(w) * h;
+    const auto sampled = static_cast<double>(session.pointsSampled(centre));
+    for (uint32_t rays : rayCounts) {
+        const std::string ref = "headline/reference/rays:" + std::to_string(rays);
+        const std::string fv = "headline/foveated/rays:" + std::to_string(rays);
+        const double refMs = median(samples[ref]), fovMs = median(samples[fv]);
+        headline.push_back({{"rays_per_pixel_and_point", rays},
+                            {"reference_ms", refMs},
+                            {"foveated_ms", fovMs},
+                            {"reference_wall_ms", median(walls[ref])},
+                            {"foveated_wall_ms", median(walls[fv])},
+                            {"reference_rays", pixels * rays},
+                            {"foveated_rays", sampled * rays},
+                            {"ray_ratio", pixels / sampled},
+                            {"time_ratio", fovMs > 0 ? refMs / fovMs : 0.0},
+                            {"frames", samples[ref].size()}});
+    }
+    const double total = static_cast<double>(t1.total);
+    nlohmann::json result = {
+        {"device", session.context().deviceName()},
+        {"device_type", session.context().deviceDescription()},
+        {"scene", o.scene},
+        {"width", w},
+        {"height", h},
+        {"quick", o.quick},
+        {"table1",
+         {{"profile", "fove"},
+          {"scale", 1.0},
+          {"viewing_distance", params.display.viewingDistance},
+          {"total", t1.total},
+          {"centred", t1.onScreenCentre},
+          {"corner", t1.onScreenCorner},
+          {"centred_percent", 100.0 * static_cast<double>(t1.onScreenCentre) / total},
+          {"corner_percent", 100.0 * static_cast<double>(t1.onScreenCorner) / total},
+          {"thesis", {{"total", 576775}, {"centred_percent", 72.86}, {"corner_percent", 26.68}}}}},
+        {"table2", table2json},
+        {"headline", headline},
+        {"neighbour_index",
+         {{"build_ms", session.neighbourIndexMs()},
+          {"mb", session.neighbourIndexMb()},
+          {"per_pixel_table_mb_k20", static_cast<double>(w) * 2 * h * 2 * 20 * 4 / 1e6}}}};
+
+    std::printf("\nTable 1 (fove, scale 1.0): total %zu, centred %.2f %%, corner %.2f %% "
+                "(thesis 576,775; 72.86 %%; 26.68 %%)\n",
+                t1.total, result["table1"]["centred_percent"].get<double>(),
+                result["table1"]["corner_percent"].get<double>());
+    std::printf("Table 2 (interpolation, %ux%u, median GPU ms):\n", w, h);
+    for (const auto& r : table2json) {
+        std::printf("  %-4s k=%-2u %8.2f ms\n", r["method"].get<std::string>().c_str(),
+                    r["k"].get<uint32_t>(), r["median_ms"].get<double>());
+    }
+    std::printf("Headline (builtin market, centred gaze, scale 1.0, nn):\n");
+    for (const auto& r : headline) {
+        std::printf("  %3u ray(s): reference %9.1f ms, foveated %8.1f ms, ray_ratio %.2f, "
+                    "time_ratio %.2f\n",
+                    r["rays_per_pixel_and_point"].get<uint32_t>(), r["reference_ms"].get<double>(),
+                    r["foveated_ms"].get<double>(), r["ray_ratio"].get<double>(),
+                    r["time_ratio"].get<double>());
+    }
+    if (!o.json.empty()) {
+        const std::filesystem::path tmp = o.json + ".tmp";
+        {
+            std::ofstream out(tmp);
+            out << result.dump(2) << "\n";
+            if (!out) throw Error("cannot write " + o.json);
+        }
+        std::filesystem::rename(tmp, o.json);
+    }
+    return result;
+}
+
+} // namespace gt::app

@@ -1,0 +1,190 @@
+#include "render_session.hpp"
+
+#include <chrono>
+#include <cstdlib>
+#include <functional>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "foveation/gpu_point_set.hpp"
+#include "foveation/neighbour_index.hpp"
+#include "foveation/point_set_cache.hpp"
+#include "point_sample/point_sample.hpp"
+#include "readback/readback.hpp"
+#include "reference/reference.hpp"
+#include "scene/bvh.hpp"
+#include "scene/gltf_loader.hpp"
+#include "tonemap/tonemap.hpp"
+#include "trace/gpu_scene.hpp"
+#include "vk/context.hpp"
+#include "vk/resources.hpp"
+
+namespace gt::app {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+} // namespace
+
+struct RenderSession::Impl {
+    scene::Scene scene;
+    std::optional<scene::Bvh> bvh;
+    std::unique_ptr<vk::Context> ctx;
+    std::optional<trace::GpuScene> gpuScene;
+    std::optional<passes::ReferencePass> reference;
+    std::optional<passes::TonemapPass> tonemap;
+    std::optional<foveation::PointSet> points;
+    std::optional<foveation::NeighbourIndex> neighbours;
+    std::optional<foveation::GpuPointSet> gpuPoints;
+    std::optional<passes::PointSamplePass> pointSample;
+    std::optional<passes::InterpolatePass> interpolate;
+    std::optional<rg::TransientPool> pool;
+    bool warmReference = false, warmFoveated = false;
+
+    using AddRadiance = std::function<rg::TextureId(rg::RenderGraph&)>;
+
+    FrameResult run(const AddRadiance& add, uint32_t w, uint32_t h, bool pixels, bool dot,
+                    rg::TransientPool& p) {
+        const auto t = Clock::now();
+        std::optional<vk::Buffer> host;
+        rg::RenderGraph graph(w, h);
+        const rg::TextureId ldr = tonemap->add(graph, add(graph), scene.exposure);
+        if (pixels) {
+            host.emplace(*ctx, vk::BufferDesc{static_cast<VkDeviceSize>(w) * h * 4,
+                                              VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                              vk::MemoryUsage::Readback, "readback.frame"});
+            const rg::BufferId hostId = graph.importBuffer(
+                "frame.host", {host->handle(), host->size(), std::nullopt, rg::Access::HostRead});
+            passes::addReadbackPass(graph, "frame", ldr, hostId);
+        } else {
+            // Without a readback nothing would consume the image: keep the tone mapper alive.
+            struct Keep {
+                rg::TextureId t;
+            };
+            graph.addPass<Keep>(
+                "frame.end",
+                [&](rg::PassBuilder& b, Keep& k) {
+                    k.t = b.read(ldr, rg::Access::StorageRead);
+                    b.sideEffect();
+                },
+                [](const rg::PassResources&, const Keep&, VkCommandBuffer) {});
+        }
+        const rg::CompiledGraph compiled = graph.compile();
+        FrameResult f;
+        if (dot) f.dot = graph.toDot(compiled);
+        f.timings = graph.execute(compiled, p);
+        if (pixels) {
+            f.pixels.resize(host->size());
+            host->download(std::as_writable_bytes(std::span(f.pixels)));
+        }
+        f.wallMs = msSince(t);
+        return f;
+    }
+};
+
+RenderSession::RenderSession(const std::string& sceneSpec, bool validate)
+    : mImpl(std::make_unique<Impl>()) {
+    const auto t0 = Clock::now();
+    scene::GltfLoadReport report;
+    mImpl->scene = scene::loadScene(sceneSpec, &report);
+    for (const std::string& w : report.warnings)
+        log::warn(sceneSpec + ": " + w);
+    mLoadMs = msSince(t0);
+    const auto t1 = Clock::now();
+    mImpl->bvh.emplace(mImpl->scene);
+    mBvhMs = msSince(t1);
+    const char* env = std::getenv("GAZETRACE_DEVICE");
+    mImpl->ctx =
+        std::make_unique<vk::Context>(vk::ContextOptions{.validation = validate,
+                                                         .synchronizationValidation = validate,
+                                                         .deviceOverride = env ? env : ""});
+    mImpl->gpuScene.emplace(*mImpl->ctx, mImpl->scene, *mImpl->bvh);
+    mImpl->reference.emplace(*mImpl->ctx);
+    mImpl->tonemap.emplace(*mImpl->ctx);
+    mImpl->pool.emplace(*mImpl->ctx);
+}
+
+RenderSession::~RenderSession() = default;
+
+vk::Context& RenderSession::context() {
+    return *mImpl->ctx;
+}
+const scene::Scene& RenderSession::scene() const {
+    return mImpl->scene;
+}
+
+void RenderSession::preparePointSet(const foveation::PointSetParams& params,
+                                    const std::filesystem::path& cacheDir) {
+    const auto t = Clock::now();
+    foveation::CachedPointSet c = foveation::loadOrGenerate(cacheDir, params);
+    if (!c.warning.empty()) log::warn(c.warning);
+    mPointSetMs = msSince(t);
+    mImpl->gpuPoints.reset();
+    mImpl->neighbours.reset();
+    mImpl->points.emplace(std::move(c.set));
+    mImpl->neighbours.emplace(*mImpl->points, foveation::NeighbourIndex::kMaxNeighbours);
+    mNeighbourMs = mImpl->neighbours->buildSeconds() * 1e3;
+    mNeighbourMb = static_cast<double>(mImpl->neighbours->bytes()) / 1e6;
+    mImpl->gpuPoints.emplace(*mImpl->ctx, *mImpl->points, *mImpl->neighbours);
+    if (!mImpl->pointSample) mImpl->pointSample.emplace(*mImpl->ctx);
+    if (!mImpl->interpolate) mImpl->interpolate.emplace(*mImpl->ctx);
+}
+
+const foveation::PointSet& RenderSession::pointSet() const {
+    if (!mImpl->points) throw Error("no point set prepared");
+    return *mImpl->points;
+}
+
+std::size_t RenderSession::pointsSampled(glm::vec2 gaze) const {
+    const foveation::PointSet& set = pointSet();
+    const auto w = set.params().display.width, h = set.params().display.height;
+    const glm::vec2 off = passes::gazeOffset(gaze, w, h);
+    return set.countOnScreen(off.x + static_cast<float>(w), off.y + static_cast<float>(h),
+                             passes::kSampleMargin);
+}
+
+FrameResult RenderSession::reference(uint32_t w, uint32_t h, uint32_t spp, uint32_t seed,
+                                     bool pixels, bool dot) {
+    Impl& m = *mImpl;
+    auto add = [&](rg::RenderGraph& g) {
+        return m.reference->add(g, *m.gpuScene, m.scene.camera, {spp, seed});
+    };
+    if (!m.warmReference) {
+        rg::TransientPool warm(*m.ctx);
+        auto tiny = [&](rg::RenderGraph& g) {
+            return m.reference->add(g, *m.gpuScene, m.scene.camera, {1, 0});
+        };
+        (void)m.run(tiny, 16, 16, true, false, warm);
+        m.warmReference = true;
+    }
+    return m.run(add, w, h, pixels, dot, *m.pool);
+}
+
+FrameResult RenderSession::foveated(const FoveatedSettings& s, bool pixels, bool dot) {
+    Impl& m = *mImpl;
+    if (!m.gpuPoints) throw Error("no point set prepared");
+    const uint32_t w = m.points->params().display.width, h = m.points->params().display.height;
+    auto add = [&](rg::RenderGraph& g) {
+        const rg::BufferId samples = m.pointSample->add(g, *m.gpuScene, m.scene.camera,
+                                                        *m.gpuPoints, s.gaze, s.raysPerPoint);
+        return m.interpolate->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation);
+    };
+    if (!m.warmFoveated) {
+        // Full size (the point set is made for it), one ray per point.
+        rg::TransientPool warm(*m.ctx);
+        FoveatedSettings cheap = s;
+        cheap.raysPerPoint = 1;
+        auto tiny = [&](rg::RenderGraph& g) {
+            const rg::BufferId samples =
+                m.pointSample->add(g, *m.gpuScene, m.scene.camera, *m.gpuPoints, cheap.gaze, 1);
+            return m.interpolate->add(g, *m.gpuPoints, samples, cheap.gaze, cheap.interpolation);
+        };
+        (void)m.run(tiny, w, h, true, false, warm);
+        m.warmFoveated = true;
+    }
+    return m.run(add, w, h, pixels, dot, *m.pool);
+}
+
+} // namespace gt::app
