@@ -72,6 +72,10 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1u, 100000u))
         ->capture_default_str();
     renderCmd->add_option("--cache", render.cacheDir, "Point-set cache folder");
+    std::string taaFlag = "on";
+    renderCmd->add_option("--taa", taaFlag, "Foveated: temporal anti-aliasing on | off")
+        ->check(CLI::IsMember({"on", "off"}))
+        ->capture_default_str();
     renderCmd->add_option("--graph", render.graphDot,
                           "Write the compiled render graph as Graphviz");
     renderCmd->add_flag("--validate", render.validate, "Enable the Khronos validation layer");
@@ -122,6 +126,7 @@ int main(int argc, char** argv) {
 
     try {
         if (renderCmd->parsed()) {
+            render.taa = taaFlag == "on";
             render.sizeGiven = renderCmd->count("--width") + renderCmd->count("--height") > 0;
             const nlohmann::json result = gt::app::runRender(render);
             if (renderJson)

@@ -99,6 +99,7 @@ nlohmann::json runRender(const RenderOptions& o) {
         fs.gaze = gaze;
         fs.raysPerPoint = o.raysPerPoint;
         fs.interpolation = interp;
+        fs.taa = o.taa;
     }
     FrameResult frame;
     std::vector<double> frameMs;
@@ -151,6 +152,7 @@ nlohmann::json runRender(const RenderOptions& o) {
         j["k"] = interp.method == passes::Interpolation::Nearest ? 1u : o.k;
         j["scale"] = o.scale;
         j["profile"] = o.profile;
+        j["taa"] = o.taa;
         j["gaze"] = {gaze.x, gaze.y};
         j["point_set_ms"] = session.pointSetMs();
         j["neighbour_index_ms"] = session.neighbourIndexMs();

@@ -25,6 +25,7 @@ struct RenderOptions {
     uint32_t raysPerPoint = 32;
     std::string gaze; // "X,Y" in pixels; empty = screen centre
     uint32_t frames = 1;
+    bool taa = true;
     std::string cacheDir;
     bool sizeGiven = false; // --width/--height were on the command line
 };

@@ -14,6 +14,7 @@
 #include "reference/reference.hpp"
 #include "scene/bvh.hpp"
 #include "scene/gltf_loader.hpp"
+#include "taa/taa.hpp"
 #include "tonemap/tonemap.hpp"
 #include "trace/gpu_scene.hpp"
 #include "vk/context.hpp"
@@ -40,6 +41,8 @@ struct RenderSession::Impl {
     std::optional<foveation::GpuPointSet> gpuPoints;
     std::optional<passes::PointSamplePass> pointSample;
     std::optional<passes::InterpolatePass> interpolate;
+    std::optional<passes::TaaPass> taa;
+    std::optional<passes::TaaHistory> taaHistory;
     std::optional<rg::TransientPool> pool;
     bool warmReference = false, warmFoveated = false;
 
@@ -130,6 +133,8 @@ void RenderSession::preparePointSet(const foveation::PointSetParams& params,
     mImpl->gpuPoints.emplace(*mImpl->ctx, *mImpl->points, *mImpl->neighbours);
     if (!mImpl->pointSample) mImpl->pointSample.emplace(*mImpl->ctx);
     if (!mImpl->interpolate) mImpl->interpolate.emplace(*mImpl->ctx);
+    if (!mImpl->taa) mImpl->taa.emplace(*mImpl->ctx);
+    mImpl->taaHistory.emplace(*mImpl->ctx, params.display.width, params.display.height);
 }
 
 const foveation::PointSet& RenderSession::pointSet() const {
@@ -169,7 +174,10 @@ FrameResult RenderSession::foveated(const FoveatedSettings& s, bool pixels, bool
     auto add = [&](rg::RenderGraph& g) {
         const rg::BufferId samples = m.pointSample->add(g, *m.gpuScene, m.scene.camera,
                                                         *m.gpuPoints, s.gaze, s.raysPerPoint);
-        return m.interpolate->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation);
+        const rg::TextureId image =
+            m.interpolate->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation);
+        if (!s.taa) return image;
+        return m.taa->add(g, *m.taaHistory, image, m.scene.camera, s.gaze, s.saccade);
     };
     if (!m.warmFoveated) {
         // Full size (the point set is made for it), one ray per point.

@@ -33,6 +33,8 @@ struct FoveatedSettings {
     glm::vec2 gaze{};
     uint32_t raysPerPoint = 32;
     passes::InterpolateSettings interpolation;
+    bool taa = true;      // temporal anti-aliasing (the thesis used it in every setting)
+    bool saccade = false; // the eye tracker reported a saccade: drop the TAA history
 };
 
 class RenderSession {

@@ -49,8 +49,10 @@ void main() {
         if (k == 1u && j == 0u) break; // nearest neighbour: the table's answer is exact
     }
     vec3 colour = vec3(0.0);
+    float depth = 1.0 / 0.0; // first-hit distance of the nearest sample, for TAA
     if (n > 0u) {
         colour = samples[idx[0]].rgb;
+        depth = samples[idx[0]].w;
         if (pc.params.w == kMethodShepard && n > 1u) {
             float r = sqrt(d2[n - 1u]);
             vec3 sum = vec3(0.0);
@@ -65,5 +67,5 @@ void main() {
             if (wsum > 0.0) colour = sum / wsum;
         }
     }
-    imageStore(uOutput, px, vec4(colour, 1.0));
+    imageStore(uOutput, px, vec4(colour, depth));
 }

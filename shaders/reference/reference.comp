@@ -17,11 +17,13 @@ void main() {
     CameraPush cam = CameraPush(pc.origin, pc.forward, pc.right, pc.up);
     uint pixelIndex = pixel.y * width + pixel.x;
     vec3 sum = vec3(0.0);
+    float firstDepth = 0.0; // first-hit distance of the first ray, for TAA
     for (uint i = 0u; i < spp; ++i) {
         vec2 o = sampleOffset(pixelIndex, i, spp, pc.params.w);
         vec3 dir = cameraRay(cam, vec2(pixel) + o, vec2(width, height));
         float depth;
         sum += traceRadiance(pc.origin.xyz, dir, depth);
+        if (i == 0u) firstDepth = depth;
     }
-    imageStore(uOutput, ivec2(pixel), vec4(sum / float(spp), 1.0));
+    imageStore(uOutput, ivec2(pixel), vec4(sum / float(spp), firstDepth));
 }

@@ -1,0 +1,26 @@
+// Pass `taa`: temporal anti-aliasing of the rebuilt image (seed 000, 4.3 and 3.1).
+#ifndef TAA_SHARED_H
+#define TAA_SHARED_H
+#include "gt_shared.h"
+
+GT_NAMESPACE_BEGIN(taa)
+
+GT_CONST kBindingCurrent = 0; // image2D rgba32f: radiance, a = first-hit distance
+GT_CONST kBindingHistory = 1; // image2D rgba32f: last frame's output, same layout
+GT_CONST kBindingOutput = 2;  // image2D rgba32f
+GT_CONST kGroupX = 8;
+GT_CONST kGroupY = 8;
+
+// Cameras as pinholes (see trace::CameraPush); up = cross(right, forward).
+struct TaaPush {
+    vec4 currentOrigin;  // xyz, w = tan(yfov / 2)
+    vec4 currentForward; // xyz, w = aspect
+    vec4 currentRight;
+    vec4 previousOrigin;
+    vec4 previousForward;
+    vec4 previousRight;
+    vec4 params; // x = blend weight of the current frame, y = clip gamma, z = reset, w = depth tolerance
+};
+
+GT_NAMESPACE_END
+#endif

@@ -1,0 +1,94 @@
+#version 460
+// Pass `taa`: the previous output reprojected through the first-hit distance and both cameras,
+// clipped to the current frame's 3x3 neighbourhood in YCoCg (variance clipping, Salvi 2016),
+// then blended. History is rejected where the reprojected distance disagrees (disocclusion),
+// off screen, and on reset — a saccade or gaze jump — so the fovea is sharp at once instead
+// of converging (Patney et al. 2016, as summarised in seed 000, section 3.1).
+#extension GL_GOOGLE_include_directive : require
+#include "taa_shared.h"
+
+layout(local_size_x = kGroupX, local_size_y = kGroupY) in;
+layout(set = 0, binding = kBindingCurrent, rgba32f) uniform readonly image2D uCurrent;
+layout(set = 0, binding = kBindingHistory, rgba32f) uniform readonly image2D uHistory;
+layout(set = 0, binding = kBindingOutput, rgba32f) uniform writeonly image2D uOutput;
+layout(push_constant) uniform Push { TaaPush pc; };
+
+vec3 toYCoCg(vec3 c) {
+    return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b,
+                -0.25 * c.r + 0.5 * c.g - 0.25 * c.b);
+}
+vec3 fromYCoCg(vec3 c) { return vec3(c.x + c.y - c.z, c.x + c.z, c.x - c.y - c.z); }
+
+// Clips `h` towards the box centre `m` so it lies inside [m - e, m + e].
+vec3 clipToBox(vec3 h, vec3 m, vec3 e) {
+    vec3 d = h - m;
+    vec3 unit = abs(d / max(e, vec3(1e-6)));
+    float f = max(unit.x, max(unit.y, unit.z));
+    return f > 1.0 ? m + d / f : h;
+}
+
+vec4 historyBilinear(vec2 p, ivec2 size) {
+    vec2 q = p - 0.5;
+    ivec2 i = ivec2(floor(q));
+    vec2 f = q - vec2(i);
+    vec4 a = imageLoad(uHistory, clamp(i, ivec2(0), size - 1));
+    vec4 b = imageLoad(uHistory, clamp(i + ivec2(1, 0), ivec2(0), size - 1));
+    vec4 c = imageLoad(uHistory, clamp(i + ivec2(0, 1), ivec2(0), size - 1));
+    vec4 d = imageLoad(uHistory, clamp(i + ivec2(1, 1), ivec2(0), size - 1));
+    // Distances do not blend across edges: take the nearest tap's.
+    vec4 colour = mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
+    vec4 nearest = f.y < 0.5 ? (f.x < 0.5 ? a : b) : (f.x < 0.5 ? c : d);
+    return vec4(colour.rgb, nearest.a);
+}
+
+void main() {
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = imageSize(uOutput);
+    if (any(greaterThanEqual(px, size))) return;
+    vec4 current = imageLoad(uCurrent, px);
+    if (pc.params.z > 0.5) {
+        imageStore(uOutput, px, current);
+        return;
+    }
+    // Neighbourhood statistics in YCoCg.
+    vec3 m1 = vec3(0.0), m2 = vec3(0.0);
+    for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+            vec3 c = toYCoCg(imageLoad(uCurrent, clamp(px + ivec2(dx, dy), ivec2(0), size - 1)).rgb);
+            m1 += c;
+            m2 += c * c;
+        }
+    }
+    m1 /= 9.0;
+    vec3 sigma = sqrt(max(m2 / 9.0 - m1 * m1, vec3(0.0)));
+
+    // Reproject: world point along this pixel's ray at the first-hit distance.
+    vec2 s = (vec2(px) + 0.5) / vec2(size) * 2.0 - 1.0;
+    vec3 up = cross(pc.currentRight.xyz, pc.currentForward.xyz);
+    vec3 dir = normalize(pc.currentForward.xyz + s.x * pc.currentOrigin.w * pc.currentForward.w * pc.currentRight.xyz
+                         - s.y * pc.currentOrigin.w * up);
+    float depth = current.a;
+    bool sky = !(depth < 1e30);
+    vec3 d = sky ? dir : pc.currentOrigin.xyz + depth * dir - pc.previousOrigin.xyz;
+    vec3 prevUp = cross(pc.previousRight.xyz, pc.previousForward.xyz);
+    float z = dot(d, pc.previousForward.xyz);
+    bool valid = z > 1e-6;
+    vec2 ps = vec2(dot(d, pc.previousRight.xyz), dot(d, prevUp)) / max(z, 1e-6);
+    ps /= vec2(pc.previousOrigin.w * pc.previousForward.w, pc.previousOrigin.w);
+    vec2 prevPixel = vec2((ps.x + 1.0) * 0.5, (1.0 - ps.y) * 0.5) * vec2(size);
+    valid = valid && all(greaterThanEqual(prevPixel, vec2(0.0))) && all(lessThan(prevPixel, vec2(size)));
+    vec4 history = valid ? historyBilinear(prevPixel, size) : current;
+    if (valid && !sky) {
+        // Disocclusion: the surface seen last frame must be at the distance we expect.
+        float expected = length(d);
+        valid = abs(history.a - expected) <= pc.params.w * expected;
+    } else if (valid && sky) {
+        valid = !(history.a < 1e30);
+    }
+    vec3 result = current.rgb;
+    if (valid) {
+        vec3 clipped = fromYCoCg(clipToBox(toYCoCg(history.rgb), m1, pc.params.y * sigma));
+        result = mix(clipped, current.rgb, pc.params.x);
+    }
+    imageStore(uOutput, px, vec4(result, current.a));
+}

@@ -1,0 +1,85 @@
+// TAA: on a static scene with per-frame jitter the output converges (frame-to-frame change
+// falls); a gaze jump drops the history so the output is the current frame at once.
+#include <cmath>
+
+#include "readback/readback.hpp"
+#include "reference/reference.hpp"
+#include "render_graph/render_graph.hpp"
+#include "scene/builtin_scenes.hpp"
+#include "scene/bvh.hpp"
+#include "support/gpu_test_context.hpp"
+#include "taa/taa.hpp"
+#include "trace/gpu_scene.hpp"
+#include "vk/resources.hpp"
+
+namespace gt {
+namespace {
+
+class TaaTest : public test::GpuTest {
+protected:
+    static constexpr uint32_t kW = 64, kH = 64;
+    struct Frame {
+        std::vector<glm::vec4> current, output;
+    };
+
+    Frame frame(const trace::GpuScene& gs, const scene::Scene& s, passes::TaaHistory& history,
+                uint32_t seed, glm::vec2 gaze) {
+        vk::Buffer cur(ctx(), {kW * kH * 16, 0, vk::MemoryUsage::Readback, "cur"});
+        vk::Buffer out(ctx(), {kW * kH * 16, 0, vk::MemoryUsage::Readback, "out"});
+        rg::RenderGraph g(kW, kH);
+        const auto curId =
+            g.importBuffer("cur", {cur.handle(), cur.size(), std::nullopt, rg::Access::HostRead});
+        const auto outId =
+            g.importBuffer("out", {out.handle(), out.size(), std::nullopt, rg::Access::HostRead});
+        const passes::ReferencePass reference(ctx());
+        const passes::TaaPass taa(ctx());
+        const rg::TextureId radiance = reference.add(g, gs, s.camera, {1, seed});
+        const rg::TextureId resolved = taa.add(g, history, radiance, s.camera, gaze, false);
+        passes::addReadbackPass(g, "cur", radiance, curId);
+        passes::addReadbackPass(g, "out", resolved, outId);
+        rg::TransientPool pool(ctx());
+        g.execute(g.compile(), pool);
+        Frame f{std::vector<glm::vec4>(kW * kH), std::vector<glm::vec4>(kW * kH)};
+        cur.download(std::as_writable_bytes(std::span(f.current)));
+        out.download(std::as_writable_bytes(std::span(f.output)));
+        return f;
+    }
+
+    static double meanDiff(const std::vector<glm::vec4>& a, const std::vector<glm::vec4>& b) {
+        double d = 0.0;
+        for (std::size_t i = 0; i < a.size(); ++i)
+            d += glm::length(glm::vec3(a[i] - b[i]));
+        return d / static_cast<double>(a.size());
+    }
+};
+
+TEST_F(TaaTest, ConvergesOnStaticSceneAndResetsOnGazeJump) {
+    const scene::Scene s = scene::makeCornell();
+    const scene::Bvh bvh(s);
+    const trace::GpuScene gs(ctx(), s, bvh);
+    passes::TaaHistory history(ctx(), kW, kH);
+    const glm::vec2 gaze(32.0f, 32.0f);
+    std::vector<Frame> frames;
+    for (uint32_t i = 0; i < 12; ++i)
+        frames.push_back(frame(gs, s, history, i + 1, gaze));
+    // First frame: no history, output == current.
+    EXPECT_EQ(meanDiff(frames[0].output, frames[0].current), 0.0);
+    // The raw frames keep changing (jitter); the resolved ones settle.
+    const double rawChange = meanDiff(frames[10].current, frames[11].current);
+    const double earlyChange = meanDiff(frames[0].output, frames[1].output);
+    const double lateChange = meanDiff(frames[10].output, frames[11].output);
+    EXPECT_GT(rawChange, 0.0);
+    EXPECT_LT(lateChange, 0.5 * rawChange);
+    EXPECT_LT(lateChange, earlyChange);
+    EXPECT_EQ(history.framesAccumulated(), 12u);
+    // A gaze jump of more than 1/16 of the width: history dropped, output == current.
+    const Frame jumped = frame(gs, s, history, 99, glm::vec2(60.0f, 10.0f));
+    EXPECT_EQ(meanDiff(jumped.output, jumped.current), 0.0);
+    EXPECT_EQ(history.framesAccumulated(), 1u);
+    // A small gaze move keeps the history (fixation jitter is not a saccade).
+    const Frame small = frame(gs, s, history, 100, glm::vec2(61.0f, 10.0f));
+    EXPECT_GT(meanDiff(small.output, small.current), 0.0);
+}
+
+} // namespace
+} // namespace gt
