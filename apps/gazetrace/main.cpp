@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     bool quiet = false;
     app.add_flag("-q,--quiet", quiet, "Only print errors");
+    app.fallthrough(); // -q works after the subcommand too
 
     gt::app::RenderOptions render;
     bool renderJson = false;
@@ -72,6 +73,14 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1u, 100000u))
         ->capture_default_str();
     renderCmd->add_option("--cache", render.cacheDir, "Point-set cache folder");
+    renderCmd->add_option("--gaze-trace", render.gazeTrace, "Foveated: gaze trace CSV (t_ms,x,y)")
+        ->check(CLI::ExistingFile);
+    renderCmd->add_option("--frame-ms", render.frameMs, "Time between frames along the gaze trace")
+        ->check(CLI::Range(0.1, 10000.0))
+        ->capture_default_str();
+    renderCmd
+        ->add_option("--view", render.view, "Foveated debug view: points | cells | eccentricity")
+        ->check(CLI::IsMember({"points", "cells", "eccentricity"}));
     std::string taaFlag = "on";
     renderCmd->add_option("--taa", taaFlag, "Foveated: temporal anti-aliasing on | off")
         ->check(CLI::IsMember({"on", "off"}))
@@ -127,6 +136,7 @@ int main(int argc, char** argv) {
     try {
         if (renderCmd->parsed()) {
             render.taa = taaFlag == "on";
+            render.framesGiven = renderCmd->count("--frames") > 0;
             render.sizeGiven = renderCmd->count("--width") + renderCmd->count("--height") > 0;
             const nlohmann::json result = gt::app::runRender(render);
             if (renderJson)

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "core/error.hpp"
+#include "foveation/gaze_trace.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "point_sample/point_sample.hpp"
@@ -74,11 +75,23 @@ nlohmann::json runRender(const RenderOptions& o) {
             throw ArgumentError("--k must be 1..20");
         }
         gaze = parseGaze(o.gaze, width, height);
+        if (!o.view.empty()) interp.method = passes::parseView(o.view);
     }
+    std::optional<foveation::GazeTrace> trace;
+    uint32_t frameCount = o.frames;
+    if (!o.gazeTrace.empty()) {
+        if (!foveated) throw ArgumentError("--gaze-trace needs --method foveated");
+        if (!(o.frameMs > 0.0)) throw ArgumentError("--frame-ms must be positive");
+        trace = foveation::GazeTrace::load(o.gazeTrace);
+        if (!o.framesGiven) {
+            frameCount = 1 + static_cast<uint32_t>((trace->endMs() - trace->startMs()) / o.frameMs);
+        }
+    }
+    if (!foveated && !o.view.empty()) throw ArgumentError("--view needs --method foveated");
     // --out: a .png file for one frame, else a folder for frame_NNNN.png.
     const std::filesystem::path outPath(o.out);
     const bool toFolder = outPath.extension() != ".png";
-    if (!toFolder && o.frames > 1) throw ArgumentError("--out: give a folder for --frames > 1");
+    if (!toFolder && frameCount > 1) throw ArgumentError("--out: give a folder for --frames > 1");
     {
         // Fail before any work when the output could not be written anyway.
         const std::filesystem::path dir = toFolder                        ? outPath
@@ -99,13 +112,20 @@ nlohmann::json runRender(const RenderOptions& o) {
         fs.gaze = gaze;
         fs.raysPerPoint = o.raysPerPoint;
         fs.interpolation = interp;
-        fs.taa = o.taa;
+        fs.taa = o.taa && o.view.empty(); // debug views show one frame's data as is
     }
     FrameResult frame;
     std::vector<double> frameMs;
     std::vector<std::string> outputs;
-    for (uint32_t i = 0; i < o.frames; ++i) {
+    nlohmann::json gazes = nlohmann::json::array();
+    for (uint32_t i = 0; i < frameCount; ++i) {
         const bool dot = !o.graphDot.empty() && i == 0;
+        if (trace) {
+            const glm::vec2 g = trace->at(trace->startMs() + i * o.frameMs);
+            fs.gaze = {std::clamp(g.x, 0.0f, static_cast<float>(width) - 1.0f),
+                       std::clamp(g.y, 0.0f, static_cast<float>(height) - 1.0f)};
+        }
+        if (foveated) gazes.push_back({fs.gaze.x, fs.gaze.y});
         frame = foveated ? session.foveated(fs, true, dot)
                          : session.reference(width, height, o.spp, o.seed + i, true, dot);
         frameMs.push_back(frame.wallMs);
@@ -138,7 +158,7 @@ nlohmann::json runRender(const RenderOptions& o) {
                         {"gpu_ms", gpu},
                         {"gpu_total_ms", frame.timings.gpuMs},
                         {"total_ms", totalMs},
-                        {"frames", o.frames},
+                        {"frames", frameCount},
                         {"load_ms", session.loadMs()},
                         {"bvh_ms", session.bvhMs()},
                         {"output", toFolder ? outPath.string() : outputs.front()}};
@@ -154,6 +174,8 @@ nlohmann::json runRender(const RenderOptions& o) {
         j["profile"] = o.profile;
         j["taa"] = o.taa;
         j["gaze"] = {gaze.x, gaze.y};
+        if (trace) j["gaze_per_frame"] = gazes;
+        if (!o.view.empty()) j["view"] = o.view;
         j["point_set_ms"] = session.pointSetMs();
         j["neighbour_index_ms"] = session.neighbourIndexMs();
         j["neighbour_index_mb"] = session.neighbourIndexMb();

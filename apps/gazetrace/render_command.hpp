@@ -26,6 +26,10 @@ struct RenderOptions {
     std::string gaze; // "X,Y" in pixels; empty = screen centre
     uint32_t frames = 1;
     bool taa = true;
+    std::string gazeTrace;          // CSV t_ms,x,y; overrides --gaze
+    double frameMs = 1000.0 / 90.0; // time between frames along the trace (FOVE: 90 Hz)
+    std::string view;               // debug view: points | cells | eccentricity
+    bool framesGiven = false;
     std::string cacheDir;
     bool sizeGiven = false; // --width/--height were on the command line
 };

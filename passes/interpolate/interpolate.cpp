@@ -18,6 +18,14 @@ Interpolation parseInterpolation(const std::string& name) {
     throw ArgumentError("--interp: '" + name + "' is not available (known: nn, msm)");
 }
 
+Interpolation parseView(const std::string& name) {
+    if (name == "points") return Interpolation::ViewPoints;
+    if (name == "cells") return Interpolation::ViewCells;
+    if (name == "eccentricity") return Interpolation::ViewSpacing;
+    throw ArgumentError("--view: '" + name +
+                        "' is not available (known: points, cells, eccentricity)");
+}
+
 InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
     mPipeline = std::make_unique<vk::ComputePipeline>(
         ctx, vk::ComputePipelineDesc{
@@ -39,9 +47,25 @@ rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuP
                             std::to_string(std::min(sh::kMaxK, points.storedNeighbours() + 1)));
     }
     const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());
-    const uint32_t method =
-        s.method == Interpolation::Nearest ? sh::kMethodNearest : sh::kMethodShepard;
-    const uint32_t k = s.method == Interpolation::Nearest ? 1u : s.k;
+    uint32_t method = sh::kMethodNearest;
+    switch (s.method) {
+    case Interpolation::Nearest:
+        method = sh::kMethodNearest;
+        break;
+    case Interpolation::Shepard:
+        method = sh::kMethodShepard;
+        break;
+    case Interpolation::ViewPoints:
+        method = sh::kViewPoints;
+        break;
+    case Interpolation::ViewCells:
+        method = sh::kViewCells;
+        break;
+    case Interpolation::ViewSpacing:
+        method = sh::kViewSpacing;
+        break;
+    }
+    const uint32_t k = s.method == Interpolation::Shepard ? s.k : 1u;
     const sh::InterpolatePush push{
         glm::vec4(off, kSampleMargin, s.shepardPower),
         glm::uvec4(graph.outputWidth(), graph.outputHeight(), k, method),

@@ -19,7 +19,8 @@ class GpuPointSet;
 
 namespace gt::passes {
 
-enum class Interpolation { Nearest, Shepard };
+// Nearest/Shepard rebuild the image; the others are debug views (--view).
+enum class Interpolation { Nearest, Shepard, ViewPoints, ViewCells, ViewSpacing };
 
 struct InterpolateSettings {
     Interpolation method = Interpolation::Nearest;
@@ -28,6 +29,7 @@ struct InterpolateSettings {
 };
 
 [[nodiscard]] Interpolation parseInterpolation(const std::string& name); // nn | msm
+[[nodiscard]] Interpolation parseView(const std::string& name); // points | cells | eccentricity
 
 class InterpolatePass {
 public:

@@ -67,5 +67,21 @@ void main() {
             if (wsum > 0.0) colour = sum / wsum;
         }
     }
+    if (pc.params.w >= kViewPoints && n > 0u) {
+        vec4 point = texelFetch(uPoints, int(idx[0]));
+        if (pc.params.w == kViewPoints) {
+            // The point's own sample where a point lies in this pixel, dark grey elsewhere.
+            colour = d2[0] <= 0.5 ? samples[idx[0]].rgb : vec3(0.02);
+        } else if (pc.params.w == kViewCells) {
+            uint h = idx[0] * 2654435761u;
+            colour = vec3(float(h & 255u), float((h >> 8) & 255u), float((h >> 16) & 255u)) / 255.0;
+        } else {
+            // Spacing p from sqrt(1/pi) (blue) to 16 px and beyond (red), log scale.
+            float t = clamp(log2(point.z / 0.5642) / 5.0, 0.0, 1.0);
+            colour = mix(mix(vec3(0.05, 0.1, 1.0), vec3(0.1, 1.0, 0.2), min(t * 2.0, 1.0)),
+                         vec3(1.0, 0.1, 0.05), max(t * 2.0 - 1.0, 0.0));
+        }
+        colour *= 2.0; // before the tone mapper
+    }
     imageStore(uOutput, px, vec4(colour, depth));
 }

@@ -31,6 +31,11 @@ GT_CONST kMaxK = 20;
 
 GT_CONST kMethodNearest = 0;
 GT_CONST kMethodShepard = 1;
+// Debug views (--view): the sampled points, the nearest-neighbour cells (thesis Figure 8) and
+// the point spacing as a heat map.
+GT_CONST kViewPoints = 2;
+GT_CONST kViewCells = 3;
+GT_CONST kViewSpacing = 4;
 
 struct InterpolatePush {
     vec4 offset;  // x, y: canvas -> screen offset; z: margin; w: Shepard power (1 thesis, 2 Renka)

@@ -1,0 +1,59 @@
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "foveation/gaze_trace.hpp"
+#include "support/gpu_test_context.hpp"
+
+namespace gt::foveation {
+namespace {
+
+std::filesystem::path write(const std::string& name, const std::string& text) {
+    const auto p = test::tempDir("trace") / name;
+    std::ofstream(p) << text;
+    return p;
+}
+
+TEST(GazeTrace, ParsesAndInterpolates) {
+    const GazeTrace t =
+        GazeTrace::load(write("a.csv", "# comment\nt_ms,x,y\n0,10,20\n10,30,40\r\n"));
+    ASSERT_EQ(t.samples().size(), 2u);
+    EXPECT_EQ(t.at(5.0), glm::vec2(20.0f, 30.0f));
+    EXPECT_EQ(t.at(-1.0), glm::vec2(10.0f, 20.0f));
+    EXPECT_EQ(t.at(99.0), glm::vec2(30.0f, 40.0f));
+}
+
+TEST(GazeTrace, MalformedFilesNameFileAndLine) {
+    auto error = [](const std::filesystem::path& p) {
+        try {
+            (void)GazeTrace::load(p);
+        } catch (const LoadError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(error(write("h.csv", "time,x,y\n0,1,2\n")).find("h.csv:1"), std::string::npos);
+    EXPECT_NE(error(write("n.csv", "t_ms,x,y\n0,1,2\n5,abc,2\n")).find("n.csv:3"),
+              std::string::npos);
+    EXPECT_NE(error(write("o.csv", "t_ms,x,y\n5,1,2\n5,1,2\n")).find("must increase"),
+              std::string::npos);
+    EXPECT_NE(error(write("e.csv", "t_ms,x,y\n")).find("no samples"), std::string::npos);
+    EXPECT_NE(error("/nonexistent/trace.csv").find("/nonexistent/trace.csv"), std::string::npos);
+}
+
+TEST(GazeTrace, ShippedTracesLoad) {
+    for (const char* name : {"fixations", "saccade", "pursuit"}) {
+        const auto p = std::filesystem::path(GT_SOURCE_DIR) / "content" / "gaze" /
+                       (std::string(name) + ".csv");
+        const GazeTrace t = GazeTrace::load(p);
+        EXPECT_GT(t.samples().size(), 30u) << name;
+        for (const auto& s : t.samples()) {
+            ASSERT_TRUE(s.position.x >= 0 && s.position.x < 1280 && s.position.y >= 0 &&
+                        s.position.y < 1440);
+        }
+    }
+}
+
+} // namespace
+} // namespace gt::foveation
