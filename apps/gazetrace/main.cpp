@@ -55,10 +55,18 @@ int main(int argc, char** argv) {
         ->add_option("--profile", render.profile, "Foveated: display profile fove | vive | desktop")
         ->check(CLI::IsMember({"fove", "vive", "desktop"}))
         ->capture_default_str();
-    renderCmd->add_option("--interp", render.interp, "Foveated: interpolation nn | msm")
-        ->check(CLI::IsMember({"nn", "msm"}))
+    renderCmd->add_option("--interp", render.interp, "Foveated: interpolation nn | msm | rbf")
+        ->check(CLI::IsMember({"nn", "msm", "rbf"}))
         ->capture_default_str();
-    renderCmd->add_option("--k", render.k, "Foveated: neighbours for msm (1-20)")
+    renderCmd->add_option("--kernel", render.kernel, "Foveated RBF kernel: multiquadric | gaussian")
+        ->check(CLI::IsMember({"multiquadric", "gaussian"}))
+        ->capture_default_str();
+    renderCmd
+        ->add_option("--rbf-c", render.rbfShape,
+                     "Foveated RBF shape c, in units of the point spacing")
+        ->check(CLI::Range(0.001, 1000.0))
+        ->capture_default_str();
+    renderCmd->add_option("--k", render.k, "Foveated: neighbours for msm and rbf (1-20)")
         ->check(CLI::Range(1u, 20u))
         ->capture_default_str();
     renderCmd->add_option("--scale", render.scale, "Foveated: point-set scaling value")

@@ -71,6 +71,8 @@ nlohmann::json runRender(const RenderOptions& o) {
         height = psParams.display.height;
         interp.method = passes::parseInterpolation(o.interp);
         interp.k = o.k;
+        interp.kernel = passes::parseKernel(o.kernel);
+        interp.rbfShape = static_cast<float>(o.rbfShape);
         if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
             throw ArgumentError("--k must be 1..20");
         }
@@ -169,7 +171,14 @@ nlohmann::json runRender(const RenderOptions& o) {
         j["points_total"] = session.pointSet().points().size();
         j["rays_per_point"] = o.raysPerPoint;
         j["interp"] = o.interp;
-        j["k"] = interp.method == passes::Interpolation::Nearest ? 1u : o.k;
+        j["k"] = interp.method == passes::Interpolation::Shepard ||
+                         interp.method == passes::Interpolation::Rbf
+                     ? o.k
+                     : 1u;
+        if (interp.method == passes::Interpolation::Rbf) {
+            j["kernel"] = o.kernel;
+            j["rbf_c"] = o.rbfShape;
+        }
         j["scale"] = o.scale;
         j["profile"] = o.profile;
         j["taa"] = o.taa;

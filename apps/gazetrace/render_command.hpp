@@ -26,6 +26,8 @@ struct RenderOptions {
     std::string gaze; // "X,Y" in pixels; empty = screen centre
     uint32_t frames = 1;
     bool taa = true;
+    std::string kernel = "multiquadric";
+    double rbfShape = 1.0;
     std::string gazeTrace;          // CSV t_ms,x,y; overrides --gaze
     double frameMs = 1000.0 / 90.0; // time between frames along the trace (FOVE: 90 Hz)
     std::string view;               // debug view: points | cells | eccentricity

@@ -41,6 +41,7 @@ struct RenderSession::Impl {
     std::optional<foveation::GpuPointSet> gpuPoints;
     std::optional<passes::PointSamplePass> pointSample;
     std::optional<passes::InterpolatePass> interpolate;
+    std::optional<passes::RbfSolvePass> rbfSolve;
     std::optional<passes::TaaPass> taa;
     std::optional<passes::TaaHistory> taaHistory;
     std::optional<rg::TransientPool> pool;
@@ -133,6 +134,7 @@ void RenderSession::preparePointSet(const foveation::PointSetParams& params,
     mImpl->gpuPoints.emplace(*mImpl->ctx, *mImpl->points, *mImpl->neighbours);
     if (!mImpl->pointSample) mImpl->pointSample.emplace(*mImpl->ctx);
     if (!mImpl->interpolate) mImpl->interpolate.emplace(*mImpl->ctx);
+    if (!mImpl->rbfSolve) mImpl->rbfSolve.emplace(*mImpl->ctx);
     if (!mImpl->taa) mImpl->taa.emplace(*mImpl->ctx);
     mImpl->taaHistory.emplace(*mImpl->ctx, params.display.width, params.display.height);
 }
@@ -174,8 +176,12 @@ FrameResult RenderSession::foveated(const FoveatedSettings& s, bool pixels, bool
     auto add = [&](rg::RenderGraph& g) {
         const rg::BufferId samples = m.pointSample->add(g, *m.gpuScene, m.scene.camera,
                                                         *m.gpuPoints, s.gaze, s.raysPerPoint);
+        std::optional<passes::RbfWeights> weights;
+        if (s.interpolation.method == passes::Interpolation::Rbf) {
+            weights = m.rbfSolve->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation);
+        }
         const rg::TextureId image =
-            m.interpolate->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation);
+            m.interpolate->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation, weights);
         if (!s.taa) return image;
         return m.taa->add(g, *m.taaHistory, image, m.scene.camera, s.gaze, s.saccade);
     };
@@ -187,7 +193,9 @@ FrameResult RenderSession::foveated(const FoveatedSettings& s, bool pixels, bool
         auto tiny = [&](rg::RenderGraph& g) {
             const rg::BufferId samples =
                 m.pointSample->add(g, *m.gpuScene, m.scene.camera, *m.gpuPoints, cheap.gaze, 1);
-            return m.interpolate->add(g, *m.gpuPoints, samples, cheap.gaze, cheap.interpolation);
+            passes::InterpolateSettings nn = cheap.interpolation;
+            nn.method = passes::Interpolation::Nearest;
+            return m.interpolate->add(g, *m.gpuPoints, samples, cheap.gaze, nn);
         };
         (void)m.run(tiny, w, h, true, false, warm);
         m.warmFoveated = true;

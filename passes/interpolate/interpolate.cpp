@@ -5,6 +5,7 @@
 #include "foveation/gpu_point_set.hpp"
 #include "interpolate_comp.h"
 #include "point_sample/point_sample.hpp"
+#include "rbf_solve_comp.h"
 #include "vk/context.hpp"
 #include "vk/pipeline.hpp"
 
@@ -15,7 +16,70 @@ namespace sh = shaders::foveated;
 Interpolation parseInterpolation(const std::string& name) {
     if (name == "nn") return Interpolation::Nearest;
     if (name == "msm") return Interpolation::Shepard;
-    throw ArgumentError("--interp: '" + name + "' is not available (known: nn, msm)");
+    if (name == "rbf") return Interpolation::Rbf;
+    throw ArgumentError("--interp: '" + name + "' is not available (known: nn, msm, rbf)");
+}
+
+RbfKernel parseKernel(const std::string& name) {
+    if (name == "multiquadric") return RbfKernel::Multiquadric;
+    if (name == "gaussian") return RbfKernel::Gaussian;
+    throw ArgumentError("--kernel: '" + name +
+                        "' is not available (known: multiquadric, gaussian)");
+}
+
+RbfSolvePass::RbfSolvePass(vk::Context& ctx) : mCtx(ctx) {
+    mPipeline = std::make_unique<vk::ComputePipeline>(
+        ctx, vk::ComputePipelineDesc{
+                 "rbf_solve",
+                 gt_spv_rbf_solve_comp,
+                 {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                  VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                  VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                 sizeof(sh::RbfSolvePush)});
+}
+
+RbfSolvePass::~RbfSolvePass() = default;
+
+RbfWeights RbfSolvePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
+                             rg::BufferId samples, glm::vec2 gaze,
+                             const InterpolateSettings& s) const {
+    if (s.k == 0 || s.k > std::min(sh::kMaxK, points.storedNeighbours() + 1)) {
+        throw ArgumentError("--k must be 1.." +
+                            std::to_string(std::min(sh::kMaxK, points.storedNeighbours() + 1)));
+    }
+    if (!(s.rbfShape > 0.0f)) throw ArgumentError("--rbf-c must be positive");
+    const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());
+    const sh::RbfSolvePush push{
+        glm::vec4(off, kSampleMargin, s.rbfShape),
+        glm::uvec4(graph.outputWidth(), graph.outputHeight(), s.k,
+                   s.kernel == RbfKernel::Gaussian ? sh::kKernelGaussian : sh::kKernelMultiquadric),
+        glm::uvec4(points.count(), points.storedNeighbours(), 0, 0)};
+    struct Data {
+        rg::BufferId samples, r, g, b;
+    };
+    const VkDeviceSize bytes = static_cast<VkDeviceSize>(points.count()) * s.k * sizeof(float);
+    const auto& data = graph.addPass<Data>(
+        "rbf_solve",
+        [&](rg::PassBuilder& b, Data& d) {
+            d.samples = b.read(samples, rg::Access::StorageRead);
+            d.r = b.write(b.createBuffer("rbf.lambda_r", {bytes}), rg::Access::StorageWrite);
+            d.g = b.write(b.createBuffer("rbf.lambda_g", {bytes}), rg::Access::StorageWrite);
+            d.b = b.write(b.createBuffer("rbf.lambda_b", {bytes}), rg::Access::StorageWrite);
+        },
+        [ctx = &mCtx, pipeline = mPipeline.get(), pts = &points,
+         push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+            vk::DescriptorWriter writer;
+            writer.texelBuffer(sh::kBindingSolvePoints, pts->points())
+                .storageBuffer(sh::kBindingSolveSamples, r.buffer(d.samples))
+                .texelBuffer(sh::kBindingSolveNeighbours, pts->neighbours())
+                .storageBuffer(sh::kBindingSolveLambdaR, r.buffer(d.r))
+                .storageBuffer(sh::kBindingSolveLambdaG, r.buffer(d.g))
+                .storageBuffer(sh::kBindingSolveLambdaB, r.buffer(d.b));
+            writer.push(*ctx, cmd, *pipeline);
+            vk::dispatch(cmd, *pipeline, &push, sizeof(push),
+                         (push.counts.x + sh::kSolveGroupSize - 1) / sh::kSolveGroupSize, 1);
+        });
+    return {data.r, data.g, data.b};
 }
 
 Interpolation parseView(const std::string& name) {
@@ -33,7 +97,8 @@ InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
                  gt_spv_interpolate_comp,
                  {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                   VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-                  VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                  VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                  VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
                  sizeof(sh::InterpolatePush)});
 }
 
@@ -41,7 +106,11 @@ InterpolatePass::~InterpolatePass() = default;
 
 rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
                                    rg::BufferId samples, glm::vec2 gaze,
-                                   const InterpolateSettings& s) const {
+                                   const InterpolateSettings& s,
+                                   const std::optional<RbfWeights>& weights) const {
+    if (s.method == Interpolation::Rbf && !weights) {
+        throw ArgumentError("RBF interpolation needs the rbf_solve pass's weights");
+    }
     if (s.k == 0 || s.k > points.storedNeighbours() + 1 || s.k > sh::kMaxK) {
         throw ArgumentError("--k must be 1.." +
                             std::to_string(std::min(sh::kMaxK, points.storedNeighbours() + 1)));
@@ -55,6 +124,9 @@ rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuP
     case Interpolation::Shepard:
         method = sh::kMethodShepard;
         break;
+    case Interpolation::Rbf:
+        method = sh::kMethodRbf;
+        break;
     case Interpolation::ViewPoints:
         method = sh::kViewPoints;
         break;
@@ -65,19 +137,28 @@ rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuP
         method = sh::kViewSpacing;
         break;
     }
-    const uint32_t k = s.method == Interpolation::Shepard ? s.k : 1u;
+    const uint32_t k =
+        s.method == Interpolation::Shepard || s.method == Interpolation::Rbf ? s.k : 1u;
     const sh::InterpolatePush push{
         glm::vec4(off, kSampleMargin, s.shepardPower),
         glm::uvec4(graph.outputWidth(), graph.outputHeight(), k, method),
-        glm::uvec4(points.canvasWidth(), points.canvasHeight(), points.storedNeighbours(), 0)};
+        glm::uvec4(points.canvasWidth(), points.canvasHeight(), points.storedNeighbours(),
+                   s.kernel == RbfKernel::Gaussian ? sh::kKernelGaussian : sh::kKernelMultiquadric),
+        glm::vec4(s.rbfShape, 0.0f, 0.0f, 0.0f)};
     struct Data {
         rg::BufferId samples;
         rg::TextureId output;
+        std::optional<RbfWeights> weights;
     };
     const auto& data = graph.addPass<Data>(
         "interpolate",
         [&](rg::PassBuilder& b, Data& d) {
             d.samples = b.read(samples, rg::Access::StorageRead);
+            if (s.method == Interpolation::Rbf) {
+                d.weights = RbfWeights{b.read(weights->r, rg::Access::StorageRead),
+                                       b.read(weights->g, rg::Access::StorageRead),
+                                       b.read(weights->b, rg::Access::StorageRead)};
+            }
             d.output =
                 b.write(b.createTexture("interpolate.radiance", {VK_FORMAT_R32G32B32A32_SFLOAT}),
                         rg::Access::StorageWrite);
@@ -90,6 +171,15 @@ rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuP
                 .texelBuffer(sh::kBindingNearest, pts->nearest())
                 .texelBuffer(sh::kBindingNeighbours, pts->neighbours())
                 .storageImage(sh::kBindingInterpOutput, r.texture(d.output).view);
+            // Without RBF the weight bindings are never read; any valid buffer will do.
+            const VkBuffer samplesBuffer = r.buffer(d.samples);
+            writer
+                .storageBuffer(sh::kBindingLambdaR,
+                               d.weights ? r.buffer(d.weights->r) : samplesBuffer)
+                .storageBuffer(sh::kBindingLambdaG,
+                               d.weights ? r.buffer(d.weights->g) : samplesBuffer)
+                .storageBuffer(sh::kBindingLambdaB,
+                               d.weights ? r.buffer(d.weights->b) : samplesBuffer);
             writer.push(*ctx, cmd, *pipeline);
             vk::dispatch(cmd, *pipeline, &push, sizeof(push),
                          (push.params.x + sh::kInterpGroupX - 1) / sh::kInterpGroupX,

@@ -3,6 +3,7 @@
 // nearest neighbour or the Modified Shepard method over the k nearest points.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <glm/glm.hpp>
@@ -20,24 +21,48 @@ class GpuPointSet;
 namespace gt::passes {
 
 // Nearest/Shepard rebuild the image; the others are debug views (--view).
-enum class Interpolation { Nearest, Shepard, ViewPoints, ViewCells, ViewSpacing };
+enum class Interpolation { Nearest, Shepard, Rbf, ViewPoints, ViewCells, ViewSpacing };
+enum class RbfKernel { Multiquadric, Gaussian };
 
 struct InterpolateSettings {
     Interpolation method = Interpolation::Nearest;
     uint32_t k = 10;
-    float shepardPower = 1.0f; // 1: the thesis's eq. (6); 2: Renka's original
+    float shepardPower = 1.0f;                  // 1: the thesis's eq. (6); 2: Renka's original
+    RbfKernel kernel = RbfKernel::Multiquadric; // thesis eq. (10); Gaussian is eq. (9)
+    float rbfShape = 1.0f;                      // c, in units of the point's spacing p
 };
 
-[[nodiscard]] Interpolation parseInterpolation(const std::string& name); // nn | msm
+// The RBF weights rbf_solve wrote (one buffer per colour channel).
+struct RbfWeights {
+    rg::BufferId r, g, b;
+};
+
+[[nodiscard]] Interpolation parseInterpolation(const std::string& name); // nn | msm | rbf
+[[nodiscard]] RbfKernel parseKernel(const std::string& name);            // multiquadric | gaussian
 [[nodiscard]] Interpolation parseView(const std::string& name); // points | cells | eccentricity
+
+// Pass `rbf_solve` (thesis eqs. 7-8): the RBF weights of every sampled point's neighbourhood.
+class RbfSolvePass {
+public:
+    explicit RbfSolvePass(vk::Context& ctx);
+    ~RbfSolvePass();
+    RbfWeights add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
+                   rg::BufferId samples, glm::vec2 gaze, const InterpolateSettings& s) const;
+
+private:
+    vk::Context& mCtx;
+    std::unique_ptr<vk::ComputePipeline> mPipeline;
+};
 
 class InterpolatePass {
 public:
     explicit InterpolatePass(vk::Context& ctx);
     ~InterpolatePass();
     // Adds "interpolate" reading the samples, writing a new texture "interpolate.radiance".
+    // For Interpolation::Rbf, `weights` must come from RbfSolvePass with the same settings.
     rg::TextureId add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
-                      rg::BufferId samples, glm::vec2 gaze, const InterpolateSettings& s) const;
+                      rg::BufferId samples, glm::vec2 gaze, const InterpolateSettings& s,
+                      const std::optional<RbfWeights>& weights = std::nullopt) const;
 
 private:
     vk::Context& mCtx;

@@ -5,6 +5,7 @@
 // (thesis eqs. 5-6, q = 1; Renka 1988 uses q = 2).
 #extension GL_GOOGLE_include_directive : require
 #include "foveated_shared.h"
+#include "rbf.glsl"
 
 layout(local_size_x = kInterpGroupX, local_size_y = kInterpGroupY) in;
 layout(set = 0, binding = kBindingInterpPoints) uniform samplerBuffer uPoints;
@@ -12,7 +13,30 @@ layout(std430, set = 0, binding = kBindingInterpSamples) readonly buffer Samples
 layout(set = 0, binding = kBindingNearest) uniform usamplerBuffer uNearest;
 layout(set = 0, binding = kBindingNeighbours) uniform usamplerBuffer uNeighbours;
 layout(set = 0, binding = kBindingInterpOutput, rgba32f) uniform writeonly image2D uOutput;
+layout(std430, set = 0, binding = kBindingLambdaR) readonly buffer LambdaR { float lambdaR[]; };
+layout(std430, set = 0, binding = kBindingLambdaG) readonly buffer LambdaG { float lambdaG[]; };
+layout(std430, set = 0, binding = kBindingLambdaB) readonly buffer LambdaB { float lambdaB[]; };
 layout(push_constant) uniform Push { InterpolatePush pc; };
+
+// RBF (seed 000, eq. 7): s(x) = sum lambda_i phi(|x - x_i|) over the neighbourhood of the
+// pixel's nearest point q, with the weights rbf_solve computed for q.
+vec3 evaluateRbf(uint q, vec2 pos, vec2 size) {
+    uint k = min(pc.params.z, kMaxK);
+    uint stored = pc.canvas.z;
+    float c = max(pc.rbf.x * texelFetch(uPoints, int(q)).z, 1e-3);
+    vec3 sum = vec3(0.0);
+    uint m = 0u;
+    for (uint j = 0u; j <= stored && m < k; ++j) {
+        uint i = j == 0u ? q : texelFetch(uNeighbours, int(q * stored + j - 1u)).r;
+        vec2 p = texelFetch(uPoints, int(i)).xy;
+        if (!isSampled(p, pc.offset.xy, size, pc.offset.z)) continue;
+        float phi = rbfKernel(length(p + pc.offset.xy - pos), c, pc.canvas.w);
+        uint at = q * k + m;
+        sum += phi * vec3(lambdaR[at], lambdaG[at], lambdaB[at]);
+        ++m;
+    }
+    return sum;
+}
 
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
@@ -24,6 +48,15 @@ void main() {
     ivec2 c = clamp(ivec2(floor(pos - offset)), ivec2(0), ivec2(pc.canvas.xy) - 1);
     uint q = texelFetch(uNearest, c.y * int(pc.canvas.x) + c.x).r;
     uint k = min(pc.params.z, kMaxK);
+    if (pc.params.w == kMethodRbf) {
+        vec2 qpos = texelFetch(uPoints, int(q)).xy;
+        if (isSampled(qpos, offset, vec2(size), margin)) {
+            vec4 qs = samples[q];
+            imageStore(uOutput, px, vec4(max(evaluateRbf(q, pos, vec2(size)), vec3(0.0)), qs.w));
+            return;
+        }
+        k = 1u; // the nearest point was not sampled: nearest sampled neighbour instead
+    }
 
     // Candidates: the nearest point and its stored neighbours, kept sorted by distance; points
     // that point_sample skipped (beyond the margin) are left out.
@@ -67,7 +100,7 @@ void main() {
             if (wsum > 0.0) colour = sum / wsum;
         }
     }
-    if (pc.params.w >= kViewPoints && n > 0u) {
+    if (pc.params.w >= kViewPoints && pc.params.w <= kViewSpacing && n > 0u) {
         vec4 point = texelFetch(uPoints, int(idx[0]));
         if (pc.params.w == kViewPoints) {
             // The point's own sample where a point lies in this pixel, dark grey elsewhere.

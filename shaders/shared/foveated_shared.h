@@ -31,6 +31,7 @@ GT_CONST kMaxK = 20;
 
 GT_CONST kMethodNearest = 0;
 GT_CONST kMethodShepard = 1;
+GT_CONST kMethodRbf = 5;
 // Debug views (--view): the sampled points, the nearest-neighbour cells (thesis Figure 8) and
 // the point spacing as a heat map.
 GT_CONST kViewPoints = 2;
@@ -40,7 +41,32 @@ GT_CONST kViewSpacing = 4;
 struct InterpolatePush {
     vec4 offset;  // x, y: canvas -> screen offset; z: margin; w: Shepard power (1 thesis, 2 Renka)
     uvec4 params; // x = width, y = height, z = k, w = method
-    uvec4 canvas; // x = canvas width, y = canvas height, z = neighbours stored per point
+    uvec4 canvas; // x = canvas width, y = canvas height, z = neighbours stored per point,
+                  // w = RBF kernel
+    vec4 rbf;     // x = shape c in units of the spacing p
+};
+
+// interpolate, RBF only: the weights rbf_solve wrote, one float per neighbour and channel.
+GT_CONST kBindingLambdaR = 5;
+GT_CONST kBindingLambdaG = 6;
+GT_CONST kBindingLambdaB = 7;
+
+// rbf_solve (seed 000, eqs. 7-10): for every sampled point q, the weights of the RBF
+// interpolant through q and its k-1 nearest sampled neighbours.
+GT_CONST kBindingSolvePoints = 0;     // samplerBuffer RGBA32F
+GT_CONST kBindingSolveSamples = 1;    // buffer of vec4
+GT_CONST kBindingSolveNeighbours = 2; // usamplerBuffer R32UI
+GT_CONST kBindingSolveLambdaR = 3;    // buffer of float, k per point
+GT_CONST kBindingSolveLambdaG = 4;
+GT_CONST kBindingSolveLambdaB = 5;
+GT_CONST kSolveGroupSize = 64;
+GT_CONST kKernelMultiquadric = 0; // phi(r) = sqrt(r^2 + c^2)  (thesis eq. 10)
+GT_CONST kKernelGaussian = 1;     // phi(r) = exp(-(r / c)^2)   (thesis eq. 9, c as a length)
+
+struct RbfSolvePush {
+    vec4 offset;  // x, y: canvas -> screen offset; z: margin; w: shape c in units of the spacing p
+    uvec4 params; // x = width, y = height, z = k, w = kernel
+    uvec4 counts; // x = points, y = neighbours stored per point
 };
 
 GT_NAMESPACE_END
