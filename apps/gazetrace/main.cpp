@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
     CLI::App* renderCmd = app.add_subcommand("render", "Render one frame headless to a PNG");
     renderCmd
         ->add_option("--scene", render.scene,
-                     "builtin:market | builtin:cornell | FILE.gltf | FILE.glb")
+                     "builtin:market | builtin:cornell | FILE.gltf | FILE.glb | cubemap:FILE")
         ->capture_default_str();
     renderCmd->add_option("--width", render.width, "Image width in pixels")
         ->check(CLI::Range(1u, 16384u))

@@ -63,7 +63,12 @@ bool intersectTriangle(const BvhTriangle& tri, const Ray& ray, float& t, float& 
 Bvh::Bvh(const Scene& scene) {
     const auto start = std::chrono::steady_clock::now();
     const auto n = static_cast<uint32_t>(scene.triangleCount());
-    if (n == 0) throw LoadError("scene '" + scene.name + "' has no triangles");
+    if (n == 0) {
+        // Environment-only scenes: an empty leaf; traversal returns at once (see intersect()).
+        mNodes.push_back({glm::vec3(0.0f), 0u, glm::vec3(0.0f), 0u});
+        mStats.nodes = 1;
+        return;
+    }
     std::vector<Aabb> boxes(n);
     std::vector<glm::vec3> centroids(n);
     for (uint32_t i = 0; i < n; ++i) {
@@ -199,6 +204,7 @@ Bvh::Bvh(const Scene& scene) {
 
 Hit Bvh::intersect(const Ray& ray) const {
     Hit best;
+    if (mTriangles.empty()) return best;
     best.t = ray.tMax;
     const glm::vec3 invDir = 1.0f / ray.direction;
     std::array<uint32_t, kMaxDepth * 2> stack{};
@@ -240,6 +246,7 @@ Hit Bvh::intersect(const Ray& ray) const {
 }
 
 bool Bvh::occluded(const Ray& ray) const {
+    if (mTriangles.empty()) return false;
     const glm::vec3 invDir = 1.0f / ray.direction;
     std::array<uint32_t, kMaxDepth * 2> stack{};
     int sp = 0;

@@ -524,6 +524,16 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
 
 Scene loadScene(const std::string& spec, GltfLoadReport* report) {
     if (spec.rfind("builtin:", 0) == 0) return makeBuiltin(spec);
+    if (spec.rfind("cubemap:", 0) == 0) {
+        // The thesis's experiment setup (6.1): no geometry, the camera looks into a panorama.
+        Scene s;
+        s.name = spec;
+        s.environment = loadEnvironment(spec.substr(8));
+        s.camera.position = {0.0f, 0.0f, 0.0f};
+        s.camera.forward = {0.0f, 0.0f, -1.0f};
+        s.camera.yfov = glm::radians(75.0f);
+        return s;
+    }
     return loadGltf(spec, report);
 }
 

@@ -18,7 +18,8 @@ struct GltfLoadReport {
 
 [[nodiscard]] Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report = nullptr);
 
-// "builtin:NAME" or a .gltf/.glb path.
+// "builtin:NAME", "cubemap:FILE" (an environment image or cube faces, see environment.hpp)
+// or a .gltf/.glb path.
 [[nodiscard]] Scene loadScene(const std::string& spec, GltfLoadReport* report = nullptr);
 
 } // namespace gt::scene

@@ -9,6 +9,8 @@
 
 #include <glm/glm.hpp>
 
+#include "scene/environment.hpp"
+
 namespace gt::scene {
 
 struct Material {
@@ -71,6 +73,7 @@ struct Scene {
     std::vector<Light> lights;
     Camera camera;
     Sky sky;
+    Environment environment; // used for misses when it has texels (cubemap scenes)
     float exposure = 1.0f;
 
     [[nodiscard]] std::size_t triangleCount() const noexcept { return triangleMaterial.size(); }

@@ -50,6 +50,7 @@ glm::vec2 sampleOffset(uint32_t pixelIndex, uint32_t sample, uint32_t count,
 CpuTracer::CpuTracer(const scene::Scene& scene, const scene::Bvh& bvh) : mScene(scene), mBvh(bvh) {}
 
 glm::vec3 CpuTracer::sky(glm::vec3 d) const {
+    if (mScene.environment.width > 0) return scene::sampleEnvironment(mScene.environment, d);
     if (d.y >= 0.0f) return glm::mix(mScene.sky.horizon, mScene.sky.zenith, d.y);
     return glm::mix(mScene.sky.horizon, mScene.sky.ground, std::min(1.0f, -4.0f * d.y));
 }

@@ -54,6 +54,8 @@ PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh) {
     p.uniforms.skyHorizon = glm::vec4(scene.sky.horizon, scene.sky.ambient);
     p.uniforms.skyZenith = glm::vec4(scene.sky.zenith, scene.exposure);
     p.uniforms.skyGround = glm::vec4(scene.sky.ground, 0.0f);
+    p.environment = scene.environment.texels;
+    p.uniforms.environment = {scene.environment.width, scene.environment.height, 0u, 0u};
     p.uniforms.counts = {
         static_cast<uint32_t>(scene.lights.size()), static_cast<uint32_t>(scene.materials.size()),
         static_cast<uint32_t>(scene.textures.size()), static_cast<uint32_t>(scene.triangleCount())};
@@ -86,6 +88,8 @@ GpuScene::GpuScene(vk::Context& ctx, const scene::Scene& scene, const scene::Bvh
     mTexels = upload(ctx, p.texels.data(), p.texels.size() * 4, VK_FORMAT_R32_UINT, "scene.texels");
     mTextureInfo = upload(ctx, p.textureInfo.data(), p.textureInfo.size() * 16,
                           VK_FORMAT_R32G32B32A32_UINT, "scene.texture_info");
+    mEnvironment =
+        upload(ctx, p.environment.data(), p.environment.size() * 16, f4, "scene.environment");
     mUniforms = vk::Buffer(ctx, {sizeof(p.uniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                  vk::MemoryUsage::GpuOnly, "scene.uniforms"});
     mUniforms.upload(std::as_bytes(std::span(&p.uniforms, 1)));
@@ -101,7 +105,8 @@ void GpuScene::bind(vk::DescriptorWriter& w) const {
         .texelBuffer(t::kBindingLights, mLights.view.handle())
         .texelBuffer(t::kBindingTexels, mTexels.view.handle())
         .texelBuffer(t::kBindingTextureInfo, mTextureInfo.view.handle())
-        .uniformBuffer(t::kBindingSceneUniforms, mUniforms.handle());
+        .uniformBuffer(t::kBindingSceneUniforms, mUniforms.handle())
+        .texelBuffer(t::kBindingEnvironment, mEnvironment.view.handle());
 }
 
 shaders::trace::CameraPush cameraPush(const scene::Camera& camera, float aspect) {

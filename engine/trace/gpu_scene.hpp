@@ -29,6 +29,7 @@ struct PackedScene {
     std::vector<glm::vec4> lights;
     std::vector<uint32_t> texels;
     std::vector<glm::uvec4> textureInfo;
+    std::vector<glm::vec4> environment;
     shaders::trace::SceneUniforms uniforms{};
 };
 
@@ -37,7 +38,7 @@ struct PackedScene {
 class GpuScene {
 public:
     GpuScene(vk::Context& ctx, const scene::Scene& scene, const scene::Bvh& bvh);
-    // Adds the eight scene bindings (trace::kBinding*) to a descriptor update.
+    // Adds the nine scene bindings (trace::kBinding*) to a descriptor update.
     void bind(vk::DescriptorWriter& writer) const;
     [[nodiscard]] std::size_t bytes() const noexcept { return mBytes; }
 
@@ -48,7 +49,7 @@ private:
     };
     Table upload(vk::Context& ctx, const void* data, std::size_t bytes, VkFormat format,
                  const char* name);
-    Table mNodes, mTriangles, mShading, mMaterials, mLights, mTexels, mTextureInfo;
+    Table mNodes, mTriangles, mShading, mMaterials, mLights, mTexels, mTextureInfo, mEnvironment;
     vk::Buffer mUniforms;
     std::size_t mBytes = 0;
 };

@@ -12,6 +12,7 @@ layout(set = 0, binding = kBindingMaterials) uniform samplerBuffer uMaterials;
 layout(set = 0, binding = kBindingLights) uniform samplerBuffer uLights;
 layout(set = 0, binding = kBindingTexels) uniform usamplerBuffer uTexels;
 layout(set = 0, binding = kBindingTextureInfo) uniform usamplerBuffer uTextureInfo;
+layout(set = 0, binding = kBindingEnvironment) uniform samplerBuffer uEnvironment;
 layout(std140, set = 0, binding = kBindingSceneUniforms) uniform SceneBlock {
     SceneUniforms uScene;
 };
@@ -62,6 +63,7 @@ bool triangleTest(uint tri, vec3 origin, vec3 dir, float tMin, float tMax, out f
 
 Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
     Hit best = Hit(tMax, 0xffffffffu, 0.0, 0.0);
+    if (uScene.counts.w == 0u) return Hit(kInf, 0xffffffffu, 0.0, 0.0); // environment only
     vec3 invDir = 1.0 / dir;
     uint stack[kStackSize];
     int sp = 0;
@@ -101,6 +103,7 @@ Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
 }
 
 bool traceOccluded(vec3 origin, vec3 dir, float tMax) {
+    if (uScene.counts.w == 0u) return false;
     vec3 invDir = 1.0 / dir;
     uint stack[kStackSize];
     int sp = 0;
@@ -124,7 +127,28 @@ bool traceOccluded(vec3 origin, vec3 dir, float tMax) {
     return false;
 }
 
+vec3 environmentTexel(int x, int y) {
+    int w = int(uScene.environment.x), h = int(uScene.environment.y);
+    x = ((x % w) + w) % w;
+    y = clamp(y, 0, h - 1);
+    return texelFetch(uEnvironment, y * w + x).rgb;
+}
+
+// As gt::scene::sampleEnvironment.
+vec3 environmentRadiance(vec3 d) {
+    bool pole = abs(d.x) + abs(d.z) < 1e-12; // atan(0, 0) is undefined in GLSL
+    float u = pole ? 0.5 : 0.5 + atan(d.x, -d.z) / (2.0 * kPi);
+    float v = acos(clamp(d.y, -1.0, 1.0)) / kPi;
+    float x = u * float(uScene.environment.x) - 0.5, y = v * float(uScene.environment.y) - 0.5;
+    float fx0 = floor(x), fy0 = floor(y);
+    float ax = x - fx0, ay = y - fy0;
+    int x0 = int(fx0), y0 = int(fy0);
+    return mix(mix(environmentTexel(x0, y0), environmentTexel(x0 + 1, y0), ax),
+               mix(environmentTexel(x0, y0 + 1), environmentTexel(x0 + 1, y0 + 1), ax), ay);
+}
+
 vec3 skyRadiance(vec3 d) {
+    if (uScene.environment.x > 0u) return environmentRadiance(d);
     if (d.y >= 0.0) return mix(uScene.skyHorizon.rgb, uScene.skyZenith.rgb, d.y);
     return mix(uScene.skyHorizon.rgb, uScene.skyGround.rgb, min(1.0, -4.0 * d.y));
 }

@@ -6,8 +6,8 @@
 GT_NAMESPACE_BEGIN(foveated)
 
 // point_sample: the eight scene bindings (trace_shared.h), then:
-GT_CONST kBindingPoints = 8;  // samplerBuffer RGBA32F: canvas x, y, spacing p, 0
-GT_CONST kBindingSamples = 9; // buffer of vec4: mean radiance rgb, first-hit distance
+GT_CONST kBindingPoints = 9;  // samplerBuffer RGBA32F: canvas x, y, spacing p, 0
+GT_CONST kBindingSamples = 10; // buffer of vec4: mean radiance rgb, first-hit distance
 GT_CONST kSampleGroupSize = 64;
 
 struct PointSamplePush {

@@ -5,7 +5,7 @@
 
 GT_NAMESPACE_BEGIN(reference)
 
-GT_CONST kBindingOutput = 8; // image2D rgba32f, linear radiance (after the 8 scene bindings)
+GT_CONST kBindingOutput = 9; // image2D rgba32f, linear radiance (after the 9 scene bindings)
 GT_CONST kGroupSizeX = 8;
 GT_CONST kGroupSizeY = 8;
 

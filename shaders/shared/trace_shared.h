@@ -15,7 +15,8 @@ GT_CONST kBindingLights = 4;      // samplerBuffer RGBA32F, 4 texels per light
 GT_CONST kBindingTexels = 5;      // usamplerBuffer R32UI, packed sRGB RGBA8 texels
 GT_CONST kBindingTextureInfo = 6; // usamplerBuffer RGBA32UI, (offset, width, height, 0)
 GT_CONST kBindingSceneUniforms = 7;
-GT_CONST kSceneBindingCount = 8;
+GT_CONST kBindingEnvironment = 8; // samplerBuffer RGBA32F, equirectangular, row 0 = up
+GT_CONST kSceneBindingCount = 9;
 
 GT_CONST kNodeTexels = 2;
 GT_CONST kTriangleTexels = 3;
@@ -35,6 +36,7 @@ struct SceneUniforms {
     vec4 skyZenith;  // rgb, w = exposure
     vec4 skyGround;  // rgb, w unused
     uvec4 counts;    // x = lights, y = materials, z = textures, w = triangles
+    uvec4 environment; // x = width, y = height (0: none, use the sky gradient)
 };
 
 // Camera as a pinhole: dir = normalize(forward + sx * right + sy * up) with sx, sy in [-1, 1].

@@ -1,0 +1,30 @@
+#pragma once
+// Environment images (HDR skies) for `--scene cubemap:FILE`, the thesis's experiment setup
+// (seed 000, 6.1): rays that miss everything sample the environment instead of the sky
+// gradient. Stored as a linear RGB equirectangular image; six cube faces are resampled into
+// one on load.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace gt::scene {
+
+struct Environment {
+    uint32_t width = 0;
+    uint32_t height = 0;
+    std::vector<glm::vec4> texels; // linear RGB, row 0 = up
+    std::string name;
+};
+
+// FILE.hdr (or .png/.jpg) with a 2:1 aspect: equirectangular. A face named PREFIX_px.hdr (or a
+// folder holding px/nx/py/ny/pz/nz faces): a cube map. Throws gt::LoadError naming the file.
+[[nodiscard]] Environment loadEnvironment(const std::filesystem::path& path);
+
+// Equirectangular lookup: u from the azimuth (0 at -z, growing towards +x), v from the polar
+// angle (0 straight up). Bilinear, wrapping in u. The GLSL twin is in shaders/common/trace.glsl.
+[[nodiscard]] glm::vec3 sampleEnvironment(const Environment& env, glm::vec3 direction);
+
+} // namespace gt::scene
