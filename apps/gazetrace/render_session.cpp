@@ -42,10 +42,25 @@ struct RenderSession::Impl {
     std::optional<passes::PointSamplePass> pointSample;
     std::optional<passes::InterpolatePass> interpolate;
     std::optional<passes::RbfSolvePass> rbfSolve;
+    std::optional<foveation::GpuRbfInverse> rbfInverse; // for the last RBF settings used
+
+    const foveation::GpuRbfInverse& inverseFor(const passes::InterpolateSettings& s) {
+        const auto kernel = s.kernel == passes::RbfKernel::Gaussian
+                                ? foveation::RbfKernelType::Gaussian
+                                : foveation::RbfKernelType::Multiquadric;
+        if (!rbfInverse || rbfInverse->k() != s.k || rbfInverse->kernel() != kernel ||
+            rbfInverse->shape() != s.rbfShape) {
+            rbfInverse.reset();
+            const foveation::RbfInverse inv =
+                foveation::buildRbfInverse(*points, *neighbours, s.k, kernel, s.rbfShape);
+            rbfInverse.emplace(*ctx, inv);
+        }
+        return *rbfInverse;
+    }
     std::optional<passes::TaaPass> taa;
     std::optional<passes::TaaHistory> taaHistory;
     std::optional<rg::TransientPool> pool;
-    bool warmReference = false, warmFoveated = false;
+    bool warmReference = false, warmFoveated = false, warmRbf = false;
 
     using AddRadiance = std::function<rg::TextureId(rg::RenderGraph&)>;
 
@@ -125,6 +140,7 @@ void RenderSession::preparePointSet(const foveation::PointSetParams& params,
     foveation::CachedPointSet c = foveation::loadOrGenerate(cacheDir, params);
     if (!c.warning.empty()) log::warn(c.warning);
     mPointSetMs = msSince(t);
+    mImpl->rbfInverse.reset();
     mImpl->gpuPoints.reset();
     mImpl->neighbours.reset();
     mImpl->points.emplace(std::move(c.set));
@@ -178,27 +194,32 @@ FrameResult RenderSession::foveated(const FoveatedSettings& s, bool pixels, bool
                                                         *m.gpuPoints, s.gaze, s.raysPerPoint);
         std::optional<passes::RbfWeights> weights;
         if (s.interpolation.method == passes::Interpolation::Rbf) {
-            weights = m.rbfSolve->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation);
+            weights = m.rbfSolve->add(g, *m.gpuPoints, m.inverseFor(s.interpolation), samples,
+                                      s.gaze, s.interpolation);
         }
         const rg::TextureId image =
             m.interpolate->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation, weights);
         if (!s.taa) return image;
         return m.taa->add(g, *m.taaHistory, image, m.scene.camera, s.gaze, s.saccade);
     };
-    if (!m.warmFoveated) {
-        // Full size (the point set is made for it), one ray per point.
+    const bool rbf = s.interpolation.method == passes::Interpolation::Rbf;
+    if (!m.warmFoveated || (rbf && !m.warmRbf)) {
+        // One untimed frame, full size, one ray per point, through every pipeline this frame
+        // uses (lavapipe compiles at first dispatch) and without touching the TAA history.
         rg::TransientPool warm(*m.ctx);
-        FoveatedSettings cheap = s;
-        cheap.raysPerPoint = 1;
         auto tiny = [&](rg::RenderGraph& g) {
             const rg::BufferId samples =
-                m.pointSample->add(g, *m.gpuScene, m.scene.camera, *m.gpuPoints, cheap.gaze, 1);
-            passes::InterpolateSettings nn = cheap.interpolation;
-            nn.method = passes::Interpolation::Nearest;
-            return m.interpolate->add(g, *m.gpuPoints, samples, cheap.gaze, nn);
+                m.pointSample->add(g, *m.gpuScene, m.scene.camera, *m.gpuPoints, s.gaze, 1);
+            std::optional<passes::RbfWeights> weights;
+            if (rbf) {
+                weights = m.rbfSolve->add(g, *m.gpuPoints, m.inverseFor(s.interpolation), samples,
+                                          s.gaze, s.interpolation);
+            }
+            return m.interpolate->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation, weights);
         };
         (void)m.run(tiny, w, h, true, false, warm);
         m.warmFoveated = true;
+        m.warmRbf = m.warmRbf || rbf;
     }
     return m.run(add, w, h, pixels, dot, *m.pool);
 }

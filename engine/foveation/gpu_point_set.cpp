@@ -1,5 +1,7 @@
 #include "foveation/gpu_point_set.hpp"
 
+#include <algorithm>
+
 #include <glm/glm.hpp>
 
 namespace gt::foveation {
@@ -24,6 +26,21 @@ GpuPointSet::GpuPointSet(vk::Context& ctx, const PointSet& set, const NeighbourI
     mPointsView = vk::BufferView(ctx, mPoints, VK_FORMAT_R32G32B32A32_SFLOAT);
     mNearestView = vk::BufferView(ctx, mNearest, VK_FORMAT_R32_UINT);
     mNeighboursView = vk::BufferView(ctx, mNeighbours, VK_FORMAT_R32_UINT);
+}
+
+GpuRbfInverse::GpuRbfInverse(vk::Context& ctx, const RbfInverse& inverse)
+    : mK(inverse.k), mStride((inverse.k * inverse.k + 3) / 4), mKernel(inverse.kernel),
+      mShape(inverse.shape) {
+    const std::size_t points = inverse.inverse.size() / (static_cast<std::size_t>(mK) * mK);
+    const std::size_t bytes = points * mStride * 16;
+    mBuffer = vk::Buffer(ctx, {bytes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
+                               vk::MemoryUsage::GpuOnly, "rbf.inverse"});
+    std::vector<float> padded(points * mStride * 4, 0.0f);
+    for (std::size_t q = 0; q < points; ++q) {
+        std::copy_n(&inverse.inverse[q * mK * mK], mK * mK, &padded[q * mStride * 4]);
+    }
+    mBuffer.upload(std::as_bytes(std::span(padded)));
+    mView = vk::BufferView(ctx, mBuffer, VK_FORMAT_R32G32B32A32_SFLOAT);
 }
 
 } // namespace gt::foveation

@@ -5,6 +5,7 @@
 
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set.hpp"
+#include "foveation/rbf_inverse.hpp"
 #include "vk/resources.hpp"
 
 namespace gt::foveation {
@@ -27,6 +28,26 @@ private:
     vk::Buffer mPoints, mNearest, mNeighbours;
     vk::BufferView mPointsView, mNearestView, mNeighboursView;
     uint32_t mCount, mK, mCanvasW, mCanvasH, mDisplayW, mDisplayH;
+};
+
+// The precomputed RBF inverses on the GPU: per point, ceil(k^2 / 4) RGBA32F texels holding the
+// k x k inverse row-major (texel buffers reach 128 M texels on lavapipe; storage buffers only
+// 128 MiB).
+class GpuRbfInverse {
+public:
+    GpuRbfInverse(vk::Context& ctx, const RbfInverse& inverse);
+    [[nodiscard]] VkBufferView view() const noexcept { return mView.handle(); }
+    [[nodiscard]] uint32_t k() const noexcept { return mK; }
+    [[nodiscard]] uint32_t texelsPerPoint() const noexcept { return mStride; }
+    [[nodiscard]] RbfKernelType kernel() const noexcept { return mKernel; }
+    [[nodiscard]] float shape() const noexcept { return mShape; }
+
+private:
+    vk::Buffer mBuffer;
+    vk::BufferView mView;
+    uint32_t mK, mStride;
+    RbfKernelType mKernel;
+    float mShape;
 };
 
 } // namespace gt::foveation

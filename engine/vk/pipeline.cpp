@@ -35,6 +35,13 @@ ComputePipeline::ComputePipeline(Context& ctx, const ComputePipelineDesc& desc)
         info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
         info.stage.module = module;
         info.stage.pName = "main";
+        std::vector<VkSpecializationMapEntry> entries;
+        for (uint32_t i = 0; i < desc.specialization.size(); ++i) {
+            entries.push_back({i, i * 4u, 4u});
+        }
+        VkSpecializationInfo spec{static_cast<uint32_t>(entries.size()), entries.data(),
+                                  desc.specialization.size() * 4u, desc.specialization.data()};
+        if (!entries.empty()) info.stage.pSpecializationInfo = &spec;
         info.layout = mLayout;
         GT_VK_CHECK(
             vkCreateComputePipelines(mDevice, VK_NULL_HANDLE, 1, &info, nullptr, &mPipeline));

@@ -18,6 +18,7 @@ struct ComputePipelineDesc {
     std::span<const uint32_t> spirv;
     std::vector<VkDescriptorType> bindings; // binding i has type bindings[i]
     uint32_t pushConstantSize = 0;
+    std::vector<uint32_t> specialization; // constant_id i takes specialization[i]
 };
 
 class ComputePipeline {

@@ -34,15 +34,21 @@ RbfSolvePass::RbfSolvePass(vk::Context& ctx) : mCtx(ctx) {
                  gt_spv_rbf_solve_comp,
                  {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                   VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                  VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                  VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                  VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
                  sizeof(sh::RbfSolvePush)});
 }
 
 RbfSolvePass::~RbfSolvePass() = default;
 
 RbfWeights RbfSolvePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
-                             rg::BufferId samples, glm::vec2 gaze,
-                             const InterpolateSettings& s) const {
+                             const foveation::GpuRbfInverse& inverse, rg::BufferId samples,
+                             glm::vec2 gaze, const InterpolateSettings& s) const {
+    const auto kernel = s.kernel == RbfKernel::Gaussian ? foveation::RbfKernelType::Gaussian
+                                                        : foveation::RbfKernelType::Multiquadric;
+    if (inverse.k() != s.k || inverse.kernel() != kernel || inverse.shape() != s.rbfShape) {
+        throw ArgumentError("rbf_solve: the precomputed inverse was built for other settings");
+    }
     if (s.k == 0 || s.k > std::min(sh::kMaxK, points.storedNeighbours() + 1)) {
         throw ArgumentError("--k must be 1.." +
                             std::to_string(std::min(sh::kMaxK, points.storedNeighbours() + 1)));
@@ -53,7 +59,7 @@ RbfWeights RbfSolvePass::add(rg::RenderGraph& graph, const foveation::GpuPointSe
         glm::vec4(off, kSampleMargin, s.rbfShape),
         glm::uvec4(graph.outputWidth(), graph.outputHeight(), s.k,
                    s.kernel == RbfKernel::Gaussian ? sh::kKernelGaussian : sh::kKernelMultiquadric),
-        glm::uvec4(points.count(), points.storedNeighbours(), 0, 0)};
+        glm::uvec4(points.count(), points.storedNeighbours(), inverse.texelsPerPoint(), 0)};
     struct Data {
         rg::BufferId samples, r, g, b;
     };
@@ -66,7 +72,7 @@ RbfWeights RbfSolvePass::add(rg::RenderGraph& graph, const foveation::GpuPointSe
             d.g = b.write(b.createBuffer("rbf.lambda_g", {bytes}), rg::Access::StorageWrite);
             d.b = b.write(b.createBuffer("rbf.lambda_b", {bytes}), rg::Access::StorageWrite);
         },
-        [ctx = &mCtx, pipeline = mPipeline.get(), pts = &points,
+        [ctx = &mCtx, pipeline = mPipeline.get(), pts = &points, inv = &inverse,
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             vk::DescriptorWriter writer;
             writer.texelBuffer(sh::kBindingSolvePoints, pts->points())
@@ -74,7 +80,8 @@ RbfWeights RbfSolvePass::add(rg::RenderGraph& graph, const foveation::GpuPointSe
                 .texelBuffer(sh::kBindingSolveNeighbours, pts->neighbours())
                 .storageBuffer(sh::kBindingSolveLambdaR, r.buffer(d.r))
                 .storageBuffer(sh::kBindingSolveLambdaG, r.buffer(d.g))
-                .storageBuffer(sh::kBindingSolveLambdaB, r.buffer(d.b));
+                .storageBuffer(sh::kBindingSolveLambdaB, r.buffer(d.b))
+                .texelBuffer(sh::kBindingSolveInverse, inv->view());
             writer.push(*ctx, cmd, *pipeline);
             vk::dispatch(cmd, *pipeline, &push, sizeof(push),
                          (push.counts.x + sh::kSolveGroupSize - 1) / sh::kSolveGroupSize, 1);

@@ -1,6 +1,7 @@
 #pragma once
 // Pass `interpolate` (seed 000, 4.3): rebuilds the full image from the sampled points with
 // nearest neighbour or the Modified Shepard method over the k nearest points.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -16,7 +17,8 @@ class ComputePipeline;
 } // namespace gt::vk
 namespace gt::foveation {
 class GpuPointSet;
-}
+class GpuRbfInverse;
+} // namespace gt::foveation
 
 namespace gt::passes {
 
@@ -46,8 +48,10 @@ class RbfSolvePass {
 public:
     explicit RbfSolvePass(vk::Context& ctx);
     ~RbfSolvePass();
+    // `inverse` must have been built for the settings' k, kernel and shape.
     RbfWeights add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
-                   rg::BufferId samples, glm::vec2 gaze, const InterpolateSettings& s) const;
+                   const foveation::GpuRbfInverse& inverse, rg::BufferId samples, glm::vec2 gaze,
+                   const InterpolateSettings& s) const;
 
 private:
     vk::Context& mCtx;

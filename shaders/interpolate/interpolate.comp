@@ -20,20 +20,17 @@ layout(push_constant) uniform Push { InterpolatePush pc; };
 
 // RBF (seed 000, eq. 7): s(x) = sum lambda_i phi(|x - x_i|) over the neighbourhood of the
 // pixel's nearest point q, with the weights rbf_solve computed for q.
-vec3 evaluateRbf(uint q, vec2 pos, vec2 size) {
+vec3 evaluateRbf(uint q, vec2 pos) {
     uint k = min(pc.params.z, kMaxK);
     uint stored = pc.canvas.z;
     float c = max(pc.rbf.x * texelFetch(uPoints, int(q)).z, 1e-3);
     vec3 sum = vec3(0.0);
-    uint m = 0u;
-    for (uint j = 0u; j <= stored && m < k; ++j) {
+    for (uint j = 0u; j < k; ++j) {
         uint i = j == 0u ? q : texelFetch(uNeighbours, int(q * stored + j - 1u)).r;
         vec2 p = texelFetch(uPoints, int(i)).xy;
-        if (!isSampled(p, pc.offset.xy, size, pc.offset.z)) continue;
         float phi = rbfKernel(length(p + pc.offset.xy - pos), c, pc.canvas.w);
-        uint at = q * k + m;
+        uint at = q * k + j;
         sum += phi * vec3(lambdaR[at], lambdaG[at], lambdaB[at]);
-        ++m;
     }
     return sum;
 }
@@ -52,7 +49,7 @@ void main() {
         vec2 qpos = texelFetch(uPoints, int(q)).xy;
         if (isSampled(qpos, offset, vec2(size), margin)) {
             vec4 qs = samples[q];
-            imageStore(uOutput, px, vec4(max(evaluateRbf(q, pos, vec2(size)), vec3(0.0)), qs.w));
+            imageStore(uOutput, px, vec4(max(evaluateRbf(q, pos), vec3(0.0)), qs.w));
             return;
         }
         k = 1u; // the nearest point was not sampled: nearest sampled neighbour instead

@@ -1,11 +1,9 @@
 #version 460
-// Pass `rbf_solve` (seed 000, eqs. 7-8): for every sampled point q, solve phi(|x_a - x_b|)
-// lambda = f over q's neighbourhood (q and its k-1 nearest sampled neighbours) by Gaussian
-// elimination with partial pivoting, for the three colour channels at once. The interpolate
-// pass then evaluates s(x) = sum lambda_i phi(|x - x_i|) for every pixel in q's cell: one
-// k x k solve per point instead of per pixel, and O(k) work per pixel, like Shepard's method.
-// The kernel's shape c scales with the point's spacing p, so one c fits the fovea and the
-// periphery alike.
+// Pass `rbf_solve` (seed 000, eqs. 7-8): lambda = inverse(phi(|x_a - x_b|)) f for every sampled
+// point q, over q and its k-1 nearest neighbours, with the inverse precomputed once per point
+// set (engine/foveation/rbf_inverse.cpp): k^2 multiply-adds per point and frame. Neighbours
+// that point_sample skipped (beyond the screen margin) take q's colour. The interpolate pass
+// then evaluates s(x) = sum lambda_i phi(|x - x_i|) for every pixel in q's cell.
 #extension GL_GOOGLE_include_directive : require
 #include "foveated_shared.h"
 #include "rbf.glsl"
@@ -17,70 +15,31 @@ layout(set = 0, binding = kBindingSolveNeighbours) uniform usamplerBuffer uNeigh
 layout(std430, set = 0, binding = kBindingSolveLambdaR) writeonly buffer LambdaR { float lambdaR[]; };
 layout(std430, set = 0, binding = kBindingSolveLambdaG) writeonly buffer LambdaG { float lambdaG[]; };
 layout(std430, set = 0, binding = kBindingSolveLambdaB) writeonly buffer LambdaB { float lambdaB[]; };
+layout(set = 0, binding = kBindingSolveInverse) uniform samplerBuffer uInverse;
 layout(push_constant) uniform Push { RbfSolvePush pc; };
 
 void main() {
     uint q = gl_GlobalInvocationID.x;
     if (q >= pc.counts.x) return;
     vec2 size = vec2(pc.params.xy);
-    vec4 pq = texelFetch(uPoints, int(q));
-    if (!isSampled(pq.xy, pc.offset.xy, size, pc.offset.z)) return;
+    if (!isSampled(texelFetch(uPoints, int(q)).xy, pc.offset.xy, size, pc.offset.z)) return;
     uint k = min(pc.params.z, kMaxK);
     uint stored = pc.counts.y;
-    uint nb[kMaxK];
-    vec2 pos[kMaxK];
-    uint m = 0u;
-    for (uint j = 0u; j <= stored && m < k; ++j) {
-        uint i = j == 0u ? q : texelFetch(uNeighbours, int(q * stored + j - 1u)).r;
-        vec2 p = texelFetch(uPoints, int(i)).xy;
-        if (!isSampled(p, pc.offset.xy, size, pc.offset.z)) continue;
-        nb[m] = i;
-        pos[m] = p;
-        ++m;
-    }
-    float c = max(pc.offset.w * pq.z, 1e-3);
-    float a[kMaxK][kMaxK];
     vec3 f[kMaxK];
-    for (uint r = 0u; r < m; ++r) {
-        for (uint s = 0u; s < m; ++s) a[r][s] = rbfKernel(length(pos[r] - pos[s]), c, pc.params.w);
-        a[r][r] += 1e-6; // a whisker of regularisation for nearly coincident points
-        f[r] = samples[nb[r]].rgb;
-    }
-    // Gaussian elimination with partial pivoting.
-    for (uint col = 0u; col < m; ++col) {
-        uint piv = col;
-        for (uint r = col + 1u; r < m; ++r) {
-            if (abs(a[r][col]) > abs(a[piv][col])) piv = r;
-        }
-        if (piv != col) {
-            for (uint s = 0u; s < m; ++s) {
-                float t = a[col][s];
-                a[col][s] = a[piv][s];
-                a[piv][s] = t;
-            }
-            vec3 t = f[col];
-            f[col] = f[piv];
-            f[piv] = t;
-        }
-        float d = a[col][col];
-        if (abs(d) < 1e-20) d = 1e-20;
-        for (uint r = col + 1u; r < m; ++r) {
-            float factor = a[r][col] / d;
-            for (uint s = col; s < m; ++s) a[r][s] -= factor * a[col][s];
-            f[r] -= factor * f[col];
-        }
-    }
-    vec3 lambda[kMaxK];
-    for (int r = int(m) - 1; r >= 0; --r) {
-        vec3 sum = f[r];
-        for (uint s = uint(r) + 1u; s < m; ++s) sum -= a[r][s] * lambda[s];
-        float d = a[r][r];
-        lambda[r] = sum / (abs(d) < 1e-20 ? 1e-20 : d);
-    }
+    vec3 own = samples[q].rgb;
     for (uint j = 0u; j < k; ++j) {
-        vec3 l = j < m ? lambda[j] : vec3(0.0);
-        lambdaR[q * k + j] = l.r;
-        lambdaG[q * k + j] = l.g;
-        lambdaB[q * k + j] = l.b;
+        uint i = j == 0u ? q : texelFetch(uNeighbours, int(q * stored + j - 1u)).r;
+        f[j] = isSampled(texelFetch(uPoints, int(i)).xy, pc.offset.xy, size, pc.offset.z) ? samples[i].rgb : own;
+    }
+    int base = int(q * pc.counts.z);
+    for (uint r = 0u; r < k; ++r) {
+        vec3 l = vec3(0.0);
+        for (uint c = 0u; c < k; ++c) {
+            uint e = r * k + c;
+            l += texelFetch(uInverse, base + int(e >> 2u))[e & 3u] * f[c];
+        }
+        lambdaR[q * k + r] = l.r;
+        lambdaG[q * k + r] = l.g;
+        lambdaB[q * k + r] = l.b;
     }
 }

@@ -52,13 +52,14 @@ GT_CONST kBindingLambdaG = 6;
 GT_CONST kBindingLambdaB = 7;
 
 // rbf_solve (seed 000, eqs. 7-10): for every sampled point q, the weights of the RBF
-// interpolant through q and its k-1 nearest sampled neighbours.
+// interpolant through q and its k-1 nearest neighbours, from the precomputed inverse.
 GT_CONST kBindingSolvePoints = 0;     // samplerBuffer RGBA32F
 GT_CONST kBindingSolveSamples = 1;    // buffer of vec4
 GT_CONST kBindingSolveNeighbours = 2; // usamplerBuffer R32UI
 GT_CONST kBindingSolveLambdaR = 3;    // buffer of float, k per point
 GT_CONST kBindingSolveLambdaG = 4;
 GT_CONST kBindingSolveLambdaB = 5;
+GT_CONST kBindingSolveInverse = 6;    // samplerBuffer RGBA32F: per point, the k x k inverse
 GT_CONST kSolveGroupSize = 64;
 GT_CONST kKernelMultiquadric = 0; // phi(r) = sqrt(r^2 + c^2)  (thesis eq. 10)
 GT_CONST kKernelGaussian = 1;     // phi(r) = exp(-(r / c)^2)   (thesis eq. 9, c as a length)
@@ -66,7 +67,7 @@ GT_CONST kKernelGaussian = 1;     // phi(r) = exp(-(r / c)^2)   (thesis eq. 9, c
 struct RbfSolvePush {
     vec4 offset;  // x, y: canvas -> screen offset; z: margin; w: shape c in units of the spacing p
     uvec4 params; // x = width, y = height, z = k, w = kernel
-    uvec4 counts; // x = points, y = neighbours stored per point
+    uvec4 counts; // x = points, y = neighbours stored per point, z = inverse texels per point
 };
 
 GT_NAMESPACE_END

@@ -46,7 +46,14 @@ protected:
         const passes::RbfSolvePass solve(ctx());
         const glm::vec2 gaze(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h));
         std::optional<passes::RbfWeights> weights;
-        if (s.method == passes::Interpolation::Rbf) weights = solve.add(g, gpu, sid, gaze, s);
+        std::optional<foveation::GpuRbfInverse> inverse;
+        if (s.method == passes::Interpolation::Rbf) {
+            const auto kernel = s.kernel == passes::RbfKernel::Gaussian
+                                    ? foveation::RbfKernelType::Gaussian
+                                    : foveation::RbfKernelType::Multiquadric;
+            inverse.emplace(ctx(), foveation::buildRbfInverse(set, index, s.k, kernel, s.rbfShape));
+            weights = solve.add(g, gpu, *inverse, sid, gaze, s);
+        }
         passes::addReadbackPass(g, "out", pass.add(g, gpu, sid, gaze, s, weights), hid);
         rg::TransientPool pool(ctx());
         g.execute(g.compile(), pool);
