@@ -1,0 +1,53 @@
+#pragma once
+// Outlier-robust ellipse fitting for pupil edge points.
+//
+// RANSAC (Fischler & Bolles 1981) over minimal 5-point conics, scored by inlier count under the
+// Sampson distance (first-order geometric distance |Q(p)| / |grad Q(p)|), then a least-squares
+// refit on the consensus set with OpenCV's direct ellipse fit (Fitzgibbon et al. 1999, which can
+// only return ellipses). Świrski et al. 2012 use the same idea for pupils; edges from eyelids,
+// lashes and glints are the outliers it removes.
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <opencv2/core/types.hpp>
+
+namespace gt::eyetrack {
+
+// General conic a x^2 + b xy + c y^2 + d x + e y + f = 0.
+struct Conic {
+    double a = 0, b = 0, c = 0, d = 0, e = 0, f = 0;
+
+    [[nodiscard]] double value(cv::Point2d p) const {
+        return a * p.x * p.x + b * p.x * p.y + c * p.y * p.y + d * p.x + e * p.y + f;
+    }
+    // First-order geometric distance from p to the curve.
+    [[nodiscard]] double sampsonDistance(cv::Point2d p) const;
+    [[nodiscard]] bool isEllipse() const { return b * b - 4.0 * a * c < 0.0; }
+    // Centre, full axes and angle (OpenCV's RotatedRect convention); nullopt if not an ellipse.
+    [[nodiscard]] std::optional<cv::RotatedRect> toEllipse() const;
+    [[nodiscard]] static Conic fromEllipse(const cv::RotatedRect& e);
+};
+
+// The conic through five points (nullopt when they are degenerate).
+[[nodiscard]] std::optional<Conic> conicThrough(std::span<const cv::Point2d, 5> p);
+
+struct RansacEllipseParams {
+    int iterations = 80;
+    double inlierDistance = 1.0; // pixels
+    double minAxis = 2.0;        // full axis length bounds, pixels
+    double maxAxis = 1e9;
+    double minAxisRatio = 0.4; // minor / major (a pupil seen 66 deg off-axis)
+    std::uint64_t seed = 1;
+};
+
+struct EllipseFit {
+    cv::RotatedRect ellipse;
+    std::vector<int> inliers; // indices into the points
+};
+
+[[nodiscard]] std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
+                                                         const RansacEllipseParams& params);
+
+} // namespace gt::eyetrack

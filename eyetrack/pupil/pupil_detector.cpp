@@ -1,0 +1,377 @@
+#include "pupil/pupil_detector.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <numbers>
+
+#include <opencv2/imgproc.hpp>
+
+#include "error.hpp"
+#include "pupil/ellipse_fit.hpp"
+
+namespace gt::eyetrack {
+
+namespace {
+
+// Bilinear sample with pixel centres at integer coordinates; -1 outside the image.
+inline double sample(const cv::Mat& img, double x, double y) {
+    if (x < 0.0 || y < 0.0 || x > img.cols - 1.0 || y > img.rows - 1.0) return -1.0;
+    const int x0 = std::min(static_cast<int>(x), img.cols - 2 < 0 ? 0 : img.cols - 2);
+    const int y0 = std::min(static_cast<int>(y), img.rows - 2 < 0 ? 0 : img.rows - 2);
+    const double fx = x - x0, fy = y - y0;
+    const uchar* r0 = img.ptr<uchar>(y0);
+    const uchar* r1 = img.ptr<uchar>(std::min(y0 + 1, img.rows - 1));
+    const int x1 = std::min(x0 + 1, img.cols - 1);
+    const double top = r0[x0] + fx * (r0[x1] - r0[x0]);
+    const double bottom = r1[x0] + fx * (r1[x1] - r1[x0]);
+    return top + fy * (bottom - top);
+}
+
+// Sum over [x0, x1) x [y0, y1) from a CV_32S integral image.
+inline long long boxSum(const cv::Mat& ii, int x0, int y0, int x1, int y1) {
+    const int* a = ii.ptr<int>(y0);
+    const int* b = ii.ptr<int>(y1);
+    return static_cast<long long>(b[x1]) - b[x0] - a[x1] + a[x0];
+}
+
+// Percentile of the grey levels in a rectangle (sparse sampling for large ones), optionally
+// excluding an inner rectangle.
+double percentile(const cv::Mat& img, cv::Rect outer, cv::Rect hole, double q) {
+    outer &= cv::Rect(0, 0, img.cols, img.rows);
+    std::array<int, 256> hist{};
+    int count = 0;
+    const int step = std::max(1, static_cast<int>(std::sqrt(outer.area() / 1500.0)));
+    for (int y = outer.y; y < outer.y + outer.height; y += step) {
+        const uchar* row = img.ptr<uchar>(y);
+        for (int x = outer.x; x < outer.x + outer.width; x += step) {
+            if (hole.contains({x, y})) continue;
+            ++hist[row[x]];
+            ++count;
+        }
+    }
+    if (count == 0) return -1.0;
+    const int target = static_cast<int>(q * (count - 1));
+    int acc = 0;
+    for (int v = 0; v < 256; ++v) {
+        acc += hist[static_cast<std::size_t>(v)];
+        if (acc > target) return v;
+    }
+    return 255.0;
+}
+
+cv::Rect boxAround(cv::Point2d c, double half) {
+    const int h = std::max(1, static_cast<int>(std::lround(half)));
+    return {static_cast<int>(std::lround(c.x)) - h, static_cast<int>(std::lround(c.y)) - h,
+            2 * h + 1, 2 * h + 1};
+}
+
+} // namespace
+
+double PupilResult::semiMajor() const {
+    return 0.5 * std::max(ellipse.size.width, ellipse.size.height);
+}
+double PupilResult::semiMinor() const {
+    return 0.5 * std::min(ellipse.size.width, ellipse.size.height);
+}
+double PupilResult::majorAngleDeg() const {
+    const double a =
+        ellipse.size.width >= ellipse.size.height ? ellipse.angle : ellipse.angle + 90.0;
+    return std::fmod(std::fmod(a, 180.0) + 180.0, 180.0);
+}
+
+PupilDetector::PupilDetector(PupilDetectorConfig config) : mConfig(config) {
+    if (mConfig.rays < 8) throw EyetrackError("pupil detector: at least 8 rays are needed");
+}
+
+void PupilDetector::findCandidates(const cv::Mat& grey, double minR, double maxR) {
+    mCandidates.clear();
+    // Downscale so the coarse image is ~60 rows: the search only needs a seed inside the pupil.
+    const int f = std::max(1, std::min(grey.rows, grey.cols) / 60);
+    cv::resize(grey, mSmall, cv::Size(grey.cols / f, grey.rows / f), 0, 0, cv::INTER_AREA);
+    cv::integral(mSmall, mIntegral, CV_32S);
+    const int w = mSmall.cols, h = mSmall.rows;
+    // The strongest responses, kept in a bounded min-heap (sorting every position would cost
+    // more than the rest of the detector).
+    constexpr std::size_t kKeep = 48;
+    std::vector<Candidate>& all = mHeap;
+    all.clear();
+    const auto weaker = [](const Candidate& a, const Candidate& b) {
+        return a.response > b.response;
+    };
+    for (double r = std::max(1.5, minR / f); r <= maxR / f + 1e-9; r *= 1.3) {
+        const int hi = std::max(1, static_cast<int>(std::lround(0.75 * r)));
+        const int ho = std::max(hi + 1, static_cast<int>(std::lround(1.8 * r)));
+        const int step = std::max(1, static_cast<int>(r / 2.0));
+        for (int y = 0; y < h; y += step) {
+            for (int x = 0; x < w; x += step) {
+                const int ix0 = std::max(0, x - hi), ix1 = std::min(w, x + hi + 1);
+                const int iy0 = std::max(0, y - hi), iy1 = std::min(h, y + hi + 1);
+                const int ox0 = std::max(0, x - ho), ox1 = std::min(w, x + ho + 1);
+                const int oy0 = std::max(0, y - ho), oy1 = std::min(h, y + ho + 1);
+                const long long inner = boxSum(mIntegral, ix0, iy0, ix1, iy1);
+                const long long outer = boxSum(mIntegral, ox0, oy0, ox1, oy1);
+                const int innerArea = (ix1 - ix0) * (iy1 - iy0);
+                const int ringArea = (ox1 - ox0) * (oy1 - oy0) - innerArea;
+                if (ringArea <= innerArea) continue; // clipped too much by the border
+                const double response = static_cast<double>(outer - inner) / ringArea -
+                                        static_cast<double>(inner) / innerArea;
+                if (response < 0.5 * mConfig.minContrast) continue;
+                if (all.size() == kKeep) {
+                    if (response <= all.front().response) continue;
+                    std::pop_heap(all.begin(), all.end(), weaker);
+                    all.pop_back();
+                }
+                all.push_back({{(x + 0.5) * f - 0.5, (y + 0.5) * f - 0.5}, r * f, response});
+                std::push_heap(all.begin(), all.end(), weaker);
+            }
+        }
+    }
+    std::sort_heap(all.begin(), all.end(), weaker); // strongest first
+    for (const Candidate& c : all) {
+        const bool near =
+            std::any_of(mCandidates.begin(), mCandidates.end(), [&](const Candidate& k) {
+                return cv::norm(k.centre - c.centre) < std::max(k.radius, c.radius);
+            });
+        if (near) continue;
+        mCandidates.push_back(c);
+        if (static_cast<int>(mCandidates.size()) >= mConfig.candidates) break;
+    }
+}
+
+bool PupilDetector::measureLevels(const cv::Mat& grey, const Candidate& c, Levels& levels) const {
+    const cv::Rect none(0, 0, 0, 0);
+    // The 30th percentile of the inner box: robust to glints and to a box that overlaps the iris.
+    levels.pupil = percentile(grey, boxAround(c.centre, 0.6 * c.radius), none, 0.3);
+    levels.surround = percentile(grey, boxAround(c.centre, 2.0 * c.radius),
+                                 boxAround(c.centre, 1.3 * c.radius), 0.5);
+    if (levels.pupil < 0.0 || levels.surround < 0.0) return false;
+    if (levels.surround - levels.pupil < mConfig.minContrast) return false;
+    // The ring may reach past the iris onto the sclera, so the first threshold sits low in the
+    // range; refine() re-measures the level just outside the fitted ellipse and recasts.
+    levels.threshold =
+        levels.pupil + std::max(0.5 * mConfig.minContrast, 0.25 * (levels.surround - levels.pupil));
+    levels.glint =
+        std::max(levels.surround + 30.0, levels.surround + 0.5 * (255.0 - levels.surround));
+    return true;
+}
+
+void PupilDetector::castRays(const cv::Mat& grey, cv::Point2d from, double maxDistance,
+                             const Levels& lv) {
+    mEdgePoints.clear();
+    constexpr double kStep = 0.5;
+    const int n = mConfig.rays;
+    for (int i = 0; i < n; ++i) {
+        const double a = (i + 0.5) * 2.0 * std::numbers::pi / n;
+        const cv::Point2d dir(std::cos(a), std::sin(a));
+        bool inside = false;
+        double prev = -1.0;
+        for (double t = 0.0; t <= maxDistance; t += kStep) {
+            const cv::Point2d p = from + dir * t;
+            const double v = sample(grey, p.x, p.y);
+            if (v < 0.0) break; // left the image
+            if (!inside) {
+                // Start counting once in the dark (the seed may sit on a glint).
+                if (v < lv.threshold)
+                    inside = true;
+                else if (t > 0.5 * maxDistance)
+                    break;
+                prev = v;
+                continue;
+            }
+            if (v >= lv.threshold) {
+                // A bright island that ends within a few pixels is a glint or noise inside the
+                // pupil: step over it and keep looking for the real boundary.
+                const double island = std::max(4.0, 0.25 * maxDistance);
+                // Only a glint (a spot brighter than its neighbourhood) counts as an island: dark
+                // lashes just outside the pupil must not make the real boundary look like one.
+                double back = -1.0, peak = v, peakAt = 0.0;
+                for (double s = 1.0; s <= island; s += kStep) {
+                    const double w = sample(grey, p.x + dir.x * s, p.y + dir.y * s);
+                    if (w < 0.0) break;
+                    if (w > peak) {
+                        peak = w;
+                        peakAt = s;
+                    }
+                    if (w < lv.threshold) {
+                        back = s;
+                        break;
+                    }
+                }
+                if (back > 0.0 && isGlint(grey, p + dir * peakAt, lv)) {
+                    t += back - kStep;
+                    prev = lv.threshold - 1.0;
+                    continue;
+                }
+                const double u = (lv.threshold - prev) / std::max(1e-6, v - prev);
+                const double tEdge = t - kStep + kStep * std::clamp(u, 0.0, 1.0);
+                // Glint suppression: a glint at the crossing means the edge is (partly) the
+                // glint's, so the point is dropped rather than trusted.
+                bool glint = false;
+                for (double s = -1.0; s <= 3.0 && !glint; s += 1.0)
+                    glint = isGlint(grey, from + dir * (tEdge + s), lv);
+                if (!glint) mEdgePoints.push_back(from + dir * tEdge);
+                break;
+            }
+            prev = v;
+        }
+    }
+}
+
+bool PupilDetector::isGlint(const cv::Mat& grey, cv::Point2d p, const Levels& lv) const {
+    // A glint is a small spot much brighter than its 9x9 neighbourhood (a top-hat test on the
+    // integral image), or anything saturated; a plain pupil-iris edge is never more than a few
+    // grey levels above its box mean.
+    const int x = static_cast<int>(std::lround(p.x)), y = static_cast<int>(std::lround(p.y));
+    if (x < 0 || y < 0 || x >= grey.cols || y >= grey.rows) return false;
+    const double v = grey.at<uchar>(y, x);
+    if (v >= lv.glint) return true;
+    const int x0 = std::max(0, x - 4), x1 = std::min(grey.cols, x + 5);
+    const int y0 = std::max(0, y - 4), y1 = std::min(grey.rows, y + 5);
+    const double mean =
+        static_cast<double>(boxSum(mFullIntegral, x0, y0, x1, y1)) / ((x1 - x0) * (y1 - y0));
+    return v - mean > std::max(25.0, 0.3 * (lv.surround - lv.pupil));
+}
+
+double PupilDetector::outsideLevel(const cv::Mat& grey, const cv::RotatedRect& e,
+                                   const Levels& lv) const {
+    // Median grey level a few pixels outside the ellipse, glints excluded: the iris next to the
+    // pupil, whatever lies further out.
+    constexpr int kSamples = 48;
+    const double th = e.angle * std::numbers::pi / 180.0;
+    const cv::Point2d u(std::cos(th), std::sin(th)), v(-std::sin(th), std::cos(th));
+    const double a = 0.5 * e.size.width, b = 0.5 * e.size.height;
+    const double d = std::max(2.5, 0.2 * std::min(a, b));
+    std::vector<double> values;
+    values.reserve(kSamples);
+    for (int k = 0; k < kSamples; ++k) {
+        const double phi = (k + 0.5) * 2.0 * std::numbers::pi / kSamples;
+        const cv::Point2d p =
+            cv::Point2d(e.center.x, e.center.y) + u * (a * std::cos(phi)) + v * (b * std::sin(phi));
+        cv::Point2d n = u * (std::cos(phi) / a) + v * (std::sin(phi) / b);
+        n *= 1.0 / cv::norm(n);
+        const double out = sample(grey, p.x + d * n.x, p.y + d * n.y);
+        if (out >= 0.0 && out < lv.glint) values.push_back(out);
+    }
+    if (values.size() < kSamples / 4) return -1.0;
+    std::nth_element(values.begin(),
+                     values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
+    return values[values.size() / 2];
+}
+
+double PupilDetector::outlineSupport(const cv::Mat& grey, const cv::RotatedRect& e,
+                                     const Levels& lv) const {
+    constexpr int kSamples = 48;
+    const double th = e.angle * std::numbers::pi / 180.0;
+    const cv::Point2d u(std::cos(th), std::sin(th)), v(-std::sin(th), std::cos(th));
+    const double a = 0.5 * e.size.width, b = 0.5 * e.size.height;
+    const double d = std::max(1.5, 0.12 * std::min(a, b));
+    const double need = 0.3 * (lv.surround - lv.pupil);
+    int supported = 0, counted = 0;
+    for (int k = 0; k < kSamples; ++k) {
+        const double phi = (k + 0.5) * 2.0 * std::numbers::pi / kSamples;
+        const cv::Point2d p =
+            cv::Point2d(e.center.x, e.center.y) + u * (a * std::cos(phi)) + v * (b * std::sin(phi));
+        cv::Point2d n = u * (std::cos(phi) / a) + v * (std::sin(phi) / b);
+        n *= 1.0 / cv::norm(n);
+        const double in = sample(grey, p.x - d * n.x, p.y - d * n.y);
+        const double out = sample(grey, p.x + d * n.x, p.y + d * n.y);
+        if (in < 0.0 || out < 0.0) {
+            ++counted; // outside the image: unsupported
+            continue;
+        }
+        if (out >= lv.glint) continue; // a glint on the boundary: neither for nor against
+        ++counted;
+        if (out - in > need && in < lv.threshold) ++supported;
+    }
+    return counted > 0 ? static_cast<double>(supported) / counted : 0.0;
+}
+
+PupilResult PupilDetector::refine(const cv::Mat& grey, const Candidate& c, double minR,
+                                  double maxR) {
+    PupilResult result;
+    Levels lv;
+    if (!measureLevels(grey, c, lv)) return result;
+    RansacEllipseParams rp;
+    rp.iterations = mConfig.ransacIterations;
+    rp.inlierDistance = mConfig.inlierDistance;
+    rp.minAxis = 2.0 * minR * 0.7;
+    rp.maxAxis = 2.0 * maxR * 1.3;
+    rp.seed = mFrame * 7919u + 1u;
+
+    castRays(grey, c.centre, 2.5 * c.radius, lv);
+    auto fit = fitEllipseRansac(mEdgePoints, rp);
+    if (!fit) return result;
+    // Second pass from the fitted centre: rays now meet the boundary at even spacing.
+    const cv::Point2d centre(fit->ellipse.center.x, fit->ellipse.center.y);
+    const double major = 0.5 * std::max(fit->ellipse.size.width, fit->ellipse.size.height);
+    if (const double outside = outsideLevel(grey, fit->ellipse, lv);
+        outside > lv.pupil + mConfig.minContrast) {
+        lv.surround = outside;
+        lv.threshold = 0.5 * (lv.pupil + outside);
+    }
+    castRays(grey, centre, 1.6 * major + 3.0, lv);
+    rp.seed += 1;
+    if (auto second = fitEllipseRansac(mEdgePoints, rp)) fit = second;
+
+    result.ellipse = fit->ellipse;
+    result.confidence = outlineSupport(grey, fit->ellipse, lv);
+    return result;
+}
+
+double PupilDetector::sizeConsistency(double semiMajor) const {
+    if (mRecentRadius <= 0.0) return 1.0;
+    const double l = std::log(semiMajor / mRecentRadius);
+    constexpr double kSigma = 0.35; // a 1.4x size change keeps 60 % of the confidence
+    return std::exp(-0.5 * l * l / (kSigma * kSigma));
+}
+
+PupilResult PupilDetector::detect(const cv::Mat& grey) {
+    if (grey.empty() || grey.type() != CV_8UC1)
+        throw EyetrackError("pupil detector: expected an 8-bit greyscale image");
+    ++mFrame;
+    const double side = std::min(grey.rows, grey.cols);
+    const double minR = mConfig.minRadius > 0.0 ? mConfig.minRadius : 0.03 * side;
+    const double maxR = mConfig.maxRadius > 0.0 ? mConfig.maxRadius : 0.25 * side;
+    findCandidates(grey, minR, maxR);
+    cv::integral(grey, mFullIntegral, CV_32S);
+    // Temporal prior (after PuReST, Santini et al. 2018): last frame's pupil is also a candidate,
+    // and a result close to it is preferred. Pupils move little between frames except in
+    // saccades, where the coarse search still finds them.
+    const bool haveLast = mLast.found && mLast.confidence >= 0.6;
+    if (haveLast) mCandidates.insert(mCandidates.begin(), {mLast.centre(), mLast.semiMajor(), 0.0});
+    PupilResult best;
+    double bestScore = 0.0;
+    for (const Candidate& c : mCandidates) {
+        PupilResult r = refine(grey, c, minR, maxR);
+        if (r.confidence <= 0.0) continue;
+        // Size consistency (PuReST): the pupil's size changes slowly, so an ellipse far from the
+        // recent pupil size (a gap between lashes during a blink) loses confidence.
+        r.confidence *= sizeConsistency(r.semiMajor());
+        // Selection score: confidence, weighed towards pupil-sized ellipses (dark gaps between
+        // lashes make small, high-contrast ellipses) and towards last frame's pupil.
+        double score = r.confidence * (0.6 + 0.4 * std::min(1.0, r.semiMinor() / (0.06 * side)));
+        if (haveLast &&
+            cv::norm(r.centre() - mLast.centre()) < std::max(5.0, 0.5 * mLast.semiMajor()))
+            score *= 1.2;
+        if (score > bestScore) {
+            bestScore = score;
+            best = r;
+        }
+    }
+    best.found = best.confidence >= mConfig.minConfidence;
+    mLast = best;
+    ++mFramesSinceSize;
+    if (best.confidence >= 0.75) {
+        mRecentRadius =
+            mRecentRadius > 0.0 ? 0.9 * mRecentRadius + 0.1 * best.semiMajor() : best.semiMajor();
+        mFramesSinceSize = 0;
+    } else if (mFramesSinceSize > 300) {
+        mRecentRadius = 0.0; // lost for long: forget the size
+    }
+    return best;
+}
+
+} // namespace gt::eyetrack
