@@ -9,6 +9,7 @@
 #include "bench_command.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "eye_commands.hpp"
 #include "pointset_command.hpp"
 #include "render_command.hpp"
 #include "scene/builtin_scenes.hpp"
@@ -127,6 +128,84 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     benchCmd->add_option("--cache", bench.cacheDir, "Point-set cache folder");
 
+    gt::app::EyesimOptions eyesim;
+    CLI::App* eyesimCmd =
+        app.add_subcommand("eyesim", "Render a synthetic infrared eye clip with ground truth");
+    eyesimCmd->add_option("--seed", eyesim.seed, "Random seed (eye, schedule, noise)")
+        ->capture_default_str();
+    eyesimCmd->add_option("--frames", eyesim.frames, "Frames to render")
+        ->check(CLI::Range(1, 1000000))
+        ->capture_default_str();
+    eyesimCmd->add_option("--size", eyesim.size, "Image size WxH")->capture_default_str();
+    eyesimCmd->add_option("--fps", eyesim.fps, "Camera frame rate")
+        ->check(CLI::Range(1.0, 2000.0))
+        ->capture_default_str();
+    eyesimCmd
+        ->add_option("--preset", eyesim.preset,
+                     "clean | hard (lid occlusion, 4 glints, blur, noise, blinks)")
+        ->check(CLI::IsMember({"clean", "hard"}))
+        ->capture_default_str();
+    eyesimCmd->add_option("--grid", eyesim.grid, "Calibration targets: 5, 9 or 13")
+        ->check(CLI::IsMember({5, 9, 13}))
+        ->capture_default_str();
+    eyesimCmd
+        ->add_option("--target-ms", eyesim.targetMs, "Time on each calibration / validation target")
+        ->check(CLI::Range(100.0, 10000.0))
+        ->capture_default_str();
+    eyesimCmd->add_option("--out", eyesim.out, "Video file (.mkv or .avi, lossless FFV1)")
+        ->required();
+    eyesimCmd->add_option("--truth", eyesim.truth, "Per-frame truth CSV")->required();
+    bool eyesimJson = false;
+    eyesimCmd->add_flag("--json", eyesimJson, "Print a JSON summary on stdout");
+
+    gt::app::TrackOptions track;
+    bool trackJson = false;
+    CLI::App* trackCmd = app.add_subcommand(
+        "track", "Track the pupil (and gaze, when calibrated) from a frame source");
+    trackCmd
+        ->add_option("--source", track.source,
+                     "v4l2:/dev/videoN[?...] | video:FILE | images:DIR | synthetic:SEED[?...]")
+        ->required();
+    trackCmd->add_option("--calibration", track.calibration,
+                         "Calibration JSON (gazetrace calibrate)");
+    trackCmd->add_option("--truth", track.truth,
+                         "Truth CSV (gazetrace eyesim) to score the detector");
+    trackCmd->add_option("--out", track.out,
+                         "Gaze CSV t_ms,x,y (replays with render --gaze-trace)");
+    trackCmd->add_option("--pupils", track.pupils, "Per-frame pupil CSV");
+    trackCmd->add_option("--emit", track.emit, "Send each gaze sample as JSON to udp://HOST:PORT");
+    trackCmd->add_option("--max-frames", track.maxFrames, "Stop after this many frames")
+        ->check(CLI::Range(0, 100000000));
+    trackCmd->add_flag("--json", trackJson, "Print a JSON summary on stdout");
+
+    gt::app::CalibrateOptions calibrate;
+    bool calibrateJson = false;
+    std::string screen = "1920x1080";
+    CLI::App* calibrateCmd = app.add_subcommand(
+        "calibrate", "Fit pupil-to-screen calibration from a recording with known targets");
+    calibrateCmd->add_option("--source", calibrate.source, "Frame source of the recording")
+        ->required();
+    calibrateCmd
+        ->add_option("--targets", calibrate.targets,
+                     "Target schedule CSV (t_ms,target_x,target_y[,phase,target_index])")
+        ->required();
+    calibrateCmd->add_option("--out", calibrate.out, "Calibration JSON to write")->required();
+    calibrateCmd
+        ->add_option("--settle-ms", calibrate.settleMs,
+                     "Ignore this long after each target appears")
+        ->check(CLI::Range(0.0, 10000.0))
+        ->capture_default_str();
+    calibrateCmd->add_option("--screen", screen, "Screen size in pixels WxH")
+        ->capture_default_str();
+    calibrateCmd->add_option("--screen-width-cm", calibrate.display.widthCm, "Screen width in cm")
+        ->check(CLI::Range(1.0, 1000.0))
+        ->capture_default_str();
+    calibrateCmd
+        ->add_option("--distance-cm", calibrate.display.distanceCm, "Viewing distance in cm")
+        ->check(CLI::Range(1.0, 1000.0))
+        ->capture_default_str();
+    calibrateCmd->add_flag("--json", calibrateJson, "Print a JSON summary on stdout");
+
     CLI::App* devicesCmd = app.add_subcommand("devices", "List the Vulkan devices");
     CLI::App* scenesCmd = app.add_subcommand("scenes", "List the built-in scenes");
 
@@ -156,6 +235,19 @@ int main(int argc, char** argv) {
             std::cout << (pointsetJson ? result.dump() : result.dump(2)) << std::endl;
         } else if (benchCmd->parsed()) {
             (void)gt::app::runBench(bench);
+        } else if (eyesimCmd->parsed()) {
+            const nlohmann::json result = gt::app::runEyesim(eyesim);
+            if (eyesimJson) std::cout << result.dump() << std::endl;
+        } else if (trackCmd->parsed()) {
+            const nlohmann::json result = gt::app::runTrack(track);
+            std::cout << (trackJson ? result.dump() : result.dump(2)) << std::endl;
+        } else if (calibrateCmd->parsed()) {
+            if (std::sscanf(screen.c_str(), "%dx%d", &calibrate.display.widthPx,
+                            &calibrate.display.heightPx) != 2 ||
+                calibrate.display.widthPx <= 0 || calibrate.display.heightPx <= 0)
+                throw gt::ArgumentError("--screen " + screen + ": expected WxH");
+            const nlohmann::json result = gt::app::runCalibrate(calibrate);
+            std::cout << (calibrateJson ? result.dump() : result.dump(2)) << std::endl;
         } else if (devicesCmd->parsed()) {
             for (const std::string& line : gt::vk::Context::listDevices())
                 std::cout << line << "\n";

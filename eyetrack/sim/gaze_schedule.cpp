@@ -75,12 +75,16 @@ std::vector<cv::Point2d> calibrationGrid(int n, const DisplayGeometry& d) {
     return grid;
 }
 
-std::vector<cv::Point2d> validationTargets(int n, const DisplayGeometry& d) {
+std::vector<cv::Point2d> validationTargets(int n, const DisplayGeometry& d,
+                                           const std::vector<cv::Point2d>& grid) {
     const double w = d.widthPx, h = d.heightPx;
-    const std::vector<cv::Point2d> all = {
+    std::vector<cv::Point2d> all = {
         {0.3 * w, 0.3 * h}, {0.7 * w, 0.7 * h}, {0.7 * w, 0.3 * h}, {0.3 * w, 0.7 * h},
         {0.5 * w, 0.2 * h}, {0.5 * w, 0.8 * h}, {0.2 * w, 0.5 * h}, {0.8 * w, 0.5 * h},
     };
+    // Never validate on a point the calibration was fitted on.
+    std::erase_if(
+        all, [&](cv::Point2d p) { return std::find(grid.begin(), grid.end(), p) != grid.end(); });
     const auto count = static_cast<std::size_t>(std::clamp(n, 0, static_cast<int>(all.size())));
     return {all.begin(), all.begin() + static_cast<std::ptrdiff_t>(count)};
 }
@@ -105,7 +109,7 @@ GazeSchedule::GazeSchedule(const ScheduleConfig& config, double durationMs) : mC
     const auto grid = calibrationGrid(config.calibrationPoints, d);
     for (std::size_t i = 0; i < grid.size() && t < durationMs; ++i)
         fixate(grid[i], config.targetMs, GazePhase::Calibration, static_cast<int>(i));
-    const auto valid = validationTargets(config.validationPoints, d);
+    const auto valid = validationTargets(config.validationPoints, d, grid);
     for (std::size_t i = 0; i < valid.size() && t < durationMs; ++i)
         fixate(valid[i], config.targetMs, GazePhase::Validation, static_cast<int>(i));
     const double freeStart = t;

@@ -44,8 +44,10 @@ struct GazeState {
 // Screen positions of an n-point calibration grid (5: centre and corners; 9: 3x3; 13: 3x3 plus
 // the four inner diagonal points) at 10 % / 50 % / 90 % of the screen.
 [[nodiscard]] std::vector<cv::Point2d> calibrationGrid(int n, const DisplayGeometry& d);
-// Validation targets placed between the grid points (30 % / 70 %, then the edge midpoints).
-[[nodiscard]] std::vector<cv::Point2d> validationTargets(int n, const DisplayGeometry& d);
+// Validation targets placed between the grid points (30 % / 70 %, then the edge midpoints),
+// leaving out any point of `grid`.
+[[nodiscard]] std::vector<cv::Point2d> validationTargets(int n, const DisplayGeometry& d,
+                                                         const std::vector<cv::Point2d>& grid);
 
 class GazeSchedule {
 public:

@@ -148,11 +148,72 @@ TEST(Cli, PointSetJsonAndBadValues) {
 }
 
 TEST(Cli, HelpOnEverySubcommand) {
-    for (const char* sub : {"", "render ", "pointset ", "devices ", "scenes "}) {
+    for (const char* sub :
+         {"", "render ", "pointset ", "devices ", "scenes ", "eyesim ", "track ", "calibrate "}) {
         const Result r = run(std::string(sub) + "--help");
         EXPECT_EQ(r.status, 0) << sub;
         EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
     }
+}
+
+TEST(Cli, EyesimTrackCalibrateEndToEnd) {
+    const auto dir = std::filesystem::temp_directory_path() / "gazetrace_cli_eye";
+    std::filesystem::create_directories(dir);
+    const std::string clip = (dir / "clip.mkv").string(), truth = (dir / "truth.csv").string();
+    const Result sim = run("eyesim --seed 7 --frames 650 --target-ms 400 --size 160x120 --out " +
+                           clip + " --truth " + truth + " --json");
+    ASSERT_EQ(sim.status, 0) << sim.err;
+    const Result track = run("track --source video:" + clip + " --truth " + truth + " --pupils " +
+                             (dir / "pupils.csv").string() + " --json");
+    ASSERT_EQ(track.status, 0) << track.err;
+    const auto t = nlohmann::json::parse(track.out);
+    EXPECT_EQ(t.at("frames"), 650);
+    EXPECT_GE(t.at("detection_rate_5px").get<double>(), 0.95);
+    EXPECT_LE(t.at("median_error_px").get<double>(), 1.0);
+    EXPECT_GT(t.at("fps").get<double>(), 0.0);
+    EXPECT_EQ(
+        slurp(dir / "pupils.csv").rfind("frame,t_ms,cx,cy,axis_a,axis_b,angle_deg,confidence\n", 0),
+        0u);
+    EXPECT_EQ(lines(slurp(dir / "pupils.csv")), 651);
+
+    const std::string calib = (dir / "calib.json").string();
+    const Result cal = run("calibrate --source video:" + clip + " --targets " + truth +
+                           " --settle-ms 250 --out " + calib + " --json");
+    ASSERT_EQ(cal.status, 0) << cal.err;
+    const auto c = nlohmann::json::parse(cal.out);
+    EXPECT_EQ(c.at("calibration_targets"), 9);
+    EXPECT_GT(c.at("validation_samples").get<int>(), 0);
+    EXPECT_LT(c.at("accuracy_deg").get<double>(), 1.5);
+
+    const Result gaze = run("track --source video:" + clip + " --calibration " + calib + " --out " +
+                            (dir / "gaze.csv").string() + " --json");
+    ASSERT_EQ(gaze.status, 0) << gaze.err;
+    EXPECT_EQ(slurp(dir / "gaze.csv").rfind("t_ms,x,y\n", 0), 0u);
+
+    // Bad inputs: one line naming the thing, nothing half-written.
+    const auto pupils = dir / "bad_pupils.csv";
+    expectCleanFailure(
+        run("track --source video:" + (dir / "nope.mkv").string() + " --pupils " + pupils.string()),
+        "nope.mkv", pupils);
+    const auto size = std::filesystem::file_size(clip);
+    std::filesystem::copy_file(clip, dir / "cut.mkv",
+                               std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::resize_file(dir / "cut.mkv", size / 3);
+    expectCleanFailure(
+        run("track --source video:" + (dir / "cut.mkv").string() + " --pupils " + pupils.string()),
+        "cut.mkv", pupils);
+    std::ofstream(dir / "bad.json") << R"({"format":"gazetrace-calibration","version":1})";
+    expectCleanFailure(run("track --source video:" + clip + " --calibration " +
+                           (dir / "bad.json").string() + " --out " + (dir / "g2.csv").string()),
+                       "bad.json", dir / "g2.csv");
+    std::ofstream(dir / "targets.csv") << "t_ms,target_x\n0,1\n";
+    expectCleanFailure(run("calibrate --source video:" + clip + " --targets " +
+                           (dir / "targets.csv").string() + " --out " + (dir / "c2.json").string()),
+                       "target_y", dir / "c2.json");
+    expectCleanFailure(
+        run("track --source v4l2:/dev/video_gazetrace_missing --pupils " + pupils.string()),
+        "/dev/video_gazetrace_missing", pupils);
+    std::filesystem::remove_all(dir);
 }
 
 } // namespace

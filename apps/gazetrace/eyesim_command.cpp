@@ -1,0 +1,74 @@
+#include <cstdio>
+#include <filesystem>
+
+#include <opencv2/videoio.hpp>
+
+#include "core/error.hpp"
+#include "eye_commands.hpp"
+#include "io/atomic_file.hpp"
+#include "io/csv_tables.hpp"
+#include "sim/synthetic_eye.hpp"
+
+namespace gt::app {
+
+namespace {
+
+cv::Size parseSize(const std::string& s) {
+    int w = 0, h = 0;
+    char x = 0;
+    if (std::sscanf(s.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x' || w < 32 || h < 24 ||
+        w > 4096 || h > 4096)
+        throw ArgumentError("--size " + s + ": expected WxH between 32x24 and 4096x4096");
+    return {w, h};
+}
+
+} // namespace
+
+nlohmann::json runEyesim(const EyesimOptions& o) {
+    eyetrack::EyeSimConfig c;
+    c.seed = o.seed;
+    c.frames = o.frames;
+    c.size = parseSize(o.size);
+    c.fps = o.fps;
+    c.schedule.calibrationPoints = o.grid;
+    c.schedule.targetMs = o.targetMs;
+    eyetrack::applyPreset(c, o.preset);
+    const eyetrack::SyntheticEye eye(c);
+
+    const std::filesystem::path video(o.out);
+    std::string ext = video.extension().string();
+    if (ext != ".mkv" && ext != ".avi")
+        throw ArgumentError("--out " + o.out + ": use .mkv or .avi (lossless FFV1)");
+    std::error_code ec;
+    if (video.has_parent_path() && !std::filesystem::is_directory(video.parent_path(), ec))
+        throw ArgumentError("--out " + o.out + ": folder " + video.parent_path().string() +
+                            " does not exist");
+    // The container is chosen from the extension, so the temporary keeps it.
+    const std::filesystem::path temp =
+        video.parent_path() / (video.stem().string() + ".partial" + ext);
+    eyetrack::AtomicFile truth(o.truth);
+    truth.stream() << eyetrack::truthHeader() << "\n";
+    {
+        cv::VideoWriter writer(temp.string(), cv::CAP_FFMPEG,
+                               cv::VideoWriter::fourcc('F', 'F', 'V', '1'), c.fps, c.size, false);
+        if (!writer.isOpened())
+            throw ArgumentError("--out " + o.out + ": cannot open a lossless FFV1 writer");
+        for (int f = 0; f < c.frames; ++f) {
+            eyetrack::EyeTruth t;
+            const cv::Mat image = eye.render(f, &t);
+            writer.write(image);
+            truth.stream() << eyetrack::truthRow(t) << "\n";
+        }
+    }
+    std::filesystem::rename(temp, video, ec);
+    if (ec) {
+        std::filesystem::remove(temp, ec);
+        throw ArgumentError("--out " + o.out + ": cannot be written");
+    }
+    truth.commit();
+    return {{"frames", c.frames}, {"width", c.size.width}, {"height", c.size.height},
+            {"fps", c.fps},       {"preset", o.preset},    {"seed", o.seed},
+            {"video", o.out},     {"truth", o.truth}};
+}
+
+} // namespace gt::app

@@ -1,0 +1,153 @@
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <optional>
+
+#include <opencv2/core/utility.hpp>
+
+#include "capture/frame_source.hpp"
+#include "core/error.hpp"
+#include "eye_commands.hpp"
+#include "gaze/calibration.hpp"
+#include "gaze/gaze_filter.hpp"
+#include "gaze/gaze_mailbox.hpp"
+#include "io/atomic_file.hpp"
+#include "io/csv_tables.hpp"
+#include "io/udp_emitter.hpp"
+#include "pupil/pupil_detector.hpp"
+
+namespace gt::app {
+
+namespace {
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+
+// A truth row counts as "visible pupil" when at least half the pupil shows between the lids.
+constexpr double kVisibleShare = 0.5;
+
+} // namespace
+
+nlohmann::json runTrack(const TrackOptions& o) {
+    cv::setNumThreads(1); // the detector's budget is one core
+    if (!o.out.empty() && o.calibration.empty())
+        throw ArgumentError(
+            "--out writes screen gaze and needs --calibration (see gazetrace calibrate)");
+    if (!o.emit.empty() && o.calibration.empty())
+        throw ArgumentError(
+            "--emit sends screen gaze and needs --calibration (see gazetrace calibrate)");
+    std::optional<eyetrack::Calibration> calibration;
+    if (!o.calibration.empty()) calibration = eyetrack::Calibration::load(o.calibration);
+    std::optional<eyetrack::CsvTable> truth;
+    if (!o.truth.empty())
+        truth = eyetrack::CsvTable::load(o.truth, {"frame", "cx", "cy", "visibility"});
+    std::unique_ptr<eyetrack::UdpEmitter> emitter;
+    if (!o.emit.empty()) emitter = std::make_unique<eyetrack::UdpEmitter>(o.emit);
+
+    std::unique_ptr<eyetrack::AtomicFile> gazeCsv, pupilCsv;
+    if (!o.out.empty()) {
+        gazeCsv = std::make_unique<eyetrack::AtomicFile>(o.out);
+        gazeCsv->stream() << "t_ms,x,y\n";
+    }
+    if (!o.pupils.empty()) {
+        pupilCsv = std::make_unique<eyetrack::AtomicFile>(o.pupils);
+        pupilCsv->stream() << "frame,t_ms,cx,cy,axis_a,axis_b,angle_deg,confidence\n";
+    }
+
+    auto source = eyetrack::openFrameSource(o.source);
+    eyetrack::PupilDetector detector;
+    std::optional<eyetrack::GazeFilter> filter;
+    if (calibration) {
+        eyetrack::GazeFilterConfig fc;
+        fc.display = calibration->display();
+        filter.emplace(fc);
+    }
+    eyetrack::GazeMailbox mailbox;
+
+    int frames = 0, detected = 0, visible = 0, within5 = 0, saccades = 0;
+    double lastGazeT = -1e300;
+    std::vector<double> errors, latencies;
+    const auto start = std::chrono::steady_clock::now();
+    double busyMs = 0.0;
+    while (o.maxFrames <= 0 || frames < o.maxFrames) {
+        auto frame = source->next();
+        if (!frame) break;
+        const auto begin = std::chrono::steady_clock::now();
+        const eyetrack::PupilResult p = detector.detect(frame->grey);
+        ++frames;
+        if (p.found) ++detected;
+        if (pupilCsv) {
+            auto& s = pupilCsv->stream();
+            s << frame->sequence << ',' << cv::format("%.3f", frame->tMs) << ',';
+            if (p.found)
+                s << cv::format("%.3f,%.3f,%.3f,%.3f,%.2f,%.3f", p.centre().x, p.centre().y,
+                                p.semiMajor(), p.semiMinor(), p.majorAngleDeg(), p.confidence);
+            else
+                s << cv::format(",,,,,%.3f", p.confidence);
+            s << '\n';
+        }
+        if (filter) {
+            const std::optional<cv::Point2d> g =
+                p.found ? std::optional(calibration->map(p.centre())) : std::nullopt;
+            const eyetrack::GazeSample sample = filter->process(frame->tMs, g, p.confidence);
+            mailbox.publish(sample);
+            if (sample.saccade) ++saccades;
+            if (gazeCsv && sample.tMs > lastGazeT) {
+                gazeCsv->stream() << cv::format("%.3f,%.2f,%.2f\n", sample.tMs, sample.x, sample.y);
+                lastGazeT = sample.tMs;
+            }
+            if (emitter) (void)emitter->send(sample);
+        }
+        // Latency: frame timestamp to gaze out on live cameras (same monotonic clock); from the
+        // moment the source handed the frame over for recordings.
+        const auto done = std::chrono::steady_clock::now();
+        busyMs += std::chrono::duration<double, std::milli>(done - begin).count();
+        if (source->liveClock())
+            latencies.push_back(
+                std::chrono::duration<double, std::milli>(done.time_since_epoch()).count() -
+                frame->tMs);
+        else
+            latencies.push_back(
+                std::chrono::duration<double, std::milli>(done - frame->arrival).count());
+
+        if (truth) {
+            const auto row = static_cast<std::size_t>(frame->sequence);
+            if (row < truth->rows() && truth->number(row, "visibility") >= kVisibleShare) {
+                ++visible;
+                if (p.found) {
+                    const double e = std::hypot(p.centre().x - truth->number(row, "cx"),
+                                                p.centre().y - truth->number(row, "cy"));
+                    errors.push_back(e);
+                    if (e <= 5.0) ++within5;
+                }
+            }
+        }
+    }
+    if (frames == 0) throw ArgumentError("--source " + o.source + ": no frames");
+    if (gazeCsv) gazeCsv->commit();
+    if (pupilCsv) pupilCsv->commit();
+    const double wallMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+
+    nlohmann::json j{{"source", source->describe()},
+                     {"frames", frames},
+                     {"detected", detected},
+                     {"dropped_frames", source->droppedFrames()},
+                     {"fps", frames / (busyMs / 1000.0)},
+                     {"fps_with_decoding", frames / (wallMs / 1000.0)},
+                     {"median_latency_ms", median(latencies)}};
+    if (truth) {
+        j["visible_frames"] = visible;
+        j["detection_rate_5px"] = visible ? static_cast<double>(within5) / visible : 0.0;
+        j["median_error_px"] = median(errors);
+    }
+    if (filter) j["saccades"] = saccades;
+    if (const auto last = mailbox.latest()) j["last_gaze"] = {last->x, last->y};
+    return j;
+}
+
+} // namespace gt::app

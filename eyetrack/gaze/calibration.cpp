@@ -1,0 +1,227 @@
+#include "gaze/calibration.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+
+#include <opencv2/core.hpp>
+
+#include "error.hpp"
+#include "io/atomic_file.hpp"
+
+namespace gt::eyetrack {
+
+namespace {
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+
+} // namespace
+
+std::vector<double> Calibration::features(cv::Point2d pupil) const {
+    const double x = (pupil.x - mMean.x) / mScale.x, y = (pupil.y - mMean.y) / mScale.y;
+    if (mX.size() == 4) return {1.0, x, y, x * y};
+    return {1.0, x, y, x * y, x * x, y * y, x * x * y * y};
+}
+
+void Calibration::solve(const std::vector<CalibrationPoint>& points, int terms) {
+    mX.assign(static_cast<std::size_t>(terms), 0.0);
+    mY.assign(static_cast<std::size_t>(terms), 0.0);
+    const int n = static_cast<int>(points.size());
+    cv::Mat a(n, terms, CV_64F), bx(n, 1, CV_64F), by(n, 1, CV_64F);
+    for (int i = 0; i < n; ++i) {
+        const auto f = features(points[static_cast<std::size_t>(i)].pupil);
+        for (int j = 0; j < terms; ++j)
+            a.at<double>(i, j) = f[static_cast<std::size_t>(j)];
+        bx.at<double>(i) = points[static_cast<std::size_t>(i)].target.x;
+        by.at<double>(i) = points[static_cast<std::size_t>(i)].target.y;
+    }
+    // The pupil positions must spread in both directions, or the system is degenerate.
+    cv::Mat w;
+    cv::SVD::compute(a, w, cv::SVD::NO_UV);
+    if (w.at<double>(terms - 1) < 1e-6 * w.at<double>(0))
+        throw CalibrationError(
+            "calibration: pupil positions are degenerate (the eye did not move between targets?)");
+    cv::Mat cx, cy;
+    cv::solve(a, bx, cx, cv::DECOMP_SVD);
+    cv::solve(a, by, cy, cv::DECOMP_SVD);
+    for (int j = 0; j < terms; ++j) {
+        mX[static_cast<std::size_t>(j)] = cx.at<double>(j);
+        mY[static_cast<std::size_t>(j)] = cy.at<double>(j);
+    }
+    mUsed = n;
+}
+
+Calibration Calibration::fit(const std::vector<CalibrationPoint>& points,
+                             const DisplayGeometry& display) {
+    if (points.size() < 5)
+        throw CalibrationError("calibration: need at least 5 targets with a detected pupil, got " +
+                               std::to_string(points.size()));
+    Calibration c;
+    c.mDisplay = display;
+    cv::Point2d mean(0, 0);
+    for (const auto& p : points)
+        mean += p.pupil;
+    mean *= 1.0 / static_cast<double>(points.size());
+    cv::Point2d spread(0, 0);
+    for (const auto& p : points) {
+        spread.x += (p.pupil.x - mean.x) * (p.pupil.x - mean.x);
+        spread.y += (p.pupil.y - mean.y) * (p.pupil.y - mean.y);
+    }
+    spread.x = std::sqrt(spread.x / static_cast<double>(points.size()));
+    spread.y = std::sqrt(spread.y / static_cast<double>(points.size()));
+    if (spread.x < 1e-3 || spread.y < 1e-3)
+        throw CalibrationError(
+            "calibration: pupil positions are degenerate (the eye did not move between targets?)");
+    c.mMean = mean;
+    c.mScale = spread;
+
+    auto termsFor = [](std::size_t n) { return n >= 9 ? 7 : 4; };
+    c.solve(points, termsFor(points.size()));
+
+    // One refit without an outlier (a target the viewer did not look at, a bad detection): for
+    // each target, fit the others and see how well they agree among themselves; the target whose
+    // removal leaves the most consistent fit is dropped if the others predict it badly (more than
+    // max(3 x their median residual, 2 deg)). Judging by the others' fit rather than by the
+    // target's own residual matters: a gross outlier bends a 7-term fit towards itself, and
+    // with 9 targets a corner predicted from the rest is an extrapolation.
+    std::size_t bestDrop = points.size();
+    double bestSpread = 1e300, bestOwnResidual = 0.0, bestMedian = 0.0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        std::vector<CalibrationPoint> others;
+        for (std::size_t k = 0; k < points.size(); ++k)
+            if (k != i) others.push_back(points[k]);
+        if (others.size() < 5) break;
+        Calibration loo = c;
+        try {
+            loo.solve(others, termsFor(others.size()));
+        } catch (const CalibrationError&) {
+            continue;
+        }
+        std::vector<double> residuals;
+        double othersSum = 0.0;
+        for (const auto& p : others) {
+            residuals.push_back(display.angularDistanceDeg(loo.map(p.pupil), p.target));
+            othersSum += residuals.back();
+        }
+        if (othersSum < bestSpread) {
+            bestSpread = othersSum;
+            bestDrop = i;
+            bestOwnResidual =
+                display.angularDistanceDeg(loo.map(points[i].pupil), points[i].target);
+            bestMedian = median(residuals);
+        }
+    }
+    std::vector<CalibrationPoint> kept = points;
+    if (bestDrop < points.size() && bestOwnResidual > std::max(3.0 * bestMedian, 2.0)) {
+        kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(bestDrop));
+        c.mDropped = 1;
+    }
+    c.solve(kept, termsFor(kept.size()));
+    double sum = 0.0;
+    for (const auto& p : kept)
+        sum += display.angularDistanceDeg(c.map(p.pupil), p.target);
+    c.mFitErrorDeg = sum / static_cast<double>(kept.size());
+    return c;
+}
+
+cv::Point2d Calibration::map(cv::Point2d pupil) const {
+    const auto f = features(pupil);
+    cv::Point2d s(0, 0);
+    for (std::size_t j = 0; j < f.size(); ++j) {
+        s.x += mX[j] * f[j];
+        s.y += mY[j] * f[j];
+    }
+    return s;
+}
+
+nlohmann::json Calibration::toJson() const {
+    return {{"format", "gazetrace-calibration"},
+            {"version", kVersion},
+            {"model", mX.size() == 7 ? "poly7" : "poly4"},
+            {"display",
+             {{"width_px", mDisplay.widthPx},
+              {"height_px", mDisplay.heightPx},
+              {"width_cm", mDisplay.widthCm},
+              {"distance_cm", mDisplay.distanceCm}}},
+            {"pupil_mean", {mMean.x, mMean.y}},
+            {"pupil_scale", {mScale.x, mScale.y}},
+            {"coefficients_x", mX},
+            {"coefficients_y", mY},
+            {"points_used", mUsed},
+            {"outliers_dropped", mDropped},
+            {"fit_error_deg", mFitErrorDeg}};
+}
+
+Calibration Calibration::fromJson(const nlohmann::json& j, const std::string& what) {
+    auto bad = [&](const std::string& why) {
+        return FormatError("calibration " + what + ": " + why);
+    };
+    if (!j.is_object()) throw bad("not a JSON object");
+    if (j.value("format", "") != "gazetrace-calibration")
+        throw bad("not a gazetrace calibration (\"format\" is missing or wrong)");
+    if (!j.contains("version") || !j["version"].is_number_integer())
+        throw bad("\"version\" is missing");
+    if (j["version"].get<int>() != kVersion)
+        throw bad("version " + std::to_string(j["version"].get<int>()) +
+                  " is not supported (expected " + std::to_string(kVersion) + ")");
+    Calibration c;
+    try {
+        const std::string model = j.at("model").get<std::string>();
+        const std::size_t terms = model == "poly7" ? 7 : model == "poly4" ? 4 : 0;
+        if (terms == 0) throw bad("unknown model '" + model + "'");
+        const auto& d = j.at("display");
+        c.mDisplay.widthPx = d.at("width_px").get<int>();
+        c.mDisplay.heightPx = d.at("height_px").get<int>();
+        c.mDisplay.widthCm = d.at("width_cm").get<double>();
+        c.mDisplay.distanceCm = d.at("distance_cm").get<double>();
+        const auto mean = j.at("pupil_mean").get<std::vector<double>>();
+        const auto scale = j.at("pupil_scale").get<std::vector<double>>();
+        c.mX = j.at("coefficients_x").get<std::vector<double>>();
+        c.mY = j.at("coefficients_y").get<std::vector<double>>();
+        if (mean.size() != 2 || scale.size() != 2)
+            throw bad("pupil_mean and pupil_scale need two numbers each");
+        if (c.mX.size() != terms || c.mY.size() != terms)
+            throw bad("model " + model + " needs " + std::to_string(terms) +
+                      " coefficients per axis");
+        c.mMean = {mean[0], mean[1]};
+        c.mScale = {scale[0], scale[1]};
+        c.mUsed = j.value("points_used", 0);
+        c.mDropped = j.value("outliers_dropped", 0);
+        c.mFitErrorDeg = j.value("fit_error_deg", 0.0);
+    } catch (const nlohmann::json::exception& e) {
+        throw bad(std::string("missing or mistyped field (") + e.what() + ")");
+    }
+    const auto finite = [](const std::vector<double>& v) {
+        return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+    };
+    if (!finite(c.mX) || !finite(c.mY) || !(c.mScale.x > 0.0) || !(c.mScale.y > 0.0) ||
+        c.mDisplay.widthPx <= 0 || c.mDisplay.heightPx <= 0 || !(c.mDisplay.widthCm > 0.0) ||
+        !(c.mDisplay.distanceCm > 0.0))
+        throw bad("values out of range (non-finite coefficients, or a non-positive scale or "
+                  "display size)");
+    return c;
+}
+
+void Calibration::save(const std::filesystem::path& file) const {
+    AtomicFile out(file);
+    out.stream() << toJson().dump(2) << "\n";
+    out.commit();
+}
+
+Calibration Calibration::load(const std::filesystem::path& file) {
+    std::ifstream in(file);
+    if (!in) throw FormatError("calibration " + file.string() + ": cannot be opened");
+    nlohmann::json j;
+    try {
+        in >> j;
+    } catch (const nlohmann::json::exception&) {
+        throw FormatError("calibration " + file.string() + ": not valid JSON");
+    }
+    return fromJson(j, file.string());
+}
+
+} // namespace gt::eyetrack

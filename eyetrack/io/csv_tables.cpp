@@ -1,0 +1,94 @@
+#include "io/csv_tables.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include <opencv2/core.hpp>
+
+#include "error.hpp"
+
+namespace gt::eyetrack {
+
+std::string truthHeader() {
+    return "frame,t_ms,cx,cy,axis_a,axis_b,angle_deg,visibility,yaw_deg,pitch_deg,target_x,target_"
+           "y,gaze_x,gaze_y,"
+           "phase,target_index,lid_open";
+}
+
+std::string truthRow(const EyeTruth& t) {
+    return cv::format(
+        "%d,%.3f,%.4f,%.4f,%.4f,%.4f,%.3f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.2f,%s,%d,%.3f", t.frame,
+        t.tMs, t.centre.x, t.centre.y, t.axisA, t.axisB, t.angleDeg, t.visibility, t.yawDeg,
+        t.pitchDeg, t.gaze.target.x, t.gaze.target.y, t.gaze.gaze.x, t.gaze.gaze.y,
+        toString(t.gaze.phase), t.gaze.targetIndex, t.gaze.lidOpen);
+}
+
+namespace {
+
+std::vector<std::string> split(const std::string& line) {
+    std::vector<std::string> cells;
+    std::string cell;
+    std::istringstream in(line);
+    while (std::getline(in, cell, ',')) {
+        while (!cell.empty() && (cell.back() == '\r' || cell.back() == ' '))
+            cell.pop_back();
+        while (!cell.empty() && cell.front() == ' ')
+            cell.erase(cell.begin());
+        cells.push_back(cell);
+    }
+    if (!line.empty() && line.back() == ',') cells.emplace_back();
+    return cells;
+}
+
+} // namespace
+
+CsvTable CsvTable::load(const std::filesystem::path& file,
+                        const std::vector<std::string>& required) {
+    std::ifstream in(file);
+    if (!in) throw FormatError(file.string() + ": cannot be opened");
+    CsvTable t;
+    t.mFile = file.string();
+    std::string line;
+    if (!std::getline(in, line) || line.empty())
+        throw FormatError(file.string() + ": empty (expected a header line)");
+    const auto header = split(line);
+    for (std::size_t i = 0; i < header.size(); ++i)
+        t.mIndex[header[i]] = i;
+    for (const auto& r : required)
+        if (!t.mIndex.count(r))
+            throw FormatError(file.string() + ": no '" + r + "' column in the header");
+    int lineNo = 1;
+    while (std::getline(in, line)) {
+        ++lineNo;
+        if (line.empty() || line == "\r") continue;
+        auto cells = split(line);
+        if (cells.size() != header.size())
+            throw FormatError(file.string() + ":" + std::to_string(lineNo) + ": " +
+                              std::to_string(cells.size()) + " fields, the header has " +
+                              std::to_string(header.size()));
+        t.mRows.push_back(std::move(cells));
+        t.mLines.push_back(lineNo);
+    }
+    return t;
+}
+
+const std::string& CsvTable::text(std::size_t row, const std::string& column) const {
+    return mRows.at(row).at(mIndex.at(column));
+}
+
+double CsvTable::number(std::size_t row, const std::string& column) const {
+    const std::string& s = text(row, column);
+    if (s.empty()) return std::numeric_limits<double>::quiet_NaN();
+    try {
+        std::size_t used = 0;
+        const double v = std::stod(s, &used);
+        if (used == s.size() && std::isfinite(v)) return v;
+    } catch (const std::exception&) {
+    }
+    throw FormatError(mFile + ":" + std::to_string(mLines[row]) + ": " + column + " '" + s +
+                      "' is not a number");
+}
+
+} // namespace gt::eyetrack

@@ -1,0 +1,60 @@
+#include "io/udp_emitter.hpp"
+
+#include <arpa/inet.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "error.hpp"
+
+namespace gt::eyetrack {
+
+UdpEmitter::UdpEmitter(const std::string& url) {
+    const std::string prefix = "udp://";
+    auto bad = [&](const std::string& why) { return EyetrackError("--emit " + url + ": " + why); };
+    if (url.rfind(prefix, 0) != 0) throw bad("expected udp://HOST:PORT");
+    const std::string rest = url.substr(prefix.size());
+    const auto colon = rest.rfind(':');
+    if (colon == std::string::npos) throw bad("expected udp://HOST:PORT");
+    std::string host = rest.substr(0, colon);
+    const std::string portText = rest.substr(colon + 1);
+    int port = 0;
+    try {
+        std::size_t used = 0;
+        port = std::stoi(portText, &used);
+        if (used != portText.size()) port = 0;
+    } catch (const std::exception&) {
+        port = 0;
+    }
+    if (port <= 0 || port > 65535) throw bad("port must be 1-65535");
+    if (host == "localhost") host = "127.0.0.1";
+    mTo.sin_family = AF_INET;
+    mTo.sin_port = htons(static_cast<std::uint16_t>(port));
+    if (inet_pton(AF_INET, host.c_str(), &mTo.sin_addr) != 1)
+        throw bad("host must be an IPv4 address or localhost");
+    mSocket = ::socket(AF_INET, SOCK_DGRAM, 0);
+    if (mSocket < 0) throw bad("cannot create a UDP socket");
+}
+
+UdpEmitter::~UdpEmitter() {
+    if (mSocket >= 0) ::close(mSocket);
+}
+
+std::string UdpEmitter::toJson(const GazeSample& s) {
+    return nlohmann::json{{"t_ms", s.tMs},
+                          {"x", s.x},
+                          {"y", s.y},
+                          {"confidence", s.confidence},
+                          {"event", toString(s.event)},
+                          {"saccade_onset", s.saccade}}
+        .dump();
+}
+
+bool UdpEmitter::send(const GazeSample& s) {
+    const std::string text = toJson(s);
+    return ::sendto(mSocket, text.data(), text.size(), 0, reinterpret_cast<const sockaddr*>(&mTo),
+                    sizeof(mTo)) == static_cast<ssize_t>(text.size());
+}
+
+} // namespace gt::eyetrack

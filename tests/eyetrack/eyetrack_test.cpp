@@ -1,0 +1,363 @@
+// The eye tracker on generated data: detector accuracy on synthetic clips, frame sources,
+// calibration, the gaze filter, and bad input.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <arpa/inet.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "capture/file_sources.hpp"
+#include "error.hpp"
+#include "gaze/calibration.hpp"
+#include "gaze/gaze_filter.hpp"
+#include "gaze/recording_calibration.hpp"
+#include "io/udp_emitter.hpp"
+#include "pupil/ellipse_fit.hpp"
+#include "pupil/pupil_detector.hpp"
+#include "sim/synthetic_eye.hpp"
+
+namespace fs = std::filesystem;
+using namespace gt::eyetrack;
+
+namespace {
+
+fs::path tempDir(const std::string& name) {
+    const fs::path d = fs::temp_directory_path() /
+                       ("gazetrace_eyetrack_" + name + "_" + std::to_string(::getpid()));
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+struct DetectionScore {
+    double rate5 = 0.0, medianError = 0.0;
+    int blinkFrames = 0, blinkDetections = 0;
+};
+
+DetectionScore score(EyeSimConfig c, int firstFrame, int count) {
+    SyntheticEye eye(c);
+    PupilDetector det;
+    int visible = 0, ok = 0;
+    DetectionScore s;
+    std::vector<double> errors;
+    for (int f = firstFrame; f < firstFrame + count; ++f) {
+        EyeTruth t;
+        const cv::Mat img = eye.render(f, &t);
+        const PupilResult r = det.detect(img);
+        if (t.visibility < 0.05) {
+            ++s.blinkFrames;
+            if (r.found) ++s.blinkDetections;
+        }
+        if (t.visibility < 0.5) continue;
+        ++visible;
+        if (!r.found) continue;
+        const double e = cv::norm(r.centre() - t.centre);
+        errors.push_back(e);
+        if (e <= 5.0) ++ok;
+    }
+    std::sort(errors.begin(), errors.end());
+    s.rate5 = visible ? static_cast<double>(ok) / visible : 0.0;
+    s.medianError = errors.empty() ? 1e9 : errors[errors.size() / 2];
+    return s;
+}
+
+} // namespace
+
+TEST(EllipseFit, ConicRoundTripAndRansacIgnoresOutliers) {
+    const cv::RotatedRect truth({40.3f, 31.7f}, {30.0f, 20.0f}, 25.0f);
+    const Conic q = Conic::fromEllipse(truth);
+    std::vector<cv::Point2d> pts;
+    for (int i = 0; i < 40; ++i) {
+        const double a = i * 2 * CV_PI / 40, th = 25.0 * CV_PI / 180;
+        const cv::Point2d local(15 * std::cos(a), 10 * std::sin(a));
+        pts.emplace_back(40.3 + local.x * std::cos(th) - local.y * std::sin(th),
+                         31.7 + local.x * std::sin(th) + local.y * std::cos(th));
+        EXPECT_LT(q.sampsonDistance(pts.back()), 1e-4);
+    }
+    for (int i = 0; i < 15; ++i)
+        pts.emplace_back(10.0 + i * 3.0, 10.0); // a straight "eyelid"
+    const auto fit = fitEllipseRansac(pts, {});
+    ASSERT_TRUE(fit);
+    EXPECT_NEAR(fit->ellipse.center.x, 40.3, 1e-3);
+    EXPECT_NEAR(fit->ellipse.center.y, 31.7, 1e-3);
+    EXPECT_EQ(fit->inliers.size(), 40u);
+    const auto e = q.toEllipse();
+    ASSERT_TRUE(e);
+    EXPECT_NEAR(std::max(e->size.width, e->size.height), 30.0, 1e-6);
+}
+
+TEST(PupilDetector, SubPixelOnAnAntiAliasedEllipseOnNoise) {
+    cv::Mat img(240, 320, CV_8U);
+    cv::RNG rng(3);
+    rng.fill(img, cv::RNG::NORMAL, 120, 6);
+    // Drawn at 16x sub-pixel precision: centre (161.37, 118.81).
+    cv::ellipse(img, cv::Point(cvRound(161.37 * 16), cvRound(118.81 * 16)),
+                cv::Size(22 * 16, 17 * 16), 30, 0, 360, cv::Scalar(30), cv::FILLED, cv::LINE_AA, 4);
+    PupilDetector det;
+    const PupilResult r = det.detect(img);
+    ASSERT_TRUE(r.found);
+    EXPECT_LT(cv::norm(r.centre() - cv::Point2d(161.37, 118.81)), 0.5);
+    EXPECT_NEAR(r.semiMajor(), 22.0, 1.0);
+    EXPECT_GT(r.confidence, 0.9);
+}
+
+TEST(PupilDetector, CleanSyntheticClip) {
+    EyeSimConfig c;
+    c.seed = 11;
+    c.frames = 240;
+    applyPreset(c, "clean");
+    const DetectionScore s = score(c, 0, 240);
+    EXPECT_GE(s.rate5, 0.99);
+    EXPECT_LE(s.medianError, 0.5);
+}
+
+TEST(PupilDetector, HardSyntheticClipWithBlinks) {
+    EyeSimConfig c;
+    c.seed = 12;
+    c.frames = 2400;
+    applyPreset(c, "hard");
+    // Free viewing (after the calibration and validation targets), where the blinks are.
+    const DetectionScore s = score(c, 1600, 800);
+    EXPECT_GE(s.rate5, 0.9);
+    EXPECT_LE(s.medianError, 1.0);
+    ASSERT_GT(s.blinkFrames, 10);
+    EXPECT_LE(s.blinkDetections, s.blinkFrames / 5); // confidence falls in blinks
+}
+
+TEST(FrameSources, VideoImagesAndSyntheticAgree) {
+    const fs::path dir = tempDir("sources");
+    EyeSimConfig c;
+    c.frames = 12;
+    c.size = {96, 72};
+    const SyntheticEye eye(c);
+    {
+        cv::VideoWriter w((dir / "clip.mkv").string(), cv::CAP_FFMPEG,
+                          cv::VideoWriter::fourcc('F', 'F', 'V', '1'), 120.0, c.size, false);
+        ASSERT_TRUE(w.isOpened());
+        fs::create_directories(dir / "frames");
+        for (int f = 0; f < c.frames; ++f) {
+            const cv::Mat img = eye.render(f);
+            w.write(img);
+            cv::imwrite((dir / "frames" / cv::format("f%03d.png", f)).string(), img);
+        }
+    }
+    auto video = openFrameSource("video:" + (dir / "clip.mkv").string());
+    auto images = openFrameSource("images:" + (dir / "frames").string());
+    auto synth = openFrameSource("synthetic:1?frames=12&size=96x72");
+    for (int f = 0; f < c.frames; ++f) {
+        auto a = video->next(), b = images->next(), s = synth->next();
+        ASSERT_TRUE(a && b && s) << f;
+        EXPECT_EQ(a->sequence, static_cast<std::uint64_t>(f));
+        EXPECT_NEAR(a->tMs, f * 1000.0 / 120.0, 1e-6);
+        EXPECT_EQ(cv::norm(a->grey, s->grey, cv::NORM_INF), 0.0); // FFV1 is lossless
+        EXPECT_EQ(cv::norm(b->grey, s->grey, cv::NORM_INF), 0.0);
+    }
+    EXPECT_FALSE(video->next());
+    EXPECT_FALSE(images->next());
+    EXPECT_FALSE(synth->next());
+
+    // Truncated: cut the file in half; the good frames come, then a clear error.
+    const auto size = fs::file_size(dir / "clip.mkv");
+    fs::copy_file(dir / "clip.mkv", dir / "cut.mkv");
+    fs::resize_file(dir / "cut.mkv", size / 2);
+    int good = 0;
+    try {
+        auto cut = openFrameSource("video:" + (dir / "cut.mkv").string());
+        while (cut->next())
+            ++good;
+        ADD_FAILURE() << "a truncated video must end in an error, got " << good
+                      << " frames and a clean end";
+    } catch (const CaptureError& e) {
+        EXPECT_NE(std::string(e.what()).find("cut.mkv"), std::string::npos) << e.what();
+    }
+    EXPECT_LT(good, c.frames);
+    fs::remove_all(dir);
+}
+
+TEST(FrameSources, BadSpecsAndFilesGiveClearErrors) {
+    const fs::path dir = tempDir("badsrc");
+    std::ofstream(dir / "empty.mkv").close();
+    std::ofstream(dir / "junk.mkv") << "not a video at all";
+    EXPECT_THROW((void)openFrameSource("video:" + (dir / "missing.mkv").string()), CaptureError);
+    EXPECT_THROW((void)openFrameSource("video:" + (dir / "empty.mkv").string()), CaptureError);
+    EXPECT_THROW(
+        {
+            auto s = openFrameSource("video:" + (dir / "junk.mkv").string());
+            while (s->next()) {
+            }
+        },
+        CaptureError);
+    EXPECT_THROW((void)openFrameSource("images:" + dir.string()), CaptureError); // no images in it
+    EXPECT_THROW((void)openFrameSource("camera0"), CaptureError);
+    EXPECT_THROW((void)openFrameSource("ftp:x"), CaptureError);
+    EXPECT_THROW((void)openFrameSource("synthetic:abc"), CaptureError);
+    EXPECT_THROW((void)openFrameSource("synthetic:1?preset=soft"), EyetrackError);
+    fs::remove_all(dir);
+}
+
+TEST(Calibration, RecoversAKnownPolynomialMapping) {
+    DisplayGeometry d;
+    // A mapping inside the model: screen = poly(pupil), quadratic with a cross term.
+    auto truth = [](cv::Point2d p) {
+        const double x = (p.x - 160) / 30, y = (p.y - 120) / 25;
+        return cv::Point2d(960 + 700 * x + 40 * x * x - 25 * x * y + 10 * y,
+                           540 + 420 * y + 30 * y * y + 15 * x * y - 8 * x);
+    };
+    std::vector<CalibrationPoint> pts;
+    for (double gy : {-1.0, 0.0, 1.0})
+        for (double gx : {-1.0, 0.0, 1.0}) {
+            const cv::Point2d pupil(160 + 30 * gx, 120 + 25 * gy);
+            pts.push_back({pupil, truth(pupil)});
+        }
+    pts.push_back({{175, 130}, truth({175, 130}) + cv::Point2d(300, 0)}); // an outlier target
+    const Calibration c = Calibration::fit(pts, d);
+    EXPECT_EQ(c.outliersDropped(), 1);
+    EXPECT_EQ(c.terms(), 7);
+    for (const cv::Point2d p :
+         {cv::Point2d(150, 110), cv::Point2d(170, 131), cv::Point2d(185, 100)})
+        EXPECT_LT(cv::norm(c.map(p) - truth(p)), 1.0) << p;
+
+    // JSON round trip and rejection of malformed files.
+    const fs::path dir = tempDir("calib");
+    c.save(dir / "c.json");
+    const Calibration back = Calibration::load(dir / "c.json");
+    EXPECT_LT(cv::norm(back.map({150, 110}) - c.map({150, 110})), 1e-6);
+    auto reject = [&](const std::string& text, const std::string& reason) {
+        std::ofstream(dir / "bad.json") << text;
+        try {
+            (void)Calibration::load(dir / "bad.json");
+            ADD_FAILURE() << "accepted: " << text;
+        } catch (const FormatError& e) {
+            EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
+        }
+    };
+    reject("{not json", "not valid JSON");
+    reject("[1,2]", "not a JSON object");
+    nlohmann::json j = c.toJson();
+    j["version"] = 99;
+    reject(j.dump(), "version 99 is not supported");
+    j = c.toJson();
+    j["coefficients_x"] = {1.0, 2.0};
+    reject(j.dump(), "needs 7 coefficients");
+    j = c.toJson();
+    j.erase("display");
+    reject(j.dump(), "missing or mistyped field");
+    EXPECT_THROW((void)Calibration::fit({pts.begin(), pts.begin() + 3}, d), CalibrationError);
+    fs::remove_all(dir);
+}
+
+TEST(Calibration, FromASyntheticRecording) {
+    EyeSimConfig c;
+    c.seed = 21;
+    c.frames = 1000; // 9 calibration + 4 validation targets of 600 ms at 120 fps = 936 frames
+    c.schedule.targetMs = 600.0;
+    applyPreset(c, "clean");
+    SyntheticSource source(c);
+    std::vector<ScheduledTarget> rows;
+    for (int f = 0; f < c.frames; ++f) {
+        const GazeState g = source.eye().schedule().at(source.eye().frameTimeMs(f));
+        rows.push_back({source.eye().frameTimeMs(f), g.target, g.phase, g.targetIndex});
+    }
+    PupilDetector det;
+    const auto r = calibrateFromRecording(source, TargetSchedule::fromRows(rows),
+                                          c.schedule.display, 300.0, det);
+    EXPECT_EQ(r.calibrationTargets, 9);
+    EXPECT_EQ(r.validationTargets, 4);
+    EXPECT_LT(r.accuracyDeg, 1.0);
+    EXPECT_LT(r.precisionDeg, 0.1);
+}
+
+TEST(GazeFilter, SaccadeOnsetJumpsAtOnceAndFixationIsSmoothed) {
+    GazeFilterConfig cfg;
+    GazeFilter f(cfg);
+    cv::RNG rng(5);
+    double tMs = 0.0;
+    std::vector<double> raw, out;
+    for (int i = 0; i < 120; ++i, tMs += 1000.0 / 120.0) {
+        const cv::Point2d g(500 + rng.gaussian(1.5), 400 + rng.gaussian(1.5)); // ~0.04 deg
+        const GazeSample s = f.process(tMs, g, 1.0);
+        EXPECT_FALSE(s.saccade) << i;
+        EXPECT_EQ(s.event, GazeEvent::Fixation);
+        if (i > 30) {
+            raw.push_back(g.x);
+            out.push_back(s.x);
+        }
+    }
+    auto stddev = [](const std::vector<double>& v) {
+        double m = 0, q = 0;
+        for (double x : v)
+            m += x;
+        m /= static_cast<double>(v.size());
+        for (double x : v)
+            q += (x - m) * (x - m);
+        return std::sqrt(q / static_cast<double>(v.size()));
+    };
+    EXPECT_LT(stddev(out), 0.5 * stddev(raw)); // One Euro smooths fixation jitter
+    // A 20-degree jump: the first sample flags the onset and is not smoothed at all.
+    const GazeSample jump = f.process(tMs, cv::Point2d(1500, 400), 1.0);
+    EXPECT_TRUE(jump.saccade);
+    EXPECT_EQ(jump.event, GazeEvent::Saccade);
+    EXPECT_FLOAT_EQ(jump.x, 1500.0f);
+    const GazeSample next = f.process(tMs + 8.3, cv::Point2d(1501, 401), 1.0);
+    EXPECT_FALSE(next.saccade);
+    EXPECT_NEAR(next.x, 1501.0, 0.5); // restarted at the landing point
+}
+
+TEST(GazeFilter, BlinksHoldTheLastGazeAndSlowPursuitIsNotASaccade) {
+    GazeFilter f(GazeFilterConfig{});
+    (void)f.process(0, cv::Point2d(800, 500), 1.0);
+    const GazeSample held = f.process(8, std::nullopt, 0.0);
+    EXPECT_EQ(held.event, GazeEvent::Blink);
+    EXPECT_FLOAT_EQ(held.x, 800.0f);
+    EXPECT_EQ(f.process(16, cv::Point2d(810, 500), 0.2).event,
+              GazeEvent::Blink); // below the confidence gate
+    // Pursuit at ~10 deg/s (ppd ~ 40 px/deg: 3.3 px per 8.3 ms) stays below the I-VT threshold.
+    double x = 800;
+    for (int i = 0; i < 60; ++i) {
+        x += 3.3;
+        EXPECT_NE(f.process(24 + i * 8.33, cv::Point2d(x, 500), 1.0).event, GazeEvent::Saccade);
+    }
+}
+
+TEST(UdpEmitter, SendsOneJsonObjectPerSample) {
+    const int rx = ::socket(AF_INET, SOCK_DGRAM, 0);
+    ASSERT_GE(rx, 0);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ASSERT_EQ(::bind(rx, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)), 0);
+    socklen_t len = sizeof(addr);
+    ASSERT_EQ(::getsockname(rx, reinterpret_cast<sockaddr*>(&addr), &len), 0);
+    timeval tv{2, 0};
+    ::setsockopt(rx, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof(tv));
+    UdpEmitter tx("udp://127.0.0.1:" + std::to_string(ntohs(addr.sin_port)));
+    GazeSample s;
+    s.tMs = 12.5;
+    s.x = 100.0f;
+    s.y = 200.0f;
+    s.confidence = 0.9f;
+    s.saccade = true;
+    s.event = GazeEvent::Saccade;
+    ASSERT_TRUE(tx.send(s));
+    char buf[512];
+    const auto n = ::recv(rx, buf, sizeof(buf), 0);
+    ::close(rx);
+    ASSERT_GT(n, 0);
+    const auto j = nlohmann::json::parse(std::string(buf, static_cast<std::size_t>(n)));
+    EXPECT_DOUBLE_EQ(j.at("t_ms").get<double>(), 12.5);
+    EXPECT_EQ(j.at("event"), "saccade");
+    EXPECT_EQ(j.at("saccade_onset"), true);
+    EXPECT_THROW(UdpEmitter("tcp://1.2.3.4:5"), EyetrackError);
+    EXPECT_THROW(UdpEmitter("udp://example.com:5"), EyetrackError);
+    EXPECT_THROW(UdpEmitter("udp://127.0.0.1:99999"), EyetrackError);
+}
