@@ -42,5 +42,6 @@ struct CalibrateOptions {
 nlohmann::json runEyesim(const EyesimOptions& options);
 nlohmann::json runTrack(const TrackOptions& options);
 nlohmann::json runCalibrate(const CalibrateOptions& options);
+nlohmann::json runEyeBench();
 
 } // namespace gt::app

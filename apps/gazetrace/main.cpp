@@ -127,6 +127,12 @@ int main(int argc, char** argv) {
     benchCmd->add_option("--scene", bench.scene, "Scene for the headline comparison")
         ->capture_default_str();
     benchCmd->add_option("--cache", bench.cacheDir, "Point-set cache folder");
+    std::string benchSuite = "render";
+    benchCmd
+        ->add_option("--suite", benchSuite,
+                     "render (thesis tables, headline) | eye (pupil detection speed)")
+        ->check(CLI::IsMember({"render", "eye"}))
+        ->capture_default_str();
 
     gt::app::EyesimOptions eyesim;
     CLI::App* eyesimCmd =
@@ -234,7 +240,10 @@ int main(int argc, char** argv) {
             const nlohmann::json result = gt::app::runPointSet(pointset);
             std::cout << (pointsetJson ? result.dump() : result.dump(2)) << std::endl;
         } else if (benchCmd->parsed()) {
-            (void)gt::app::runBench(bench);
+            if (benchSuite == "eye")
+                (void)gt::app::runEyeBench();
+            else
+                (void)gt::app::runBench(bench);
         } else if (eyesimCmd->parsed()) {
             const nlohmann::json result = gt::app::runEyesim(eyesim);
             if (eyesimJson) std::cout << result.dump() << std::endl;

@@ -1,0 +1,47 @@
+// `gazetrace bench --suite eye`: pupil detection speed on one core (Google Benchmark), on
+// pre-rendered 320x240 synthetic frames, clean and hard.
+#include <cstdio>
+
+#include <benchmark/benchmark.h>
+#include <opencv2/core/utility.hpp>
+
+#include "eye_commands.hpp"
+#include "pupil/pupil_detector.hpp"
+#include "sim/synthetic_eye.hpp"
+
+namespace gt::app {
+
+nlohmann::json runEyeBench() {
+    cv::setNumThreads(1); // one core, as the target says
+    nlohmann::json result;
+    for (const char* preset : {"clean", "hard"}) {
+        eyetrack::EyeSimConfig c;
+        c.seed = 5;
+        c.frames = 2400;
+        eyetrack::applyPreset(c, preset);
+        const eyetrack::SyntheticEye eye(c);
+        std::vector<cv::Mat> frames;
+        for (int f = 0; f < c.frames; f += 10)
+            frames.push_back(eye.render(f)); // all phases, blinks included
+        const std::string name = std::string("pupil_detect/320x240/") + preset;
+        benchmark::RegisterBenchmark(name.c_str(), [frames](benchmark::State& st) {
+            eyetrack::PupilDetector detector;
+            std::size_t i = 0;
+            for (auto _ : st) {
+                benchmark::DoNotOptimize(detector.detect(frames[i]));
+                i = (i + 1) % frames.size();
+            }
+            st.counters["fps"] = benchmark::Counter(static_cast<double>(st.iterations()),
+                                                    benchmark::Counter::kIsRate);
+        })->Unit(benchmark::kMicrosecond);
+    }
+    int argc = 1;
+    char arg0[] = "gazetrace";
+    char* argv[] = {arg0, nullptr};
+    benchmark::Initialize(&argc, argv);
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::ClearRegisteredBenchmarks();
+    return result;
+}
+
+} // namespace gt::app
