@@ -144,7 +144,8 @@ Allocation Allocator::allocate(const VkMemoryRequirements& requirements, MemoryU
     // Dedicated block, sized to the request.
     const uint32_t i = createBlock(type, alignUp(requirements.size, mGranularity), true);
     if (!tryAllocateFrom(i, requirements, out)) {
-        throw VulkanError(VK_ERROR_OUT_OF_DEVICE_MEMORY, "dedicated allocation", __FILE__, __LINE__);
+        throw VulkanError(VK_ERROR_OUT_OF_DEVICE_MEMORY, "dedicated allocation", __FILE__,
+                          __LINE__);
     }
     return out;
 }

@@ -6,7 +6,7 @@
 GT_NAMESPACE_BEGIN(foveated)
 
 // point_sample: the eight scene bindings (trace_shared.h), then:
-GT_CONST kBindingPoints = 9;  // samplerBuffer RGBA32F: canvas x, y, spacing p, 0
+GT_CONST kBindingPoints = 9;   // samplerBuffer RGBA32F: canvas x, y, spacing p, 0
 GT_CONST kBindingSamples = 10; // buffer of vec4: mean radiance rgb, first-hit distance
 GT_CONST kSampleGroupSize = 64;
 
@@ -20,11 +20,11 @@ struct PointSamplePush {
 };
 
 // interpolate:
-GT_CONST kBindingInterpPoints = 0;    // samplerBuffer RGBA32F (as kBindingPoints)
-GT_CONST kBindingInterpSamples = 1;   // buffer of vec4 (as kBindingSamples)
-GT_CONST kBindingNearest = 2;         // usamplerBuffer R32UI: nearest point per canvas pixel
-GT_CONST kBindingNeighbours = 3;      // usamplerBuffer R32UI: kMax neighbours per point
-GT_CONST kBindingInterpOutput = 4;    // image2D rgba32f
+GT_CONST kBindingInterpPoints = 0;  // samplerBuffer RGBA32F (as kBindingPoints)
+GT_CONST kBindingInterpSamples = 1; // buffer of vec4 (as kBindingSamples)
+GT_CONST kBindingNearest = 2;       // usamplerBuffer R32UI: nearest point per canvas pixel
+GT_CONST kBindingNeighbours = 3;    // usamplerBuffer R32UI: kMax neighbours per point
+GT_CONST kBindingInterpOutput = 4;  // image2D rgba32f
 GT_CONST kInterpGroupX = 8;
 GT_CONST kInterpGroupY = 8;
 GT_CONST kMaxK = 20;
@@ -59,7 +59,7 @@ GT_CONST kBindingSolveNeighbours = 2; // usamplerBuffer R32UI
 GT_CONST kBindingSolveLambdaR = 3;    // buffer of float, k per point
 GT_CONST kBindingSolveLambdaG = 4;
 GT_CONST kBindingSolveLambdaB = 5;
-GT_CONST kBindingSolveInverse = 6;    // samplerBuffer RGBA32F: per point, the k x k inverse
+GT_CONST kBindingSolveInverse = 6; // samplerBuffer RGBA32F: per point, the k x k inverse
 GT_CONST kSolveGroupSize = 64;
 GT_CONST kKernelMultiquadric = 0; // phi(r) = sqrt(r^2 + c^2)  (thesis eq. 10)
 GT_CONST kKernelGaussian = 1;     // phi(r) = exp(-(r / c)^2)   (thesis eq. 9, c as a length)

@@ -10,7 +10,7 @@ GT_CONST kGroupSizeX = 8;
 GT_CONST kGroupSizeY = 8;
 
 struct ReferencePush {
-    vec4 origin;  // camera, as trace::CameraPush
+    vec4 origin; // camera, as trace::CameraPush
     vec4 forward;
     vec4 right;
     vec4 up;

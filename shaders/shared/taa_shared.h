@@ -19,7 +19,8 @@ struct TaaPush {
     vec4 previousOrigin;
     vec4 previousForward;
     vec4 previousRight;
-    vec4 params; // x = blend weight of the current frame, y = clip gamma, z = reset, w = depth tolerance
+    vec4 params; // x = blend weight of the current frame, y = clip gamma, z = reset, w = depth
+                 // tolerance
 };
 
 GT_NAMESPACE_END

@@ -32,10 +32,10 @@ GT_CONST kLightDirectional = 2;
 
 // std140-compatible: vec4 members only.
 struct SceneUniforms {
-    vec4 skyHorizon; // rgb, w = ambient share
-    vec4 skyZenith;  // rgb, w = exposure
-    vec4 skyGround;  // rgb, w unused
-    uvec4 counts;    // x = lights, y = materials, z = textures, w = triangles
+    vec4 skyHorizon;   // rgb, w = ambient share
+    vec4 skyZenith;    // rgb, w = exposure
+    vec4 skyGround;    // rgb, w unused
+    uvec4 counts;      // x = lights, y = materials, z = textures, w = triangles
     uvec4 environment; // x = width, y = height (0: none, use the sky gradient)
 };
 
