@@ -16,16 +16,11 @@
 #include "io/csv_tables.hpp"
 #include "io/udp_emitter.hpp"
 #include "pupil/pupil_detector.hpp"
+#include "stats.hpp"
 
 namespace gt::app {
 
 namespace {
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
 
 // A truth row counts as "visible pupil" when at least half the pupil shows between the lids.
 constexpr double kVisibleShare = 0.5;
@@ -139,11 +134,11 @@ nlohmann::json runTrack(const TrackOptions& o) {
                      {"dropped_frames", source->droppedFrames()},
                      {"fps", frames / (busyMs / 1000.0)},
                      {"fps_with_decoding", frames / (wallMs / 1000.0)},
-                     {"median_latency_ms", median(latencies)}};
+                     {"median_latency_ms", eyetrack::median(latencies)}};
     if (truth) {
         j["visible_frames"] = visible;
         j["detection_rate_5px"] = visible ? static_cast<double>(within5) / visible : 0.0;
-        j["median_error_px"] = median(errors);
+        j["median_error_px"] = eyetrack::median(errors);
     }
     if (filter) j["saccades"] = saccades;
     if (const auto last = mailbox.latest()) j["last_gaze"] = {last->x, last->y};

@@ -28,7 +28,6 @@ VideoFileSource::VideoFileSource(const std::filesystem::path& file) : mFile(file
 
 std::optional<Frame> VideoFileSource::next() {
     cv::Mat image;
-    const double posMs = mCapture.get(cv::CAP_PROP_POS_MSEC);
     if (!mCapture.read(image) || image.empty()) {
         if (mNext == 0)
             throw CaptureError("video " + mFile.string() +
@@ -44,9 +43,10 @@ std::optional<Frame> VideoFileSource::next() {
     Frame f;
     f.grey = toGrey(image);
     f.sequence = mNext;
-    // The decoder's position for this frame; fall back to the frame rate.
-    const double after = mCapture.get(cv::CAP_PROP_POS_MSEC);
-    f.tMs = mFps > 0.0 ? static_cast<double>(mNext) * 1000.0 / mFps : (after > 0.0 ? after : posMs);
+    // The file's frame rate places each frame exactly (container timestamps are often rounded to
+    // whole milliseconds); without one, the decoder's position of this frame.
+    f.tMs = mFps > 0.0 ? static_cast<double>(mNext) * 1000.0 / mFps
+                       : mCapture.get(cv::CAP_PROP_POS_MSEC);
     f.arrival = std::chrono::steady_clock::now();
     ++mNext;
     return f;

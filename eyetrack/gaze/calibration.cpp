@@ -8,18 +8,9 @@
 
 #include "error.hpp"
 #include "io/atomic_file.hpp"
+#include "stats.hpp"
 
 namespace gt::eyetrack {
-
-namespace {
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
-
-} // namespace
 
 std::vector<double> Calibration::features(cv::Point2d pupil) const {
     const double x = (pupil.x - mMean.x) / mScale.x, y = (pupil.y - mMean.y) / mScale.y;

@@ -6,15 +6,11 @@
 
 #include "error.hpp"
 #include "io/csv_tables.hpp"
+#include "stats.hpp"
 
 namespace gt::eyetrack {
 
 namespace {
-
-double median(std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
 
 constexpr double kMinConfidence = 0.6;
 

@@ -62,6 +62,19 @@ double percentile(const cv::Mat& img, cv::Rect outer, cv::Rect hole, double q) {
     return 255.0;
 }
 
+// Calls fn(point, unit outward normal) at `count` evenly spaced parameter angles on an ellipse.
+template <typename Fn> void forEachOutlinePoint(const cv::RotatedRect& e, int count, Fn&& fn) {
+    const double th = e.angle * std::numbers::pi / 180.0;
+    const cv::Point2d u(std::cos(th), std::sin(th)), v(-std::sin(th), std::cos(th));
+    const double a = 0.5 * e.size.width, b = 0.5 * e.size.height;
+    const cv::Point2d c(e.center.x, e.center.y);
+    for (int k = 0; k < count; ++k) {
+        const double phi = (k + 0.5) * 2.0 * std::numbers::pi / count;
+        const cv::Point2d n = u * (std::cos(phi) / a) + v * (std::sin(phi) / b);
+        fn(c + u * (a * std::cos(phi)) + v * (b * std::sin(phi)), n * (1.0 / cv::norm(n)));
+    }
+}
+
 cv::Rect boxAround(cv::Point2d c, double half) {
     const int h = std::max(1, static_cast<int>(std::lround(half)));
     return {static_cast<int>(std::lround(c.x)) - h, static_cast<int>(std::lround(c.y)) - h,
@@ -240,21 +253,13 @@ double PupilDetector::outsideLevel(const cv::Mat& grey, const cv::RotatedRect& e
     // Median grey level a few pixels outside the ellipse, glints excluded: the iris next to the
     // pupil, whatever lies further out.
     constexpr int kSamples = 48;
-    const double th = e.angle * std::numbers::pi / 180.0;
-    const cv::Point2d u(std::cos(th), std::sin(th)), v(-std::sin(th), std::cos(th));
-    const double a = 0.5 * e.size.width, b = 0.5 * e.size.height;
-    const double d = std::max(2.5, 0.2 * std::min(a, b));
+    const double d = std::max(2.5, 0.1 * std::min(e.size.width, e.size.height));
     std::vector<double> values;
     values.reserve(kSamples);
-    for (int k = 0; k < kSamples; ++k) {
-        const double phi = (k + 0.5) * 2.0 * std::numbers::pi / kSamples;
-        const cv::Point2d p =
-            cv::Point2d(e.center.x, e.center.y) + u * (a * std::cos(phi)) + v * (b * std::sin(phi));
-        cv::Point2d n = u * (std::cos(phi) / a) + v * (std::sin(phi) / b);
-        n *= 1.0 / cv::norm(n);
+    forEachOutlinePoint(e, kSamples, [&](cv::Point2d p, cv::Point2d n) {
         const double out = sample(grey, p.x + d * n.x, p.y + d * n.y);
         if (out >= 0.0 && out < lv.glint) values.push_back(out);
-    }
+    });
     if (values.size() < kSamples / 4) return -1.0;
     std::nth_element(values.begin(),
                      values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
@@ -264,28 +269,20 @@ double PupilDetector::outsideLevel(const cv::Mat& grey, const cv::RotatedRect& e
 double PupilDetector::outlineSupport(const cv::Mat& grey, const cv::RotatedRect& e,
                                      const Levels& lv) const {
     constexpr int kSamples = 48;
-    const double th = e.angle * std::numbers::pi / 180.0;
-    const cv::Point2d u(std::cos(th), std::sin(th)), v(-std::sin(th), std::cos(th));
-    const double a = 0.5 * e.size.width, b = 0.5 * e.size.height;
-    const double d = std::max(1.5, 0.12 * std::min(a, b));
+    const double d = std::max(1.5, 0.06 * std::min(e.size.width, e.size.height));
     const double need = 0.3 * (lv.surround - lv.pupil);
     int supported = 0, counted = 0;
-    for (int k = 0; k < kSamples; ++k) {
-        const double phi = (k + 0.5) * 2.0 * std::numbers::pi / kSamples;
-        const cv::Point2d p =
-            cv::Point2d(e.center.x, e.center.y) + u * (a * std::cos(phi)) + v * (b * std::sin(phi));
-        cv::Point2d n = u * (std::cos(phi) / a) + v * (std::sin(phi) / b);
-        n *= 1.0 / cv::norm(n);
+    forEachOutlinePoint(e, kSamples, [&](cv::Point2d p, cv::Point2d n) {
         const double in = sample(grey, p.x - d * n.x, p.y - d * n.y);
         const double out = sample(grey, p.x + d * n.x, p.y + d * n.y);
         if (in < 0.0 || out < 0.0) {
             ++counted; // outside the image: unsupported
-            continue;
+            return;
         }
-        if (out >= lv.glint) continue; // a glint on the boundary: neither for nor against
+        if (out >= lv.glint) return; // a glint on the boundary: neither for nor against
         ++counted;
         if (out - in > need && in < lv.threshold) ++supported;
-    }
+    });
     return counted > 0 ? static_cast<double>(supported) / counted : 0.0;
 }
 
