@@ -27,8 +27,9 @@ void Calibration::solve(const std::vector<CalibrationPoint>& points, int terms) 
         const auto f = features(points[static_cast<std::size_t>(i)].pupil);
         for (int j = 0; j < terms; ++j)
             a.at<double>(i, j) = f[static_cast<std::size_t>(j)];
-        bx.at<double>(i) = points[static_cast<std::size_t>(i)].target.x;
-        by.at<double>(i) = points[static_cast<std::size_t>(i)].target.y;
+        const cv::Point2d angles = mDisplay.anglesDeg(points[static_cast<std::size_t>(i)].target);
+        bx.at<double>(i) = angles.x;
+        by.at<double>(i) = angles.y;
     }
     // The pupil positions must spread in both directions, or the system is degenerate.
     cv::Mat w;
@@ -120,6 +121,10 @@ Calibration Calibration::fit(const std::vector<CalibrationPoint>& points,
 }
 
 cv::Point2d Calibration::map(cv::Point2d pupil) const {
+    return mDisplay.pixelAtDeg(mapToAnglesDeg(pupil));
+}
+
+cv::Point2d Calibration::mapToAnglesDeg(cv::Point2d pupil) const {
     const auto f = features(pupil);
     cv::Point2d s(0, 0);
     for (std::size_t j = 0; j < f.size(); ++j) {
@@ -133,6 +138,7 @@ nlohmann::json Calibration::toJson() const {
     return {{"format", "gazetrace-calibration"},
             {"version", kVersion},
             {"model", mX.size() == 7 ? "poly7" : "poly4"},
+            {"outputs", "gaze_angles_deg"}, // yaw, pitch of DisplayGeometry::anglesDeg
             {"display",
              {{"width_px", mDisplay.widthPx},
               {"height_px", mDisplay.heightPx},

@@ -29,6 +29,18 @@ struct DisplayGeometry {
         return {yaw * 180.0 / std::numbers::pi, pitch * 180.0 / std::numbers::pi};
     }
 
+    // The inverse of anglesDeg: the screen point seen at these gaze angles (|angle| < 90 deg).
+    [[nodiscard]] cv::Point2d pixelAtDeg(cv::Point2d angles) const {
+        constexpr double kLimit = 89.0; // a wild extrapolation must not reach tan's pole
+        const double rad = std::numbers::pi / 180.0;
+        const double yaw = std::clamp(angles.x, -kLimit, kLimit) * rad;
+        const double pitch = std::clamp(angles.y, -kLimit, kLimit) * rad;
+        const double x = distanceCm * std::tan(yaw);
+        const double y = std::hypot(x, distanceCm) * std::tan(pitch);
+        const double k = cmPerPixel();
+        return {0.5 * widthPx + x / k, 0.5 * heightPx - y / k};
+    }
+
     // Angle (degrees) between the lines of sight to two screen points.
     [[nodiscard]] double angularDistanceDeg(cv::Point2d a, cv::Point2d b) const {
         const double k = cmPerPixel();
