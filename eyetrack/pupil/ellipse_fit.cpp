@@ -125,12 +125,41 @@ std::uint64_t splitmix(std::uint64_t& s) {
     return z ^ (z >> 31);
 }
 
+// Inlier test: near the curve and, where the gradient is known, facing the same way as the
+// outward normal. Inside an ellipse the conic has the sign of its value at the centre.
+struct InlierTest {
+    const Conic& q;
+    double outward; // +1 when grad Q points outwards, -1 when inwards
+    const RansacEllipseParams& params;
+    std::span<const cv::Point2d> gradients;
+
+    bool operator()(std::span<const cv::Point2d> points, std::size_t i) const {
+        // |Q| / |grad Q| < tol without the square root: this runs for every point in every
+        // RANSAC iteration, the detector's innermost loop.
+        const cv::Point2d p = points[i];
+        const cv::Point2d n = q.gradient(p);
+        const double g2 = n.x * n.x + n.y * n.y, v = q.value(p);
+        const double tol = params.inlierDistance;
+        if (!(v * v < tol * tol * g2)) return false;
+        if (gradients.empty()) return true;
+        const cv::Point2d g = gradients[i];
+        const double along = outward * (n.x * g.x + n.y * g.y);
+        return (g.x == 0.0 && g.y == 0.0) || along > params.minNormalCos * std::sqrt(g2);
+    }
+};
+
+double outwardSign(const Conic& q, const cv::RotatedRect& e) {
+    return q.value(cv::Point2d(e.center.x, e.center.y)) < 0.0 ? 1.0 : -1.0;
+}
+
 } // namespace
 
 std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
-                                           const RansacEllipseParams& params) {
+                                           const RansacEllipseParams& params,
+                                           std::span<const cv::Point2d> gradients) {
     const std::size_t n = points.size();
     if (n < 6) return std::nullopt;
+    if (!gradients.empty() && gradients.size() != n) gradients = {};
     std::uint64_t state = params.seed;
     std::vector<int> best, current;
     for (int it = 0; it < params.iterations; ++it) {
@@ -150,9 +179,9 @@ std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
         const auto el = conic->toEllipse();
         if (!el || !plausible(*el, params)) continue;
         current.clear();
+        const InlierTest inlier{*conic, outwardSign(*conic, *el), params, gradients};
         for (std::size_t i = 0; i < n; ++i)
-            if (conic->sampsonDistance(points[i]) < params.inlierDistance)
-                current.push_back(static_cast<int>(i));
+            if (inlier(points, i)) current.push_back(static_cast<int>(i));
         if (current.size() > best.size()) best.swap(current);
     }
     if (best.size() < 6) return std::nullopt;
@@ -168,10 +197,10 @@ std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
         fit.ellipse = cv::fitEllipseDirect(pts);
         if (!plausible(fit.ellipse, params)) return std::nullopt;
         const Conic q = Conic::fromEllipse(fit.ellipse);
+        const InlierTest inlier{q, outwardSign(q, fit.ellipse), params, gradients};
         std::vector<int> again;
         for (std::size_t i = 0; i < n; ++i)
-            if (q.sampsonDistance(points[i]) < params.inlierDistance)
-                again.push_back(static_cast<int>(i));
+            if (inlier(points, i)) again.push_back(static_cast<int>(i));
         if (again.size() < 6) break;
         best.swap(again);
     }

@@ -5,7 +5,11 @@
 // Sampson distance (first-order geometric distance |Q(p)| / |grad Q(p)|), then a least-squares
 // refit on the consensus set with OpenCV's direct ellipse fit (Fitzgibbon et al. 1999, which can
 // only return ellipses). Świrski et al. 2012 use the same idea for pupils; edges from eyelids,
-// lashes and glints are the outliers it removes.
+// lashes and glints are the outliers it removes. Like Świrski's, an inlier must also agree in
+// direction: its image gradient (dark pupil -> bright surround) must point along the ellipse's
+// outward normal, so edge points of an eyelid or lash that happen to lie near a candidate curve
+// (their gradient points across the lid, not away from the pupil) do not vote for it. The test
+// costs nothing measurable: the distance check is done without a square root.
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -24,6 +28,9 @@ struct Conic {
     }
     // First-order geometric distance from p to the curve.
     [[nodiscard]] double sampsonDistance(cv::Point2d p) const;
+    [[nodiscard]] cv::Point2d gradient(cv::Point2d p) const {
+        return {2.0 * a * p.x + b * p.y + d, b * p.x + 2.0 * c * p.y + e};
+    }
     [[nodiscard]] bool isEllipse() const { return b * b - 4.0 * a * c < 0.0; }
     // Centre, full axes and angle (OpenCV's RotatedRect convention); nullopt if not an ellipse.
     [[nodiscard]] std::optional<cv::RotatedRect> toEllipse() const;
@@ -39,6 +46,7 @@ struct RansacEllipseParams {
     double minAxis = 2.0;        // full axis length bounds, pixels
     double maxAxis = 1e9;
     double minAxisRatio = 0.4; // minor / major (a pupil seen 66 deg off-axis)
+    double minNormalCos = 0.8; // edge gradient vs outward normal: at most ~37 deg apart
     std::uint64_t seed = 1;
 };
 
@@ -47,7 +55,10 @@ struct EllipseFit {
     std::vector<int> inliers; // indices into the points
 };
 
-[[nodiscard]] std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
-                                                         const RansacEllipseParams& params);
+// `gradients`, when given, holds each point's unit image gradient (pointing from dark to bright;
+// a zero vector when unknown), and inliers must agree with the ellipse's outward normal.
+[[nodiscard]] std::optional<EllipseFit>
+fitEllipseRansac(std::span<const cv::Point2d> points, const RansacEllipseParams& params,
+                 std::span<const cv::Point2d> gradients = {});
 
 } // namespace gt::eyetrack

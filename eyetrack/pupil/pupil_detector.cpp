@@ -75,6 +75,16 @@ template <typename Fn> void forEachOutlinePoint(const cv::RotatedRect& e, int co
     }
 }
 
+// Direction of the image gradient at p by central differences (zero when flat or at the border).
+cv::Point2d unitGradient(const cv::Mat& img, cv::Point2d p) {
+    const double l = sample(img, p.x - 1.0, p.y), r = sample(img, p.x + 1.0, p.y);
+    const double u = sample(img, p.x, p.y - 1.0), d = sample(img, p.x, p.y + 1.0);
+    if (l < 0.0 || r < 0.0 || u < 0.0 || d < 0.0) return {0.0, 0.0};
+    const cv::Point2d g(r - l, d - u);
+    const double len = std::hypot(g.x, g.y);
+    return len > 1.0 ? g * (1.0 / len) : cv::Point2d(0.0, 0.0);
+}
+
 cv::Rect boxAround(cv::Point2d c, double half) {
     const int h = std::max(1, static_cast<int>(std::lround(half)));
     return {static_cast<int>(std::lround(c.x)) - h, static_cast<int>(std::lround(c.y)) - h,
@@ -174,6 +184,7 @@ bool PupilDetector::measureLevels(const cv::Mat& grey, const Candidate& c, Level
 void PupilDetector::castRays(const cv::Mat& grey, cv::Point2d from, double maxDistance,
                              const Levels& lv) {
     mEdgePoints.clear();
+    mEdgeGradients.clear();
     constexpr double kStep = 0.5;
     const int n = mConfig.rays;
     for (int i = 0; i < n; ++i) {
@@ -225,7 +236,11 @@ void PupilDetector::castRays(const cv::Mat& grey, cv::Point2d from, double maxDi
                 bool glint = false;
                 for (double s = -1.0; s <= 3.0 && !glint; s += 1.0)
                     glint = isGlint(grey, from + dir * (tEdge + s), lv);
-                if (!glint) mEdgePoints.push_back(from + dir * tEdge);
+                if (!glint) {
+                    const cv::Point2d e = from + dir * tEdge;
+                    mEdgePoints.push_back(e);
+                    mEdgeGradients.push_back(unitGradient(grey, e));
+                }
                 break;
             }
             prev = v;
@@ -266,12 +281,12 @@ double PupilDetector::outsideLevel(const cv::Mat& grey, const cv::RotatedRect& e
     return values[values.size() / 2];
 }
 
-double PupilDetector::outlineSupport(const cv::Mat& grey, const cv::RotatedRect& e,
-                                     const Levels& lv) const {
+PupilDetector::Support PupilDetector::outlineSupport(const cv::Mat& grey, const cv::RotatedRect& e,
+                                                     const Levels& lv) const {
     constexpr int kSamples = 48;
     const double d = std::max(1.5, 0.06 * std::min(e.size.width, e.size.height));
     const double need = 0.3 * (lv.surround - lv.pupil);
-    int supported = 0, counted = 0;
+    int supported = 0, counted = 0, covered = 0;
     forEachOutlinePoint(e, kSamples, [&](cv::Point2d p, cv::Point2d n) {
         const double in = sample(grey, p.x - d * n.x, p.y - d * n.y);
         const double out = sample(grey, p.x + d * n.x, p.y + d * n.y);
@@ -281,16 +296,26 @@ double PupilDetector::outlineSupport(const cv::Mat& grey, const cv::RotatedRect&
         }
         if (out >= lv.glint) return; // a glint on the boundary: neither for nor against
         ++counted;
-        if (out - in > need && in < lv.threshold) ++supported;
+        if (out - in > need && in < lv.threshold)
+            ++supported;
+        else if (in >= lv.threshold && out >= lv.threshold)
+            ++covered;
     });
-    return counted > 0 ? static_cast<double>(supported) / counted : 0.0;
+    Support s;
+    if (counted > 0) s.all = static_cast<double>(supported) / counted;
+    // At least half the outline must be in view to be judged on the visible part alone.
+    const int visible = counted - covered;
+    s.visible =
+        2 * visible >= counted && visible > 0 ? static_cast<double>(supported) / visible : s.all;
+    return s;
 }
 
-PupilResult PupilDetector::refine(const cv::Mat& grey, const Candidate& c, double minR,
-                                  double maxR) {
-    PupilResult result;
+PupilDetector::Refined PupilDetector::refine(const cv::Mat& grey, const Candidate& c, double minR,
+                                             double maxR) {
+    Refined refined;
+    PupilResult& result = refined.result;
     Levels lv;
-    if (!measureLevels(grey, c, lv)) return result;
+    if (!measureLevels(grey, c, lv)) return refined;
     RansacEllipseParams rp;
     rp.iterations = mConfig.ransacIterations;
     rp.inlierDistance = mConfig.inlierDistance;
@@ -299,8 +324,8 @@ PupilResult PupilDetector::refine(const cv::Mat& grey, const Candidate& c, doubl
     rp.seed = mFrame * 7919u + 1u;
 
     castRays(grey, c.centre, 2.5 * c.radius, lv);
-    auto fit = fitEllipseRansac(mEdgePoints, rp);
-    if (!fit) return result;
+    auto fit = fitEllipseRansac(mEdgePoints, rp, mEdgeGradients);
+    if (!fit) return refined;
     // Second pass from the fitted centre: rays now meet the boundary at even spacing.
     const cv::Point2d centre(fit->ellipse.center.x, fit->ellipse.center.y);
     const double major = 0.5 * std::max(fit->ellipse.size.width, fit->ellipse.size.height);
@@ -311,11 +336,13 @@ PupilResult PupilDetector::refine(const cv::Mat& grey, const Candidate& c, doubl
     }
     castRays(grey, centre, 1.6 * major + 3.0, lv);
     rp.seed += 1;
-    if (auto second = fitEllipseRansac(mEdgePoints, rp)) fit = second;
+    if (auto second = fitEllipseRansac(mEdgePoints, rp, mEdgeGradients)) fit = second;
 
     result.ellipse = fit->ellipse;
-    result.confidence = outlineSupport(grey, fit->ellipse, lv);
-    return result;
+    const Support support = outlineSupport(grey, fit->ellipse, lv);
+    result.confidence = support.all;
+    refined.visibleSupport = support.visible;
+    return refined;
 }
 
 double PupilDetector::sizeConsistency(double semiMajor) const {
@@ -342,14 +369,17 @@ PupilResult PupilDetector::detect(const cv::Mat& grey) {
     PupilResult best;
     double bestScore = 0.0;
     for (const Candidate& c : mCandidates) {
-        PupilResult r = refine(grey, c, minR, maxR);
+        auto [r, visibleSupport] = refine(grey, c, minR, maxR);
         if (r.confidence <= 0.0) continue;
         // Size consistency (PuReST): the pupil's size changes slowly, so an ellipse far from the
         // recent pupil size (a gap between lashes during a blink) loses confidence.
-        r.confidence *= sizeConsistency(r.semiMajor());
-        // Selection score: confidence, weighed towards pupil-sized ellipses (dark gaps between
-        // lashes make small, high-contrast ellipses) and towards last frame's pupil.
-        double score = r.confidence * (0.6 + 0.4 * std::min(1.0, r.semiMinor() / (0.06 * side)));
+        const double consistency = sizeConsistency(r.semiMajor());
+        r.confidence *= consistency;
+        // Selection score: support of the visible outline, weighed towards pupil-sized ellipses
+        // (dark gaps between lashes make small, high-contrast ellipses) and towards last frame's
+        // pupil.
+        double score = visibleSupport * consistency *
+                       (0.6 + 0.4 * std::min(1.0, r.semiMinor() / (0.06 * side)));
         if (haveLast &&
             cv::norm(r.centre() - mLast.centre()) < std::max(5.0, 0.5 * mLast.semiMajor()))
             score *= 1.2;

@@ -76,14 +76,25 @@ private:
     void findCandidates(const cv::Mat& grey, double minR, double maxR);
     [[nodiscard]] bool measureLevels(const cv::Mat& grey, const Candidate& c, Levels& levels) const;
     void castRays(const cv::Mat& grey, cv::Point2d from, double maxDistance, const Levels& levels);
-    [[nodiscard]] PupilResult refine(const cv::Mat& grey, const Candidate& c, double minR,
-                                     double maxR);
+    // Share of the fitted outline with a dark inside and a brighter outside: `all` counts every
+    // sample (the reported confidence, which falls under occlusion); `visible` leaves out the
+    // samples where the outline runs through something bright on both sides (an eyelid over the
+    // pupil), so candidates are compared on what can be seen: an ellipse shrunk to hug the lid's
+    // edge otherwise outscores the true, partly covered pupil.
+    struct Support {
+        double all = 0.0, visible = 0.0;
+    };
+    struct Refined {
+        PupilResult result;
+        double visibleSupport = 0.0;
+    };
+    [[nodiscard]] Refined refine(const cv::Mat& grey, const Candidate& c, double minR, double maxR);
     [[nodiscard]] bool isGlint(const cv::Mat& grey, cv::Point2d p, const Levels& levels) const;
     [[nodiscard]] double outsideLevel(const cv::Mat& grey, const cv::RotatedRect& e,
                                       const Levels& levels) const;
     [[nodiscard]] double sizeConsistency(double semiMajor) const;
-    [[nodiscard]] double outlineSupport(const cv::Mat& grey, const cv::RotatedRect& e,
-                                        const Levels& levels) const;
+    [[nodiscard]] Support outlineSupport(const cv::Mat& grey, const cv::RotatedRect& e,
+                                         const Levels& levels) const;
 
     PupilDetectorConfig mConfig;
     std::uint64_t mFrame = 0;
@@ -94,6 +105,7 @@ private:
     cv::Mat mSmall, mIntegral, mFullIntegral;
     std::vector<Candidate> mCandidates, mHeap;
     std::vector<cv::Point2d> mEdgePoints;
+    std::vector<cv::Point2d> mEdgeGradients; // unit, dark -> bright; zero when flat
 };
 
 } // namespace gt::eyetrack

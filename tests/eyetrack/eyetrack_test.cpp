@@ -96,6 +96,30 @@ TEST(EllipseFit, ConicRoundTripAndRansacIgnoresOutliers) {
     EXPECT_NEAR(std::max(e->size.width, e->size.height), 30.0, 1e-6);
 }
 
+TEST(EllipseFit, GradientDirectionRejectsABrightBlobsOutline) {
+    // A dark pupil (gradients point outwards) and, beside it, a bright blob with more edge points
+    // whose gradients point inwards. By distance alone the blob wins; by direction the pupil.
+    std::vector<cv::Point2d> pts, grads;
+    auto ring = [&](cv::Point2d c, double a, double b, int n, double sign) {
+        for (int i = 0; i < n; ++i) {
+            const double t = i * 2 * CV_PI / n;
+            pts.emplace_back(c.x + a * std::cos(t), c.y + b * std::sin(t));
+            const cv::Point2d g(std::cos(t) / a, std::sin(t) / b); // the outward normal
+            grads.push_back(sign * g * (1.0 / cv::norm(g)));
+        }
+    };
+    ring({30, 30}, 12, 9, 30, +1.0);
+    ring({70, 35}, 14, 11, 45, -1.0);
+    const auto byDistance = fitEllipseRansac(pts, {});
+    ASSERT_TRUE(byDistance);
+    EXPECT_NEAR(byDistance->ellipse.center.x, 70.0, 0.05);
+    const auto byDirection = fitEllipseRansac(pts, {}, grads);
+    ASSERT_TRUE(byDirection);
+    EXPECT_NEAR(byDirection->ellipse.center.x, 30.0, 0.05);
+    EXPECT_NEAR(byDirection->ellipse.center.y, 30.0, 0.05);
+    EXPECT_EQ(byDirection->inliers.size(), 30u);
+}
+
 TEST(PupilDetector, SubPixelOnAnAntiAliasedEllipseOnNoise) {
     cv::Mat img(240, 320, CV_8U);
     cv::RNG rng(3);
