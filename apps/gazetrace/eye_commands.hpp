@@ -25,10 +25,12 @@ struct TrackOptions {
     std::string source;
     std::string calibration;
     std::string truth;
-    std::string out;    // gaze CSV (t_ms,x,y)
-    std::string pupils; // per-frame pupil CSV
-    std::string emit;   // udp://host:port
-    int maxFrames = 0;  // 0: all
+    std::string out;          // gaze CSV (t_ms,x,y)
+    std::string pupils;       // per-frame pupil CSV
+    std::string emit;         // udp://host:port
+    std::string contactSheet; // PNG of every sheetEvery-th frame with its fitted pupil
+    int sheetEvery = 25;
+    int maxFrames = 0; // 0: all
 };
 
 struct CalibrateOptions {

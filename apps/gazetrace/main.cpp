@@ -180,6 +180,10 @@ int main(int argc, char** argv) {
                          "Gaze CSV t_ms,x,y (replays with render --gaze-trace)");
     trackCmd->add_option("--pupils", track.pupils, "Per-frame pupil CSV");
     trackCmd->add_option("--emit", track.emit, "Send each gaze sample as JSON to udp://HOST:PORT");
+    trackCmd->add_option("--contact-sheet", track.contactSheet,
+                         "PNG of every --sheet-every-th frame (up to 48) with the fitted pupil");
+    trackCmd->add_option("--sheet-every", track.sheetEvery, "Frames between contact-sheet tiles")
+        ->check(CLI::Range(1, 1000000));
     trackCmd->add_option("--max-frames", track.maxFrames, "Stop after this many frames")
         ->check(CLI::Range(0, 100000000));
     trackCmd->add_flag("--json", trackJson, "Print a JSON summary on stdout");

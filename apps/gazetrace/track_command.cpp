@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <optional>
 
@@ -13,6 +14,7 @@
 #include "gaze/gaze_filter.hpp"
 #include "gaze/gaze_mailbox.hpp"
 #include "io/atomic_file.hpp"
+#include "io/contact_sheet.hpp"
 #include "io/csv_tables.hpp"
 #include "io/udp_emitter.hpp"
 #include "pupil/pupil_detector.hpp"
@@ -35,6 +37,17 @@ nlohmann::json runTrack(const TrackOptions& o) {
     if (!o.emit.empty() && o.calibration.empty())
         throw ArgumentError(
             "--emit sends screen gaze and needs --calibration (see gazetrace calibrate)");
+    std::optional<eyetrack::ContactSheet> sheet;
+    if (!o.contactSheet.empty()) {
+        // Checked before a long recording is processed, not after.
+        const std::filesystem::path png(o.contactSheet);
+        if (png.extension() != ".png")
+            throw ArgumentError("--contact-sheet " + o.contactSheet + ": must end in .png");
+        if (png.has_parent_path() && !std::filesystem::is_directory(png.parent_path()))
+            throw ArgumentError("--contact-sheet " + o.contactSheet + ": folder " +
+                                png.parent_path().string() + " does not exist");
+        sheet.emplace(o.sheetEvery);
+    }
     std::optional<eyetrack::Calibration> calibration;
     if (!o.calibration.empty()) calibration = eyetrack::Calibration::load(o.calibration);
     std::optional<eyetrack::CsvTable> truth;
@@ -75,6 +88,7 @@ nlohmann::json runTrack(const TrackOptions& o) {
         const eyetrack::PupilResult p = detector.detect(frame->grey);
         ++frames;
         if (p.found) ++detected;
+        if (sheet) sheet->add(frame->grey, p, frame->sequence);
         if (pupilCsv) {
             auto& s = pupilCsv->stream();
             s << frame->sequence << ',' << cv::format("%.3f", frame->tMs) << ',';
@@ -125,6 +139,7 @@ nlohmann::json runTrack(const TrackOptions& o) {
     if (frames == 0) throw ArgumentError("--source " + o.source + ": no frames");
     if (gazeCsv) gazeCsv->commit();
     if (pupilCsv) pupilCsv->commit();
+    if (sheet) sheet->write(o.contactSheet);
     const double wallMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
@@ -141,6 +156,7 @@ nlohmann::json runTrack(const TrackOptions& o) {
         j["median_error_px"] = eyetrack::median(errors);
     }
     if (filter) j["saccades"] = saccades;
+    if (sheet) j["contact_sheet_tiles"] = sheet->tiles();
     if (const auto last = mailbox.latest()) j["last_gaze"] = {last->x, last->y};
     return j;
 }

@@ -1,5 +1,6 @@
 // `gazetrace render` end to end: the JSON summary, and bad inputs that must give one clear
 // line on stderr, a non-zero exit and no output file.
+#include <cstdint>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -57,8 +58,11 @@ void expectCleanFailure(const Result& r, const std::string& mention,
     EXPECT_NE(r.err.find(mention), std::string::npos) << r.err;
     EXPECT_EQ(lines(r.err), 1) << "expected one line, got: " << r.err;
     EXPECT_FALSE(std::filesystem::exists(out)) << out << " was left behind";
+    if (!std::filesystem::is_directory(out.parent_path())) return;
     for (const auto& e : std::filesystem::directory_iterator(out.parent_path())) {
-        EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+        const std::string name = e.path().filename().string();
+        EXPECT_EQ(name.find(".tmp"), std::string::npos) << e.path(); // the engine's temporaries
+        EXPECT_EQ(name.find(".partial"), std::string::npos) << e.path(); // the eye tracker's
     }
 }
 
@@ -164,10 +168,24 @@ TEST(Cli, EyesimTrackCalibrateEndToEnd) {
                            clip + " --truth " + truth + " --json");
     ASSERT_EQ(sim.status, 0) << sim.err;
     const Result track = run("track --source video:" + clip + " --truth " + truth + " --pupils " +
-                             (dir / "pupils.csv").string() + " --json");
+                             (dir / "pupils.csv").string() + " --contact-sheet " +
+                             (dir / "sheet.png").string() + " --sheet-every 100 --json");
     ASSERT_EQ(track.status, 0) << track.err;
     const auto t = nlohmann::json::parse(track.out);
     EXPECT_EQ(t.at("frames"), 650);
+    EXPECT_EQ(t.at("contact_sheet_tiles"), 7); // frames 0, 100, ..., 600
+    // The PNG's IHDR: six 160x120 tiles a row, two rows.
+    const std::string png = slurp(dir / "sheet.png");
+    ASSERT_GT(png.size(), 24u);
+    EXPECT_EQ(png.substr(1, 3), "PNG");
+    auto be32 = [&png](std::size_t at) {
+        std::uint32_t v = 0;
+        for (std::size_t i = 0; i < 4; ++i)
+            v = v << 8 | static_cast<unsigned char>(png[at + i]);
+        return v;
+    };
+    EXPECT_EQ(be32(16), 6u * 160u);
+    EXPECT_EQ(be32(20), 2u * 120u);
     EXPECT_GE(t.at("detection_rate_5px").get<double>(), 0.95);
     EXPECT_LE(t.at("median_error_px").get<double>(), 1.0);
     EXPECT_GT(t.at("fps").get<double>(), 0.0);
@@ -202,6 +220,12 @@ TEST(Cli, EyesimTrackCalibrateEndToEnd) {
     expectCleanFailure(
         run("track --source video:" + (dir / "cut.mkv").string() + " --pupils " + pupils.string()),
         "cut.mkv", pupils);
+    expectCleanFailure(run("track --source video:" + clip + " --contact-sheet " +
+                           (dir / "no_such_dir" / "sheet.png").string()),
+                       "no_such_dir", dir / "no_such_dir" / "sheet.png");
+    expectCleanFailure(
+        run("track --source video:" + clip + " --contact-sheet " + (dir / "sheet.jpg").string()),
+        "sheet.jpg", dir / "sheet.jpg");
     std::ofstream(dir / "bad.json") << R"({"format":"gazetrace-calibration","version":1})";
     expectCleanFailure(run("track --source video:" + clip + " --calibration " +
                            (dir / "bad.json").string() + " --out " + (dir / "g2.csv").string()),
