@@ -10,6 +10,7 @@
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "point_sample/point_sample.hpp"
+#include "rbf_solve/rbf_solve.hpp"
 #include "readback/readback.hpp"
 #include "reference/reference.hpp"
 #include "scene/bvh.hpp"
@@ -43,6 +44,7 @@ struct RenderSession::Impl {
     std::optional<passes::InterpolatePass> interpolate;
     std::optional<passes::RbfSolvePass> rbfSolve;
     std::optional<foveation::GpuRbfInverse> rbfInverse; // for the last RBF settings used
+    RbfPrepared rbfPrepared;
 
     const foveation::GpuRbfInverse& inverseFor(const passes::InterpolateSettings& s) {
         const auto kernel = s.kernel == passes::RbfKernel::Gaussian
@@ -54,6 +56,8 @@ struct RenderSession::Impl {
             const foveation::RbfInverse inv =
                 foveation::buildRbfInverse(*points, *neighbours, s.k, kernel, s.rbfShape);
             rbfInverse.emplace(*ctx, inv);
+            rbfPrepared = {inv.seconds * 1e3,
+                           static_cast<double>(inv.inverse.size() * sizeof(float)) / 1e6};
         }
         return *rbfInverse;
     }
@@ -183,6 +187,10 @@ FrameResult RenderSession::reference(uint32_t w, uint32_t h, uint32_t spp, uint3
         m.warmReference = true;
     }
     return m.run(add, w, h, pixels, dot, *m.pool);
+}
+
+RbfPrepared RenderSession::rbfPrepared() const {
+    return mImpl->rbfPrepared;
 }
 
 FrameResult RenderSession::foveated(const FoveatedSettings& s, bool pixels, bool dot) {

@@ -37,6 +37,12 @@ struct FoveatedSettings {
     bool saccade = false; // the eye tracker reported a saccade: drop the TAA history
 };
 
+// The one-off cost of RBF's precomputed inverses (built on the CPU when the settings change).
+struct RbfPrepared {
+    double ms = 0.0;
+    double mb = 0.0;
+};
+
 class RenderSession {
 public:
     RenderSession(const std::string& sceneSpec, bool validate);
@@ -61,6 +67,8 @@ public:
     FrameResult reference(uint32_t w, uint32_t h, uint32_t spp, uint32_t seed, bool pixels,
                           bool dot = false);
     FrameResult foveated(const FoveatedSettings& s, bool pixels, bool dot = false);
+    // For the RBF settings of the last foveated RBF frame.
+    [[nodiscard]] RbfPrepared rbfPrepared() const;
 
 private:
     struct Impl;

@@ -1,6 +1,7 @@
 #pragma once
 // Pass `interpolate` (seed 000, 4.3): rebuilds the full image from the sampled points with
-// nearest neighbour or the Modified Shepard method over the k nearest points.
+// nearest neighbour, the Modified Shepard method over the k nearest points, or radial basis
+// functions from the weights pass `rbf_solve` wrote.
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -42,21 +43,6 @@ struct RbfWeights {
 [[nodiscard]] Interpolation parseInterpolation(const std::string& name); // nn | msm | rbf
 [[nodiscard]] RbfKernel parseKernel(const std::string& name);            // multiquadric | gaussian
 [[nodiscard]] Interpolation parseView(const std::string& name); // points | cells | eccentricity
-
-// Pass `rbf_solve` (thesis eqs. 7-8): the RBF weights of every sampled point's neighbourhood.
-class RbfSolvePass {
-public:
-    explicit RbfSolvePass(vk::Context& ctx);
-    ~RbfSolvePass();
-    // `inverse` must have been built for the settings' k, kernel and shape.
-    RbfWeights add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
-                   const foveation::GpuRbfInverse& inverse, rg::BufferId samples, glm::vec2 gaze,
-                   const InterpolateSettings& s) const;
-
-private:
-    vk::Context& mCtx;
-    std::unique_ptr<vk::ComputePipeline> mPipeline;
-};
 
 class InterpolatePass {
 public:

@@ -7,6 +7,7 @@
 #include "foveation/point_set.hpp"
 #include "interpolate/interpolate.hpp"
 #include "point_sample/point_sample.hpp"
+#include "rbf_solve/rbf_solve.hpp"
 #include "readback/readback.hpp"
 #include "reference/reference.hpp"
 #include "render_graph/render_graph.hpp"
