@@ -139,6 +139,23 @@ nlohmann::json runBench(const BenchOptions& o) {
     benchmark::RunSpecifiedBenchmarks();
     benchmark::ClearRegisteredBenchmarks();
 
+    // Why time_ratio trails ray_ratio: a ray's cost depends on what it meets, and the foveated
+    // rays crowd around the gaze. point_sample's GPU time per ray (1 ray per point) with the
+    // gaze at the centre and halfway to two opposite corners, beside the reference's average.
+    nlohmann::json perRay = nlohmann::json::array();
+    for (const glm::vec2 g : {centre, 0.5f * centre, 1.5f * centre}) {
+        FoveatedSettings s = fov(passes::Interpolation::Nearest, 1, 1);
+        s.gaze = g;
+        s.taa = false;
+        std::vector<double> ms;
+        for (int i = 0; i < frames; ++i)
+            ms.push_back(passMs(session.foveated(s, false), "point_sample"));
+        const auto points = static_cast<double>(session.pointsSampled(g));
+        perRay.push_back({{"gaze", {g.x, g.y}},
+                          {"points_sampled", points},
+                          {"point_sample_us_per_ray", 1e3 * median(ms) / points}});
+    }
+
     nlohmann::json table2json = nlohmann::json::array();
     for (const auto& [name, settings] : table2) {
         table2json.push_back(
@@ -169,6 +186,8 @@ nlohmann::json runBench(const BenchOptions& o) {
                             {"reference_rays", pixels * rays},
                             {"foveated_rays", sampled * rays},
                             {"ray_ratio", pixels / sampled},
+                            {"reference_us_per_ray", 1e3 * refMs / (pixels * rays)},
+                            {"foveated_us_per_ray", 1e3 * fovMs / (sampled * rays)},
                             {"time_ratio", fovMs > 0 ? refMs / fovMs : 0.0},
                             {"frames", samples[ref].size()}});
     }
@@ -192,6 +211,7 @@ nlohmann::json runBench(const BenchOptions& o) {
           {"thesis", {{"total", 576775}, {"centred_percent", 72.86}, {"corner_percent", 26.68}}}}},
         {"table2", table2json},
         {"headline", headline},
+        {"ray_cost_by_gaze", perRay},
         {"neighbour_index",
          {{"build_ms", session.neighbourIndexMs()},
           {"mb", session.neighbourIndexMb()},
@@ -218,6 +238,17 @@ nlohmann::json runBench(const BenchOptions& o) {
                     r["foveated_ms"].get<double>(), r["ray_ratio"].get<double>(),
                     r["time_ratio"].get<double>());
     }
+    std::printf("Cost per ray, whole frame / point_sample at 1 ray (it depends on where the "
+                "rays go):\n");
+    for (const auto& r : headline)
+        std::printf("  %3u ray(s): reference %.3f us, foveated %.3f us\n",
+                    r["rays_per_pixel_and_point"].get<uint32_t>(),
+                    r["reference_us_per_ray"].get<double>(),
+                    r["foveated_us_per_ray"].get<double>());
+    for (const auto& r : perRay)
+        std::printf("  point_sample, gaze (%4.0f, %4.0f): %.3f us per ray\n",
+                    r["gaze"][0].get<double>(), r["gaze"][1].get<double>(),
+                    r["point_sample_us_per_ray"].get<double>());
     if (!o.json.empty()) {
         const std::filesystem::path tmp = o.json + ".tmp";
         {

@@ -164,7 +164,8 @@ Calibration Calibration::fromJson(const nlohmann::json& j, const std::string& wh
         throw bad("\"version\" is missing");
     if (j["version"].get<int>() != kVersion)
         throw bad("version " + std::to_string(j["version"].get<int>()) +
-                  " is not supported (expected " + std::to_string(kVersion) + ")");
+                  " is not supported (expected " + std::to_string(kVersion) +
+                  "; run gazetrace calibrate again)");
     Calibration c;
     try {
         const std::string model = j.at("model").get<std::string>();

@@ -272,6 +272,8 @@ TEST(Calibration, RecoversAKnownPolynomialMapping) {
     nlohmann::json j = c.toJson();
     j["version"] = 99;
     reject(j.dump(), "version 99 is not supported");
+    j["version"] = 1; // mapped to pixels, not gaze angles: its coefficients mean something else
+    reject(j.dump(), "version 1 is not supported");
     j = c.toJson();
     j["coefficients_x"] = {1.0, 2.0};
     reject(j.dump(), "needs 7 coefficients");
