@@ -84,6 +84,11 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--cache", render.cacheDir, "Point-set cache folder");
     renderCmd->add_option("--gaze-trace", render.gazeTrace, "Foveated: gaze trace CSV (t_ms,x,y)")
         ->check(CLI::ExistingFile);
+    renderCmd->add_option("--gaze-source", render.gazeSource,
+                          "Foveated: live gaze from the eye tracker on this source "
+                          "(v4l2:/dev/videoN, video:FILE, ...); needs --calibration");
+    renderCmd->add_option("--calibration", render.calibration,
+                          "Calibration JSON for --gaze-source (gazetrace calibrate)");
     renderCmd->add_option("--frame-ms", render.frameMs, "Time between frames along the gaze trace")
         ->check(CLI::Range(0.1, 10000.0))
         ->capture_default_str();

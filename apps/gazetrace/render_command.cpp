@@ -6,10 +6,12 @@
 #include <filesystem>
 #include <fstream>
 
+#include "capture/frame_source.hpp"
 #include "core/error.hpp"
 #include "foveation/gaze_trace.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
+#include "gaze/gaze_tracker.hpp"
 #include "point_sample/point_sample.hpp"
 #include "render_session.hpp"
 #include "scene/image_io.hpp"
@@ -89,6 +91,20 @@ nlohmann::json runRender(const RenderOptions& o) {
             frameCount = 1 + static_cast<uint32_t>((trace->endMs() - trace->startMs()) / o.frameMs);
         }
     }
+    // Live gaze: source and calibration are opened now, so a bad one fails before any work;
+    // the tracker thread starts with the first frame.
+    std::unique_ptr<eyetrack::FrameSource> gazeSource;
+    std::optional<eyetrack::Calibration> calibration;
+    if (!o.gazeSource.empty()) {
+        if (!foveated) throw ArgumentError("--gaze-source needs --method foveated");
+        if (trace) throw ArgumentError("--gaze-source and --gaze-trace exclude each other");
+        if (o.calibration.empty())
+            throw ArgumentError("--gaze-source needs --calibration (see gazetrace calibrate)");
+        calibration = eyetrack::Calibration::load(o.calibration);
+        gazeSource = eyetrack::openFrameSource(o.gazeSource);
+    } else if (!o.calibration.empty()) {
+        throw ArgumentError("--calibration is for --gaze-source");
+    }
     if (!foveated && !o.view.empty()) throw ArgumentError("--view needs --method foveated");
     // --out: a .png file for one frame, else a folder for frame_NNNN.png.
     const std::filesystem::path outPath(o.out);
@@ -116,6 +132,12 @@ nlohmann::json runRender(const RenderOptions& o) {
         fs.interpolation = interp;
         fs.taa = o.taa && o.view.empty(); // debug views show one frame's data as is
     }
+    std::optional<eyetrack::GazeTracker> tracker;
+    std::uint64_t saccadesSeen = 0;
+    if (gazeSource) {
+        tracker.emplace(std::move(gazeSource), *calibration);
+        (void)tracker->waitForFirstSample(2000.0); // a camera may take a moment to stream
+    }
     FrameResult frame;
     std::vector<double> frameMs;
     std::vector<std::string> outputs;
@@ -126,6 +148,23 @@ nlohmann::json runRender(const RenderOptions& o) {
             const glm::vec2 g = trace->at(trace->startMs() + i * o.frameMs);
             fs.gaze = {std::clamp(g.x, 0.0f, static_cast<float>(width) - 1.0f),
                        std::clamp(g.y, 0.0f, static_cast<float>(height) - 1.0f)};
+        }
+        if (tracker) {
+            if (const auto e = tracker->error())
+                throw Error("--gaze-source " + o.gazeSource + ": " + *e);
+            if (const auto g = tracker->mailbox().latest()) {
+                // The calibration's screen is the one shown; scale when the render differs.
+                const eyetrack::DisplayGeometry& d = tracker->display();
+                fs.gaze = {
+                    std::clamp(g->x * static_cast<float>(width) / static_cast<float>(d.widthPx),
+                               0.0f, static_cast<float>(width) - 1.0f),
+                    std::clamp(g->y * static_cast<float>(height) / static_cast<float>(d.heightPx),
+                               0.0f, static_cast<float>(height) - 1.0f)};
+            }
+            // A saccade since the last frame: the TAA history is dropped (seed 000, 3.1).
+            const std::uint64_t saccades = tracker->saccades();
+            fs.saccade = saccades != saccadesSeen;
+            saccadesSeen = saccades;
         }
         if (foveated) gazes.push_back({fs.gaze.x, fs.gaze.y});
         frame = foveated ? session.foveated(fs, true, dot)
@@ -183,7 +222,12 @@ nlohmann::json runRender(const RenderOptions& o) {
         j["profile"] = o.profile;
         j["taa"] = o.taa;
         j["gaze"] = {gaze.x, gaze.y};
-        if (trace) j["gaze_per_frame"] = gazes;
+        if (trace || tracker) j["gaze_per_frame"] = gazes;
+        if (tracker) {
+            j["gaze_source"] = o.gazeSource;
+            j["tracker_frames"] = tracker->frames();
+            j["saccades"] = tracker->saccades();
+        }
         if (!o.view.empty()) j["view"] = o.view;
         j["point_set_ms"] = session.pointSetMs();
         j["neighbour_index_ms"] = session.neighbourIndexMs();

@@ -61,7 +61,7 @@ void expectCleanFailure(const Result& r, const std::string& mention,
     if (!std::filesystem::is_directory(out.parent_path())) return;
     for (const auto& e : std::filesystem::directory_iterator(out.parent_path())) {
         const std::string name = e.path().filename().string();
-        EXPECT_EQ(name.find(".tmp"), std::string::npos) << e.path(); // the engine's temporaries
+        EXPECT_EQ(name.find(".tmp"), std::string::npos) << e.path();     // the engine's temporaries
         EXPECT_EQ(name.find(".partial"), std::string::npos) << e.path(); // the eye tracker's
     }
 }
@@ -207,6 +207,34 @@ TEST(Cli, EyesimTrackCalibrateEndToEnd) {
                             (dir / "gaze.csv").string() + " --json");
     ASSERT_EQ(gaze.status, 0) << gaze.err;
     EXPECT_EQ(slurp(dir / "gaze.csv").rfind("t_ms,x,y\n", 0), 0u);
+
+    // The renderer following the tracker live (the recording played at its own pace).
+    const Result live =
+        run("render --method foveated --profile desktop --scale 3 --rays-per-point 1 --validate "
+            "--frames 2 --cache " +
+            (dir / "cache").string() + " --gaze-source video:" + clip + " --calibration " + calib +
+            " --json --out " + (dir / "live").string());
+    ASSERT_EQ(live.status, 0) << live.err;
+    const auto l = nlohmann::json::parse(live.out);
+    EXPECT_EQ(l.at("gaze_source"), "video:" + clip);
+    EXPECT_GT(l.at("tracker_frames").get<int>(), 0);
+    ASSERT_EQ(l.at("gaze_per_frame").size(), 2u);
+    for (const auto& g : l.at("gaze_per_frame")) {
+        EXPECT_GE(g[0].get<double>(), 0.0);
+        EXPECT_LT(g[0].get<double>(), 1920.0);
+        EXPECT_GE(g[1].get<double>(), 0.0);
+        EXPECT_LT(g[1].get<double>(), 1080.0);
+    }
+    EXPECT_TRUE(std::filesystem::exists(dir / "live" / "frame_0001.png"));
+    expectCleanFailure(run("render --method foveated --profile desktop --scale 3 --gaze-source "
+                           "video:" +
+                           (dir / "nope.mkv").string() + " --calibration " + calib + " --out " +
+                           (dir / "live_bad.png").string()),
+                       "nope.mkv", dir / "live_bad.png");
+    expectCleanFailure(run("render --method foveated --profile desktop --scale 3 --gaze-source "
+                           "video:" +
+                           clip + " --out " + (dir / "live_bad.png").string()),
+                       "--calibration", dir / "live_bad.png");
 
     // Bad inputs: one line naming the thing, nothing half-written.
     const auto pupils = dir / "bad_pupils.csv";

@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include <arpa/inet.h>
 #include <sys/socket.h>
@@ -20,6 +22,7 @@
 #include "error.hpp"
 #include "gaze/calibration.hpp"
 #include "gaze/gaze_filter.hpp"
+#include "gaze/gaze_tracker.hpp"
 #include "gaze/recording_calibration.hpp"
 #include "io/udp_emitter.hpp"
 #include "pupil/ellipse_fit.hpp"
@@ -303,6 +306,24 @@ TEST(Calibration, FromASyntheticRecording) {
     EXPECT_EQ(r.validationTargets, 4);
     EXPECT_LT(r.accuracyDeg, 0.5); // the target for calibrated gaze
     EXPECT_LT(r.precisionDeg, 0.1);
+
+    // The same recording through the threaded tracker the renderer reads: every frame
+    // processed, every target jump seen as a saccade, the last gaze on the last target.
+    GazeTrackerOptions options;
+    options.paceRecordings = false;
+    EyeSimConfig upToLastTarget = c;
+    upToLastTarget.frames = 930; // ends fixating the 13th target (free viewing follows)
+    GazeTracker tracker(std::make_unique<SyntheticSource>(upToLastTarget), r.calibration, options);
+    EXPECT_TRUE(tracker.waitForFirstSample(10'000.0));
+    for (int i = 0; i < 20'000 && !tracker.finished(); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    ASSERT_TRUE(tracker.finished());
+    EXPECT_FALSE(tracker.error());
+    EXPECT_EQ(tracker.frames(), 930u);
+    EXPECT_GE(tracker.saccades(), 12u); // 13 targets
+    const auto last = tracker.mailbox().latest();
+    ASSERT_TRUE(last);
+    EXPECT_LT(c.schedule.display.angularDistanceDeg({last->x, last->y}, rows[929].target), 1.0);
 }
 
 TEST(GazeFilter, SaccadeOnsetJumpsAtOnceAndFixationIsSmoothed) {

@@ -1,0 +1,73 @@
+#include "gaze/gaze_tracker.hpp"
+
+#include <chrono>
+#include <exception>
+
+#include "pupil/pupil_detector.hpp"
+
+namespace gt::eyetrack {
+
+GazeTracker::GazeTracker(std::unique_ptr<FrameSource> source, Calibration calibration,
+                         GazeTrackerOptions options)
+    : mSource(std::move(source)), mCalibration(std::move(calibration)),
+      mOptions(std::move(options)), mThread([this](const std::stop_token& st) { run(st); }) {}
+
+GazeTracker::~GazeTracker() {
+    mThread.request_stop();
+    if (mThread.joinable()) mThread.join();
+}
+
+std::optional<std::string> GazeTracker::error() const {
+    const std::lock_guard lock(mErrorMutex);
+    return mError;
+}
+
+bool GazeTracker::waitForFirstSample(double timeoutMs) const {
+    const auto until = std::chrono::steady_clock::now() +
+                       std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                           std::chrono::duration<double, std::milli>(timeoutMs));
+    while (mMailbox.version() == 0 && !finished()) {
+        if (std::chrono::steady_clock::now() >= until) return false;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return mMailbox.version() > 0;
+}
+
+void GazeTracker::run(const std::stop_token& stop) {
+    try {
+        PupilDetector detector;
+        GazeFilterConfig fc = mOptions.filter;
+        fc.display = mCalibration.display();
+        GazeFilter filter(fc);
+        const bool pace = mOptions.paceRecordings && !mSource->liveClock();
+        std::optional<double> firstMs;
+        const auto start = std::chrono::steady_clock::now();
+        while (!stop.stop_requested()) {
+            auto frame = mSource->next();
+            if (!frame) break;
+            if (pace) {
+                if (!firstMs) firstMs = frame->tMs;
+                const auto due =
+                    start + std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                std::chrono::duration<double, std::milli>(frame->tMs - *firstMs));
+                // Sleep in short steps so that a stop request is honoured promptly.
+                while (!stop.stop_requested() && std::chrono::steady_clock::now() < due)
+                    std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(
+                        due - std::chrono::steady_clock::now(), std::chrono::milliseconds(5)));
+            }
+            const PupilResult p = detector.detect(frame->grey);
+            const std::optional<cv::Point2d> g =
+                p.found ? std::optional(mCalibration.map(p.centre())) : std::nullopt;
+            const GazeSample s = filter.process(frame->tMs, g, p.confidence);
+            if (s.saccade) ++mSaccades;
+            mMailbox.publish(s);
+            ++mFrames;
+        }
+    } catch (const std::exception& e) {
+        const std::lock_guard lock(mErrorMutex);
+        mError = e.what();
+    }
+    mFinished = true;
+}
+
+} // namespace gt::eyetrack
