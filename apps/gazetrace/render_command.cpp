@@ -142,24 +142,21 @@ nlohmann::json runRender(const RenderOptions& o) {
     std::vector<double> frameMs;
     std::vector<std::string> outputs;
     nlohmann::json gazes = nlohmann::json::array();
+    const glm::vec2 lastPixel(static_cast<float>(width) - 1.0f, static_cast<float>(height) - 1.0f);
     for (uint32_t i = 0; i < frameCount; ++i) {
         const bool dot = !o.graphDot.empty() && i == 0;
-        if (trace) {
-            const glm::vec2 g = trace->at(trace->startMs() + i * o.frameMs);
-            fs.gaze = {std::clamp(g.x, 0.0f, static_cast<float>(width) - 1.0f),
-                       std::clamp(g.y, 0.0f, static_cast<float>(height) - 1.0f)};
-        }
+        if (trace)
+            fs.gaze =
+                glm::clamp(trace->at(trace->startMs() + i * o.frameMs), glm::vec2(0.0f), lastPixel);
         if (tracker) {
             if (const auto e = tracker->error())
                 throw Error("--gaze-source " + o.gazeSource + ": " + *e);
             if (const auto g = tracker->mailbox().latest()) {
                 // The calibration's screen is the one shown; scale when the render differs.
                 const eyetrack::DisplayGeometry& d = tracker->display();
-                fs.gaze = {
-                    std::clamp(g->x * static_cast<float>(width) / static_cast<float>(d.widthPx),
-                               0.0f, static_cast<float>(width) - 1.0f),
-                    std::clamp(g->y * static_cast<float>(height) / static_cast<float>(d.heightPx),
-                               0.0f, static_cast<float>(height) - 1.0f)};
+                const glm::vec2 scale(static_cast<float>(width) / static_cast<float>(d.widthPx),
+                                      static_cast<float>(height) / static_cast<float>(d.heightPx));
+                fs.gaze = glm::clamp(glm::vec2(g->x, g->y) * scale, glm::vec2(0.0f), lastPixel);
             }
             // A saccade since the last frame: the TAA history is dropped (seed 000, 3.1).
             const std::uint64_t saccades = tracker->saccades();
