@@ -166,7 +166,9 @@ nlohmann::json runBench(const BenchOptions& o) {
              {"median_ms", median(samples[name])},
              {"frames", samples[name].size()}});
         if (const auto it = prepared.find(name); it != prepared.end()) {
-            table2json.back()["kernel"] = "multiquadric";
+            table2json.back()["kernel"] =
+                settings.interpolation.kernel == passes::RbfKernel::Gaussian ? "gaussian"
+                                                                             : "multiquadric";
             table2json.back()["inverse_build_ms"] = it->second.ms;
             table2json.back()["inverse_mb"] = it->second.mb;
         }

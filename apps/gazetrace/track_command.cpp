@@ -39,14 +39,9 @@ nlohmann::json runTrack(const TrackOptions& o) {
             "--emit sends screen gaze and needs --calibration (see gazetrace calibrate)");
     std::optional<eyetrack::ContactSheet> sheet;
     if (!o.contactSheet.empty()) {
-        // Checked before a long recording is processed, not after.
-        const std::filesystem::path png(o.contactSheet);
-        if (png.extension() != ".png")
+        if (std::filesystem::path(o.contactSheet).extension() != ".png")
             throw ArgumentError("--contact-sheet " + o.contactSheet + ": must end in .png");
-        if (png.has_parent_path() && !std::filesystem::is_directory(png.parent_path()))
-            throw ArgumentError("--contact-sheet " + o.contactSheet + ": folder " +
-                                png.parent_path().string() + " does not exist");
-        sheet.emplace(o.sheetEvery);
+        sheet.emplace(o.contactSheet, o.sheetEvery);
     }
     std::optional<eyetrack::Calibration> calibration;
     if (!o.calibration.empty()) calibration = eyetrack::Calibration::load(o.calibration);
@@ -139,7 +134,7 @@ nlohmann::json runTrack(const TrackOptions& o) {
     if (frames == 0) throw ArgumentError("--source " + o.source + ": no frames");
     if (gazeCsv) gazeCsv->commit();
     if (pupilCsv) pupilCsv->commit();
-    if (sheet) sheet->write(o.contactSheet);
+    if (sheet) sheet->write();
     const double wallMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 

@@ -33,6 +33,7 @@ public:
     AtomicFile& operator=(const AtomicFile&) = delete;
 
     std::ofstream& stream() { return mOut; }
+    [[nodiscard]] const std::filesystem::path& target() const noexcept { return mTarget; }
     void commit() {
         mOut.flush();
         if (!mOut) throw EyetrackError(mTarget.string() + ": write failed");

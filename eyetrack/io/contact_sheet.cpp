@@ -6,7 +6,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include "error.hpp"
-#include "io/atomic_file.hpp"
 
 namespace gt::eyetrack {
 
@@ -14,7 +13,8 @@ namespace {
 constexpr int kTileWidth = 320; // wider frames are scaled down, smaller ones kept as they are
 } // namespace
 
-ContactSheet::ContactSheet(int every) : mEvery(std::max(1, every)) {}
+ContactSheet::ContactSheet(const std::filesystem::path& png, int every)
+    : mOut(png), mEvery(std::max(1, every)) {}
 
 void ContactSheet::add(const cv::Mat& grey, const PupilResult& pupil, std::uint64_t sequence) {
     const bool keep = mSeen++ % static_cast<std::uint64_t>(mEvery) == 0;
@@ -45,8 +45,9 @@ void ContactSheet::add(const cv::Mat& grey, const PupilResult& pupil, std::uint6
     mTiles.push_back(std::move(tile));
 }
 
-void ContactSheet::write(const std::filesystem::path& png) const {
-    if (mTiles.empty()) throw EyetrackError(png.string() + ": no frames for the contact sheet");
+void ContactSheet::write() {
+    if (mTiles.empty())
+        throw EyetrackError(mOut.target().string() + ": no frames for the contact sheet");
     int tw = 0, th = 0;
     for (const cv::Mat& t : mTiles) {
         tw = std::max(tw, t.cols);
@@ -61,11 +62,10 @@ void ContactSheet::write(const std::filesystem::path& png) const {
     }
     std::vector<uchar> bytes;
     if (!cv::imencode(".png", sheet, bytes))
-        throw EyetrackError(png.string() + ": PNG encoding failed");
-    AtomicFile out(png);
-    out.stream().write(reinterpret_cast<const char*>(bytes.data()),
-                       static_cast<std::streamsize>(bytes.size()));
-    out.commit();
+        throw EyetrackError(mOut.target().string() + ": PNG encoding failed");
+    mOut.stream().write(reinterpret_cast<const char*>(bytes.data()),
+                        static_cast<std::streamsize>(bytes.size()));
+    mOut.commit();
 }
 
 } // namespace gt::eyetrack

@@ -8,6 +8,7 @@
 
 #include <opencv2/core/mat.hpp>
 
+#include "io/atomic_file.hpp"
 #include "pupil/pupil_detector.hpp"
 
 namespace gt::eyetrack {
@@ -17,17 +18,19 @@ public:
     static constexpr int kMaxTiles = 48;
     static constexpr int kColumns = 6;
 
-    // Keeps every `every`-th frame (from the first), up to kMaxTiles.
-    explicit ContactSheet(int every);
+    // Keeps every `every`-th frame (from the first), up to kMaxTiles, for `png`. The file is
+    // opened here (AtomicFile: a missing folder fails now, before a long recording is read) and
+    // appears whole on write(), or not at all.
+    ContactSheet(const std::filesystem::path& png, int every);
 
     void add(const cv::Mat& grey, const PupilResult& pupil, std::uint64_t sequence);
     [[nodiscard]] int tiles() const noexcept { return static_cast<int>(mTiles.size()); }
 
-    // Writes the sheet as PNG, whole or not at all. Throws EyetrackError when nothing was added
-    // or the file cannot be written.
-    void write(const std::filesystem::path& png) const;
+    // Writes the sheet. Throws EyetrackError when nothing was added or it cannot be written.
+    void write();
 
 private:
+    AtomicFile mOut;
     int mEvery;
     std::uint64_t mSeen = 0;
     std::vector<cv::Mat> mTiles;
