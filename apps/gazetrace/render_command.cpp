@@ -199,6 +199,8 @@ nlohmann::json runRender(const RenderOptions& o) {
                         {"frames", frameCount},
                         {"load_ms", session.loadMs()},
                         {"bvh_ms", session.bvhMs()},
+                        {"bvh_nodes", session.bvhStats().nodes},
+                        {"bvh_sah_cost", session.bvhStats().sahCost},
                         {"output", toFolder ? outPath.string() : outputs.front()}};
     if (foveated) {
         const std::size_t sampled = session.pointsSampled(gaze);

@@ -138,6 +138,10 @@ const scene::Scene& RenderSession::scene() const {
     return mImpl->scene;
 }
 
+const scene::BvhBuildStats& RenderSession::bvhStats() const {
+    return mImpl->bvh->stats();
+}
+
 void RenderSession::preparePointSet(const foveation::PointSetParams& params,
                                     const std::filesystem::path& cacheDir) {
     const auto t = Clock::now();

@@ -14,6 +14,7 @@
 #include "foveation/point_set.hpp"
 #include "interpolate/interpolate.hpp"
 #include "render_graph/render_graph.hpp"
+#include "scene/bvh.hpp"
 #include "scene/scene.hpp"
 
 namespace gt::vk {
@@ -52,6 +53,7 @@ public:
     [[nodiscard]] const scene::Scene& scene() const;
     [[nodiscard]] double loadMs() const noexcept { return mLoadMs; }
     [[nodiscard]] double bvhMs() const noexcept { return mBvhMs; }
+    [[nodiscard]] const scene::BvhBuildStats& bvhStats() const;
 
     // Loads (or generates and caches) the point set and builds its neighbour index.
     void preparePointSet(const foveation::PointSetParams& params,

@@ -1,5 +1,5 @@
 #pragma once
-// A binary BVH over the scene's triangles, built on the CPU with binned SAH (16 bins per axis,
+// A binary BVH over the scene's triangles, built on the CPU with binned SAH (64 bins per axis,
 // Wald 2007 "On fast construction of SAH-based BVHs"), flattened so that the two children of
 // an interior node are adjacent (left = leftFirst, right = leftFirst + 1). The same flat arrays
 // are uploaded for the compute-shader tracer; the CPU traversal here is the reference the GPU
@@ -46,6 +46,9 @@ struct BvhBuildStats {
     uint32_t leaves = 0;
     uint32_t maxDepth = 0;
     uint32_t maxLeafSize = 0;
+    // Expected cost of a random ray that hits the root box, in units of one box test (the SAH
+    // with a triangle test costing as much as a box test): the figure of merit of the build.
+    float sahCost = 0.0f;
     double seconds = 0.0;
 };
 
