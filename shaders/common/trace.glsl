@@ -65,37 +65,46 @@ Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
     Hit best = Hit(tMax, 0xffffffffu, 0.0, 0.0);
     if (uScene.counts.w == 0u) return Hit(kInf, 0xffffffffu, 0.0, 0.0); // environment only
     vec3 invDir = 1.0 / dir;
-    uint stack[kStackSize];
-    int sp = 0;
-    stack[sp++] = 0u;
-    while (sp > 0) {
-        int node = int(stack[--sp]);
-        float tEnter;
-        if (!slabTest(node, origin, invDir, tMin, best.t, tEnter)) continue;
-        vec4 hiTexel = texelFetch(uNodes, node * 2 + 1);
-        uint count = floatBitsToUint(hiTexel.w);
-        uint leftFirst = floatBitsToUint(texelFetch(uNodes, node * 2).w);
-        if (count > 0u) {
-            for (uint i = leftFirst; i < leftFirst + count; ++i) {
-                float t, u, v;
-                if (triangleTest(i, origin, dir, tMin, kInf, t, u, v) && t <= best.t &&
-                    (t < best.t || i < best.tri) && t <= tMax) {
-                    best = Hit(t, i, u, v);
+    float tEnter;
+    if (slabTest(0, origin, invDir, tMin, tMax, tEnter)) {
+        // Children are tested at their parent; the far one waits on the stack with its entry
+        // distance and is skipped if a closer hit has been found by the time it is popped.
+        uint stack[kStackSize];
+        float stackT[kStackSize];
+        int sp = 0;
+        int node = 0;
+        while (true) {
+            uint count = floatBitsToUint(texelFetch(uNodes, node * 2 + 1).w);
+            uint leftFirst = floatBitsToUint(texelFetch(uNodes, node * 2).w);
+            bool descend = false;
+            if (count > 0u) {
+                for (uint i = leftFirst; i < leftFirst + count; ++i) {
+                    float t, u, v;
+                    if (triangleTest(i, origin, dir, tMin, kInf, t, u, v) && t <= best.t &&
+                        (t < best.t || i < best.tri) && t <= tMax) {
+                        best = Hit(t, i, u, v);
+                    }
+                }
+            } else {
+                float tl, tr;
+                bool hl = slabTest(int(leftFirst), origin, invDir, tMin, best.t, tl);
+                bool hr = slabTest(int(leftFirst) + 1, origin, invDir, tMin, best.t, tr);
+                if (hl && hr) {
+                    bool leftNear = tl <= tr;
+                    stack[sp] = leftNear ? leftFirst + 1u : leftFirst;
+                    stackT[sp++] = leftNear ? tr : tl;
+                    node = int(leftNear ? leftFirst : leftFirst + 1u);
+                    descend = true;
+                } else if (hl || hr) {
+                    node = int(leftFirst) + (hl ? 0 : 1);
+                    descend = true;
                 }
             }
-            continue;
-        }
-        float tl, tr;
-        bool hl = slabTest(int(leftFirst), origin, invDir, tMin, best.t, tl);
-        bool hr = slabTest(int(leftFirst) + 1, origin, invDir, tMin, best.t, tr);
-        if (hl && hr) {
-            bool leftNear = tl <= tr;
-            stack[sp++] = leftNear ? leftFirst + 1u : leftFirst;
-            stack[sp++] = leftNear ? leftFirst : leftFirst + 1u;
-        } else if (hl) {
-            stack[sp++] = leftFirst;
-        } else if (hr) {
-            stack[sp++] = leftFirst + 1u;
+            if (descend) continue;
+            // Pop the next far child still in front of the closest hit.
+            while (sp > 0 && stackT[sp - 1] > best.t) --sp;
+            if (sp == 0) break;
+            node = int(stack[--sp]);
         }
     }
     if (best.tri == 0xffffffffu) best.t = kInf;
@@ -105,13 +114,12 @@ Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
 bool traceOccluded(vec3 origin, vec3 dir, float tMax) {
     if (uScene.counts.w == 0u) return false;
     vec3 invDir = 1.0 / dir;
+    float tEnter;
+    if (!slabTest(0, origin, invDir, 0.0, tMax, tEnter)) return false;
     uint stack[kStackSize];
     int sp = 0;
-    stack[sp++] = 0u;
-    while (sp > 0) {
-        int node = int(stack[--sp]);
-        float tEnter;
-        if (!slabTest(node, origin, invDir, 0.0, tMax, tEnter)) continue;
+    int node = 0;
+    while (true) {
         uint count = floatBitsToUint(texelFetch(uNodes, node * 2 + 1).w);
         uint leftFirst = floatBitsToUint(texelFetch(uNodes, node * 2).w);
         if (count > 0u) {
@@ -119,10 +127,22 @@ bool traceOccluded(vec3 origin, vec3 dir, float tMax) {
                 float t, u, v;
                 if (triangleTest(i, origin, dir, 0.0, tMax, t, u, v)) return true;
             }
+            if (sp == 0) return false;
+            node = int(stack[--sp]);
             continue;
         }
-        stack[sp++] = leftFirst + 1u;
-        stack[sp++] = leftFirst;
+        float tl, tr;
+        bool hl = slabTest(int(leftFirst), origin, invDir, 0.0, tMax, tl);
+        bool hr = slabTest(int(leftFirst) + 1, origin, invDir, 0.0, tMax, tr);
+        if (hl && hr) {
+            stack[sp++] = leftFirst + 1u;
+            node = int(leftFirst);
+        } else if (hl || hr) {
+            node = int(leftFirst) + (hl ? 0 : 1);
+        } else {
+            if (sp == 0) return false;
+            node = int(stack[--sp]);
+        }
     }
     return false;
 }
