@@ -61,11 +61,13 @@ nlohmann::json runBench(const BenchOptions& o) {
 
     std::map<std::string, std::vector<double>> samples; // benchmark name -> GPU ms per frame
     std::map<std::string, std::vector<double>> walls;
-    auto fov = [&](passes::Interpolation m, uint32_t k, uint32_t rays) {
+    auto fov = [&](passes::Interpolation m, uint32_t k, uint32_t rays,
+                   passes::KnnIndex knn = passes::KnnIndex::PixelTable) {
         FoveatedSettings s;
         s.gaze = centre;
         s.raysPerPoint = rays;
         s.interpolation = {m, k, 1.0f};
+        s.interpolation.knn = knn;
         s.taa = true; // every pass of the thesis's pipeline is counted
         return s;
     };
@@ -76,13 +78,19 @@ nlohmann::json runBench(const BenchOptions& o) {
         table2.push_back(
             {"table2/msm/k:" + std::to_string(k), fov(passes::Interpolation::Shepard, k, 1)});
     }
+    // The same through the neighbour lists, the memory-light alternative to the table.
+    for (uint32_t k : {5u, 10u, 15u, 20u}) {
+        table2.push_back(
+            {"table2/msm_lists/k:" + std::to_string(k),
+             fov(passes::Interpolation::Shepard, k, 1, passes::KnnIndex::NeighbourLists)});
+    }
     // RBF (multiquadric, c = p): per-frame cost is rbf_solve + interpolate; the inverses it
     // precomputes once per point set are reported beside it, not in the frame.
     for (uint32_t k : {5u, 10u, 15u, 20u}) {
         table2.push_back(
             {"table2/rbf/k:" + std::to_string(k), fov(passes::Interpolation::Rbf, k, 1)});
     }
-    std::map<std::string, RbfPrepared> prepared;
+    std::map<std::string, Prepared> prepared;
     for (const auto& [name, settings] : table2) {
         benchmark::RegisterBenchmark(
             name.c_str(),
@@ -96,6 +104,8 @@ nlohmann::json runBench(const BenchOptions& o) {
                 }
                 if (settings.interpolation.method == passes::Interpolation::Rbf)
                     prepared[name] = session.rbfPrepared();
+                else if (passes::usesPixelTable(settings.interpolation))
+                    prepared[name] = session.knnTablePrepared();
             })
             ->UseManualTime()
             ->Iterations(frames)
@@ -165,7 +175,16 @@ nlohmann::json runBench(const BenchOptions& o) {
              {"k", settings.interpolation.k},
              {"median_ms", median(samples[name])},
              {"frames", samples[name].size()}});
-        if (const auto it = prepared.find(name); it != prepared.end()) {
+        const bool rbf = settings.interpolation.method == passes::Interpolation::Rbf;
+        if (settings.interpolation.method == passes::Interpolation::Shepard) {
+            const bool table = settings.interpolation.knn == passes::KnnIndex::PixelTable;
+            table2json.back()["knn"] = table ? "table" : "lists";
+            if (const auto it = prepared.find(name); table && it != prepared.end()) {
+                table2json.back()["table_build_ms"] = it->second.ms;
+                table2json.back()["table_mb"] = it->second.mb;
+            }
+        }
+        if (const auto it = prepared.find(name); rbf && it != prepared.end()) {
             table2json.back()["kernel"] =
                 settings.interpolation.kernel == passes::RbfKernel::Gaussian ? "gaussian"
                                                                              : "multiquadric";
@@ -225,8 +244,13 @@ nlohmann::json runBench(const BenchOptions& o) {
                 result["table1"]["corner_percent"].get<double>());
     std::printf("Table 2 (interpolation, %ux%u, median GPU ms):\n", w, h);
     for (const auto& r : table2json) {
-        std::printf("  %-4s k=%-2u %8.2f ms", r["method"].get<std::string>().c_str(),
-                    r["k"].get<uint32_t>(), r["median_ms"].get<double>());
+        const std::string label = r["method"].get<std::string>() +
+                                  (r.contains("knn") ? "/" + r["knn"].get<std::string>() : "");
+        std::printf("  %-10s k=%-2u %8.2f ms", label.c_str(), r["k"].get<uint32_t>(),
+                    r["median_ms"].get<double>());
+        if (r.contains("table_build_ms"))
+            std::printf("   (k-NN table built once: %.0f ms, %.0f MB)",
+                        r["table_build_ms"].get<double>(), r["table_mb"].get<double>());
         if (r.contains("inverse_build_ms"))
             std::printf("   (inverses built once: %.0f ms, %.0f MB)",
                         r["inverse_build_ms"].get<double>(), r["inverse_mb"].get<double>());

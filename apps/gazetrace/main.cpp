@@ -63,6 +63,12 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"multiquadric", "gaussian"}))
         ->capture_default_str();
     renderCmd
+        ->add_option("--knn", render.knn,
+                     "Foveated msm neighbours: table (the thesis's k nearest per canvas pixel) | "
+                     "lists (nearest point + its neighbour list: less memory, slower)")
+        ->check(CLI::IsMember({"lists", "table"}))
+        ->capture_default_str();
+    renderCmd
         ->add_option("--rbf-c", render.rbfShape,
                      "Foveated RBF shape c, in units of the point spacing")
         ->check(CLI::Range(0.001, 1000.0))

@@ -75,6 +75,7 @@ nlohmann::json runRender(const RenderOptions& o) {
         interp.k = o.k;
         interp.kernel = passes::parseKernel(o.kernel);
         interp.rbfShape = static_cast<float>(o.rbfShape);
+        interp.knn = passes::parseKnnIndex(o.knn);
         if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
             throw ArgumentError("--k must be 1..20");
         }
@@ -231,6 +232,11 @@ nlohmann::json runRender(const RenderOptions& o) {
         j["point_set_ms"] = session.pointSetMs();
         j["neighbour_index_ms"] = session.neighbourIndexMs();
         j["neighbour_index_mb"] = session.neighbourIndexMb();
+        if (interp.method == passes::Interpolation::Shepard) j["knn"] = o.knn;
+        if (passes::usesPixelTable(interp)) {
+            j["knn_table_ms"] = session.knnTablePrepared().ms;
+            j["knn_table_mb"] = session.knnTablePrepared().mb;
+        }
     } else {
         j["spp"] = o.spp;
     }

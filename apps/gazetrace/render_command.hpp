@@ -27,6 +27,7 @@ struct RenderOptions {
     uint32_t frames = 1;
     bool taa = true;
     std::string kernel = "multiquadric";
+    std::string knn = "table";
     double rbfShape = 1.0;
     std::string gazeTrace;          // CSV t_ms,x,y; overrides --gaze
     std::string gazeSource;         // eye tracker frame source: live gaze; overrides --gaze

@@ -44,7 +44,26 @@ struct RenderSession::Impl {
     std::optional<passes::InterpolatePass> interpolate;
     std::optional<passes::RbfSolvePass> rbfSolve;
     std::optional<foveation::GpuRbfInverse> rbfInverse; // for the last RBF settings used
-    RbfPrepared rbfPrepared;
+    Prepared rbfPrepared;
+    std::optional<foveation::GpuPixelKnnTable> knnTable; // for the last k asked of it
+    Prepared knnTablePrepared;
+
+    // The thesis's per-pixel table when the settings ask for it (built on the CPU once per k).
+    const foveation::GpuPixelKnnTable* tableFor(const passes::InterpolateSettings& s) {
+        if (!passes::usesPixelTable(s)) {
+            knnTable.reset(); // hundreds of MB: give them back to whatever runs next (RBF)
+            return nullptr;
+        }
+        const uint32_t k = std::max(1u, s.k);
+        if (!knnTable || knnTable->k() != k) {
+            knnTable.reset();
+            const foveation::PixelKnnTable table(*points, *neighbours, k);
+            knnTable.emplace(*ctx, table);
+            knnTablePrepared = {table.buildSeconds() * 1e3,
+                                static_cast<double>(table.bytes()) / 1e6};
+        }
+        return &*knnTable;
+    }
 
     const foveation::GpuRbfInverse& inverseFor(const passes::InterpolateSettings& s) {
         const auto kernel = s.kernel == passes::RbfKernel::Gaussian
@@ -149,6 +168,7 @@ void RenderSession::preparePointSet(const foveation::PointSetParams& params,
     if (!c.warning.empty()) log::warn(c.warning);
     mPointSetMs = msSince(t);
     mImpl->rbfInverse.reset();
+    mImpl->knnTable.reset();
     mImpl->gpuPoints.reset();
     mImpl->neighbours.reset();
     mImpl->points.emplace(std::move(c.set));
@@ -193,14 +213,19 @@ FrameResult RenderSession::reference(uint32_t w, uint32_t h, uint32_t spp, uint3
     return m.run(add, w, h, pixels, dot, *m.pool);
 }
 
-RbfPrepared RenderSession::rbfPrepared() const {
+Prepared RenderSession::rbfPrepared() const {
     return mImpl->rbfPrepared;
+}
+
+Prepared RenderSession::knnTablePrepared() const {
+    return mImpl->knnTablePrepared;
 }
 
 FrameResult RenderSession::foveated(const FoveatedSettings& s, bool pixels, bool dot) {
     Impl& m = *mImpl;
     if (!m.gpuPoints) throw Error("no point set prepared");
     const uint32_t w = m.points->params().display.width, h = m.points->params().display.height;
+    const foveation::GpuPixelKnnTable* table = m.tableFor(s.interpolation);
     auto add = [&](rg::RenderGraph& g) {
         const rg::BufferId samples = m.pointSample->add(g, *m.gpuScene, m.scene.camera,
                                                         *m.gpuPoints, s.gaze, s.raysPerPoint);
@@ -210,7 +235,7 @@ FrameResult RenderSession::foveated(const FoveatedSettings& s, bool pixels, bool
                                       s.gaze, s.interpolation);
         }
         const rg::TextureId image =
-            m.interpolate->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation, weights);
+            m.interpolate->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation, weights, table);
         if (!s.taa) return image;
         return m.taa->add(g, *m.taaHistory, image, m.scene.camera, s.gaze, s.saccade);
     };
@@ -227,7 +252,8 @@ FrameResult RenderSession::foveated(const FoveatedSettings& s, bool pixels, bool
                 weights = m.rbfSolve->add(g, *m.gpuPoints, m.inverseFor(s.interpolation), samples,
                                           s.gaze, s.interpolation);
             }
-            return m.interpolate->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation, weights);
+            return m.interpolate->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation, weights,
+                                      table);
         };
         (void)m.run(tiny, w, h, true, false, warm);
         m.warmFoveated = true;

@@ -38,8 +38,9 @@ struct FoveatedSettings {
     bool saccade = false; // the eye tracker reported a saccade: drop the TAA history
 };
 
-// The one-off cost of RBF's precomputed inverses (built on the CPU when the settings change).
-struct RbfPrepared {
+// The one-off cost of something built on the CPU for the interpolation settings (RBF's
+// inverses, the per-pixel k-NN table) when they change.
+struct Prepared {
     double ms = 0.0;
     double mb = 0.0;
 };
@@ -70,7 +71,9 @@ public:
                           bool dot = false);
     FrameResult foveated(const FoveatedSettings& s, bool pixels, bool dot = false);
     // For the RBF settings of the last foveated RBF frame.
-    [[nodiscard]] RbfPrepared rbfPrepared() const;
+    [[nodiscard]] Prepared rbfPrepared() const;
+    // For the k of the last foveated frame that used the per-pixel k-NN table.
+    [[nodiscard]] Prepared knnTablePrepared() const;
 
 private:
     struct Impl;

@@ -43,4 +43,21 @@ GpuRbfInverse::GpuRbfInverse(vk::Context& ctx, const RbfInverse& inverse)
     mView = vk::BufferView(ctx, mBuffer, VK_FORMAT_R32G32B32A32_SFLOAT);
 }
 
+GpuPixelKnnTable::GpuPixelKnnTable(vk::Context& ctx, const PixelKnnTable& table)
+    : mK(table.k()), mStride((table.k() + 3) / 4) {
+    const std::size_t pixels = static_cast<std::size_t>(table.canvasWidth()) * table.canvasHeight();
+    const std::size_t bytes = pixels * mStride * 16;
+    mBuffer = vk::Buffer(ctx, {bytes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
+                               vk::MemoryUsage::GpuOnly, "pointset.knn_table"});
+    if (mStride * 4 == mK) {
+        mBuffer.upload(std::as_bytes(std::span(table.indices())));
+    } else {
+        std::vector<uint32_t> padded(pixels * mStride * 4, 0u);
+        for (std::size_t p = 0; p < pixels; ++p)
+            std::copy_n(&table.indices()[p * mK], mK, &padded[p * mStride * 4]);
+        mBuffer.upload(std::as_bytes(std::span(padded)));
+    }
+    mView = vk::BufferView(ctx, mBuffer, VK_FORMAT_R32G32B32A32_UINT);
+}
+
 } // namespace gt::foveation

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "foveation/neighbour_index.hpp"
+#include "foveation/pixel_knn_table.hpp"
 #include "foveation/point_set.hpp"
 #include "foveation/rbf_inverse.hpp"
 #include "vk/resources.hpp"
@@ -48,6 +49,22 @@ private:
     uint32_t mK, mStride;
     RbfKernelType mKernel;
     float mShape;
+};
+
+// The thesis's per-canvas-pixel k-NN table on the GPU: ceil(k / 4) RGBA32UI texels per pixel
+// (590 MB at k = 20 for fove is 147 M single-index texels, over lavapipe's 128 M limit; packed
+// four to a texel it is 37 M).
+class GpuPixelKnnTable {
+public:
+    GpuPixelKnnTable(vk::Context& ctx, const PixelKnnTable& table);
+    [[nodiscard]] VkBufferView view() const noexcept { return mView.handle(); }
+    [[nodiscard]] uint32_t k() const noexcept { return mK; }
+    [[nodiscard]] uint32_t texelsPerPixel() const noexcept { return mStride; }
+
+private:
+    vk::Buffer mBuffer;
+    vk::BufferView mView;
+    uint32_t mK, mStride;
 };
 
 } // namespace gt::foveation

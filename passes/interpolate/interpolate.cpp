@@ -26,6 +26,16 @@ RbfKernel parseKernel(const std::string& name) {
                         "' is not available (known: multiquadric, gaussian)");
 }
 
+KnnIndex parseKnnIndex(const std::string& name) {
+    if (name == "lists") return KnnIndex::NeighbourLists;
+    if (name == "table") return KnnIndex::PixelTable;
+    throw ArgumentError("--knn: '" + name + "' is not available (known: lists, table)");
+}
+
+bool usesPixelTable(const InterpolateSettings& s) {
+    return s.knn == KnnIndex::PixelTable && s.method == Interpolation::Shepard;
+}
+
 Interpolation parseView(const std::string& name) {
     if (name == "points") return Interpolation::ViewPoints;
     if (name == "cells") return Interpolation::ViewCells;
@@ -42,7 +52,8 @@ InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
                  {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                   VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
                   VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                  VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                  VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                  VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
                  sizeof(sh::InterpolatePush)});
 }
 
@@ -51,13 +62,19 @@ InterpolatePass::~InterpolatePass() = default;
 rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
                                    rg::BufferId samples, glm::vec2 gaze,
                                    const InterpolateSettings& s,
-                                   const std::optional<RbfWeights>& weights) const {
+                                   const std::optional<RbfWeights>& weights,
+                                   const foveation::GpuPixelKnnTable* table) const {
     if (s.method == Interpolation::Rbf && !weights) {
         throw ArgumentError("RBF interpolation needs the rbf_solve pass's weights");
     }
     if (s.k == 0 || s.k > points.storedNeighbours() + 1 || s.k > sh::kMaxK) {
         throw ArgumentError("--k must be 1.." +
                             std::to_string(std::min(sh::kMaxK, points.storedNeighbours() + 1)));
+    }
+    const bool useTable = usesPixelTable(s);
+    if (useTable && (table == nullptr || table->k() < s.k)) {
+        throw ArgumentError("the k-NN table must hold at least k = " + std::to_string(s.k) +
+                            " neighbours per pixel");
     }
     const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());
     uint32_t method = sh::kMethodNearest;
@@ -88,7 +105,8 @@ rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuP
         glm::uvec4(graph.outputWidth(), graph.outputHeight(), k, method),
         glm::uvec4(points.canvasWidth(), points.canvasHeight(), points.storedNeighbours(),
                    s.kernel == RbfKernel::Gaussian ? sh::kKernelGaussian : sh::kKernelMultiquadric),
-        glm::vec4(s.rbfShape, 0.0f, 0.0f, 0.0f)};
+        glm::vec4(s.rbfShape, 0.0f, 0.0f, 0.0f),
+        useTable ? glm::uvec4(table->texelsPerPixel(), table->k(), 0u, 0u) : glm::uvec4(0u)};
     struct Data {
         rg::BufferId samples;
         rg::TextureId output;
@@ -107,13 +125,15 @@ rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuP
                 b.write(b.createTexture("interpolate.radiance", {VK_FORMAT_R32G32B32A32_SFLOAT}),
                         rg::Access::StorageWrite);
         },
-        [ctx = &mCtx, pipeline = mPipeline.get(), pts = &points,
+        [ctx = &mCtx, pipeline = mPipeline.get(), pts = &points, knn = useTable ? table : nullptr,
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             vk::DescriptorWriter writer;
             writer.texelBuffer(sh::kBindingInterpPoints, pts->points())
                 .storageBuffer(sh::kBindingInterpSamples, r.buffer(d.samples))
                 .texelBuffer(sh::kBindingNearest, pts->nearest())
                 .texelBuffer(sh::kBindingNeighbours, pts->neighbours())
+                // Without the table the binding is never read: the neighbour lists stand in.
+                .texelBuffer(sh::kBindingKnnTable, knn ? knn->view() : pts->neighbours())
                 .storageImage(sh::kBindingInterpOutput, r.texture(d.output).view);
             // Without RBF the weight bindings are never read; any valid buffer will do.
             const VkBuffer samplesBuffer = r.buffer(d.samples);

@@ -12,6 +12,7 @@ layout(set = 0, binding = kBindingInterpPoints) uniform samplerBuffer uPoints;
 layout(std430, set = 0, binding = kBindingInterpSamples) readonly buffer Samples { vec4 samples[]; };
 layout(set = 0, binding = kBindingNearest) uniform usamplerBuffer uNearest;
 layout(set = 0, binding = kBindingNeighbours) uniform usamplerBuffer uNeighbours;
+layout(set = 0, binding = kBindingKnnTable) uniform usamplerBuffer uKnnTable;
 layout(set = 0, binding = kBindingInterpOutput, rgba32f) uniform writeonly image2D uOutput;
 layout(std430, set = 0, binding = kBindingLambdaR) readonly buffer LambdaR { float lambdaR[]; };
 layout(std430, set = 0, binding = kBindingLambdaG) readonly buffer LambdaG { float lambdaG[]; };
@@ -55,13 +56,18 @@ void main() {
         k = 1u; // the nearest point was not sampled: nearest sampled neighbour instead
     }
 
-    // Candidates: the nearest point and its stored neighbours, kept sorted by distance; points
-    // that point_sample skipped (beyond the margin) are left out.
+    // Candidates, kept sorted by distance: the canvas pixel's row of the k-NN table (thesis),
+    // or the nearest point and its stored neighbours. Points that point_sample skipped (beyond
+    // the margin) are left out.
     uint idx[kMaxK + 1];
     float d2[kMaxK + 1];
     uint n = 0u;
-    for (uint j = 0u; j <= pc.canvas.z; ++j) {
-        uint i = j == 0u ? q : texelFetch(uNeighbours, int(q * pc.canvas.z + j - 1u)).r;
+    bool table = pc.table.x > 0u;
+    int row = (c.y * int(pc.canvas.x) + c.x) * int(pc.table.x);
+    uint candidates = table ? pc.table.y : pc.canvas.z + 1u;
+    for (uint j = 0u; j < candidates; ++j) {
+        uint i = table ? texelFetch(uKnnTable, row + int(j >> 2u))[j & 3u]
+                       : (j == 0u ? q : texelFetch(uNeighbours, int(q * pc.canvas.z + j - 1u)).r);
         vec2 s = texelFetch(uPoints, int(i)).xy + offset;
         if (any(lessThan(s, vec2(-margin))) || any(greaterThanEqual(s, vec2(size) + margin))) continue;
         vec2 d = s - pos;
@@ -76,7 +82,8 @@ void main() {
         idx[m] = i;
         d2[m] = dd;
         n = min(n + 1u, k);
-        if (k == 1u && j == 0u) break; // nearest neighbour: the table's answer is exact
+        // The table is sorted, and the index's nearest point is exact: nothing closer follows.
+        if (n == k && (table || j == 0u)) break;
     }
     vec3 colour = vec3(0.0);
     float depth = 1.0 / 0.0; // first-hit distance of the nearest sample, for TAA

@@ -65,6 +65,10 @@ protected:
         const foveation::NeighbourIndex index(
             set, std::min<uint32_t>(20, static_cast<uint32_t>(set.points().size() - 1)));
         const foveation::GpuPointSet gpu(ctx(), set, index);
+        std::optional<foveation::GpuPixelKnnTable> table;
+        if (s.knn == passes::KnnIndex::PixelTable) {
+            table.emplace(ctx(), foveation::PixelKnnTable(set, index, s.k));
+        }
         vk::Buffer samples(ctx(), {values.size() * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                    vk::MemoryUsage::GpuOnly, "test.samples"});
         samples.upload(std::as_bytes(std::span(values)));
@@ -87,7 +91,8 @@ protected:
             inverse.emplace(ctx(), foveation::buildRbfInverse(set, index, s.k, kernel, s.rbfShape));
             weights = solve.add(g, gpu, *inverse, sid, gaze, s);
         }
-        passes::addReadbackPass(g, "out", pass.add(g, gpu, sid, gaze, s, weights), hid);
+        passes::addReadbackPass(
+            g, "out", pass.add(g, gpu, sid, gaze, s, weights, table ? &*table : nullptr), hid);
         rg::TransientPool pool(ctx());
         g.execute(g.compile(), pool);
         std::vector<glm::vec4> out(static_cast<std::size_t>(w) * h);
@@ -114,14 +119,18 @@ TEST_F(FoveatedTest, NearestAndShepardReproducePointsExactly) {
         values.emplace_back(static_cast<float>((sx * 7 + sy * 13) % 5), static_cast<float>(sx),
                             static_cast<float>(sy), 0.0f);
     }
-    for (auto method : {passes::Interpolation::Nearest, passes::Interpolation::Shepard}) {
-        const auto out = interpolate(set, values, {method, 10, 1.0f});
-        for (int y = 0; y < 16; ++y) {
-            for (int x = 0; x < 24; ++x) {
-                const glm::vec4 v = out[static_cast<std::size_t>(y) * 24 + x];
-                ASSERT_EQ(v.y, static_cast<float>(x)) << x << "," << y;
-                ASSERT_EQ(v.z, static_cast<float>(y)) << x << "," << y;
-                ASSERT_EQ(v.x, static_cast<float>((x * 7 + y * 13) % 5)) << x << "," << y;
+    for (auto knn : {passes::KnnIndex::NeighbourLists, passes::KnnIndex::PixelTable}) {
+        for (auto method : {passes::Interpolation::Nearest, passes::Interpolation::Shepard}) {
+            passes::InterpolateSettings settings{method, 10, 1.0f};
+            settings.knn = knn;
+            const auto out = interpolate(set, values, settings);
+            for (int y = 0; y < 16; ++y) {
+                for (int x = 0; x < 24; ++x) {
+                    const glm::vec4 v = out[static_cast<std::size_t>(y) * 24 + x];
+                    ASSERT_EQ(v.y, static_cast<float>(x)) << x << "," << y;
+                    ASSERT_EQ(v.z, static_cast<float>(y)) << x << "," << y;
+                    ASSERT_EQ(v.x, static_cast<float>((x * 7 + y * 13) % 5)) << x << "," << y;
+                }
             }
         }
     }
@@ -135,12 +144,15 @@ TEST_F(FoveatedTest, ShepardFollowsALinearRamp) {
     p.display = {"small", 160, 144, 0.85};
     const PointSet set = PointSet::generate(p);
     const std::vector<glm::vec4> values = rampSamples(set);
-    for (float power : {1.0f, 2.0f}) {
-        const RampError e =
-            rampError(interpolate(set, values, {passes::Interpolation::Shepard, 10, power}));
-        ASSERT_TRUE(e.finite);
-        EXPECT_LT(e.mean, 0.01) << "power " << power;
-        EXPECT_LT(e.worst, 0.05) << "power " << power;
+    for (auto knn : {passes::KnnIndex::NeighbourLists, passes::KnnIndex::PixelTable}) {
+        for (float power : {1.0f, 2.0f}) {
+            passes::InterpolateSettings settings{passes::Interpolation::Shepard, 10, power};
+            settings.knn = knn;
+            const RampError e = rampError(interpolate(set, values, settings));
+            ASSERT_TRUE(e.finite);
+            EXPECT_LT(e.mean, 0.01) << "power " << power;
+            EXPECT_LT(e.worst, 0.05) << "power " << power;
+        }
     }
 }
 

@@ -1,5 +1,5 @@
 // The perception model (thesis eqs. 1-4) against values computed by hand, and the point set:
-// its acceptance rule, density cap, determinism and the thesis's Table 1.
+// its acceptance rule, density cap, determinism and the thesis's Table 1; the k-NN indices.
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -8,6 +8,8 @@
 
 #include "core/error.hpp"
 #include "foveation/contrast_sensitivity.hpp"
+#include "foveation/neighbour_index.hpp"
+#include "foveation/pixel_knn_table.hpp"
 #include "foveation/point_set.hpp"
 
 namespace gt::foveation {
@@ -125,6 +127,36 @@ TEST(PointSet, ReproducesThesisTable1) {
     EXPECT_NEAR(100.0 * static_cast<double>(s.onScreenCentre) / total, 72.86, 3.0);
     EXPECT_NEAR(100.0 * static_cast<double>(s.onScreenCorner) / total, 26.68, 3.0);
     RecordProperty("total", std::to_string(s.total));
+}
+
+// The thesis's per-pixel table is exact: every sampled canvas pixel's row equals a brute-force
+// search (nearest first, ties to the lower index). The neighbour lists it is compared with
+// are exact for the nearest point and nearly so for k = 20 (measured, not required, here).
+TEST(PixelKnnTable, MatchesBruteForceOnAPerceptualSet) {
+    PointSetParams p;
+    p.display = {"small", 160, 144, 0.85};
+    const PointSet set = PointSet::generate(p);
+    const NeighbourIndex index(set, NeighbourIndex::kMaxNeighbours);
+    for (uint32_t k : {1u, 7u, 20u}) {
+        const PixelKnnTable table(set, index, k);
+        ASSERT_EQ(table.bytes(), std::size_t{320} * 288 * k * 4);
+        std::size_t checked = 0, listsExact = 0;
+        for (uint32_t y = 1; y < 288; y += 7) {
+            for (uint32_t x = 3; x < 320; x += 7) {
+                const float px = static_cast<float>(x) + 0.5f, py = static_cast<float>(y) + 0.5f;
+                const std::vector<uint32_t> truth = bruteForceKnn(set, px, py, k);
+                const std::size_t row = (static_cast<std::size_t>(y) * 320 + x) * k;
+                for (uint32_t j = 0; j < k; ++j)
+                    ASSERT_EQ(table.indices()[row + j], truth[j]) << x << "," << y << " k=" << k;
+                listsExact += index.query(px, py, k) == truth ? 1 : 0;
+                ++checked;
+            }
+        }
+        if (k == 1) EXPECT_EQ(listsExact, checked); // the nearest point is exact either way
+        RecordProperty("lists_exact_k" + std::to_string(k),
+                       std::to_string(listsExact) + "/" + std::to_string(checked));
+    }
+    EXPECT_THROW(PixelKnnTable(set, index, 22), ArgumentError);
 }
 
 } // namespace
