@@ -45,16 +45,24 @@ Interpolation parseView(const std::string& name) {
 }
 
 InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
-    mPipeline = std::make_unique<vk::ComputePipeline>(
-        ctx, vk::ComputePipelineDesc{
-                 "interpolate",
-                 gt_spv_interpolate_comp,
-                 {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                  VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-                  VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                  VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                  VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
-                 sizeof(sh::InterpolatePush)});
+    const std::vector<VkDescriptorType> bindings = {
+        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+        VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER};
+    const std::pair<uint32_t, bool> variants[] = {
+        {sh::kMethodNearest, false}, {sh::kMethodShepard, false}, {sh::kMethodShepard, true},
+        {sh::kMethodRbf, false},     {sh::kViewPoints, false},    {sh::kViewCells, false},
+        {sh::kViewSpacing, false}};
+    for (const auto& [method, table] : variants) {
+        mPipelines[{method, table}] = std::make_unique<vk::ComputePipeline>(
+            ctx, vk::ComputePipelineDesc{"interpolate",
+                                         gt_spv_interpolate_comp,
+                                         bindings,
+                                         sizeof(sh::InterpolatePush),
+                                         {method, table ? 1u : 0u}});
+    }
 }
 
 InterpolatePass::~InterpolatePass() = default;
@@ -125,7 +133,8 @@ rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuP
                 b.write(b.createTexture("interpolate.radiance", {VK_FORMAT_R32G32B32A32_SFLOAT}),
                         rg::Access::StorageWrite);
         },
-        [ctx = &mCtx, pipeline = mPipeline.get(), pts = &points, knn = useTable ? table : nullptr,
+        [ctx = &mCtx, pipeline = mPipelines.at({method, useTable}).get(), pts = &points,
+         knn = useTable ? table : nullptr,
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             vk::DescriptorWriter writer;
             writer.texelBuffer(sh::kBindingInterpPoints, pts->points())

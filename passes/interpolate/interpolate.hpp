@@ -4,6 +4,7 @@
 // functions from the weights pass `rbf_solve` wrote.
 #include <array>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -70,7 +71,8 @@ public:
 
 private:
     vk::Context& mCtx;
-    std::unique_ptr<vk::ComputePipeline> mPipeline;
+    // Specialised per (method, reads the k-NN table): see shaders/interpolate/interpolate.comp.
+    std::map<std::pair<uint32_t, bool>, std::unique_ptr<vk::ComputePipeline>> mPipelines;
 };
 
 } // namespace gt::passes

@@ -18,6 +18,11 @@ layout(std430, set = 0, binding = kBindingLambdaR) readonly buffer LambdaR { flo
 layout(std430, set = 0, binding = kBindingLambdaG) readonly buffer LambdaG { float lambdaG[]; };
 layout(std430, set = 0, binding = kBindingLambdaB) readonly buffer LambdaB { float lambdaB[]; };
 layout(push_constant) uniform Push { InterpolatePush pc; };
+// One pipeline per method and neighbour index: llvmpipe runs both sides of a branch under a
+// lane mask, so a method chosen at run time paid for every other method's code (nearest
+// neighbour took 50 ms, a constant write 46 ms at 1280x1440); specialised, dead code goes.
+layout(constant_id = 0) const uint kMethod = kMethodNearest;
+layout(constant_id = 1) const bool kUseTable = false;
 
 // RBF (seed 000, eq. 7): s(x) = sum lambda_i phi(|x - x_i|) over the neighbourhood of the
 // pixel's nearest point q, with the weights rbf_solve computed for q.
@@ -46,7 +51,7 @@ void main() {
     ivec2 c = clamp(ivec2(floor(pos - offset)), ivec2(0), ivec2(pc.canvas.xy) - 1);
     uint q = texelFetch(uNearest, c.y * int(pc.canvas.x) + c.x).r;
     uint k = min(pc.params.z, kMaxK);
-    if (pc.params.w == kMethodRbf) {
+    if (kMethod == kMethodRbf) {
         vec2 qpos = texelFetch(uPoints, int(q)).xy;
         if (isSampled(qpos, offset, vec2(size), margin)) {
             vec4 qs = samples[q];
@@ -55,6 +60,15 @@ void main() {
         }
         k = 1u; // the nearest point was not sampled: nearest sampled neighbour instead
     }
+    if (kMethod == kMethodNearest) {
+        // The canvas pixel's nearest point is exact; only where it lies beyond the sampled
+        // margin does the general search below look for the nearest sampled one.
+        vec2 qpos = texelFetch(uPoints, int(q)).xy;
+        if (isSampled(qpos, offset, vec2(size), margin)) {
+            imageStore(uOutput, px, samples[q]);
+            return;
+        }
+    }
 
     // Candidates, kept sorted by distance: the canvas pixel's row of the k-NN table (thesis),
     // or the nearest point and its stored neighbours. Points that point_sample skipped (beyond
@@ -62,7 +76,7 @@ void main() {
     uint idx[kMaxK + 1];
     float d2[kMaxK + 1];
     uint n = 0u;
-    bool table = pc.table.x > 0u;
+    const bool table = kUseTable;
     int row = (c.y * int(pc.canvas.x) + c.x) * int(pc.table.x);
     uint candidates = table ? pc.table.y : pc.canvas.z + 1u;
     for (uint j = 0u; j < candidates; ++j) {
@@ -90,7 +104,7 @@ void main() {
     if (n > 0u) {
         colour = samples[idx[0]].rgb;
         depth = samples[idx[0]].w;
-        if (pc.params.w == kMethodShepard && n > 1u) {
+        if (kMethod == kMethodShepard && n > 1u) {
             float r = sqrt(d2[n - 1u]);
             vec3 sum = vec3(0.0);
             float wsum = 0.0;
@@ -104,12 +118,12 @@ void main() {
             if (wsum > 0.0) colour = sum / wsum;
         }
     }
-    if (pc.params.w >= kViewPoints && pc.params.w <= kViewSpacing && n > 0u) {
+    if (kMethod >= kViewPoints && kMethod <= kViewSpacing && n > 0u) {
         vec4 point = texelFetch(uPoints, int(idx[0]));
-        if (pc.params.w == kViewPoints) {
+        if (kMethod == kViewPoints) {
             // The point's own sample where a point lies in this pixel, dark grey elsewhere.
             colour = d2[0] <= 0.5 ? samples[idx[0]].rgb : vec3(0.02);
-        } else if (pc.params.w == kViewCells) {
+        } else if (kMethod == kViewCells) {
             uint h = idx[0] * 2654435761u;
             colour = vec3(float(h & 255u), float((h >> 8) & 255u), float((h >> 16) & 255u)) / 255.0;
         } else {
