@@ -39,6 +39,12 @@ bool slabTest(int node, vec3 origin, vec3 invDir, float tMin, float tMax, out fl
     return enter <= exit;
 }
 
+// (leftFirst, count) of a node: count > 0 makes it a leaf (see gt::scene::BvhNode).
+uvec2 nodeLinks(int node) {
+    return uvec2(floatBitsToUint(texelFetch(uNodes, node * 2).w),
+                 floatBitsToUint(texelFetch(uNodes, node * 2 + 1).w));
+}
+
 // Möller–Trumbore, as gt::scene::intersectTriangle.
 bool triangleTest(uint tri, vec3 origin, vec3 dir, float tMin, float tMax, out float t,
                   out float u, out float v) {
@@ -74,8 +80,8 @@ Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
         int sp = 0;
         int node = 0;
         while (true) {
-            uint count = floatBitsToUint(texelFetch(uNodes, node * 2 + 1).w);
-            uint leftFirst = floatBitsToUint(texelFetch(uNodes, node * 2).w);
+            uvec2 links = nodeLinks(node);
+            uint leftFirst = links.x, count = links.y;
             bool descend = false;
             if (count > 0u) {
                 for (uint i = leftFirst; i < leftFirst + count; ++i) {
@@ -120,8 +126,8 @@ bool traceOccluded(vec3 origin, vec3 dir, float tMax) {
     int sp = 0;
     int node = 0;
     while (true) {
-        uint count = floatBitsToUint(texelFetch(uNodes, node * 2 + 1).w);
-        uint leftFirst = floatBitsToUint(texelFetch(uNodes, node * 2).w);
+        uvec2 links = nodeLinks(node);
+        uint leftFirst = links.x, count = links.y;
         if (count > 0u) {
             for (uint i = leftFirst; i < leftFirst + count; ++i) {
                 float t, u, v;
