@@ -40,15 +40,17 @@ PixelKnnTable::PixelKnnTable(const PointSet& set, const NeighbourIndex& index, u
                 return dx * dx + dy * dy;
             };
             bound[0] = dist2(q);
-            for (uint32_t j = 0; j < stored; ++j)
+            for (uint32_t j = 0; j < stored; ++j) {
                 bound[j + 1] = dist2(index.neighbours()[static_cast<std::size_t>(q) * stored + j]);
+            }
             std::nth_element(bound.begin(), bound.begin() + (k - 1), bound.end());
             const float r2 = bound[k - 1];
             found.clear();
             (r2 <= kFine * kFine * 4.0f ? fine : coarse).withinRadius(pts, px, py, r2, found);
             std::partial_sort(found.begin(), found.begin() + k, found.end());
-            for (uint32_t j = 0; j < k; ++j)
+            for (uint32_t j = 0; j < k; ++j) {
                 mIndices[pixel * k + j] = found[j].second;
+            }
         }
     });
     mSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -64,8 +66,9 @@ std::vector<uint32_t> bruteForceKnn(const PointSet& set, float x, float y, uint3
     const auto n = std::min<std::size_t>(k, all.size());
     std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(n), all.end());
     std::vector<uint32_t> out;
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t i = 0; i < n; ++i) {
         out.push_back(all[i].second);
+    }
     return out;
 }
 
