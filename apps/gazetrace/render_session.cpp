@@ -54,10 +54,9 @@ struct RenderSession::Impl {
             knnTable.reset(); // hundreds of MB: give them back to whatever runs next (RBF)
             return nullptr;
         }
-        const uint32_t k = std::max(1u, s.k);
-        if (!knnTable || knnTable->k() != k) {
+        if (!knnTable || knnTable->k() != s.k) {
             knnTable.reset();
-            const foveation::PixelKnnTable table(*points, *neighbours, k);
+            const foveation::PixelKnnTable table(*points, *neighbours, s.k);
             knnTable.emplace(*ctx, table);
             knnTablePrepared = {table.buildSeconds() * 1e3,
                                 static_cast<double>(table.bytes()) / 1e6};

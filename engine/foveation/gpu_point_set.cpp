@@ -1,6 +1,8 @@
 #include "foveation/gpu_point_set.hpp"
 
 #include <algorithm>
+#include <span>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -28,36 +30,43 @@ GpuPointSet::GpuPointSet(vk::Context& ctx, const PointSet& set, const NeighbourI
     mNeighboursView = vk::BufferView(ctx, mNeighbours, VK_FORMAT_R32_UINT);
 }
 
-GpuRbfInverse::GpuRbfInverse(vk::Context& ctx, const RbfInverse& inverse)
-    : mK(inverse.k), mStride((inverse.k * inverse.k + 3) / 4), mKernel(inverse.kernel),
-      mShape(inverse.shape) {
-    const std::size_t points = inverse.inverse.size() / (static_cast<std::size_t>(mK) * mK);
-    const std::size_t bytes = points * mStride * 16;
-    mBuffer = vk::Buffer(ctx, {bytes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
-                               vk::MemoryUsage::GpuOnly, "rbf.inverse"});
-    std::vector<float> padded(points * mStride * 4, 0.0f);
-    for (std::size_t q = 0; q < points; ++q) {
-        std::copy_n(&inverse.inverse[q * mK * mK], mK * mK, &padded[q * mStride * 4]);
+namespace {
+
+// Rows of `rowLength` values, each padded to whole RGBA texels (texel buffers reach 128 M
+// texels on lavapipe; storage buffers only 128 MiB), uploaded with a view of `format`.
+// Returns the texels per row.
+template <typename T>
+uint32_t uploadTexelRows(vk::Context& ctx, std::span<const T> values, uint32_t rowLength,
+                         VkFormat format, const char* name, vk::Buffer& buffer,
+                         vk::BufferView& view) {
+    const uint32_t stride = (rowLength + 3) / 4;
+    const std::size_t rows = values.size() / rowLength;
+    buffer = vk::Buffer(ctx, {rows * stride * 16, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
+                              vk::MemoryUsage::GpuOnly, name});
+    if (stride * 4 == rowLength) {
+        buffer.upload(std::as_bytes(values));
+    } else {
+        std::vector<T> padded(rows * stride * 4, T{});
+        for (std::size_t r = 0; r < rows; ++r) {
+            std::copy_n(&values[r * rowLength], rowLength, &padded[r * stride * 4]);
+        }
+        buffer.upload(std::as_bytes(std::span(padded)));
     }
-    mBuffer.upload(std::as_bytes(std::span(padded)));
-    mView = vk::BufferView(ctx, mBuffer, VK_FORMAT_R32G32B32A32_SFLOAT);
+    view = vk::BufferView(ctx, buffer, format);
+    return stride;
 }
 
-GpuPixelKnnTable::GpuPixelKnnTable(vk::Context& ctx, const PixelKnnTable& table)
-    : mK(table.k()), mStride((table.k() + 3) / 4) {
-    const std::size_t pixels = static_cast<std::size_t>(table.canvasWidth()) * table.canvasHeight();
-    const std::size_t bytes = pixels * mStride * 16;
-    mBuffer = vk::Buffer(ctx, {bytes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
-                               vk::MemoryUsage::GpuOnly, "pointset.knn_table"});
-    if (mStride * 4 == mK) {
-        mBuffer.upload(std::as_bytes(std::span(table.indices())));
-    } else {
-        std::vector<uint32_t> padded(pixels * mStride * 4, 0u);
-        for (std::size_t p = 0; p < pixels; ++p)
-            std::copy_n(&table.indices()[p * mK], mK, &padded[p * mStride * 4]);
-        mBuffer.upload(std::as_bytes(std::span(padded)));
-    }
-    mView = vk::BufferView(ctx, mBuffer, VK_FORMAT_R32G32B32A32_UINT);
+} // namespace
+
+GpuRbfInverse::GpuRbfInverse(vk::Context& ctx, const RbfInverse& inverse)
+    : mK(inverse.k), mKernel(inverse.kernel), mShape(inverse.shape) {
+    mStride = uploadTexelRows(ctx, std::span<const float>(inverse.inverse), mK * mK,
+                              VK_FORMAT_R32G32B32A32_SFLOAT, "rbf.inverse", mBuffer, mView);
+}
+
+GpuPixelKnnTable::GpuPixelKnnTable(vk::Context& ctx, const PixelKnnTable& table) : mK(table.k()) {
+    mStride = uploadTexelRows(ctx, std::span<const uint32_t>(table.indices()), mK,
+                              VK_FORMAT_R32G32B32A32_UINT, "pointset.knn_table", mBuffer, mView);
 }
 
 } // namespace gt::foveation

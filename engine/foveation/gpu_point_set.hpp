@@ -46,7 +46,7 @@ public:
 private:
     vk::Buffer mBuffer;
     vk::BufferView mView;
-    uint32_t mK, mStride;
+    uint32_t mK, mStride = 0;
     RbfKernelType mKernel;
     float mShape;
 };
@@ -64,7 +64,7 @@ public:
 private:
     vk::Buffer mBuffer;
     vk::BufferView mView;
-    uint32_t mK, mStride;
+    uint32_t mK, mStride = 0;
 };
 
 } // namespace gt::foveation
