@@ -232,10 +232,19 @@ nlohmann::json runRender(const RenderOptions& o) {
         j["point_set_ms"] = session.pointSetMs();
         j["neighbour_index_ms"] = session.neighbourIndexMs();
         j["neighbour_index_mb"] = session.neighbourIndexMb();
-        if (interp.method == passes::Interpolation::Shepard) j["knn"] = o.knn;
+        if (interp.method == passes::Interpolation::Shepard ||
+            interp.method == passes::Interpolation::Rbf) {
+            j["knn"] = o.knn;
+        }
         if (passes::usesPixelTable(interp)) {
             j["knn_table_ms"] = session.knnTablePrepared().ms;
             j["knn_table_mb"] = session.knnTablePrepared().mb;
+        }
+        if (interp.method == passes::Interpolation::Rbf) {
+            // Built once for these settings: per-pixel weights (table) or inverses (lists).
+            j["rbf_prepared"] = passes::usesPixelTable(interp) ? "pixel_weights" : "inverses";
+            j["rbf_prepared_ms"] = session.rbfPrepared().ms;
+            j["rbf_prepared_mb"] = session.rbfPrepared().mb;
         }
     } else {
         j["spp"] = o.spp;

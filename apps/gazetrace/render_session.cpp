@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <functional>
+#include <set>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -47,27 +48,49 @@ struct RenderSession::Impl {
     Prepared rbfPrepared;
     std::optional<foveation::GpuPixelKnnTable> knnTable; // for the last k asked of it
     Prepared knnTablePrepared;
+    std::optional<foveation::GpuRbfPixelWeights> rbfPixelWeights; // RBF with the table
 
-    // The thesis's per-pixel table when the settings ask for it (built on the CPU once per k).
-    const foveation::GpuPixelKnnTable* tableFor(const passes::InterpolateSettings& s) {
+    static foveation::RbfKernelType kernelType(const passes::InterpolateSettings& s) {
+        return s.kernel == passes::RbfKernel::Gaussian ? foveation::RbfKernelType::Gaussian
+                                                       : foveation::RbfKernelType::Multiquadric;
+    }
+
+    // The thesis's per-pixel table, and for RBF its per-pixel weights, when the settings ask
+    // for them: built on the CPU once per k (and RBF kernel and shape).
+    passes::InterpolateInputs tableInputs(const passes::InterpolateSettings& s) {
         if (!passes::usesPixelTable(s)) {
-            knnTable.reset(); // hundreds of MB: give them back to whatever runs next (RBF)
-            return nullptr;
+            // Hundreds of MB: give them back to whatever runs next.
+            knnTable.reset();
+            rbfPixelWeights.reset();
+            return {};
         }
+        std::optional<foveation::PixelKnnTable> table;
         if (!knnTable || knnTable->k() != s.k) {
             knnTable.reset();
-            const foveation::PixelKnnTable table(*points, *neighbours, s.k);
-            knnTable.emplace(*ctx, table);
-            knnTablePrepared = {table.buildSeconds() * 1e3,
-                                static_cast<double>(table.bytes()) / 1e6};
+            rbfPixelWeights.reset();
+            table.emplace(*points, *neighbours, s.k);
+            knnTable.emplace(*ctx, *table);
+            knnTablePrepared = {table->buildSeconds() * 1e3,
+                                static_cast<double>(table->bytes()) / 1e6};
         }
-        return &*knnTable;
+        if (s.method != passes::Interpolation::Rbf) {
+            rbfPixelWeights.reset();
+            return {std::nullopt, &*knnTable, nullptr};
+        }
+        if (!rbfPixelWeights || rbfPixelWeights->kernel() != kernelType(s) ||
+            rbfPixelWeights->shape() != s.rbfShape) {
+            rbfPixelWeights.reset();
+            if (!table) table.emplace(*points, *neighbours, s.k); // same k, another kernel
+            const foveation::RbfPixelWeights weights(*points, *table, kernelType(s), s.rbfShape);
+            rbfPixelWeights.emplace(*ctx, weights);
+            rbfPrepared = {weights.buildSeconds() * 1e3,
+                           static_cast<double>(weights.bytes()) / 1e6};
+        }
+        return {std::nullopt, &*knnTable, &*rbfPixelWeights};
     }
 
     const foveation::GpuRbfInverse& inverseFor(const passes::InterpolateSettings& s) {
-        const auto kernel = s.kernel == passes::RbfKernel::Gaussian
-                                ? foveation::RbfKernelType::Gaussian
-                                : foveation::RbfKernelType::Multiquadric;
+        const foveation::RbfKernelType kernel = kernelType(s);
         if (!rbfInverse || rbfInverse->k() != s.k || rbfInverse->kernel() != kernel ||
             rbfInverse->shape() != s.rbfShape) {
             rbfInverse.reset();
@@ -82,7 +105,10 @@ struct RenderSession::Impl {
     std::optional<passes::TaaPass> taa;
     std::optional<passes::TaaHistory> taaHistory;
     std::optional<rg::TransientPool> pool;
-    bool warmReference = false, warmFoveated = false, warmRbf = false;
+    bool warmReference = false;
+    // The interpolate variants (method, reads the table) that have run once: each is its own
+    // specialised pipeline, compiled by lavapipe at its first dispatch.
+    std::set<std::pair<passes::Interpolation, bool>> warmInterpolation;
 
     using AddRadiance = std::function<rg::TextureId(rg::RenderGraph&)>;
 
@@ -168,6 +194,7 @@ void RenderSession::preparePointSet(const foveation::PointSetParams& params,
     mPointSetMs = msSince(t);
     mImpl->rbfInverse.reset();
     mImpl->knnTable.reset();
+    mImpl->rbfPixelWeights.reset();
     mImpl->gpuPoints.reset();
     mImpl->neighbours.reset();
     mImpl->points.emplace(std::move(c.set));
@@ -224,39 +251,32 @@ FrameResult RenderSession::foveated(const FoveatedSettings& s, bool pixels, bool
     Impl& m = *mImpl;
     if (!m.gpuPoints) throw Error("no point set prepared");
     const uint32_t w = m.points->params().display.width, h = m.points->params().display.height;
-    const foveation::GpuPixelKnnTable* table = m.tableFor(s.interpolation);
-    auto add = [&](rg::RenderGraph& g) {
-        const rg::BufferId samples = m.pointSample->add(g, *m.gpuScene, m.scene.camera,
-                                                        *m.gpuPoints, s.gaze, s.raysPerPoint);
-        std::optional<passes::RbfWeights> weights;
-        if (s.interpolation.method == passes::Interpolation::Rbf) {
-            weights = m.rbfSolve->add(g, *m.gpuPoints, m.inverseFor(s.interpolation), samples,
-                                      s.gaze, s.interpolation);
+    const passes::InterpolateInputs prepared = m.tableInputs(s.interpolation);
+    const bool solve = passes::usesRbfSolve(s.interpolation);
+    // point_sample -> (rbf_solve) -> interpolate, with `rays` per point.
+    auto addImage = [&](rg::RenderGraph& g, uint32_t rays) {
+        const rg::BufferId samples =
+            m.pointSample->add(g, *m.gpuScene, m.scene.camera, *m.gpuPoints, s.gaze, rays);
+        passes::InterpolateInputs in = prepared;
+        if (solve) {
+            in.lambdas = m.rbfSolve->add(g, *m.gpuPoints, m.inverseFor(s.interpolation), samples,
+                                         s.gaze, s.interpolation);
         }
-        const rg::TextureId image =
-            m.interpolate->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation, weights, table);
+        return m.interpolate->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation, in);
+    };
+    auto add = [&](rg::RenderGraph& g) {
+        const rg::TextureId image = addImage(g, s.raysPerPoint);
         if (!s.taa) return image;
         return m.taa->add(g, *m.taaHistory, image, m.scene.camera, s.gaze, s.saccade);
     };
-    const bool rbf = s.interpolation.method == passes::Interpolation::Rbf;
-    if (!m.warmFoveated || (rbf && !m.warmRbf)) {
+    const auto variant =
+        std::make_pair(s.interpolation.method, passes::usesPixelTable(s.interpolation));
+    if (!m.warmInterpolation.contains(variant)) {
         // One untimed frame, full size, one ray per point, through every pipeline this frame
         // uses (lavapipe compiles at first dispatch) and without touching the TAA history.
         rg::TransientPool warm(*m.ctx);
-        auto tiny = [&](rg::RenderGraph& g) {
-            const rg::BufferId samples =
-                m.pointSample->add(g, *m.gpuScene, m.scene.camera, *m.gpuPoints, s.gaze, 1);
-            std::optional<passes::RbfWeights> weights;
-            if (rbf) {
-                weights = m.rbfSolve->add(g, *m.gpuPoints, m.inverseFor(s.interpolation), samples,
-                                          s.gaze, s.interpolation);
-            }
-            return m.interpolate->add(g, *m.gpuPoints, samples, s.gaze, s.interpolation, weights,
-                                      table);
-        };
-        (void)m.run(tiny, w, h, true, false, warm);
-        m.warmFoveated = true;
-        m.warmRbf = m.warmRbf || rbf;
+        (void)m.run([&](rg::RenderGraph& g) { return addImage(g, 1); }, w, h, true, false, warm);
+        m.warmInterpolation.insert(variant);
     }
     return m.run(add, w, h, pixels, dot, *m.pool);
 }

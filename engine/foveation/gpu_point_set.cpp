@@ -69,4 +69,10 @@ GpuPixelKnnTable::GpuPixelKnnTable(vk::Context& ctx, const PixelKnnTable& table)
                               VK_FORMAT_R32G32B32A32_UINT, "pointset.knn_table", mBuffer, mView);
 }
 
+GpuRbfPixelWeights::GpuRbfPixelWeights(vk::Context& ctx, const RbfPixelWeights& weights)
+    : mK(weights.k()), mKernel(weights.kernel()), mShape(weights.shape()) {
+    (void)uploadTexelRows(ctx, std::span<const float>(weights.weights()), mK,
+                          VK_FORMAT_R32G32B32A32_SFLOAT, "rbf.pixel_weights", mBuffer, mView);
+}
+
 } // namespace gt::foveation

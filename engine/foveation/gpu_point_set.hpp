@@ -7,6 +7,7 @@
 #include "foveation/pixel_knn_table.hpp"
 #include "foveation/point_set.hpp"
 #include "foveation/rbf_inverse.hpp"
+#include "foveation/rbf_pixel_weights.hpp"
 #include "vk/resources.hpp"
 
 namespace gt::foveation {
@@ -65,6 +66,24 @@ private:
     vk::Buffer mBuffer;
     vk::BufferView mView;
     uint32_t mK, mStride = 0;
+};
+
+// The per-pixel RBF weights on the GPU, laid out as the k-NN table they belong to: ceil(k / 4)
+// RGBA32F texels per canvas pixel.
+class GpuRbfPixelWeights {
+public:
+    GpuRbfPixelWeights(vk::Context& ctx, const RbfPixelWeights& weights);
+    [[nodiscard]] VkBufferView view() const noexcept { return mView.handle(); }
+    [[nodiscard]] uint32_t k() const noexcept { return mK; }
+    [[nodiscard]] RbfKernelType kernel() const noexcept { return mKernel; }
+    [[nodiscard]] float shape() const noexcept { return mShape; }
+
+private:
+    vk::Buffer mBuffer;
+    vk::BufferView mView;
+    uint32_t mK;
+    RbfKernelType mKernel;
+    float mShape;
 };
 
 } // namespace gt::foveation

@@ -10,13 +10,9 @@
 
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set.hpp"
+#include "foveation/rbf_system.hpp"
 
 namespace gt::foveation {
-
-enum class RbfKernelType : uint32_t { Multiquadric = 0, Gaussian = 1 };
-
-// phi(r) with shape c (a length): sqrt(r^2 + c^2) (eq. 10) or exp(-(r/c)^2) (eq. 9).
-[[nodiscard]] double rbfKernel(RbfKernelType kernel, double r, double c) noexcept;
 
 struct RbfInverse {
     uint32_t k = 0;

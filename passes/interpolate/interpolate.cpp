@@ -33,7 +33,12 @@ KnnIndex parseKnnIndex(const std::string& name) {
 }
 
 bool usesPixelTable(const InterpolateSettings& s) {
-    return s.knn == KnnIndex::PixelTable && s.method == Interpolation::Shepard;
+    return s.knn == KnnIndex::PixelTable &&
+           (s.method == Interpolation::Shepard || s.method == Interpolation::Rbf);
+}
+
+bool usesRbfSolve(const InterpolateSettings& s) {
+    return s.method == Interpolation::Rbf && s.knn == KnnIndex::NeighbourLists;
 }
 
 Interpolation parseView(const std::string& name) {
@@ -50,11 +55,11 @@ InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
         VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER};
+        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER};
     const std::pair<uint32_t, bool> variants[] = {
         {sh::kMethodNearest, false}, {sh::kMethodShepard, false}, {sh::kMethodShepard, true},
-        {sh::kMethodRbf, false},     {sh::kViewPoints, false},    {sh::kViewCells, false},
-        {sh::kViewSpacing, false}};
+        {sh::kMethodRbf, false},     {sh::kMethodRbf, true},      {sh::kViewPoints, false},
+        {sh::kViewCells, false},     {sh::kViewSpacing, false}};
     for (const auto& [method, table] : variants) {
         mPipelines[{method, table}] = std::make_unique<vk::ComputePipeline>(
             ctx, vk::ComputePipelineDesc{"interpolate",
@@ -70,19 +75,28 @@ InterpolatePass::~InterpolatePass() = default;
 rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
                                    rg::BufferId samples, glm::vec2 gaze,
                                    const InterpolateSettings& s,
-                                   const std::optional<RbfWeights>& weights,
-                                   const foveation::GpuPixelKnnTable* table) const {
-    if (s.method == Interpolation::Rbf && !weights) {
-        throw ArgumentError("RBF interpolation needs the rbf_solve pass's weights");
+                                   const InterpolateInputs& in) const {
+    if (usesRbfSolve(s) && !in.lambdas) {
+        throw ArgumentError("RBF over the neighbour lists needs the rbf_solve pass's weights");
     }
     if (s.k == 0 || s.k > points.storedNeighbours() + 1 || s.k > sh::kMaxK) {
         throw ArgumentError("--k must be 1.." +
                             std::to_string(std::min(sh::kMaxK, points.storedNeighbours() + 1)));
     }
     const bool useTable = usesPixelTable(s);
+    const foveation::GpuPixelKnnTable* table = useTable ? in.table : nullptr;
     if (useTable && (table == nullptr || table->k() < s.k)) {
         throw ArgumentError("the k-NN table must hold at least k = " + std::to_string(s.k) +
                             " neighbours per pixel");
+    }
+    const bool pixelWeights = useTable && s.method == Interpolation::Rbf;
+    const foveation::GpuRbfPixelWeights* rbfWeights = pixelWeights ? in.rbfWeights : nullptr;
+    if (pixelWeights && (rbfWeights == nullptr || rbfWeights->k() != s.k || table->k() != s.k ||
+                         rbfWeights->shape() != s.rbfShape ||
+                         (rbfWeights->kernel() == foveation::RbfKernelType::Gaussian) !=
+                             (s.kernel == RbfKernel::Gaussian))) {
+        throw ArgumentError("RBF with the k-NN table needs per-pixel weights and a table built "
+                            "for the same k, kernel and shape");
     }
     const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());
     uint32_t method = sh::kMethodNearest;
@@ -114,7 +128,8 @@ rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuP
         glm::uvec4(points.canvasWidth(), points.canvasHeight(), points.storedNeighbours(),
                    s.kernel == RbfKernel::Gaussian ? sh::kKernelGaussian : sh::kKernelMultiquadric),
         glm::vec4(s.rbfShape, 0.0f, 0.0f, 0.0f),
-        useTable ? glm::uvec4(table->texelsPerPixel(), table->k(), 0u, 0u) : glm::uvec4(0u)};
+        useTable ? glm::uvec4(table->texelsPerPixel(), table->k(), (s.k + 3) / 4, 0u)
+                 : glm::uvec4(0u)};
     struct Data {
         rg::BufferId samples;
         rg::TextureId output;
@@ -124,27 +139,30 @@ rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuP
         "interpolate",
         [&](rg::PassBuilder& b, Data& d) {
             d.samples = b.read(samples, rg::Access::StorageRead);
-            if (s.method == Interpolation::Rbf) {
-                d.weights = RbfWeights{b.read(weights->r, rg::Access::StorageRead),
-                                       b.read(weights->g, rg::Access::StorageRead),
-                                       b.read(weights->b, rg::Access::StorageRead)};
+            if (usesRbfSolve(s)) {
+                d.weights = RbfWeights{b.read(in.lambdas->r, rg::Access::StorageRead),
+                                       b.read(in.lambdas->g, rg::Access::StorageRead),
+                                       b.read(in.lambdas->b, rg::Access::StorageRead)};
             }
             d.output =
                 b.write(b.createTexture("interpolate.radiance", {VK_FORMAT_R32G32B32A32_SFLOAT}),
                         rg::Access::StorageWrite);
         },
         [ctx = &mCtx, pipeline = mPipelines.at({method, useTable}).get(), pts = &points,
-         knn = useTable ? table : nullptr,
+         knn = table, rbfWeights,
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             vk::DescriptorWriter writer;
             writer.texelBuffer(sh::kBindingInterpPoints, pts->points())
                 .storageBuffer(sh::kBindingInterpSamples, r.buffer(d.samples))
                 .texelBuffer(sh::kBindingNearest, pts->nearest())
                 .texelBuffer(sh::kBindingNeighbours, pts->neighbours())
-                // Without the table the binding is never read: the neighbour lists stand in.
+                // A variant never reads the table or the pixel weights it was not given:
+                // buffers of the same descriptor type stand in.
                 .texelBuffer(sh::kBindingKnnTable, knn ? knn->view() : pts->neighbours())
+                .texelBuffer(sh::kBindingRbfPixelWeights,
+                             rbfWeights ? rbfWeights->view() : pts->points())
                 .storageImage(sh::kBindingInterpOutput, r.texture(d.output).view);
-            // Without RBF the weight bindings are never read; any valid buffer will do.
+            // Without rbf_solve the lambda bindings are never read; any valid buffer will do.
             const VkBuffer samplesBuffer = r.buffer(d.samples);
             writer
                 .storageBuffer(sh::kBindingLambdaR,

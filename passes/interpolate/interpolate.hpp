@@ -21,6 +21,7 @@ namespace gt::foveation {
 class GpuPointSet;
 class GpuRbfInverse;
 class GpuPixelKnnTable;
+class GpuRbfPixelWeights;
 } // namespace gt::foveation
 
 namespace gt::passes {
@@ -28,13 +29,14 @@ namespace gt::passes {
 // Nearest/Shepard rebuild the image; the others are debug views (--view).
 enum class Interpolation { Nearest, Shepard, Rbf, ViewPoints, ViewCells, ViewSpacing };
 enum class RbfKernel { Multiquadric, Gaussian };
-// Where Modified Shepard finds a pixel's k nearest points. PixelTable (the default): the
+// Where Modified Shepard and RBF find a pixel's k nearest points. PixelTable (the default): the
 // thesis's table of the k nearest per canvas pixel, exact, 2-2.5x faster per frame than the
-// lists on lavapipe, but 29.5 MB per neighbour (590 MB at k = 20) and seconds to build.
-// NeighbourLists: the nearest point per canvas pixel plus that point's 20 neighbours (75.6 MB
-// for fove), exact at k <= 7 and close at k = 20. Nearest neighbour always uses the
-// nearest-point array (the thesis's table at k = 1); RBF always uses the lists, because its
-// weights belong to the nearest point's neighbourhood.
+// lists on lavapipe, but 29.5 MB per neighbour (590 MB at k = 20) and seconds to build; RBF
+// adds as much again for its per-pixel weights (rbf_pixel_weights.hpp) and then costs what
+// Modified Shepard costs. NeighbourLists: the nearest point per canvas pixel plus that point's
+// 20 neighbours (75.6 MB for fove), exact at k <= 7 and close at k = 20; RBF then solves per
+// point each frame (rbf_solve). Nearest neighbour always uses the nearest-point array (the
+// thesis's table at k = 1).
 enum class KnnIndex { NeighbourLists, PixelTable };
 
 struct InterpolateSettings {
@@ -51,23 +53,31 @@ struct RbfWeights {
     rg::BufferId r, g, b;
 };
 
+// What a method reads besides the samples, prepared by the caller for the same settings:
+// rbf_solve's weights (RBF over the neighbour lists), the k-NN table (usesPixelTable), and the
+// per-pixel RBF weights (RBF with the table; built for the table's k).
+struct InterpolateInputs {
+    std::optional<RbfWeights> lambdas;
+    const foveation::GpuPixelKnnTable* table = nullptr;
+    const foveation::GpuRbfPixelWeights* rbfWeights = nullptr;
+};
+
 [[nodiscard]] Interpolation parseInterpolation(const std::string& name); // nn | msm | rbf
 [[nodiscard]] RbfKernel parseKernel(const std::string& name);            // multiquadric | gaussian
 [[nodiscard]] KnnIndex parseKnnIndex(const std::string& name);           // lists | table
-[[nodiscard]] bool usesPixelTable(const InterpolateSettings& s); // msm with KnnIndex::PixelTable
-[[nodiscard]] Interpolation parseView(const std::string& name);  // points | cells | eccentricity
+[[nodiscard]] bool usesPixelTable(const InterpolateSettings& s);         // msm/rbf with PixelTable
+[[nodiscard]] bool usesRbfSolve(const InterpolateSettings& s);           // rbf with NeighbourLists
+[[nodiscard]] Interpolation parseView(const std::string& name); // points | cells | eccentricity
 
 class InterpolatePass {
 public:
     explicit InterpolatePass(vk::Context& ctx);
     ~InterpolatePass();
     // Adds "interpolate" reading the samples, writing a new texture "interpolate.radiance".
-    // For Interpolation::Rbf, `weights` must come from RbfSolvePass with the same settings;
-    // for KnnIndex::PixelTable, `table` must hold at least k neighbours per pixel.
+    // `in` must hold what the settings need (see InterpolateInputs).
     rg::TextureId add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
                       rg::BufferId samples, glm::vec2 gaze, const InterpolateSettings& s,
-                      const std::optional<RbfWeights>& weights = std::nullopt,
-                      const foveation::GpuPixelKnnTable* table = nullptr) const;
+                      const InterpolateInputs& in = {}) const;
 
 private:
     vk::Context& mCtx;

@@ -2,7 +2,8 @@
 // Pass `interpolate` (seed 000, 4.3): every screen pixel from the k nearest sampled points.
 // Nearest neighbour takes the nearest point's colour; the Modified Shepard method weighs the k
 // neighbours by w_i = ((R - h_i) / (R h_i))^q with R the distance to the farthest of them
-// (thesis eqs. 5-6, q = 1; Renka 1988 uses q = 2).
+// (thesis eqs. 5-6, q = 1; Renka 1988 uses q = 2); RBF (eqs. 7-10) sums the k neighbours with
+// the per-pixel weights prepared once, or evaluates rbf_solve's per-point weights.
 #extension GL_GOOGLE_include_directive : require
 #include "foveated_shared.h"
 #include "rbf.glsl"
@@ -13,6 +14,7 @@ layout(std430, set = 0, binding = kBindingInterpSamples) readonly buffer Samples
 layout(set = 0, binding = kBindingNearest) uniform usamplerBuffer uNearest;
 layout(set = 0, binding = kBindingNeighbours) uniform usamplerBuffer uNeighbours;
 layout(set = 0, binding = kBindingKnnTable) uniform usamplerBuffer uKnnTable;
+layout(set = 0, binding = kBindingRbfPixelWeights) uniform samplerBuffer uRbfPixelWeights;
 layout(set = 0, binding = kBindingInterpOutput, rgba32f) uniform writeonly image2D uOutput;
 layout(std430, set = 0, binding = kBindingLambdaR) readonly buffer LambdaR { float lambdaR[]; };
 layout(std430, set = 0, binding = kBindingLambdaG) readonly buffer LambdaG { float lambdaG[]; };
@@ -51,7 +53,38 @@ void main() {
     ivec2 c = clamp(ivec2(floor(pos - offset)), ivec2(0), ivec2(pc.canvas.xy) - 1);
     uint q = texelFetch(uNearest, c.y * int(pc.canvas.x) + c.x).r;
     uint k = min(pc.params.z, kMaxK);
-    if (kMethod == kMethodRbf) {
+    bool fallBackToLists = false;
+    if (kMethod == kMethodRbf && kUseTable) {
+        // s(x) = sum_j w_j f_j over the canvas pixel's k table neighbours (the thesis's
+        // per-pixel solve of eq. 8, done once: rbf_pixel_weights.hpp). Neighbours beyond the
+        // sampled margin take the colour of the nearest sampled one.
+        int pixel = c.y * int(pc.canvas.x) + c.x;
+        int row = pixel * int(pc.table.x), wrow = pixel * int(pc.table.z);
+        uint first = k;
+        for (uint j = 0u; j < k; ++j) {
+            uint i = texelFetch(uKnnTable, row + int(j >> 2u))[j & 3u];
+            if (isSampled(texelFetch(uPoints, int(i)).xy, offset, vec2(size), margin)) {
+                first = j;
+                break;
+            }
+        }
+        if (first < k) {
+            vec4 nearest = samples[texelFetch(uKnnTable, row + int(first >> 2u))[first & 3u]];
+            vec3 sum = vec3(0.0);
+            for (uint j = 0u; j < k; ++j) {
+                uint i = texelFetch(uKnnTable, row + int(j >> 2u))[j & 3u];
+                float w = texelFetch(uRbfPixelWeights, wrow + int(j >> 2u))[j & 3u];
+                vec2 at = texelFetch(uPoints, int(i)).xy;
+                bool sampled = j == first || (j > first && isSampled(at, offset, vec2(size), margin));
+                sum += w * (sampled ? samples[i].rgb : nearest.rgb);
+            }
+            imageStore(uOutput, px, vec4(max(sum, vec3(0.0)), nearest.w));
+            return;
+        }
+        k = 1u; // no neighbour sampled: the nearest sampled point through the lists below
+        fallBackToLists = true;
+    }
+    if (kMethod == kMethodRbf && !kUseTable) {
         vec2 qpos = texelFetch(uPoints, int(q)).xy;
         if (isSampled(qpos, offset, vec2(size), margin)) {
             vec4 qs = samples[q];
@@ -76,7 +109,7 @@ void main() {
     uint idx[kMaxK + 1];
     float d2[kMaxK + 1];
     uint n = 0u;
-    const bool table = kUseTable;
+    const bool table = kUseTable && !fallBackToLists;
     int row = (c.y * int(pc.canvas.x) + c.x) * int(pc.table.x);
     uint candidates = table ? pc.table.y : pc.canvas.z + 1u;
     for (uint j = 0u; j < candidates; ++j) {

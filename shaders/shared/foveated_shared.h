@@ -44,7 +44,8 @@ struct InterpolatePush {
     uvec4 canvas; // x = canvas width, y = canvas height, z = neighbours stored per point,
                   // w = RBF kernel
     vec4 rbf;     // x = shape c in units of the spacing p
-    uvec4 table;  // x = texels per canvas pixel in the k-NN table (0: neighbour index), y = k
+    uvec4 table;  // x = texels per canvas pixel in the k-NN table (0: neighbour index), y = its
+                  // k, z = texels per canvas pixel of the RBF pixel weights (RBF with the table)
 };
 
 // interpolate, RBF only: the weights rbf_solve wrote, one float per neighbour and channel.
@@ -54,6 +55,9 @@ GT_CONST kBindingLambdaB = 7;
 // interpolate with the thesis's per-canvas-pixel k-NN table: usamplerBuffer RGBA32UI, the k
 // nearest point indices of each canvas pixel, nearest first, four to a texel.
 GT_CONST kBindingKnnTable = 8;
+// interpolate, RBF with the k-NN table: samplerBuffer RGBA32F, per canvas pixel the weights of
+// its k table neighbours (engine/foveation/rbf_pixel_weights.hpp), four to a texel.
+GT_CONST kBindingRbfPixelWeights = 9;
 
 // rbf_solve (seed 000, eqs. 7-10): for every sampled point q, the weights of the RBF
 // interpolant through q and its k-1 nearest neighbours, from the precomputed inverse.

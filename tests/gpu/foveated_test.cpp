@@ -65,9 +65,18 @@ protected:
         const foveation::NeighbourIndex index(
             set, std::min<uint32_t>(20, static_cast<uint32_t>(set.points().size() - 1)));
         const foveation::GpuPointSet gpu(ctx(), set, index);
+        const auto kernel = s.kernel == passes::RbfKernel::Gaussian
+                                ? foveation::RbfKernelType::Gaussian
+                                : foveation::RbfKernelType::Multiquadric;
         std::optional<foveation::GpuPixelKnnTable> table;
-        if (s.knn == passes::KnnIndex::PixelTable) {
-            table.emplace(ctx(), foveation::PixelKnnTable(set, index, s.k));
+        std::optional<foveation::GpuRbfPixelWeights> pixelWeights;
+        if (passes::usesPixelTable(s)) {
+            const foveation::PixelKnnTable cpuTable(set, index, s.k);
+            table.emplace(ctx(), cpuTable);
+            if (s.method == passes::Interpolation::Rbf) {
+                pixelWeights.emplace(ctx(),
+                                     foveation::RbfPixelWeights(set, cpuTable, kernel, s.rbfShape));
+            }
         }
         vk::Buffer samples(ctx(), {values.size() * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                    vk::MemoryUsage::GpuOnly, "test.samples"});
@@ -82,17 +91,14 @@ protected:
         const passes::InterpolatePass pass(ctx());
         const passes::RbfSolvePass solve(ctx());
         const glm::vec2 gaze(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h));
-        std::optional<passes::RbfWeights> weights;
+        passes::InterpolateInputs in{std::nullopt, table ? &*table : nullptr,
+                                     pixelWeights ? &*pixelWeights : nullptr};
         std::optional<foveation::GpuRbfInverse> inverse;
-        if (s.method == passes::Interpolation::Rbf) {
-            const auto kernel = s.kernel == passes::RbfKernel::Gaussian
-                                    ? foveation::RbfKernelType::Gaussian
-                                    : foveation::RbfKernelType::Multiquadric;
+        if (passes::usesRbfSolve(s)) {
             inverse.emplace(ctx(), foveation::buildRbfInverse(set, index, s.k, kernel, s.rbfShape));
-            weights = solve.add(g, gpu, *inverse, sid, gaze, s);
+            in.lambdas = solve.add(g, gpu, *inverse, sid, gaze, s);
         }
-        passes::addReadbackPass(
-            g, "out", pass.add(g, gpu, sid, gaze, s, weights, table ? &*table : nullptr), hid);
+        passes::addReadbackPass(g, "out", pass.add(g, gpu, sid, gaze, s, in), hid);
         rg::TransientPool pool(ctx());
         g.execute(g.compile(), pool);
         std::vector<glm::vec4> out(static_cast<std::size_t>(w) * h);
@@ -101,8 +107,8 @@ protected:
     }
 };
 
-// Points at every canvas pixel centre: each screen pixel centre is a point, so both methods
-// must reproduce the pattern exactly.
+// Points at every canvas pixel centre: each screen pixel centre is a point, so every method
+// must reproduce the pattern: NN and Shepard exactly, RBF (an interpolant) to float precision.
 TEST_F(FoveatedTest, NearestAndShepardReproducePointsExactly) {
     PointSetParams p;
     p.display = {"grid", 24, 16, 1.0};
@@ -120,16 +126,20 @@ TEST_F(FoveatedTest, NearestAndShepardReproducePointsExactly) {
                             static_cast<float>(sy), 0.0f);
     }
     for (auto knn : {passes::KnnIndex::NeighbourLists, passes::KnnIndex::PixelTable}) {
-        for (auto method : {passes::Interpolation::Nearest, passes::Interpolation::Shepard}) {
+        for (auto method : {passes::Interpolation::Nearest, passes::Interpolation::Shepard,
+                            passes::Interpolation::Rbf}) {
             passes::InterpolateSettings settings{method, 10, 1.0f};
             settings.knn = knn;
             const auto out = interpolate(set, values, settings);
+            // RBF passes through the samples up to its float weights.
+            const float tol = method == passes::Interpolation::Rbf ? 1e-3f : 0.0f;
             for (int y = 0; y < 16; ++y) {
                 for (int x = 0; x < 24; ++x) {
                     const glm::vec4 v = out[static_cast<std::size_t>(y) * 24 + x];
-                    ASSERT_EQ(v.y, static_cast<float>(x)) << x << "," << y;
-                    ASSERT_EQ(v.z, static_cast<float>(y)) << x << "," << y;
-                    ASSERT_EQ(v.x, static_cast<float>((x * 7 + y * 13) % 5)) << x << "," << y;
+                    ASSERT_NEAR(v.y, static_cast<float>(x), tol) << x << "," << y;
+                    ASSERT_NEAR(v.z, static_cast<float>(y), tol) << x << "," << y;
+                    ASSERT_NEAR(v.x, static_cast<float>((x * 7 + y * 13) % 5), tol)
+                        << x << "," << y;
                 }
             }
         }
@@ -156,23 +166,33 @@ TEST_F(FoveatedTest, ShepardFollowsALinearRamp) {
     }
 }
 
-// RBF (multiquadric and Gaussian) through the same ramp: an interpolant through the samples,
-// so it stays close to the ramp; and k = 20 systems solve without NaN or blow-up.
+// RBF (multiquadric and Gaussian) through the same ramp, with per-pixel weights (table) and
+// per-point weights (lists): an interpolant through the samples, so it stays close to the
+// ramp; and k = 20 systems solve without NaN or blow-up.
 TEST_F(FoveatedTest, RbfFollowsALinearRampAndStaysFiniteAtK20) {
     PointSetParams p;
     p.display = {"small", 160, 144, 0.85};
     const PointSet set = PointSet::generate(p);
     const std::vector<glm::vec4> values = rampSamples(set);
-    for (auto kernel : {passes::RbfKernel::Multiquadric, passes::RbfKernel::Gaussian}) {
-        for (uint32_t k : {5u, 10u, 20u}) {
-            const passes::InterpolateSettings s{passes::Interpolation::Rbf, k, 1.0f, kernel, 1.0f};
-            const RampError e = rampError(interpolate(set, values, s));
-            ASSERT_TRUE(e.finite) << "k=" << k;
-            // Multiquadric follows a ramp within 2 % of its range on average (measured: up to
-            // 1.2 %); the Gaussian with c = p sags between points (measured 5.5-8.5 %), which
-            // is why the thesis preferred the multiquadric.
-            const double bound = kernel == passes::RbfKernel::Multiquadric ? 0.02 : 0.10;
-            EXPECT_LT(e.mean, bound) << "k=" << k;
+    for (auto knn : {passes::KnnIndex::PixelTable, passes::KnnIndex::NeighbourLists}) {
+        for (auto kernel : {passes::RbfKernel::Multiquadric, passes::RbfKernel::Gaussian}) {
+            for (uint32_t k : {5u, 10u, 20u}) {
+                passes::InterpolateSettings s{passes::Interpolation::Rbf, k, 1.0f, kernel, 1.0f};
+                s.knn = knn;
+                const RampError e = rampError(interpolate(set, values, s));
+                ASSERT_TRUE(e.finite) << "k=" << k;
+                // Multiquadric follows a ramp within 3 % of its range on average (measured,
+                // table / lists: 2.2 / 1.2 % at k = 5, 0.29 / 0.47 % at k = 10, 0.06 / 0.08 %
+                // at k = 20); the Gaussian with c = p sags between points (measured 5-8.5 %),
+                // which is why the thesis preferred the multiquadric.
+                const double bound = kernel == passes::RbfKernel::Multiquadric ? 0.03 : 0.10;
+                const std::string where = knn == passes::KnnIndex::PixelTable ? "table" : "lists";
+                EXPECT_LT(e.mean, bound) << "k=" << k << " " << where;
+                RecordProperty("mean_error_" + where +
+                                   (kernel == passes::RbfKernel::Gaussian ? "_gauss" : "_mq") +
+                                   "_k" + std::to_string(k),
+                               std::to_string(e.mean));
+            }
         }
     }
 }

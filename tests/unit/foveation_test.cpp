@@ -1,5 +1,6 @@
 // The perception model (thesis eqs. 1-4) against values computed by hand, and the point set:
-// its acceptance rule, density cap, determinism and the thesis's Table 1; the k-NN indices.
+// its acceptance rule, density cap, determinism and the thesis's Table 1; the k-NN indices and
+// the per-pixel RBF weights.
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -11,6 +12,7 @@
 #include "foveation/neighbour_index.hpp"
 #include "foveation/pixel_knn_table.hpp"
 #include "foveation/point_set.hpp"
+#include "foveation/rbf_pixel_weights.hpp"
 
 namespace gt::foveation {
 namespace {
@@ -152,11 +154,80 @@ TEST(PixelKnnTable, MatchesBruteForceOnAPerceptualSet) {
                 ++checked;
             }
         }
-        if (k == 1) EXPECT_EQ(listsExact, checked); // the nearest point is exact either way
+        if (k == 1) {
+            EXPECT_EQ(listsExact, checked); // the nearest point is exact either way
+        }
         RecordProperty("lists_exact_k" + std::to_string(k),
                        std::to_string(listsExact) + "/" + std::to_string(checked));
     }
     EXPECT_THROW(PixelKnnTable(set, index, 22), ArgumentError);
+}
+
+// The per-pixel weights solve eq. (8) for the pixel's own k table neighbours: A w = phi(x),
+// checked by the residual of every probed pixel (whether its system was factored for it or
+// shared with the pixel before it), for both kernels and k up to 20.
+TEST(RbfPixelWeights, SolveEachPixelsSystem) {
+    PointSetParams p;
+    p.display = {"small", 160, 144, 0.85};
+    const PointSet set = PointSet::generate(p);
+    const NeighbourIndex index(set, NeighbourIndex::kMaxNeighbours);
+    const auto& pts = set.points();
+    for (uint32_t k : {5u, 20u}) {
+        const PixelKnnTable table(set, index, k);
+        for (auto kernel : {RbfKernelType::Multiquadric, RbfKernelType::Gaussian}) {
+            const RbfPixelWeights weights(set, table, kernel, 1.0f);
+            ASSERT_EQ(weights.bytes(), table.bytes());
+            EXPECT_GT(weights.factorisations(), 0u);
+            EXPECT_LE(weights.factorisations(), uint64_t{320} * 288);
+            double worst = 0.0;
+            for (uint32_t y = 0; y < 288; y += 5) {
+                for (uint32_t x = 0; x < 320; ++x) {
+                    const std::size_t row = (static_cast<std::size_t>(y) * 320 + x) * k;
+                    const uint32_t* idx = &table.indices()[row];
+                    const float* w = &weights.weights()[row];
+                    const double c = pts[idx[0]].spacing;
+                    for (uint32_t a = 0; a < k; ++a) {
+                        ASSERT_TRUE(std::isfinite(w[a]));
+                        const double tx = x + 0.5 - pts[idx[a]].x, ty = y + 0.5 - pts[idx[a]].y;
+                        double lhs = 0.0, scale = 0.0;
+                        for (uint32_t b = 0; b < k; ++b) {
+                            const double dx = pts[idx[a]].x - pts[idx[b]].x,
+                                         dy = pts[idx[a]].y - pts[idx[b]].y;
+                            const double term =
+                                rbfKernel(kernel, std::sqrt(dx * dx + dy * dy), c) * w[b];
+                            lhs += term;
+                            scale += std::abs(term);
+                        }
+                        const double rhs = rbfKernel(kernel, std::sqrt(tx * tx + ty * ty), c);
+                        worst = std::max(worst, std::abs(lhs - rhs) / std::max(scale, rhs));
+                    }
+                }
+            }
+            // Weights are stored as floats: residuals at float precision, not worse.
+            EXPECT_LT(worst, 1e-5) << "k=" << k;
+        }
+    }
+}
+
+// Where a pixel centre is a point, the weights are that point's cardinal function: 1 on it, 0
+// on every other neighbour (the interpolant passes through the samples).
+TEST(RbfPixelWeights, InterpolateThroughThePoints) {
+    PointSetParams p;
+    p.display = {"grid", 24, 16, 1.0};
+    std::vector<Point> grid;
+    for (uint32_t y = 0; y < 32; ++y) {
+        for (uint32_t x = 0; x < 48; ++x)
+            grid.push_back({static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f, 0.6f});
+    }
+    const PointSet set = PointSet::fromPoints(p, grid);
+    const NeighbourIndex index(set, NeighbourIndex::kMaxNeighbours);
+    const PixelKnnTable table(set, index, 10);
+    const RbfPixelWeights weights(set, table, RbfKernelType::Multiquadric, 1.0f);
+    for (std::size_t pixel = 0; pixel < std::size_t{48} * 32; ++pixel) {
+        for (uint32_t j = 0; j < 10; ++j)
+            ASSERT_NEAR(weights.weights()[pixel * 10 + j], j == 0 ? 1.0 : 0.0, 1e-4) << pixel;
+    }
+    EXPECT_THROW(RbfPixelWeights(set, table, RbfKernelType::Gaussian, 0.0f), ArgumentError);
 }
 
 } // namespace
