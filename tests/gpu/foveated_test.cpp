@@ -14,6 +14,7 @@
 #include "scene/builtin_scenes.hpp"
 #include "scene/bvh.hpp"
 #include "support/gpu_test_context.hpp"
+#include "support/point_fixtures.hpp"
 #include "trace/gpu_scene.hpp"
 #include "vk/resources.hpp"
 
@@ -109,15 +110,8 @@ protected:
 
 // Points at every canvas pixel centre: each screen pixel centre is a point, so every method
 // must reproduce the pattern: NN and Shepard exactly, RBF (an interpolant) to float precision.
-TEST_F(FoveatedTest, NearestAndShepardReproducePointsExactly) {
-    PointSetParams p;
-    p.display = {"grid", 24, 16, 1.0};
-    std::vector<Point> pts;
-    for (uint32_t y = 0; y < 32; ++y) {
-        for (uint32_t x = 0; x < 48; ++x)
-            pts.push_back({static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f, 0.6f});
-    }
-    const PointSet set = PointSet::fromPoints(p, pts);
+TEST_F(FoveatedTest, EveryMethodReproducesPointsAtPixelCentres) {
+    const PointSet set = test::pixelCentreGrid();
     std::vector<glm::vec4> values;
     for (const Point& q : set.points()) {
         // Checkerboard-ish pattern in screen coordinates (gaze centred: screen = canvas - (12, 8)).

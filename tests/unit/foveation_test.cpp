@@ -13,6 +13,7 @@
 #include "foveation/pixel_knn_table.hpp"
 #include "foveation/point_set.hpp"
 #include "foveation/rbf_pixel_weights.hpp"
+#include "support/point_fixtures.hpp"
 
 namespace gt::foveation {
 namespace {
@@ -212,14 +213,7 @@ TEST(RbfPixelWeights, SolveEachPixelsSystem) {
 // Where a pixel centre is a point, the weights are that point's cardinal function: 1 on it, 0
 // on every other neighbour (the interpolant passes through the samples).
 TEST(RbfPixelWeights, InterpolateThroughThePoints) {
-    PointSetParams p;
-    p.display = {"grid", 24, 16, 1.0};
-    std::vector<Point> grid;
-    for (uint32_t y = 0; y < 32; ++y) {
-        for (uint32_t x = 0; x < 48; ++x)
-            grid.push_back({static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f, 0.6f});
-    }
-    const PointSet set = PointSet::fromPoints(p, grid);
+    const PointSet set = test::pixelCentreGrid();
     const NeighbourIndex index(set, NeighbourIndex::kMaxNeighbours);
     const PixelKnnTable table(set, index, 10);
     const RbfPixelWeights weights(set, table, RbfKernelType::Multiquadric, 1.0f);
