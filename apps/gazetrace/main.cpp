@@ -64,8 +64,9 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     renderCmd
         ->add_option("--knn", render.knn,
-                     "Foveated msm neighbours: table (the thesis's k nearest per canvas pixel) | "
-                     "lists (nearest point + its neighbour list: less memory, slower)")
+                     "Foveated msm/rbf neighbours: table (the thesis's k nearest per canvas "
+                     "pixel; rbf adds per-pixel weights) | lists (nearest point + its neighbour "
+                     "list, rbf solved per point each frame: less memory, slower)")
         ->check(CLI::IsMember({"lists", "table"}))
         ->capture_default_str();
     renderCmd

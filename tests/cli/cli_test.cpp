@@ -151,6 +151,25 @@ TEST(Cli, PointSetJsonAndBadValues) {
                        dir / "o.gtps");
 }
 
+// RBF through the session both ways: per-pixel weights over the k-NN table, and rbf_solve
+// over the neighbour lists; the summary says which was prepared and what it cost.
+TEST(Cli, FoveatedRbfThroughTableAndLists) {
+    const auto dir = test::tempDir("cli_rbf");
+    for (const std::string knn : {"table", "lists"}) {
+        const Result r = run("render --method foveated --profile vive --scale 3 --rays-per-point 1 "
+                             "--taa off --interp rbf --k 5 --knn " +
+                             knn + " --validate --json --cache " + (dir / "cache").string() +
+                             " --out " + (dir / (knn + ".png")).string());
+        ASSERT_EQ(r.status, 0) << r.err;
+        const auto j = nlohmann::json::parse(r.out);
+        EXPECT_EQ(j.at("knn"), knn);
+        EXPECT_EQ(j.at("rbf_prepared"), knn == "table" ? "pixel_weights" : "inverses");
+        EXPECT_GT(j.at("rbf_prepared_mb").get<double>(), 0.0);
+        EXPECT_EQ(j.at("gpu_ms").contains("rbf_solve"), knn == "lists");
+        EXPECT_TRUE(std::filesystem::exists(dir / (knn + ".png")));
+    }
+}
+
 TEST(Cli, HelpOnEverySubcommand) {
     for (const char* sub :
          {"", "render ", "pointset ", "devices ", "scenes ", "eyesim ", "track ", "calibrate "}) {
