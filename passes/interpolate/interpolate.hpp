@@ -32,8 +32,8 @@ enum class RbfKernel { Multiquadric, Gaussian };
 // Where Modified Shepard and RBF find a pixel's k nearest points. PixelTable (the default): the
 // thesis's table of the k nearest per canvas pixel, exact, 2-2.5x faster per frame than the
 // lists on lavapipe, but 29.5 MB per neighbour (590 MB at k = 20) and seconds to build; RBF
-// adds as much again for its per-pixel weights (rbf_pixel_weights.hpp) and then costs what
-// Modified Shepard costs. NeighbourLists: the nearest point per canvas pixel plus that point's
+// adds as much again for its per-pixel weights (rbf_pixel_weights.hpp) and then costs no more
+// than Modified Shepard. NeighbourLists: the nearest point per canvas pixel plus that point's
 // 20 neighbours (75.6 MB for fove), exact at k <= 7 and close at k = 20; RBF then solves per
 // point each frame (rbf_solve). Nearest neighbour always uses the nearest-point array (the
 // thesis's table at k = 1).
