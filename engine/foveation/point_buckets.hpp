@@ -23,15 +23,18 @@ struct PointBuckets {
         cols = static_cast<int>(std::ceil(static_cast<float>(w) / c)) + 1;
         rows = static_cast<int>(std::ceil(static_cast<float>(h) / c)) + 1;
         std::vector<uint32_t> count(static_cast<std::size_t>(cols) * rows + 1, 0);
-        for (const Point& p : pts)
+        for (const Point& p : pts) {
             ++count[index(p.x, p.y)];
+        }
         start.assign(count.size(), 0);
-        for (std::size_t i = 1; i < count.size(); ++i)
+        for (std::size_t i = 1; i < count.size(); ++i) {
             start[i] = start[i - 1] + count[i - 1];
+        }
         items.resize(pts.size());
         std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-        for (uint32_t i = 0; i < pts.size(); ++i)
+        for (uint32_t i = 0; i < pts.size(); ++i) {
             items[fill[index(pts[i].x, pts[i].y)]++] = i;
+        }
     }
     [[nodiscard]] std::size_t index(float x, float y) const {
         const int cx = std::clamp(static_cast<int>(x / cell), 0, cols - 1);
@@ -48,19 +51,25 @@ struct PointBuckets {
         const int maxRing = std::max(cols, rows);
         for (int ring = 0; ring <= maxRing; ++ring) {
             for (int gy = cy - ring; gy <= cy + ring; ++gy) {
-                if (gy < 0 || gy >= rows) continue;
+                if (gy < 0 || gy >= rows) {
+                    continue;
+                }
                 const bool edgeRow = gy == cy - ring || gy == cy + ring;
                 for (int gx = cx - ring; gx <= cx + ring; gx += edgeRow ? 1 : 2 * ring) {
                     if (gx >= 0 && gx < cols) {
                         const std::size_t c = static_cast<std::size_t>(gy) * cols + gx;
                         for (uint32_t j = start[c]; j < start[c + 1]; ++j) {
                             const uint32_t i = items[j];
-                            if (i == skip) continue;
+                            if (i == skip) {
+                                continue;
+                            }
                             const float dx = pts[i].x - x, dy = pts[i].y - y;
                             out.emplace_back(dx * dx + dy * dy, i);
                         }
                     }
-                    if (ring == 0) break;
+                    if (ring == 0) {
+                        break;
+                    }
                 }
             }
             // Everything within `ring * cell` of (x, y) has been seen: stop once the k-th
@@ -69,7 +78,9 @@ struct PointBuckets {
                 std::nth_element(out.begin(), out.begin() + (k - 1), out.end());
                 const float kth = out[k - 1].first;
                 const float safe = static_cast<float>(ring) * cell;
-                if (kth <= safe * safe) break;
+                if (kth <= safe * safe) {
+                    break;
+                }
             }
         }
         const std::size_t n = std::min<std::size_t>(k, out.size());
@@ -93,7 +104,9 @@ struct PointBuckets {
                     const uint32_t i = items[j];
                     const float dx = pts[i].x - x, dy = pts[i].y - y;
                     const float d2 = dx * dx + dy * dy;
-                    if (d2 <= r2) out.emplace_back(d2, i);
+                    if (d2 <= r2) {
+                        out.emplace_back(d2, i);
+                    }
                 }
             }
         }
@@ -105,12 +118,14 @@ template <typename Fn> void parallelFor(uint32_t n, Fn fn) {
     std::vector<std::thread> pool;
     for (unsigned t = 0; t < threads; ++t) {
         pool.emplace_back([&, t] {
-            for (uint32_t i = t; i < n; i += threads)
+            for (uint32_t i = t; i < n; i += threads) {
                 fn(i);
+            }
         });
     }
-    for (auto& th : pool)
+    for (auto& th : pool) {
         th.join();
+    }
 }
 
 } // namespace gt::foveation::detail

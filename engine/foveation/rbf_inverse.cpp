@@ -11,9 +11,12 @@ namespace gt::foveation {
 
 RbfInverse buildRbfInverse(const PointSet& set, const NeighbourIndex& index, uint32_t k,
                            RbfKernelType kernel, float shape) {
-    if (k == 0 || k > index.k() + 1)
+    if (k == 0 || k > index.k() + 1) {
         throw ArgumentError("RBF k must be 1.." + std::to_string(index.k() + 1));
-    if (!(shape > 0.0f)) throw ArgumentError("RBF shape c must be positive");
+    }
+    if (!(shape > 0.0f)) {
+        throw ArgumentError("RBF shape c must be positive");
+    }
     const auto start = std::chrono::steady_clock::now();
     const auto& pts = set.points();
     RbfInverse out;
@@ -36,23 +39,28 @@ RbfInverse buildRbfInverse(const PointSet& set, const NeighbourIndex& index, uin
                     nb[j] = {p.x, p.y};
                 }
                 const double c = std::max(1e-3, static_cast<double>(shape) * pts[q].spacing);
-                if (!system.factor(nb, kernel, c)) ++ill[t];
+                if (!system.factor(nb, kernel, c)) {
+                    ++ill[t];
+                }
                 // Column s of the inverse solves A x = e_s.
                 float* dst = &out.inverse[q * k * k];
                 for (uint32_t s = 0; s < k; ++s) {
                     std::fill(column.begin(), column.end(), 0.0);
                     column[s] = 1.0;
                     system.solve(column);
-                    for (uint32_t r = 0; r < k; ++r)
+                    for (uint32_t r = 0; r < k; ++r) {
                         dst[r * k + s] = static_cast<float>(column[r]);
+                    }
                 }
             }
         });
     }
-    for (auto& th : pool)
+    for (auto& th : pool) {
         th.join();
-    for (uint32_t n : ill)
+    }
+    for (uint32_t n : ill) {
         out.illConditioned += n;
+    }
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
 }

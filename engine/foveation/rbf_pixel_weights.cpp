@@ -13,7 +13,9 @@ namespace gt::foveation {
 RbfPixelWeights::RbfPixelWeights(const PointSet& set, const PixelKnnTable& table,
                                  RbfKernelType kernel, float shape)
     : mK(table.k()), mKernel(kernel), mShape(shape) {
-    if (!(shape > 0.0f)) throw ArgumentError("RBF shape c must be positive");
+    if (!(shape > 0.0f)) {
+        throw ArgumentError("RBF shape c must be positive");
+    }
     if (table.canvasWidth() != set.canvasWidth() || table.canvasHeight() != set.canvasHeight()) {
         throw ArgumentError("RBF pixel weights: the k-NN table belongs to another point set");
     }
@@ -35,8 +37,9 @@ RbfPixelWeights::RbfPixelWeights(const PointSet& set, const PixelKnnTable& table
         for (uint32_t x = 0; x < width; ++x) {
             const std::size_t row = (static_cast<std::size_t>(y) * width + x) * k;
             const uint32_t* idx = &table.indices()[row];
-            for (uint32_t j = 0; j < k; ++j)
+            for (uint32_t j = 0; j < k; ++j) {
                 order[j] = {idx[j], j};
+            }
             std::sort(order.begin(), order.end());
             const double c = std::max(1e-3, static_cast<double>(mShape) * pts[idx[0]].spacing);
             const bool same =
@@ -44,9 +47,12 @@ RbfPixelWeights::RbfPixelWeights(const PointSet& set, const PixelKnnTable& table
                 std::equal(order.begin(), order.end(), factored.begin(),
                            [](const auto& a, const auto& b) { return a.first == b.first; });
             if (!same) {
-                for (uint32_t j = 0; j < k; ++j)
+                for (uint32_t j = 0; j < k; ++j) {
                     nb[j] = {pts[order[j].first].x, pts[order[j].first].y};
-                if (!system.factor(nb, kernel, c)) ++illHere;
+                }
+                if (!system.factor(nb, kernel, c)) {
+                    ++illHere;
+                }
                 ++count;
                 factored = order;
                 factoredC = c;
@@ -57,8 +63,9 @@ RbfPixelWeights::RbfPixelWeights(const PointSet& set, const PixelKnnTable& table
                 w[j] = rbfKernelOfSquared(kernel, dx * dx + dy * dy, c);
             }
             system.solve(w);
-            for (uint32_t j = 0; j < k; ++j)
+            for (uint32_t j = 0; j < k; ++j) {
                 mWeights[row + order[j].second] = static_cast<float>(w[j]);
+            }
         }
         factorisations += count;
         ill += illHere;

@@ -11,7 +11,9 @@ double rbfKernel(RbfKernelType kernel, double r, double c) noexcept {
 }
 
 double rbfKernelOfSquared(RbfKernelType kernel, double r2, double c) noexcept {
-    if (kernel == RbfKernelType::Gaussian) return std::exp(-r2 / (c * c));
+    if (kernel == RbfKernelType::Gaussian) {
+        return std::exp(-r2 / (c * c));
+    }
     return std::sqrt(r2 + c * c);
 }
 
@@ -41,8 +43,9 @@ bool RbfSystem::factor(std::span<const glm::vec2> points, RbfKernelType kernel, 
         }
         mPivots[col] = piv;
         double* const pivotRow = a + static_cast<std::size_t>(col) * k;
-        if (piv != col)
+        if (piv != col) {
             std::swap_ranges(pivotRow, pivotRow + k, a + static_cast<std::size_t>(piv) * k);
+        }
         double& d = pivotRow[col];
         if (std::abs(d) < 1e-12) {
             wellConditioned = false;
@@ -53,8 +56,9 @@ bool RbfSystem::factor(std::span<const glm::vec2> points, RbfKernelType kernel, 
             double* const row = a + static_cast<std::size_t>(r) * k;
             const double f = row[col] * inv;
             row[col] = f;
-            for (uint32_t s = col + 1; s < k; ++s)
+            for (uint32_t s = col + 1; s < k; ++s) {
                 row[s] -= f * pivotRow[s];
+            }
         }
     }
     return wellConditioned;
@@ -64,12 +68,14 @@ void RbfSystem::solve(std::span<double> rhs) const {
     const uint32_t k = mK;
     for (uint32_t i = 0; i < k; ++i) {
         std::swap(rhs[i], rhs[mPivots[i]]);
-        for (uint32_t j = 0; j < i; ++j)
+        for (uint32_t j = 0; j < i; ++j) {
             rhs[i] -= mLu[i * k + j] * rhs[j];
+        }
     }
     for (uint32_t i = k; i-- > 0;) {
-        for (uint32_t j = i + 1; j < k; ++j)
+        for (uint32_t j = i + 1; j < k; ++j) {
             rhs[i] -= mLu[i * k + j] * rhs[j];
+        }
         rhs[i] /= mLu[i * k + i];
     }
 }
