@@ -80,7 +80,9 @@ struct RenderSession::Impl {
         if (!rbfPixelWeights || rbfPixelWeights->kernel() != kernelType(s) ||
             rbfPixelWeights->shape() != s.rbfShape) {
             rbfPixelWeights.reset();
-            if (!table) table.emplace(*points, *neighbours, s.k); // same k, another kernel
+            if (!table) {
+                table.emplace(*points, *neighbours, s.k); // same k, another kernel or shape
+            }
             const foveation::RbfPixelWeights weights(*points, *table, kernelType(s), s.rbfShape);
             rbfPixelWeights.emplace(*ctx, weights);
             rbfPrepared = {weights.buildSeconds() * 1e3,
@@ -266,7 +268,9 @@ FrameResult RenderSession::foveated(const FoveatedSettings& s, bool pixels, bool
     };
     auto add = [&](rg::RenderGraph& g) {
         const rg::TextureId image = addImage(g, s.raysPerPoint);
-        if (!s.taa) return image;
+        if (!s.taa) {
+            return image;
+        }
         return m.taa->add(g, *m.taaHistory, image, m.scene.camera, s.gaze, s.saccade);
     };
     const auto variant =
