@@ -50,11 +50,6 @@ struct RenderSession::Impl {
     Prepared knnTablePrepared;
     std::optional<foveation::GpuRbfPixelWeights> rbfPixelWeights; // RBF with the table
 
-    static foveation::RbfKernelType kernelType(const passes::InterpolateSettings& s) {
-        return s.kernel == passes::RbfKernel::Gaussian ? foveation::RbfKernelType::Gaussian
-                                                       : foveation::RbfKernelType::Multiquadric;
-    }
-
     // The thesis's per-pixel table, and for RBF its per-pixel weights, when the settings ask
     // for them: built on the CPU once per k (and RBF kernel and shape).
     passes::InterpolateInputs tableInputs(const passes::InterpolateSettings& s) {
@@ -77,13 +72,13 @@ struct RenderSession::Impl {
             rbfPixelWeights.reset();
             return {std::nullopt, &*knnTable, nullptr};
         }
-        if (!rbfPixelWeights || rbfPixelWeights->kernel() != kernelType(s) ||
+        if (!rbfPixelWeights || rbfPixelWeights->kernel() != s.kernel ||
             rbfPixelWeights->shape() != s.rbfShape) {
             rbfPixelWeights.reset();
             if (!table) {
                 table.emplace(*points, *neighbours, s.k); // same k, another kernel or shape
             }
-            const foveation::RbfPixelWeights weights(*points, *table, kernelType(s), s.rbfShape);
+            const foveation::RbfPixelWeights weights(*points, *table, s.kernel, s.rbfShape);
             rbfPixelWeights.emplace(*ctx, weights);
             rbfPrepared = {weights.buildSeconds() * 1e3,
                            static_cast<double>(weights.bytes()) / 1e6};
@@ -92,12 +87,11 @@ struct RenderSession::Impl {
     }
 
     const foveation::GpuRbfInverse& inverseFor(const passes::InterpolateSettings& s) {
-        const foveation::RbfKernelType kernel = kernelType(s);
-        if (!rbfInverse || rbfInverse->k() != s.k || rbfInverse->kernel() != kernel ||
+        if (!rbfInverse || rbfInverse->k() != s.k || rbfInverse->kernel() != s.kernel ||
             rbfInverse->shape() != s.rbfShape) {
             rbfInverse.reset();
             const foveation::RbfInverse inv =
-                foveation::buildRbfInverse(*points, *neighbours, s.k, kernel, s.rbfShape);
+                foveation::buildRbfInverse(*points, *neighbours, s.k, s.kernel, s.rbfShape);
             rbfInverse.emplace(*ctx, inv);
             rbfPrepared = {inv.seconds * 1e3,
                            static_cast<double>(inv.inverse.size() * sizeof(float)) / 1e6};

@@ -1,6 +1,7 @@
 #pragma once
 // Internal to engine/foveation: a uniform bucket grid over a point set's canvas for exact
-// nearest-point searches, and a row-parallel loop. Shared by NeighbourIndex and PixelKnnTable.
+// nearest-point searches (NeighbourIndex, PixelKnnTable), and the parallel loop every CPU
+// build here uses (also the RBF inverses and pixel weights).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

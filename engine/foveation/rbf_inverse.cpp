@@ -1,11 +1,11 @@
 #include "foveation/rbf_inverse.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
-#include <cmath>
-#include <thread>
 
 #include "core/error.hpp"
+#include "foveation/point_buckets.hpp"
 
 namespace gt::foveation {
 
@@ -24,43 +24,38 @@ RbfInverse buildRbfInverse(const PointSet& set, const NeighbourIndex& index, uin
     out.kernel = kernel;
     out.shape = shape;
     out.inverse.resize(pts.size() * k * k);
-    const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-    std::vector<uint32_t> ill(threads, 0);
-    std::vector<std::thread> pool;
-    for (unsigned t = 0; t < threads; ++t) {
-        pool.emplace_back([&, t] {
-            RbfSystem system(k);
-            std::vector<glm::vec2> nb(k);
-            std::vector<double> column(k);
-            for (std::size_t q = t; q < pts.size(); q += threads) {
-                nb[0] = {pts[q].x, pts[q].y};
-                for (uint32_t j = 1; j < k; ++j) {
-                    const Point& p = pts[index.neighbours()[q * index.k() + j - 1]];
-                    nb[j] = {p.x, p.y};
-                }
-                const double c = std::max(1e-3, static_cast<double>(shape) * pts[q].spacing);
-                if (!system.factor(nb, kernel, c)) {
-                    ++ill[t];
-                }
-                // Column s of the inverse solves A x = e_s.
-                float* dst = &out.inverse[q * k * k];
-                for (uint32_t s = 0; s < k; ++s) {
-                    std::fill(column.begin(), column.end(), 0.0);
-                    column[s] = 1.0;
-                    system.solve(column);
-                    for (uint32_t r = 0; r < k; ++r) {
-                        dst[r * k + s] = static_cast<float>(column[r]);
-                    }
+    // Chunks of points, so each worker reuses one system's storage across many points.
+    constexpr uint32_t kChunk = 1024;
+    const auto chunks = static_cast<uint32_t>((pts.size() + kChunk - 1) / kChunk);
+    std::atomic<uint32_t> ill{0};
+    detail::parallelFor(chunks, [&](uint32_t chunk) {
+        RbfSystem system(k);
+        std::vector<glm::vec2> nb(k);
+        std::vector<double> column(k);
+        const std::size_t end = std::min<std::size_t>(pts.size(), std::size_t{chunk + 1} * kChunk);
+        for (std::size_t q = std::size_t{chunk} * kChunk; q < end; ++q) {
+            nb[0] = {pts[q].x, pts[q].y};
+            for (uint32_t j = 1; j < k; ++j) {
+                const Point& p = pts[index.neighbours()[q * index.k() + j - 1]];
+                nb[j] = {p.x, p.y};
+            }
+            const double c = std::max(1e-3, static_cast<double>(shape) * pts[q].spacing);
+            if (!system.factor(nb, kernel, c)) {
+                ++ill;
+            }
+            // Column s of the inverse solves A x = e_s.
+            float* dst = &out.inverse[q * k * k];
+            for (uint32_t s = 0; s < k; ++s) {
+                std::fill(column.begin(), column.end(), 0.0);
+                column[s] = 1.0;
+                system.solve(column);
+                for (uint32_t r = 0; r < k; ++r) {
+                    dst[r * k + s] = static_cast<float>(column[r]);
                 }
             }
-        });
-    }
-    for (auto& th : pool) {
-        th.join();
-    }
-    for (uint32_t n : ill) {
-        out.illConditioned += n;
-    }
+        }
+    });
+    out.illConditioned = ill;
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
 }

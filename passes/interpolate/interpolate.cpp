@@ -92,9 +92,7 @@ rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuP
     const bool pixelWeights = useTable && s.method == Interpolation::Rbf;
     const foveation::GpuRbfPixelWeights* rbfWeights = pixelWeights ? in.rbfWeights : nullptr;
     if (pixelWeights && (rbfWeights == nullptr || rbfWeights->k() != s.k || table->k() != s.k ||
-                         rbfWeights->shape() != s.rbfShape ||
-                         (rbfWeights->kernel() == foveation::RbfKernelType::Gaussian) !=
-                             (s.kernel == RbfKernel::Gaussian))) {
+                         rbfWeights->shape() != s.rbfShape || rbfWeights->kernel() != s.kernel)) {
         throw ArgumentError("RBF with the k-NN table needs per-pixel weights and a table built "
                             "for the same k, kernel and shape");
     }

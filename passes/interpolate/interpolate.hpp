@@ -11,6 +11,7 @@
 
 #include <glm/glm.hpp>
 
+#include "foveation/rbf_system.hpp"
 #include "render_graph/render_graph.hpp"
 
 namespace gt::vk {
@@ -28,7 +29,8 @@ namespace gt::passes {
 
 // Nearest/Shepard rebuild the image; the others are debug views (--view).
 enum class Interpolation { Nearest, Shepard, Rbf, ViewPoints, ViewCells, ViewSpacing };
-enum class RbfKernel { Multiquadric, Gaussian };
+// The engine's kernel type, so that settings pass to the RBF builders unconverted.
+using RbfKernel = foveation::RbfKernelType;
 // Where Modified Shepard and RBF find a pixel's k nearest points. PixelTable (the default): the
 // thesis's table of the k nearest per canvas pixel, exact, 2-2.5x faster per frame than the
 // lists on lavapipe, but 29.5 MB per neighbour (590 MB at k = 20) and seconds to build; RBF

@@ -31,9 +31,7 @@ RbfSolvePass::~RbfSolvePass() = default;
 RbfWeights RbfSolvePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
                              const foveation::GpuRbfInverse& inverse, rg::BufferId samples,
                              glm::vec2 gaze, const InterpolateSettings& s) const {
-    const auto kernel = s.kernel == RbfKernel::Gaussian ? foveation::RbfKernelType::Gaussian
-                                                        : foveation::RbfKernelType::Multiquadric;
-    if (inverse.k() != s.k || inverse.kernel() != kernel || inverse.shape() != s.rbfShape) {
+    if (inverse.k() != s.k || inverse.kernel() != s.kernel || inverse.shape() != s.rbfShape) {
         throw ArgumentError("rbf_solve: the precomputed inverse was built for other settings");
     }
     if (s.k == 0 || s.k > std::min(sh::kMaxK, points.storedNeighbours() + 1)) {

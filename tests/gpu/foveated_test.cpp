@@ -66,17 +66,14 @@ protected:
         const foveation::NeighbourIndex index(
             set, std::min<uint32_t>(20, static_cast<uint32_t>(set.points().size() - 1)));
         const foveation::GpuPointSet gpu(ctx(), set, index);
-        const auto kernel = s.kernel == passes::RbfKernel::Gaussian
-                                ? foveation::RbfKernelType::Gaussian
-                                : foveation::RbfKernelType::Multiquadric;
         std::optional<foveation::GpuPixelKnnTable> table;
         std::optional<foveation::GpuRbfPixelWeights> pixelWeights;
         if (passes::usesPixelTable(s)) {
             const foveation::PixelKnnTable cpuTable(set, index, s.k);
             table.emplace(ctx(), cpuTable);
             if (s.method == passes::Interpolation::Rbf) {
-                pixelWeights.emplace(ctx(),
-                                     foveation::RbfPixelWeights(set, cpuTable, kernel, s.rbfShape));
+                pixelWeights.emplace(
+                    ctx(), foveation::RbfPixelWeights(set, cpuTable, s.kernel, s.rbfShape));
             }
         }
         vk::Buffer samples(ctx(), {values.size() * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
@@ -96,7 +93,8 @@ protected:
                                      pixelWeights ? &*pixelWeights : nullptr};
         std::optional<foveation::GpuRbfInverse> inverse;
         if (passes::usesRbfSolve(s)) {
-            inverse.emplace(ctx(), foveation::buildRbfInverse(set, index, s.k, kernel, s.rbfShape));
+            inverse.emplace(ctx(),
+                            foveation::buildRbfInverse(set, index, s.k, s.kernel, s.rbfShape));
             in.lambdas = solve.add(g, gpu, *inverse, sid, gaze, s);
         }
         passes::addReadbackPass(g, "out", pass.add(g, gpu, sid, gaze, s, in), hid);
