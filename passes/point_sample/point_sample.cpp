@@ -1,5 +1,6 @@
 #include "point_sample/point_sample.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -14,28 +15,56 @@ namespace gt::passes {
 
 namespace sh = shaders::foveated;
 
+namespace {
+constexpr uint32_t kMaxLanes = 32; // a GPU subgroup's width at most; kSampleGroupSize / 2
+} // namespace
+
 glm::vec2 gazeOffset(glm::vec2 gaze, uint32_t displayWidth, uint32_t displayHeight) {
     return {std::round(gaze.x) - static_cast<float>(displayWidth),
             std::round(gaze.y) - static_cast<float>(displayHeight)};
 }
 
-PointSamplePass::PointSamplePass(vk::Context& ctx) : mCtx(ctx) {
-    std::vector<VkDescriptorType> bindings(shaders::trace::kSceneBindingCount,
-                                           VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
-    bindings[shaders::trace::kBindingSceneUniforms] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    bindings.push_back(VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER); // kBindingPoints
-    bindings.push_back(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);       // kBindingSamples
-    mPipeline = std::make_unique<vk::ComputePipeline>(
-        ctx, vk::ComputePipelineDesc{"point_sample", gt_spv_point_sample_comp, bindings,
-                                     sizeof(sh::PointSamplePush)});
+uint32_t pointSampleLanes(const vk::Context& ctx, uint32_t raysPerPoint) {
+    if (ctx.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) return 1;
+    uint32_t lanes = 1;
+    while (lanes * 2 <= std::min(raysPerPoint, kMaxLanes))
+        lanes *= 2;
+    return lanes;
 }
+
+PointSamplePass::PointSamplePass(vk::Context& ctx) : mCtx(ctx) {}
 
 PointSamplePass::~PointSamplePass() = default;
 
+const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes) const {
+    auto& slot = mPipelines[lanes];
+    if (!slot) {
+        std::vector<VkDescriptorType> bindings(shaders::trace::kSceneBindingCount,
+                                               VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
+        bindings[shaders::trace::kBindingSceneUniforms] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        bindings.push_back(VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER); // kBindingPoints
+        bindings.push_back(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);       // kBindingSamples
+        slot = std::make_unique<vk::ComputePipeline>(
+            mCtx, vk::ComputePipelineDesc{"point_sample",
+                                          gt_spv_point_sample_comp,
+                                          bindings,
+                                          sizeof(sh::PointSamplePush),
+                                          {lanes}});
+    }
+    return *slot;
+}
+
 rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene& scene,
                                   const scene::Camera& camera, const foveation::GpuPointSet& points,
-                                  glm::vec2 gaze, uint32_t raysPerPoint) const {
+                                  glm::vec2 gaze, uint32_t raysPerPoint,
+                                  uint32_t lanesPerPoint) const {
     if (raysPerPoint == 0) throw ArgumentError("--rays-per-point must be at least 1");
+    const uint32_t lanes =
+        lanesPerPoint == 0 ? pointSampleLanes(mCtx, raysPerPoint) : lanesPerPoint;
+    if (lanes > kMaxLanes || (lanes & (lanes - 1)) != 0)
+        throw ArgumentError("point_sample: lanes per point must be a power of two up to 32");
+    const vk::ComputePipeline& pipe = pipeline(lanes);
+    const uint32_t pointsPerGroup = sh::kSampleGroupSize / lanes;
     const uint32_t w = graph.outputWidth(), h = graph.outputHeight();
     const auto cam = trace::cameraPush(camera, static_cast<float>(w) / static_cast<float>(h));
     const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());
@@ -55,15 +84,15 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
                                                {static_cast<VkDeviceSize>(points.count()) * 16}),
                                 rg::Access::StorageWrite);
         },
-        [ctx = &mCtx, pipeline = mPipeline.get(), scene = &scene, pts = &points,
-         push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+        [ctx = &mCtx, pipeline = &pipe, scene = &scene, pts = &points, push,
+         pointsPerGroup](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             vk::DescriptorWriter writer;
             scene->bind(writer);
             writer.texelBuffer(sh::kBindingPoints, pts->points())
                 .storageBuffer(sh::kBindingSamples, r.buffer(d.samples));
             writer.push(*ctx, cmd, *pipeline);
             vk::dispatch(cmd, *pipeline, &push, sizeof(push),
-                         (push.params.w + sh::kSampleGroupSize - 1) / sh::kSampleGroupSize, 1);
+                         (push.params.w + pointsPerGroup - 1) / pointsPerGroup, 1);
         });
     return data.samples;
 }

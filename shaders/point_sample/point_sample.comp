@@ -1,30 +1,47 @@
 #version 460
 // Pass `point_sample` (seed 000, 4.2): the point set shifted to the gaze; every point on screen
 // or within the margin is traced with R rays through random positions inside its disc of radius
-// p. The positions come from the point's index alone, so they are the same every frame.
+// p. The positions come from the point's index and the ray's number alone, so they are the same
+// every frame and whichever thread traces them.
+//
+// kLanes threads share a point and trace its rays side by side (lane l takes rays l, l + kLanes,
+// ...), summed in shared memory. On a GPU the lanes of a subgroup then follow nearly the same
+// path through the BVH, and a frame has up to R times as many threads to fill the machine
+// with. With kLanes = 1 a thread traces all R rays of its point, which suits a CPU driver
+// (PointSamplePass picks). The group stays 1-D either way: lavapipe packs its SIMD lanes along
+// local_size_x only.
 #extension GL_GOOGLE_include_directive : require
 #include "foveated_shared.h"
 #include "random.glsl"
 #include "trace.glsl"
 
 layout(local_size_x = kSampleGroupSize) in;
+layout(constant_id = 0) const uint kLanes = 1u; // a power of two up to kSampleGroupSize / 2
 layout(set = 0, binding = kBindingPoints) uniform samplerBuffer uPoints;
 layout(std430, set = 0, binding = kBindingSamples) writeonly buffer Samples { vec4 samples[]; };
 layout(push_constant) uniform Push { PointSamplePush pc; };
 
+shared vec3 partial[kSampleGroupSize];
+
 void main() {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= pc.params.w) return;
-    vec4 p = texelFetch(uPoints, int(i));
-    vec2 s = p.xy + pc.offset.xy;
-    float margin = pc.offset.z;
-    vec2 size = vec2(pc.params.xy);
-    if (any(lessThan(s, vec2(-margin))) || any(greaterThanEqual(s, size + margin))) return;
-    CameraPush cam = CameraPush(pc.origin, pc.forward, pc.right, pc.up);
-    uint rays = pc.params.z;
+    const uint i = gl_GlobalInvocationID.x / kLanes;
+    const uint lane = gl_LocalInvocationIndex % kLanes;
+    const uint rays = pc.params.z;
+    const vec2 size = vec2(pc.params.xy);
+    const float margin = pc.offset.z;
+    vec4 p = vec4(0.0);
+    vec2 s = vec2(0.0);
+    bool onScreen = false;
+    if (i < pc.params.w) {
+        p = texelFetch(uPoints, int(i));
+        s = p.xy + pc.offset.xy;
+        onScreen = all(greaterThanEqual(s, vec2(-margin))) && all(lessThan(s, size + margin));
+    }
+    if (kLanes == 1u && !onScreen) return; // a specialisation constant: no barrier follows
+    const CameraPush cam = CameraPush(pc.origin, pc.forward, pc.right, pc.up);
     vec3 sum = vec3(0.0);
-    float firstDepth = 0.0;
-    for (uint r = 0u; r < rays; ++r) {
+    float firstDepth = 0.0; // first-hit distance of ray 0 (always lane 0's), for TAA
+    for (uint r = lane; onScreen && r < rays; r += kLanes) {
         vec2 pos = s;
         if (rays > 1u) {
             uint h = pcgHash(i * 0x9E3779B9u ^ pcgHash(r + 0x51ED27u));
@@ -35,6 +52,12 @@ void main() {
         float depth;
         sum += traceRadiance(pc.origin.xyz, cameraRay(cam, pos, size), depth);
         if (r == 0u) firstDepth = depth;
+    }
+    if (kLanes > 1u) {
+        partial[gl_LocalInvocationIndex] = sum;
+        barrier(); // every thread of the group reaches it: off-screen ones only skip the tracing
+        if (lane != 0u || !onScreen) return;
+        for (uint l = 1u; l < kLanes; ++l) sum += partial[gl_LocalInvocationIndex + l];
     }
     samples[i] = vec4(sum / float(rays), firstDepth);
 }

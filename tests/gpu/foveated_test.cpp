@@ -2,6 +2,7 @@
 // reference at the gaze point.
 #include <cmath>
 
+#include "core/error.hpp"
 #include "foveation/gpu_point_set.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set.hpp"
@@ -187,6 +188,55 @@ TEST_F(FoveatedTest, RbfFollowsALinearRampAndStaysFiniteAtK20) {
             }
         }
     }
+}
+
+// point_sample may give one point's rays to several threads (lanes) side by side; whatever the
+// lane count, every point must get the same rays and so the same mean. R = 12 leaves some lanes
+// with one ray more than others at 8 lanes, and 20 idle lanes at 32.
+TEST_F(FoveatedTest, RayLanesTraceTheSameRays) {
+    const scene::Scene s = scene::makeCornell();
+    const scene::Bvh bvh(s);
+    const trace::GpuScene gs(ctx(), s, bvh);
+    PointSetParams p;
+    p.display = {"small", 96, 96, 0.85};
+    const PointSet set = PointSet::generate(p);
+    const foveation::NeighbourIndex index(set, 10);
+    const foveation::GpuPointSet gpu(ctx(), set, index);
+    const uint32_t w = 96, h = 96;
+    const glm::vec2 gaze(30.0f, 60.0f);
+    const passes::PointSamplePass sample(ctx());
+    const passes::InterpolatePass interp(ctx());
+    auto run = [&](uint32_t lanes) {
+        vk::Buffer host(ctx(), {w * h * 16, 0, vk::MemoryUsage::Readback, "host"});
+        rg::RenderGraph g(w, h);
+        const auto hid = g.importBuffer(
+            "host", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
+        const rg::TextureId img =
+            interp.add(g, gpu, sample.add(g, gs, s.camera, gpu, gaze, 12, lanes), gaze,
+                       {passes::Interpolation::Nearest, 1, 1.0f});
+        passes::addReadbackPass(g, "out", img, hid);
+        rg::TransientPool pool(ctx());
+        g.execute(g.compile(), pool);
+        std::vector<glm::vec4> out(w * h);
+        host.download(std::as_writable_bytes(std::span(out)));
+        return out;
+    };
+    const auto one = run(1);
+    float brightest = 0.0f;
+    for (const glm::vec4& v : one)
+        brightest = std::max(brightest, std::max(v.r, std::max(v.g, v.b)));
+    ASSERT_GT(brightest, 0.0f); // a black image would agree with anything
+    for (const uint32_t lanes : {4u, 8u, 32u}) {
+        const auto other = run(lanes);
+        float worst = 0.0f;
+        for (std::size_t i = 0; i < one.size(); ++i) {
+            const glm::vec4 d = glm::abs(one[i] - other[i]);
+            worst = std::max(worst, std::max(std::max(d.r, d.g), std::max(d.b, d.a)));
+        }
+        // Only the order of the sum differs.
+        EXPECT_LT(worst, 1e-5f * brightest) << lanes << " lanes per point";
+    }
+    EXPECT_THROW((void)run(3), ArgumentError);
 }
 
 // With scale 1.0 the point set is at its densest at the gaze: the foveated image must match the
