@@ -38,7 +38,9 @@ template <typename Frame> void warmUp(Frame&& frame) {
 }
 
 double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
+    if (v.empty()) {
+        return 0.0;
+    }
     std::sort(v.begin(), v.end());
     const std::size_t n = v.size();
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
@@ -46,7 +48,9 @@ double median(std::vector<double> v) {
 
 double passMs(const FrameResult& f, const std::string& name) {
     for (const auto& p : f.timings.passes) {
-        if (p.name == name) return p.gpuMs;
+        if (p.name == name) {
+            return p.gpuMs;
+        }
     }
     return 0.0;
 }
@@ -131,10 +135,12 @@ nlohmann::json runBench(const BenchOptions& o) {
                     st.SetIterationTime(ms * 1e-3);
                 }
                 Built& b = prepared[name];
-                if (passes::usesPixelTable(settings.interpolation))
+                if (passes::usesPixelTable(settings.interpolation)) {
                     b.table = session.knnTablePrepared();
-                if (settings.interpolation.method == passes::Interpolation::Rbf)
+                }
+                if (settings.interpolation.method == passes::Interpolation::Rbf) {
                     b.rbf = session.rbfPrepared();
+                }
             })
             ->UseManualTime()
             ->Iterations(frames)
@@ -166,8 +172,9 @@ nlohmann::json runBench(const BenchOptions& o) {
                     for (const auto& [name, frame] : {std::pair{ref, &r}, std::pair{fv, &f}}) {
                         samples[name].push_back(frameMs(*frame));
                         walls[name].push_back(frame->wallMs);
-                        for (const auto& p : frame->timings.passes)
+                        for (const auto& p : frame->timings.passes) {
                             passSamples[name][p.name].push_back(p.gpuMs);
+                        }
                     }
                     st.SetIterationTime((frameMs(r) + frameMs(f)) * 1e-3);
                 }
@@ -220,8 +227,9 @@ nlohmann::json runBench(const BenchOptions& o) {
         s.taa = false;
         warmUp([&] { return session.foveated(s, false).wallMs; });
         std::vector<double> ms;
-        for (int i = 0; i < frames; ++i)
+        for (int i = 0; i < frames; ++i) {
             ms.push_back(passMs(session.foveated(s, false), "point_sample"));
+        }
         const auto points = static_cast<double>(session.pointsSampled(g));
         perRay.push_back({{"gaze", {g.x, g.y}},
                           {"points_sampled", points},
@@ -239,10 +247,13 @@ nlohmann::json runBench(const BenchOptions& o) {
              {"frames", samples[name].size()}});
         const bool rbf = settings.interpolation.method == passes::Interpolation::Rbf;
         const bool table = passes::usesPixelTable(settings.interpolation);
-        if (settings.interpolation.method != passes::Interpolation::Nearest)
+        if (settings.interpolation.method != passes::Interpolation::Nearest) {
             table2json.back()["knn"] = table ? "table" : "lists";
+        }
         const auto it = prepared.find(name);
-        if (it == prepared.end()) continue;
+        if (it == prepared.end()) {
+            continue;
+        }
         if (it->second.table) {
             table2json.back()["table_build_ms"] = it->second.table->ms;
             table2json.back()["table_mb"] = it->second.table->mb;
@@ -281,8 +292,9 @@ nlohmann::json runBench(const BenchOptions& o) {
         for (const auto& [key, name] :
              {std::pair{"reference_passes_ms", ref}, std::pair{"foveated_passes_ms", fv}}) {
             nlohmann::json p = nlohmann::json::object();
-            for (const auto& [pass, ms] : passSamples[name])
+            for (const auto& [pass, ms] : passSamples[name]) {
                 p[pass] = median(ms);
+            }
             headline.back()[key] = p;
         }
     }
@@ -322,13 +334,15 @@ nlohmann::json runBench(const BenchOptions& o) {
                                   (r.contains("knn") ? "/" + r["knn"].get<std::string>() : "");
         std::printf("  %-10s k=%-2u %8.2f ms", label.c_str(), r["k"].get<uint32_t>(),
                     r["median_ms"].get<double>());
-        if (r.contains("table_build_ms"))
+        if (r.contains("table_build_ms")) {
             std::printf("   (k-NN table built once: %.0f ms, %.0f MB)",
                         r["table_build_ms"].get<double>(), r["table_mb"].get<double>());
-        if (r.contains("rbf_build_ms"))
+        }
+        if (r.contains("rbf_build_ms")) {
             std::printf("   (%s built once: %.0f ms, %.0f MB)",
                         r["rbf_prepared"] == "pixel_weights" ? "RBF pixel weights" : "inverses",
                         r["rbf_build_ms"].get<double>(), r["rbf_mb"].get<double>());
+        }
         std::printf("\n");
     }
     std::printf("Headline (builtin market, centred gaze, scale 1.0, nn):\n");
@@ -342,20 +356,23 @@ nlohmann::json runBench(const BenchOptions& o) {
     std::printf("Cost per ray, whole frame / point_sample at 1 ray (it depends on where the "
                 "rays go):\n");
     // In ns: a GPU traces a ray in about a nanosecond, lavapipe in about half a microsecond.
-    for (const auto& r : headline)
+    for (const auto& r : headline) {
         std::printf("  %3u ray(s): reference %.2f ns, foveated %.2f ns\n",
                     r["rays_per_pixel_and_point"].get<uint32_t>(),
                     1e3 * r["reference_us_per_ray"].get<double>(),
                     1e3 * r["foveated_us_per_ray"].get<double>());
-    for (const auto& r : perRay)
+    }
+    for (const auto& r : perRay) {
         std::printf("  point_sample, gaze (%4.0f, %4.0f): %.2f ns per ray\n",
                     r["gaze"][0].get<double>(), r["gaze"][1].get<double>(),
                     1e3 * r["point_sample_us_per_ray"].get<double>());
+    }
     std::printf("Foveated frame by pass (median GPU ms):\n");
     for (const auto& r : headline) {
         std::printf("  %3u ray(s):", r["rays_per_pixel_and_point"].get<uint32_t>());
-        for (const auto& [pass, ms] : r["foveated_passes_ms"].items())
+        for (const auto& [pass, ms] : r["foveated_passes_ms"].items()) {
             std::printf(" %s %.2f", pass.c_str(), ms.get<double>());
+        }
         std::printf("\n");
     }
     if (!o.json.empty()) {
@@ -363,7 +380,9 @@ nlohmann::json runBench(const BenchOptions& o) {
         {
             std::ofstream out(tmp);
             out << result.dump(2) << "\n";
-            if (!out) throw Error("cannot write " + o.json);
+            if (!out) {
+                throw Error("cannot write " + o.json);
+            }
         }
         std::filesystem::rename(tmp, o.json);
     }

@@ -25,10 +25,13 @@ glm::vec2 gazeOffset(glm::vec2 gaze, uint32_t displayWidth, uint32_t displayHeig
 }
 
 uint32_t pointSampleLanes(const vk::Context& ctx, uint32_t raysPerPoint) {
-    if (ctx.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) return 1;
+    if (ctx.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+        return 1;
+    }
     uint32_t lanes = 1;
-    while (lanes * 2 <= std::min(raysPerPoint, kMaxLanes))
+    while (lanes * 2 <= std::min(raysPerPoint, kMaxLanes)) {
         lanes *= 2;
+    }
     return lanes;
 }
 
@@ -58,11 +61,14 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
                                   const scene::Camera& camera, const foveation::GpuPointSet& points,
                                   glm::vec2 gaze, uint32_t raysPerPoint,
                                   uint32_t lanesPerPoint) const {
-    if (raysPerPoint == 0) throw ArgumentError("--rays-per-point must be at least 1");
+    if (raysPerPoint == 0) {
+        throw ArgumentError("--rays-per-point must be at least 1");
+    }
     const uint32_t lanes =
         lanesPerPoint == 0 ? pointSampleLanes(mCtx, raysPerPoint) : lanesPerPoint;
-    if (lanes > kMaxLanes || (lanes & (lanes - 1)) != 0)
+    if (lanes > kMaxLanes || (lanes & (lanes - 1)) != 0) {
         throw ArgumentError("point_sample: lanes per point must be a power of two up to 32");
+    }
     const vk::ComputePipeline& pipe = pipeline(lanes);
     const uint32_t pointsPerGroup = sh::kSampleGroupSize / lanes;
     const uint32_t w = graph.outputWidth(), h = graph.outputHeight();

@@ -223,8 +223,9 @@ TEST_F(FoveatedTest, RayLanesTraceTheSameRays) {
     };
     const auto one = run(1);
     float brightest = 0.0f;
-    for (const glm::vec4& v : one)
+    for (const glm::vec4& v : one) {
         brightest = std::max(brightest, std::max(v.r, std::max(v.g, v.b)));
+    }
     ASSERT_GT(brightest, 0.0f); // a black image would agree with anything
     for (const uint32_t lanes : {4u, 8u, 32u}) {
         const auto other = run(lanes);
