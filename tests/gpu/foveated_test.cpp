@@ -99,12 +99,46 @@ protected:
             in.lambdas = solve.add(g, gpu, *inverse, sid, gaze, s);
         }
         passes::addReadbackPass(g, "out", pass.add(g, gpu, sid, gaze, s, in), hid);
+        return executeAndRead(g, host);
+    }
+
+    // Builds a W x H graph whose image `build` returns, runs it and reads the image back.
+    template <typename Build> std::vector<glm::vec4> render(uint32_t w, uint32_t h, Build&& build) {
+        vk::Buffer host(
+            ctx(), {static_cast<VkDeviceSize>(w) * h * 16, 0, vk::MemoryUsage::Readback, "host"});
+        rg::RenderGraph g(w, h);
+        const auto hid = g.importBuffer(
+            "host", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
+        passes::addReadbackPass(g, "out", build(g), hid);
+        return executeAndRead(g, host);
+    }
+
+    std::vector<glm::vec4> executeAndRead(rg::RenderGraph& g, vk::Buffer& host) {
         rg::TransientPool pool(ctx());
         g.execute(g.compile(), pool);
-        std::vector<glm::vec4> out(static_cast<std::size_t>(w) * h);
+        std::vector<glm::vec4> out(host.size() / sizeof(glm::vec4));
         host.download(std::as_writable_bytes(std::span(out)));
         return out;
     }
+};
+
+// The Cornell box on the GPU with the point set of a square display of `size` pixels.
+struct CornellWithPoints {
+    explicit CornellWithPoints(uint32_t size)
+        : bvh(scene), gpuScene(test::gpuContext(), scene, bvh),
+          set(PointSet::generate(params(size))), index(set, 10),
+          points(test::gpuContext(), set, index) {}
+    static PointSetParams params(uint32_t size) {
+        PointSetParams p;
+        p.display = {"small", size, size, 0.85};
+        return p;
+    }
+    scene::Scene scene = scene::makeCornell();
+    scene::Bvh bvh;
+    trace::GpuScene gpuScene;
+    PointSet set;
+    foveation::NeighbourIndex index;
+    foveation::GpuPointSet points;
 };
 
 // Points at every canvas pixel centre: each screen pixel centre is a point, so every method
@@ -194,32 +228,16 @@ TEST_F(FoveatedTest, RbfFollowsALinearRampAndStaysFiniteAtK20) {
 // lane count, every point must get the same rays and so the same mean. R = 12 leaves some lanes
 // with one ray more than others at 8 lanes, and 20 idle lanes at 32.
 TEST_F(FoveatedTest, RayLanesTraceTheSameRays) {
-    const scene::Scene s = scene::makeCornell();
-    const scene::Bvh bvh(s);
-    const trace::GpuScene gs(ctx(), s, bvh);
-    PointSetParams p;
-    p.display = {"small", 96, 96, 0.85};
-    const PointSet set = PointSet::generate(p);
-    const foveation::NeighbourIndex index(set, 10);
-    const foveation::GpuPointSet gpu(ctx(), set, index);
-    const uint32_t w = 96, h = 96;
+    const CornellWithPoints c(96);
     const glm::vec2 gaze(30.0f, 60.0f);
     const passes::PointSamplePass sample(ctx());
     const passes::InterpolatePass interp(ctx());
     auto run = [&](uint32_t lanes) {
-        vk::Buffer host(ctx(), {w * h * 16, 0, vk::MemoryUsage::Readback, "host"});
-        rg::RenderGraph g(w, h);
-        const auto hid = g.importBuffer(
-            "host", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
-        const rg::TextureId img =
-            interp.add(g, gpu, sample.add(g, gs, s.camera, gpu, gaze, 12, lanes), gaze,
-                       {passes::Interpolation::Nearest, 1, 1.0f});
-        passes::addReadbackPass(g, "out", img, hid);
-        rg::TransientPool pool(ctx());
-        g.execute(g.compile(), pool);
-        std::vector<glm::vec4> out(w * h);
-        host.download(std::as_writable_bytes(std::span(out)));
-        return out;
+        return render(96, 96, [&](rg::RenderGraph& g) {
+            return interp.add(g, c.points,
+                              sample.add(g, c.gpuScene, c.scene.camera, c.points, gaze, 12, lanes),
+                              gaze, {passes::Interpolation::Nearest, 1, 1.0f});
+        });
     };
     const auto one = run(1);
     float brightest = 0.0f;
@@ -244,37 +262,21 @@ TEST_F(FoveatedTest, RayLanesTraceTheSameRays) {
 // reference there. Compared on 8x8-pixel block means (sample positions differ by design):
 // the mean relative difference of blocks within 24 px of the gaze stays under 5 %.
 TEST_F(FoveatedTest, MatchesReferenceAtTheGaze) {
-    const scene::Scene s = scene::makeCornell();
-    const scene::Bvh bvh(s);
-    const trace::GpuScene gs(ctx(), s, bvh);
-    PointSetParams p;
-    p.display = {"small", 192, 192, 0.85};
-    const PointSet set = PointSet::generate(p);
-    const foveation::NeighbourIndex index(set, 10);
-    const foveation::GpuPointSet gpu(ctx(), set, index);
-    const uint32_t w = 192, h = 192;
+    const CornellWithPoints c(192);
+    const uint32_t w = 192;
     const glm::vec2 gaze(96.0f, 96.0f);
+    const passes::ReferencePass reference(ctx());
+    const passes::PointSamplePass sample(ctx());
+    const passes::InterpolatePass interp(ctx());
     auto run = [&](bool foveated) {
-        vk::Buffer host(ctx(), {w * h * 16, 0, vk::MemoryUsage::Readback, "host"});
-        rg::RenderGraph g(w, h);
-        const auto hid = g.importBuffer(
-            "host", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
-        const passes::ReferencePass reference(ctx());
-        const passes::PointSamplePass sample(ctx());
-        const passes::InterpolatePass interp(ctx());
-        rg::TextureId img;
-        if (foveated) {
-            img = interp.add(g, gpu, sample.add(g, gs, s.camera, gpu, gaze, 16), gaze,
-                             {passes::Interpolation::Nearest, 1, 1.0f});
-        } else {
-            img = reference.add(g, gs, s.camera, {16, 3});
-        }
-        passes::addReadbackPass(g, "out", img, hid);
-        rg::TransientPool pool(ctx());
-        g.execute(g.compile(), pool);
-        std::vector<glm::vec4> out(w * h);
-        host.download(std::as_writable_bytes(std::span(out)));
-        return out;
+        return render(w, w, [&](rg::RenderGraph& g) {
+            if (!foveated) {
+                return reference.add(g, c.gpuScene, c.scene.camera, {16, 3});
+            }
+            return interp.add(g, c.points,
+                              sample.add(g, c.gpuScene, c.scene.camera, c.points, gaze, 16), gaze,
+                              {passes::Interpolation::Nearest, 1, 1.0f});
+        });
     };
     const auto ref = run(false), fov = run(true);
     double diff = 0.0, mean = 0.0;
