@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <functional>
 #include <set>
+#include <tuple>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -102,9 +103,10 @@ struct RenderSession::Impl {
     std::optional<passes::TaaHistory> taaHistory;
     std::optional<rg::TransientPool> pool;
     bool warmReference = false;
-    // The interpolate variants (method, reads the table) that have run once: each is its own
-    // specialised pipeline, compiled by lavapipe at its first dispatch.
-    std::set<std::pair<passes::Interpolation, bool>> warmInterpolation;
+    // The foveated pipeline variants (interpolation method, reads the table, point_sample lanes
+    // per point) that have run once: each is its own specialised pipeline, compiled by lavapipe
+    // at its first dispatch.
+    std::set<std::tuple<passes::Interpolation, bool, uint32_t>> warmFoveated;
 
     using AddRadiance = std::function<rg::TextureId(rg::RenderGraph&)>;
 
@@ -249,10 +251,12 @@ FrameResult RenderSession::foveated(const FoveatedSettings& s, bool pixels, bool
     const uint32_t w = m.points->params().display.width, h = m.points->params().display.height;
     const passes::InterpolateInputs prepared = m.tableInputs(s.interpolation);
     const bool solve = passes::usesRbfSolve(s.interpolation);
-    // point_sample -> (rbf_solve) -> interpolate, with `rays` per point.
+    // point_sample -> (rbf_solve) -> interpolate, with `rays` per point traced by `lanes`
+    // threads each.
+    const uint32_t lanes = passes::pointSampleLanes(*m.ctx, s.raysPerPoint);
     auto addImage = [&](rg::RenderGraph& g, uint32_t rays) {
         const rg::BufferId samples =
-            m.pointSample->add(g, *m.gpuScene, m.scene.camera, *m.gpuPoints, s.gaze, rays);
+            m.pointSample->add(g, *m.gpuScene, m.scene.camera, *m.gpuPoints, s.gaze, rays, lanes);
         passes::InterpolateInputs in = prepared;
         if (solve) {
             in.lambdas = m.rbfSolve->add(g, *m.gpuPoints, m.inverseFor(s.interpolation), samples,
@@ -268,13 +272,14 @@ FrameResult RenderSession::foveated(const FoveatedSettings& s, bool pixels, bool
         return m.taa->add(g, *m.taaHistory, image, m.scene.camera, s.gaze, s.saccade);
     };
     const auto variant =
-        std::make_pair(s.interpolation.method, passes::usesPixelTable(s.interpolation));
-    if (!m.warmInterpolation.contains(variant)) {
+        std::make_tuple(s.interpolation.method, passes::usesPixelTable(s.interpolation), lanes);
+    if (!m.warmFoveated.contains(variant)) {
         // One untimed frame, full size, one ray per point, through every pipeline this frame
         // uses (lavapipe compiles at first dispatch) and without touching the TAA history.
+        // The lanes stay those of the timed frame: idle lanes cost little and trace nothing.
         rg::TransientPool warm(*m.ctx);
         (void)m.run([&](rg::RenderGraph& g) { return addImage(g, 1); }, w, h, true, false, warm);
-        m.warmInterpolation.insert(variant);
+        m.warmFoveated.insert(variant);
     }
     return m.run(add, w, h, pixels, dot, *m.pool);
 }
