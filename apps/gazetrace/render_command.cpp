@@ -8,6 +8,7 @@
 
 #include "capture/frame_source.hpp"
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "foveation/gaze_trace.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
@@ -34,6 +35,21 @@ glm::vec2 parseGaze(const std::string& text, uint32_t w, uint32_t h) {
                             std::to_string(h) + " screen");
     }
     return {x, y};
+}
+
+// Frames clamp a trace's gaze to the screen; say so when samples lie outside it, since many
+// of them usually mean the trace was recorded for another screen.
+void warnOffScreen(const foveation::GazeTrace& trace, const std::string& file, uint32_t w,
+                   uint32_t h) {
+    const auto& samples = trace.samples();
+    const auto outside = std::count_if(samples.begin(), samples.end(), [&](const auto& s) {
+        return s.position.x < 0.0f || s.position.y < 0.0f ||
+               s.position.x >= static_cast<float>(w) || s.position.y >= static_cast<float>(h);
+    });
+    if (outside == 0) return;
+    log::warn(file + ": " + std::to_string(outside) + " of " + std::to_string(samples.size()) +
+              " gaze samples lie outside the " + std::to_string(w) + "x" + std::to_string(h) +
+              " screen; the gaze is clamped to its edge there");
 }
 
 void writeText(const std::string& path, const std::string& text) {
@@ -87,7 +103,9 @@ nlohmann::json runRender(const RenderOptions& o) {
     if (!o.gazeTrace.empty()) {
         if (!foveated) throw ArgumentError("--gaze-trace needs --method foveated");
         if (!(o.frameMs > 0.0)) throw ArgumentError("--frame-ms must be positive");
+        if (!o.gaze.empty()) throw ArgumentError("--gaze and --gaze-trace exclude each other");
         trace = foveation::GazeTrace::load(o.gazeTrace);
+        warnOffScreen(*trace, o.gazeTrace, width, height);
         if (!o.framesGiven) {
             frameCount = 1 + static_cast<uint32_t>((trace->endMs() - trace->startMs()) / o.frameMs);
         }
@@ -99,6 +117,7 @@ nlohmann::json runRender(const RenderOptions& o) {
     if (!o.gazeSource.empty()) {
         if (!foveated) throw ArgumentError("--gaze-source needs --method foveated");
         if (trace) throw ArgumentError("--gaze-source and --gaze-trace exclude each other");
+        if (!o.gaze.empty()) throw ArgumentError("--gaze and --gaze-source exclude each other");
         if (o.calibration.empty())
             throw ArgumentError("--gaze-source needs --calibration (see gazetrace calibrate)");
         calibration = eyetrack::Calibration::load(o.calibration);
@@ -107,6 +126,7 @@ nlohmann::json runRender(const RenderOptions& o) {
         throw ArgumentError("--calibration is for --gaze-source");
     }
     if (!foveated && !o.view.empty()) throw ArgumentError("--view needs --method foveated");
+    if (!foveated && !o.gaze.empty()) throw ArgumentError("--gaze needs --method foveated");
     // --out: a .png file for one frame, else a folder for frame_NNNN.png.
     const std::filesystem::path outPath(o.out);
     const bool toFolder = outPath.extension() != ".png";
@@ -204,7 +224,8 @@ nlohmann::json runRender(const RenderOptions& o) {
                         {"bvh_sah_cost", session.bvhStats().sahCost},
                         {"output", toFolder ? outPath.string() : outputs.front()}};
     if (foveated) {
-        const std::size_t sampled = session.pointsSampled(gaze);
+        // The last frame's, as gpu_ms is; a trace or live gaze moves it from frame to frame.
+        const std::size_t sampled = session.pointsSampled(fs.gaze);
         rays = static_cast<uint64_t>(sampled) * o.raysPerPoint;
         j["points_sampled"] = sampled;
         j["points_total"] = session.pointSet().points().size();
@@ -221,7 +242,7 @@ nlohmann::json runRender(const RenderOptions& o) {
         j["scale"] = o.scale;
         j["profile"] = o.profile;
         j["taa"] = o.taa;
-        j["gaze"] = {gaze.x, gaze.y};
+        j["gaze"] = {fs.gaze.x, fs.gaze.y};
         if (trace || tracker) j["gaze_per_frame"] = gazes;
         if (tracker) {
             j["gaze_source"] = o.gazeSource;

@@ -29,8 +29,8 @@ struct RenderOptions {
     std::string kernel = "multiquadric";
     std::string knn = "table";
     double rbfShape = 1.0;
-    std::string gazeTrace;          // CSV t_ms,x,y; overrides --gaze
-    std::string gazeSource;         // eye tracker frame source: live gaze; overrides --gaze
+    std::string gazeTrace;          // CSV t_ms,x,y; excludes --gaze
+    std::string gazeSource;         // eye tracker frame source: live gaze; excludes --gaze
     std::string calibration;        // for gazeSource
     double frameMs = 1000.0 / 90.0; // time between frames along the trace (FOVE: 90 Hz)
     std::string view;               // debug view: points | cells | eccentricity

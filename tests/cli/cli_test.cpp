@@ -170,6 +170,39 @@ TEST(Cli, FoveatedRbfThroughTableAndLists) {
     }
 }
 
+// A gaze trace moves the gaze frame by frame: the summary reports each frame's gaze and the
+// points sampled around the last one; samples off the screen are clamped with a warning.
+TEST(Cli, GazeTraceDrivesTheFrames) {
+    const auto dir = test::tempDir("cli_trace");
+    const auto trace = dir / "trace.csv";
+    std::ofstream(trace) << "t_ms,x,y\n0,100,100\n10,1700,900\n20,5000,900\n";
+    const std::string common = "render --method foveated --profile desktop --scale 3 "
+                               "--rays-per-point 1 --taa off --frame-ms 10 --json --cache " +
+                               (dir / "cache").string();
+    const Result r =
+        run(common + " --gaze-trace " + trace.string() + " --out " + (dir / "frames").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("1 of 3 gaze samples lie outside the 1920x1080 screen"), std::string::npos)
+        << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j.at("gaze_per_frame").size(), 3u);
+    EXPECT_EQ(j.at("gaze_per_frame")[0], nlohmann::json::array({100.0, 100.0}));
+    EXPECT_EQ(j.at("gaze_per_frame")[1], nlohmann::json::array({1700.0, 900.0}));
+    EXPECT_EQ(j.at("gaze_per_frame")[2], nlohmann::json::array({1919.0, 900.0}));
+    EXPECT_EQ(j.at("gaze"), j.at("gaze_per_frame")[2]);
+    // Near the corner more of the canvas falls off the screen than with the gaze centred.
+    const Result centred = run(common + " --out " + (dir / "centred.png").string());
+    ASSERT_EQ(centred.status, 0) << centred.err;
+    EXPECT_LT(j.at("points_sampled").get<int>(),
+              nlohmann::json::parse(centred.out).at("points_sampled").get<int>());
+    expectCleanFailure(run(common + " --gaze-trace " + trace.string() + " --gaze 10,10 --out " +
+                           (dir / "both").string()),
+                       "--gaze", dir / "both");
+    expectCleanFailure(
+        run("render --width 8 --height 8 --gaze 2,2 --out " + (dir / "ref.png").string()), "--gaze",
+        dir / "ref.png");
+}
+
 TEST(Cli, HelpOnEverySubcommand) {
     for (const char* sub :
          {"", "render ", "pointset ", "devices ", "scenes ", "eyesim ", "track ", "calibrate "}) {
