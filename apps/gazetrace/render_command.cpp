@@ -23,7 +23,9 @@ namespace gt::app {
 namespace {
 
 glm::vec2 parseGaze(const std::string& text, uint32_t w, uint32_t h) {
-    if (text.empty()) return {0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h)};
+    if (text.empty()) {
+        return {0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h)};
+    }
     float x = 0, y = 0;
     char extra = 0;
     if (std::sscanf(text.c_str(), "%f,%f%c", &x, &y, &extra) != 2 || !std::isfinite(x) ||
@@ -46,7 +48,9 @@ void warnOffScreen(const foveation::GazeTrace& trace, const std::string& file, u
         return s.position.x < 0.0f || s.position.y < 0.0f ||
                s.position.x >= static_cast<float>(w) || s.position.y >= static_cast<float>(h);
     });
-    if (outside == 0) return;
+    if (outside == 0) {
+        return;
+    }
     log::warn(file + ": " + std::to_string(outside) + " of " + std::to_string(samples.size()) +
               " gaze samples lie outside the " + std::to_string(w) + "x" + std::to_string(h) +
               " screen; the gaze is clamped to its edge there");
@@ -58,7 +62,9 @@ void writeText(const std::string& path, const std::string& text) {
     {
         std::ofstream out(tmp);
         out << text;
-        if (!out) throw Error("cannot write " + path);
+        if (!out) {
+            throw Error("cannot write " + path);
+        }
     }
     std::filesystem::rename(tmp, p);
 }
@@ -70,7 +76,9 @@ nlohmann::json runRender(const RenderOptions& o) {
         throw ArgumentError("--method: '" + o.method +
                             "' is not available (known: reference, foveated)");
     }
-    if (o.out.empty()) throw ArgumentError("--out: empty path");
+    if (o.out.empty()) {
+        throw ArgumentError("--out: empty path");
+    }
     const bool foveated = o.method == "foveated";
     uint32_t width = o.width, height = o.height;
     foveation::PointSetParams psParams;
@@ -96,14 +104,22 @@ nlohmann::json runRender(const RenderOptions& o) {
             throw ArgumentError("--k must be 1..20");
         }
         gaze = parseGaze(o.gaze, width, height);
-        if (!o.view.empty()) interp.method = passes::parseView(o.view);
+        if (!o.view.empty()) {
+            interp.method = passes::parseView(o.view);
+        }
     }
     std::optional<foveation::GazeTrace> trace;
     uint32_t frameCount = o.frames;
     if (!o.gazeTrace.empty()) {
-        if (!foveated) throw ArgumentError("--gaze-trace needs --method foveated");
-        if (!(o.frameMs > 0.0)) throw ArgumentError("--frame-ms must be positive");
-        if (!o.gaze.empty()) throw ArgumentError("--gaze and --gaze-trace exclude each other");
+        if (!foveated) {
+            throw ArgumentError("--gaze-trace needs --method foveated");
+        }
+        if (!(o.frameMs > 0.0)) {
+            throw ArgumentError("--frame-ms must be positive");
+        }
+        if (!o.gaze.empty()) {
+            throw ArgumentError("--gaze and --gaze-trace exclude each other");
+        }
         trace = foveation::GazeTrace::load(o.gazeTrace);
         warnOffScreen(*trace, o.gazeTrace, width, height);
         if (!o.framesGiven) {
@@ -115,29 +131,44 @@ nlohmann::json runRender(const RenderOptions& o) {
     std::unique_ptr<eyetrack::FrameSource> gazeSource;
     std::optional<eyetrack::Calibration> calibration;
     if (!o.gazeSource.empty()) {
-        if (!foveated) throw ArgumentError("--gaze-source needs --method foveated");
-        if (trace) throw ArgumentError("--gaze-source and --gaze-trace exclude each other");
-        if (!o.gaze.empty()) throw ArgumentError("--gaze and --gaze-source exclude each other");
-        if (o.calibration.empty())
+        if (!foveated) {
+            throw ArgumentError("--gaze-source needs --method foveated");
+        }
+        if (trace) {
+            throw ArgumentError("--gaze-source and --gaze-trace exclude each other");
+        }
+        if (!o.gaze.empty()) {
+            throw ArgumentError("--gaze and --gaze-source exclude each other");
+        }
+        if (o.calibration.empty()) {
             throw ArgumentError("--gaze-source needs --calibration (see gazetrace calibrate)");
+        }
         calibration = eyetrack::Calibration::load(o.calibration);
         gazeSource = eyetrack::openFrameSource(o.gazeSource);
     } else if (!o.calibration.empty()) {
         throw ArgumentError("--calibration is for --gaze-source");
     }
-    if (!foveated && !o.view.empty()) throw ArgumentError("--view needs --method foveated");
-    if (!foveated && !o.gaze.empty()) throw ArgumentError("--gaze needs --method foveated");
+    if (!foveated && !o.view.empty()) {
+        throw ArgumentError("--view needs --method foveated");
+    }
+    if (!foveated && !o.gaze.empty()) {
+        throw ArgumentError("--gaze needs --method foveated");
+    }
     // --out: a .png file for one frame, else a folder for frame_NNNN.png.
     const std::filesystem::path outPath(o.out);
     const bool toFolder = outPath.extension() != ".png";
-    if (!toFolder && frameCount > 1) throw ArgumentError("--out: give a folder for --frames > 1");
+    if (!toFolder && frameCount > 1) {
+        throw ArgumentError("--out: give a folder for --frames > 1");
+    }
     {
         // Fail before any work when the output could not be written anyway.
         const std::filesystem::path dir = toFolder                        ? outPath
                                           : outPath.parent_path().empty() ? "."
                                                                           : outPath.parent_path();
         std::error_code ec;
-        if (toFolder) std::filesystem::create_directories(dir, ec);
+        if (toFolder) {
+            std::filesystem::create_directories(dir, ec);
+        }
         if (!std::filesystem::is_directory(dir, ec)) {
             throw ArgumentError("--out: cannot write " + o.out + ": folder " + dir.string() +
                                 " does not exist");
@@ -166,12 +197,14 @@ nlohmann::json runRender(const RenderOptions& o) {
     const glm::vec2 lastPixel(static_cast<float>(width) - 1.0f, static_cast<float>(height) - 1.0f);
     for (uint32_t i = 0; i < frameCount; ++i) {
         const bool dot = !o.graphDot.empty() && i == 0;
-        if (trace)
+        if (trace) {
             fs.gaze =
                 glm::clamp(trace->at(trace->startMs() + i * o.frameMs), glm::vec2(0.0f), lastPixel);
+        }
         if (tracker) {
-            if (const auto e = tracker->error())
+            if (const auto e = tracker->error()) {
                 throw Error("--gaze-source " + o.gazeSource + ": " + *e);
+            }
             if (const auto g = tracker->mailbox().latest()) {
                 // The calibration's screen is the one shown; scale when the render differs.
                 const eyetrack::DisplayGeometry& d = tracker->display();
@@ -184,11 +217,15 @@ nlohmann::json runRender(const RenderOptions& o) {
             fs.saccade = saccades != saccadesSeen;
             saccadesSeen = saccades;
         }
-        if (foveated) gazes.push_back({fs.gaze.x, fs.gaze.y});
+        if (foveated) {
+            gazes.push_back({fs.gaze.x, fs.gaze.y});
+        }
         frame = foveated ? session.foveated(fs, true, dot)
                          : session.reference(width, height, o.spp, o.seed + i, true, dot);
         frameMs.push_back(frame.wallMs);
-        if (dot) writeText(o.graphDot, frame.dot);
+        if (dot) {
+            writeText(o.graphDot, frame.dot);
+        }
         char name[32];
         std::snprintf(name, sizeof(name), "frame_%04u.png", i);
         const std::filesystem::path file = toFolder ? outPath / name : outPath;
@@ -201,8 +238,9 @@ nlohmann::json runRender(const RenderOptions& o) {
     }
 
     nlohmann::json gpu = nlohmann::json::object();
-    for (const auto& p : frame.timings.passes)
+    for (const auto& p : frame.timings.passes) {
         gpu[p.name] = p.gpuMs;
+    }
     std::vector<double> sorted = frameMs;
     std::sort(sorted.begin(), sorted.end());
     const double totalMs = sorted[sorted.size() / 2];
@@ -243,13 +281,17 @@ nlohmann::json runRender(const RenderOptions& o) {
         j["profile"] = o.profile;
         j["taa"] = o.taa;
         j["gaze"] = {fs.gaze.x, fs.gaze.y};
-        if (trace || tracker) j["gaze_per_frame"] = gazes;
+        if (trace || tracker) {
+            j["gaze_per_frame"] = gazes;
+        }
         if (tracker) {
             j["gaze_source"] = o.gazeSource;
             j["tracker_frames"] = tracker->frames();
             j["saccades"] = tracker->saccades();
         }
-        if (!o.view.empty()) j["view"] = o.view;
+        if (!o.view.empty()) {
+            j["view"] = o.view;
+        }
         j["point_set_ms"] = session.pointSetMs();
         j["neighbour_index_ms"] = session.neighbourIndexMs();
         j["neighbour_index_mb"] = session.neighbourIndexMb();

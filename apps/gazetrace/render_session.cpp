@@ -138,7 +138,9 @@ struct RenderSession::Impl {
         }
         const rg::CompiledGraph compiled = graph.compile();
         FrameResult f;
-        if (dot) f.dot = graph.toDot(compiled);
+        if (dot) {
+            f.dot = graph.toDot(compiled);
+        }
         f.timings = graph.execute(compiled, p);
         if (pixels) {
             f.pixels.resize(host->size());
@@ -154,8 +156,9 @@ RenderSession::RenderSession(const std::string& sceneSpec, bool validate)
     const auto t0 = Clock::now();
     scene::GltfLoadReport report;
     mImpl->scene = scene::loadScene(sceneSpec, &report);
-    for (const std::string& w : report.warnings)
+    for (const std::string& w : report.warnings) {
         log::warn(sceneSpec + ": " + w);
+    }
     mLoadMs = msSince(t0);
     const auto t1 = Clock::now();
     mImpl->bvh.emplace(mImpl->scene);
@@ -188,7 +191,9 @@ void RenderSession::preparePointSet(const foveation::PointSetParams& params,
                                     const std::filesystem::path& cacheDir) {
     const auto t = Clock::now();
     foveation::CachedPointSet c = foveation::loadOrGenerate(cacheDir, params);
-    if (!c.warning.empty()) log::warn(c.warning);
+    if (!c.warning.empty()) {
+        log::warn(c.warning);
+    }
     mPointSetMs = msSince(t);
     mImpl->rbfInverse.reset();
     mImpl->knnTable.reset();
@@ -200,15 +205,25 @@ void RenderSession::preparePointSet(const foveation::PointSetParams& params,
     mNeighbourMs = mImpl->neighbours->buildSeconds() * 1e3;
     mNeighbourMb = static_cast<double>(mImpl->neighbours->bytes()) / 1e6;
     mImpl->gpuPoints.emplace(*mImpl->ctx, *mImpl->points, *mImpl->neighbours);
-    if (!mImpl->pointSample) mImpl->pointSample.emplace(*mImpl->ctx);
-    if (!mImpl->interpolate) mImpl->interpolate.emplace(*mImpl->ctx);
-    if (!mImpl->rbfSolve) mImpl->rbfSolve.emplace(*mImpl->ctx);
-    if (!mImpl->taa) mImpl->taa.emplace(*mImpl->ctx);
+    if (!mImpl->pointSample) {
+        mImpl->pointSample.emplace(*mImpl->ctx);
+    }
+    if (!mImpl->interpolate) {
+        mImpl->interpolate.emplace(*mImpl->ctx);
+    }
+    if (!mImpl->rbfSolve) {
+        mImpl->rbfSolve.emplace(*mImpl->ctx);
+    }
+    if (!mImpl->taa) {
+        mImpl->taa.emplace(*mImpl->ctx);
+    }
     mImpl->taaHistory.emplace(*mImpl->ctx, params.display.width, params.display.height);
 }
 
 const foveation::PointSet& RenderSession::pointSet() const {
-    if (!mImpl->points) throw Error("no point set prepared");
+    if (!mImpl->points) {
+        throw Error("no point set prepared");
+    }
     return *mImpl->points;
 }
 
@@ -247,7 +262,9 @@ Prepared RenderSession::knnTablePrepared() const {
 
 FrameResult RenderSession::foveated(const FoveatedSettings& s, bool pixels, bool dot) {
     Impl& m = *mImpl;
-    if (!m.gpuPoints) throw Error("no point set prepared");
+    if (!m.gpuPoints) {
+        throw Error("no point set prepared");
+    }
     const uint32_t w = m.points->params().display.width, h = m.points->params().display.height;
     const passes::InterpolateInputs prepared = m.tableInputs(s.interpolation);
     const bool solve = passes::usesRbfSolve(s.interpolation);
