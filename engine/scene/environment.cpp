@@ -3,42 +3,49 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <numbers>
 
 #include <stb_image.h>
 
 #include "core/error.hpp"
+#include "scene/radiance_hdr.hpp"
 
 namespace gt::scene {
 
 namespace {
 
-struct FloatImage {
-    int w = 0, h = 0;
-    std::vector<float> rgb;
-};
-
-FloatImage loadFloat(const std::filesystem::path& p) {
+// Radiance pictures go through gt's strict reader (radiance_hdr.hpp explains why), anything
+// else through stb_image.
+RgbImage loadFloat(const std::filesystem::path& p) {
     std::error_code ec;
     if (!std::filesystem::exists(p, ec)) throw LoadError(p.string() + ": no such file");
+    std::ifstream f(p, std::ios::binary);
+    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(f)),
+                                          std::istreambuf_iterator<char>());
+    if (!f && !f.eof()) throw LoadError(p.string() + ": cannot read");
+    if (isRadianceHdr(bytes)) return decodeRadianceHdr(bytes, p.string());
     int w = 0, h = 0, n = 0;
-    float* data = stbi_loadf(p.c_str(), &w, &h, &n, 3);
+    float* data =
+        stbi_loadf_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &n, 3);
     if (!data)
         throw LoadError(p.string() + ": cannot decode image (" + stbi_failure_reason() + ")");
-    FloatImage img{w, h, std::vector<float>(data, data + static_cast<std::size_t>(w) * h * 3)};
+    RgbImage img{w, h, std::vector<float>(data, data + static_cast<std::size_t>(w) * h * 3)};
     stbi_image_free(data);
     return img;
 }
 
-glm::vec3 fetch(const FloatImage& img, int x, int y) {
-    x = std::clamp(x, 0, img.w - 1);
-    y = std::clamp(y, 0, img.h - 1);
-    const float* p = &img.rgb[(static_cast<std::size_t>(y) * img.w + x) * 3];
+glm::vec3 fetch(const RgbImage& img, int x, int y) {
+    x = std::clamp(x, 0, img.width - 1);
+    y = std::clamp(y, 0, img.height - 1);
+    const float* p = &img.rgb[(static_cast<std::size_t>(y) * img.width + x) * 3];
     return {p[0], p[1], p[2]};
 }
 
-glm::vec3 bilinear(const FloatImage& img, float u, float v) {
-    const float x = u * static_cast<float>(img.w) - 0.5f, y = v * static_cast<float>(img.h) - 0.5f;
+glm::vec3 bilinear(const RgbImage& img, float u, float v) {
+    const float x = u * static_cast<float>(img.width) - 0.5f,
+                y = v * static_cast<float>(img.height) - 0.5f;
     const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
     const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
     return glm::mix(glm::mix(fetch(img, x0, y0), fetch(img, x0 + 1, y0), fx),
@@ -46,7 +53,7 @@ glm::vec3 bilinear(const FloatImage& img, float u, float v) {
 }
 
 // Cube-map face lookup in the usual (OpenGL) convention, faces stored top row first.
-glm::vec3 sampleCube(const std::array<FloatImage, 6>& faces, glm::vec3 d) {
+glm::vec3 sampleCube(const std::array<RgbImage, 6>& faces, glm::vec3 d) {
     const glm::vec3 a = glm::abs(d);
     int face;
     float sc, tc, ma;
@@ -101,14 +108,14 @@ Environment loadEnvironment(const std::filesystem::path& path) {
         }
     }
     if (!facePrefix.empty()) {
-        std::array<FloatImage, 6> faces;
+        std::array<RgbImage, 6> faces;
         const char* names[6] = {"px", "nx", "py", "ny", "pz", "nz"};
         for (int i = 0; i < 6; ++i) {
             faces[static_cast<std::size_t>(i)] = loadFloat(facePrefix.string() + names[i] + ".hdr");
         }
-        const int size = faces[0].w;
-        for (const FloatImage& f : faces) {
-            if (f.w != size || f.h != size)
+        const int size = faces[0].width;
+        for (const RgbImage& f : faces) {
+            if (f.width != size || f.height != size)
                 throw LoadError(path.string() + ": cube faces differ in size or are not square");
         }
         env.width = static_cast<uint32_t>(4 * size);
@@ -125,15 +132,15 @@ Environment loadEnvironment(const std::filesystem::path& path) {
         }
         return env;
     }
-    const FloatImage img = loadFloat(path);
-    if (img.w != 2 * img.h) {
+    const RgbImage img = loadFloat(path);
+    if (img.width != 2 * img.height) {
         throw LoadError(path.string() +
                         ": an equirectangular environment must be twice as wide as high (" +
-                        std::to_string(img.w) + "x" + std::to_string(img.h) + ")");
+                        std::to_string(img.width) + "x" + std::to_string(img.height) + ")");
     }
-    env.width = static_cast<uint32_t>(img.w);
-    env.height = static_cast<uint32_t>(img.h);
-    env.texels.resize(static_cast<std::size_t>(img.w) * img.h);
+    env.width = static_cast<uint32_t>(img.width);
+    env.height = static_cast<uint32_t>(img.height);
+    env.texels.resize(static_cast<std::size_t>(img.width) * img.height);
     for (std::size_t i = 0; i < env.texels.size(); ++i) {
         env.texels[i] = glm::vec4(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2], 1.0f);
     }

@@ -1,0 +1,196 @@
+#include "scene/radiance_hdr.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <string_view>
+
+#include "core/error.hpp"
+
+namespace gt::scene {
+
+namespace {
+
+// Beyond this a picture is more likely a corrupt header than an environment map.
+constexpr int kMaxSide = 1 << 15;
+
+class Reader {
+public:
+    Reader(std::span<const std::uint8_t> bytes, const std::string& name)
+        : mBytes(bytes), mName(name) {}
+
+    [[noreturn]] void fail(const std::string& what) const { throw LoadError(mName + ": " + what); }
+
+    [[nodiscard]] std::size_t left() const noexcept { return mBytes.size() - mAt; }
+
+    // One header line without its '\n'; the header must end before the data does.
+    std::string_view line() {
+        const std::size_t start = mAt;
+        while (mAt < mBytes.size() && mBytes[mAt] != '\n') {
+            ++mAt;
+        }
+        if (mAt == mBytes.size()) {
+            fail("truncated header");
+        }
+        const std::string_view l(reinterpret_cast<const char*>(mBytes.data()) + start, mAt - start);
+        ++mAt;
+        return l;
+    }
+
+    std::uint8_t byte(int scanline) {
+        if (mAt == mBytes.size()) {
+            fail("truncated at scanline " + std::to_string(scanline));
+        }
+        return mBytes[mAt++];
+    }
+
+private:
+    std::span<const std::uint8_t> mBytes;
+    const std::string& mName;
+    std::size_t mAt = 0;
+};
+
+void parseResolution(Reader& in, std::string_view l, int& width, int& height) {
+    // Only the orientation every common writer uses: top row first, left to right.
+    char ySign = 0, xSign = 0, yAxis = 0, xAxis = 0;
+    long h = 0, w = 0;
+    char extra = 0;
+    const std::string s(l);
+    if (std::sscanf(s.c_str(), " %c%c %ld %c%c %ld %c", &ySign, &yAxis, &h, &xSign, &xAxis, &w,
+                    &extra) != 6) {
+        in.fail("bad resolution line '" + s + "'");
+    }
+    if (ySign != '-' || yAxis != 'Y' || xSign != '+' || xAxis != 'X') {
+        in.fail("unsupported orientation '" + s + "' (only -Y H +X W)");
+    }
+    if (w < 1 || h < 1 || w > kMaxSide || h > kMaxSide) {
+        in.fail("resolution " + std::to_string(w) + "x" + std::to_string(h) + " out of range");
+    }
+    width = static_cast<int>(w);
+    height = static_cast<int>(h);
+}
+
+// New-style scanline after its (2, 2, hi, lo) marker: each of R, G, B, E run-length encoded
+// on its own. A run byte > 128 repeats the next byte (byte - 128) times; otherwise that many
+// literal bytes follow. Zero-length and overlong runs are corrupt (stb loops on the former).
+void decodeChannels(Reader& in, int y, std::vector<std::uint8_t>& rgbe) {
+    const int width = static_cast<int>(rgbe.size() / 4);
+    for (int c = 0; c < 4; ++c) {
+        int x = 0;
+        while (x < width) {
+            int count = in.byte(y);
+            const bool run = count > 128;
+            if (run) {
+                count -= 128;
+            }
+            if (count == 0 || count > width - x) {
+                in.fail("bad run length at scanline " + std::to_string(y));
+            }
+            if (run) {
+                const std::uint8_t v = in.byte(y);
+                for (int i = 0; i < count; ++i) {
+                    rgbe[static_cast<std::size_t>(x++) * 4 + c] = v;
+                }
+            } else {
+                for (int i = 0; i < count; ++i) {
+                    rgbe[static_cast<std::size_t>(x++) * 4 + c] = in.byte(y);
+                }
+            }
+        }
+    }
+}
+
+// Flat pixels, where (1, 1, 1, n) repeats the previous pixel n << shift times and consecutive
+// repeats shift by 8 more bits each. `first` holds the four bytes already read.
+void decodeFlat(Reader& in, int y, std::vector<std::uint8_t>& rgbe, const std::uint8_t first[4]) {
+    const int width = static_cast<int>(rgbe.size() / 4);
+    std::uint8_t p[4] = {first[0], first[1], first[2], first[3]};
+    int x = 0, shift = 0;
+    while (true) {
+        if (p[0] == 1 && p[1] == 1 && p[2] == 1) {
+            const long count = static_cast<long>(p[3]) << shift;
+            if (x == 0 || count > width - x) {
+                in.fail("bad run length at scanline " + std::to_string(y));
+            }
+            for (long i = 0; i < count; ++i, ++x) {
+                for (int c = 0; c < 4; ++c) {
+                    rgbe[static_cast<std::size_t>(x) * 4 + c] =
+                        rgbe[static_cast<std::size_t>(x - 1) * 4 + c];
+                }
+            }
+            shift += 8;
+            if (shift > 16) {
+                in.fail("bad run length at scanline " + std::to_string(y));
+            }
+        } else {
+            for (int c = 0; c < 4; ++c) {
+                rgbe[static_cast<std::size_t>(x) * 4 + c] = p[c];
+            }
+            ++x;
+            shift = 0;
+        }
+        if (x == width) {
+            return;
+        }
+        for (std::uint8_t& b : p) {
+            b = in.byte(y);
+        }
+    }
+}
+
+} // namespace
+
+bool isRadianceHdr(std::span<const std::uint8_t> bytes) noexcept {
+    return bytes.size() >= 2 && bytes[0] == '#' && bytes[1] == '?';
+}
+
+RgbImage decodeRadianceHdr(std::span<const std::uint8_t> bytes, const std::string& name) {
+    Reader in(bytes, name);
+    if (!isRadianceHdr(bytes)) {
+        in.fail("not a Radiance picture (no '#?' signature)");
+    }
+    (void)in.line(); // "#?RADIANCE", "#?RGBE" or another program's name
+    while (true) {
+        const std::string_view l = in.line();
+        if (l.empty()) {
+            break;
+        }
+        if (l.starts_with("FORMAT=") && l != "FORMAT=32-bit_rle_rgbe") {
+            in.fail("unsupported " + std::string(l) + " (only 32-bit_rle_rgbe)");
+        }
+    }
+    RgbImage img;
+    parseResolution(in, in.line(), img.width, img.height);
+    img.rgb.resize(static_cast<std::size_t>(img.width) * img.height * 3);
+    std::vector<std::uint8_t> rgbe(static_cast<std::size_t>(img.width) * 4);
+    for (int y = 0; y < img.height; ++y) {
+        std::uint8_t head[4];
+        for (std::uint8_t& b : head) {
+            b = in.byte(y);
+        }
+        const bool newRle = img.width >= 8 && img.width < 0x8000 && head[0] == 2 && head[1] == 2 &&
+                            (head[2] & 0x80) == 0;
+        if (newRle) {
+            if ((head[2] << 8 | head[3]) != img.width) {
+                in.fail("scanline " + std::to_string(y) + " is not " + std::to_string(img.width) +
+                        " pixels wide");
+            }
+            decodeChannels(in, y, rgbe);
+        } else {
+            decodeFlat(in, y, rgbe, head);
+        }
+        float* out = &img.rgb[static_cast<std::size_t>(y) * img.width * 3];
+        for (int x = 0; x < img.width; ++x) {
+            const std::uint8_t* p = &rgbe[static_cast<std::size_t>(x) * 4];
+            // value = mantissa * 2^(E - 128 - 8), as stb_image decodes it (Radiance adds 0.5
+            // to the mantissa; keeping stb's form keeps every rendered sky as it was).
+            const float f = p[3] == 0 ? 0.0f : std::ldexp(1.0f, static_cast<int>(p[3]) - 136);
+            for (int c = 0; c < 3; ++c) {
+                out[x * 3 + c] = static_cast<float>(p[c]) * f;
+            }
+        }
+    }
+    return img;
+}
+
+} // namespace gt::scene

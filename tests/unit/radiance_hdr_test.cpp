@@ -1,0 +1,157 @@
+// The strict Radiance reader: it decodes what stb_image writes (run-length encoded and flat)
+// exactly as stb_image reads it, and fails with the file's name on every cut or corrupt byte
+// where stb_image loops forever or fills in zeros.
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+#include "core/error.hpp"
+#include "scene/environment.hpp"
+#include "scene/radiance_hdr.hpp"
+#include "support/gpu_test_context.hpp"
+
+namespace gt::scene {
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+// An HDR picture as stb_image_write encodes it: runs for widths 8..32767, flat below.
+Bytes encode(int w, int h) {
+    std::vector<float> rgb(static_cast<std::size_t>(w) * h * 3);
+    for (std::size_t i = 0; i < rgb.size(); ++i) { // smooth runs and noisy literals, 1e-3..1e3
+        rgb[i] = (i / 3) % 17 < 9 ? 0.5f : std::exp2(static_cast<float>((i * 7919) % 21) - 10.0f);
+    }
+    Bytes out;
+    stbi_write_hdr_to_func(
+        [](void* ctx, void* data, int size) {
+            auto* o = static_cast<Bytes*>(ctx);
+            const auto* b = static_cast<const std::uint8_t*>(data);
+            o->insert(o->end(), b, b + size);
+        },
+        &out, w, h, 3, rgb.data());
+    return out;
+}
+
+std::vector<float> stbDecode(const Bytes& b) {
+    int w = 0, h = 0, n = 0;
+    float* d = stbi_loadf_from_memory(b.data(), static_cast<int>(b.size()), &w, &h, &n, 3);
+    EXPECT_NE(d, nullptr) << stbi_failure_reason();
+    if (d == nullptr) {
+        return {};
+    }
+    std::vector<float> v(d, d + static_cast<std::size_t>(w) * h * 3);
+    stbi_image_free(d);
+    return v;
+}
+
+std::string error(const Bytes& b) {
+    try {
+        (void)decodeRadianceHdr(b, "sky.hdr");
+    } catch (const LoadError& e) {
+        return e.what();
+    }
+    return {};
+}
+
+Bytes text(const std::string& s) {
+    return {s.begin(), s.end()};
+}
+
+TEST(RadianceHdr, DecodesRunsAndFlatScanlinesAsStbDoes) {
+    for (const auto& [w, h] : {std::pair{64, 32}, std::pair{5, 3}}) { // runs, then flat
+        const Bytes b = encode(w, h);
+        ASSERT_TRUE(isRadianceHdr(b));
+        const RgbImage img = decodeRadianceHdr(b, "sky.hdr");
+        EXPECT_EQ(img.width, w);
+        EXPECT_EQ(img.height, h);
+        EXPECT_EQ(img.rgb, stbDecode(b)) << w << "x" << h;
+    }
+}
+
+TEST(RadianceHdr, EveryCutNamesTheFile) {
+    for (const int w : {64, 5}) {
+        const Bytes whole = encode(w, 6);
+        for (std::size_t size = 0; size < whole.size(); size += 7) {
+            const std::string e = error(Bytes(whole.begin(), whole.begin() + size));
+            EXPECT_EQ(e.rfind("sky.hdr: ", 0), 0u) << size << " bytes: " << e;
+        }
+        EXPECT_NE(error(Bytes(whole.begin(), whole.end() - 1)).find("truncated at scanline 5"),
+                  std::string::npos);
+    }
+}
+
+TEST(RadianceHdr, CorruptRunsAndHeadersFail) {
+    const std::string head = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n";
+    // A zero-length run: stb_image spins on it forever.
+    Bytes zeroRun = text(head + "-Y 1 +X 8\n");
+    zeroRun.insert(zeroRun.end(), {2, 2, 0, 8, 0});
+    EXPECT_NE(error(zeroRun).find("bad run length at scanline 0"), std::string::npos);
+    Bytes longRun = text(head + "-Y 1 +X 8\n");
+    longRun.insert(longRun.end(), {2, 2, 0, 8, 128 + 9, 7});
+    EXPECT_NE(error(longRun).find("bad run length"), std::string::npos);
+    Bytes wrongWidth = text(head + "-Y 1 +X 8\n");
+    wrongWidth.insert(wrongWidth.end(), {2, 2, 0, 9});
+    EXPECT_NE(error(wrongWidth).find("not 8 pixels wide"), std::string::npos);
+    EXPECT_NE(error(text("#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 1 +X 1\n")).find("xyze"),
+              std::string::npos);
+    EXPECT_NE(error(text(head + "+Y 1 +X 1\n")).find("orientation"), std::string::npos);
+    EXPECT_NE(error(text(head + "-Y 0 +X 1\n")).find("out of range"), std::string::npos);
+    EXPECT_NE(error(text(head + "-Y 99999999 +X 99999999\n")).find("out of range"),
+              std::string::npos);
+    EXPECT_NE(error(text(head + "-Y one +X 1\n")).find("bad resolution line"), std::string::npos);
+    EXPECT_NE(error(text("P6\n1 1\n255\n")).find("no '#?' signature"), std::string::npos);
+}
+
+TEST(RadianceHdr, OldStyleRunsRepeatThePreviousPixel) {
+    // Four flat pixels: one literal (0.5, 0.25, 0.125) and (1, 1, 1, 3), three repeats of it.
+    Bytes b = text("#?RADIANCE\n\n-Y 1 +X 4\n");
+    b.insert(b.end(), {128, 64, 32, 128, 1, 1, 1, 3});
+    const RgbImage img = decodeRadianceHdr(b, "sky.hdr");
+    ASSERT_EQ(img.rgb.size(), 12u);
+    for (int x = 0; x < 4; ++x) {
+        EXPECT_EQ(img.rgb[x * 3 + 0], 0.5f) << x;
+        EXPECT_EQ(img.rgb[x * 3 + 1], 0.25f) << x;
+        EXPECT_EQ(img.rgb[x * 3 + 2], 0.125f) << x;
+    }
+    Bytes leading = text("#?RADIANCE\n\n-Y 1 +X 4\n");
+    leading.insert(leading.end(), {1, 1, 1, 3});
+    EXPECT_NE(error(leading).find("bad run length"), std::string::npos);
+}
+
+// The shipped skies decode as stb_image decodes them, and a truncated one is refused by
+// loadEnvironment (it used to hang).
+TEST(RadianceHdr, SharedSkiesMatchStbAndTruncatedOnesFail) {
+    const auto content = test::sharedContent();
+    if (content.empty()) {
+        GTEST_SKIP() << "../shared/content is absent";
+    }
+    const auto sky = content / "env_spiaggia_di_mondello_1k" / "spiaggia_di_mondello_1k.hdr";
+    if (!std::filesystem::exists(sky)) {
+        GTEST_SKIP() << sky << " is absent";
+    }
+    std::ifstream f(sky, std::ios::binary);
+    const Bytes b((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(decodeRadianceHdr(b, sky.string()).rgb, stbDecode(b));
+    const auto cut = test::tempDir("radiance") / "half.hdr";
+    {
+        std::ofstream out(cut, std::ios::binary);
+        out.write(reinterpret_cast<const char*>(b.data()),
+                  static_cast<std::streamsize>(b.size() / 2));
+    }
+    try {
+        (void)loadEnvironment(cut);
+        ADD_FAILURE() << "a truncated sky loaded";
+    } catch (const LoadError& e) {
+        EXPECT_NE(std::string(e.what()).find("half.hdr: truncated at scanline"), std::string::npos)
+            << e.what();
+    }
+}
+
+} // namespace
+} // namespace gt::scene
