@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <numbers>
 
 #include <stb_image.h>
@@ -24,8 +25,15 @@ RgbImage loadFloat(const std::filesystem::path& p) {
     std::ifstream f(p, std::ios::binary);
     const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(f)),
                                           std::istreambuf_iterator<char>());
-    if (!f && !f.eof()) throw LoadError(p.string() + ": cannot read");
-    if (isRadianceHdr(bytes)) return decodeRadianceHdr(bytes, p.string());
+    if (!f && !f.eof()) {
+        throw LoadError(p.string() + ": cannot read");
+    }
+    if (isRadianceHdr(bytes)) {
+        return decodeRadianceHdr(bytes, p.string());
+    }
+    if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+        throw LoadError(p.string() + ": too large for the image decoder");
+    }
     int w = 0, h = 0, n = 0;
     float* data =
         stbi_loadf_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &n, 3);
