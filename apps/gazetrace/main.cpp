@@ -38,6 +38,9 @@ int main(int argc, char** argv) {
         ->add_option("--scene", render.scene,
                      "builtin:market | builtin:cornell | FILE.gltf | FILE.glb | cubemap:FILE")
         ->capture_default_str();
+    renderCmd->add_option("--camera", render.camera,
+                          "Camera X,Y,Z,TX,TY,TZ[,FOV]: eye, look-at target (scene units), "
+                          "vertical field of view in degrees (default: the scene's camera)");
     renderCmd->add_option("--width", render.width, "Image width in pixels")
         ->check(CLI::Range(1u, 16384u))
         ->capture_default_str();

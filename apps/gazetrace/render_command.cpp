@@ -5,6 +5,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "capture/frame_source.hpp"
 #include "core/error.hpp"
@@ -16,6 +20,7 @@
 #include "point_sample/point_sample.hpp"
 #include "render_session.hpp"
 #include "scene/image_io.hpp"
+#include "scene/scene.hpp"
 #include "vk/context.hpp"
 
 namespace gt::app {
@@ -37,6 +42,54 @@ glm::vec2 parseGaze(const std::string& text, uint32_t w, uint32_t h) {
                             std::to_string(h) + " screen");
     }
     return {x, y};
+}
+
+// --camera X,Y,Z,TX,TY,TZ[,FOV]: eye and look-at target in scene units, and the vertical field
+// of view in degrees (default: the scene camera's, known once the scene is loaded).
+struct CameraArg {
+    glm::vec3 eye{0.0f}, target{0.0f};
+    std::optional<float> yfovDeg;
+};
+
+std::optional<CameraArg> parseCamera(const std::string& text) {
+    if (text.empty()) {
+        return std::nullopt;
+    }
+    std::vector<float> v;
+    std::vector<std::string> fields;
+    std::stringstream in(text);
+    for (std::string field; std::getline(in, field, ',');) {
+        fields.push_back(field);
+        char* end = nullptr;
+        const float x = std::strtof(field.c_str(), &end);
+        if (end != field.c_str() && *end == '\0' && std::isfinite(x)) {
+            v.push_back(x);
+        }
+    }
+    if (text.back() == ',' || v.size() != fields.size() || (v.size() != 6 && v.size() != 7)) {
+        throw ArgumentError("--camera: expected X,Y,Z,TX,TY,TZ[,FOV_DEG], got '" + text + "'");
+    }
+    CameraArg c{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, std::nullopt};
+    if (glm::length(c.target - c.eye) < 1e-6f) {
+        throw ArgumentError("--camera: the eye and the target are the same point in '" + text +
+                            "'");
+    }
+    if (v.size() == 7) {
+        if (!(v[6] >= 1.0f && v[6] <= 179.0f)) {
+            throw ArgumentError("--camera: the field of view must be 1..179 degrees, got " +
+                                fields[6]);
+        }
+        c.yfovDeg = v[6];
+    }
+    return c;
+}
+
+// The camera as --camera takes it, so a framing found here can be given back.
+nlohmann::json cameraJson(const scene::Camera& c) {
+    const glm::vec3 target = c.position + glm::normalize(c.forward);
+    return {{"position", {c.position.x, c.position.y, c.position.z}},
+            {"target", {target.x, target.y, target.z}},
+            {"yfov_deg", glm::degrees(c.yfov)}};
 }
 
 // Frames clamp a trace's gaze to the screen; say so when samples lie outside it, since many
@@ -174,7 +227,13 @@ nlohmann::json runRender(const RenderOptions& o) {
                                 " does not exist");
         }
     }
+    const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
     RenderSession session(o.scene, o.validate);
+    if (cameraArg) {
+        session.setCamera(scene::lookAt(cameraArg->eye, cameraArg->target,
+                                        cameraArg->yfovDeg ? glm::radians(*cameraArg->yfovDeg)
+                                                           : session.scene().camera.yfov));
+    }
     FoveatedSettings fs;
     if (foveated) {
         session.preparePointSet(psParams, o.cacheDir.empty() ? foveation::defaultCacheDir()
@@ -260,6 +319,7 @@ nlohmann::json runRender(const RenderOptions& o) {
                         {"bvh_ms", session.bvhMs()},
                         {"bvh_nodes", session.bvhStats().nodes},
                         {"bvh_sah_cost", session.bvhStats().sahCost},
+                        {"camera", cameraJson(session.scene().camera)},
                         {"output", toFolder ? outPath.string() : outputs.front()}};
     if (foveated) {
         // The last frame's, as gpu_ms is; a trace or live gaze moves it from frame to frame.

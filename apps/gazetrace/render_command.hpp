@@ -16,6 +16,7 @@ struct RenderOptions {
     std::string method = "reference";
     std::string out = "out/render.png";
     std::string graphDot;  // --graph FILE.dot
+    std::string camera;    // "X,Y,Z,TX,TY,TZ[,FOV_DEG]"; empty = the scene's own camera
     bool validate = false; // Khronos validation layer
     // --method foveated (seed 000):
     std::string profile = "fove";

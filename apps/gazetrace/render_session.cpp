@@ -183,6 +183,10 @@ const scene::Scene& RenderSession::scene() const {
     return mImpl->scene;
 }
 
+void RenderSession::setCamera(const scene::Camera& camera) {
+    mImpl->scene.camera = camera;
+}
+
 const scene::BvhBuildStats& RenderSession::bvhStats() const {
     return mImpl->bvh->stats();
 }

@@ -52,6 +52,8 @@ public:
 
     [[nodiscard]] vk::Context& context();
     [[nodiscard]] const scene::Scene& scene() const;
+    // Replaces the scene's camera for the frames that follow (the TAA history assumes it stays).
+    void setCamera(const scene::Camera& camera);
     [[nodiscard]] double loadMs() const noexcept { return mLoadMs; }
     [[nodiscard]] double bvhMs() const noexcept { return mBvhMs; }
     [[nodiscard]] const scene::BvhBuildStats& bvhStats() const;

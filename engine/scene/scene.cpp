@@ -19,6 +19,16 @@ glm::vec3 Scene::boundsMax() const {
     return m;
 }
 
+Camera lookAt(glm::vec3 eye, glm::vec3 target, float yfov) {
+    Camera c;
+    c.position = eye;
+    c.forward = glm::normalize(target - eye);
+    c.up =
+        std::abs(c.forward.y) > 0.999f ? glm::vec3(0.0f, 0.0f, -1.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
+    c.yfov = yfov;
+    return c;
+}
+
 uint32_t SceneBuilder::material(const Material& m) {
     mScene.materials.push_back(m);
     return static_cast<uint32_t>(mScene.materials.size() - 1);

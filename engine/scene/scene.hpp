@@ -51,6 +51,10 @@ struct Camera {
     float yfov = 0.8f; // radians, vertical
 };
 
+// A camera at `eye` looking at `target` (which must differ from it), with glTF's +Y up; looking
+// straight up or down, the image's up is -Z instead, since +Y gives no basis there.
+[[nodiscard]] Camera lookAt(glm::vec3 eye, glm::vec3 target, float yfov);
+
 struct Sky {
     glm::vec3 horizon{0.8f, 0.85f, 0.9f};
     glm::vec3 zenith{0.35f, 0.5f, 0.8f};

@@ -1,5 +1,7 @@
 // `gazetrace render` end to end: the JSON summary, and bad inputs that must give one clear
 // line on stderr, a non-zero exit and no output file.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
@@ -9,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sys/wait.h>
 
+#include "scene/image_io.hpp"
 #include "support/gltf_fixtures.hpp"
 #include "support/gpu_test_context.hpp"
 
@@ -201,6 +204,59 @@ TEST(Cli, GazeTraceDrivesTheFrames) {
     expectCleanFailure(
         run("render --width 8 --height 8 --gaze 2,2 --out " + (dir / "ref.png").string()), "--gaze",
         dir / "ref.png");
+}
+
+// Mean absolute difference of two same-sized PNGs, in 8-bit steps over all channels.
+double meanAbsDiff(const std::filesystem::path& a, const std::filesystem::path& b) {
+    const image::DecodedImage x = image::readPng(a), y = image::readPng(b);
+    EXPECT_EQ(x.rgba.size(), y.rgba.size());
+    double sum = 0.0;
+    for (std::size_t i = 0; i < std::min(x.rgba.size(), y.rgba.size()); ++i) {
+        sum += std::abs(int(x.rgba[i]) - int(y.rgba[i]));
+    }
+    return sum / static_cast<double>(std::max<std::size_t>(1, x.rgba.size()));
+}
+
+// The JSON's camera as --camera takes it, every number at full precision.
+std::string cameraArg(const nlohmann::json& c) {
+    std::string s;
+    for (const char* key : {"position", "target"}) {
+        for (const auto& v : c.at(key)) {
+            s += v.dump() + ",";
+        }
+    }
+    return s + c.at("yfov_deg").dump();
+}
+
+TEST(Cli, CameraSetsTheView) {
+    const auto dir = test::tempDir("cli_camera");
+    const std::string common =
+        "render --scene builtin:cornell --width 64 --height 48 --json --out ";
+    const Result own = run(common + (dir / "own.png").string());
+    ASSERT_EQ(own.status, 0) << own.err;
+    const auto cam = nlohmann::json::parse(own.out).at("camera");
+    // The camera the JSON reports, given back, frames the same picture.
+    const Result back = run(common + (dir / "back.png").string() + " --camera " + cameraArg(cam));
+    ASSERT_EQ(back.status, 0) << back.err;
+    EXPECT_LT(meanAbsDiff(dir / "own.png", dir / "back.png"), 0.5);
+    // Another eye and a wider view give another picture, and the JSON says so.
+    const Result moved =
+        run(common + (dir / "moved.png").string() + " --camera 0.8,1.2,2.5,0,0.8,0,70");
+    ASSERT_EQ(moved.status, 0) << moved.err;
+    const auto m = nlohmann::json::parse(moved.out).at("camera");
+    EXPECT_NEAR(m.at("yfov_deg").get<double>(), 70.0, 1e-4);
+    EXPECT_NEAR(m.at("position")[0].get<double>(), 0.8, 1e-6);
+    EXPECT_GT(meanAbsDiff(dir / "own.png", dir / "moved.png"), 5.0);
+    // Without a field of view the scene's own is kept.
+    const Result keep = run(common + (dir / "keep.png").string() + " --camera 0,1,4,0,1,0");
+    ASSERT_EQ(keep.status, 0) << keep.err;
+    EXPECT_NEAR(nlohmann::json::parse(keep.out).at("camera").at("yfov_deg").get<double>(),
+                cam.at("yfov_deg").get<double>(), 1e-4);
+    for (const char* bad : {"1,2,3", "1,2,3,4,5,6,7,8", "a,b,c,d,e,f", "1,2,3,4,5,6,", "1,2,,4,5,6",
+                            "1,1,1,1,1,1", "0,0,0,0,0,1,0", "0,0,0,0,0,1,180", "nan,0,0,0,0,1"}) {
+        expectCleanFailure(run(common + (dir / "bad.png").string() + " --camera " + bad),
+                           "--camera", dir / "bad.png");
+    }
 }
 
 TEST(Cli, HelpOnEverySubcommand) {
