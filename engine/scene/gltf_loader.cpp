@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <map>
+#include <span>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -61,6 +63,26 @@ bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::s
         return false;
     }
 }
+
+// KHR_texture_transform of a base-colour texture: uv' = T * R * S * uv, with the rotation
+// matrix (cos, sin; -sin, cos) that the extension specifies.
+struct UvTransform {
+    int texCoord = 0; // which TEXCOORD_n the texture reads
+    glm::vec2 offset{0.0f}, scale{1.0f};
+    float rotation = 0.0f; // radians
+
+    void apply(std::vector<float>& uv) const {
+        if (offset == glm::vec2(0.0f) && scale == glm::vec2(1.0f) && rotation == 0.0f) {
+            return;
+        }
+        const float c = std::cos(rotation), s = std::sin(rotation);
+        for (std::size_t i = 0; i + 1 < uv.size(); i += 2) {
+            const float u = scale.x * uv[i], v = scale.y * uv[i + 1];
+            uv[i] = c * u + s * v + offset.x;
+            uv[i + 1] = -s * u + c * v + offset.y;
+        }
+    }
+};
 
 class Loader {
 public:
@@ -150,6 +172,47 @@ private:
         return mTextureOfImage[source];
     }
 
+    // The base-colour texture's UV set and KHR_texture_transform, applied to the UVs as they are
+    // read: the tracer then samples with the UVs unchanged.
+    UvTransform uvTransformOf(const tinygltf::TextureInfo& info) const {
+        UvTransform t;
+        t.texCoord = info.texCoord;
+        const auto ext = info.extensions.find("KHR_texture_transform");
+        if (ext == info.extensions.end() || !ext->second.IsObject()) {
+            return t;
+        }
+        const tinygltf::Value& v = ext->second;
+        auto pair = [&](const char* key, glm::vec2& out) {
+            if (!v.Has(key)) {
+                return;
+            }
+            const tinygltf::Value& a = v.Get(key);
+            if (!a.IsArray() || a.ArrayLen() != 2 || !a.Get(0).IsNumber() || !a.Get(1).IsNumber()) {
+                fail(std::string("KHR_texture_transform ") + key + " is not two numbers");
+            }
+            out = {static_cast<float>(a.Get(0).GetNumberAsDouble()),
+                   static_cast<float>(a.Get(1).GetNumberAsDouble())};
+        };
+        pair("offset", t.offset);
+        pair("scale", t.scale);
+        if (v.Has("rotation")) {
+            if (!v.Get("rotation").IsNumber()) {
+                fail("KHR_texture_transform rotation is not a number");
+            }
+            t.rotation = static_cast<float>(v.Get("rotation").GetNumberAsDouble());
+        }
+        if (v.Has("texCoord")) {
+            if (!v.Get("texCoord").IsInt()) {
+                fail("KHR_texture_transform texCoord is not an integer");
+            }
+            t.texCoord = v.Get("texCoord").GetNumberAsInt();
+        }
+        if (!std::isfinite(t.offset.x + t.offset.y + t.scale.x + t.scale.y + t.rotation)) {
+            fail("KHR_texture_transform has a non-finite value");
+        }
+        return t;
+    }
+
     void loadMaterials() {
         for (const tinygltf::Material& m : mModel.materials) {
             Material out;
@@ -160,6 +223,7 @@ private:
                                           pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
             }
             out.baseColorTexture = textureFor(pbr.baseColorTexture.index);
+            mMaterialUv.push_back(uvTransformOf(pbr.baseColorTexture));
             if (pbr.baseColorTexture.index >= 0 && out.baseColorTexture < 0) {
                 mReport.warnings.push_back(
                     "material '" + m.name +
@@ -176,16 +240,18 @@ private:
                 out.emissive *= static_cast<float>(
                     strength->second.Get("emissiveStrength").GetNumberAsDouble());
             }
+            out.unlit = m.extensions.count("KHR_materials_unlit") > 0;
             mScene.materials.push_back(out);
         }
         mDefaultMaterial = static_cast<uint32_t>(mScene.materials.size());
+        mMaterialUv.emplace_back();
         Material grey;
         grey.baseColor = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
         grey.name = "default";
         mScene.materials.push_back(grey);
     }
 
-    // Reads `count` elements of an accessor as floats (normalised integers are converted).
+    // Reads `count` elements of an accessor as floats.
     std::vector<float> readFloats(int accessorIndex, int components) const {
         const tinygltf::Accessor& a = accessor(accessorIndex);
         const int n = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
@@ -201,15 +267,29 @@ private:
                 float v = 0.0f;
                 switch (a.componentType) {
                 case TINYGLTF_COMPONENT_TYPE_FLOAT:
-                    std::memcpy(&v, e + 4 * c, 4);
+                    std::memcpy(&v, e + 4 * static_cast<std::size_t>(c), 4);
                     break;
+                // Integers (core colours and UVs, KHR_mesh_quantization) are read as they are
+                // stored or, when normalised, mapped to [0, 1] / [-1, 1] (glTF 2.0, 3.11).
                 case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-                    v = e[c] / 255.0f;
+                    v = a.normalized ? e[c] / 255.0f : static_cast<float>(e[c]);
                     break;
+                case TINYGLTF_COMPONENT_TYPE_BYTE: {
+                    int8_t b;
+                    std::memcpy(&b, e + c, 1);
+                    v = a.normalized ? std::max(b / 127.0f, -1.0f) : static_cast<float>(b);
+                    break;
+                }
                 case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-                    uint16_t s;
-                    std::memcpy(&s, e + 2 * c, 2);
-                    v = s / 65535.0f;
+                    uint16_t u;
+                    std::memcpy(&u, e + 2 * static_cast<std::size_t>(c), 2);
+                    v = a.normalized ? u / 65535.0f : static_cast<float>(u);
+                    break;
+                }
+                case TINYGLTF_COMPONENT_TYPE_SHORT: {
+                    int16_t h;
+                    std::memcpy(&h, e + 2 * static_cast<std::size_t>(c), 2);
+                    v = a.normalized ? std::max(h / 32767.0f, -1.0f) : static_cast<float>(h);
                     break;
                 }
                 default:
@@ -259,32 +339,94 @@ private:
     // Start pointer and stride of an accessor, after checking it lies inside its buffer.
     std::pair<const unsigned char*, std::size_t> span(const tinygltf::Accessor& a,
                                                       int index) const {
+        if (a.sparse.isSparse || a.bufferView < 0) {
+            return dense(a, index);
+        }
         const std::string where = "accessor " + std::to_string(index);
-        if (a.sparse.isSparse) fail(where + " is sparse (unsupported)");
-        if (a.bufferView < 0 ||
-            static_cast<std::size_t>(a.bufferView) >= mModel.bufferViews.size()) {
+        const auto bytes = viewBytes(a.bufferView, where);
+        const std::size_t size = elementSize(a, index);
+        const std::size_t stride = mModel.bufferViews[a.bufferView].byteStride
+                                       ? mModel.bufferViews[a.bufferView].byteStride
+                                       : size;
+        if (a.count > 0 && a.byteOffset + (a.count - 1) * stride + size > bytes.size()) {
+            fail(where + " runs past the end of bufferView " + std::to_string(a.bufferView));
+        }
+        return {bytes.data() + a.byteOffset, stride};
+    }
+
+    // Bytes of a buffer view, checked against its buffer.
+    std::span<const unsigned char> viewBytes(int viewIndex, const std::string& where) const {
+        if (viewIndex < 0 || static_cast<std::size_t>(viewIndex) >= mModel.bufferViews.size()) {
             fail(where + " has no valid bufferView");
         }
-        const tinygltf::BufferView& view = mModel.bufferViews[a.bufferView];
+        const tinygltf::BufferView& view = mModel.bufferViews[viewIndex];
         if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= mModel.buffers.size()) {
-            fail(where + ": bufferView " + std::to_string(a.bufferView) + " has no valid buffer");
+            fail(where + ": bufferView " + std::to_string(viewIndex) + " has no valid buffer");
         }
         const tinygltf::Buffer& buffer = mModel.buffers[view.buffer];
-        const int compSize =
-            tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
-        const int comps = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
-        if (compSize <= 0 || comps <= 0) fail(where + " has an invalid type");
-        const std::size_t elementSize = static_cast<std::size_t>(compSize) * comps;
-        const std::size_t stride = view.byteStride ? view.byteStride : elementSize;
         if (view.byteOffset + view.byteLength > buffer.data.size()) {
-            fail("bufferView " + std::to_string(a.bufferView) + " runs past the end of buffer " +
+            fail("bufferView " + std::to_string(viewIndex) + " runs past the end of buffer " +
                  std::to_string(view.buffer) + " (" + std::to_string(buffer.data.size()) +
                  " bytes; truncated or missing file?)");
         }
-        if (a.count > 0 && a.byteOffset + (a.count - 1) * stride + elementSize > view.byteLength) {
-            fail(where + " runs past the end of bufferView " + std::to_string(a.bufferView));
+        return {buffer.data.data() + view.byteOffset, view.byteLength};
+    }
+
+    // An accessor with no bufferView (zeros) or with sparse substitutions (glTF 2.0, 3.6.2.3),
+    // made dense once and kept for the loader's lifetime.
+    std::pair<const unsigned char*, std::size_t> dense(const tinygltf::Accessor& a,
+                                                       int index) const {
+        if (const auto it = mDense.find(index); it != mDense.end()) {
+            return {it->second.data(), elementSize(a, index)};
         }
-        return {buffer.data.data() + view.byteOffset + a.byteOffset, stride};
+        const std::string where = "accessor " + std::to_string(index);
+        const std::size_t size = elementSize(a, index);
+        std::vector<unsigned char> out(a.count * size, 0);
+        if (a.bufferView >= 0) {
+            tinygltf::Accessor base = a;
+            base.sparse.isSparse = false;
+            const auto [data, stride] = span(base, index);
+            for (std::size_t i = 0; i < a.count; ++i) {
+                std::memcpy(out.data() + i * size, data + i * stride, size);
+            }
+        }
+        if (a.sparse.isSparse) {
+            const auto& sp = a.sparse;
+            const std::size_t count = static_cast<std::size_t>(std::max(sp.count, 0));
+            if (sp.count < 1 || count > a.count) fail(where + ": bad sparse count");
+            const int idxSize =
+                tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(sp.indices.componentType));
+            if (idxSize != 1 && idxSize != 2 && idxSize != 4) {
+                fail(where + ": sparse indices have an invalid component type");
+            }
+            const auto idx = viewBytes(sp.indices.bufferView, where + " sparse indices");
+            const auto val = viewBytes(sp.values.bufferView, where + " sparse values");
+            const auto idxOffset = static_cast<std::size_t>(sp.indices.byteOffset);
+            const auto valOffset = static_cast<std::size_t>(sp.values.byteOffset);
+            if (idxOffset + count * idxSize > idx.size() || valOffset + count * size > val.size()) {
+                fail(where + ": sparse data runs past the end of its bufferView");
+            }
+            for (std::size_t i = 0; i < count; ++i) {
+                uint32_t target = 0;
+                std::memcpy(&target, idx.data() + idxOffset + i * idxSize, idxSize); // little end
+                if (target >= a.count) {
+                    fail(where + ": sparse index " + std::to_string(target) + " out of range");
+                }
+                std::memcpy(out.data() + target * size, val.data() + valOffset + i * size, size);
+            }
+        }
+        const auto& stored = mDense.emplace(index, std::move(out)).first->second;
+        return {stored.data(), size};
+    }
+
+    std::size_t elementSize(const tinygltf::Accessor& a, int index) const {
+        const int compSize =
+            tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
+        const int comps = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
+        if (compSize <= 0 || comps <= 0) {
+            fail("accessor " + std::to_string(index) + " has an invalid type");
+        }
+        return static_cast<std::size_t>(compSize) * static_cast<std::size_t>(comps);
     }
 
     glm::mat4 localMatrix(const tinygltf::Node& n) const {
@@ -385,10 +527,21 @@ private:
                 if (n.size() != p.size())
                     fail("mesh '" + mesh.name + "': NORMAL count differs from POSITION");
             }
-            if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
+            uint32_t material = mDefaultMaterial;
+            if (prim.material >= 0) {
+                if (static_cast<std::size_t>(prim.material) >= mModel.materials.size()) {
+                    fail("mesh '" + mesh.name + "' uses material " + std::to_string(prim.material) +
+                         ", which does not exist");
+                }
+                material = static_cast<uint32_t>(prim.material);
+            }
+            const UvTransform& uvt = mMaterialUv[material];
+            const std::string uvSet = "TEXCOORD_" + std::to_string(uvt.texCoord);
+            if (auto it = prim.attributes.find(uvSet); it != prim.attributes.end()) {
                 uv = readFloats(it->second, 2);
                 if (uv.size() / 2 != vertexCount)
-                    fail("mesh '" + mesh.name + "': TEXCOORD_0 count differs from POSITION");
+                    fail("mesh '" + mesh.name + "': " + uvSet + " count differs from POSITION");
+                uvt.apply(uv);
             }
             std::vector<uint32_t> idx;
             if (prim.indices >= 0) {
@@ -416,14 +569,6 @@ private:
             } else {
                 tris = std::move(idx);
                 tris.resize(tris.size() / 3 * 3);
-            }
-            uint32_t material = mDefaultMaterial;
-            if (prim.material >= 0) {
-                if (static_cast<std::size_t>(prim.material) >= mModel.materials.size()) {
-                    fail("mesh '" + mesh.name + "' uses material " + std::to_string(prim.material) +
-                         ", which does not exist");
-                }
-                material = static_cast<uint32_t>(prim.material);
             }
             for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
                 Vertex v[3];
@@ -481,6 +626,8 @@ private:
     GltfLoadReport& mReport;
     Scene mScene;
     std::vector<int> mTextureOfImage;
+    mutable std::map<int, std::vector<unsigned char>> mDense; // see dense()
+    std::vector<UvTransform> mMaterialUv; // per material, the default material's last
     uint32_t mDefaultMaterial = 0;
     bool mHaveCamera = false;
 };
@@ -512,7 +659,8 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
     if (!ok) throw LoadError(file + ": " + (err.empty() ? "cannot parse glTF" : oneLine(err)));
     for (const std::string& e : model.extensionsRequired) {
         if (e != "KHR_lights_punctual" && e != "KHR_materials_emissive_strength" &&
-            e != "KHR_texture_transform" && e != "KHR_materials_unlit") {
+            e != "KHR_texture_transform" && e != "KHR_materials_unlit" &&
+            e != "KHR_mesh_quantization") {
             throw LoadError(file + ": requires unsupported extension " + e);
         }
     }

@@ -18,6 +18,7 @@ struct Material {
     int baseColorTexture = -1; // index into Scene::textures
     float metallic = 0.0f;
     float roughness = 1.0f;
+    bool unlit = false;       // KHR_materials_unlit: the base colour is the radiance
     glm::vec3 emissive{0.0f}; // linear radiance added on hit
     std::string name;
 };

@@ -97,6 +97,10 @@ glm::vec3 CpuTracer::radiance(const scene::Ray& primary) const {
         const uint32_t matIndex = mScene.triangleMaterial[tri];
         const scene::Material& m = mScene.materials[matIndex];
         const glm::vec3 base = glm::vec3(baseColor(matIndex, uv));
+        if (m.unlit) { // KHR_materials_unlit, as the GPU tracer does
+            result += throughput * base;
+            break;
+        }
         const glm::vec3 p = ray.origin + hit.t * ray.direction;
         const glm::vec3 origin = p + ng * offsetScale(p);
 

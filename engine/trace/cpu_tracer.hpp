@@ -3,7 +3,8 @@
 // same rules, so the GPU output can be checked against it (tests/gpu/tracer_test.cpp):
 // - camera rays through stratified jittered positions in each pixel (`sampleOffset`),
 // - closest hit through the BVH, two-sided shading normals,
-// - base colour (factor x bilinear sRGB texture), emissive,
+// - base colour (factor x bilinear sRGB texture), emissive; an unlit material shows its base
+//   colour only,
 // - direct light from punctual lights with shadow rays (KHR_lights_punctual falloff),
 // - ambient light from the sky, one mirror bounce weighted by metallic,
 // - the sky gradient for rays that miss.

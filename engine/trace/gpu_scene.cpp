@@ -36,7 +36,8 @@ PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh) {
     }
     for (const scene::Material& m : scene.materials) {
         p.materials.push_back(m.baseColor);
-        p.materials.emplace_back(m.emissive, m.metallic);
+        // Metallic -1 marks KHR_materials_unlit: no texel to spare, and the tracer reads it anyway.
+        p.materials.emplace_back(m.emissive, m.unlit ? -1.0f : m.metallic);
         const uint32_t tex = m.baseColorTexture < 0 ? shaders::trace::kNoTexture
                                                     : static_cast<uint32_t>(m.baseColorTexture);
         p.materials.emplace_back(m.roughness, asFloat(tex), 0.0f, 0.0f);

@@ -243,6 +243,10 @@ vec3 traceRadiance(vec3 origin, vec3 dir, out float depth) {
         vec4 m1 = texelFetch(uMaterials, int(material * kMaterialTexels) + 1);
         vec3 emissive = m1.rgb;
         float metallic = m1.w;
+        if (metallic < 0.0) { // KHR_materials_unlit: the base colour is what the eye sees
+            result += throughput * base;
+            break;
+        }
         vec3 p = origin + hit.t * dir;
         vec3 offsetOrigin = p + ng * offsetScale(p);
 

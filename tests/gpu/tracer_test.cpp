@@ -89,6 +89,25 @@ TEST_F(TracerTest, GpuMatchesCpuOnTexturedGltf) {
     compare(scene::loadGltf(file), 64, 64, 1);
 }
 
+TEST_F(TracerTest, UnlitMaterialsShowTheirBaseColour) {
+    // KHR_materials_unlit: every surface of the box shows its base colour, whatever the lights.
+    scene::Scene s = scene::makeCornell();
+    const glm::vec4 colour(0.2f, 0.4f, 0.6f, 1.0f);
+    for (scene::Material& m : s.materials) {
+        m.unlit = true;
+        m.baseColor = colour;
+        m.baseColorTexture = -1;
+    }
+    compare(s, 48, 48, 1);
+    const scene::Bvh bvh(s);
+    const std::vector<glm::vec4> gpu = renderGpu(s, bvh, 48, 48, 1);
+    const auto flat = std::count_if(gpu.begin(), gpu.end(), [&](const glm::vec4& p) {
+        return glm::all(
+            glm::lessThan(glm::abs(glm::vec3(p) - glm::vec3(colour)), glm::vec3(1e-5f)));
+    });
+    EXPECT_GT(flat, static_cast<long>(gpu.size() / 2)) << "pixels showing the unlit colour";
+}
+
 TEST_F(TracerTest, GpuMatchesCpuOnEnvironment) {
     // cubemap: scenes sample the environment on every miss; a procedural 64x32 panorama with
     // sharp features in all directions, and the Cornell box inside it.

@@ -1,4 +1,8 @@
 // glTF loading: a valid file and every kind of broken one the issue lists.
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
@@ -93,6 +97,104 @@ TEST(GltfLoader, OutOfRangeIndexIsAnError) {
     const std::string json = test::quadJson("quad.bin");
     test::writeFile(dir / "quad.gltf", json.data(), json.size());
     EXPECT_NE(loadError(dir / "quad.gltf").find("out of range"), std::string::npos);
+}
+
+// A quad as gltfpack writes them (KHR_mesh_quantization): SHORT positions scaled by the node,
+// BYTE normalised normals, UNSIGNED_BYTE normalised UVs; a sparse accessor moves one corner.
+// A second primitive reads TEXCOORD_1, which has no bufferView (zeros) and one sparse value,
+// through a KHR_texture_transform, with an unlit material.
+std::filesystem::path writeQuantizedQuad(const std::filesystem::path& dir, int sparseIndex) {
+    std::vector<uint8_t> bin;
+    auto put = [&](const auto& value) {
+        const auto* b = reinterpret_cast<const uint8_t*>(&value);
+        bin.insert(bin.end(), b, b + sizeof(value));
+    };
+    const int16_t corners[4][2] = {{-100, -100}, {100, -100}, {100, 100}, {-100, 100}};
+    for (const auto& c : corners) { // view 0: positions, stride 8
+        put(c[0]), put(int16_t{0}), put(c[1]), put(int16_t{0});
+    }
+    for (int i = 0; i < 4; ++i) { // view 1 (32): normals, stride 4
+        put(int8_t{0}), put(int8_t{90}), put(int8_t{90}), put(int8_t{0});
+    }
+    const uint8_t uvs[4][2] = {{0, 0}, {255, 0}, {255, 255}, {0, 255}};
+    for (const auto& uv : uvs) { // view 2 (48): UVs, stride 4
+        put(uv[0]), put(uv[1]), put(uint16_t{0});
+    }
+    for (uint16_t i : {0, 1, 2, 0, 2, 3}) { // view 3 (64): indices
+        put(i);
+    }
+    put(uint8_t(sparseIndex)), put(uint8_t{0}); // view 4 (76): sparse index, padded to 2
+    put(int16_t{100}), put(int16_t{50}), put(int16_t{100}); // view 5 (78): sparse position
+    put(uint8_t{1}), put(uint8_t{0});                       // view 6 (84): TEXCOORD_1 index
+    put(1.0f), put(1.0f);                                   // view 7 (86): TEXCOORD_1 value
+    test::writeFile(dir / "q.bin", bin.data(), bin.size());
+    const std::string json = R"({"asset": {"version": "2.0"},
+  "extensionsUsed": ["KHR_mesh_quantization", "KHR_texture_transform", "KHR_materials_unlit"],
+  "extensionsRequired": ["KHR_mesh_quantization", "KHR_texture_transform"],
+  "scenes": [{"nodes": [0]}],
+  "nodes": [{"mesh": 0, "scale": [0.01, 0.01, 0.01]}],
+  "materials": [{},
+    {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 1, "extensions":
+      {"KHR_texture_transform": {"offset": [0.5, 0.25], "scale": [2, 3], "rotation": 1.5707963267948966}}}},
+     "extensions": {"KHR_materials_unlit": {}}}],
+  "textures": [{}],
+  "meshes": [{"primitives": [
+    {"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": 0},
+    {"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_1": 4}, "indices": 3, "material": 1}]}],
+  "buffers": [{"uri": "q.bin", "byteLength": )" +
+                             std::to_string(bin.size()) + R"(}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 32, "byteStride": 8},
+                  {"buffer": 0, "byteOffset": 32, "byteLength": 16, "byteStride": 4},
+                  {"buffer": 0, "byteOffset": 48, "byteLength": 16, "byteStride": 4},
+                  {"buffer": 0, "byteOffset": 64, "byteLength": 12},
+                  {"buffer": 0, "byteOffset": 76, "byteLength": 2},
+                  {"buffer": 0, "byteOffset": 78, "byteLength": 6},
+                  {"buffer": 0, "byteOffset": 84, "byteLength": 2},
+                  {"buffer": 0, "byteOffset": 86, "byteLength": 8}],
+  "accessors": [
+    {"bufferView": 0, "componentType": 5122, "count": 4, "type": "VEC3",
+     "min": [-100, 0, -100], "max": [100, 50, 100],
+     "sparse": {"count": 1, "indices": {"bufferView": 4, "componentType": 5121},
+                "values": {"bufferView": 5}}},
+    {"bufferView": 1, "componentType": 5120, "normalized": true, "count": 4, "type": "VEC3"},
+    {"bufferView": 2, "componentType": 5121, "normalized": true, "count": 4, "type": "VEC2"},
+    {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"},
+    {"componentType": 5126, "count": 4, "type": "VEC2",
+     "sparse": {"count": 1, "indices": {"bufferView": 6, "componentType": 5121},
+                "values": {"bufferView": 7}}}]})";
+    test::writeFile(dir / "q.gltf", json.data(), json.size());
+    return dir / "q.gltf";
+}
+
+TEST(GltfLoader, QuantizedSparseTransformedAndUnlit) {
+    const auto dir = test::tempDir("quantized");
+    const Scene s = loadGltf(writeQuantizedQuad(dir, 2));
+    ASSERT_EQ(s.triangleCount(), 4u);
+    ASSERT_EQ(s.vertices.size(), 12u);
+    // SHORT positions, node scale 0.01; the sparse value lifts corner 2 to y = 0.5.
+    EXPECT_NEAR(s.vertices[0].position.x, -1.0f, 1e-6f);
+    EXPECT_NEAR(s.vertices[1].position.x, 1.0f, 1e-6f);
+    EXPECT_NEAR(s.vertices[2].position.y, 0.5f, 1e-6f);
+    EXPECT_NEAR(s.vertices[2].position.z, 1.0f, 1e-6f);
+    EXPECT_NEAR(s.vertices[0].position.y, 0.0f, 1e-6f);
+    // BYTE normalised normals (0, 90, 90) -> (0, 1, 1) / sqrt 2, not the flat face normal.
+    EXPECT_NEAR(s.vertices[0].normal.y, std::sqrt(0.5f), 1e-5f);
+    EXPECT_NEAR(s.vertices[0].normal.z, std::sqrt(0.5f), 1e-5f);
+    // UNSIGNED_BYTE normalised UVs.
+    EXPECT_FLOAT_EQ(s.vertices[1].uv.x, 1.0f);
+    EXPECT_FLOAT_EQ(s.vertices[2].uv.y, 1.0f);
+    // TEXCOORD_1 through the transform: (0, 0) -> offset; (1, 1) -> scale (2, 3), rotated by
+    // (cos, sin; -sin, cos) at 90 degrees -> (3, -2), plus offset.
+    EXPECT_NEAR(s.vertices[6].uv.x, 0.5f, 1e-6f);
+    EXPECT_NEAR(s.vertices[6].uv.y, 0.25f, 1e-6f);
+    EXPECT_NEAR(s.vertices[7].uv.x, 3.5f, 1e-5f);
+    EXPECT_NEAR(s.vertices[7].uv.y, -1.75f, 1e-5f);
+    EXPECT_FALSE(s.materials[s.triangleMaterial[0]].unlit);
+    EXPECT_TRUE(s.materials[s.triangleMaterial[2]].unlit);
+
+    const std::string e = loadError(writeQuantizedQuad(dir, 9));
+    EXPECT_NE(e.find("sparse index 9 out of range"), std::string::npos) << e;
+    EXPECT_NE(e.find("q.gltf"), std::string::npos) << e;
 }
 
 TEST(GltfLoader, LoadsEverySharedContentScene) {
