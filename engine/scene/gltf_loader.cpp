@@ -214,6 +214,7 @@ private:
     }
 
     void loadMaterials() {
+        std::string translucent;
         for (const tinygltf::Material& m : mModel.materials) {
             Material out;
             out.name = m.name;
@@ -241,7 +242,15 @@ private:
                     strength->second.Get("emissiveStrength").GetNumberAsDouble());
             }
             out.unlit = m.extensions.count("KHR_materials_unlit") > 0;
+            if (m.alphaMode == "MASK" || m.alphaMode == "BLEND") {
+                translucent += (translucent.empty() ? "" : ", ") + ("'" + m.name + "'");
+            }
             mScene.materials.push_back(out);
+        }
+        if (!translucent.empty()) {
+            // The tracer has no alpha test or transparency; say so rather than look right.
+            mReport.warnings.push_back("material(s) " + translucent +
+                                       " use alphaMode MASK or BLEND; rendered opaque");
         }
         mDefaultMaterial = static_cast<uint32_t>(mScene.materials.size());
         mMaterialUv.emplace_back();
