@@ -217,7 +217,7 @@ Bvh::Bvh(const Scene& scene) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-Hit Bvh::intersect(const Ray& ray) const {
+Hit Bvh::intersect(const Ray& ray, const HitFilter& accept) const {
     Hit best;
     if (mTriangles.empty()) return best;
     best.t = ray.tMax;
@@ -236,7 +236,9 @@ Hit Bvh::intersect(const Ray& ray) const {
                 r.tMax = std::numeric_limits<float>::infinity();
                 if (intersectTriangle(mTriangles[i], r, t, u, v) && t <= best.t &&
                     (t < best.t || i < best.triangle)) {
-                    if (t > ray.tMax) continue;
+                    if (t > ray.tMax || (accept && !accept(i, u, v))) {
+                        continue;
+                    }
                     best = {t, i, u, v};
                 }
             }
@@ -260,7 +262,7 @@ Hit Bvh::intersect(const Ray& ray) const {
     return best;
 }
 
-bool Bvh::occluded(const Ray& ray) const {
+bool Bvh::occluded(const Ray& ray, const HitFilter& accept) const {
     if (mTriangles.empty()) return false;
     const glm::vec3 invDir = 1.0f / ray.direction;
     std::array<uint32_t, kMaxDepth * 2> stack{};
@@ -273,7 +275,10 @@ bool Bvh::occluded(const Ray& ray) const {
         if (node.count > 0) {
             for (uint32_t i = node.leftFirst; i < node.leftFirst + node.count; ++i) {
                 float t, u, v;
-                if (intersectTriangle(mTriangles[i], ray, t, u, v)) return true;
+                if (intersectTriangle(mTriangles[i], ray, t, u, v) &&
+                    (!accept || accept(i, u, v))) {
+                    return true;
+                }
             }
             continue;
         }

@@ -5,6 +5,7 @@
 // are uploaded for the compute-shader tracer; the CPU traversal here is the reference the GPU
 // is tested against.
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -65,10 +66,14 @@ public:
     [[nodiscard]] const std::vector<BvhTriangle>& triangles() const noexcept { return mTriangles; }
     [[nodiscard]] const BvhBuildStats& stats() const noexcept { return mStats; }
 
+    // Whether a candidate hit on BVH triangle `i` at barycentrics (u, v) counts: alpha masks
+    // pass rays through. Empty: every hit counts.
+    using HitFilter = std::function<bool(uint32_t i, float u, float v)>;
+
     // Closest hit in [tMin, tMax]; ties on t go to the lower BVH triangle index so the result
     // does not depend on traversal order.
-    [[nodiscard]] Hit intersect(const Ray& ray) const;
-    [[nodiscard]] bool occluded(const Ray& ray) const;
+    [[nodiscard]] Hit intersect(const Ray& ray, const HitFilter& accept = {}) const;
+    [[nodiscard]] bool occluded(const Ray& ray, const HitFilter& accept = {}) const;
     // The same answer by testing every triangle (for tests).
     [[nodiscard]] Hit intersectBruteForce(const Ray& ray) const;
 

@@ -242,15 +242,17 @@ private:
                     strength->second.Get("emissiveStrength").GetNumberAsDouble());
             }
             out.unlit = m.extensions.count("KHR_materials_unlit") > 0;
-            if (m.alphaMode == "MASK" || m.alphaMode == "BLEND") {
+            if (m.alphaMode == "MASK") {
+                out.alphaCutoff = static_cast<float>(std::max(m.alphaCutoff, 0.0));
+            } else if (m.alphaMode == "BLEND") {
                 translucent += (translucent.empty() ? "" : ", ") + ("'" + m.name + "'");
             }
             mScene.materials.push_back(out);
         }
         if (!translucent.empty()) {
-            // The tracer has no alpha test or transparency; say so rather than look right.
+            // The tracer has no transparency; say so rather than look right.
             mReport.warnings.push_back("material(s) " + translucent +
-                                       " use alphaMode MASK or BLEND; rendered opaque");
+                                       " use alphaMode BLEND; rendered opaque");
         }
         mDefaultMaterial = static_cast<uint32_t>(mScene.materials.size());
         mMaterialUv.emplace_back();

@@ -18,7 +18,10 @@ struct Material {
     int baseColorTexture = -1; // index into Scene::textures
     float metallic = 0.0f;
     float roughness = 1.0f;
-    bool unlit = false;       // KHR_materials_unlit: the base colour is the radiance
+    bool unlit = false; // KHR_materials_unlit: the base colour is the radiance
+    // alphaMode MASK: hits where the base colour's alpha is below this are passed through
+    // (negative: opaque).
+    float alphaCutoff = -1.0f;
     glm::vec3 emissive{0.0f}; // linear radiance added on hit
     std::string name;
 };

@@ -47,7 +47,25 @@ glm::vec2 sampleOffset(uint32_t pixelIndex, uint32_t sample, uint32_t count,
             (static_cast<float>(sample / sx) + r2) / static_cast<float>(sy)};
 }
 
-CpuTracer::CpuTracer(const scene::Scene& scene, const scene::Bvh& bvh) : mScene(scene), mBvh(bvh) {}
+CpuTracer::CpuTracer(const scene::Scene& scene, const scene::Bvh& bvh) : mScene(scene), mBvh(bvh) {
+    const bool masked = std::any_of(scene.materials.begin(), scene.materials.end(),
+                                    [](const scene::Material& m) { return m.alphaCutoff >= 0.0f; });
+    if (!masked) {
+        return;
+    }
+    // alphaMode MASK (glTF 2.0, 3.9.4), as alphaRejects in trace.glsl.
+    mAlphaTest = [this](uint32_t i, float u, float v) {
+        const uint32_t tri = mBvh.triangleOrder()[i];
+        const uint32_t material = mScene.triangleMaterial[tri];
+        const float cutoff = mScene.materials[material].alphaCutoff;
+        if (cutoff < 0.0f) {
+            return true;
+        }
+        const scene::Vertex* x = &mScene.vertices[3 * static_cast<std::size_t>(tri)];
+        const glm::vec2 uv = (1.0f - u - v) * x[0].uv + u * x[1].uv + v * x[2].uv;
+        return baseColor(material, uv).a >= cutoff;
+    };
+}
 
 glm::vec3 CpuTracer::sky(glm::vec3 d) const {
     if (mScene.environment.width > 0) return scene::sampleEnvironment(mScene.environment, d);
@@ -80,7 +98,7 @@ glm::vec3 CpuTracer::radiance(const scene::Ray& primary) const {
     glm::vec3 result(0.0f), throughput(1.0f);
     scene::Ray ray = primary;
     for (int bounce = 0; bounce < 2; ++bounce) {
-        const scene::Hit hit = mBvh.intersect(ray);
+        const scene::Hit hit = mBvh.intersect(ray, mAlphaTest);
         if (!hit.valid()) {
             result += throughput * sky(ray.direction);
             break;
@@ -135,7 +153,7 @@ glm::vec3 CpuTracer::radiance(const scene::Ray& primary) const {
             scene::Ray shadow{origin, toLight, 0.0f,
                               std::isinf(dist) ? std::numeric_limits<float>::infinity()
                                                : dist * 0.999f};
-            if (!mBvh.occluded(shadow)) direct += e * cosTheta;
+            if (!mBvh.occluded(shadow, mAlphaTest)) direct += e * cosTheta;
         }
         const glm::vec3 albedo = base * (1.0f - m.metallic);
         const glm::vec3 ambient = mScene.sky.ambient * sky(n);

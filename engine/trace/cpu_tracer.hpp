@@ -2,7 +2,7 @@
 // A CPU implementation of the tracer's shading, written independently of the GLSL but to the
 // same rules, so the GPU output can be checked against it (tests/gpu/tracer_test.cpp):
 // - camera rays through stratified jittered positions in each pixel (`sampleOffset`),
-// - closest hit through the BVH, two-sided shading normals,
+// - closest hit through the BVH, passing through alpha-masked texels, two-sided shading normals,
 // - base colour (factor x bilinear sRGB texture), emissive; an unlit material shows its base
 //   colour only,
 // - direct light from punctual lights with shadow rays (KHR_lights_punctual falloff),
@@ -43,6 +43,7 @@ private:
     [[nodiscard]] glm::vec4 baseColor(uint32_t material, glm::vec2 uv) const;
     const scene::Scene& mScene;
     const scene::Bvh& mBvh;
+    scene::Bvh::HitFilter mAlphaTest; // empty when no material is alpha-masked
 };
 
 } // namespace gt::trace

@@ -31,6 +31,7 @@ struct PackedScene {
     std::vector<glm::uvec4> textureInfo;
     std::vector<glm::vec4> environment;
     shaders::trace::SceneUniforms uniforms{};
+    bool alphaMasked = false; // a material has alphaMode MASK
 };
 
 [[nodiscard]] PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh);
@@ -41,6 +42,8 @@ public:
     // Adds the nine scene bindings (trace::kBinding*) to a descriptor update.
     void bind(vk::DescriptorWriter& writer) const;
     [[nodiscard]] std::size_t bytes() const noexcept { return mBytes; }
+    // Tracing passes build their pipelines with kAlphaMask (trace.glsl) set to this.
+    [[nodiscard]] bool alphaMasked() const noexcept { return mAlphaMasked; }
 
 private:
     struct Table {
@@ -52,6 +55,7 @@ private:
     Table mNodes, mTriangles, mShading, mMaterials, mLights, mTexels, mTextureInfo, mEnvironment;
     vk::Buffer mUniforms;
     std::size_t mBytes = 0;
+    bool mAlphaMasked = false;
 };
 
 // The camera as push-constant vectors, for an image of the given aspect ratio.

@@ -39,8 +39,8 @@ PointSamplePass::PointSamplePass(vk::Context& ctx) : mCtx(ctx) {}
 
 PointSamplePass::~PointSamplePass() = default;
 
-const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes) const {
-    auto& slot = mPipelines[lanes];
+const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaMask) const {
+    auto& slot = mPipelines[{lanes, alphaMask}];
     if (!slot) {
         std::vector<VkDescriptorType> bindings(shaders::trace::kSceneBindingCount,
                                                VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
@@ -52,7 +52,7 @@ const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes) const {
                                           gt_spv_point_sample_comp,
                                           bindings,
                                           sizeof(sh::PointSamplePush),
-                                          {lanes}});
+                                          {alphaMask ? 1u : 0u, lanes}});
     }
     return *slot;
 }
@@ -69,7 +69,7 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
     if (lanes > kMaxLanes || (lanes & (lanes - 1)) != 0) {
         throw ArgumentError("point_sample: lanes per point must be a power of two up to 32");
     }
-    const vk::ComputePipeline& pipe = pipeline(lanes);
+    const vk::ComputePipeline& pipe = pipeline(lanes, scene.alphaMasked());
     const uint32_t pointsPerGroup = sh::kSampleGroupSize / lanes;
     const uint32_t w = graph.outputWidth(), h = graph.outputHeight();
     const auto cam = trace::cameraPush(camera, static_cast<float>(w) / static_cast<float>(h));

@@ -45,11 +45,12 @@ public:
                      glm::vec2 gaze, uint32_t raysPerPoint, uint32_t lanesPerPoint = 0) const;
 
 private:
-    const vk::ComputePipeline& pipeline(uint32_t lanes) const;
+    const vk::ComputePipeline& pipeline(uint32_t lanes, bool alphaMask) const;
 
     vk::Context& mCtx;
-    // One pipeline per lane count, built on first use (each compiles the whole tracer).
-    mutable std::map<uint32_t, std::unique_ptr<vk::ComputePipeline>> mPipelines;
+    // One pipeline per lane count and alpha-mask setting, built on first use (each compiles the
+    // whole tracer).
+    mutable std::map<std::pair<uint32_t, bool>, std::unique_ptr<vk::ComputePipeline>> mPipelines;
 };
 
 } // namespace gt::passes

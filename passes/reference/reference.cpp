@@ -12,13 +12,24 @@ namespace gt::passes {
 namespace sh = shaders::reference;
 
 ReferencePass::ReferencePass(vk::Context& ctx) : mCtx(ctx) {
-    std::vector<VkDescriptorType> bindings(shaders::trace::kSceneBindingCount,
-                                           VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
-    bindings[shaders::trace::kBindingSceneUniforms] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    bindings.push_back(VK_DESCRIPTOR_TYPE_STORAGE_IMAGE); // sh::kBindingOutput
-    mPipeline = std::make_unique<vk::ComputePipeline>(
-        ctx, vk::ComputePipelineDesc{"reference.trace", gt_spv_reference_comp, bindings,
-                                     sizeof(sh::ReferencePush)});
+    (void)pipeline(false); // the common case, so that a bad shader fails at construction
+}
+
+const vk::ComputePipeline& ReferencePass::pipeline(bool alphaMask) const {
+    auto& slot = mPipelines[alphaMask ? 1 : 0];
+    if (!slot) {
+        std::vector<VkDescriptorType> bindings(shaders::trace::kSceneBindingCount,
+                                               VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
+        bindings[shaders::trace::kBindingSceneUniforms] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        bindings.push_back(VK_DESCRIPTOR_TYPE_STORAGE_IMAGE); // sh::kBindingOutput
+        slot = std::make_unique<vk::ComputePipeline>(
+            mCtx, vk::ComputePipelineDesc{"reference.trace",
+                                          gt_spv_reference_comp,
+                                          bindings,
+                                          sizeof(sh::ReferencePush),
+                                          {alphaMask ? 1u : 0u}});
+    }
+    return *slot;
 }
 
 ReferencePass::~ReferencePass() = default;
@@ -41,7 +52,7 @@ rg::TextureId ReferencePass::add(rg::RenderGraph& graph, const trace::GpuScene& 
                 b.write(b.createTexture("reference.radiance", {VK_FORMAT_R32G32B32A32_SFLOAT}),
                         rg::Access::StorageWrite);
         },
-        [ctx = &mCtx, pipeline = mPipeline.get(), scene = &scene,
+        [ctx = &mCtx, pipeline = &pipeline(scene.alphaMasked()), scene = &scene,
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             vk::DescriptorWriter writer;
             scene->bind(writer);

@@ -1,6 +1,7 @@
 #pragma once
 // Pass `reference`: full-resolution ray tracing with N stratified jittered rays per pixel into a
 // linear RGBA32F image — the baseline every foveated method is measured against.
+#include <array>
 #include <cstdint>
 #include <memory>
 
@@ -31,8 +32,11 @@ public:
                       const scene::Camera& camera, const ReferenceSettings& settings) const;
 
 private:
+    // Built on first use: without and with the alpha test (trace.glsl's kAlphaMask).
+    const vk::ComputePipeline& pipeline(bool alphaMask) const;
+
     vk::Context& mCtx;
-    std::unique_ptr<vk::ComputePipeline> mPipeline;
+    mutable std::array<std::unique_ptr<vk::ComputePipeline>, 2> mPipelines;
 };
 
 } // namespace gt::passes

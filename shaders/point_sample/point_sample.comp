@@ -16,7 +16,7 @@
 #include "trace.glsl"
 
 layout(local_size_x = kSampleGroupSize) in;
-layout(constant_id = 0) const uint kLanes = 1u; // a power of two up to kSampleGroupSize / 2
+layout(constant_id = 1) const uint kLanes = 1u; // a power of two up to kSampleGroupSize / 2
 layout(set = 0, binding = kBindingPoints) uniform samplerBuffer uPoints;
 layout(std430, set = 0, binding = kBindingSamples) writeonly buffer Samples { vec4 samples[]; };
 layout(push_constant) uniform Push { PointSamplePush pc; };

@@ -108,6 +108,43 @@ TEST_F(TracerTest, UnlitMaterialsShowTheirBaseColour) {
     EXPECT_GT(flat, static_cast<long>(gpu.size() / 2)) << "pixels showing the unlit colour";
 }
 
+TEST_F(TracerTest, AlphaMaskPassesRaysThroughCutOutTexels) {
+    // A screen of 8x8 checker cells, alternately opaque red and fully transparent, between the
+    // camera and the box, and in the way of its light: camera and shadow rays pass the holes.
+    auto withScreen = [](float cutoff) {
+        scene::Scene s = scene::makeCornell();
+        scene::Texture t;
+        t.width = t.height = 8;
+        for (uint32_t y = 0; y < 8; ++y) {
+            for (uint32_t x = 0; x < 8; ++x) {
+                t.rgba.push_back((x + y) % 2 == 0 ? 0xFF0000FFu : 0x00FFFFFFu);
+            }
+        }
+        s.textures.push_back(t);
+        scene::Material m;
+        m.baseColorTexture = static_cast<int>(s.textures.size()) - 1;
+        m.alphaCutoff = cutoff;
+        scene::SceneBuilder b(s);
+        const uint32_t id = b.material(m);
+        b.quad({-1.2f, -0.2f, 2.0f}, {2.4f, 0.0f, 0.0f}, {0.0f, 2.4f, 0.0f}, id);
+        b.quad({-0.8f, 1.6f, -0.8f}, {1.6f, 0.0f, 0.0f}, {0.0f, 0.0f, 1.6f}, id);
+        return s;
+    };
+    const scene::Scene masked = withScreen(0.5f);
+    compare(masked, 48, 48, 2);
+    // Half the screen's texels are holes: the masked picture shows much more of the box.
+    const scene::Bvh maskedBvh(masked);
+    const scene::Scene opaque = withScreen(-1.0f);
+    const scene::Bvh opaqueBvh(opaque);
+    const std::vector<glm::vec4> a = renderGpu(masked, maskedBvh, 48, 48, 1);
+    const std::vector<glm::vec4> b = renderGpu(opaque, opaqueBvh, 48, 48, 1);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        differ += glm::length(glm::vec3(a[i]) - glm::vec3(b[i])) > 0.05f ? 1 : 0;
+    }
+    EXPECT_GT(differ, a.size() / 5) << "pixels changed by the holes";
+}
+
 TEST_F(TracerTest, GpuMatchesCpuOnEnvironment) {
     // cubemap: scenes sample the environment on every miss; a procedural 64x32 panorama with
     // sharp features in all directions, and the Cornell box inside it.

@@ -134,10 +134,10 @@ std::filesystem::path writeQuantizedQuad(const std::filesystem::path& dir, int s
   "extensionsRequired": ["KHR_mesh_quantization", "KHR_texture_transform"],
   "scenes": [{"nodes": [0]}],
   "nodes": [{"mesh": 0, "scale": [0.01, 0.01, 0.01]}],
-  "materials": [{"name": "leaf", "alphaMode": "MASK"},
+  "materials": [{"name": "glass", "alphaMode": "BLEND"},
     {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 1, "extensions":
       {"KHR_texture_transform": {"offset": [0.5, 0.25], "scale": [2, 3], "rotation": 1.5707963267948966}}}},
-     "extensions": {"KHR_materials_unlit": {}}}],
+     "alphaMode": "MASK", "alphaCutoff": 0.3, "extensions": {"KHR_materials_unlit": {}}}],
   "textures": [{}],
   "meshes": [{"primitives": [
     {"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": 0},
@@ -193,11 +193,13 @@ TEST(GltfLoader, QuantizedSparseTransformedAndUnlit) {
     EXPECT_NEAR(s.vertices[7].uv.y, -1.75f, 1e-5f);
     EXPECT_FALSE(s.materials[s.triangleMaterial[0]].unlit);
     EXPECT_TRUE(s.materials[s.triangleMaterial[2]].unlit);
-    // No alpha test yet: a MASK material is named in a warning, not silently drawn opaque.
+    // No transparency: a BLEND material is named in a warning, not silently drawn opaque.
     const bool warned = std::any_of(report.warnings.begin(), report.warnings.end(), [](auto& w) {
-        return w.find("'leaf'") != std::string::npos && w.find("opaque") != std::string::npos;
+        return w.find("'glass'") != std::string::npos && w.find("opaque") != std::string::npos;
     });
     EXPECT_TRUE(warned);
+    EXPECT_LT(s.materials[s.triangleMaterial[0]].alphaCutoff, 0.0f);
+    EXPECT_FLOAT_EQ(s.materials[s.triangleMaterial[2]].alphaCutoff, 0.3f);
 
     const std::string e = loadError(writeQuantizedQuad(dir, 9));
     EXPECT_NE(e.find("sparse index 9 out of range"), std::string::npos) << e;
