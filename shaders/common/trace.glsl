@@ -75,6 +75,11 @@ bool triangleTest(uint tri, vec3 origin, vec3 dir, float tMin, float tMax, out f
 
 vec4 materialBaseColor(uint material, vec2 uv);
 
+// A hit's UV from its triangle's four shading texels (packed by trace::packScene).
+vec2 shadingUv(vec4 s0, vec4 s1, vec4 s2, vec4 s3, float u, float v) {
+    return (1.0 - u - v) * vec2(s0.w, s1.w) + u * vec2(s2.w, s3.x) + v * s3.yz;
+}
+
 // alphaMode MASK: a hit on a masked material where the base colour's alpha falls below the
 // cutoff is no hit (glTF 2.0, 3.9.4).
 bool alphaRejects(uint tri, float u, float v) {
@@ -87,8 +92,7 @@ bool alphaRejects(uint tri, float u, float v) {
     uint material = floatBitsToUint(s3.w);
     float cutoff = texelFetch(uMaterials, int(material * kMaterialTexels) + 2).z;
     if (cutoff < 0.0) return false;
-    vec2 uv = (1.0 - u - v) * vec2(s0.w, s1.w) + u * vec2(s2.w, s3.x) + v * s3.yz;
-    return materialBaseColor(material, uv).a < cutoff;
+    return materialBaseColor(material, shadingUv(s0, s1, s2, s3, u, v)).a < cutoff;
 }
 
 Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
@@ -259,7 +263,7 @@ vec3 traceRadiance(vec3 origin, vec3 dir, out float depth) {
         vec4 s3 = texelFetch(uShading, sb + 3);
         float w0 = 1.0 - hit.u - hit.v;
         vec3 n = normalize(w0 * s0.xyz + hit.u * s1.xyz + hit.v * s2.xyz);
-        vec2 uv = w0 * vec2(s0.w, s1.w) + hit.u * vec2(s2.w, s3.x) + hit.v * s3.yz;
+        vec2 uv = shadingUv(s0, s1, s2, s3, hit.u, hit.v);
         uint material = floatBitsToUint(s3.w);
         int tb = int(hit.tri) * 3;
         vec3 ng = normalize(cross(texelFetch(uTriangles, tb + 1).xyz, texelFetch(uTriangles, tb + 2).xyz));
