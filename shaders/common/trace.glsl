@@ -75,7 +75,17 @@ bool triangleTest(uint tri, vec3 origin, vec3 dir, float tMin, float tMax, out f
 
 vec4 materialBaseColor(uint material, vec2 uv);
 
-// A hit's UV from its triangle's four shading texels (packed by trace::packScene).
+// A triangle's four shading texels (packed by trace::packScene): three normals and UVs, the
+// material in s3.w.
+void shadingTexels(uint tri, out vec4 s0, out vec4 s1, out vec4 s2, out vec4 s3) {
+    int sb = int(tri * kShadingTexels);
+    s0 = texelFetch(uShading, sb);
+    s1 = texelFetch(uShading, sb + 1);
+    s2 = texelFetch(uShading, sb + 2);
+    s3 = texelFetch(uShading, sb + 3);
+}
+
+// A hit's UV from its triangle's shading texels.
 vec2 shadingUv(vec4 s0, vec4 s1, vec4 s2, vec4 s3, float u, float v) {
     return (1.0 - u - v) * vec2(s0.w, s1.w) + u * vec2(s2.w, s3.x) + v * s3.yz;
 }
@@ -84,11 +94,8 @@ vec2 shadingUv(vec4 s0, vec4 s1, vec4 s2, vec4 s3, float u, float v) {
 // cutoff is no hit (glTF 2.0, 3.9.4).
 bool alphaRejects(uint tri, float u, float v) {
     if (!kAlphaMask) return false;
-    int sb = int(tri * kShadingTexels);
-    vec4 s0 = texelFetch(uShading, sb);
-    vec4 s1 = texelFetch(uShading, sb + 1);
-    vec4 s2 = texelFetch(uShading, sb + 2);
-    vec4 s3 = texelFetch(uShading, sb + 3);
+    vec4 s0, s1, s2, s3;
+    shadingTexels(tri, s0, s1, s2, s3);
     uint material = floatBitsToUint(s3.w);
     float cutoff = texelFetch(uMaterials, int(material * kMaterialTexels) + 2).z;
     if (cutoff < 0.0) return false;
@@ -256,11 +263,8 @@ vec3 traceRadiance(vec3 origin, vec3 dir, out float depth) {
             result += throughput * skyRadiance(dir);
             break;
         }
-        int sb = int(hit.tri) * 4;
-        vec4 s0 = texelFetch(uShading, sb);
-        vec4 s1 = texelFetch(uShading, sb + 1);
-        vec4 s2 = texelFetch(uShading, sb + 2);
-        vec4 s3 = texelFetch(uShading, sb + 3);
+        vec4 s0, s1, s2, s3;
+        shadingTexels(hit.tri, s0, s1, s2, s3);
         float w0 = 1.0 - hit.u - hit.v;
         vec3 n = normalize(w0 * s0.xyz + hit.u * s1.xyz + hit.v * s2.xyz);
         vec2 uv = shadingUv(s0, s1, s2, s3, hit.u, hit.v);
