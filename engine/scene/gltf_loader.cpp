@@ -392,6 +392,12 @@ private:
         }
         const std::string where = "accessor " + std::to_string(index);
         const std::size_t size = elementSize(a, index);
+        // Nothing bounds a count that no bufferView backs: refuse what no real mesh needs
+        // rather than fail to allocate it.
+        constexpr std::size_t kMaxDenseBytes = std::size_t{1} << 31;
+        if (a.count > kMaxDenseBytes / size) {
+            fail(where + " has " + std::to_string(a.count) + " elements, too many to make dense");
+        }
         std::vector<unsigned char> out(a.count * size, 0);
         if (a.bufferView >= 0) {
             tinygltf::Accessor base = a;

@@ -2,6 +2,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
+#include <iterator>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -204,6 +206,16 @@ TEST(GltfLoader, QuantizedSparseTransformedAndUnlit) {
     const std::string e = loadError(writeQuantizedQuad(dir, 9));
     EXPECT_NE(e.find("sparse index 9 out of range"), std::string::npos) << e;
     EXPECT_NE(e.find("q.gltf"), std::string::npos) << e;
+    // A count no bufferView bounds is refused, not allocated.
+    std::ifstream in(writeQuantizedQuad(dir, 2));
+    std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string small = R"("componentType": 5126, "count": 4, "type": "VEC2")";
+    ASSERT_NE(json.find(small), std::string::npos);
+    json.replace(json.find(small), small.size(),
+                 R"("componentType": 5126, "count": 999999999999, "type": "VEC2")");
+    test::writeFile(dir / "huge.gltf", json.data(), json.size());
+    const std::string huge = loadError(dir / "huge.gltf");
+    EXPECT_NE(huge.find("too many to make dense"), std::string::npos) << huge;
 }
 
 TEST(GltfLoader, LoadsEverySharedContentScene) {
