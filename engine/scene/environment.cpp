@@ -3,14 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <numbers>
 
 #include <stb_image.h>
 
 #include "core/error.hpp"
+#include "scene/image_io.hpp"
 #include "scene/radiance_hdr.hpp"
 
 namespace gt::scene {
@@ -22,12 +21,7 @@ namespace {
 RgbImage loadFloat(const std::filesystem::path& p) {
     std::error_code ec;
     if (!std::filesystem::exists(p, ec)) throw LoadError(p.string() + ": no such file");
-    std::ifstream f(p, std::ios::binary);
-    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(f)),
-                                          std::istreambuf_iterator<char>());
-    if (!f && !f.eof()) {
-        throw LoadError(p.string() + ": cannot read");
-    }
+    const std::vector<std::uint8_t> bytes = image::readFileBytes(p);
     if (isRadianceHdr(bytes)) {
         return decodeRadianceHdr(bytes, p.string());
     }

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <random>
 
 #include <stb_image.h>
@@ -52,12 +53,21 @@ DecodedImage decode(std::span<const uint8_t> bytes, const std::string& what) {
     return img;
 }
 
-DecodedImage readPng(const std::filesystem::path& path) {
+std::vector<uint8_t> readFileBytes(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw LoadError(path.string() + ": cannot open");
+    if (!in) {
+        throw LoadError(path.string() + ": cannot open");
+    }
     std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
                                std::istreambuf_iterator<char>());
-    return decode(bytes, path.string());
+    if (!in && !in.eof()) {
+        throw LoadError(path.string() + ": cannot read");
+    }
+    return bytes;
+}
+
+DecodedImage readPng(const std::filesystem::path& path) {
+    return decode(readFileBytes(path), path.string());
 }
 
 } // namespace gt::image

@@ -23,4 +23,7 @@ struct DecodedImage {
 [[nodiscard]] DecodedImage decode(std::span<const uint8_t> bytes, const std::string& what);
 [[nodiscard]] DecodedImage readPng(const std::filesystem::path& path);
 
+// A whole file's bytes; throws gt::LoadError naming the path when it cannot be opened or read.
+[[nodiscard]] std::vector<uint8_t> readFileBytes(const std::filesystem::path& path);
+
 } // namespace gt::image

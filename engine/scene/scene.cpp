@@ -1,5 +1,6 @@
 #include "scene/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -27,6 +28,11 @@ Camera lookAt(glm::vec3 eye, glm::vec3 target, float yfov) {
         std::abs(c.forward.y) > 0.999f ? glm::vec3(0.0f, 0.0f, -1.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
     c.yfov = yfov;
     return c;
+}
+
+bool Scene::hasAlphaMask() const noexcept {
+    return std::any_of(materials.begin(), materials.end(),
+                       [](const Material& m) { return m.alphaCutoff >= 0.0f; });
 }
 
 uint32_t SceneBuilder::material(const Material& m) {

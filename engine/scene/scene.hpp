@@ -85,6 +85,8 @@ struct Scene {
     float exposure = 1.0f;
 
     [[nodiscard]] std::size_t triangleCount() const noexcept { return triangleMaterial.size(); }
+    // Whether any material is alpha-masked (its hits must test the texture's alpha).
+    [[nodiscard]] bool hasAlphaMask() const noexcept;
     [[nodiscard]] glm::vec3 boundsMin() const;
     [[nodiscard]] glm::vec3 boundsMax() const;
 };

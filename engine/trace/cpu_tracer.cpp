@@ -48,9 +48,7 @@ glm::vec2 sampleOffset(uint32_t pixelIndex, uint32_t sample, uint32_t count,
 }
 
 CpuTracer::CpuTracer(const scene::Scene& scene, const scene::Bvh& bvh) : mScene(scene), mBvh(bvh) {
-    const bool masked = std::any_of(scene.materials.begin(), scene.materials.end(),
-                                    [](const scene::Material& m) { return m.alphaCutoff >= 0.0f; });
-    if (!masked) {
+    if (!scene.hasAlphaMask()) {
         return;
     }
     // alphaMode MASK (glTF 2.0, 3.9.4), as alphaRejects in trace.glsl.

@@ -34,6 +34,9 @@ struct TraceSettings {
 class CpuTracer {
 public:
     CpuTracer(const scene::Scene& scene, const scene::Bvh& bvh);
+    // The alpha test refers to this tracer, so a copy would point back at the original.
+    CpuTracer(const CpuTracer&) = delete;
+    CpuTracer& operator=(const CpuTracer&) = delete;
     [[nodiscard]] glm::vec3 radiance(const scene::Ray& ray) const;
     [[nodiscard]] glm::vec3 sky(glm::vec3 direction) const;
     // Linear radiance per pixel, row-major, top row first.

@@ -34,15 +34,14 @@ PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh) {
         p.shading.emplace_back(v[1].uv.y, v[2].uv.x, v[2].uv.y,
                                asFloat(scene.triangleMaterial[order[i]]));
     }
-    bool masked = false;
     for (const scene::Material& m : scene.materials) {
         p.materials.push_back(m.baseColor);
-        // Metallic -1 marks KHR_materials_unlit: no texel to spare, and the tracer reads it anyway.
+        // Metallic -1 marks KHR_materials_unlit: the shading reads this texel anyway, so the flag
+        // costs no extra fetch on the hot path.
         p.materials.emplace_back(m.emissive, m.unlit ? -1.0f : m.metallic);
         const uint32_t tex = m.baseColorTexture < 0 ? shaders::trace::kNoTexture
                                                     : static_cast<uint32_t>(m.baseColorTexture);
         p.materials.emplace_back(m.roughness, asFloat(tex), m.alphaCutoff, 0.0f);
-        masked |= m.alphaCutoff >= 0.0f;
     }
     for (const scene::Light& l : scene.lights) {
         p.lights.emplace_back(l.position, asFloat(static_cast<uint32_t>(l.type)));
@@ -59,7 +58,7 @@ PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh) {
     p.uniforms.skyGround = glm::vec4(scene.sky.ground, 0.0f);
     p.environment = scene.environment.texels;
     p.uniforms.environment = {scene.environment.width, scene.environment.height, 0u, 0u};
-    p.alphaMasked = masked;
+    p.alphaMasked = scene.hasAlphaMask();
     p.uniforms.counts = {
         static_cast<uint32_t>(scene.lights.size()), static_cast<uint32_t>(scene.materials.size()),
         static_cast<uint32_t>(scene.textures.size()), static_cast<uint32_t>(scene.triangleCount())};
