@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
+#include <span>
 
 #include <unistd.h>
 
@@ -13,7 +15,10 @@
 
 #include "core/error.hpp"
 #include "foveation/point_set_cache.hpp"
-#include "render_session.hpp"
+#include "full_resolution.hpp"
+#include "output_target.hpp"
+#include "point_set_method.hpp"
+#include "renderer.hpp"
 #include "vk/context.hpp"
 
 namespace gt::app {
@@ -46,7 +51,72 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-double passMs(const FrameResult& f, const std::string& name) {
+std::string deviceFromEnvironment() {
+    const char* device = std::getenv("GAZETRACE_DEVICE");
+    return device ? device : "";
+}
+
+// What one bench frame measures: the GPU times per pass and the wall time.
+struct Frame {
+    rg::FrameTimings timings;
+    double wallMs = 0.0;
+};
+
+// Foveated settings of one bench frame.
+struct FoveatedSettings {
+    glm::vec2 gaze{};
+    render::PointSetSettings method;
+    bool taa = true;
+};
+
+// The bench's frames, each one view through the renderer, waited for (frames in flight are the
+// stereo suite's subject), the result left on the GPU.
+class BenchFrames {
+public:
+    BenchFrames(const std::string& scene, const foveation::PointSetParams& params,
+                const std::filesystem::path& cache)
+        : renderer({.scene = scene, .deviceOverride = deviceFromEnvironment()}),
+          reference(renderer.methodContext()), pointSet(renderer.methodContext(), params, cache) {}
+
+    Frame foveated(const FoveatedSettings& s) {
+        render::View v = view(pointSet.pointSet().params().display.width,
+                              pointSet.pointSet().params().display.height);
+        pointSet.settings = s.method;
+        v.method = &pointSet;
+        v.gaze = s.gaze;
+        v.post.taa = s.taa;
+        return run(v);
+    }
+    Frame referenceFrame(uint32_t w, uint32_t h, uint32_t rays) {
+        render::View v = view(w, h);
+        reference.settings = {rays, 0};
+        v.method = &reference;
+        v.post.taa = false;
+        return run(v);
+    }
+
+    render::Renderer renderer;
+    render::FullResolution reference;
+    render::PointSetMethod pointSet;
+
+private:
+    render::View view(uint32_t w, uint32_t h) const {
+        render::View v;
+        v.camera = renderer.scene().camera;
+        v.width = w;
+        v.height = h;
+        v.exposure = renderer.scene().exposure;
+        return v;
+    }
+    Frame run(const render::View& v) {
+        render::OutputTarget* const target = &mDiscard;
+        const render::FrameResult f = renderer.renderFrame(std::span(&v, 1), std::span(&target, 1));
+        return {f.timings.value_or(rg::FrameTimings{}), f.wallMs};
+    }
+    render::DiscardTarget mDiscard;
+};
+
+double passMs(const Frame& f, const std::string& name) {
     for (const auto& p : f.timings.passes) {
         if (p.name == name) {
             return p.gpuMs;
@@ -56,7 +126,7 @@ double passMs(const FrameResult& f, const std::string& name) {
 }
 
 // The GPU time of a whole frame: first pass start to last pass end, every pass counted.
-double frameMs(const FrameResult& f) {
+double frameMs(const Frame& f) {
     return f.timings.gpuMs;
 }
 
@@ -76,11 +146,10 @@ nlohmann::json runBench(const BenchOptions& o) {
     const std::filesystem::path cache =
         o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
 
-    RenderSession session(o.scene, false);
-    session.preparePointSet(params, cache);
+    BenchFrames session(o.scene, params, cache);
     const uint32_t w = params.display.width, h = params.display.height;
     const glm::vec2 centre(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h));
-    const foveation::PointSetStats t1 = session.pointSet().stats(10.0f);
+    const foveation::PointSetStats t1 = session.pointSet.pointSet().stats(10.0f);
 
     std::map<std::string, std::vector<double>> samples; // benchmark name -> GPU ms per frame
     std::map<std::string, std::vector<double>> walls;
@@ -88,9 +157,9 @@ nlohmann::json runBench(const BenchOptions& o) {
                    passes::KnnIndex knn = passes::KnnIndex::PixelTable) {
         FoveatedSettings s;
         s.gaze = centre;
-        s.raysPerPoint = rays;
-        s.interpolation = {m, k, 1.0f};
-        s.interpolation.knn = knn;
+        s.method.raysPerPoint = rays;
+        s.method.interpolation = {m, k, 1.0f};
+        s.method.interpolation.knn = knn;
         s.taa = true; // every pass of the thesis's pipeline is counted
         return s;
     };
@@ -119,27 +188,27 @@ nlohmann::json runBench(const BenchOptions& o) {
                           fov(passes::Interpolation::Rbf, k, 1, passes::KnnIndex::NeighbourLists)});
     }
     struct Built {
-        std::optional<Prepared> table, rbf; // the k-NN table; RBF's weights or inverses
+        std::optional<render::Prepared> table, rbf; // the k-NN table; RBF's weights or inverses
     };
     std::map<std::string, Built> prepared;
     for (const auto& [name, settings] : table2) {
         benchmark::RegisterBenchmark(
             name.c_str(),
             [&, name = name, settings = settings](benchmark::State& st) {
-                warmUp([&] { return session.foveated(settings, false).wallMs; });
+                warmUp([&] { return session.foveated(settings).wallMs; });
                 for (auto _ : st) {
-                    const FrameResult f = session.foveated(settings, false);
+                    const Frame f = session.foveated(settings);
                     // RBF through the lists includes its per-point solve.
                     const double ms = passMs(f, "interpolate") + passMs(f, "rbf_solve");
                     samples[name].push_back(ms);
                     st.SetIterationTime(ms * 1e-3);
                 }
                 Built& b = prepared[name];
-                if (passes::usesPixelTable(settings.interpolation)) {
-                    b.table = session.knnTablePrepared();
+                if (passes::usesPixelTable(settings.method.interpolation)) {
+                    b.table = session.pointSet.knnTablePrepared();
                 }
-                if (settings.interpolation.method == passes::Interpolation::Rbf) {
-                    b.rbf = session.rbfPrepared();
+                if (settings.method.interpolation.method == passes::Interpolation::Rbf) {
+                    b.rbf = session.pointSet.rbfPrepared();
                 }
             })
             ->UseManualTime()
@@ -162,13 +231,13 @@ nlohmann::json runBench(const BenchOptions& o) {
                 const FoveatedSettings fs = fov(passes::Interpolation::Nearest, 1, rays);
                 if (warm) {
                     warmUp([&] {
-                        return session.reference(w, h, rays, 0, false).wallMs +
-                               session.foveated(fs, false).wallMs;
+                        return session.referenceFrame(w, h, rays).wallMs +
+                               session.foveated(fs).wallMs;
                     });
                 }
                 for (auto _ : st) {
-                    const FrameResult r = session.reference(w, h, rays, 0, false);
-                    const FrameResult f = session.foveated(fs, false);
+                    const Frame r = session.referenceFrame(w, h, rays);
+                    const Frame f = session.foveated(fs);
                     for (const auto& [name, frame] : {std::pair{ref, &r}, std::pair{fv, &f}}) {
                         samples[name].push_back(frameMs(*frame));
                         walls[name].push_back(frame->wallMs);
@@ -184,8 +253,8 @@ nlohmann::json runBench(const BenchOptions& o) {
             ->Unit(benchmark::kMillisecond);
     };
     addHeadline(rayCounts.front(), frames, true);
-    std::printf("gazetrace bench on %s (%s)\n", session.context().deviceName().c_str(),
-                session.context().deviceDescription().c_str());
+    std::printf("gazetrace bench on %s (%s)\n", session.renderer.context().deviceName().c_str(),
+                session.renderer.context().deviceDescription().c_str());
     std::fflush(stdout);
     int argc = 1;
     char arg0[] = "gazetrace";
@@ -225,12 +294,12 @@ nlohmann::json runBench(const BenchOptions& o) {
         FoveatedSettings s = fov(passes::Interpolation::Nearest, 1, 1);
         s.gaze = g;
         s.taa = false;
-        warmUp([&] { return session.foveated(s, false).wallMs; });
+        warmUp([&] { return session.foveated(s).wallMs; });
         std::vector<double> ms;
         for (int i = 0; i < frames; ++i) {
-            ms.push_back(passMs(session.foveated(s, false), "point_sample"));
+            ms.push_back(passMs(session.foveated(s), "point_sample"));
         }
-        const auto points = static_cast<double>(session.pointsSampled(g));
+        const auto points = static_cast<double>(session.pointSet.pointsSampled(g));
         perRay.push_back({{"gaze", {g.x, g.y}},
                           {"points_sampled", points},
                           {"point_sample_us_per_ray", 1e3 * median(ms) / points}});
@@ -239,15 +308,16 @@ nlohmann::json runBench(const BenchOptions& o) {
     nlohmann::json table2json = nlohmann::json::array();
     for (const auto& [name, settings] : table2) {
         table2json.push_back(
-            {{"method", settings.interpolation.method == passes::Interpolation::Nearest   ? "nn"
-                        : settings.interpolation.method == passes::Interpolation::Shepard ? "msm"
-                                                                                          : "rbf"},
-             {"k", settings.interpolation.k},
+            {{"method",
+              settings.method.interpolation.method == passes::Interpolation::Nearest   ? "nn"
+              : settings.method.interpolation.method == passes::Interpolation::Shepard ? "msm"
+                                                                                       : "rbf"},
+             {"k", settings.method.interpolation.k},
              {"median_ms", median(samples[name])},
              {"frames", samples[name].size()}});
-        const bool rbf = settings.interpolation.method == passes::Interpolation::Rbf;
-        const bool table = passes::usesPixelTable(settings.interpolation);
-        if (settings.interpolation.method != passes::Interpolation::Nearest) {
+        const bool rbf = settings.method.interpolation.method == passes::Interpolation::Rbf;
+        const bool table = passes::usesPixelTable(settings.method.interpolation);
+        if (settings.method.interpolation.method != passes::Interpolation::Nearest) {
             table2json.back()["knn"] = table ? "table" : "lists";
         }
         const auto it = prepared.find(name);
@@ -260,8 +330,9 @@ nlohmann::json runBench(const BenchOptions& o) {
         }
         if (rbf && it->second.rbf) {
             table2json.back()["kernel"] =
-                settings.interpolation.kernel == passes::RbfKernel::Gaussian ? "gaussian"
-                                                                             : "multiquadric";
+                settings.method.interpolation.kernel == passes::RbfKernel::Gaussian
+                    ? "gaussian"
+                    : "multiquadric";
             // Per-pixel weights with the table, per-point inverses with the lists.
             table2json.back()["rbf_prepared"] = table ? "pixel_weights" : "inverses";
             table2json.back()["rbf_build_ms"] = it->second.rbf->ms;
@@ -270,7 +341,7 @@ nlohmann::json runBench(const BenchOptions& o) {
     }
     nlohmann::json headline = nlohmann::json::array();
     const double pixels = static_cast<double>(w) * h;
-    const auto sampled = static_cast<double>(session.pointsSampled(centre));
+    const auto sampled = static_cast<double>(session.pointSet.pointsSampled(centre));
     for (uint32_t rays : rayCounts) {
         const std::string ref = "headline/reference/rays:" + std::to_string(rays);
         const std::string fv = "headline/foveated/rays:" + std::to_string(rays);
@@ -300,8 +371,8 @@ nlohmann::json runBench(const BenchOptions& o) {
     }
     const double total = static_cast<double>(t1.total);
     nlohmann::json result = {
-        {"device", session.context().deviceName()},
-        {"device_type", session.context().deviceDescription()},
+        {"device", session.renderer.context().deviceName()},
+        {"device_type", session.renderer.context().deviceDescription()},
         {"scene", o.scene},
         {"width", w},
         {"height", h},
@@ -320,8 +391,8 @@ nlohmann::json runBench(const BenchOptions& o) {
         {"headline", headline},
         {"ray_cost_by_gaze", perRay},
         {"neighbour_index",
-         {{"build_ms", session.neighbourIndexMs()},
-          {"mb", session.neighbourIndexMb()},
+         {{"build_ms", session.pointSet.neighbourIndexMs()},
+          {"mb", session.pointSet.neighbourIndexMb()},
           {"per_pixel_table_mb_k20", static_cast<double>(w) * 2 * h * 2 * 20 * 4 / 1e6}}}};
 
     std::printf("\nTable 1 (fove, scale 1.0): total %zu, centred %.2f %%, corner %.2f %% "

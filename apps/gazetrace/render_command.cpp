@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -16,9 +18,12 @@
 #include "foveation/gaze_trace.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
+#include "full_resolution.hpp"
 #include "gaze/gaze_tracker.hpp"
+#include "output_target.hpp"
 #include "point_sample/point_sample.hpp"
-#include "render_session.hpp"
+#include "point_set_method.hpp"
+#include "renderer.hpp"
 #include "scene/image_io.hpp"
 #include "scene/scene.hpp"
 #include "vk/context.hpp"
@@ -228,20 +233,35 @@ nlohmann::json runRender(const RenderOptions& o) {
         }
     }
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
-    RenderSession session(o.scene, o.validate);
+    const char* device = std::getenv("GAZETRACE_DEVICE");
+    render::Renderer renderer({.scene = o.scene,
+                               .validate = o.validate,
+                               .framesInFlight = 1,
+                               .deviceOverride = device ? device : ""});
+    render::View view;
+    view.camera = renderer.scene().camera;
     if (cameraArg) {
-        session.setCamera(scene::lookAt(cameraArg->eye, cameraArg->target,
-                                        cameraArg->yfovDeg ? glm::radians(*cameraArg->yfovDeg)
-                                                           : session.scene().camera.yfov));
+        view.camera = scene::lookAt(cameraArg->eye, cameraArg->target,
+                                    cameraArg->yfovDeg ? glm::radians(*cameraArg->yfovDeg)
+                                                       : renderer.scene().camera.yfov);
     }
-    FoveatedSettings fs;
+    view.width = width;
+    view.height = height;
+    view.exposure = renderer.scene().exposure;
+    view.post.taa = false;
+    std::optional<render::FullResolution> reference;
+    std::optional<render::PointSetMethod> pointSet;
     if (foveated) {
-        session.preparePointSet(psParams, o.cacheDir.empty() ? foveation::defaultCacheDir()
-                                                             : std::filesystem::path(o.cacheDir));
-        fs.gaze = gaze;
-        fs.raysPerPoint = o.raysPerPoint;
-        fs.interpolation = interp;
-        fs.taa = o.taa && o.view.empty(); // debug views show one frame's data as is
+        pointSet.emplace(renderer.methodContext(), psParams,
+                         o.cacheDir.empty() ? foveation::defaultCacheDir()
+                                            : std::filesystem::path(o.cacheDir));
+        pointSet->settings = {o.raysPerPoint, interp};
+        view.method = &*pointSet;
+        view.gaze = gaze;
+        view.post.taa = o.taa && o.view.empty(); // debug views show one frame's data as is
+    } else {
+        reference.emplace(renderer.methodContext(), passes::ReferenceSettings{o.spp, o.seed});
+        view.method = &*reference;
     }
     std::optional<eyetrack::GazeTracker> tracker;
     std::uint64_t saccadesSeen = 0;
@@ -249,7 +269,9 @@ nlohmann::json runRender(const RenderOptions& o) {
         tracker.emplace(std::move(gazeSource), *calibration);
         (void)tracker->waitForFirstSample(2000.0); // a camera may take a moment to stream
     }
-    FrameResult frame;
+    render::ReadbackTarget readback(renderer.context());
+    render::OutputTarget* const target = &readback;
+    render::FrameResult frame;
     std::vector<double> frameMs;
     std::vector<std::string> outputs;
     nlohmann::json gazes = nlohmann::json::array();
@@ -257,7 +279,7 @@ nlohmann::json runRender(const RenderOptions& o) {
     for (uint32_t i = 0; i < frameCount; ++i) {
         const bool dot = !o.graphDot.empty() && i == 0;
         if (trace) {
-            fs.gaze =
+            view.gaze =
                 glm::clamp(trace->at(trace->startMs() + i * o.frameMs), glm::vec2(0.0f), lastPixel);
         }
         if (tracker) {
@@ -269,18 +291,19 @@ nlohmann::json runRender(const RenderOptions& o) {
                 const eyetrack::DisplayGeometry& d = tracker->display();
                 const glm::vec2 scale(static_cast<float>(width) / static_cast<float>(d.widthPx),
                                       static_cast<float>(height) / static_cast<float>(d.heightPx));
-                fs.gaze = glm::clamp(glm::vec2(g->x, g->y) * scale, glm::vec2(0.0f), lastPixel);
+                view.gaze = glm::clamp(glm::vec2(g->x, g->y) * scale, glm::vec2(0.0f), lastPixel);
             }
             // A saccade since the last frame: the TAA history is dropped (seed 000, 3.1).
             const std::uint64_t saccades = tracker->saccades();
-            fs.saccade = saccades != saccadesSeen;
+            view.saccade = saccades != saccadesSeen;
             saccadesSeen = saccades;
         }
         if (foveated) {
-            gazes.push_back({fs.gaze.x, fs.gaze.y});
+            gazes.push_back({view.gaze.x, view.gaze.y});
+        } else {
+            reference->settings.frameSeed = o.seed + i;
         }
-        frame = foveated ? session.foveated(fs, true, dot)
-                         : session.reference(width, height, o.spp, o.seed + i, true, dot);
+        frame = renderer.renderFrame(std::span(&view, 1), std::span(&target, 1), {.graphviz = dot});
         frameMs.push_back(frame.wallMs);
         if (dot) {
             writeText(o.graphDot, frame.dot);
@@ -288,16 +311,17 @@ nlohmann::json runRender(const RenderOptions& o) {
         char name[32];
         std::snprintf(name, sizeof(name), "frame_%04u.png", i);
         const std::filesystem::path file = toFolder ? outPath / name : outPath;
-        image::writePngAtomic(file, width, height, frame.pixels);
+        image::writePngAtomic(file, width, height, readback.pixels());
         outputs.push_back(file.string());
     }
-    vk::Context& ctx = session.context();
+    vk::Context& ctx = renderer.context();
     if (ctx.validationErrors() > 0) {
         throw Error(std::to_string(ctx.validationErrors()) + " Vulkan validation error(s)");
     }
 
     nlohmann::json gpu = nlohmann::json::object();
-    for (const auto& p : frame.timings.passes) {
+    const rg::FrameTimings timings = frame.timings.value_or(rg::FrameTimings{});
+    for (const auto& p : timings.passes) {
         gpu[p.name] = p.gpuMs;
     }
     std::vector<double> sorted = frameMs;
@@ -307,26 +331,26 @@ nlohmann::json runRender(const RenderOptions& o) {
     nlohmann::json j = {{"device", ctx.deviceName()},
                         {"device_type", ctx.deviceDescription()},
                         {"scene", o.scene},
-                        {"triangles", session.scene().triangleCount()},
+                        {"triangles", renderer.scene().triangleCount()},
                         {"width", width},
                         {"height", height},
                         {"method", o.method},
                         {"gpu_ms", gpu},
-                        {"gpu_total_ms", frame.timings.gpuMs},
+                        {"gpu_total_ms", timings.gpuMs},
                         {"total_ms", totalMs},
                         {"frames", frameCount},
-                        {"load_ms", session.loadMs()},
-                        {"bvh_ms", session.bvhMs()},
-                        {"bvh_nodes", session.bvhStats().nodes},
-                        {"bvh_sah_cost", session.bvhStats().sahCost},
-                        {"camera", cameraJson(session.scene().camera)},
+                        {"load_ms", renderer.loadMs()},
+                        {"bvh_ms", renderer.bvhMs()},
+                        {"bvh_nodes", renderer.bvhStats().nodes},
+                        {"bvh_sah_cost", renderer.bvhStats().sahCost},
+                        {"camera", cameraJson(view.camera)},
                         {"output", toFolder ? outPath.string() : outputs.front()}};
     if (foveated) {
         // The last frame's, as gpu_ms is; a trace or live gaze moves it from frame to frame.
-        const std::size_t sampled = session.pointsSampled(fs.gaze);
+        const std::size_t sampled = pointSet->pointsSampled(view.gaze);
         rays = static_cast<uint64_t>(sampled) * o.raysPerPoint;
         j["points_sampled"] = sampled;
-        j["points_total"] = session.pointSet().points().size();
+        j["points_total"] = pointSet->pointSet().points().size();
         j["rays_per_point"] = o.raysPerPoint;
         j["interp"] = o.interp;
         j["k"] = interp.method == passes::Interpolation::Shepard ||
@@ -340,7 +364,7 @@ nlohmann::json runRender(const RenderOptions& o) {
         j["scale"] = o.scale;
         j["profile"] = o.profile;
         j["taa"] = o.taa;
-        j["gaze"] = {fs.gaze.x, fs.gaze.y};
+        j["gaze"] = {view.gaze.x, view.gaze.y};
         if (trace || tracker) {
             j["gaze_per_frame"] = gazes;
         }
@@ -352,22 +376,22 @@ nlohmann::json runRender(const RenderOptions& o) {
         if (!o.view.empty()) {
             j["view"] = o.view;
         }
-        j["point_set_ms"] = session.pointSetMs();
-        j["neighbour_index_ms"] = session.neighbourIndexMs();
-        j["neighbour_index_mb"] = session.neighbourIndexMb();
+        j["point_set_ms"] = pointSet->pointSetMs();
+        j["neighbour_index_ms"] = pointSet->neighbourIndexMs();
+        j["neighbour_index_mb"] = pointSet->neighbourIndexMb();
         if (interp.method == passes::Interpolation::Shepard ||
             interp.method == passes::Interpolation::Rbf) {
             j["knn"] = o.knn;
         }
         if (passes::usesPixelTable(interp)) {
-            j["knn_table_ms"] = session.knnTablePrepared().ms;
-            j["knn_table_mb"] = session.knnTablePrepared().mb;
+            j["knn_table_ms"] = pointSet->knnTablePrepared().ms;
+            j["knn_table_mb"] = pointSet->knnTablePrepared().mb;
         }
         if (interp.method == passes::Interpolation::Rbf) {
             // Built once for these settings: per-pixel weights (table) or inverses (lists).
             j["rbf_prepared"] = passes::usesPixelTable(interp) ? "pixel_weights" : "inverses";
-            j["rbf_prepared_ms"] = session.rbfPrepared().ms;
-            j["rbf_prepared_mb"] = session.rbfPrepared().mb;
+            j["rbf_prepared_ms"] = pointSet->rbfPrepared().ms;
+            j["rbf_prepared_mb"] = pointSet->rbfPrepared().mb;
         }
     } else {
         j["spp"] = o.spp;

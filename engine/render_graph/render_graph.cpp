@@ -1,6 +1,7 @@
 #include "render_graph/render_graph.hpp"
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <queue>
 #include <set>
@@ -108,7 +109,8 @@ struct RenderGraph::Resource {
     BufferDesc buffer;
     ImportedTexture importedTexture;
     ImportedBuffer importedBuffer;
-    uint32_t versions = 1; // highest version handed out + 1
+    uint32_t versions = 1;                  // highest version handed out + 1
+    uint32_t baseWidth = 0, baseHeight = 0; // what OutputRelative sizes are relative to
 };
 
 struct RenderGraph::Use {
@@ -128,7 +130,8 @@ struct RenderGraph::Pass {
 };
 
 RenderGraph::RenderGraph(uint32_t outputWidth, uint32_t outputHeight)
-    : mWidth(outputWidth), mHeight(outputHeight) {
+    : mWidth(outputWidth), mHeight(outputHeight), mScopeWidth(outputWidth),
+      mScopeHeight(outputHeight) {
     if (outputWidth == 0 || outputHeight == 0) throw GraphError("render graph output size is 0");
 }
 RenderGraph::~RenderGraph() = default;
@@ -143,11 +146,35 @@ const std::string& RenderGraph::resourceName(uint32_t r) const {
     return mResources.at(r).name;
 }
 
-uint32_t RenderGraph::beginPass(std::string_view name) {
-    for (const Pass& p : mPasses) {
-        if (p.name == name) throw GraphError("two passes are named '" + std::string(name) + "'");
+std::string RenderGraph::scopedName(std::string_view name) const {
+    return mScope + std::string(name);
+}
+
+RenderGraph::Scope RenderGraph::scope(std::string_view prefix, uint32_t width, uint32_t height) {
+    if (prefix.empty()) throw GraphError("render graph scope with an empty name");
+    if ((width == 0) != (height == 0)) throw GraphError("render graph scope with a 0 size");
+    const std::size_t restore = mScope.size();
+    const uint32_t w = mScopeWidth, h = mScopeHeight;
+    mScope += std::string(prefix) + ".";
+    if (width != 0) {
+        mScopeWidth = width;
+        mScopeHeight = height;
     }
-    mPasses.push_back(Pass{std::string(name), {}, {}, false, {}});
+    return Scope(*this, restore, w, h);
+}
+
+RenderGraph::Scope::~Scope() {
+    mGraph.mScope.resize(mRestore);
+    mGraph.mScopeWidth = mWidth;
+    mGraph.mScopeHeight = mHeight;
+}
+
+uint32_t RenderGraph::beginPass(std::string_view unscoped) {
+    const std::string name = scopedName(unscoped);
+    for (const Pass& p : mPasses) {
+        if (p.name == name) throw GraphError("two passes are named '" + name + "'");
+    }
+    mPasses.push_back(Pass{name, {}, {}, false, {}});
     return static_cast<uint32_t>(mPasses.size() - 1);
 }
 
@@ -156,6 +183,9 @@ void RenderGraph::setExecute(uint32_t pass, Execute execute) {
 }
 
 uint32_t RenderGraph::addResource(Resource resource) {
+    resource.name = mScope + resource.name;
+    resource.baseWidth = mScopeWidth;
+    resource.baseHeight = mScopeHeight;
     for (const Resource& r : mResources) {
         if (r.name == resource.name) {
             throw GraphError("two resources are named '" + resource.name + "'");
@@ -187,6 +217,20 @@ BufferId RenderGraph::importBuffer(std::string_view name, const ImportedBuffer& 
     r.importedBuffer = buffer;
     r.buffer = {buffer.size};
     return {addResource(std::move(r)), 0};
+}
+
+void RenderGraph::sink(TextureId t, Access finalAccess) {
+    if (!t.valid() || t.index >= mResources.size() || !mResources[t.index].image) {
+        throw GraphError("sink of an invalid texture");
+    }
+    mSinks.push_back({t.index, t.version, finalAccess});
+}
+
+void RenderGraph::sink(BufferId b, Access finalAccess) {
+    if (!b.valid() || b.index >= mResources.size() || mResources[b.index].image) {
+        throw GraphError("sink of an invalid buffer");
+    }
+    mSinks.push_back({b.index, b.version, finalAccess});
 }
 
 TextureId PassBuilder::createTexture(std::string_view name, const TextureDesc& desc) {
@@ -245,7 +289,7 @@ BufferId PassBuilder::write(BufferId b, Access a) {
 }
 
 void PassBuilder::dependsOn(std::string_view passName) {
-    mGraph.mPasses[mPass].after.emplace_back(passName);
+    mGraph.mPasses[mPass].after.emplace_back(mGraph.scopedName(passName));
 }
 
 void PassBuilder::sideEffect() {
@@ -257,8 +301,9 @@ std::pair<uint32_t, uint32_t> RenderGraph::textureExtent(const Resource& r) cons
     if (r.texture.sizeMode == SizeMode::Absolute) {
         return {static_cast<uint32_t>(r.texture.width), static_cast<uint32_t>(r.texture.height)};
     }
-    return {std::max(1u, static_cast<uint32_t>(r.texture.width * static_cast<float>(mWidth))),
-            std::max(1u, static_cast<uint32_t>(r.texture.height * static_cast<float>(mHeight)))};
+    return {
+        std::max(1u, static_cast<uint32_t>(r.texture.width * static_cast<float>(r.baseWidth))),
+        std::max(1u, static_cast<uint32_t>(r.texture.height * static_cast<float>(r.baseHeight)))};
 }
 
 std::vector<uint32_t> CompiledGraph::order() const {
@@ -343,6 +388,10 @@ CompiledGraph RenderGraph::compile() const {
         bool root = mPasses[p].sideEffect;
         for (const Use& u : mPasses[p].uses)
             root |= u.write && mResources[u.resource].imported;
+        for (const Sink& k : mSinks) {
+            const auto w = writer.find({k.resource, k.version});
+            root |= w != writer.end() && w->second == p;
+        }
         if (root) {
             alive[p] = true;
             stack.push_back(p);
@@ -478,6 +527,7 @@ CompiledGraph RenderGraph::compile() const {
         Barrier b;
         b.resource = r;
         b.image = image;
+        b.layer = mResources[r].imported ? mResources[r].importedTexture.layer : 0;
         b.oldLayout = s.layout;
         b.newLayout = image ? use.layout : VK_IMAGE_LAYOUT_UNDEFINED;
         b.dstStage = use.stage == VK_PIPELINE_STAGE_2_NONE ? VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT
@@ -563,6 +613,16 @@ CompiledGraph RenderGraph::compile() const {
             place(out.finalBarriers, r, accessInfo(*fin));
         }
     }
+    for (const Sink& k : mSinks) {
+        const Resource& res = mResources[k.resource];
+        const auto w = writer.find({k.resource, k.version});
+        if (w == writer.end() && !(res.imported && k.version == 0)) {
+            throw GraphError("sink of '" + res.name + "', a version nothing writes");
+        }
+        if (out.lifetimes[k.resource].firstPass < 0) continue; // an untouched import
+        usageBits(k.resource, k.access);
+        place(out.finalBarriers, k.resource, accessInfo(k.access));
+    }
     return out;
 }
 
@@ -586,6 +646,10 @@ struct TransientPool::Impl {
 
 TransientPool::TransientPool(vk::Context& ctx) : mCtx(ctx), mImpl(std::make_unique<Impl>()) {}
 TransientPool::~TransientPool() = default;
+
+std::size_t TransientPool::imageCount() const noexcept {
+    return mImpl->images.size();
+}
 
 vk::Image& TransientPool::image(const std::string& name, uint32_t w, uint32_t h, VkFormat f,
                                 VkImageUsageFlags usage) {
@@ -630,7 +694,7 @@ void recordBarriers(VkCommandBuffer cmd, const std::vector<Barrier>& barriers,
             x.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
             x.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
             x.image = images[b.resource];
-            x.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+            x.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, b.layer, 1};
             ib.push_back(x);
         } else {
             VkBufferMemoryBarrier2 x{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
@@ -655,8 +719,21 @@ void recordBarriers(VkCommandBuffer cmd, const std::vector<Barrier>& barriers,
 }
 } // namespace
 
-FrameTimings RenderGraph::execute(const CompiledGraph& compiled, TransientPool& pool) {
+uint32_t RenderGraph::timestampCount(const CompiledGraph& compiled) noexcept {
+    return std::max(2u, static_cast<uint32_t>(compiled.passes.size()) * 2);
+}
+
+RecordedFrame RenderGraph::record(const CompiledGraph& compiled, TransientPool& pool,
+                                  vk::TimestampPool& timestamps, VkCommandBuffer cmd) {
     vk::Context& ctx = pool.context();
+    if (compiled.lifetimes.size() != mResources.size()) {
+        throw GraphError("recording a compiled plan of another graph");
+    }
+    const auto passTotal = static_cast<uint32_t>(compiled.passes.size());
+    if (timestamps.capacity() < timestampCount(compiled)) {
+        throw GraphError("timestamp pool holds " + std::to_string(timestamps.capacity()) +
+                         " queries, the frame needs " + std::to_string(timestampCount(compiled)));
+    }
     PassResources res;
     const std::size_t rc = mResources.size();
     res.mTextures.resize(rc);
@@ -669,11 +746,12 @@ FrameTimings RenderGraph::execute(const CompiledGraph& compiled, TransientPool& 
         if (x.image) {
             const auto [w, h] = textureExtent(x);
             if (x.imported) {
-                res.mTextures[r] = {x.importedTexture.image, x.importedTexture.view,
-                                    x.importedTexture.format, w, h};
+                res.mTextures[r] = {
+                    x.importedTexture.image, x.importedTexture.view, x.importedTexture.format, w, h,
+                    x.importedTexture.layer};
             } else {
                 vk::Image& img = pool.image(x.name, w, h, x.texture.format, compiled.imageUsage[r]);
-                res.mTextures[r] = {img.handle(), img.view(), x.texture.format, w, h};
+                res.mTextures[r] = {img.handle(), img.view(), x.texture.format, w, h, 0};
             }
             images[r] = res.mTextures[r].image;
         } else {
@@ -686,32 +764,149 @@ FrameTimings RenderGraph::execute(const CompiledGraph& compiled, TransientPool& 
             buffers[r] = res.mBuffers[r].first;
         }
     }
-    const auto passTotal = static_cast<uint32_t>(compiled.passes.size());
-    vk::TimestampPool timestamps(ctx, std::max(2u, passTotal * 2));
-    ctx.submitAndWait([&](VkCommandBuffer cmd) {
-        for (uint32_t i = 0; i < passTotal; ++i) {
-            const CompiledPass& cp = compiled.passes[i];
-            const Pass& pass = mPasses[cp.pass];
-            ctx.beginLabel(cmd, pass.name);
-            recordBarriers(cmd, cp.barriers, res, images, buffers);
-            timestamps.write(cmd, 2 * i, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
-            if (pass.execute) pass.execute(res, cmd);
-            timestamps.write(cmd, 2 * i + 1, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
-            ctx.endLabel(cmd);
-        }
-        recordBarriers(cmd, compiled.finalBarriers, res, images, buffers);
-    });
-    FrameTimings t;
-    const std::vector<uint64_t> ticks = timestamps.read();
-    if (!ticks.empty() && passTotal > 0) {
-        const double toMs = timestamps.tickToMs();
-        for (uint32_t i = 0; i < passTotal; ++i) {
-            t.passes.push_back({mPasses[compiled.passes[i].pass].name,
-                                static_cast<double>(ticks[2 * i + 1] - ticks[2 * i]) * toMs});
-        }
-        t.gpuMs = static_cast<double>(ticks[2 * passTotal - 1] - ticks[0]) * toMs;
+    timestamps.reset();
+    RecordedFrame frame;
+    frame.mTimestamps = &timestamps;
+    for (uint32_t i = 0; i < passTotal; ++i) {
+        const CompiledPass& cp = compiled.passes[i];
+        const Pass& pass = mPasses[cp.pass];
+        ctx.beginLabel(cmd, pass.name);
+        recordBarriers(cmd, cp.barriers, res, images, buffers);
+        timestamps.write(cmd, 2 * i, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
+        if (pass.execute) pass.execute(res, cmd);
+        timestamps.write(cmd, 2 * i + 1, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
+        ctx.endLabel(cmd);
+        frame.mNames.push_back(pass.name);
     }
+    recordBarriers(cmd, compiled.finalBarriers, res, images, buffers);
+    return frame;
+}
+
+FrameTimings RecordedFrame::timings() const {
+    FrameTimings t;
+    const auto passTotal = static_cast<uint32_t>(mNames.size());
+    if (mTimestamps == nullptr || passTotal == 0) return t;
+    const std::vector<uint64_t> ticks = mTimestamps->read(2 * passTotal);
+    if (ticks.size() < 2 * passTotal) return t;
+    const double toMs = mTimestamps->tickToMs();
+    for (uint32_t i = 0; i < passTotal; ++i) {
+        t.passes.push_back(
+            {mNames[i], static_cast<double>(ticks[2 * i + 1] - ticks[2 * i]) * toMs});
+    }
+    t.gpuMs = static_cast<double>(ticks[2 * passTotal - 1] - ticks[0]) * toMs;
     return t;
+}
+
+FrameTimings RenderGraph::executeAndWait(const CompiledGraph& compiled, TransientPool& pool) {
+    vk::Context& ctx = pool.context();
+    vk::TimestampPool timestamps(ctx, timestampCount(compiled));
+    RecordedFrame frame;
+    ctx.submitAndWait(
+        [&](VkCommandBuffer cmd) { frame = record(compiled, pool, timestamps, cmd); });
+    return frame.timings();
+}
+
+// ---------------------------------------------------------------------------------------------
+// History and deferred release
+
+void DeferredRelease::retire(std::shared_ptr<void> object, uint64_t frame) {
+    if (object) mObjects.emplace_back(frame, std::move(object));
+}
+
+void DeferredRelease::collect(uint64_t frame) {
+    std::erase_if(mObjects, [frame](const auto& o) { return o.first <= frame; });
+}
+
+struct HistoryPool::Entry {
+    std::array<std::shared_ptr<vk::Image>, 2> images;
+    int read = 0; // the image holding the last committed frame
+    std::array<bool, 2> written{false, false};
+    bool valid = false;
+    uint32_t frames = 0;
+};
+
+HistoryPool::HistoryPool(vk::Context& ctx, DeferredRelease* release)
+    : mCtx(ctx), mRelease(release) {}
+HistoryPool::~HistoryPool() = default;
+
+HistoryPool::Entry& HistoryPool::entry(const std::string& name, uint32_t w, uint32_t h,
+                                       VkFormat f) {
+    auto it = mEntries.find(name);
+    if (it != mEntries.end()) {
+        const vk::ImageDesc& d = it->second->images[0]->desc();
+        if (d.width == w && d.height == h && d.format == f) return *it->second;
+        // Resized: the old images may still be read by a frame in flight.
+        if (mRelease) {
+            for (auto& img : it->second->images)
+                mRelease->retire(std::move(img), mFrame);
+        }
+        mEntries.erase(it);
+    }
+    auto e = std::make_unique<Entry>();
+    for (int i = 0; i < 2; ++i) {
+        e->images[static_cast<std::size_t>(i)] = std::make_shared<vk::Image>(
+            mCtx, vk::ImageDesc{w, h, f,
+                                VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                    VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                name + (i == 0 ? "#0" : "#1")});
+    }
+    return *mEntries.emplace(name, std::move(e)).first->second;
+}
+
+void HistoryPool::invalidate(std::string_view name) {
+    if (auto it = mEntries.find(name); it != mEntries.end()) {
+        it->second->valid = false;
+        it->second->frames = 0;
+    }
+}
+
+void HistoryPool::invalidateAll() {
+    for (auto& [name, e] : mEntries) {
+        e->valid = false;
+        e->frames = 0;
+    }
+}
+
+uint32_t HistoryPool::frames(std::string_view name) const {
+    const auto it = mEntries.find(name);
+    return it == mEntries.end() ? 0 : it->second->frames;
+}
+
+void HistoryPool::commit(const RenderGraph& graph) {
+    for (const RenderGraph::HistoryUse& u : graph.mHistories) {
+        if (u.pool != this) continue;
+        const auto it = mEntries.find(u.name);
+        if (it == mEntries.end()) continue; // resized away since
+        Entry& e = *it->second;
+        e.frames = e.valid ? e.frames + 1 : 1;
+        e.written[static_cast<std::size_t>(u.writeIndex)] = true;
+        e.read = u.writeIndex;
+        e.valid = true;
+    }
+}
+
+HistoryTextures RenderGraph::importHistory(HistoryPool& pool, std::string_view unscoped,
+                                           VkFormat format, uint32_t width, uint32_t height) {
+    const std::string name = scopedName(unscoped);
+    HistoryPool::Entry& e = pool.entry(name, width, height, format);
+    const int readIndex = e.read, writeIndex = 1 - e.read;
+    auto import = [&](int i, std::string_view what) {
+        const vk::Image& img = *e.images[static_cast<std::size_t>(i)];
+        return importTexture(std::string(unscoped) + std::string(what),
+                             {img.handle(), img.view(), format, width, height,
+                              e.written[static_cast<std::size_t>(i)]
+                                  ? std::optional(Access::StorageWrite)
+                                  : std::nullopt,
+                              // Whatever reads it this frame, leave it in GENERAL, the layout the
+                              // next frame's import declares.
+                              Access::StorageRead});
+    };
+    HistoryTextures h;
+    h.valid = e.valid;
+    h.previous = import(readIndex, ".previous");
+    h.next = import(writeIndex, ".next");
+    mHistories.push_back({&pool, name, writeIndex});
+    return h;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -6,8 +6,17 @@
 // nothing uses, computes resource lifetimes and the synchronization2 barriers before each pass.
 // The returned CompiledGraph is plain data so tests can inspect the plan. Passes never place
 // barriers themselves.
+//
+// record() writes the frame into a command buffer the caller owns and submits (a window or an
+// OpenXR runtime decides when and with which semaphores); the GPU times are read from the
+// frame's timestamp pool once the caller knows the frame finished (RecordedFrame::timings).
+// Names given inside a scope (RenderGraph::scope) carry its prefix, so one pass can appear once
+// per view ("left.taa", "right.taa"). History (a texture a pass reads next frame, such as TAA's)
+// lives in a HistoryPool that outlives the graph: importHistory() hands out last frame's image
+// and the one to write, and HistoryPool::commit() swaps them only after the frame was submitted.
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -73,11 +82,12 @@ struct BufferDesc {
 // A resource the graph does not own: the caller keeps it alive until the frame is finished.
 struct ImportedTexture {
     VkImage image = VK_NULL_HANDLE;
-    VkImageView view = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE; // a view of exactly `layer` (and one mip level)
     VkFormat format = VK_FORMAT_UNDEFINED;
     uint32_t width = 0, height = 0;
     std::optional<Access> initialAccess; // how it was last used; empty = contents undefined
     std::optional<Access> finalAccess;   // transition to this after the frame, if set
+    uint32_t layer = 0; // array layer the graph uses and transitions (an OpenXR array swapchain)
 };
 
 struct ImportedBuffer {
@@ -90,6 +100,7 @@ struct ImportedBuffer {
 struct Barrier {
     uint32_t resource = 0;
     bool image = false;
+    uint32_t layer = 0; // the image's array layer
     VkPipelineStageFlags2 srcStage = VK_PIPELINE_STAGE_2_NONE;
     VkAccessFlags2 srcAccess = VK_ACCESS_2_NONE;
     VkPipelineStageFlags2 dstStage = VK_PIPELINE_STAGE_2_NONE;
@@ -145,6 +156,7 @@ struct ResolvedTexture {
     VkImageView view = VK_NULL_HANDLE;
     VkFormat format = VK_FORMAT_UNDEFINED;
     uint32_t width = 0, height = 0;
+    uint32_t layer = 0;
 };
 
 class PassResources {
@@ -169,7 +181,23 @@ struct FrameTimings {
     double gpuMs = 0.0; // first pass start to last pass end
 };
 
-// Transient images and buffers that survive between frames of the same shape.
+// A frame as recorded: which passes wrote which timestamp pair, read once the frame finished.
+class RecordedFrame {
+public:
+    RecordedFrame() = default;
+    // Empty passes when the timestamps are not (yet) available.
+    [[nodiscard]] FrameTimings timings() const;
+    [[nodiscard]] const std::vector<std::string>& passNames() const noexcept { return mNames; }
+
+private:
+    friend class RenderGraph;
+    const vk::TimestampPool* mTimestamps = nullptr;
+    std::vector<std::string> mNames; // in execution order, query pair i = passes i
+};
+
+// Transient images and buffers that survive between frames of the same shape. Use one pool per
+// frame in flight: an image replaced here (a new size) is destroyed at once, which is safe only
+// when no frame still in flight uses this pool.
 class TransientPool {
 public:
     explicit TransientPool(vk::Context& ctx);
@@ -180,11 +208,63 @@ public:
                      VkImageUsageFlags usage);
     vk::Buffer& buffer(const std::string& name, VkDeviceSize size, VkBufferUsageFlags usage);
     [[nodiscard]] vk::Context& context() noexcept { return mCtx; }
+    [[nodiscard]] std::size_t imageCount() const noexcept;
 
 private:
     struct Impl;
     vk::Context& mCtx;
     std::unique_ptr<Impl> mImpl;
+};
+
+// Holds what a value retires (an image resized away) until every frame that might still read it
+// has finished: `frame` is the number of the frame being recorded when it was retired.
+class DeferredRelease {
+public:
+    void retire(std::shared_ptr<void> object, uint64_t frame);
+    // Every frame up to and including `frame` has finished.
+    void collect(uint64_t frame);
+    void clear() noexcept { mObjects.clear(); }
+    [[nodiscard]] std::size_t pending() const noexcept { return mObjects.size(); }
+
+private:
+    std::vector<std::pair<uint64_t, std::shared_ptr<void>>> mObjects;
+};
+
+// Textures a pass reads in the next frame (TAA's history), owned across frames. Each name holds
+// two images: the one last committed (read) and the one being written. A frame that fails before
+// its submit never commits, so the next frame reads the same history as it would have.
+class HistoryPool {
+public:
+    // `release` (may be null) keeps images replaced by a resize alive for frames in flight.
+    HistoryPool(vk::Context& ctx, DeferredRelease* release = nullptr);
+    ~HistoryPool();
+    HistoryPool(const HistoryPool&) = delete;
+    HistoryPool& operator=(const HistoryPool&) = delete;
+    // Makes the next frame start without history for `name` (a saccade, a camera cut).
+    void invalidate(std::string_view name);
+    void invalidateAll();
+    // Swaps read and write images of every history `graph` imported. Call after its submit.
+    void commit(const RenderGraph& graph);
+    // Frames accumulated since the history of `name` was last reset (0: none yet).
+    [[nodiscard]] uint32_t frames(std::string_view name) const;
+    void setFrameNumber(uint64_t frame) noexcept { mFrame = frame; }
+
+private:
+    friend class RenderGraph;
+    struct Entry;
+    Entry& entry(const std::string& name, uint32_t w, uint32_t h, VkFormat f);
+    vk::Context& mCtx;
+    DeferredRelease* mRelease;
+    uint64_t mFrame = 0;
+    std::map<std::string, std::unique_ptr<Entry>, std::less<>> mEntries;
+};
+
+// Last frame's texture of a history (valid: it holds a committed frame of the same size) and the
+// texture this frame writes, which becomes the next frame's `previous` once committed.
+struct HistoryTextures {
+    TextureId previous;
+    TextureId next;
+    bool valid = false;
 };
 
 class RenderGraph {
@@ -212,20 +292,58 @@ public:
 
     [[nodiscard]] TextureId importTexture(std::string_view name, const ImportedTexture& texture);
     [[nodiscard]] BufferId importBuffer(std::string_view name, const ImportedBuffer& buffer);
+    // `format`, `width` and `height` describe the history image (absolute size).
+    [[nodiscard]] HistoryTextures importHistory(HistoryPool& pool, std::string_view name,
+                                                VkFormat format, uint32_t width, uint32_t height);
+
+    // The version of `t` (or `b`) is a result of the frame: its producers are never culled and
+    // it is left in `finalAccess` (Present for a swapchain image, StorageRead for a texture a
+    // later frame reads, HostRead for a readback) — a sink, not an empty pass.
+    void sink(TextureId t, Access finalAccess);
+    void sink(BufferId b, Access finalAccess);
+
+    // Every pass and resource named while the returned guard lives gets `prefix` + "." in front
+    // ("left" -> "left.taa"); scopes nest. dependsOn() names resolve in the current scope.
+    class Scope {
+    public:
+        Scope(const Scope&) = delete;
+        Scope& operator=(const Scope&) = delete;
+        ~Scope();
+
+    private:
+        friend class RenderGraph;
+        Scope(RenderGraph& graph, std::size_t restore, uint32_t w, uint32_t h)
+            : mGraph(graph), mRestore(restore), mWidth(w), mHeight(h) {}
+        RenderGraph& mGraph;
+        std::size_t mRestore;
+        uint32_t mWidth, mHeight; // the enclosing scope's size, restored on exit
+    };
+    // With a size, OutputRelative textures created inside the scope and outputWidth() /
+    // outputHeight() refer to it (a view smaller than the graph's output, e.g. one eye).
+    [[nodiscard]] Scope scope(std::string_view prefix, uint32_t width = 0, uint32_t height = 0);
+    [[nodiscard]] std::string scopedName(std::string_view name) const;
 
     [[nodiscard]] CompiledGraph compile() const; // throws GraphError
-    // Records, submits and waits; returns the per-pass GPU times (timestamps).
-    FrameTimings execute(const CompiledGraph& compiled, TransientPool& pool);
+    // Records the frame into `cmd` (begun by the caller, who also submits it): per pass its
+    // barriers, a timestamp pair and its commands; then the final transitions. The timestamp
+    // pool must hold 2 queries per compiled pass (see timestampCount) and is reset here.
+    [[nodiscard]] RecordedFrame record(const CompiledGraph& compiled, TransientPool& pool,
+                                       vk::TimestampPool& timestamps, VkCommandBuffer cmd);
+    [[nodiscard]] static uint32_t timestampCount(const CompiledGraph& compiled) noexcept;
+    // Tests and one-off work: record into a fresh command buffer, submit, wait, read the times.
+    FrameTimings executeAndWait(const CompiledGraph& compiled, TransientPool& pool);
     [[nodiscard]] std::string toDot(const CompiledGraph& compiled) const;
 
     [[nodiscard]] std::size_t passCount() const noexcept;
     [[nodiscard]] const std::string& passName(uint32_t pass) const;
     [[nodiscard]] const std::string& resourceName(uint32_t resource) const;
-    [[nodiscard]] uint32_t outputWidth() const noexcept { return mWidth; }
-    [[nodiscard]] uint32_t outputHeight() const noexcept { return mHeight; }
+    // The current scope's size (the graph's output size outside any sized scope).
+    [[nodiscard]] uint32_t outputWidth() const noexcept { return mScopeWidth; }
+    [[nodiscard]] uint32_t outputHeight() const noexcept { return mScopeHeight; }
 
 private:
     friend class PassBuilder;
+    friend class HistoryPool;
     struct Resource;
     struct Use;
     struct Pass;
@@ -236,8 +354,21 @@ private:
     [[nodiscard]] std::pair<uint32_t, uint32_t> textureExtent(const Resource& r) const;
 
     uint32_t mWidth, mHeight;
+    uint32_t mScopeWidth, mScopeHeight;
     std::vector<Pass> mPasses;
     std::vector<Resource> mResources;
+    std::string mScope; // current prefix, "" or ending in '.'
+    struct Sink {
+        uint32_t resource, version;
+        Access access;
+    };
+    std::vector<Sink> mSinks;
+    struct HistoryUse {
+        HistoryPool* pool;
+        std::string name;
+        int writeIndex;
+    };
+    std::vector<HistoryUse> mHistories;
 };
 
 } // namespace gt::rg

@@ -167,7 +167,9 @@ glm::vec3 CpuTracer::radiance(const scene::Ray& primary) const {
 std::vector<glm::vec4> CpuTracer::render(const TraceSettings& s) const {
     std::vector<glm::vec4> out(static_cast<std::size_t>(s.width) * s.height);
     const shaders::trace::CameraPush cam =
-        cameraPush(mScene.camera, static_cast<float>(s.width) / static_cast<float>(s.height));
+        s.frustum
+            ? cameraPush(mScene.camera, *s.frustum)
+            : cameraPush(mScene.camera, static_cast<float>(s.width) / static_cast<float>(s.height));
     const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
     std::vector<std::thread> pool;
     for (unsigned t = 0; t < threads; ++t) {
@@ -181,10 +183,12 @@ std::vector<glm::vec4> CpuTracer::render(const TraceSettings& s) const {
                         const float sx =
                             (2.0f * (static_cast<float>(x) + o.x) / static_cast<float>(s.width) -
                              1.0f) *
-                            cam.origin.w * cam.forward.w;
+                                cam.origin.w * cam.forward.w +
+                            cam.right.w;
                         const float sy = (1.0f - 2.0f * (static_cast<float>(y) + o.y) /
                                                      static_cast<float>(s.height)) *
-                                         cam.origin.w;
+                                             cam.origin.w +
+                                         cam.up.w;
                         const glm::vec3 dir =
                             glm::normalize(glm::vec3(cam.forward) + sx * glm::vec3(cam.right) +
                                            sy * glm::vec3(cam.up));

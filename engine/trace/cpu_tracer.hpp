@@ -9,12 +9,14 @@
 // - ambient light from the sky, one mirror bounce weighted by metallic,
 // - the sky gradient for rays that miss.
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "scene/bvh.hpp"
 #include "scene/scene.hpp"
+#include "trace/gpu_scene.hpp"
 
 namespace gt::trace {
 
@@ -23,6 +25,8 @@ struct TraceSettings {
     uint32_t height = 0;
     uint32_t raysPerPixel = 1;
     uint32_t frameSeed = 0;
+    // Off-axis frustum (an HMD eye); empty: the scene camera's symmetric one.
+    std::optional<FrustumTangents> frustum;
 };
 
 [[nodiscard]] uint32_t pcgHash(uint32_t v) noexcept;

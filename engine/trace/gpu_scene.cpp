@@ -127,4 +127,29 @@ shaders::trace::CameraPush cameraPush(const scene::Camera& camera, float aspect)
     return c;
 }
 
+FrustumTangents FrustumTangents::symmetric(float yfov, float aspect) {
+    const float h = std::tan(0.5f * yfov);
+    return {-h * aspect, h * aspect, h, -h};
+}
+
+bool FrustumTangents::valid() const noexcept {
+    return std::isfinite(left) && std::isfinite(right) && std::isfinite(up) &&
+           std::isfinite(down) && left < right && down < up;
+}
+
+shaders::trace::CameraPush cameraPush(const scene::Camera& camera, const FrustumTangents& t) {
+    const float halfHeight = 0.5f * (t.up - t.down);
+    const float halfWidth = 0.5f * (t.right - t.left);
+    const float centreX = 0.5f * (t.right + t.left);
+    const float centreY = 0.5f * (t.up + t.down);
+    scene::Camera c = camera;
+    c.yfov = 2.0f * std::atan(halfHeight);
+    shaders::trace::CameraPush p = cameraPush(c, halfWidth / halfHeight);
+    // Symmetric: overwrite with the exact half extents, so that nothing was rounded twice.
+    p.origin.w = halfHeight;
+    p.right.w = centreX;
+    p.up.w = centreY;
+    return p;
+}
+
 } // namespace gt::trace

@@ -61,4 +61,20 @@ private:
 // The camera as push-constant vectors, for an image of the given aspect ratio.
 [[nodiscard]] shaders::trace::CameraPush cameraPush(const scene::Camera& camera, float aspect);
 
+// An off-axis frustum as the tangents of the angles from the view axis to its four edges, as
+// OpenXR's XrFovf gives them (left and down negative when the axis lies inside the frustum).
+struct FrustumTangents {
+    float left = -1.0f, right = 1.0f, up = 1.0f, down = -1.0f;
+    // The symmetric frustum of a vertical field of view and an aspect ratio (width / height).
+    [[nodiscard]] static FrustumTangents symmetric(float yfov, float aspect);
+    [[nodiscard]] bool valid() const noexcept; // finite, left < right, down < up
+};
+
+// The pose of `camera` (its yfov is not used) with the frustum `t`: the push holds the half
+// extents as tan(half height) and aspect, and the frustum's centre in right.w and up.w. (Views
+// with a symmetric frustum keep using cameraPush(camera, aspect), whose rounding the stored
+// reference images were made with.)
+[[nodiscard]] shaders::trace::CameraPush cameraPush(const scene::Camera& camera,
+                                                    const FrustumTangents& t);
+
 } // namespace gt::trace

@@ -1,5 +1,7 @@
 #include "vk/query_pool.hpp"
 
+#include <algorithm>
+
 #include "core/error.hpp"
 #include "vk/context.hpp"
 
@@ -27,11 +29,12 @@ void TimestampPool::write(VkCommandBuffer cmd, uint32_t index, VkPipelineStageFl
     vkCmdWriteTimestamp2(cmd, stage, mPool, index);
 }
 
-std::vector<uint64_t> TimestampPool::read() const {
-    std::vector<uint64_t> ticks(mCount, 0);
-    if (mCount == 0) return ticks;
-    const VkResult r = vkGetQueryPoolResults(mDevice, mPool, 0, mCount, ticks.size() * 8,
-                                             ticks.data(), 8, VK_QUERY_RESULT_64_BIT);
+std::vector<uint64_t> TimestampPool::read(uint32_t count) const {
+    const uint32_t n = count == 0 ? mCount : std::min(count, mCount);
+    std::vector<uint64_t> ticks(n, 0);
+    if (n == 0) return ticks;
+    const VkResult r = vkGetQueryPoolResults(mDevice, mPool, 0, n, ticks.size() * 8, ticks.data(),
+                                             8, VK_QUERY_RESULT_64_BIT);
     if (r == VK_NOT_READY) return {};
     GT_VK_CHECK(r);
     return ticks;

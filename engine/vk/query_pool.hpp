@@ -21,7 +21,8 @@ public:
     void reset() noexcept; // host reset (Vulkan 1.2 hostQueryReset)
     void write(VkCommandBuffer cmd, uint32_t index, VkPipelineStageFlags2 stage) const;
     // Milliseconds between query `begin` and `end`; empty when not available or invalid.
-    [[nodiscard]] std::vector<uint64_t> read() const;
+    // The first `count` queries (all when 0); a query never written reads as not ready.
+    [[nodiscard]] std::vector<uint64_t> read(uint32_t count = 0) const;
     [[nodiscard]] double tickToMs() const noexcept { return mPeriodNs * 1e-6; }
     [[nodiscard]] bool supported() const noexcept { return mSupported; }
 

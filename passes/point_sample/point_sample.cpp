@@ -58,9 +58,9 @@ const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaM
 }
 
 rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene& scene,
-                                  const scene::Camera& camera, const foveation::GpuPointSet& points,
-                                  glm::vec2 gaze, uint32_t raysPerPoint,
-                                  uint32_t lanesPerPoint) const {
+                                  const shaders::trace::CameraPush& cam,
+                                  const foveation::GpuPointSet& points, glm::vec2 gaze,
+                                  uint32_t raysPerPoint, uint32_t lanesPerPoint) const {
     if (raysPerPoint == 0) {
         throw ArgumentError("--rays-per-point must be at least 1");
     }
@@ -72,7 +72,6 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
     const vk::ComputePipeline& pipe = pipeline(lanes, scene.alphaMasked());
     const uint32_t pointsPerGroup = sh::kSampleGroupSize / lanes;
     const uint32_t w = graph.outputWidth(), h = graph.outputHeight();
-    const auto cam = trace::cameraPush(camera, static_cast<float>(w) / static_cast<float>(h));
     const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());
     const sh::PointSamplePush push{cam.origin,
                                    cam.forward,

@@ -8,7 +8,7 @@
 #include <glm/glm.hpp>
 
 #include "render_graph/render_graph.hpp"
-#include "scene/scene.hpp"
+#include "trace_shared.h"
 
 namespace gt::vk {
 class Context;
@@ -41,7 +41,7 @@ public:
     // Adds "point_sample" writing a new buffer "point_sample.samples" (one vec4 per point).
     // lanesPerPoint 0 picks pointSampleLanes(); otherwise a power of two from 1 to 32.
     rg::BufferId add(rg::RenderGraph& graph, const trace::GpuScene& scene,
-                     const scene::Camera& camera, const foveation::GpuPointSet& points,
+                     const shaders::trace::CameraPush& camera, const foveation::GpuPointSet& points,
                      glm::vec2 gaze, uint32_t raysPerPoint, uint32_t lanesPerPoint = 0) const;
 
 private:

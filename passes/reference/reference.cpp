@@ -35,14 +35,13 @@ const vk::ComputePipeline& ReferencePass::pipeline(bool alphaMask) const {
 ReferencePass::~ReferencePass() = default;
 
 rg::TextureId ReferencePass::add(rg::RenderGraph& graph, const trace::GpuScene& scene,
-                                 const scene::Camera& camera,
+                                 const shaders::trace::CameraPush& cam,
                                  const ReferenceSettings& settings) const {
     if (settings.raysPerPixel == 0) throw ArgumentError("rays per pixel must be at least 1");
     struct Data {
         rg::TextureId output;
     };
     const uint32_t w = graph.outputWidth(), h = graph.outputHeight();
-    const auto cam = trace::cameraPush(camera, static_cast<float>(w) / static_cast<float>(h));
     sh::ReferencePush push{cam.origin, cam.forward, cam.right, cam.up,
                            glm::uvec4(w, h, settings.raysPerPixel, settings.frameSeed)};
     const auto& data = graph.addPass<Data>(

@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "render_graph/render_graph.hpp"
-#include "scene/scene.hpp"
+#include "trace_shared.h"
 
 namespace gt::vk {
 class Context;
@@ -27,9 +27,11 @@ class ReferencePass {
 public:
     explicit ReferencePass(vk::Context& ctx);
     ~ReferencePass();
-    // Adds "reference.trace" writing a new output-sized texture "reference.radiance".
+    // Adds "reference.trace" writing a new output-sized texture "reference.radiance", seen
+    // through `camera` (trace::cameraPush).
     rg::TextureId add(rg::RenderGraph& graph, const trace::GpuScene& scene,
-                      const scene::Camera& camera, const ReferenceSettings& settings) const;
+                      const shaders::trace::CameraPush& camera,
+                      const ReferenceSettings& settings) const;
 
 private:
     // Built on first use: without and with the alpha test (trace.glsl's kAlphaMask).

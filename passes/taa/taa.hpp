@@ -1,17 +1,14 @@
 #pragma once
 // Pass `taa`: temporal anti-aliasing with reprojection, YCoCg variance clipping and history
-// rejection on disocclusion and on saccades (gaze jumps). The history lives in TaaHistory, two
-// images that swap roles every frame and are imported into each frame's graph.
-#include <array>
+// rejection on disocclusion and on saccades (gaze jumps). The history is the render graph's
+// (rg::HistoryPool): last frame's output in, this frame's output out.
 #include <cstdint>
 #include <memory>
-#include <optional>
 
 #include <glm/glm.hpp>
 
 #include "render_graph/render_graph.hpp"
-#include "scene/scene.hpp"
-#include "vk/resources.hpp"
+#include "trace_shared.h"
 
 namespace gt::vk {
 class Context;
@@ -28,34 +25,23 @@ struct TaaSettings {
     float saccadeFraction = 1.0f / 16.0f;
 };
 
-class TaaHistory {
-public:
-    TaaHistory(vk::Context& ctx, uint32_t width, uint32_t height);
-    [[nodiscard]] bool valid() const noexcept { return mValid; }
-    // Forces the next frame to start afresh (e.g. a saccade event from the eye tracker).
-    void invalidate() noexcept { mValid = false; }
-    [[nodiscard]] uint32_t framesAccumulated() const noexcept { return mFrames; }
-
-private:
-    friend class TaaPass;
-    std::array<vk::Image, 2> mImages;
-    int mRead = 0; // image holding last frame's output
-    bool mValid = false;
-    bool mWritten[2] = {false, false};
-    uint32_t mFrames = 0;
-    scene::Camera mCamera;
-    glm::vec2 mGaze{};
-};
+// Whether a frame must start TAA afresh: no committed history yet, a saccade reported by the eye
+// tracker, or a gaze jump larger than `saccadeFraction` of the width since the last frame — so
+// the new fovea is sharp at once instead of converging (seed 000, section 3.1).
+[[nodiscard]] bool taaMustReset(bool historyValid, bool saccade, glm::vec2 gaze,
+                                glm::vec2 previousGaze, uint32_t width, const TaaSettings& s);
 
 class TaaPass {
 public:
     explicit TaaPass(vk::Context& ctx);
     ~TaaPass();
-    // Adds "taa" reading `current` (rgb radiance, a = first-hit distance) and the history,
-    // writing the other history image, which it returns. Call history.commit... implicitly:
-    // the history advances when the pass is added, so add it once per executed frame.
-    rg::TextureId add(rg::RenderGraph& graph, TaaHistory& history, rg::TextureId current,
-                      const scene::Camera& camera, glm::vec2 gaze, bool saccade,
+    // Adds "taa": reads `current` (rgb radiance, a = first-hit distance) and the history's
+    // previous image, reprojected from `previousCamera` to `camera`, and writes the history's
+    // next image, which it returns. The graph's HistoryPool commits it once the frame is
+    // submitted; with `reset` the history is not read.
+    rg::TextureId add(rg::RenderGraph& graph, const rg::HistoryTextures& history,
+                      rg::TextureId current, const shaders::trace::CameraPush& camera,
+                      const shaders::trace::CameraPush& previousCamera, bool reset,
                       const TaaSettings& settings = {}) const;
 
 private:

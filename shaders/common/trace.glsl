@@ -332,8 +332,9 @@ vec3 traceRadiance(vec3 origin, vec3 dir, out float depth) {
 }
 
 vec3 cameraRay(CameraPush cam, vec2 pixel, vec2 size) {
-    float sx = (2.0 * pixel.x / size.x - 1.0) * cam.origin.w * cam.forward.w;
-    float sy = (1.0 - 2.0 * pixel.y / size.y) * cam.origin.w;
+    // right.w and up.w: the centre of an off-axis frustum (0 for a symmetric one).
+    float sx = (2.0 * pixel.x / size.x - 1.0) * cam.origin.w * cam.forward.w + cam.right.w;
+    float sy = (1.0 - 2.0 * pixel.y / size.y) * cam.origin.w + cam.up.w;
     return normalize(cam.forward.xyz + sx * cam.right.xyz + sy * cam.up.xyz);
 }
 #endif

@@ -11,7 +11,8 @@ GT_CONST kBindingOutput = 2;  // image2D rgba32f
 GT_CONST kGroupX = 8;
 GT_CONST kGroupY = 8;
 
-// Cameras as pinholes (see trace::CameraPush); up = cross(right, forward).
+// Cameras as pinholes (see trace::CameraPush); up = cross(right, forward). 128 bytes, the
+// smallest push-constant limit Vulkan allows.
 struct TaaPush {
     vec4 currentOrigin;  // xyz, w = tan(yfov / 2)
     vec4 currentForward; // xyz, w = aspect
@@ -19,8 +20,9 @@ struct TaaPush {
     vec4 previousOrigin;
     vec4 previousForward;
     vec4 previousRight;
-    vec4 params; // x = blend weight of the current frame, y = clip gamma, z = reset, w = depth
-                 // tolerance
+    vec4 params;  // x = blend weight of the current frame, y = clip gamma, z = reset, w = depth
+                  // tolerance
+    vec4 centres; // off-axis frustum centres as tangents: xy current, zw previous (0: symmetric)
 };
 
 GT_NAMESPACE_END

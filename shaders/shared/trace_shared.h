@@ -39,12 +39,14 @@ struct SceneUniforms {
     uvec4 environment; // x = width, y = height (0: none, use the sky gradient)
 };
 
-// Camera as a pinhole: dir = normalize(forward + sx * right + sy * up) with sx, sy in [-1, 1].
+// Camera as a pinhole with an off-axis frustum: dir = normalize(forward + sx * right + sy * up),
+// sx = u * tan(yfov / 2) * aspect + centre.x and sy = v * tan(yfov / 2) + centre.y with u, v in
+// [-1, 1] across the image (v = 1 at the top). A symmetric frustum has centre (0, 0).
 struct CameraPush {
-    vec4 origin;  // xyz, w = tan(yfov / 2)
-    vec4 forward; // xyz, w = aspect (width / height)
-    vec4 right;   // unit
-    vec4 up;      // unit
+    vec4 origin;  // xyz, w = tan(yfov / 2): half the frustum's height as a tangent
+    vec4 forward; // xyz, w = aspect: half width / half height
+    vec4 right;   // unit, w = centre.x (tangent)
+    vec4 up;      // unit, w = centre.y (tangent)
 };
 
 GT_NAMESPACE_END

@@ -65,8 +65,9 @@ void main() {
     // Reproject: world point along this pixel's ray at the first-hit distance.
     vec2 s = (vec2(px) + 0.5) / vec2(size) * 2.0 - 1.0;
     vec3 up = cross(pc.currentRight.xyz, pc.currentForward.xyz);
-    vec3 dir = normalize(pc.currentForward.xyz + s.x * pc.currentOrigin.w * pc.currentForward.w * pc.currentRight.xyz
-                         - s.y * pc.currentOrigin.w * up);
+    vec3 dir = normalize(pc.currentForward.xyz
+                         + (s.x * pc.currentOrigin.w * pc.currentForward.w + pc.centres.x) * pc.currentRight.xyz
+                         + (pc.centres.y - s.y * pc.currentOrigin.w) * up);
     float depth = current.a;
     bool sky = !(depth < 1e30);
     vec3 d = sky ? dir : pc.currentOrigin.xyz + depth * dir - pc.previousOrigin.xyz;
@@ -74,7 +75,7 @@ void main() {
     float z = dot(d, pc.previousForward.xyz);
     bool valid = z > 1e-6;
     vec2 ps = vec2(dot(d, pc.previousRight.xyz), dot(d, prevUp)) / max(z, 1e-6);
-    ps /= vec2(pc.previousOrigin.w * pc.previousForward.w, pc.previousOrigin.w);
+    ps = (ps - pc.centres.zw) / vec2(pc.previousOrigin.w * pc.previousForward.w, pc.previousOrigin.w);
     vec2 prevPixel = vec2((ps.x + 1.0) * 0.5, (1.0 - ps.y) * 0.5) * vec2(size);
     valid = valid && all(greaterThanEqual(prevPixel, vec2(0.0))) && all(lessThan(prevPixel, vec2(size)));
     vec4 history = valid ? historyBilinear(prevPixel, size) : current;

@@ -115,7 +115,7 @@ protected:
 
     std::vector<glm::vec4> executeAndRead(rg::RenderGraph& g, vk::Buffer& host) {
         rg::TransientPool pool(ctx());
-        g.execute(g.compile(), pool);
+        g.executeAndWait(g.compile(), pool);
         std::vector<glm::vec4> out(host.size() / sizeof(glm::vec4));
         host.download(std::as_writable_bytes(std::span(out)));
         return out;
@@ -235,7 +235,8 @@ TEST_F(FoveatedTest, RayLanesTraceTheSameRays) {
     auto run = [&](uint32_t lanes) {
         return render(96, 96, [&](rg::RenderGraph& g) {
             return interp.add(g, c.points,
-                              sample.add(g, c.gpuScene, c.scene.camera, c.points, gaze, 12, lanes),
+                              sample.add(g, c.gpuScene, trace::cameraPush(c.scene.camera, 1.0f),
+                                         c.points, gaze, 12, lanes),
                               gaze, {passes::Interpolation::Nearest, 1, 1.0f});
         });
     };
@@ -271,11 +272,13 @@ TEST_F(FoveatedTest, MatchesReferenceAtTheGaze) {
     auto run = [&](bool foveated) {
         return render(w, w, [&](rg::RenderGraph& g) {
             if (!foveated) {
-                return reference.add(g, c.gpuScene, c.scene.camera, {16, 3});
+                return reference.add(g, c.gpuScene, trace::cameraPush(c.scene.camera, 1.0f),
+                                     {16, 3});
             }
             return interp.add(g, c.points,
-                              sample.add(g, c.gpuScene, c.scene.camera, c.points, gaze, 16), gaze,
-                              {passes::Interpolation::Nearest, 1, 1.0f});
+                              sample.add(g, c.gpuScene, trace::cameraPush(c.scene.camera, 1.0f),
+                                         c.points, gaze, 16),
+                              gaze, {passes::Interpolation::Nearest, 1, 1.0f});
         });
     };
     const auto ref = run(false), fov = run(true);

@@ -56,7 +56,7 @@ TEST_F(RenderGraphGpuTest, ClearCopyChainProducesDataAndTimings) {
                 VkBufferCopy c{0, 0, 1024};
                 vkCmdCopyBuffer(cmd, r.buffer(d.a), r.buffer(d.b), 1, &c);
             });
-        const rg::FrameTimings t = g.execute(g.compile(), pool);
+        const rg::FrameTimings t = g.executeAndWait(g.compile(), pool);
         ASSERT_EQ(t.passes.size(), 3u);
         EXPECT_EQ(t.passes[0].name, "fill");
         for (const auto& p : t.passes)
@@ -78,10 +78,12 @@ TEST_F(RenderGraphGpuTest, TraceTonemapReadbackIsValidationClean) {
     rg::RenderGraph g(32, 32);
     const auto hostId =
         g.importBuffer("host", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
-    passes::addReadbackPass(g, "ldr", tonemap.add(g, reference.add(g, gs, s.camera, {1, 0}), 1.0f),
-                            hostId);
+    passes::addReadbackPass(
+        g, "ldr",
+        tonemap.add(g, reference.add(g, gs, trace::cameraPush(s.camera, 1.0f), {1, 0}), 1.0f),
+        hostId);
     rg::TransientPool pool(ctx());
-    const auto t = g.execute(g.compile(), pool);
+    const auto t = g.executeAndWait(g.compile(), pool);
     ASSERT_EQ(t.passes.size(), 3u);
     EXPECT_GT(t.gpuMs, 0.0);
     std::vector<uint8_t> px(32 * 32 * 4);

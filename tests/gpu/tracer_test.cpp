@@ -33,10 +33,12 @@ protected:
         rg::RenderGraph graph(w, h);
         const rg::BufferId hostId = graph.importBuffer(
             "host", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
-        const rg::TextureId radiance = reference.add(graph, gpuScene, s.camera, {spp, 7});
+        const rg::TextureId radiance = reference.add(
+            graph, gpuScene,
+            trace::cameraPush(s.camera, static_cast<float>(w) / static_cast<float>(h)), {spp, 7});
         passes::addReadbackPass(graph, "radiance", radiance, hostId);
         rg::TransientPool pool(ctx());
-        graph.execute(graph.compile(), pool);
+        graph.executeAndWait(graph.compile(), pool);
         std::vector<glm::vec4> out(static_cast<std::size_t>(w) * h);
         host.download(std::as_writable_bytes(std::span(out)));
         return out;
@@ -206,10 +208,15 @@ TEST_F(TracerTest, MarketHasDarkAndBrightRegions) {
     rg::RenderGraph graph(w, h);
     const rg::BufferId hostId = graph.importBuffer(
         "host", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
-    const auto ldr = tonemap.add(graph, reference.add(graph, gpuScene, s.camera, {1, 0}), 1.0f);
+    const auto ldr = tonemap.add(
+        graph,
+        reference.add(graph, gpuScene,
+                      trace::cameraPush(s.camera, static_cast<float>(w) / static_cast<float>(h)),
+                      {1, 0}),
+        1.0f);
     passes::addReadbackPass(graph, "ldr", ldr, hostId);
     rg::TransientPool pool(ctx());
-    graph.execute(graph.compile(), pool);
+    graph.executeAndWait(graph.compile(), pool);
     std::vector<uint8_t> px(w * h * 4);
     host.download(std::as_writable_bytes(std::span(px)));
     std::size_t dark = 0, bright = 0;

@@ -1,0 +1,50 @@
+#pragma once
+// How a view's radiance is made: every pixel traced (full resolution), a perceptual point set
+// traced and interpolated (seed 000), and later nested eccentricity layers (seed 002). The
+// renderer adds a method's passes per view and runs the post chain on what it returns.
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string_view>
+
+#include "render_graph/render_graph.hpp"
+
+namespace gt::vk {
+class Context;
+}
+namespace gt::trace {
+class GpuScene;
+}
+
+namespace gt::render {
+
+struct View;
+
+// What a method needs from the renderer: the device and the scene on it.
+struct MethodContext {
+    vk::Context& ctx;
+    const trace::GpuScene& scene;
+};
+
+// An untimed frame through the pipelines a timed frame will use: lavapipe compiles a pipeline at
+// its first dispatch (14-147 ms), which must not land in a measured frame.
+struct WarmUp {
+    uint32_t width = 0, height = 0;
+    std::function<rg::TextureId(rg::RenderGraph&)> addRadiance;
+};
+
+class FoveationMethod {
+public:
+    virtual ~FoveationMethod() = default;
+    [[nodiscard]] virtual std::string_view name() const = 0;
+    // Adds the passes that make the view's linear radiance (rgb; a = first-hit distance, which
+    // TAA reprojects with) at the view's size, and returns it.
+    [[nodiscard]] virtual rg::TextureId addRadiance(rg::RenderGraph& graph, const View& view) = 0;
+    // Primary rays traced for the view this frame.
+    [[nodiscard]] virtual uint64_t rays(const View& view) const = 0;
+    // Once per pipeline variant: the frame that compiles it. Empty when this view's variant has
+    // run before. Called before the frame is recorded; also builds what the settings need.
+    [[nodiscard]] virtual std::optional<WarmUp> warmUp(const View& view) = 0;
+};
+
+} // namespace gt::render

@@ -1,0 +1,54 @@
+#pragma once
+// Where a view's finished image goes: back to the CPU (a PNG), into a window's swapchain image,
+// into an OpenXR swapchain image. A target adds the passes that take the view's display-referred
+// image (RGBA8 sRGB, the view's size) out of the frame and marks what it wrote as a sink, so the
+// graph keeps the chain alive and leaves the image in the state its consumer expects.
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "render_graph/frame_ring.hpp"
+#include "render_graph/render_graph.hpp"
+#include "vk/resources.hpp"
+
+namespace gt::render {
+
+struct View;
+
+class OutputTarget {
+public:
+    virtual ~OutputTarget() = default;
+    // Called inside the view's graph scope.
+    virtual void addOutput(rg::RenderGraph& graph, rg::TextureId image, const View& view) = 0;
+    // Semaphores the frame's submit waits for and signals (a swapchain's acquire and present).
+    virtual void addSync(rg::SubmitSync& sync) { (void)sync; }
+    // Whether renderFrame must wait for the frame before returning (the CPU reads its output).
+    [[nodiscard]] virtual bool waitsForFrame() const noexcept { return false; }
+    // After the frame finished on the GPU (only for targets that wait for it).
+    virtual void frameFinished() {}
+};
+
+// Copies the image into host memory; pixels() holds it once renderFrame returns.
+class ReadbackTarget final : public OutputTarget {
+public:
+    explicit ReadbackTarget(vk::Context& ctx) : mCtx(ctx) {}
+    void addOutput(rg::RenderGraph& graph, rg::TextureId image, const View& view) override;
+    [[nodiscard]] bool waitsForFrame() const noexcept override { return true; }
+    void frameFinished() override;
+    // RGBA8 sRGB, rows top first, tightly packed.
+    [[nodiscard]] const std::vector<uint8_t>& pixels() const noexcept { return mPixels; }
+    [[nodiscard]] std::vector<uint8_t> takePixels() noexcept { return std::move(mPixels); }
+
+private:
+    vk::Context& mCtx;
+    std::optional<vk::Buffer> mHost;
+    std::vector<uint8_t> mPixels;
+};
+
+// Keeps the image on the GPU (benchmarks, a frame nobody looks at): a sink and nothing else.
+class DiscardTarget final : public OutputTarget {
+public:
+    void addOutput(rg::RenderGraph& graph, rg::TextureId image, const View& view) override;
+};
+
+} // namespace gt::render

@@ -1,0 +1,146 @@
+#include "point_set_method.hpp"
+
+#include <chrono>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "foveation/point_set_cache.hpp"
+#include "view.hpp"
+
+namespace gt::render {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+foveation::PointSet loadPointSet(const foveation::PointSetParams& params,
+                                 const std::filesystem::path& cacheDir, double& ms) {
+    const auto t = Clock::now();
+    foveation::CachedPointSet c = foveation::loadOrGenerate(cacheDir, params);
+    if (!c.warning.empty()) {
+        log::warn(c.warning);
+    }
+    ms = msSince(t);
+    return std::move(c.set);
+}
+} // namespace
+
+PointSetMethod::PointSetMethod(const MethodContext& mc, const foveation::PointSetParams& params,
+                               const std::filesystem::path& cacheDir)
+    : mMc(mc), mPoints(loadPointSet(params, cacheDir, mPointSetMs)),
+      mNeighbours(mPoints, foveation::NeighbourIndex::kMaxNeighbours),
+      mGpuPoints(mc.ctx, mPoints, mNeighbours), mPointSample(mc.ctx), mInterpolate(mc.ctx),
+      mRbfSolve(mc.ctx) {
+    mNeighbourMs = mNeighbours.buildSeconds() * 1e3;
+    mNeighbourMb = static_cast<double>(mNeighbours.bytes()) / 1e6;
+}
+
+PointSetMethod::~PointSetMethod() = default;
+
+std::size_t PointSetMethod::pointsSampled(glm::vec2 gaze) const {
+    const auto w = mPoints.params().display.width, h = mPoints.params().display.height;
+    const glm::vec2 off = passes::gazeOffset(gaze, w, h);
+    return mPoints.countOnScreen(off.x + static_cast<float>(w), off.y + static_cast<float>(h),
+                                 passes::kSampleMargin);
+}
+
+uint64_t PointSetMethod::rays(const View& view) const {
+    return static_cast<uint64_t>(pointsSampled(view.gaze)) * settings.raysPerPoint;
+}
+
+// The thesis's per-pixel table, and for RBF its per-pixel weights, when the settings ask for
+// them: built on the CPU once per k (and RBF kernel and shape).
+passes::InterpolateInputs PointSetMethod::tableInputs(const passes::InterpolateSettings& s) {
+    if (!passes::usesPixelTable(s)) {
+        // Hundreds of MB: give them back to whatever runs next.
+        mKnnTable.reset();
+        mRbfPixelWeights.reset();
+        return {};
+    }
+    std::optional<foveation::PixelKnnTable> table;
+    if (!mKnnTable || mKnnTable->k() != s.k) {
+        mKnnTable.reset();
+        mRbfPixelWeights.reset();
+        table.emplace(mPoints, mNeighbours, s.k);
+        mKnnTable.emplace(mMc.ctx, *table);
+        mKnnTablePrepared = {table->buildSeconds() * 1e3,
+                             static_cast<double>(table->bytes()) / 1e6};
+    }
+    if (s.method != passes::Interpolation::Rbf) {
+        mRbfPixelWeights.reset();
+        return {std::nullopt, &*mKnnTable, nullptr};
+    }
+    if (!mRbfPixelWeights || mRbfPixelWeights->kernel() != s.kernel ||
+        mRbfPixelWeights->shape() != s.rbfShape) {
+        mRbfPixelWeights.reset();
+        if (!table) {
+            table.emplace(mPoints, mNeighbours, s.k); // same k, another kernel or shape
+        }
+        const foveation::RbfPixelWeights weights(mPoints, *table, s.kernel, s.rbfShape);
+        mRbfPixelWeights.emplace(mMc.ctx, weights);
+        mRbfPrepared = {weights.buildSeconds() * 1e3, static_cast<double>(weights.bytes()) / 1e6};
+    }
+    return {std::nullopt, &*mKnnTable, &*mRbfPixelWeights};
+}
+
+const foveation::GpuRbfInverse& PointSetMethod::inverseFor(const passes::InterpolateSettings& s) {
+    if (!mRbfInverse || mRbfInverse->k() != s.k || mRbfInverse->kernel() != s.kernel ||
+        mRbfInverse->shape() != s.rbfShape) {
+        mRbfInverse.reset();
+        const foveation::RbfInverse inv =
+            foveation::buildRbfInverse(mPoints, mNeighbours, s.k, s.kernel, s.rbfShape);
+        mRbfInverse.emplace(mMc.ctx, inv);
+        mRbfPrepared = {inv.seconds * 1e3,
+                        static_cast<double>(inv.inverse.size() * sizeof(float)) / 1e6};
+    }
+    return *mRbfInverse;
+}
+
+// point_sample -> (rbf_solve) -> interpolate, with `rays` per point traced by `lanes` threads.
+rg::TextureId PointSetMethod::addImage(rg::RenderGraph& graph,
+                                       const shaders::trace::CameraPush& camera, glm::vec2 gaze,
+                                       uint32_t rays, uint32_t lanes,
+                                       const passes::InterpolateInputs& prepared) {
+    const passes::InterpolateSettings& s = settings.interpolation;
+    const rg::BufferId samples =
+        mPointSample.add(graph, mMc.scene, camera, mGpuPoints, gaze, rays, lanes);
+    passes::InterpolateInputs in = prepared;
+    if (passes::usesRbfSolve(s)) {
+        in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), samples, gaze, s);
+    }
+    return mInterpolate.add(graph, mGpuPoints, samples, gaze, s, in);
+}
+
+rg::TextureId PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view) {
+    const auto& d = mPoints.params().display;
+    if (view.width != d.width || view.height != d.height) {
+        throw Error("view '" + view.name + "' is " + std::to_string(view.width) + "x" +
+                    std::to_string(view.height) + " but its point set was built for " +
+                    std::to_string(d.width) + "x" + std::to_string(d.height));
+    }
+    const passes::InterpolateInputs prepared = tableInputs(settings.interpolation);
+    const uint32_t lanes = passes::pointSampleLanes(mMc.ctx, settings.raysPerPoint);
+    return addImage(graph, view.cameraPush(), view.gaze, settings.raysPerPoint, lanes, prepared);
+}
+
+std::optional<WarmUp> PointSetMethod::warmUp(const View& view) {
+    const passes::InterpolateSettings& s = settings.interpolation;
+    const uint32_t lanes = passes::pointSampleLanes(mMc.ctx, settings.raysPerPoint);
+    const auto variant = std::make_tuple(s.method, passes::usesPixelTable(s), lanes);
+    if (mWarm.contains(variant)) {
+        return std::nullopt;
+    }
+    mWarm.insert(variant);
+    // Full size, one ray per point, through every pipeline the timed frame uses. The lanes stay
+    // those of the timed frame: idle lanes cost little and trace nothing.
+    const passes::InterpolateInputs prepared = tableInputs(s);
+    const shaders::trace::CameraPush cam = view.cameraPush();
+    const glm::vec2 gaze = view.gaze;
+    return WarmUp{view.width, view.height, [this, cam, gaze, lanes, prepared](rg::RenderGraph& g) {
+                      return addImage(g, cam, gaze, 1, lanes, prepared);
+                  }};
+}
+
+} // namespace gt::render

@@ -1,0 +1,86 @@
+#pragma once
+// The thesis's method (seed 000, sections 4.1-4.3): a perceptual point set, built once per display
+// (size and pixels per degree) and cached on disk, shifted to the view's gaze; `point_sample`
+// traces R rays in every point's disc, `interpolate` rebuilds every pixel from the k nearest
+// points (nearest neighbour, Modified Shepard, radial basis functions). What the interpolation
+// settings need is built on the CPU when they change: the per-pixel k-NN table, RBF's per-pixel
+// weights or per-point inverses.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <set>
+#include <tuple>
+
+#include <glm/glm.hpp>
+
+#include "foveation/gpu_point_set.hpp"
+#include "foveation/neighbour_index.hpp"
+#include "foveation/point_set.hpp"
+#include "foveation_method.hpp"
+#include "interpolate/interpolate.hpp"
+#include "point_sample/point_sample.hpp"
+#include "rbf_solve/rbf_solve.hpp"
+
+namespace gt::render {
+
+// The one-off cost of something built on the CPU for the interpolation settings.
+struct Prepared {
+    double ms = 0.0;
+    double mb = 0.0;
+};
+
+struct PointSetSettings {
+    uint32_t raysPerPoint = 32;
+    passes::InterpolateSettings interpolation;
+};
+
+class PointSetMethod final : public FoveationMethod {
+public:
+    // Loads (or generates and caches in `cacheDir`) the point set for `params` and builds its
+    // neighbour index. Views must have the size of params.display.
+    PointSetMethod(const MethodContext& mc, const foveation::PointSetParams& params,
+                   const std::filesystem::path& cacheDir);
+    ~PointSetMethod() override;
+
+    [[nodiscard]] std::string_view name() const override { return "foveated"; }
+    [[nodiscard]] rg::TextureId addRadiance(rg::RenderGraph& graph, const View& view) override;
+    [[nodiscard]] uint64_t rays(const View& view) const override;
+    [[nodiscard]] std::optional<WarmUp> warmUp(const View& view) override;
+
+    PointSetSettings settings;
+
+    [[nodiscard]] const foveation::PointSet& pointSet() const noexcept { return mPoints; }
+    // Points traced with the set shifted to `gaze` (on screen plus the sampling margin).
+    [[nodiscard]] std::size_t pointsSampled(glm::vec2 gaze) const;
+    [[nodiscard]] double pointSetMs() const noexcept { return mPointSetMs; }
+    [[nodiscard]] double neighbourIndexMs() const noexcept { return mNeighbourMs; }
+    [[nodiscard]] double neighbourIndexMb() const noexcept { return mNeighbourMb; }
+    // For the RBF settings of the last RBF frame, and the k of the last frame that used the
+    // per-pixel k-NN table.
+    [[nodiscard]] Prepared rbfPrepared() const noexcept { return mRbfPrepared; }
+    [[nodiscard]] Prepared knnTablePrepared() const noexcept { return mKnnTablePrepared; }
+
+private:
+    passes::InterpolateInputs tableInputs(const passes::InterpolateSettings& s);
+    const foveation::GpuRbfInverse& inverseFor(const passes::InterpolateSettings& s);
+    rg::TextureId addImage(rg::RenderGraph& graph, const shaders::trace::CameraPush& camera,
+                           glm::vec2 gaze, uint32_t rays, uint32_t lanes,
+                           const passes::InterpolateInputs& prepared);
+
+    MethodContext mMc;
+    foveation::PointSet mPoints;
+    foveation::NeighbourIndex mNeighbours;
+    foveation::GpuPointSet mGpuPoints;
+    passes::PointSamplePass mPointSample;
+    passes::InterpolatePass mInterpolate;
+    passes::RbfSolvePass mRbfSolve;
+    std::optional<foveation::GpuRbfInverse> mRbfInverse;
+    std::optional<foveation::GpuPixelKnnTable> mKnnTable;
+    std::optional<foveation::GpuRbfPixelWeights> mRbfPixelWeights;
+    Prepared mRbfPrepared, mKnnTablePrepared;
+    double mPointSetMs = 0.0, mNeighbourMs = 0.0, mNeighbourMb = 0.0;
+    // Pipeline variants (interpolation, reads the table, point_sample lanes) that have run.
+    std::set<std::tuple<passes::Interpolation, bool, uint32_t>> mWarm;
+};
+
+} // namespace gt::render

@@ -1,0 +1,195 @@
+#include "renderer.hpp"
+
+#include <chrono>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "scene/gltf_loader.hpp"
+#include "taa/taa.hpp"
+#include "tonemap/tonemap.hpp"
+#include "trace/gpu_scene.hpp"
+#include "vk/context.hpp"
+
+namespace gt::render {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+constexpr const char* kTaaHistory = "taa";
+} // namespace
+
+Renderer::Renderer(const RendererOptions& o) {
+    const auto t0 = Clock::now();
+    scene::GltfLoadReport report;
+    mScene = scene::loadScene(o.scene, &report);
+    for (const std::string& w : report.warnings) {
+        log::warn(o.scene + ": " + w);
+    }
+    mLoadMs = msSince(t0);
+    const auto t1 = Clock::now();
+    mBvh.emplace(mScene);
+    mBvhMs = msSince(t1);
+    mCtx = std::make_unique<vk::Context>(vk::ContextOptions{.validation = o.validate,
+                                                            .synchronizationValidation = o.validate,
+                                                            .deviceOverride = o.deviceOverride});
+    mGpuScene = std::make_unique<trace::GpuScene>(*mCtx, mScene, *mBvh);
+    mTaa = std::make_unique<passes::TaaPass>(*mCtx);
+    mTonemap = std::make_unique<passes::TonemapPass>(*mCtx);
+    mRing = std::make_unique<rg::FrameRing>(*mCtx, o.framesInFlight);
+    mHistory = std::make_unique<rg::HistoryPool>(*mCtx, &mRing->deferredRelease());
+}
+
+Renderer::~Renderer() {
+    if (mRing) {
+        try {
+            mRing->waitIdle();
+        } catch (const std::exception&) { // NOLINT(bugprone-empty-catch): a lost device
+        }
+    }
+}
+
+vk::Context& Renderer::context() noexcept {
+    return *mCtx;
+}
+const scene::Scene& Renderer::scene() const noexcept {
+    return mScene;
+}
+const scene::BvhBuildStats& Renderer::bvhStats() const noexcept {
+    return mBvh->stats();
+}
+MethodContext Renderer::methodContext() const noexcept {
+    return {*mCtx, *mGpuScene};
+}
+uint32_t Renderer::framesInFlight() const noexcept {
+    return mRing->framesInFlight();
+}
+
+void Renderer::resetHistory(const std::string& view) {
+    mHistory->invalidate(view.empty() ? std::string(kTaaHistory) : view + "." + kTaaHistory);
+    mViewHistory.erase(view);
+}
+
+void Renderer::resetHistory() {
+    mHistory->invalidateAll();
+    mViewHistory.clear();
+}
+
+std::vector<rg::CompletedFrame> Renderer::takeCompleted() {
+    return mRing->takeCompleted();
+}
+
+void Renderer::waitIdle() {
+    mRing->waitIdle();
+}
+
+// An untimed frame through the method's pipelines and the tone mapper, into a throwaway pool,
+// waited for, never touching the history.
+void Renderer::runWarmUp(const WarmUp& warm) {
+    rg::TransientPool pool(*mCtx);
+    rg::RenderGraph graph(warm.width, warm.height);
+    const rg::TextureId ldr = mTonemap->add(graph, warm.addRadiance(graph), mScene.exposure);
+    graph.sink(ldr, rg::Access::StorageRead);
+    (void)graph.executeAndWait(graph.compile(), pool);
+}
+
+FrameResult Renderer::renderFrame(std::span<const View> views,
+                                  std::span<OutputTarget* const> targets,
+                                  const FrameOptions& options) {
+    const auto t = Clock::now();
+    if (views.empty() || views.size() != targets.size()) {
+        throw Error("renderFrame: " + std::to_string(views.size()) + " view(s) and " +
+                    std::to_string(targets.size()) + " target(s)");
+    }
+    for (std::size_t i = 0; i < views.size(); ++i) {
+        const View& v = views[i];
+        if (v.method == nullptr || targets[i] == nullptr || v.width == 0 || v.height == 0) {
+            throw Error("renderFrame: view '" + v.name + "' lacks a method, a target or a size");
+        }
+        if (v.frustum && !v.frustum->valid()) {
+            throw Error("renderFrame: view '" + v.name + "' has an empty or non-finite frustum");
+        }
+        for (std::size_t j = 0; j < i; ++j) {
+            if (views[j].name == v.name) {
+                throw Error("renderFrame: two views are named '" + v.name + "'");
+            }
+        }
+    }
+    for (const View& v : views) {
+        if (const std::optional<WarmUp> warm = v.method->warmUp(v)) {
+            runWarmUp(*warm);
+        }
+    }
+
+    rg::FrameRing::Frame& frame = mRing->begin();
+    mHistory->setFrameNumber(frame.number);
+    rg::RenderGraph graph(views.front().width, views.front().height);
+    FrameResult result;
+    result.number = frame.number;
+    std::vector<std::pair<std::string, ViewHistory>> nextHistory;
+    for (std::size_t i = 0; i < views.size(); ++i) {
+        const View& v = views[i];
+        auto add = [&] {
+            rg::TextureId image = v.method->addRadiance(graph, v);
+            const shaders::trace::CameraPush camera = v.cameraPush();
+            if (v.post.taa) {
+                const rg::HistoryTextures history = graph.importHistory(
+                    *mHistory, kTaaHistory, VK_FORMAT_R32G32B32A32_SFLOAT, v.width, v.height);
+                const auto it = mViewHistory.find(v.name);
+                const bool known = it != mViewHistory.end() && it->second.valid;
+                const bool reset = passes::taaMustReset(known && history.valid, v.saccade, v.gaze,
+                                                        known ? it->second.gaze : v.gaze, v.width,
+                                                        v.post.taaSettings);
+                image = mTaa->add(graph, history, image, camera, known ? it->second.camera : camera,
+                                  reset, v.post.taaSettings);
+                nextHistory.emplace_back(v.name, ViewHistory{camera, v.gaze, true});
+            }
+            const rg::TextureId ldr = mTonemap->add(graph, image, v.exposure);
+            targets[i]->addOutput(graph, ldr, v);
+        };
+        if (!v.name.empty()) {
+            const rg::RenderGraph::Scope scope = graph.scope(v.name, v.width, v.height);
+            add();
+        } else if (views.size() > 1) {
+            throw Error("renderFrame: with several views each needs a name");
+        } else {
+            add();
+        }
+        result.views.push_back({v.method->rays(v)});
+    }
+    const rg::CompiledGraph compiled = graph.compile();
+    if (options.graphviz) {
+        result.dot = graph.toDot(compiled);
+    }
+    frame.recorded =
+        graph.record(compiled, *frame.pool,
+                     frame.timestamps(rg::RenderGraph::timestampCount(compiled)), frame.cmd);
+    rg::SubmitSync sync;
+    bool wait = mRing->framesInFlight() == 1;
+    for (OutputTarget* target : targets) {
+        target->addSync(sync);
+        wait = wait || target->waitsForFrame();
+    }
+    mRing->submit(sync);
+    // Submitted: this frame's history is what the next frame reads.
+    mHistory->commit(graph);
+    for (auto& [name, h] : nextHistory) {
+        mViewHistory[name] = h;
+    }
+    if (wait) {
+        mRing->waitIdle();
+        for (const rg::CompletedFrame& c : mRing->takeCompleted()) {
+            if (c.number == frame.number) {
+                result.timings = c.timings;
+            }
+        }
+        for (OutputTarget* target : targets) {
+            target->frameFinished();
+        }
+    }
+    result.wallMs = msSince(t);
+    return result;
+}
+
+} // namespace gt::render

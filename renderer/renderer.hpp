@@ -1,0 +1,109 @@
+#pragma once
+// The frame pipeline every front end drives (`render`, `bench`, the desktop demo, the HMD path,
+// OpenXR): the scene on the GPU, frames in flight, the temporal history, and renderFrame(), which
+// builds one render graph holding every view of the frame — per view its foveation method, then
+// the post chain (taa -> tonemap) and its output target — records it, submits it, and commits
+// the history only once the submit succeeded.
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "foveation_method.hpp"
+#include "output_target.hpp"
+#include "render_graph/frame_ring.hpp"
+#include "render_graph/render_graph.hpp"
+#include "scene/bvh.hpp"
+#include "scene/scene.hpp"
+#include "view.hpp"
+
+namespace gt::vk {
+class Context;
+}
+namespace gt::passes {
+class TaaPass;
+class TonemapPass;
+} // namespace gt::passes
+
+namespace gt::render {
+
+struct RendererOptions {
+    std::string scene = "builtin:market"; // builtin:NAME, FILE.gltf/.glb, cubemap:FILE
+    bool validate = false;                // Khronos validation + synchronization validation
+    // Frames the CPU may record ahead of the GPU. A frame with a target that reads its result
+    // back (a PNG) is always waited for.
+    uint32_t framesInFlight = 1;
+    std::string deviceOverride; // GAZETRACE_DEVICE: index or name substring; empty = best
+};
+
+struct FrameOptions {
+    bool graphviz = false; // FrameResult::dot
+};
+
+struct ViewResult {
+    uint64_t rays = 0;
+};
+
+struct FrameResult {
+    uint64_t number = 0;
+    // The frame's GPU times per pass, when it was waited for (a readback target, or one frame
+    // in flight); otherwise see Renderer::takeCompleted().
+    std::optional<rg::FrameTimings> timings;
+    std::string dot;     // Graphviz of the compiled graph, when asked for
+    double wallMs = 0.0; // build + record + submit (+ wait + readback when waited for)
+    std::vector<ViewResult> views;
+};
+
+class Renderer {
+public:
+    explicit Renderer(const RendererOptions& options);
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    [[nodiscard]] vk::Context& context() noexcept;
+    [[nodiscard]] const scene::Scene& scene() const noexcept;
+    [[nodiscard]] const scene::BvhBuildStats& bvhStats() const noexcept;
+    [[nodiscard]] double loadMs() const noexcept { return mLoadMs; }
+    [[nodiscard]] double bvhMs() const noexcept { return mBvhMs; }
+    // For constructing foveation methods on this renderer's device and scene.
+    [[nodiscard]] MethodContext methodContext() const noexcept;
+
+    // One frame of every view in one graph. `targets[i]` receives view i (the same count).
+    // Throws gt::Error (the history is then left as it was: the next frame reads the same).
+    FrameResult renderFrame(std::span<const View> views, std::span<OutputTarget* const> targets,
+                            const FrameOptions& options = {});
+
+    // Drops the temporal history of one view (by name) or of all views: the next frame starts
+    // afresh (a camera cut, a saccade the caller knows of).
+    void resetHistory(const std::string& view);
+    void resetHistory();
+    // Frames finished since the last call, with their GPU times (frames in flight).
+    [[nodiscard]] std::vector<rg::CompletedFrame> takeCompleted();
+    void waitIdle();
+    [[nodiscard]] uint32_t framesInFlight() const noexcept;
+
+private:
+    struct ViewHistory {
+        shaders::trace::CameraPush camera{};
+        glm::vec2 gaze{};
+        bool valid = false;
+    };
+    void runWarmUp(const WarmUp& warm);
+
+    double mLoadMs = 0.0, mBvhMs = 0.0;
+    scene::Scene mScene;
+    std::optional<scene::Bvh> mBvh;
+    std::unique_ptr<vk::Context> mCtx;
+    std::unique_ptr<trace::GpuScene> mGpuScene;
+    std::unique_ptr<passes::TaaPass> mTaa;
+    std::unique_ptr<passes::TonemapPass> mTonemap;
+    std::unique_ptr<rg::FrameRing> mRing;
+    std::unique_ptr<rg::HistoryPool> mHistory;
+    std::map<std::string, ViewHistory> mViewHistory;
+};
+
+} // namespace gt::render

@@ -1,0 +1,43 @@
+#pragma once
+// A view: one image the renderer makes per frame — the desktop window, one eye of an HMD, one
+// OpenXR view. Every view of a frame is rendered in the same render graph, each under its own
+// name scope, with its own camera, size, gaze, foveation method and temporal history.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "scene/scene.hpp"
+#include "taa/taa.hpp"
+#include "trace/gpu_scene.hpp"
+
+namespace gt::render {
+
+class FoveationMethod;
+
+struct PostSettings {
+    bool taa = true; // temporal anti-aliasing (seed 000, 4.3: the thesis used it throughout)
+    passes::TaaSettings taaSettings;
+};
+
+struct View {
+    // Graph scope of the view's passes and resources ("left" -> "left.taa"); empty for a lone
+    // view, whose passes keep their plain names. Also the key of its history.
+    std::string name;
+    scene::Camera camera; // pose; camera.yfov is the vertical field of view when symmetric
+    // An off-axis frustum (an HMD eye, an OpenXR view's XrFovf); empty: symmetric, from
+    // camera.yfov and the view's aspect.
+    std::optional<trace::FrustumTangents> frustum;
+    uint32_t width = 0, height = 0;
+    glm::vec2 gaze{};     // pixels, origin top-left, pixel centres at integers
+    bool saccade = false; // the eye tracker saw a saccade since the last frame: drop history
+    FoveationMethod* method = nullptr;
+    PostSettings post;
+    float exposure = 1.0f;
+
+    // The camera as the tracing passes take it.
+    [[nodiscard]] shaders::trace::CameraPush cameraPush() const;
+};
+
+} // namespace gt::render
