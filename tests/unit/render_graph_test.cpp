@@ -377,3 +377,137 @@ TEST(RenderGraph, WritesGraphviz) {
 
 } // namespace
 } // namespace gt::rg
+
+namespace gt::rg {
+namespace {
+
+// Two views of one frame add the same passes under their own scopes: names do not clash, each
+// chain is ordered and kept, and dependsOn() finds the pass of its own view.
+TEST(RenderGraphScopes, SamePassTwiceUnderTwoScopes) {
+    RenderGraph g(64, 32);
+    std::vector<TextureId> outs;
+    for (const char* eye : {"left", "right"}) {
+        const RenderGraph::Scope scope = g.scope(eye, 16, 8);
+        EXPECT_EQ(g.outputWidth(), 16u);
+        EXPECT_EQ(g.outputHeight(), 8u);
+        TextureId traced;
+        g.addPass<TexData>(
+            "trace",
+            [&](PassBuilder& pb, TexData& d) {
+                d.out = traced = pb.write(pb.createTexture("radiance", {}), Access::StorageWrite);
+            },
+            noop);
+        g.addPass<TexData>(
+            "tonemap",
+            [&](PassBuilder& pb, TexData& d) {
+                d.in = pb.read(traced, Access::StorageRead);
+                d.out = pb.write(pb.createTexture("ldr", {}), Access::StorageWrite);
+                pb.dependsOn("trace");
+                outs.push_back(d.out);
+            },
+            noop);
+    }
+    EXPECT_EQ(g.outputWidth(), 64u); // the scope's size ends with it
+    for (const TextureId t : outs) {
+        g.sink(t, Access::StorageRead);
+    }
+    const CompiledGraph c = g.compile();
+    ASSERT_EQ(c.passes.size(), 4u);
+    EXPECT_TRUE(c.culled.empty());
+    std::vector<std::string> names;
+    for (const uint32_t p : c.order()) {
+        names.push_back(g.passName(p));
+    }
+    EXPECT_EQ(names, (std::vector<std::string>{"left.trace", "left.tonemap", "right.trace",
+                                               "right.tonemap"}));
+    EXPECT_EQ(g.resourceName(outs[1].index), "right.ldr");
+    // Nested scopes join their prefixes.
+    {
+        const RenderGraph::Scope outer = g.scope("hmd");
+        const RenderGraph::Scope inner = g.scope("left");
+        EXPECT_EQ(g.scopedName("taa"), "hmd.left.taa");
+    }
+    EXPECT_EQ(g.scopedName("taa"), "taa");
+    // Within one scope the name is still unique.
+    const RenderGraph::Scope again = g.scope("left");
+    EXPECT_THROW(g.addPass<TexData>(
+                     "trace", [](PassBuilder&, TexData&) {}, noop),
+                 GraphError);
+}
+
+// A sink keeps its producer alive (no empty pass needed) and leaves the resource in the access
+// it names, as a final barrier; a version nothing writes cannot be a sink.
+TEST(RenderGraphSinks, SinkKeepsProducerAndTransitionsAtEnd) {
+    RenderGraph g(8, 8);
+    TextureId out;
+    g.addPass<TexData>(
+        "produce",
+        [&](PassBuilder& pb, TexData& d) {
+            d.out = out = pb.write(pb.createTexture("img", {}), Access::StorageWrite);
+        },
+        noop);
+    g.addPass<TexData>(
+        "unused",
+        [&](PassBuilder& pb, TexData& d) {
+            d.out = pb.write(pb.createTexture("other", {}), Access::StorageWrite);
+        },
+        noop);
+    {
+        const CompiledGraph without = g.compile();
+        EXPECT_TRUE(without.passes.empty()); // nothing is a result yet: all culled
+    }
+    g.sink(out, Access::TransferSrc);
+    const CompiledGraph c = g.compile();
+    ASSERT_EQ(c.order(), (std::vector<uint32_t>{0}));
+    ASSERT_EQ(c.finalBarriers.size(), 1u);
+    EXPECT_EQ(c.finalBarriers[0].oldLayout, VK_IMAGE_LAYOUT_GENERAL);
+    EXPECT_EQ(c.finalBarriers[0].newLayout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    EXPECT_EQ(c.finalBarriers[0].srcAccess, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    EXPECT_NE(c.imageUsage[out.index] & VK_IMAGE_USAGE_TRANSFER_SRC_BIT, 0u);
+
+    RenderGraph bad(8, 8);
+    TextureId created;
+    bad.addPass<TexData>(
+        "declare",
+        [&](PassBuilder& pb, TexData& d) { d.out = created = pb.createTexture("t", {}); }, noop);
+    bad.sink(created, Access::StorageRead);
+    EXPECT_THROW((void)bad.compile(), GraphError);
+}
+
+// An imported array layer is the subresource every barrier names.
+TEST(RenderGraphImports, BarriersNameTheImportedLayer) {
+    RenderGraph g(8, 8);
+    const TextureId swap = g.importTexture(
+        "xr.swapchain",
+        {reinterpret_cast<VkImage>(uintptr_t{2}), reinterpret_cast<VkImageView>(uintptr_t{3}),
+         VK_FORMAT_R8G8B8A8_UNORM, 8, 8, std::nullopt, Access::StorageRead, 1});
+    g.addPass<TexData>(
+        "write", [&](PassBuilder& pb, TexData& d) { d.out = pb.write(swap, Access::StorageWrite); },
+        noop);
+    const CompiledGraph c = g.compile();
+    ASSERT_EQ(c.passes.size(), 1u);
+    ASSERT_EQ(c.passes[0].barriers.size(), 1u);
+    EXPECT_EQ(c.passes[0].barriers[0].layer, 1u);
+    EXPECT_EQ(c.passes[0].barriers[0].newLayout, VK_IMAGE_LAYOUT_GENERAL);
+}
+
+// Retired objects live until every frame that may use them has finished.
+TEST(DeferredRelease, KeepsObjectsUntilTheirFrameFinished) {
+    DeferredRelease r;
+    auto a = std::make_shared<int>(1);
+    auto b = std::make_shared<int>(2);
+    std::weak_ptr<int> wa = a, wb = b;
+    r.retire(std::move(a), 3);
+    r.retire(std::move(b), 5);
+    r.collect(2);
+    EXPECT_FALSE(wa.expired());
+    r.collect(3);
+    EXPECT_TRUE(wa.expired());
+    EXPECT_FALSE(wb.expired());
+    r.collect(10);
+    EXPECT_TRUE(wb.expired());
+    EXPECT_EQ(r.pending(), 0u);
+}
+
+} // namespace
+} // namespace gt::rg
