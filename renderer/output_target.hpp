@@ -18,6 +18,10 @@ struct View;
 class OutputTarget {
 public:
     virtual ~OutputTarget() = default;
+    // Once per frame for each distinct target, before the views and after them, outside any
+    // view's scope (one window target can take both eyes of a side-by-side frame).
+    virtual void beginFrame(rg::RenderGraph& graph) { (void)graph; }
+    virtual void endFrame(rg::RenderGraph& graph) { (void)graph; }
     // Called inside the view's graph scope.
     virtual void addOutput(rg::RenderGraph& graph, rg::TextureId image, const View& view) = 0;
     // Semaphores the frame's submit waits for and signals (a swapchain's acquire and present).

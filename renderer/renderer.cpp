@@ -1,5 +1,6 @@
 #include "renderer.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 #include "core/error.hpp"
@@ -31,13 +32,17 @@ Renderer::Renderer(const RendererOptions& o) {
     const auto t1 = Clock::now();
     mBvh.emplace(mScene);
     mBvhMs = msSince(t1);
-    mCtx = std::make_unique<vk::Context>(vk::ContextOptions{.validation = o.validate,
-                                                            .synchronizationValidation = o.validate,
-                                                            .deviceOverride = o.deviceOverride});
+    vk::ContextOptions co = o.display;
+    co.validation = o.validate;
+    co.synchronizationValidation = o.validate;
+    co.deviceOverride = o.deviceOverride;
+    mCtx = std::make_unique<vk::Context>(co);
     mGpuScene = std::make_unique<trace::GpuScene>(*mCtx, mScene, *mBvh);
     mTaa = std::make_unique<passes::TaaPass>(*mCtx);
     mTonemap = std::make_unique<passes::TonemapPass>(*mCtx);
-    mRing = std::make_unique<rg::FrameRing>(*mCtx, o.framesInFlight);
+    const bool cpuDevice = mCtx->properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    mRing = std::make_unique<rg::FrameRing>(*mCtx, o.framesInFlight != 0 ? o.framesInFlight
+                                                                         : (cpuDevice ? 1u : 2u));
     mHistory = std::make_unique<rg::HistoryPool>(*mCtx, &mRing->deferredRelease());
 }
 
@@ -125,6 +130,16 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
     rg::FrameRing::Frame& frame = mRing->begin();
     mHistory->setFrameNumber(frame.number);
     rg::RenderGraph graph(views.front().width, views.front().height);
+    // Each distinct target once (both eyes may go to one window).
+    std::vector<OutputTarget*> distinct;
+    for (OutputTarget* target : targets) {
+        if (std::find(distinct.begin(), distinct.end(), target) == distinct.end()) {
+            distinct.push_back(target);
+        }
+    }
+    for (OutputTarget* target : distinct) {
+        target->beginFrame(graph);
+    }
     FrameResult result;
     result.number = frame.number;
     std::vector<std::pair<std::string, ViewHistory>> nextHistory;
@@ -158,6 +173,9 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
         }
         result.views.push_back({v.method->rays(v)});
     }
+    for (OutputTarget* target : distinct) {
+        target->endFrame(graph);
+    }
     const rg::CompiledGraph compiled = graph.compile();
     if (options.graphviz) {
         result.dot = graph.toDot(compiled);
@@ -167,7 +185,7 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
                      frame.timestamps(rg::RenderGraph::timestampCount(compiled)), frame.cmd);
     rg::SubmitSync sync;
     bool wait = mRing->framesInFlight() == 1;
-    for (OutputTarget* target : targets) {
+    for (OutputTarget* target : distinct) {
         target->addSync(sync);
         wait = wait || target->waitsForFrame();
     }
@@ -184,7 +202,7 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
                 result.timings = c.timings;
             }
         }
-        for (OutputTarget* target : targets) {
+        for (OutputTarget* target : distinct) {
             target->frameFinished();
         }
     }

@@ -19,10 +19,8 @@
 #include "scene/bvh.hpp"
 #include "scene/scene.hpp"
 #include "view.hpp"
+#include "vk/context.hpp"
 
-namespace gt::vk {
-class Context;
-}
 namespace gt::passes {
 class TaaPass;
 class TonemapPass;
@@ -33,10 +31,15 @@ namespace gt::render {
 struct RendererOptions {
     std::string scene = "builtin:market"; // builtin:NAME, FILE.gltf/.glb, cubemap:FILE
     bool validate = false;                // Khronos validation + synchronization validation
-    // Frames the CPU may record ahead of the GPU. A frame with a target that reads its result
-    // back (a PNG) is always waited for.
+    // Frames the CPU may record ahead of the GPU; 0 picks: 2 on a GPU, 1 on a CPU driver such
+    // as lavapipe, where the "GPU" shares the CPU's cores (two in flight measured no faster there
+    // and added a frame of latency). A frame with a target that reads its result back (a PNG) is
+    // always waited for.
     uint32_t framesInFlight = 1;
     std::string deviceOverride; // GAZETRACE_DEVICE: index or name substring; empty = best
+    // What a display needs of the Vulkan context: a window's extensions and surface, an OpenXR
+    // runtime's hooks (its validation and device fields are taken from the two above).
+    vk::ContextOptions display;
 };
 
 struct FrameOptions {

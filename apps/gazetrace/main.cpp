@@ -9,6 +9,7 @@
 #include "bench_command.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "demo_command.hpp"
 #include "eye_commands.hpp"
 #include "pointset_command.hpp"
 #include "render_command.hpp"
@@ -231,6 +232,60 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     calibrateCmd->add_flag("--json", calibrateJson, "Print a JSON summary on stdout");
 
+    gt::app::DemoOptions demo;
+    std::string demoTaa = "on";
+    bool demoJson = false;
+    CLI::App* demoCmd = app.add_subcommand(
+        "demo", "Real-time window: foveated rendering driven by the mouse, a trace or the tracker");
+    demoCmd->add_option("--scene", demo.scene, "builtin:NAME | FILE.gltf | FILE.glb | cubemap:FILE")
+        ->capture_default_str();
+    demoCmd->add_option("--width", demo.width, "Window width at start")
+        ->check(CLI::Range(16u, 8192u))
+        ->capture_default_str();
+    demoCmd->add_option("--height", demo.height, "Window height at start")
+        ->check(CLI::Range(16u, 8192u))
+        ->capture_default_str();
+    demoCmd->add_option("--method", demo.method, "foveated | reference")->capture_default_str();
+    demoCmd->add_option("--interp", demo.interp, "nn | msm | rbf")->capture_default_str();
+    demoCmd->add_option("--k", demo.k, "Neighbours for msm / rbf")->capture_default_str();
+    demoCmd->add_option("--scale", demo.scale, "Point-set scaling value (sparser above 1)")
+        ->check(CLI::Range(0.25, 8.0))
+        ->capture_default_str();
+    demoCmd->add_option("--rays-per-point", demo.raysPerPoint, "Rays traced per point")
+        ->check(CLI::Range(1u, 1024u))
+        ->capture_default_str();
+    demoCmd->add_option("--spp", demo.spp, "Rays per pixel (reference method)")
+        ->check(CLI::Range(1u, 1024u))
+        ->capture_default_str();
+    demoCmd->add_option("--taa", demoTaa, "on | off")
+        ->check(CLI::IsMember({"on", "off"}))
+        ->capture_default_str();
+    demoCmd->add_option("--view", demo.view, "Debug view: points | cells | eccentricity");
+    demoCmd
+        ->add_option("--gaze", demo.gaze,
+                     "mouse | fixed:X,Y | trace:FILE.csv | track:SOURCE | udp:PORT")
+        ->capture_default_str();
+    demoCmd->add_option("--calibration", demo.calibration, "Calibration file for --gaze track:");
+    demoCmd->add_option("--frame-ms", demo.frameMs,
+                        "Advance trace and camera-path time this much per frame (default: "
+                        "wall clock)");
+    demoCmd->add_option("--frames", demo.frames, "Render this many frames, then exit");
+    demoCmd->add_option("--screenshot", demo.screenshot, "Save the last presented frame (PNG)");
+    demoCmd->add_option("--camera", demo.camera, "Start camera X,Y,Z,TX,TY,TZ[,FOV]");
+    demoCmd->add_option("--camera-path", demo.cameraPath,
+                        "Play a camera path CSV t_ms,ex,ey,ez,tx,ty,tz (R records one)");
+    demoCmd->add_option("--present", demo.present, "fifo | mailbox | immediate")
+        ->capture_default_str();
+    demoCmd
+        ->add_option("--frames-in-flight", demo.framesInFlight,
+                     "1..4; 0 = automatic (1 on a CPU driver, 2 on a GPU)")
+        ->capture_default_str();
+    demoCmd->add_flag("--validate", demo.validate, "Khronos validation layer");
+    demoCmd->add_option("--log", demo.log, "Per-frame CSV: GPU time, gaze, latency");
+    demoCmd->add_option("--cache", demo.cacheDir, "Point-set cache folder");
+    demoCmd->add_flag("--json", demoJson, "Print a JSON summary");
+    demoCmd->add_option("--resize", demo.resize, "FRAME:WxH: resize the window then (tests)");
+
     CLI::App* devicesCmd = app.add_subcommand("devices", "List the Vulkan devices");
     CLI::App* scenesCmd = app.add_subcommand("scenes", "List the built-in scenes");
 
@@ -276,6 +331,10 @@ int main(int argc, char** argv) {
                 throw gt::ArgumentError("--screen " + screen + ": expected WxH");
             const nlohmann::json result = gt::app::runCalibrate(calibrate);
             std::cout << (calibrateJson ? result.dump() : result.dump(2)) << std::endl;
+        } else if (demoCmd->parsed()) {
+            demo.taa = demoTaa == "on";
+            const nlohmann::json result = gt::app::runDemo(demo);
+            if (demoJson) std::cout << result.dump() << std::endl;
         } else if (devicesCmd->parsed()) {
             for (const std::string& line : gt::vk::Context::listDevices())
                 std::cout << line << "\n";

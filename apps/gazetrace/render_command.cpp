@@ -1,4 +1,5 @@
 #include "render_command.hpp"
+#include "view_args.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -47,46 +48,6 @@ glm::vec2 parseGaze(const std::string& text, uint32_t w, uint32_t h) {
                             std::to_string(h) + " screen");
     }
     return {x, y};
-}
-
-// --camera X,Y,Z,TX,TY,TZ[,FOV]: eye and look-at target in scene units, and the vertical field
-// of view in degrees (default: the scene camera's, known once the scene is loaded).
-struct CameraArg {
-    glm::vec3 eye{0.0f}, target{0.0f};
-    std::optional<float> yfovDeg;
-};
-
-std::optional<CameraArg> parseCamera(const std::string& text) {
-    if (text.empty()) {
-        return std::nullopt;
-    }
-    std::vector<float> v;
-    std::vector<std::string> fields;
-    std::stringstream in(text);
-    for (std::string field; std::getline(in, field, ',');) {
-        fields.push_back(field);
-        char* end = nullptr;
-        const float x = std::strtof(field.c_str(), &end);
-        if (end != field.c_str() && *end == '\0' && std::isfinite(x)) {
-            v.push_back(x);
-        }
-    }
-    if (text.back() == ',' || v.size() != fields.size() || (v.size() != 6 && v.size() != 7)) {
-        throw ArgumentError("--camera: expected X,Y,Z,TX,TY,TZ[,FOV_DEG], got '" + text + "'");
-    }
-    CameraArg c{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, std::nullopt};
-    if (glm::length(c.target - c.eye) < 1e-6f) {
-        throw ArgumentError("--camera: the eye and the target are the same point in '" + text +
-                            "'");
-    }
-    if (v.size() == 7) {
-        if (!(v[6] >= 1.0f && v[6] <= 179.0f)) {
-            throw ArgumentError("--camera: the field of view must be 1..179 degrees, got " +
-                                fields[6]);
-        }
-        c.yfovDeg = v[6];
-    }
-    return c;
 }
 
 // The camera as --camera takes it, so a framing found here can be given back.
@@ -145,8 +106,11 @@ nlohmann::json runRender(const RenderOptions& o) {
     if (foveated) {
         psParams.display = foveation::displayProfile(o.profile);
         psParams.scale = o.scale;
-        if (o.sizeGiven &&
-            (o.width != psParams.display.width || o.height != psParams.display.height)) {
+        if (o.sizeGiven && o.profile == "desktop") {
+            // A window on the desktop screen: its own point set at the screen's pixels per degree.
+            psParams.display = foveation::windowProfile(psParams.display, o.width, o.height);
+        } else if (o.sizeGiven &&
+                   (o.width != psParams.display.width || o.height != psParams.display.height)) {
             throw ArgumentError("--width/--height: the " + o.profile + " profile renders " +
                                 std::to_string(psParams.display.width) + "x" +
                                 std::to_string(psParams.display.height));

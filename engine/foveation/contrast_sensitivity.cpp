@@ -22,6 +22,13 @@ DisplayProfile displayProfile(const std::string& name) {
     throw ArgumentError("unknown display profile '" + name + "' (known: fove, vive, desktop)");
 }
 
+DisplayProfile windowProfile(const DisplayProfile& screen, uint32_t width, uint32_t height) {
+    if (width == 0 || height == 0) throw ArgumentError("a window of zero size");
+    if (width == screen.width && height == screen.height) return screen;
+    return {screen.name + "-" + std::to_string(width) + "x" + std::to_string(height), width, height,
+            screen.viewingDistance * static_cast<double>(screen.width) / width};
+}
+
 std::vector<std::string> displayProfileNames() {
     return {"fove", "vive", "desktop"};
 }

@@ -26,6 +26,11 @@ struct DisplayProfile {
 // 59 cm (seed 002's setup), v = 59 / 51.
 [[nodiscard]] DisplayProfile displayProfile(const std::string& name);
 [[nodiscard]] std::vector<std::string> displayProfileNames();
+// A window of `width` x `height` pixels on the screen of `screen` (same pixel pitch, same viewing
+// distance): the profile a point set for that window needs, with the screen's pixels per degree.
+// v is in display widths, so it grows as the window narrows: v = v_screen * N_screen / N_window.
+[[nodiscard]] DisplayProfile windowProfile(const DisplayProfile& screen, uint32_t width,
+                                           uint32_t height);
 
 struct ContrastSensitivity {
     double ct0 = 1.0 / 64.0; // minimum contrast threshold

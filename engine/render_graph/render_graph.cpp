@@ -33,11 +33,12 @@ AccessInfo accessInfo(Access a) noexcept {
     case Access::UniformRead:
         return {cs, VK_ACCESS_2_UNIFORM_READ_BIT | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT,
                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, false, true};
-    case Access::TransferSrc:
-        return {VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
-                VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, false, true};
-    case Access::TransferDst:
-        return {VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_CLEAR_BIT,
+    case Access::TransferSrc: // copies and blits
+        return {VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_BLIT_BIT,
+                VK_ACCESS_2_TRANSFER_READ_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, false, true};
+    case Access::TransferDst: // copies, blits and clears
+        return {VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_BLIT_BIT |
+                    VK_PIPELINE_STAGE_2_CLEAR_BIT,
                 VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, true, false};
     case Access::HostRead:
         return {VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT, VK_IMAGE_LAYOUT_GENERAL,
@@ -45,6 +46,10 @@ AccessInfo accessInfo(Access a) noexcept {
     case Access::Present:
         return {VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, false,
                 true};
+    case Access::ColorAttachment:
+        return {VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, true, true};
     }
     return {};
 }
@@ -69,6 +74,8 @@ const char* toString(Access a) noexcept {
         return "host-read";
     case Access::Present:
         return "present";
+    case Access::ColorAttachment:
+        return "color-attachment";
     }
     return "?";
 }
@@ -481,6 +488,9 @@ CompiledGraph RenderGraph::compile() const {
                                       ? VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT
                                       : ai.stage;
             state[r].writeAccess = ai.writes ? ai.access : VK_ACCESS_2_NONE;
+        } else if (res.imported && res.image &&
+                   res.importedTexture.acquireStage != VK_PIPELINE_STAGE_2_NONE) {
+            state[r].writeStage = res.importedTexture.acquireStage; // the semaphore wait
         }
     }
     auto usageBits = [&](uint32_t r, Access a) {
@@ -500,6 +510,9 @@ CompiledGraph RenderGraph::compile() const {
                 break;
             case Access::TransferDst:
                 out.imageUsage[r] |= VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+                break;
+            case Access::ColorAttachment:
+                out.imageUsage[r] |= VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
                 break;
             default:
                 break;

@@ -45,6 +45,9 @@ enum class Access : uint8_t {
     TransferDst,
     HostRead, // the CPU reads it after the frame (readback buffers)
     Present,  // handed to the presentation engine
+    // Drawn into inside a render pass (the overlay: a third-party backend records its draws
+    // there; the graph places the barriers around the pass, never inside it).
+    ColorAttachment,
 };
 
 struct AccessInfo {
@@ -88,6 +91,10 @@ struct ImportedTexture {
     std::optional<Access> initialAccess; // how it was last used; empty = contents undefined
     std::optional<Access> finalAccess;   // transition to this after the frame, if set
     uint32_t layer = 0; // array layer the graph uses and transitions (an OpenXR array swapchain)
+    // With no initialAccess: the stages a semaphore wait of this frame's submit covers (a
+    // swapchain image's acquire). The first barrier chains to them, so its layout transition
+    // waits for the image to be free.
+    VkPipelineStageFlags2 acquireStage = VK_PIPELINE_STAGE_2_NONE;
 };
 
 struct ImportedBuffer {

@@ -65,31 +65,46 @@ bool hasDeviceExtension(VkPhysicalDevice pd, const char* name) {
     return false;
 }
 
-std::optional<uint32_t> computeQueueFamily(VkPhysicalDevice pd) {
+bool presents(VkPhysicalDevice pd, uint32_t family, VkSurfaceKHR surface) {
+    if (surface == VK_NULL_HANDLE) return true;
+    VkBool32 ok = VK_FALSE;
+    return vkGetPhysicalDeviceSurfaceSupportKHR(pd, family, surface, &ok) == VK_SUCCESS && ok;
+}
+
+// One queue does everything: compute, graphics (the overlay) and, with a surface, present.
+std::optional<uint32_t> computeQueueFamily(VkPhysicalDevice pd,
+                                           VkSurfaceKHR surface = VK_NULL_HANDLE) {
     uint32_t n = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
     std::vector<VkQueueFamilyProperties> families(n);
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, families.data());
-    // Prefer a family with graphics + compute (the display path needs graphics later).
     for (uint32_t i = 0; i < n; ++i) {
         constexpr VkQueueFlags both = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
-        if ((families[i].queueFlags & both) == both && families[i].timestampValidBits > 0) return i;
+        if ((families[i].queueFlags & both) == both && families[i].timestampValidBits > 0 &&
+            presents(pd, i, surface)) {
+            return i;
+        }
     }
+    if (surface != VK_NULL_HANDLE) return std::nullopt;
     for (uint32_t i = 0; i < n; ++i) {
         if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) return i;
     }
     return std::nullopt;
 }
 
-DeviceCandidate describe(VkPhysicalDevice pd) {
+DeviceCandidate describe(VkPhysicalDevice pd, VkSurfaceKHR surface,
+                         const std::vector<std::string>& extraExtensions) {
     VkPhysicalDeviceProperties props{};
     vkGetPhysicalDeviceProperties(pd, &props);
     DeviceCandidate c;
     c.name = props.deviceName;
     c.type = props.deviceType;
     c.apiVersion = props.apiVersion;
-    c.hasComputeQueue = computeQueueFamily(pd).has_value();
+    c.hasComputeQueue = computeQueueFamily(pd, surface).has_value();
     c.hasRequiredExtensions = hasDeviceExtension(pd, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
+    for (const std::string& e : extraExtensions) {
+        c.hasRequiredExtensions = c.hasRequiredExtensions && hasDeviceExtension(pd, e.c_str());
+    }
     if (c.apiVersion >= VK_API_VERSION_1_3) {
         VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
         VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
@@ -117,8 +132,12 @@ std::vector<VkPhysicalDevice> enumerate(VkInstance instance) {
 Context::Context(const ContextOptions& options) {
     try {
         createInstance(options);
+        if (options.createSurface) {
+            mSurface = options.createSurface(mInstance);
+            if (mSurface == VK_NULL_HANDLE) throw Error("the window system gave no surface");
+        }
         pickPhysicalDevice(options);
-        createDevice();
+        createDevice(options);
     } catch (...) {
         release(); // the destructor will not run: free what was created so far
         throw;
@@ -136,6 +155,12 @@ void Context::createInstance(const ContextOptions& options) {
     std::vector<const char*> extensions;
     mDebugUtils = hasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     if (mDebugUtils) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    for (const std::string& e : options.instanceExtensions) {
+        if (!hasInstanceExtension(e.c_str())) {
+            throw Error("the Vulkan instance lacks " + e + ", which the display needs");
+        }
+        extensions.push_back(e.c_str());
+    }
     if (options.validation) {
         if (!hasLayer(kValidationLayer)) {
             throw Error("validation requested but VK_LAYER_KHRONOS_validation is not installed "
@@ -157,11 +182,16 @@ void Context::createInstance(const ContextOptions& options) {
     if (options.validation && options.synchronizationValidation) info.pNext = &features;
     info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
     info.ppEnabledExtensionNames = extensions.data();
-    const VkResult r = vkCreateInstance(&info, nullptr, &mInstance);
-    if (r == VK_ERROR_INCOMPATIBLE_DRIVER) {
-        throw Error("no Vulkan driver found (install mesa-vulkan-drivers for lavapipe)");
+    if (options.createInstance) {
+        mInstance = options.createInstance(info);
+        if (mInstance == VK_NULL_HANDLE) throw Error("the instance hook gave no Vulkan instance");
+    } else {
+        const VkResult r = vkCreateInstance(&info, nullptr, &mInstance);
+        if (r == VK_ERROR_INCOMPATIBLE_DRIVER) {
+            throw Error("no Vulkan driver found (install mesa-vulkan-drivers for lavapipe)");
+        }
+        GT_VK_CHECK(r);
     }
-    GT_VK_CHECK(r);
 
     if (options.validation) {
         // A messenger passed only through VkInstanceCreateInfo::pNext covers instance creation
@@ -190,25 +220,33 @@ void Context::createInstance(const ContextOptions& options) {
 }
 
 void Context::pickPhysicalDevice(const ContextOptions& options) {
-    const std::vector<VkPhysicalDevice> devices = enumerate(mInstance);
-    std::vector<DeviceCandidate> candidates;
-    candidates.reserve(devices.size());
-    for (VkPhysicalDevice pd : devices)
-        candidates.push_back(describe(pd));
-    const DeviceChoice choice = chooseDevice(candidates, options.deviceOverride);
-    if (!choice.index) throw Error(choice.error);
-    mPhysicalDevice = devices[*choice.index];
+    if (options.choosePhysicalDevice) {
+        // The runtime's device: it must still do what gazetrace needs.
+        mPhysicalDevice = options.choosePhysicalDevice(mInstance);
+        const DeviceCandidate c = describe(mPhysicalDevice, mSurface, options.deviceExtensions);
+        const DeviceChoice choice = chooseDevice({c}, "");
+        if (!choice.index) throw Error("the device the runtime requires: " + choice.error);
+    } else {
+        const std::vector<VkPhysicalDevice> devices = enumerate(mInstance);
+        std::vector<DeviceCandidate> candidates;
+        candidates.reserve(devices.size());
+        for (VkPhysicalDevice pd : devices)
+            candidates.push_back(describe(pd, mSurface, options.deviceExtensions));
+        const DeviceChoice choice = chooseDevice(candidates, options.deviceOverride);
+        if (!choice.index) throw Error(choice.error);
+        mPhysicalDevice = devices[*choice.index];
+    }
     vkGetPhysicalDeviceProperties(mPhysicalDevice, &mProps);
     VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
     VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
     p2.pNext = &driver;
     vkGetPhysicalDeviceProperties2(mPhysicalDevice, &p2);
     mDriverInfo = std::string(driver.driverName) + " " + driver.driverInfo;
-    mQueueFamily = *computeQueueFamily(mPhysicalDevice);
+    mQueueFamily = *computeQueueFamily(mPhysicalDevice, mSurface);
     if (options.announceDevice) log::info("device: " + deviceDescription());
 }
 
-void Context::createDevice() {
+void Context::createDevice(const ContextOptions& options) {
     const float priority = 1.0f;
     VkDeviceQueueCreateInfo q{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     q.queueFamilyIndex = mQueueFamily;
@@ -223,14 +261,21 @@ void Context::createDevice() {
     VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     f2.pNext = &f12;
 
-    const std::vector<const char*> extensions = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    std::vector<const char*> extensions = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    for (const std::string& e : options.deviceExtensions)
+        extensions.push_back(e.c_str());
     VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     info.pNext = &f2;
     info.queueCreateInfoCount = 1;
     info.pQueueCreateInfos = &q;
     info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
     info.ppEnabledExtensionNames = extensions.data();
-    GT_VK_CHECK(vkCreateDevice(mPhysicalDevice, &info, nullptr, &mDevice));
+    if (options.createDevice) {
+        mDevice = options.createDevice(mPhysicalDevice, info);
+        if (mDevice == VK_NULL_HANDLE) throw Error("the device hook gave no Vulkan device");
+    } else {
+        GT_VK_CHECK(vkCreateDevice(mPhysicalDevice, &info, nullptr, &mDevice));
+    }
     vkGetDeviceQueue(mDevice, mQueueFamily, 0, &mQueue);
     mPushDescriptorSet = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
         vkGetDeviceProcAddr(mDevice, "vkCmdPushDescriptorSetKHR"));
@@ -254,6 +299,8 @@ void Context::release() noexcept {
     if (mFence != VK_NULL_HANDLE) vkDestroyFence(mDevice, mFence, nullptr);
     if (mCommandPool != VK_NULL_HANDLE) vkDestroyCommandPool(mDevice, mCommandPool, nullptr);
     if (mDevice != VK_NULL_HANDLE) vkDestroyDevice(mDevice, nullptr);
+    if (mSurface != VK_NULL_HANDLE) vkDestroySurfaceKHR(mInstance, mSurface, nullptr);
+    mSurface = VK_NULL_HANDLE;
     if (mMessenger != VK_NULL_HANDLE) {
         auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
             vkGetInstanceProcAddr(mInstance, "vkDestroyDebugUtilsMessengerEXT"));
@@ -341,7 +388,7 @@ std::vector<std::string> Context::listDevices() {
     std::vector<std::string> lines;
     const auto devices = enumerate(instance);
     for (std::size_t i = 0; i < devices.size(); ++i) {
-        const DeviceCandidate c = describe(devices[i]);
+        const DeviceCandidate c = describe(devices[i], VK_NULL_HANDLE, {});
         lines.push_back(std::to_string(i) + ": " + c.name + " (" + typeName(c.type) + ")");
     }
     vkDestroyInstance(instance, nullptr);

@@ -20,6 +20,19 @@ struct ContextOptions {
         false;                  // VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION
     std::string deviceOverride; // GAZETRACE_DEVICE; empty = automatic choice
     bool announceDevice = true; // print the chosen device on stderr
+    // Extensions beyond gazetrace's own: a window system's (glfwGetRequiredInstanceExtensions),
+    // VK_KHR_swapchain, what an OpenXR runtime asks for.
+    std::vector<std::string> instanceExtensions;
+    std::vector<std::string> deviceExtensions;
+    // Creates the surface the chosen device must present to, once the instance exists (a GLFW
+    // window's). The context owns it from then on and destroys it before the instance.
+    std::function<VkSurfaceKHR(VkInstance)> createSurface;
+    // Someone else creates the instance and the device from gazetrace's create infos and picks
+    // the physical device (OpenXR's XR_KHR_vulkan_enable2: xrCreateVulkanInstanceKHR,
+    // xrGetVulkanGraphicsDevice2KHR, xrCreateVulkanDeviceKHR). Each returns the handle or throws.
+    std::function<VkInstance(const VkInstanceCreateInfo&)> createInstance;
+    std::function<VkPhysicalDevice(VkInstance)> choosePhysicalDevice;
+    std::function<VkDevice(VkPhysicalDevice, const VkDeviceCreateInfo&)> createDevice;
 };
 
 // Counts what the validation layer reports; tests fail on any error.
@@ -42,6 +55,8 @@ public:
     [[nodiscard]] VkDevice device() const noexcept { return mDevice; }
     [[nodiscard]] VkQueue queue() const noexcept { return mQueue; }
     [[nodiscard]] uint32_t queueFamily() const noexcept { return mQueueFamily; }
+    // The surface of ContextOptions::createSurface (VK_NULL_HANDLE without one).
+    [[nodiscard]] VkSurfaceKHR surface() const noexcept { return mSurface; }
     [[nodiscard]] const VkPhysicalDeviceProperties& properties() const noexcept { return mProps; }
     [[nodiscard]] std::string deviceName() const { return mProps.deviceName; }
     [[nodiscard]] std::string deviceDescription() const; // "name (type, driver)"
@@ -68,11 +83,12 @@ public:
 private:
     void createInstance(const ContextOptions& options);
     void pickPhysicalDevice(const ContextOptions& options);
-    void createDevice();
+    void createDevice(const ContextOptions& options);
     void release() noexcept;
 
     VkInstance mInstance = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT mMessenger = VK_NULL_HANDLE;
+    VkSurfaceKHR mSurface = VK_NULL_HANDLE;
     VkPhysicalDevice mPhysicalDevice = VK_NULL_HANDLE;
     VkPhysicalDeviceProperties mProps{};
     std::string mDriverInfo;

@@ -44,8 +44,8 @@ std::string lower(std::string s) {
 
 std::string unsuitableReason(const DeviceCandidate& c) {
     if (c.apiVersion < VK_API_VERSION_1_3) return "needs Vulkan 1.3";
-    if (!c.hasComputeQueue) return "no compute queue";
-    if (!c.hasRequiredExtensions) return "missing VK_KHR_push_descriptor";
+    if (!c.hasComputeQueue) return "no queue for compute (and presenting to the window)";
+    if (!c.hasRequiredExtensions) return "missing VK_KHR_push_descriptor or a display extension";
     if (!c.hasRequiredFeatures) return "missing synchronization2 or timeline features";
     return {};
 }

@@ -12,62 +12,18 @@
 #include <sys/wait.h>
 
 #include "scene/image_io.hpp"
+#include "support/cli_run.hpp"
 #include "support/gltf_fixtures.hpp"
 #include "support/gpu_test_context.hpp"
 
 namespace gt {
 namespace {
 
-struct Result {
-    int status = -1;
-    std::string out, err;
-};
-
-std::string slurp(const std::filesystem::path& p) {
-    std::ifstream f(p);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
-
-Result run(const std::string& args) {
-    // Per-test names: ctest runs the CLI tests in parallel.
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const auto dir = std::filesystem::temp_directory_path();
-    const std::string tag = info ? info->name() : "x";
-    const auto out = dir / ("gazetrace_cli_" + tag + ".out"),
-               err = dir / ("gazetrace_cli_" + tag + ".err");
-    const std::string cmd =
-        std::string(GT_GAZETRACE_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
-    const int raw = std::system(cmd.c_str());
-    Result r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-}
-
-int lines(const std::string& s) {
-    int n = 0;
-    for (char c : s)
-        n += c == '\n';
-    return n;
-}
-
-void expectCleanFailure(const Result& r, const std::string& mention,
-                        const std::filesystem::path& out) {
-    EXPECT_NE(r.status, 0);
-    EXPECT_NE(r.err.find("error"), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find(mention), std::string::npos) << r.err;
-    EXPECT_EQ(lines(r.err), 1) << "expected one line, got: " << r.err;
-    EXPECT_FALSE(std::filesystem::exists(out)) << out << " was left behind";
-    if (!std::filesystem::is_directory(out.parent_path())) return;
-    for (const auto& e : std::filesystem::directory_iterator(out.parent_path())) {
-        const std::string name = e.path().filename().string();
-        EXPECT_EQ(name.find(".tmp"), std::string::npos) << e.path();     // the engine's temporaries
-        EXPECT_EQ(name.find(".partial"), std::string::npos) << e.path(); // the eye tracker's
-    }
-}
+using test::expectCleanFailure;
+using test::lines;
+using test::Result;
+using test::run;
+using test::slurp;
 
 TEST(Cli, RenderPrintsJsonAndWritesPng) {
     const auto dir = test::tempDir("cli");

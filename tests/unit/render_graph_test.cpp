@@ -105,7 +105,8 @@ TEST(RenderGraph, PlacesReadAfterWriteBarrierWithLayout) {
     ASSERT_NE(img, nullptr);
     EXPECT_EQ(img->srcStage, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
     EXPECT_EQ(img->srcAccess, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    EXPECT_EQ(img->dstStage, VK_PIPELINE_STAGE_2_COPY_BIT);
+    EXPECT_EQ(img->dstStage,
+              VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_BLIT_BIT); // copies and blits
     EXPECT_EQ(img->dstAccess, VK_ACCESS_2_TRANSFER_READ_BIT);
     EXPECT_EQ(img->oldLayout, VK_IMAGE_LAYOUT_GENERAL);
     EXPECT_EQ(img->newLayout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
@@ -172,7 +173,7 @@ TEST(RenderGraph, PlacesWriteAfterWriteAndWriteAfterReadBarriersOnBuffers) {
     EXPECT_EQ(barrierFor(2)->dstAccess, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     // copy: compute write -> transfer read.
     ASSERT_NE(barrierFor(3), nullptr);
-    EXPECT_EQ(barrierFor(3)->dstStage, VK_PIPELINE_STAGE_2_COPY_BIT);
+    EXPECT_EQ(barrierFor(3)->dstStage, VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_BLIT_BIT);
 }
 
 TEST(RenderGraph, SecondReaderOfTheSameVersionNeedsNoBarrier) {

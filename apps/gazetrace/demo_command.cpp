@@ -1,0 +1,378 @@
+#include "demo_command.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "foveation/contrast_sensitivity.hpp"
+#include "foveation/neighbour_index.hpp"
+#include "foveation/point_set_cache.hpp"
+#include "full_resolution.hpp"
+#include "gaze_input.hpp"
+#include "point_set_method.hpp"
+#include "renderer.hpp"
+#include "scene/camera_path.hpp"
+#include "scene/image_io.hpp"
+#include "swapchain_target.hpp"
+#include "view_args.hpp"
+#include "vk/context.hpp"
+#include "vk/swapchain.hpp"
+#include "window.hpp"
+
+namespace gt::app {
+
+namespace {
+
+double msBetween(SteadyClock::time_point a, SteadyClock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+// Free flight: WASD (and Q/E down/up) move, the mouse turns the view while the right button is
+// held, so the mouse can still be the gaze the rest of the time. Speed follows the scene's size.
+class FlyCamera {
+public:
+    FlyCamera(const scene::Camera& start, float speed) : mCamera(start), mSpeed(speed) {}
+    void update(Window& w, double dtS) {
+        const glm::vec3 f = glm::normalize(mCamera.forward);
+        const glm::vec3 r = glm::normalize(glm::cross(f, glm::vec3(0, 1, 0)));
+        glm::vec3 move(0.0f);
+        if (w.key(GLFW_KEY_W)) move += f;
+        if (w.key(GLFW_KEY_S)) move -= f;
+        if (w.key(GLFW_KEY_D)) move += r;
+        if (w.key(GLFW_KEY_A)) move -= r;
+        if (w.key(GLFW_KEY_E)) move += glm::vec3(0, 1, 0);
+        if (w.key(GLFW_KEY_Q)) move -= glm::vec3(0, 1, 0);
+        if (glm::length(move) > 0.0f) {
+            const float boost = w.key(GLFW_KEY_LEFT_SHIFT) ? 4.0f : 1.0f;
+            mCamera.position += glm::normalize(move) * mSpeed * boost * static_cast<float>(dtS);
+            mMoved = true;
+        }
+        const glm::vec2 c = w.cursor();
+        if (w.mouseButton(GLFW_MOUSE_BUTTON_RIGHT)) {
+            if (mLook) {
+                const glm::vec2 d = (c - *mLook) * 0.004f;
+                mYaw -= d.x;
+                mPitch = std::clamp(mPitch - d.y, -1.5f, 1.5f);
+                if (d.x != 0.0f || d.y != 0.0f) mMoved = true;
+            } else {
+                mYaw = std::atan2(f.x, -f.z);
+                mPitch = std::asin(std::clamp(f.y, -1.0f, 1.0f));
+            }
+            mLook = c;
+            mCamera.forward = glm::vec3(std::sin(mYaw) * std::cos(mPitch), std::sin(mPitch),
+                                        -std::cos(mYaw) * std::cos(mPitch));
+            mCamera.up = glm::vec3(0, 1, 0);
+        } else {
+            mLook.reset();
+        }
+    }
+    [[nodiscard]] const scene::Camera& camera() const noexcept { return mCamera; }
+    void set(const scene::Camera& c) { mCamera = c; }
+    [[nodiscard]] bool takeMoved() {
+        const bool m = mMoved;
+        mMoved = false;
+        return m;
+    }
+
+private:
+    scene::Camera mCamera;
+    float mSpeed;
+    std::optional<glm::vec2> mLook;
+    float mYaw = 0.0f, mPitch = 0.0f;
+    bool mMoved = false;
+};
+
+// The foveation method for the current window size: a point set per size, built on first use
+// and cached on disk like the command line's (desktop screen, same pixels per degree).
+class Methods {
+public:
+    Methods(render::Renderer& r, const DemoOptions& o) : mRenderer(r), mOptions(o) {}
+    render::FoveationMethod& forSize(uint32_t w, uint32_t h) {
+        if (mOptions.method == "reference") {
+            if (!mReference) {
+                mReference.emplace(mRenderer.methodContext(),
+                                   passes::ReferenceSettings{mOptions.spp, 0});
+            }
+            return *mReference;
+        }
+        auto& slot = mPointSets[{w, h}];
+        if (!slot) {
+            const auto t = SteadyClock::now();
+            foveation::PointSetParams params;
+            params.display = foveation::windowProfile(foveation::displayProfile("desktop"), w, h);
+            params.scale = mOptions.scale;
+            slot = std::make_unique<render::PointSetMethod>(
+                mRenderer.methodContext(), params,
+                mOptions.cacheDir.empty() ? foveation::defaultCacheDir()
+                                          : std::filesystem::path(mOptions.cacheDir));
+            passes::InterpolateSettings interp;
+            interp.method = mOptions.view.empty() ? passes::parseInterpolation(mOptions.interp)
+                                                  : passes::parseView(mOptions.view);
+            interp.k = mOptions.k;
+            slot->settings = {mOptions.raysPerPoint, interp};
+            mBuildMs = msBetween(t, SteadyClock::now());
+            log::info("point set for a " + std::to_string(w) + "x" + std::to_string(h) +
+                      " window ready in " + std::to_string(static_cast<int>(mBuildMs)) + " ms");
+        }
+        return *slot;
+    }
+    [[nodiscard]] double lastBuildMs() const noexcept { return mBuildMs; }
+
+private:
+    render::Renderer& mRenderer;
+    const DemoOptions& mOptions;
+    std::optional<render::FullResolution> mReference;
+    std::map<std::pair<uint32_t, uint32_t>, std::unique_ptr<render::PointSetMethod>> mPointSets;
+    double mBuildMs = 0.0;
+};
+
+void checkOptions(const DemoOptions& o) {
+    if (o.method != "foveated" && o.method != "reference") {
+        throw ArgumentError("--method: '" + o.method + "' (known: foveated, reference)");
+    }
+    if (o.method == "foveated") {
+        (void)passes::parseInterpolation(o.interp);
+        if (!o.view.empty()) (void)passes::parseView(o.view);
+        if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
+            throw ArgumentError("--k must be 1..20");
+        }
+    }
+    if (!(o.frameMs >= 0.0)) throw ArgumentError("--frame-ms must not be negative");
+    if (o.framesInFlight > 4) {
+        throw ArgumentError("--frames-in-flight must be 0 (automatic) to 4");
+    }
+    (void)vk::parsePresentMode(o.present);
+    if (!o.screenshot.empty() && std::filesystem::path(o.screenshot).extension() != ".png") {
+        throw ArgumentError("--screenshot: give a .png file, got '" + o.screenshot + "'");
+    }
+}
+
+} // namespace
+
+nlohmann::json runDemo(const DemoOptions& o) {
+    checkOptions(o);
+    std::optional<std::pair<uint32_t, VkExtent2D>> resizeAt;
+    if (!o.resize.empty()) {
+        unsigned f = 0, w = 0, h = 0;
+        char extra = 0;
+        if (std::sscanf(o.resize.c_str(), "%u:%ux%u%c", &f, &w, &h, &extra) != 3 || w < 16 ||
+            h < 16 || w > 8192 || h > 8192) {
+            throw ArgumentError("--resize: expected FRAME:WxH (16..8192), got '" + o.resize + "'");
+        }
+        resizeAt = {f, VkExtent2D{w, h}};
+    }
+    const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
+    std::optional<scene::CameraPath> path;
+    if (!o.cameraPath.empty()) path = scene::CameraPath::load(o.cameraPath);
+    std::unique_ptr<std::ofstream> log;
+    if (!o.log.empty()) {
+        log = std::make_unique<std::ofstream>(o.log + ".tmp");
+        if (!*log) throw Error("--log: cannot write " + o.log);
+        *log << "frame,t_ms,frame_ms,gpu_ms,gaze_x,gaze_y,gaze_sequence,latency_ms\n";
+    }
+
+    // The gaze source first: a bad one fails before a window opens. The mouse reads the window
+    // once it exists.
+    std::optional<Window> window;
+    GazeInputContext gazeContext;
+    gazeContext.calibration = o.calibration;
+    gazeContext.cursor = [&window] { return window ? window->cursor() : glm::vec2(0.0f); };
+    std::unique_ptr<GazeInput> gaze = openGazeInput(o.gaze, gazeContext);
+    window.emplace("gazetrace", o.width, o.height);
+
+    render::RendererOptions ro;
+    ro.scene = o.scene;
+    ro.validate = o.validate;
+    ro.framesInFlight = o.framesInFlight;
+    const char* device = std::getenv("GAZETRACE_DEVICE");
+    ro.deviceOverride = device ? device : "";
+    ro.display.instanceExtensions = window->requiredInstanceExtensions();
+    ro.display.deviceExtensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
+    ro.display.createSurface = [&window](VkInstance i) { return window->createSurface(i); };
+    render::Renderer renderer(ro);
+    vk::Context& ctx = renderer.context();
+    vk::Swapchain swapchain(ctx, window->framebufferSize(), vk::parsePresentMode(o.present));
+    render::SwapchainTarget target(ctx);
+    render::OutputTarget* const targetPtr = &target;
+    Methods methods(renderer, o);
+
+    const scene::Scene& sc = renderer.scene();
+    const float sceneSize = glm::length(sc.boundsMax() - sc.boundsMin());
+    scene::Camera start = sc.camera;
+    if (cameraArg) start = cameraArg->camera(sc.camera.yfov);
+    FlyCamera fly(start, std::max(0.25f * sceneSize, 0.1f));
+    std::optional<std::vector<scene::CameraKey>> recording;
+
+    const auto t0 = SteadyClock::now();
+    auto last = t0;
+    std::vector<double> frameTimes, latencies;
+    std::map<uint64_t, std::pair<SteadyClock::time_point, uint64_t>> inFlight; // gaze per frame
+    std::optional<glm::vec2> gazePx;
+    bool taa = o.taa;
+    uint32_t frame = 0;
+    int screenshotsTaken = 0;
+    double fpsShown = 0.0;
+    while (!window->shouldClose() && (o.frames == 0 || frame < o.frames)) {
+        if (resizeAt && frame == resizeAt->first) {
+            window->setSize(resizeAt->second.width, resizeAt->second.height);
+            resizeAt.reset();
+        }
+        window->poll();
+        VkExtent2D fb = window->framebufferSize();
+        if (fb.width == 0 || fb.height == 0) {
+            window->waitEvents(); // minimised: nothing to draw
+            continue;
+        }
+        if (window->takeResized() || fb.width != swapchain.extent().width ||
+            fb.height != swapchain.extent().height) {
+            swapchain.recreate(fb);
+        }
+        for (const int key : window->takePressedKeys()) {
+            if (key == GLFW_KEY_ESCAPE) window->requestClose();
+            if (key == GLFW_KEY_T) taa = !taa;
+            if (key == GLFW_KEY_P) target.requestScreenshot();
+            if (key == GLFW_KEY_R) {
+                if (recording) {
+                    const std::string file = "camera_path.csv";
+                    scene::CameraPath::fromKeys(std::move(*recording)).save(file);
+                    log::info("recorded camera path written to " + file);
+                    recording.reset();
+                } else {
+                    recording.emplace();
+                    log::info("recording the camera path (R again to stop)");
+                }
+            }
+        }
+        const auto now = SteadyClock::now();
+        const double dtS = std::min(msBetween(last, now) * 1e-3, 0.25);
+        last = now;
+        const double tMs = o.frameMs > 0.0 ? frame * o.frameMs : msBetween(t0, now);
+        fly.update(*window, dtS);
+        if (path) fly.set(path->at(path->startMs() + tMs, fly.camera().yfov));
+        if (recording) {
+            const scene::Camera& c = fly.camera();
+            recording->push_back({tMs, c.position, c.position + glm::normalize(c.forward)});
+        }
+
+        const std::optional<vk::Swapchain::Image> image = swapchain.acquire();
+        if (!image) {
+            swapchain.recreate(window->framebufferSize());
+            continue;
+        }
+        const VkExtent2D ext = swapchain.extent();
+        render::View view;
+        view.camera = fly.camera();
+        view.width = ext.width;
+        view.height = ext.height;
+        view.exposure = sc.exposure;
+        view.method = &methods.forSize(ext.width, ext.height);
+        view.post.taa = taa && o.view.empty();
+        const std::optional<GazeReading> reading = gaze->read(tMs);
+        if (reading) {
+            gazePx = reading->screenPx;
+            view.saccade = reading->saccade;
+        }
+        const glm::vec2 lastPixel(static_cast<float>(ext.width) - 1.0f,
+                                  static_cast<float>(ext.height) - 1.0f);
+        view.gaze = glm::clamp(gazePx.value_or(0.5f * glm::vec2(ext.width, ext.height)),
+                               glm::vec2(0.0f), lastPixel);
+        target.setImage(*image, swapchain.format(), ext);
+        const bool lastFrame = o.frames != 0 && frame + 1 == o.frames;
+        if (lastFrame && !o.screenshot.empty()) target.requestScreenshot();
+        const render::FrameResult result =
+            renderer.renderFrame(std::span(&view, 1), std::span(&targetPtr, 1));
+        if (reading) inFlight[result.number] = {reading->sampled, reading->sequence};
+        if (!swapchain.present(*image)) swapchain.recreate(window->framebufferSize());
+
+        // Frames the GPU finished: their GPU time and the latency from their gaze sample to
+        // the moment the frame was known finished (the driver offers no present timing here).
+        std::vector<rg::CompletedFrame> done = renderer.takeCompleted();
+        if (result.timings) done.push_back({result.number, *result.timings});
+        const auto finishedAt = SteadyClock::now();
+        for (const rg::CompletedFrame& c : done) {
+            double latency = -1.0;
+            uint64_t sequence = 0;
+            if (const auto it = inFlight.find(c.number); it != inFlight.end()) {
+                latency = msBetween(it->second.first, finishedAt);
+                sequence = it->second.second;
+                latencies.push_back(latency);
+                inFlight.erase(it);
+            }
+            if (log) {
+                *log << c.number << "," << tMs << ","
+                     << (frameTimes.empty() ? 0.0 : frameTimes.back()) << "," << c.timings.gpuMs
+                     << "," << view.gaze.x << "," << view.gaze.y << "," << sequence << ","
+                     << latency << "\n";
+            }
+        }
+        frameTimes.push_back(msBetween(now, SteadyClock::now()));
+        ++frame;
+        if (frame % 10 == 0) {
+            fpsShown = 1000.0 / std::max(median(frameTimes), 1e-3);
+            char title[160];
+            std::snprintf(title, sizeof(title), "gazetrace - %.1f fps - %s - gaze %s", fpsShown,
+                          view.method->name().data(), gaze->describe().c_str());
+            glfwSetWindowTitle(window->handle(), title);
+        }
+        if (target.screenshot() && !lastFrame && o.screenshot.empty()) {
+            const std::string file =
+                "gazetrace_screenshot_" + std::to_string(++screenshotsTaken) + ".png";
+            image::writePngAtomic(file, ext.width, ext.height, *target.screenshot());
+            log::info("screenshot written to " + file);
+        }
+    }
+    renderer.waitIdle();
+    if (!o.screenshot.empty()) {
+        if (!target.screenshot()) {
+            throw Error("--screenshot: the window closed before the last frame was shown");
+        }
+        image::writePngAtomic(o.screenshot, target.extent().width, target.extent().height,
+                              *target.screenshot());
+    }
+    if (ctx.validationErrors() > 0) {
+        throw Error(std::to_string(ctx.validationErrors()) + " Vulkan validation error(s)");
+    }
+    if (log) {
+        log->flush();
+        if (!*log) throw Error("--log: cannot write " + o.log);
+        log.reset();
+        std::filesystem::rename(o.log + ".tmp", o.log);
+    }
+    // Steady state: leave out the first frames (pipelines warming, point set building).
+    const std::vector<double> steady =
+        frameTimes.size() > 4 ? std::vector<double>(frameTimes.begin() + 2, frameTimes.end())
+                              : frameTimes;
+    const double frameMedian = median(steady);
+    return {{"device", ctx.deviceName()},
+            {"present_mode", vk::toString(swapchain.presentMode())},
+            {"window", {swapchain.extent().width, swapchain.extent().height}},
+            {"method", o.method},
+            {"gaze_source", gaze->describe()},
+            {"frames", frame},
+            {"frames_in_flight", renderer.framesInFlight()},
+            {"frame_ms_median", frameMedian},
+            {"fps", frameMedian > 0.0 ? 1000.0 / frameMedian : 0.0},
+            {"latency_ms_median", median(latencies)},
+            {"point_set_build_ms", methods.lastBuildMs()},
+            {"screenshot", o.screenshot}};
+}
+
+} // namespace gt::app

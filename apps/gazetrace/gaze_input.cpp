@@ -1,0 +1,213 @@
+#include "gaze_input.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "capture/frame_source.hpp"
+#include "core/error.hpp"
+#include "foveation/gaze_trace.hpp"
+#include "gaze/calibration.hpp"
+#include "gaze/gaze_tracker.hpp"
+
+namespace gt::app {
+
+namespace {
+
+class FixedGaze final : public GazeInput {
+public:
+    explicit FixedGaze(glm::vec2 p) : mPoint(p) {}
+    std::optional<GazeReading> read(double) override {
+        return GazeReading{mPoint, SteadyClock::now(), false, 1};
+    }
+    std::string describe() const override { return "fixed"; }
+
+private:
+    glm::vec2 mPoint;
+};
+
+class MouseGaze final : public GazeInput {
+public:
+    explicit MouseGaze(std::function<glm::vec2()> cursor) : mCursor(std::move(cursor)) {}
+    std::optional<GazeReading> read(double) override {
+        return GazeReading{mCursor(), SteadyClock::now(), false, ++mSequence};
+    }
+    std::string describe() const override { return "mouse"; }
+
+private:
+    std::function<glm::vec2()> mCursor;
+    uint64_t mSequence = 0;
+};
+
+class TraceGaze final : public GazeInput {
+public:
+    TraceGaze(foveation::GazeTrace trace, std::string file)
+        : mTrace(std::move(trace)), mFile(std::move(file)) {}
+    std::optional<GazeReading> read(double frameMs) override {
+        return GazeReading{mTrace.at(mTrace.startMs() + frameMs), SteadyClock::now(), false,
+                           ++mSequence};
+    }
+    std::string describe() const override { return "trace:" + mFile; }
+
+private:
+    foveation::GazeTrace mTrace;
+    std::string mFile;
+    uint64_t mSequence = 0;
+};
+
+class TrackerGaze final : public GazeInput {
+public:
+    TrackerGaze(const std::string& source, const std::string& calibrationFile, glm::uvec2 screen)
+        : mSpec(source), mScreen(screen) {
+        if (calibrationFile.empty()) {
+            throw ArgumentError("--gaze track:" + source +
+                                " needs --calibration (see gazetrace calibrate)");
+        }
+        eyetrack::Calibration calibration = eyetrack::Calibration::load(calibrationFile);
+        mTracker.emplace(eyetrack::openFrameSource(source), std::move(calibration));
+        (void)mTracker->waitForFirstSample(2000.0); // a camera may take a moment to stream
+    }
+    std::optional<GazeReading> read(double) override {
+        if (const auto e = mTracker->error()) {
+            throw Error("--gaze track:" + mSpec + ": " + *e);
+        }
+        const auto g = mTracker->mailbox().latest();
+        if (!g) {
+            return std::nullopt;
+        }
+        // The calibration's screen is the one the targets were shown on; scale to ours.
+        const eyetrack::DisplayGeometry& d = mTracker->display();
+        const glm::vec2 scale(static_cast<float>(mScreen.x) / static_cast<float>(d.widthPx),
+                              static_cast<float>(mScreen.y) / static_cast<float>(d.heightPx));
+        const uint64_t saccades = mTracker->saccades();
+        const bool saccade = saccades != mSaccadesSeen;
+        mSaccadesSeen = saccades;
+        return GazeReading{glm::vec2(g->x, g->y) * scale, SteadyClock::now(), saccade,
+                           mTracker->frames()};
+    }
+    std::string describe() const override { return "track:" + mSpec; }
+
+private:
+    std::string mSpec;
+    glm::uvec2 mScreen;
+    std::optional<eyetrack::GazeTracker> mTracker;
+    uint64_t mSaccadesSeen = 0;
+};
+
+// Datagrams of `gazetrace track --emit`: one JSON object each with t_ms, x, y (screen pixels),
+// confidence, event and saccade_onset. The newest valid one wins; the rest are counted.
+class UdpGaze final : public GazeInput {
+public:
+    UdpGaze(const std::string& host, int port) : mWhere(host + ":" + std::to_string(port)) {
+        auto bad = [&](const std::string& why) {
+            return ArgumentError("--gaze udp:" + mWhere + ": " + why);
+        };
+        mSocket = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK, 0);
+        if (mSocket < 0) throw bad(std::strerror(errno));
+        sockaddr_in addr{};
+        addr.sin_family = AF_INET;
+        addr.sin_port = htons(static_cast<uint16_t>(port));
+        if (::inet_pton(AF_INET, host.c_str(), &addr.sin_addr) != 1) {
+            ::close(mSocket);
+            throw bad("host must be an IPv4 address or localhost");
+        }
+        if (::bind(mSocket, reinterpret_cast<const sockaddr*>(&addr), sizeof(addr)) != 0) {
+            const std::string why = std::strerror(errno);
+            ::close(mSocket);
+            throw bad("cannot listen: " + why);
+        }
+    }
+    ~UdpGaze() override { ::close(mSocket); }
+    UdpGaze(const UdpGaze&) = delete;
+    UdpGaze& operator=(const UdpGaze&) = delete;
+
+    std::optional<GazeReading> read(double) override {
+        char buffer[2048];
+        for (;;) {
+            const ssize_t n = ::recv(mSocket, buffer, sizeof(buffer), 0);
+            if (n < 0) {
+                break; // EAGAIN: drained
+            }
+            const auto j = nlohmann::json::parse(buffer, buffer + n, nullptr, false);
+            if (j.is_discarded() || !j.contains("x") || !j.contains("y") || !j["x"].is_number() ||
+                !j["y"].is_number()) {
+                ++mRejected;
+                continue;
+            }
+            const glm::vec2 p(j["x"].get<float>(), j["y"].get<float>());
+            if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+                ++mRejected;
+                continue;
+            }
+            GazeReading r{p, SteadyClock::now(), false, ++mSequence};
+            r.saccade = (mLast && mLast->saccade) || j.value("saccade_onset", false);
+            mLast = r;
+        }
+        std::optional<GazeReading> out = mLast;
+        if (mLast) {
+            mLast->saccade = false; // reported once
+        }
+        return out;
+    }
+    std::string describe() const override { return "udp:" + mWhere; }
+    [[nodiscard]] uint64_t rejected() const noexcept { return mRejected; }
+
+private:
+    std::string mWhere;
+    int mSocket = -1;
+    std::optional<GazeReading> mLast;
+    uint64_t mSequence = 0, mRejected = 0;
+};
+
+} // namespace
+
+std::unique_ptr<GazeInput> openGazeInput(const std::string& spec, const GazeInputContext& c) {
+    const auto colon = spec.find(':');
+    const std::string kind = spec.substr(0, colon);
+    const std::string rest = colon == std::string::npos ? "" : spec.substr(colon + 1);
+    if (kind == "mouse" && rest.empty()) {
+        if (!c.cursor) throw ArgumentError("--gaze mouse needs a window");
+        return std::make_unique<MouseGaze>(c.cursor);
+    }
+    if (kind == "fixed") {
+        float x = 0, y = 0;
+        char extra = 0;
+        if (std::sscanf(rest.c_str(), "%f,%f%c", &x, &y, &extra) != 2 || !std::isfinite(x) ||
+            !std::isfinite(y)) {
+            throw ArgumentError("--gaze fixed:X,Y: expected two numbers, got '" + rest + "'");
+        }
+        return std::make_unique<FixedGaze>(glm::vec2(x, y));
+    }
+    if (kind == "trace" && !rest.empty()) {
+        return std::make_unique<TraceGaze>(foveation::GazeTrace::load(rest), rest);
+    }
+    if (kind == "track" && !rest.empty()) {
+        return std::make_unique<TrackerGaze>(rest, c.calibration, c.screenPx);
+    }
+    if (kind == "udp" && !rest.empty()) {
+        std::string host = "127.0.0.1", port = rest;
+        if (const auto p = rest.rfind(':'); p != std::string::npos) {
+            host = rest.substr(0, p);
+            port = rest.substr(p + 1);
+        }
+        if (host == "localhost") host = "127.0.0.1";
+        char* end = nullptr;
+        const long n = std::strtol(port.c_str(), &end, 10);
+        if (port.empty() || *end != '\0' || n <= 0 || n > 65535) {
+            throw ArgumentError("--gaze udp:" + rest + ": the port must be 1-65535");
+        }
+        return std::make_unique<UdpGaze>(host, static_cast<int>(n));
+    }
+    throw ArgumentError("--gaze: unknown source '" + spec +
+                        "' (known: mouse, fixed:X,Y, trace:FILE.csv, track:SOURCE, udp:PORT)");
+}
+
+} // namespace gt::app

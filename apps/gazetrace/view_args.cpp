@@ -1,0 +1,48 @@
+#include "view_args.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+#include "core/error.hpp"
+
+namespace gt::app {
+
+scene::Camera CameraArg::camera(float defaultYfov) const {
+    return scene::lookAt(eye, target, yfovDeg ? glm::radians(*yfovDeg) : defaultYfov);
+}
+
+std::optional<CameraArg> parseCamera(const std::string& text) {
+    if (text.empty()) {
+        return std::nullopt;
+    }
+    std::vector<float> v;
+    std::vector<std::string> fields;
+    std::stringstream in(text);
+    for (std::string field; std::getline(in, field, ',');) {
+        fields.push_back(field);
+        char* end = nullptr;
+        const float x = std::strtof(field.c_str(), &end);
+        if (end != field.c_str() && *end == '\0' && std::isfinite(x)) {
+            v.push_back(x);
+        }
+    }
+    if (text.back() == ',' || v.size() != fields.size() || (v.size() != 6 && v.size() != 7)) {
+        throw ArgumentError("--camera: expected X,Y,Z,TX,TY,TZ[,FOV_DEG], got '" + text + "'");
+    }
+    CameraArg c{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, std::nullopt};
+    if (glm::length(c.target - c.eye) < 1e-6f) {
+        throw ArgumentError("--camera: the eye and the target are the same point in '" + text +
+                            "'");
+    }
+    if (v.size() == 7) {
+        if (!(v[6] >= 1.0f && v[6] <= 179.0f)) {
+            throw ArgumentError("--camera: the field of view must be 1..179 degrees, got " +
+                                fields[6]);
+        }
+        c.yfovDeg = v[6];
+    }
+    return c;
+}
+
+} // namespace gt::app

@@ -1,0 +1,24 @@
+#pragma once
+// Command-line values that describe a view, shared by `render` and `demo`.
+#include <optional>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "scene/scene.hpp"
+
+namespace gt::app {
+
+// --camera X,Y,Z,TX,TY,TZ[,FOV]: eye and look-at target in scene units, and the vertical field
+// of view in degrees (default: the scene camera's, known once the scene is loaded).
+struct CameraArg {
+    glm::vec3 eye{0.0f}, target{0.0f};
+    std::optional<float> yfovDeg;
+    // The camera this describes; `defaultYfov` when no field of view was given.
+    [[nodiscard]] scene::Camera camera(float defaultYfov) const;
+};
+
+// Empty text: no --camera. Throws ArgumentError naming --camera for anything malformed.
+[[nodiscard]] std::optional<CameraArg> parseCamera(const std::string& text);
+
+} // namespace gt::app

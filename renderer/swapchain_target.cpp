@@ -1,0 +1,136 @@
+#include "swapchain_target.hpp"
+
+#include <span>
+
+#include "core/error.hpp"
+#include "view.hpp"
+
+namespace gt::render {
+
+namespace {
+// Stages the frame waits in for the acquire: the first use of the image is a blit.
+constexpr VkPipelineStageFlags2 kAcquireStage = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
+} // namespace
+
+void SwapchainTarget::setImage(const vk::Swapchain::Image& image, VkFormat format,
+                               VkExtent2D extent) {
+    mImage = image;
+    mFormat = format;
+    mExtent = extent;
+}
+
+void SwapchainTarget::place(const std::string& view, VkRect2D rect) {
+    mPlaces[view] = rect;
+}
+
+void SwapchainTarget::beginFrame(rg::RenderGraph& graph) {
+    if (!mImage) {
+        throw Error("window target: no swapchain image acquired for this frame");
+    }
+    rg::ImportedTexture t;
+    t.image = mImage->image;
+    t.view = mImage->view;
+    t.format = mFormat;
+    t.width = mExtent.width;
+    t.height = mExtent.height;
+    t.acquireStage = kAcquireStage; // contents undefined: every view's blit overwrites its part
+    mTarget = graph.importTexture("swapchain", t);
+}
+
+void SwapchainTarget::addOutput(rg::RenderGraph& graph, rg::TextureId image, const View& view) {
+    const auto it = mPlaces.find(view.name);
+    const VkRect2D dst = it != mPlaces.end() ? it->second : VkRect2D{{0, 0}, mExtent};
+    struct Data {
+        rg::TextureId src, dst;
+    };
+    const auto& data = graph.addPass<Data>(
+        "present.blit",
+        [&](rg::PassBuilder& b, Data& d) {
+            d.src = b.read(image, rg::Access::TransferSrc);
+            d.dst = b.write(mTarget, rg::Access::TransferDst);
+        },
+        [dst](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+            const rg::ResolvedTexture& s = r.texture(d.src);
+            VkImageBlit2 region{VK_STRUCTURE_TYPE_IMAGE_BLIT_2};
+            region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            region.srcOffsets[1] = {static_cast<int32_t>(s.width), static_cast<int32_t>(s.height),
+                                    1};
+            region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            region.dstOffsets[0] = {dst.offset.x, dst.offset.y, 0};
+            region.dstOffsets[1] = {dst.offset.x + static_cast<int32_t>(dst.extent.width),
+                                    dst.offset.y + static_cast<int32_t>(dst.extent.height), 1};
+            VkBlitImageInfo2 info{VK_STRUCTURE_TYPE_BLIT_IMAGE_INFO_2};
+            info.srcImage = s.image;
+            info.srcImageLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+            info.dstImage = r.texture(d.dst).image;
+            info.dstImageLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+            info.regionCount = 1;
+            info.pRegions = &region;
+            info.filter = VK_FILTER_LINEAR;
+            vkCmdBlitImage2(cmd, &info);
+        });
+    mTarget = data.dst;
+}
+
+void SwapchainTarget::endFrame(rg::RenderGraph& graph) {
+    if (mOverlay) {
+        mTarget = mOverlay(graph, mTarget);
+    }
+    if (mScreenshotWanted) {
+        const VkDeviceSize bytes = static_cast<VkDeviceSize>(mExtent.width) * mExtent.height * 4;
+        if (!mHost || mHost->size() != bytes) {
+            mHost.reset();
+            mHost.emplace(mCtx, vk::BufferDesc{bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                               vk::MemoryUsage::Readback, "screenshot"});
+        }
+        const rg::BufferId host = graph.importBuffer(
+            "screenshot.host", {mHost->handle(), bytes, std::nullopt, rg::Access::HostRead});
+        struct Data {
+            rg::TextureId src;
+            rg::BufferId dst;
+        };
+        graph.addPass<Data>(
+            "present.screenshot",
+            [&](rg::PassBuilder& b, Data& d) {
+                d.src = b.read(mTarget, rg::Access::TransferSrc);
+                d.dst = b.write(host, rg::Access::TransferDst);
+            },
+            [](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+                const rg::ResolvedTexture& t = r.texture(d.src);
+                VkBufferImageCopy region{};
+                region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                region.imageExtent = {t.width, t.height, 1};
+                vkCmdCopyImageToBuffer(cmd, t.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                       r.buffer(d.dst), 1, &region);
+            });
+    }
+    graph.sink(mTarget, rg::Access::Present);
+}
+
+void SwapchainTarget::addSync(rg::SubmitSync& sync) {
+    VkSemaphoreSubmitInfo wait{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
+    wait.semaphore = mImage->acquired;
+    wait.stageMask = kAcquireStage;
+    sync.wait.push_back(wait);
+    VkSemaphoreSubmitInfo signal{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
+    signal.semaphore = mImage->rendered;
+    signal.stageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+    sync.signal.push_back(signal);
+}
+
+void SwapchainTarget::frameFinished() {
+    if (!mScreenshotWanted || !mHost) {
+        return;
+    }
+    std::vector<uint8_t> px(mHost->size());
+    mHost->download(std::as_writable_bytes(std::span(px)));
+    if (mFormat == VK_FORMAT_B8G8R8A8_UNORM) {
+        for (std::size_t i = 0; i + 3 < px.size(); i += 4) {
+            std::swap(px[i], px[i + 2]);
+        }
+    }
+    mScreenshot = std::move(px);
+    mScreenshotWanted = false;
+}
+
+} // namespace gt::render

@@ -1,0 +1,117 @@
+// `gazetrace demo` end to end under Xvfb (lavapipe, validation on): the window shows what the
+// headless path renders, survives a resize, and fails cleanly without a display or with a bad
+// gaze source.
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "scene/image_io.hpp"
+#include "support/cli_run.hpp"
+#include "support/gpu_test_context.hpp"
+
+namespace gt {
+namespace {
+
+using test::Result;
+
+bool haveXvfb() {
+    return std::system("command -v xvfb-run >/dev/null 2>&1") == 0;
+}
+
+constexpr const char* kXvfb = "xvfb-run -a -s '-screen 0 1280x720x24'";
+
+// A gaze trace for a 320 x 180 window: a fixation, a saccade, a fixation.
+std::filesystem::path writeTrace(const std::filesystem::path& dir) {
+    const auto file = dir / "gaze.csv";
+    std::ofstream out(file);
+    out << "t_ms,x,y\n0,100,60\n400,100,60\n450,220,120\n2000,220,120\n";
+    return file;
+}
+
+TEST(Demo, WindowMatchesHeadlessRenderInTheFovea) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    const auto dir = test::tempDir("demo_fovea");
+    const auto trace = writeTrace(dir);
+    // The market, not the Cornell box: its flat walls hide a wrong gaze (0.07/255 against 3.5/255).
+    const std::string common = "--scene builtin:market --scale 2 --interp nn --rays-per-point 1 "
+                               "--frame-ms 50 --frames 30 --cache " +
+                               (dir / "cache").string();
+    const auto shot = dir / "window.png";
+    const Result demo =
+        test::runWith(kXvfb, "demo --width 320 --height 180 --gaze trace:" + trace.string() +
+                                 " --validate --json --screenshot " + shot.string() + " " + common);
+    ASSERT_EQ(demo.status, 0) << demo.err;
+    const auto j = nlohmann::json::parse(demo.out);
+    EXPECT_EQ(j["frames"], 30);
+    EXPECT_EQ(j["window"][0], 320);
+    const Result headless = test::run(
+        "render --method foveated --profile desktop --width 320 --height 180 --gaze-trace " +
+        trace.string() + " --validate --out " + (dir / "frames").string() + " " + common);
+    ASSERT_EQ(headless.status, 0) << headless.err;
+    const image::DecodedImage a = image::readPng(shot);
+    const image::DecodedImage b = image::readPng(dir / "frames" / "frame_0029.png");
+    ASSERT_EQ(a.width, 320u);
+    ASSERT_EQ(b.width, 320u);
+    ASSERT_EQ(a.height, b.height);
+    // The fovea: 5 degrees around the last gaze (220, 120) at the desktop screen's 38.8 pixels
+    // per degree (51 cm wide, 1920 pixels, seen from 59 cm).
+    const double radius = 5.0 * 59.0 * std::tan(M_PI / 180.0) / (51.0 / 1920.0);
+    double diff = 0.0;
+    std::size_t n = 0;
+    for (uint32_t y = 0; y < a.height; ++y) {
+        for (uint32_t x = 0; x < a.width; ++x) {
+            if (std::hypot(x - 220.0, y - 120.0) > radius) continue;
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t i = (static_cast<std::size_t>(y) * a.width + x) * 4 + c;
+                diff += std::abs(static_cast<int>(a.rgba[i]) - static_cast<int>(b.rgba[i]));
+                ++n;
+            }
+        }
+    }
+    ASSERT_GT(n, 1000u);
+    EXPECT_LE(diff / static_cast<double>(n), 2.0);
+}
+
+TEST(Demo, ResizeMidRunIsValidationClean) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    const auto dir = test::tempDir("demo_resize");
+    const auto shot = dir / "after.png";
+    const Result r = test::runWith(
+        kXvfb, "demo --scene builtin:cornell --width 200 --height 120 --resize 3:240x160 "
+               "--gaze fixed:100,60 --frames 8 --validate --json --cache " +
+                   (dir / "cache").string() + " --screenshot " + shot.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["window"][0], 240); // the view followed the window
+    EXPECT_EQ(j["window"][1], 160);
+    EXPECT_EQ(image::readPng(shot).width, 240u);
+}
+
+TEST(Demo, NoDisplayIsOneLineAndNoFile) {
+    const auto dir = test::tempDir("demo_nodisplay");
+    const auto shot = dir / "never.png";
+    const Result r = test::runWith("env -u DISPLAY -u WAYLAND_DISPLAY",
+                                   "demo --frames 2 --screenshot " + shot.string());
+    test::expectCleanFailure(r, "cannot open a window", shot);
+}
+
+TEST(Demo, BadGazeSourceIsOneLine) {
+    const auto dir = test::tempDir("demo_badgaze");
+    const auto shot = dir / "never.png";
+    test::expectCleanFailure(test::run("demo --gaze nonsense --screenshot " + shot.string()),
+                             "--gaze", shot);
+    test::expectCleanFailure(test::run("demo --gaze udp:99999 --screenshot " + shot.string()),
+                             "port", shot);
+    test::expectCleanFailure(test::run("demo --gaze trace:" + (dir / "missing.csv").string() +
+                                       " --screenshot " + shot.string()),
+                             "missing.csv", shot);
+    test::expectCleanFailure(
+        test::run("demo --gaze track:synthetic:1 --screenshot " + shot.string()), "--calibration",
+        shot);
+}
+
+} // namespace
+} // namespace gt
