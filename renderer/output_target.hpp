@@ -4,7 +4,9 @@
 // image (RGBA8 sRGB, the view's size) out of the frame and marks what it wrote as a sink, so the
 // graph keeps the chain alive and leaves the image in the state its consumer expects.
 #include <cstdint>
+#include <map>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "render_graph/frame_ring.hpp"
@@ -45,6 +47,31 @@ public:
 
 private:
     vk::Context& mCtx;
+    std::optional<vk::Buffer> mHost;
+    std::vector<uint8_t> mPixels;
+};
+
+// Views composed into one image of a given size, each blitted into its place (the two eyes of a
+// side-by-side HMD frame), then copied to host memory like ReadbackTarget.
+class CompositeReadbackTarget final : public OutputTarget {
+public:
+    CompositeReadbackTarget(vk::Context& ctx, uint32_t width, uint32_t height)
+        : mCtx(ctx), mWidth(width), mHeight(height) {}
+    void place(const std::string& view, VkRect2D rect) { mPlaces[view] = rect; }
+    void beginFrame(rg::RenderGraph& graph) override;
+    void addOutput(rg::RenderGraph& graph, rg::TextureId image, const View& view) override;
+    void endFrame(rg::RenderGraph& graph) override;
+    [[nodiscard]] bool waitsForFrame() const noexcept override { return true; }
+    void frameFinished() override;
+    [[nodiscard]] const std::vector<uint8_t>& pixels() const noexcept { return mPixels; }
+    [[nodiscard]] uint32_t width() const noexcept { return mWidth; }
+    [[nodiscard]] uint32_t height() const noexcept { return mHeight; }
+
+private:
+    vk::Context& mCtx;
+    uint32_t mWidth, mHeight;
+    std::map<std::string, VkRect2D> mPlaces;
+    rg::TextureId mImage;
     std::optional<vk::Buffer> mHost;
     std::vector<uint8_t> mPixels;
 };

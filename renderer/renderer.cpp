@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "lens/lens.hpp"
 #include "scene/gltf_loader.hpp"
 #include "taa/taa.hpp"
 #include "tonemap/tonemap.hpp"
@@ -40,6 +41,7 @@ Renderer::Renderer(const RendererOptions& o) {
     mGpuScene = std::make_unique<trace::GpuScene>(*mCtx, mScene, *mBvh);
     mTaa = std::make_unique<passes::TaaPass>(*mCtx);
     mTonemap = std::make_unique<passes::TonemapPass>(*mCtx);
+    mLens = std::make_unique<passes::LensPass>(*mCtx);
     const bool cpuDevice = mCtx->properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
     mRing = std::make_unique<rg::FrameRing>(*mCtx, o.framesInFlight != 0 ? o.framesInFlight
                                                                          : (cpuDevice ? 1u : 2u));
@@ -160,7 +162,10 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
                                   reset, v.post.taaSettings);
                 nextHistory.emplace_back(v.name, ViewHistory{camera, v.gaze, true});
             }
-            const rg::TextureId ldr = mTonemap->add(graph, image, v.exposure);
+            rg::TextureId ldr = mTonemap->add(graph, image, v.exposure);
+            if (v.post.lens) {
+                ldr = mLens->add(graph, ldr, v.post.lens->model, v.post.lens->centre);
+            }
             targets[i]->addOutput(graph, ldr, v);
         };
         if (!v.name.empty()) {

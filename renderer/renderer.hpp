@@ -24,6 +24,7 @@
 namespace gt::passes {
 class TaaPass;
 class TonemapPass;
+class LensPass;
 } // namespace gt::passes
 
 namespace gt::render {
@@ -104,6 +105,7 @@ private:
     std::unique_ptr<trace::GpuScene> mGpuScene;
     std::unique_ptr<passes::TaaPass> mTaa;
     std::unique_ptr<passes::TonemapPass> mTonemap;
+    std::unique_ptr<passes::LensPass> mLens;
     std::unique_ptr<rg::FrameRing> mRing;
     std::unique_ptr<rg::HistoryPool> mHistory;
     std::map<std::string, ViewHistory> mViewHistory;

@@ -2,6 +2,7 @@
 
 #include <span>
 
+#include "blit/blit.hpp"
 #include "core/error.hpp"
 #include "view.hpp"
 
@@ -40,36 +41,7 @@ void SwapchainTarget::beginFrame(rg::RenderGraph& graph) {
 void SwapchainTarget::addOutput(rg::RenderGraph& graph, rg::TextureId image, const View& view) {
     const auto it = mPlaces.find(view.name);
     const VkRect2D dst = it != mPlaces.end() ? it->second : VkRect2D{{0, 0}, mExtent};
-    struct Data {
-        rg::TextureId src, dst;
-    };
-    const auto& data = graph.addPass<Data>(
-        "present.blit",
-        [&](rg::PassBuilder& b, Data& d) {
-            d.src = b.read(image, rg::Access::TransferSrc);
-            d.dst = b.write(mTarget, rg::Access::TransferDst);
-        },
-        [dst](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
-            const rg::ResolvedTexture& s = r.texture(d.src);
-            VkImageBlit2 region{VK_STRUCTURE_TYPE_IMAGE_BLIT_2};
-            region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            region.srcOffsets[1] = {static_cast<int32_t>(s.width), static_cast<int32_t>(s.height),
-                                    1};
-            region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            region.dstOffsets[0] = {dst.offset.x, dst.offset.y, 0};
-            region.dstOffsets[1] = {dst.offset.x + static_cast<int32_t>(dst.extent.width),
-                                    dst.offset.y + static_cast<int32_t>(dst.extent.height), 1};
-            VkBlitImageInfo2 info{VK_STRUCTURE_TYPE_BLIT_IMAGE_INFO_2};
-            info.srcImage = s.image;
-            info.srcImageLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-            info.dstImage = r.texture(d.dst).image;
-            info.dstImageLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-            info.regionCount = 1;
-            info.pRegions = &region;
-            info.filter = VK_FILTER_LINEAR;
-            vkCmdBlitImage2(cmd, &info);
-        });
-    mTarget = data.dst;
+    mTarget = passes::addBlitPass(graph, "present.blit", image, mTarget, dst);
 }
 
 void SwapchainTarget::endFrame(rg::RenderGraph& graph) {

@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include "display/hmd_profile.hpp"
 #include "scene/scene.hpp"
 #include "taa/taa.hpp"
 #include "trace/gpu_scene.hpp"
@@ -16,9 +17,17 @@ namespace gt::render {
 
 class FoveationMethod;
 
+// An HMD eye's lens: pass `lens` pre-distorts the tone-mapped image (engine/display).
+struct LensSettings {
+    display::LensModel model;
+    glm::vec2 centre{0.5f}; // where the optical axis meets the image, normalised, y down
+};
+
+// The chain after the method: taa -> tonemap -> (lens) -> the view's output target.
 struct PostSettings {
     bool taa = true; // temporal anti-aliasing (seed 000, 4.3: the thesis used it throughout)
     passes::TaaSettings taaSettings;
+    std::optional<LensSettings> lens;
 };
 
 struct View {

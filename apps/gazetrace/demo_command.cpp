@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -16,6 +17,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "display/hmd_profile.hpp"
 #include "foveation/contrast_sensitivity.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
@@ -25,6 +27,7 @@
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"
 #include "scene/image_io.hpp"
+#include "stereo_rig.hpp"
 #include "swapchain_target.hpp"
 #include "view_args.hpp"
 #include "vk/context.hpp"
@@ -101,42 +104,55 @@ private:
 };
 
 // The foveation method for the current window size: a point set per size, built on first use
-// and cached on disk like the command line's (desktop screen, same pixels per degree).
+// and cached on disk like the command line's (desktop screen, same pixels per degree); with an
+// HMD, the point set of its eyes' display, shared by both eyes.
 class Methods {
 public:
     Methods(render::Renderer& r, const DemoOptions& o) : mRenderer(r), mOptions(o) {}
+    render::FoveationMethod& forHmd(const display::HmdProfile& hmd) {
+        if (mOptions.method == "reference") return reference();
+        auto& slot = mPointSets[{hmd.eyeWidth, hmd.eyeHeight}];
+        if (!slot) build(slot, foveation::displayProfile(hmd.pointSetProfile));
+        return *slot;
+    }
     render::FoveationMethod& forSize(uint32_t w, uint32_t h) {
-        if (mOptions.method == "reference") {
-            if (!mReference) {
-                mReference.emplace(mRenderer.methodContext(),
-                                   passes::ReferenceSettings{mOptions.spp, 0});
-            }
-            return *mReference;
-        }
+        if (mOptions.method == "reference") return reference();
         auto& slot = mPointSets[{w, h}];
-        if (!slot) {
-            const auto t = SteadyClock::now();
-            foveation::PointSetParams params;
-            params.display = foveation::windowProfile(foveation::displayProfile("desktop"), w, h);
-            params.scale = mOptions.scale;
-            slot = std::make_unique<render::PointSetMethod>(
-                mRenderer.methodContext(), params,
-                mOptions.cacheDir.empty() ? foveation::defaultCacheDir()
-                                          : std::filesystem::path(mOptions.cacheDir));
-            passes::InterpolateSettings interp;
-            interp.method = mOptions.view.empty() ? passes::parseInterpolation(mOptions.interp)
-                                                  : passes::parseView(mOptions.view);
-            interp.k = mOptions.k;
-            slot->settings = {mOptions.raysPerPoint, interp};
-            mBuildMs = msBetween(t, SteadyClock::now());
-            log::info("point set for a " + std::to_string(w) + "x" + std::to_string(h) +
-                      " window ready in " + std::to_string(static_cast<int>(mBuildMs)) + " ms");
-        }
+        if (!slot)
+            build(slot, foveation::windowProfile(foveation::displayProfile("desktop"), w, h));
         return *slot;
     }
     [[nodiscard]] double lastBuildMs() const noexcept { return mBuildMs; }
 
 private:
+    render::FoveationMethod& reference() {
+        if (!mReference) {
+            mReference.emplace(mRenderer.methodContext(),
+                               passes::ReferenceSettings{mOptions.spp, 0});
+        }
+        return *mReference;
+    }
+    void build(std::unique_ptr<render::PointSetMethod>& slot,
+               const foveation::DisplayProfile& display) {
+        const auto t = SteadyClock::now();
+        foveation::PointSetParams params;
+        params.display = display;
+        params.scale = mOptions.scale;
+        slot = std::make_unique<render::PointSetMethod>(
+            mRenderer.methodContext(), params,
+            mOptions.cacheDir.empty() ? foveation::defaultCacheDir()
+                                      : std::filesystem::path(mOptions.cacheDir));
+        passes::InterpolateSettings interp;
+        interp.method = mOptions.view.empty() ? passes::parseInterpolation(mOptions.interp)
+                                              : passes::parseView(mOptions.view);
+        interp.k = mOptions.k;
+        slot->settings = {mOptions.raysPerPoint, interp};
+        mBuildMs = msBetween(t, SteadyClock::now());
+        log::info("point set for " + std::to_string(display.width) + "x" +
+                  std::to_string(display.height) + " ready in " +
+                  std::to_string(static_cast<int>(mBuildMs)) + " ms");
+    }
+
     render::Renderer& mRenderer;
     const DemoOptions& mOptions;
     std::optional<render::FullResolution> mReference;
@@ -213,6 +229,8 @@ nlohmann::json runDemo(const DemoOptions& o) {
     render::SwapchainTarget target(ctx);
     render::OutputTarget* const targetPtr = &target;
     Methods methods(renderer, o);
+    std::optional<render::StereoRig> rig;
+    if (!o.hmd.empty()) rig.emplace(display::hmdProfile(o.hmd), o.distortion);
 
     const scene::Scene& sc = renderer.scene();
     const float sceneSize = glm::length(sc.boundsMax() - sc.boundsMin());
@@ -278,27 +296,55 @@ nlohmann::json runDemo(const DemoOptions& o) {
             continue;
         }
         const VkExtent2D ext = swapchain.extent();
-        render::View view;
-        view.camera = fly.camera();
-        view.width = ext.width;
-        view.height = ext.height;
-        view.exposure = sc.exposure;
-        view.method = &methods.forSize(ext.width, ext.height);
-        view.post.taa = taa && o.view.empty();
         const std::optional<GazeReading> reading = gaze->read(tMs);
-        if (reading) {
-            gazePx = reading->screenPx;
-            view.saccade = reading->saccade;
+        if (reading) gazePx = reading->screenPx;
+        std::vector<render::View> views;
+        if (rig) {
+            // Each eye in its half of the window; the gaze is a pixel of the left eye's image
+            // (the mouse over either half counts as that point of the left eye).
+            const display::HmdProfile& p = rig->profile();
+            glm::vec2 g = gazePx.value_or(
+                display::lensCentre(display::eyeTangents(p, 0)) *
+                glm::vec2(static_cast<float>(p.eyeWidth), static_cast<float>(p.eyeHeight)));
+            if (o.gaze == "mouse") {
+                const float half = 0.5f * static_cast<float>(ext.width);
+                const float x = std::fmod(g.x, half);
+                g = glm::vec2(x / half * static_cast<float>(p.eyeWidth),
+                              g.y / static_cast<float>(ext.height) *
+                                  static_cast<float>(p.eyeHeight));
+            }
+            render::StereoGaze sg;
+            sg.direction = rig->directionOfLeftPixel(g);
+            if (o.vergenceM > 0.0) sg.vergenceM = static_cast<float>(o.vergenceM);
+            sg.saccade = reading && reading->saccade;
+            render::PostSettings post;
+            post.taa = taa && o.view.empty();
+            const auto eyes = rig->views(fly.camera(), sg, methods.forHmd(p), post, sc.exposure);
+            views.assign(eyes.begin(), eyes.end());
+            const uint32_t half = ext.width / 2;
+            target.place("left", {{0, 0}, {half, ext.height}});
+            target.place("right",
+                         {{static_cast<int32_t>(half), 0}, {ext.width - half, ext.height}});
+        } else {
+            render::View view;
+            view.camera = fly.camera();
+            view.width = ext.width;
+            view.height = ext.height;
+            view.exposure = sc.exposure;
+            view.method = &methods.forSize(ext.width, ext.height);
+            view.post.taa = taa && o.view.empty();
+            if (reading) view.saccade = reading->saccade;
+            const glm::vec2 lastPixel(static_cast<float>(ext.width) - 1.0f,
+                                      static_cast<float>(ext.height) - 1.0f);
+            view.gaze = glm::clamp(gazePx.value_or(0.5f * glm::vec2(ext.width, ext.height)),
+                                   glm::vec2(0.0f), lastPixel);
+            views.push_back(view);
         }
-        const glm::vec2 lastPixel(static_cast<float>(ext.width) - 1.0f,
-                                  static_cast<float>(ext.height) - 1.0f);
-        view.gaze = glm::clamp(gazePx.value_or(0.5f * glm::vec2(ext.width, ext.height)),
-                               glm::vec2(0.0f), lastPixel);
+        const std::vector<render::OutputTarget*> targets(views.size(), targetPtr);
         target.setImage(*image, swapchain.format(), ext);
         const bool lastFrame = o.frames != 0 && frame + 1 == o.frames;
         if (lastFrame && !o.screenshot.empty()) target.requestScreenshot();
-        const render::FrameResult result =
-            renderer.renderFrame(std::span(&view, 1), std::span(&targetPtr, 1));
+        const render::FrameResult result = renderer.renderFrame(views, targets);
         if (reading) inFlight[result.number] = {reading->sampled, reading->sequence};
         if (!swapchain.present(*image)) swapchain.recreate(window->framebufferSize());
 
@@ -319,7 +365,7 @@ nlohmann::json runDemo(const DemoOptions& o) {
             if (log) {
                 *log << c.number << "," << tMs << ","
                      << (frameTimes.empty() ? 0.0 : frameTimes.back()) << "," << c.timings.gpuMs
-                     << "," << view.gaze.x << "," << view.gaze.y << "," << sequence << ","
+                     << "," << views[0].gaze.x << "," << views[0].gaze.y << "," << sequence << ","
                      << latency << "\n";
             }
         }
@@ -329,7 +375,7 @@ nlohmann::json runDemo(const DemoOptions& o) {
             fpsShown = 1000.0 / std::max(median(frameTimes), 1e-3);
             char title[160];
             std::snprintf(title, sizeof(title), "gazetrace - %.1f fps - %s - gaze %s", fpsShown,
-                          view.method->name().data(), gaze->describe().c_str());
+                          views[0].method->name().data(), gaze->describe().c_str());
             glfwSetWindowTitle(window->handle(), title);
         }
         if (target.screenshot() && !lastFrame && o.screenshot.empty()) {
@@ -365,6 +411,7 @@ nlohmann::json runDemo(const DemoOptions& o) {
             {"present_mode", vk::toString(swapchain.presentMode())},
             {"window", {swapchain.extent().width, swapchain.extent().height}},
             {"method", o.method},
+            {"hmd", o.hmd},
             {"gaze_source", gaze->describe()},
             {"frames", frame},
             {"frames_in_flight", renderer.framesInFlight()},

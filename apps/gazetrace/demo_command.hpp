@@ -36,6 +36,11 @@ struct DemoOptions {
     std::string log; // per-frame CSV
     std::string cacheDir;
     std::string resize; // "FRAME:WxH": resize the window after that many frames (tests)
+    // The HMD path in the window: both eyes of this profile side by side (an extended-mode
+    // HMD shows the window full screen). Gaze pixels are the left eye's image.
+    std::string hmd;
+    bool distortion = true;
+    double vergenceM = 0.0;
 };
 
 // Runs until closed or --frames; returns the JSON summary. Throws gt::Error on failure.

@@ -93,6 +93,13 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1u, 100000u))
         ->capture_default_str();
     renderCmd->add_option("--cache", render.cacheDir, "Point-set cache folder");
+    renderCmd->add_option("--hmd", render.hmd,
+                          "HMD path: fove | vive | rift-cv1 (both eyes, side by side, lens "
+                          "pre-distortion; --gaze is a pixel of the left eye's image)");
+    bool noDistortion = false;
+    renderCmd->add_flag("--no-distortion", noDistortion, "--hmd: the eyes as rendered, no lens");
+    renderCmd->add_option("--vergence-m", render.vergenceM,
+                          "--hmd: distance the eyes converge at in metres (0: infinity)");
     renderCmd->add_option("--gaze-trace", render.gazeTrace, "Foveated: gaze trace CSV (t_ms,x,y)")
         ->check(CLI::ExistingFile);
     renderCmd->add_option("--gaze-source", render.gazeSource,
@@ -285,6 +292,12 @@ int main(int argc, char** argv) {
     demoCmd->add_option("--cache", demo.cacheDir, "Point-set cache folder");
     demoCmd->add_flag("--json", demoJson, "Print a JSON summary");
     demoCmd->add_option("--resize", demo.resize, "FRAME:WxH: resize the window then (tests)");
+    demoCmd->add_option("--hmd", demo.hmd,
+                        "HMD path: fove | vive | rift-cv1, both eyes side by side in the window");
+    bool demoNoDistortion = false;
+    demoCmd->add_flag("--no-distortion", demoNoDistortion, "--hmd: no lens pre-distortion");
+    demoCmd->add_option("--vergence-m", demo.vergenceM,
+                        "--hmd: distance the eyes converge at in metres (0: infinity)");
 
     CLI::App* devicesCmd = app.add_subcommand("devices", "List the Vulkan devices");
     CLI::App* scenesCmd = app.add_subcommand("scenes", "List the built-in scenes");
@@ -303,6 +316,7 @@ int main(int argc, char** argv) {
     try {
         if (renderCmd->parsed()) {
             render.taa = taaFlag == "on";
+            render.distortion = !noDistortion;
             render.framesGiven = renderCmd->count("--frames") > 0;
             render.sizeGiven = renderCmd->count("--width") + renderCmd->count("--height") > 0;
             const nlohmann::json result = gt::app::runRender(render);
@@ -333,6 +347,7 @@ int main(int argc, char** argv) {
             std::cout << (calibrateJson ? result.dump() : result.dump(2)) << std::endl;
         } else if (demoCmd->parsed()) {
             demo.taa = demoTaa == "on";
+            demo.distortion = !demoNoDistortion;
             const nlohmann::json result = gt::app::runDemo(demo);
             if (demoJson) std::cout << result.dump() << std::endl;
         } else if (devicesCmd->parsed()) {

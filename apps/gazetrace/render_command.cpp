@@ -2,6 +2,7 @@
 #include "view_args.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -16,6 +17,7 @@
 #include "capture/frame_source.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "display/hmd_profile.hpp"
 #include "foveation/gaze_trace.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
@@ -27,6 +29,7 @@
 #include "renderer.hpp"
 #include "scene/image_io.hpp"
 #include "scene/scene.hpp"
+#include "stereo_rig.hpp"
 #include "vk/context.hpp"
 
 namespace gt::app {
@@ -75,6 +78,21 @@ void warnOffScreen(const foveation::GazeTrace& trace, const std::string& file, u
               " screen; the gaze is clamped to its edge there");
 }
 
+// Fail before any work when the output could not be written anyway.
+void prepareOutput(const std::filesystem::path& outPath, bool toFolder, const std::string& out) {
+    const std::filesystem::path dir = toFolder                        ? outPath
+                                      : outPath.parent_path().empty() ? "."
+                                                                      : outPath.parent_path();
+    std::error_code ec;
+    if (toFolder) {
+        std::filesystem::create_directories(dir, ec);
+    }
+    if (!std::filesystem::is_directory(dir, ec)) {
+        throw ArgumentError("--out: cannot write " + out + ": folder " + dir.string() +
+                            " does not exist");
+    }
+}
+
 void writeText(const std::string& path, const std::string& text) {
     const std::filesystem::path p(path);
     const std::filesystem::path tmp = p.string() + ".tmp";
@@ -90,7 +108,159 @@ void writeText(const std::string& path, const std::string& text) {
 
 } // namespace
 
+namespace {
+
+// `render --hmd NAME`: both eyes of the profile in one render graph (scopes left., right.), each
+// with its off-axis frustum, its own gaze and its lens, composed into the side-by-side frame an
+// extended-mode HMD shows. --gaze and --gaze-trace are pixels of the left eye's image.
+nlohmann::json runRenderHmd(const RenderOptions& o) {
+    const display::HmdProfile profile = display::hmdProfile(o.hmd);
+    const bool foveated = o.method == "foveated";
+    if (o.method != "reference" && !foveated) {
+        throw ArgumentError("--method: '" + o.method + "' (known: reference, foveated)");
+    }
+    if (o.sizeGiven) {
+        throw ArgumentError("--width/--height: --hmd " + o.hmd + " renders " +
+                            std::to_string(profile.eyeWidth) + "x" +
+                            std::to_string(profile.eyeHeight) + " per eye");
+    }
+    if (!o.gazeSource.empty()) {
+        throw ArgumentError("--gaze-source is not available with --hmd yet (use --gaze-trace)");
+    }
+    if (!(o.vergenceM >= 0.0) || !std::isfinite(o.vergenceM)) {
+        throw ArgumentError("--vergence-m must be 0 (infinity) or a positive distance");
+    }
+    const uint32_t w = profile.eyeWidth, h = profile.eyeHeight;
+    glm::vec2 gazePx = parseGaze(o.gaze, w, h);
+    std::optional<foveation::GazeTrace> trace;
+    uint32_t frameCount = o.frames;
+    if (!o.gazeTrace.empty()) {
+        if (!o.gaze.empty()) throw ArgumentError("--gaze and --gaze-trace exclude each other");
+        if (!(o.frameMs > 0.0)) throw ArgumentError("--frame-ms must be positive");
+        trace = foveation::GazeTrace::load(o.gazeTrace);
+        warnOffScreen(*trace, o.gazeTrace, w, h);
+        if (!o.framesGiven) {
+            frameCount = 1 + static_cast<uint32_t>((trace->endMs() - trace->startMs()) / o.frameMs);
+        }
+    }
+    const std::filesystem::path outPath(o.out);
+    const bool toFolder = outPath.extension() != ".png";
+    if (!toFolder && frameCount > 1) throw ArgumentError("--out: give a folder for --frames > 1");
+    prepareOutput(outPath, toFolder, o.out);
+    const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
+    const char* device = std::getenv("GAZETRACE_DEVICE");
+    render::Renderer renderer({.scene = o.scene,
+                               .validate = o.validate,
+                               .framesInFlight = 1,
+                               .deviceOverride = device ? device : ""});
+    scene::Camera head = renderer.scene().camera;
+    if (cameraArg) head = cameraArg->camera(head.yfov);
+    std::optional<render::FullResolution> reference;
+    std::optional<render::PointSetMethod> pointSet;
+    render::FoveationMethod* method = nullptr;
+    if (foveated) {
+        foveation::PointSetParams params;
+        params.display = foveation::displayProfile(profile.pointSetProfile);
+        params.scale = o.scale;
+        if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
+            throw ArgumentError("--k must be 1..20");
+        }
+        pointSet.emplace(renderer.methodContext(), params,
+                         o.cacheDir.empty() ? foveation::defaultCacheDir()
+                                            : std::filesystem::path(o.cacheDir));
+        passes::InterpolateSettings interp;
+        interp.method =
+            o.view.empty() ? passes::parseInterpolation(o.interp) : passes::parseView(o.view);
+        interp.k = o.k;
+        interp.kernel = passes::parseKernel(o.kernel);
+        interp.rbfShape = static_cast<float>(o.rbfShape);
+        interp.knn = passes::parseKnnIndex(o.knn);
+        pointSet->settings = {o.raysPerPoint, interp};
+        method = &*pointSet;
+    } else {
+        reference.emplace(renderer.methodContext(), passes::ReferenceSettings{o.spp, o.seed});
+        method = &*reference;
+    }
+    const render::StereoRig rig(profile, o.distortion);
+    render::PostSettings post;
+    post.taa = foveated && o.taa && o.view.empty();
+    render::CompositeReadbackTarget composite(renderer.context(), 2 * w, h);
+    composite.place("left", {{0, 0}, {w, h}});
+    composite.place("right", {{static_cast<int32_t>(w), 0}, {w, h}});
+    render::OutputTarget* const targets[2] = {&composite, &composite};
+    render::FrameResult frame;
+    std::array<render::View, 2> views;
+    std::vector<double> frameMs;
+    std::vector<std::string> outputs;
+    const glm::vec2 lastPixel(static_cast<float>(w) - 1.0f, static_cast<float>(h) - 1.0f);
+    for (uint32_t i = 0; i < frameCount; ++i) {
+        if (trace) {
+            gazePx =
+                glm::clamp(trace->at(trace->startMs() + i * o.frameMs), glm::vec2(0.0f), lastPixel);
+        }
+        if (reference) reference->settings.frameSeed = o.seed + i;
+        render::StereoGaze gaze;
+        gaze.direction = rig.directionOfLeftPixel(gazePx);
+        if (o.vergenceM > 0.0) gaze.vergenceM = static_cast<float>(o.vergenceM);
+        views = rig.views(head, gaze, *method, post, renderer.scene().exposure);
+        const bool dot = !o.graphDot.empty() && i == 0;
+        frame = renderer.renderFrame(views, targets, {.graphviz = dot});
+        frameMs.push_back(frame.wallMs);
+        if (dot) writeText(o.graphDot, frame.dot);
+        char name[32];
+        std::snprintf(name, sizeof(name), "frame_%04u.png", i);
+        const std::filesystem::path file = toFolder ? outPath / name : outPath;
+        image::writePngAtomic(file, 2 * w, h, composite.pixels());
+        outputs.push_back(file.string());
+    }
+    vk::Context& ctx = renderer.context();
+    if (ctx.validationErrors() > 0) {
+        throw Error(std::to_string(ctx.validationErrors()) + " Vulkan validation error(s)");
+    }
+    nlohmann::json gpu = nlohmann::json::object();
+    const rg::FrameTimings timings = frame.timings.value_or(rg::FrameTimings{});
+    for (const auto& p : timings.passes)
+        gpu[p.name] = p.gpuMs;
+    std::sort(frameMs.begin(), frameMs.end());
+    nlohmann::json eyes = nlohmann::json::array();
+    uint64_t rays = 0;
+    for (std::size_t e = 0; e < 2; ++e) {
+        rays += frame.views[e].rays;
+        eyes.push_back({{"name", views[e].name},
+                        {"gaze", {views[e].gaze.x, views[e].gaze.y}},
+                        {"rays", frame.views[e].rays},
+                        {"tangents",
+                         {views[e].frustum->left, views[e].frustum->right, views[e].frustum->up,
+                          views[e].frustum->down}}});
+    }
+    return {{"device", ctx.deviceName()},
+            {"device_type", ctx.deviceDescription()},
+            {"scene", o.scene},
+            {"hmd", profile.name},
+            {"hmd_sources", profile.sources},
+            {"eye_width", w},
+            {"eye_height", h},
+            {"width", 2 * w},
+            {"height", h},
+            {"method", o.method},
+            {"distortion", o.distortion},
+            {"vergence_m", o.vergenceM},
+            {"eyes", eyes},
+            {"rays", rays},
+            {"frames", frameCount},
+            {"gpu_ms", gpu},
+            {"gpu_total_ms", timings.gpuMs},
+            {"total_ms", frameMs[frameMs.size() / 2]},
+            {"camera", cameraJson(head)},
+            {"output", toFolder ? outPath.string() : outputs.front()}};
+}
+
+} // namespace
+
 nlohmann::json runRender(const RenderOptions& o) {
+    if (!o.hmd.empty()) {
+        return runRenderHmd(o);
+    }
     if (o.method != "reference" && o.method != "foveated") {
         throw ArgumentError("--method: '" + o.method +
                             "' is not available (known: reference, foveated)");
@@ -182,20 +352,7 @@ nlohmann::json runRender(const RenderOptions& o) {
     if (!toFolder && frameCount > 1) {
         throw ArgumentError("--out: give a folder for --frames > 1");
     }
-    {
-        // Fail before any work when the output could not be written anyway.
-        const std::filesystem::path dir = toFolder                        ? outPath
-                                          : outPath.parent_path().empty() ? "."
-                                                                          : outPath.parent_path();
-        std::error_code ec;
-        if (toFolder) {
-            std::filesystem::create_directories(dir, ec);
-        }
-        if (!std::filesystem::is_directory(dir, ec)) {
-            throw ArgumentError("--out: cannot write " + o.out + ": folder " + dir.string() +
-                                " does not exist");
-        }
-    }
+    prepareOutput(outPath, toFolder, o.out);
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
     const char* device = std::getenv("GAZETRACE_DEVICE");
     render::Renderer renderer({.scene = o.scene,

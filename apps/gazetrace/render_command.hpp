@@ -38,6 +38,10 @@ struct RenderOptions {
     bool framesGiven = false;
     std::string cacheDir;
     bool sizeGiven = false; // --width/--height were on the command line
+    // The HMD path: both eyes of this profile in one graph, side by side.
+    std::string hmd;        // fove | vive | rift-cv1
+    bool distortion = true; // --no-distortion: the eyes' images as rendered
+    double vergenceM = 0.0; // distance the eyes converge at; 0: infinity (parallel)
 };
 
 // Renders and writes the PNG; returns the JSON summary (device, width, height, method, rays,

@@ -133,12 +133,19 @@ Image::Image(Context& ctx, const ImageDesc& desc) : mCtx(&ctx), mDesc(desc) {
         mAllocation = ctx.allocator().allocate(req, MemoryUsage::GpuOnly);
         GT_VK_CHECK(
             vkBindImageMemory(ctx.device(), mImage, mAllocation.memory, mAllocation.offset));
-        VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-        view.image = mImage;
-        view.viewType = VK_IMAGE_VIEW_TYPE_2D;
-        view.format = desc.format;
-        view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-        GT_VK_CHECK(vkCreateImageView(ctx.device(), &view, nullptr, &mView));
+        // A view only where a shader or an attachment can use one (a copy or blit target, such
+        // as the side-by-side composite, may not have one).
+        constexpr VkImageUsageFlags viewable = VK_IMAGE_USAGE_SAMPLED_BIT |
+                                               VK_IMAGE_USAGE_STORAGE_BIT |
+                                               VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+        if ((desc.usage & viewable) != 0) {
+            VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+            view.image = mImage;
+            view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+            view.format = desc.format;
+            view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+            GT_VK_CHECK(vkCreateImageView(ctx.device(), &view, nullptr, &mView));
+        }
     } catch (...) {
         reset();
         throw;

@@ -1,0 +1,130 @@
+// The HMD path's maths without a GPU: profiles, the lens model and its inverse, the stereo rig's
+// per-eye gaze, and a window's point-set profile.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "display/hmd_profile.hpp"
+#include "foveation/contrast_sensitivity.hpp"
+#include "full_resolution.hpp"
+#include "stereo_rig.hpp"
+
+namespace gt {
+namespace {
+
+TEST(HmdProfile, EveryProfileParsesWithSourcesAndAPlausibleOptics) {
+    for (const std::string& name : display::hmdProfileNames()) {
+        const display::HmdProfile p = display::hmdProfile(name);
+        EXPECT_EQ(p.name, name);
+        EXPECT_GT(p.eyeWidth, 0u);
+        EXPECT_FALSE(p.sources.empty()) << name;
+        EXPECT_NO_THROW((void)foveation::displayProfile(p.pointSetProfile)) << name;
+        // The left eye's nasal side (right) is the narrower one; the right eye mirrors it.
+        const auto l = display::eyeTangents(p, 0), r = display::eyeTangents(p, 1);
+        EXPECT_LT(l.right, -l.left) << name;
+        EXPECT_FLOAT_EQ(r.left, -l.right);
+        EXPECT_FLOAT_EQ(r.right, -l.left);
+        // So the lens centres sit towards the nose: right of centre in the left eye.
+        EXPECT_GT(display::lensCentre(l).x, 0.5f);
+        EXPECT_LT(display::lensCentre(r).x, 0.5f);
+        EXPECT_NEAR(display::lensCentre(l).y, 0.5f, 1e-6f);
+        EXPECT_GT(p.ipdM, 0.05f);
+        EXPECT_LT(p.ipdM, 0.08f);
+    }
+    EXPECT_THROW((void)display::hmdProfile("oculus-dk9"), ArgumentError);
+}
+
+TEST(LensModel, BarrelMapsTheFarCornerToItselfAndInvertsExactly) {
+    const display::LensModel lens = display::hmdProfile("fove").lens;
+    const glm::vec2 c(0.52f, 0.5f);
+    const float aspect = 1280.0f / 1440.0f;
+    // f(1) = 1: the farthest corner samples itself; the centre samples itself.
+    const glm::vec2 far(0.0f, 0.0f); // farthest from c (0.52 > 0.5)
+    EXPECT_NEAR(glm::length(lens.sourceOf(far, c, aspect, 1) - far), 0.0f, 1e-6f);
+    EXPECT_NEAR(glm::length(lens.sourceOf(c, c, aspect, 1) - c), 0.0f, 1e-7f);
+    // Barrel: inside, a display point samples closer to the centre (f < 1).
+    const glm::vec2 q(0.8f, 0.3f);
+    EXPECT_LT(glm::length(lens.sourceOf(q, c, aspect, 1) - c), glm::length(q - c));
+    // Chromatic: red samples nearer the centre than green, blue farther.
+    EXPECT_LT(glm::length(lens.sourceOf(q, c, aspect, 0) - c),
+              glm::length(lens.sourceOf(q, c, aspect, 1) - c));
+    EXPECT_GT(glm::length(lens.sourceOf(q, c, aspect, 2) - c),
+              glm::length(lens.sourceOf(q, c, aspect, 1) - c));
+    // displayOf inverts sourceOf (green).
+    for (const glm::vec2 p : {glm::vec2(0.1f, 0.2f), glm::vec2(0.9f, 0.95f), q}) {
+        const glm::vec2 back = lens.displayOf(lens.sourceOf(p, c, aspect, 1), c, aspect);
+        EXPECT_NEAR(back.x, p.x, 1e-5f);
+        EXPECT_NEAR(back.y, p.y, 1e-5f);
+    }
+    // The magnification along the radius is the derivative of r f(r).
+    const float r = 0.6f, h = 1e-3f;
+    EXPECT_NEAR(lens.radialScale(r), ((r + h) * lens.f(r + h) - (r - h) * lens.f(r - h)) / (2 * h),
+                1e-3f);
+}
+
+TEST(StereoRig, GazeReachesEachEyeThroughItsOwnFrustum) {
+    const render::StereoRig rig(display::hmdProfile("fove"), true);
+    const display::HmdProfile& p = rig.profile();
+    // A placeholder method: the rig only stores the pointer.
+    struct NoMethod final : render::FoveationMethod {
+        std::string_view name() const override { return "none"; }
+        rg::TextureId addRadiance(rg::RenderGraph&, const render::View&) override { return {}; }
+        uint64_t rays(const render::View&) const override { return 0; }
+        std::optional<render::WarmUp> warmUp(const render::View&) override { return {}; }
+    } method;
+    scene::Camera head;
+    head.position = {0.0f, 1.6f, 0.0f};
+    head.forward = {0.0f, 0.0f, -1.0f};
+    // Straight ahead at infinity: each eye looks at its lens centre (its optical axis).
+    render::StereoGaze ahead;
+    const auto v = rig.views(head, ahead, method, {}, 1.0f);
+    for (int e = 0; e < 2; ++e) {
+        const glm::vec2 centre =
+            display::lensCentre(display::eyeTangents(p, e)) * glm::vec2(p.eyeWidth, p.eyeHeight);
+        EXPECT_NEAR(v[e].gaze.x, centre.x, 0.01f) << e;
+        EXPECT_NEAR(v[e].gaze.y, centre.y, 0.01f) << e;
+        ASSERT_TRUE(v[e].post.lens.has_value());
+        ASSERT_TRUE(v[e].frustum.has_value());
+    }
+    EXPECT_NEAR(v[1].camera.position.x - v[0].camera.position.x, p.ipdM, 1e-6f);
+    // Converging at 0.5 m: each eye turns inwards by atan(ipd / 2 / 0.5).
+    render::StereoGaze near = ahead;
+    near.vergenceM = 0.5f;
+    const auto w = rig.views(head, near, method, {}, 1.0f);
+    for (int e = 0; e < 2; ++e) {
+        const auto t = display::eyeTangents(p, e);
+        const float tx = t.left + w[e].gaze.x / p.eyeWidth * (t.right - t.left);
+        const float expected = (e == 0 ? 1.0f : -1.0f) * 0.5f * p.ipdM / 0.5f;
+        EXPECT_NEAR(tx, expected, 1e-4f) << e;
+    }
+    // A left-eye pixel round-trips through its direction.
+    const glm::vec2 px(300.0f, 900.0f);
+    const glm::vec3 d = rig.directionOfLeftPixel(px);
+    const glm::vec2 back =
+        render::pixelOfDirection(d, display::eyeTangents(p, 0), p.eyeWidth, p.eyeHeight);
+    EXPECT_NEAR(back.x, px.x, 1e-3f);
+    EXPECT_NEAR(back.y, px.y, 1e-3f);
+    // Angles as the eye tracker gives them round-trip too.
+    const glm::vec2 a = render::anglesOfDirection(render::directionOfAngles({12.0f, -7.5f}));
+    EXPECT_NEAR(a.x, 12.0f, 1e-4f);
+    EXPECT_NEAR(a.y, -7.5f, 1e-4f);
+}
+
+// A window on the desktop screen keeps the screen's pixels per degree.
+TEST(WindowProfile, KeepsTheScreensPixelsPerDegree) {
+    const foveation::DisplayProfile screen = foveation::displayProfile("desktop");
+    const foveation::DisplayProfile window = foveation::windowProfile(screen, 640, 360);
+    EXPECT_EQ(window.width, 640u);
+    EXPECT_NEAR(window.viewingDistance * window.width, screen.viewingDistance * screen.width, 1e-9);
+    EXPECT_EQ(foveation::windowProfile(screen, 1920, 1080).name, "desktop");
+    EXPECT_NE(window.name, screen.name); // its own point set (the cache keys on the profile)
+    // Same eccentricity for the same pixel distance.
+    EXPECT_NEAR(
+        foveation::ContrastSensitivity::eccentricityDeg(100, window.width, window.viewingDistance),
+        foveation::ContrastSensitivity::eccentricityDeg(100, screen.width, screen.viewingDistance),
+        1e-9);
+}
+
+} // namespace
+} // namespace gt
