@@ -447,17 +447,24 @@ nlohmann::json runBench(const BenchOptions& o) {
         std::printf("\n");
     }
     if (!o.json.empty()) {
-        const std::filesystem::path tmp = o.json + ".tmp";
-        {
-            std::ofstream out(tmp);
-            out << result.dump(2) << "\n";
-            if (!out) {
-                throw Error("cannot write " + o.json);
-            }
-        }
-        std::filesystem::rename(tmp, o.json);
+        writeJsonFile(o.json, result);
     }
     return result;
+}
+
+void writeJsonFile(const std::string& path, const nlohmann::json& j) {
+    const std::filesystem::path tmp = path + ".tmp";
+    {
+        std::ofstream out(tmp);
+        out << j.dump(2) << "\n";
+        out.flush();
+        if (!out) {
+            std::error_code ec;
+            std::filesystem::remove(tmp, ec);
+            throw Error("cannot write " + path);
+        }
+    }
+    std::filesystem::rename(tmp, path);
 }
 
 } // namespace gt::app

@@ -15,5 +15,10 @@ struct BenchOptions {
 };
 
 nlohmann::json runBench(const BenchOptions& options);
+// --suite stereo: the HMD frame (both fove eyes) and the desktop demo's frame, one frame in
+// flight against two (apps/gazetrace/stereo_bench.cpp).
+nlohmann::json runStereoBench(const BenchOptions& options);
+// Writes `j` to `path` through a temporary file renamed when complete.
+void writeJsonFile(const std::string& path, const nlohmann::json& j);
 
 } // namespace gt::app

@@ -11,12 +11,14 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <tuple>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "demo_overlay.hpp"
 #include "display/hmd_profile.hpp"
 #include "foveation/contrast_sensitivity.hpp"
 #include "foveation/neighbour_index.hpp"
@@ -108,55 +110,60 @@ private:
 // HMD, the point set of its eyes' display, shared by both eyes.
 class Methods {
 public:
-    Methods(render::Renderer& r, const DemoOptions& o) : mRenderer(r), mOptions(o) {}
+    Methods(render::Renderer& r, const DemoSettings& s, std::string cacheDir)
+        : mRenderer(r), mSettings(s), mCacheDir(std::move(cacheDir)) {}
     render::FoveationMethod& forHmd(const display::HmdProfile& hmd) {
-        if (mOptions.method == "reference") return reference();
-        auto& slot = mPointSets[{hmd.eyeWidth, hmd.eyeHeight}];
-        if (!slot) build(slot, foveation::displayProfile(hmd.pointSetProfile));
-        return *slot;
+        return forDisplay(foveation::displayProfile(hmd.pointSetProfile));
     }
     render::FoveationMethod& forSize(uint32_t w, uint32_t h) {
-        if (mOptions.method == "reference") return reference();
-        auto& slot = mPointSets[{w, h}];
-        if (!slot)
-            build(slot, foveation::windowProfile(foveation::displayProfile("desktop"), w, h));
-        return *slot;
+        return forDisplay(foveation::windowProfile(foveation::displayProfile("desktop"), w, h));
     }
     [[nodiscard]] double lastBuildMs() const noexcept { return mBuildMs; }
+    // The point-set method last handed out (for the overlay's counts), or null.
+    [[nodiscard]] const render::PointSetMethod* current() const noexcept { return mCurrent; }
 
 private:
-    render::FoveationMethod& reference() {
-        if (!mReference) {
-            mReference.emplace(mRenderer.methodContext(),
-                               passes::ReferenceSettings{mOptions.spp, 0});
+    render::FoveationMethod& forDisplay(const foveation::DisplayProfile& display) {
+        if (mSettings.method == "reference") {
+            if (!mReference) mReference.emplace(mRenderer.methodContext());
+            mReference->settings = {mSettings.raysPerPoint, 0};
+            mCurrent = nullptr;
+            return *mReference;
         }
-        return *mReference;
+        auto& slot = mPointSets[{display.width, display.height, mSettings.scale}];
+        if (!slot) build(slot, display);
+        // The interpolation and rays follow the settings every frame (nothing to rebuild
+        // except the k-NN table, which the method builds when k changes).
+        passes::InterpolateSettings interp;
+        interp.method = mSettings.view.empty() ? passes::parseInterpolation(mSettings.interp)
+                                               : passes::parseView(mSettings.view);
+        interp.k = mSettings.k;
+        slot->settings = {mSettings.raysPerPoint, interp};
+        mCurrent = slot.get();
+        return *slot;
     }
     void build(std::unique_ptr<render::PointSetMethod>& slot,
                const foveation::DisplayProfile& display) {
         const auto t = SteadyClock::now();
         foveation::PointSetParams params;
         params.display = display;
-        params.scale = mOptions.scale;
+        params.scale = mSettings.scale;
         slot = std::make_unique<render::PointSetMethod>(
             mRenderer.methodContext(), params,
-            mOptions.cacheDir.empty() ? foveation::defaultCacheDir()
-                                      : std::filesystem::path(mOptions.cacheDir));
-        passes::InterpolateSettings interp;
-        interp.method = mOptions.view.empty() ? passes::parseInterpolation(mOptions.interp)
-                                              : passes::parseView(mOptions.view);
-        interp.k = mOptions.k;
-        slot->settings = {mOptions.raysPerPoint, interp};
+            mCacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(mCacheDir));
         mBuildMs = msBetween(t, SteadyClock::now());
         log::info("point set for " + std::to_string(display.width) + "x" +
-                  std::to_string(display.height) + " ready in " +
-                  std::to_string(static_cast<int>(mBuildMs)) + " ms");
+                  std::to_string(display.height) + " at scale " + std::to_string(params.scale) +
+                  " ready in " + std::to_string(static_cast<int>(mBuildMs)) + " ms");
     }
 
     render::Renderer& mRenderer;
-    const DemoOptions& mOptions;
+    const DemoSettings& mSettings;
+    std::string mCacheDir;
     std::optional<render::FullResolution> mReference;
-    std::map<std::pair<uint32_t, uint32_t>, std::unique_ptr<render::PointSetMethod>> mPointSets;
+    std::map<std::tuple<uint32_t, uint32_t, double>, std::unique_ptr<render::PointSetMethod>>
+        mPointSets;
+    const render::PointSetMethod* mCurrent = nullptr;
     double mBuildMs = 0.0;
 };
 
@@ -228,7 +235,15 @@ nlohmann::json runDemo(const DemoOptions& o) {
     vk::Swapchain swapchain(ctx, window->framebufferSize(), vk::parsePresentMode(o.present));
     render::SwapchainTarget target(ctx);
     render::OutputTarget* const targetPtr = &target;
-    Methods methods(renderer, o);
+    DemoSettings settings{
+        o.method, o.interp, o.k,   o.method == "reference" ? o.spp : o.raysPerPoint,
+        o.scale,  o.taa,    o.view};
+    Methods methods(renderer, settings, o.cacheDir);
+    std::optional<DemoOverlay> overlay;
+    if (o.overlay) overlay.emplace(*window, ctx, swapchain.format(), swapchain.imageCount());
+    DemoStats stats;
+    stats.gazeSource = gaze->describe();
+    stats.device = ctx.deviceName();
     std::optional<render::StereoRig> rig;
     if (!o.hmd.empty()) rig.emplace(display::hmdProfile(o.hmd), o.distortion);
 
@@ -239,12 +254,15 @@ nlohmann::json runDemo(const DemoOptions& o) {
     FlyCamera fly(start, std::max(0.25f * sceneSize, 0.1f));
     std::optional<std::vector<scene::CameraKey>> recording;
 
+    auto recreate = [&](VkExtent2D size) {
+        swapchain.recreate(size);
+        if (overlay) overlay->swapchainRecreated(swapchain.imageCount());
+    };
     const auto t0 = SteadyClock::now();
     auto last = t0;
     std::vector<double> frameTimes, latencies;
     std::map<uint64_t, std::pair<SteadyClock::time_point, uint64_t>> inFlight; // gaze per frame
     std::optional<glm::vec2> gazePx;
-    bool taa = o.taa;
     uint32_t frame = 0;
     int screenshotsTaken = 0;
     double fpsShown = 0.0;
@@ -261,11 +279,29 @@ nlohmann::json runDemo(const DemoOptions& o) {
         }
         if (window->takeResized() || fb.width != swapchain.extent().width ||
             fb.height != swapchain.extent().height) {
-            swapchain.recreate(fb);
+            recreate(fb);
         }
         for (const int key : window->takePressedKeys()) {
             if (key == GLFW_KEY_ESCAPE) window->requestClose();
-            if (key == GLFW_KEY_T) taa = !taa;
+            if (key == GLFW_KEY_T) settings.taa = !settings.taa;
+            if (key == GLFW_KEY_TAB && overlay) overlay->toggle();
+            if (key == GLFW_KEY_M) {
+                settings.method = settings.method == "foveated" ? "reference" : "foveated";
+            }
+            if (key == GLFW_KEY_I) {
+                settings.interp = settings.interp == "nn"    ? "msm"
+                                  : settings.interp == "msm" ? "rbf"
+                                                             : "nn";
+            }
+            if (key == GLFW_KEY_V) {
+                settings.view = settings.view.empty()       ? "points"
+                                : settings.view == "points" ? "cells"
+                                : settings.view == "cells"  ? "eccentricity"
+                                                            : "";
+            }
+            if (key == GLFW_KEY_LEFT_BRACKET && settings.raysPerPoint > 1) --settings.raysPerPoint;
+            if (key == GLFW_KEY_RIGHT_BRACKET && settings.raysPerPoint < 64)
+                ++settings.raysPerPoint;
             if (key == GLFW_KEY_P) target.requestScreenshot();
             if (key == GLFW_KEY_R) {
                 if (recording) {
@@ -292,7 +328,7 @@ nlohmann::json runDemo(const DemoOptions& o) {
 
         const std::optional<vk::Swapchain::Image> image = swapchain.acquire();
         if (!image) {
-            swapchain.recreate(window->framebufferSize());
+            recreate(window->framebufferSize());
             continue;
         }
         const VkExtent2D ext = swapchain.extent();
@@ -318,7 +354,7 @@ nlohmann::json runDemo(const DemoOptions& o) {
             if (o.vergenceM > 0.0) sg.vergenceM = static_cast<float>(o.vergenceM);
             sg.saccade = reading && reading->saccade;
             render::PostSettings post;
-            post.taa = taa && o.view.empty();
+            post.taa = settings.taa && settings.view.empty();
             const auto eyes = rig->views(fly.camera(), sg, methods.forHmd(p), post, sc.exposure);
             views.assign(eyes.begin(), eyes.end());
             const uint32_t half = ext.width / 2;
@@ -332,7 +368,7 @@ nlohmann::json runDemo(const DemoOptions& o) {
             view.height = ext.height;
             view.exposure = sc.exposure;
             view.method = &methods.forSize(ext.width, ext.height);
-            view.post.taa = taa && o.view.empty();
+            view.post.taa = settings.taa && settings.view.empty();
             if (reading) view.saccade = reading->saccade;
             const glm::vec2 lastPixel(static_cast<float>(ext.width) - 1.0f,
                                       static_cast<float>(ext.height) - 1.0f);
@@ -342,11 +378,29 @@ nlohmann::json runDemo(const DemoOptions& o) {
         }
         const std::vector<render::OutputTarget*> targets(views.size(), targetPtr);
         target.setImage(*image, swapchain.format(), ext);
+        if (overlay) {
+            stats.frameMs = frameTimes.empty()
+                                ? 0.0
+                                : median(std::vector<double>(
+                                      frameTimes.end() -
+                                          std::min<std::ptrdiff_t>(
+                                              30, static_cast<std::ptrdiff_t>(frameTimes.size())),
+                                      frameTimes.end()));
+            stats.latencyMs = latencies.empty() ? 0.0 : latencies.back();
+            stats.pointsSampled =
+                methods.current() ? methods.current()->pointsSampled(views[0].gaze) : 0;
+            (void)overlay->build(settings, stats);
+            target.setOverlay(
+                [&overlay](rg::RenderGraph& g, rg::TextureId img) { return overlay->add(g, img); });
+        }
         const bool lastFrame = o.frames != 0 && frame + 1 == o.frames;
         if (lastFrame && !o.screenshot.empty()) target.requestScreenshot();
         const render::FrameResult result = renderer.renderFrame(views, targets);
+        stats.rays = 0;
+        for (const auto& v : result.views)
+            stats.rays += v.rays;
         if (reading) inFlight[result.number] = {reading->sampled, reading->sequence};
-        if (!swapchain.present(*image)) swapchain.recreate(window->framebufferSize());
+        if (!swapchain.present(*image)) recreate(window->framebufferSize());
 
         // Frames the GPU finished: their GPU time and the latency from their gaze sample to
         // the moment the frame was known finished (the driver offers no present timing here).
@@ -354,6 +408,7 @@ nlohmann::json runDemo(const DemoOptions& o) {
         if (result.timings) done.push_back({result.number, *result.timings});
         const auto finishedAt = SteadyClock::now();
         for (const rg::CompletedFrame& c : done) {
+            if (overlay) overlay->addTimings(c.timings);
             double latency = -1.0;
             uint64_t sequence = 0;
             if (const auto it = inFlight.find(c.number); it != inFlight.end()) {

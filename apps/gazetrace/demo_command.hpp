@@ -39,6 +39,7 @@ struct DemoOptions {
     // The HMD path in the window: both eyes of this profile side by side (an extended-mode
     // HMD shows the window full screen). Gaze pixels are the left eye's image.
     std::string hmd;
+    bool overlay = true; // the ImGui overlay (Tab toggles it)
     bool distortion = true;
     double vergenceM = 0.0;
 };

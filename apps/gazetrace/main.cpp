@@ -154,7 +154,7 @@ int main(int argc, char** argv) {
     benchCmd
         ->add_option("--suite", benchSuite,
                      "render (thesis tables, headline) | eye (pupil detection speed)")
-        ->check(CLI::IsMember({"render", "eye"}))
+        ->check(CLI::IsMember({"render", "eye", "stereo"}))
         ->capture_default_str();
 
     gt::app::EyesimOptions eyesim;
@@ -288,6 +288,10 @@ int main(int argc, char** argv) {
                      "1..4; 0 = automatic (1 on a CPU driver, 2 on a GPU)")
         ->capture_default_str();
     demoCmd->add_flag("--validate", demo.validate, "Khronos validation layer");
+    std::string demoOverlay = "on";
+    demoCmd->add_option("--overlay", demoOverlay, "on | off: the settings and timings overlay")
+        ->check(CLI::IsMember({"on", "off"}))
+        ->capture_default_str();
     demoCmd->add_option("--log", demo.log, "Per-frame CSV: GPU time, gaze, latency");
     demoCmd->add_option("--cache", demo.cacheDir, "Point-set cache folder");
     demoCmd->add_flag("--json", demoJson, "Print a JSON summary");
@@ -328,10 +332,13 @@ int main(int argc, char** argv) {
             const nlohmann::json result = gt::app::runPointSet(pointset);
             std::cout << (pointsetJson ? result.dump() : result.dump(2)) << std::endl;
         } else if (benchCmd->parsed()) {
-            if (benchSuite == "eye")
+            if (benchSuite == "eye") {
                 (void)gt::app::runEyeBench();
-            else
+            } else if (benchSuite == "stereo") {
+                (void)gt::app::runStereoBench(bench);
+            } else {
                 (void)gt::app::runBench(bench);
+            }
         } else if (eyesimCmd->parsed()) {
             const nlohmann::json result = gt::app::runEyesim(eyesim);
             if (eyesimJson) std::cout << result.dump() << std::endl;
@@ -348,6 +355,7 @@ int main(int argc, char** argv) {
         } else if (demoCmd->parsed()) {
             demo.taa = demoTaa == "on";
             demo.distortion = !demoNoDistortion;
+            demo.overlay = demoOverlay == "on";
             const nlohmann::json result = gt::app::runDemo(demo);
             if (demoJson) std::cout << result.dump() << std::endl;
         } else if (devicesCmd->parsed()) {

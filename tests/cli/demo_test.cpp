@@ -40,9 +40,9 @@ TEST(Demo, WindowMatchesHeadlessRenderInTheFovea) {
                                "--frame-ms 50 --frames 30 --cache " +
                                (dir / "cache").string();
     const auto shot = dir / "window.png";
-    const Result demo =
-        test::runWith(kXvfb, "demo --width 320 --height 180 --gaze trace:" + trace.string() +
-                                 " --validate --json --screenshot " + shot.string() + " " + common);
+    const Result demo = test::runWith(
+        kXvfb, "demo --width 320 --height 180 --gaze trace:" + trace.string() +
+                   " --overlay off --validate --json --screenshot " + shot.string() + " " + common);
     ASSERT_EQ(demo.status, 0) << demo.err;
     const auto j = nlohmann::json::parse(demo.out);
     EXPECT_EQ(j["frames"], 30);

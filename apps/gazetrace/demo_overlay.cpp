@@ -1,0 +1,163 @@
+#include "demo_overlay.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_vulkan.h>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "vk/context.hpp"
+#include "window.hpp"
+
+namespace gt::app {
+
+namespace {
+constexpr std::size_t kHistory = 120;
+
+void checkVk(VkResult r) {
+    if (r != VK_SUCCESS) log::error("overlay: Vulkan call failed with " + std::to_string(r));
+}
+
+template <typename T> void push(std::deque<T>& d, T v) {
+    d.push_back(v);
+    if (d.size() > kHistory) d.pop_front();
+}
+
+bool combo(const char* label, std::string& value, const std::vector<const char*>& items) {
+    int current = 0;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+        if (value == items[i]) current = static_cast<int>(i);
+    }
+    if (ImGui::Combo(label, &current, items.data(), static_cast<int>(items.size()))) {
+        value = items[static_cast<std::size_t>(current)];
+        return true;
+    }
+    return false;
+}
+} // namespace
+
+DemoOverlay::DemoOverlay(Window& window, vk::Context& ctx, VkFormat format, uint32_t imageCount)
+    : mCtx(ctx), mPass(ctx, format) {
+    const std::array<VkDescriptorPoolSize, 1> sizes = {
+        VkDescriptorPoolSize{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 16}};
+    VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pi.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+    pi.maxSets = 16;
+    pi.poolSizeCount = static_cast<uint32_t>(sizes.size());
+    pi.pPoolSizes = sizes.data();
+    GT_VK_CHECK(vkCreateDescriptorPool(ctx.device(), &pi, nullptr, &mPool));
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr; // no imgui.ini left in the working folder
+    ImGui::StyleColorsDark();
+    ImGui::GetIO().FontGlobalScale = 0.85f;
+    ImGui_ImplGlfw_InitForVulkan(window.handle(), true);
+    ImGui_ImplVulkan_InitInfo info{};
+    info.Instance = ctx.instance();
+    info.PhysicalDevice = ctx.physicalDevice();
+    info.Device = ctx.device();
+    info.QueueFamily = ctx.queueFamily();
+    info.Queue = ctx.queue();
+    info.DescriptorPool = mPool;
+    info.MinImageCount = std::max(2u, imageCount);
+    info.ImageCount = std::max(2u, imageCount);
+    info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
+    info.CheckVkResultFn = checkVk;
+    ImGui_ImplVulkan_Init(&info, mPass.renderPass());
+    ctx.submitAndWait([](VkCommandBuffer cmd) { ImGui_ImplVulkan_CreateFontsTexture(cmd); });
+    ImGui_ImplVulkan_DestroyFontUploadObjects();
+}
+
+DemoOverlay::~DemoOverlay() {
+    vkDeviceWaitIdle(mCtx.device());
+    ImGui_ImplVulkan_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    vkDestroyDescriptorPool(mCtx.device(), mPool, nullptr);
+}
+
+void DemoOverlay::swapchainRecreated(uint32_t imageCount) {
+    mPass.releaseFramebuffers();
+    ImGui_ImplVulkan_SetMinImageCount(std::max(2u, imageCount));
+}
+
+void DemoOverlay::addTimings(const rg::FrameTimings& t) {
+    push(mGpuHistory, static_cast<float>(t.gpuMs));
+    for (const auto& p : t.passes)
+        push(mPassHistory[p.name], static_cast<float>(p.gpuMs));
+}
+
+bool DemoOverlay::build(DemoSettings& s, const DemoStats& stats) {
+    ImGui_ImplVulkan_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    bool changed = false;
+    if (mVisible) {
+        ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+        ImGui::SetNextWindowBgAlpha(0.75f);
+        ImGui::Begin("gazetrace (Tab hides)", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+        ImGui::Text("%.1f fps  %.1f ms/frame", stats.frameMs > 0 ? 1000.0 / stats.frameMs : 0.0,
+                    stats.frameMs);
+        ImGui::Text("gaze-to-photon %.1f ms (%s)", stats.latencyMs, stats.gazeSource.c_str());
+        ImGui::Text("%s", stats.device.c_str());
+        changed |= combo("method (M)", s.method, {"foveated", "reference"});
+        if (s.method == "foveated") {
+            changed |= combo("interpolation (I)", s.interp, {"nn", "msm", "rbf"});
+            int k = static_cast<int>(s.k);
+            if (s.interp != "nn" && ImGui::SliderInt("k", &k, 1, 20)) {
+                s.k = static_cast<uint32_t>(k);
+                changed = true;
+            }
+            int rays = static_cast<int>(s.raysPerPoint);
+            if (ImGui::SliderInt("rays per point ([ ])", &rays, 1, 64)) {
+                s.raysPerPoint = static_cast<uint32_t>(rays);
+                changed = true;
+            }
+            float scale = static_cast<float>(s.scale);
+            if (ImGui::SliderFloat("scale", &scale, 1.0f, 4.0f, "%.1f")) {
+                s.scale = scale;
+                changed = true;
+            }
+            std::string view = s.view.empty() ? "image" : s.view;
+            if (combo("debug view (V)", view, {"image", "points", "cells", "eccentricity"})) {
+                s.view = view == "image" ? "" : view;
+                changed = true;
+            }
+            ImGui::Text("points sampled %llu",
+                        static_cast<unsigned long long>(stats.pointsSampled));
+        }
+        changed |= ImGui::Checkbox("TAA (T)", &s.taa);
+        ImGui::Text("rays %llu", static_cast<unsigned long long>(stats.rays));
+        if (!mGpuHistory.empty() && ImGui::CollapsingHeader("GPU time per pass")) {
+            // On lavapipe, once a render pass (this overlay's) has run, llvmpipe bins later
+            // timestamp queries with its rasteriser and the compute passes' times collapse;
+            // the frame time above is wall clock and stays right. GPUs report true times.
+            const std::vector<float> gpu(mGpuHistory.begin(), mGpuHistory.end());
+            char label[64];
+            std::snprintf(label, sizeof(label), "GPU %.1f ms", gpu.back());
+            ImGui::PlotLines("##gpu", gpu.data(), static_cast<int>(gpu.size()), 0, label, 0.0f,
+                             FLT_MAX, ImVec2(260, 50));
+            for (const auto& [name, h] : mPassHistory) {
+                ImGui::Text("%-22s %7.2f ms", name.c_str(), h.back());
+            }
+        }
+        ImGui::TextUnformatted("WASD/QE move, right button looks, P screenshot, R records path");
+        ImGui::End();
+    }
+    ImGui::Render();
+    return changed;
+}
+
+rg::TextureId DemoOverlay::add(rg::RenderGraph& graph, rg::TextureId image) {
+    return mPass.add(graph, image, [](VkCommandBuffer cmd) {
+        if (ImDrawData* d = ImGui::GetDrawData(); d != nullptr && d->CmdListsCount > 0) {
+            ImGui_ImplVulkan_RenderDrawData(d, cmd);
+        }
+    });
+}
+
+} // namespace gt::app
