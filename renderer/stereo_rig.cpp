@@ -53,7 +53,8 @@ std::array<View, 2> StereoRig::views(const scene::Camera& head, const StereoGaze
         v.width = mProfile.eyeWidth;
         v.height = mProfile.eyeHeight;
         // The fixation point in the head frame, seen from this eye.
-        const glm::vec3 dir = gaze.vergenceM
+        const glm::vec3 dir = gaze.eyeDirection[eye] ? *gaze.eyeDirection[eye]
+                              : gaze.vergenceM
                                   ? glm::normalize(gaze.direction) * *gaze.vergenceM - offset
                                   : gaze.direction;
         const glm::vec2 px = pixelOfDirection(dir, t, v.width, v.height);

@@ -28,6 +28,9 @@ namespace gt::render {
 struct StereoGaze {
     glm::vec3 direction{0.0f, 0.0f, 1.0f}; // in the head's frame (x right, y up, z forward)
     std::optional<float> vergenceM;        // distance to the fixation point; empty: infinity
+    // Two tracked eyes: each eye's own direction (its frame is the head's, moved by half the
+    // IPD), which replaces `direction` and `vergenceM` for that eye.
+    std::optional<glm::vec3> eyeDirection[2];
     bool saccade = false;
 };
 

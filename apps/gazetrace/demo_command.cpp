@@ -25,6 +25,7 @@
 #include "foveation/point_set_cache.hpp"
 #include "full_resolution.hpp"
 #include "gaze_input.hpp"
+#include "gaze_mapping.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"
@@ -209,7 +210,7 @@ nlohmann::json runDemo(const DemoOptions& o) {
     if (!o.log.empty()) {
         log = std::make_unique<std::ofstream>(o.log + ".tmp");
         if (!*log) throw Error("--log: cannot write " + o.log);
-        *log << "frame,t_ms,frame_ms,gpu_ms,gaze_x,gaze_y,gaze_sequence,latency_ms\n";
+        *log << "frame,t_ms,frame_ms,gpu_ms,gaze_x,gaze_y,gaze_sequence,gaze_t_ms,latency_ms\n";
     }
 
     // The gaze source first: a bad one fails before a window opens. The mouse reads the window
@@ -261,8 +262,16 @@ nlohmann::json runDemo(const DemoOptions& o) {
     const auto t0 = SteadyClock::now();
     auto last = t0;
     std::vector<double> frameTimes, latencies;
-    std::map<uint64_t, std::pair<SteadyClock::time_point, uint64_t>> inFlight; // gaze per frame
+    struct FrameGaze {
+        SteadyClock::time_point sampled;
+        uint64_t sequence;
+        double sourceMs;
+        glm::vec2 pixel;
+    };
+    std::map<uint64_t, FrameGaze> inFlight; // the gaze each frame in flight used
     std::optional<glm::vec2> gazePx;
+    std::optional<GazeReading> lastReading;
+    const render::ScreenGeometry screen; // the desktop profile's screen
     uint32_t frame = 0;
     int screenshotsTaken = 0;
     double fpsShown = 0.0;
@@ -333,7 +342,15 @@ nlohmann::json runDemo(const DemoOptions& o) {
         }
         const VkExtent2D ext = swapchain.extent();
         const std::optional<GazeReading> reading = gaze->read(tMs);
-        if (reading) gazePx = reading->screenPx;
+        if (reading) {
+            lastReading = reading;
+            // Desktop: angles land on the desktop profile's physical screen, screen pixels are
+            // moved into the window; window pixels (mouse, pixel traces) are used as they are.
+            const glm::vec2 origin(window->position());
+            gazePx = reading->anglesDeg      ? screen.pixelOfAngles(*reading->anglesDeg) - origin
+                     : reading->windowPixels ? reading->screenPx
+                                             : reading->screenPx - origin;
+        }
         std::vector<render::View> views;
         if (rig) {
             // Each eye in its half of the window; the gaze is a pixel of the left eye's image
@@ -351,6 +368,14 @@ nlohmann::json runDemo(const DemoOptions& o) {
             }
             render::StereoGaze sg;
             sg.direction = rig->directionOfLeftPixel(g);
+            if (lastReading && lastReading->anglesDeg) {
+                sg.direction = render::directionOfAngles(*lastReading->anglesDeg);
+            }
+            for (int e = 0; e < 2 && lastReading; ++e) {
+                if (lastReading->eyeAnglesDeg[e]) {
+                    sg.eyeDirection[e] = render::directionOfAngles(*lastReading->eyeAnglesDeg[e]);
+                }
+            }
             if (o.vergenceM > 0.0) sg.vergenceM = static_cast<float>(o.vergenceM);
             sg.saccade = reading && reading->saccade;
             render::PostSettings post;
@@ -399,7 +424,10 @@ nlohmann::json runDemo(const DemoOptions& o) {
         stats.rays = 0;
         for (const auto& v : result.views)
             stats.rays += v.rays;
-        if (reading) inFlight[result.number] = {reading->sampled, reading->sequence};
+        if (reading) {
+            inFlight[result.number] = {reading->sampled, reading->sequence, reading->sourceMs,
+                                       views[0].gaze};
+        }
         if (!swapchain.present(*image)) recreate(window->framebufferSize());
 
         // Frames the GPU finished: their GPU time and the latency from their gaze sample to
@@ -410,18 +438,18 @@ nlohmann::json runDemo(const DemoOptions& o) {
         for (const rg::CompletedFrame& c : done) {
             if (overlay) overlay->addTimings(c.timings);
             double latency = -1.0;
-            uint64_t sequence = 0;
+            FrameGaze used{{}, 0, 0.0, views[0].gaze};
             if (const auto it = inFlight.find(c.number); it != inFlight.end()) {
-                latency = msBetween(it->second.first, finishedAt);
-                sequence = it->second.second;
+                used = it->second;
+                latency = msBetween(used.sampled, finishedAt);
                 latencies.push_back(latency);
                 inFlight.erase(it);
             }
             if (log) {
                 *log << c.number << "," << tMs << ","
                      << (frameTimes.empty() ? 0.0 : frameTimes.back()) << "," << c.timings.gpuMs
-                     << "," << views[0].gaze.x << "," << views[0].gaze.y << "," << sequence << ","
-                     << latency << "\n";
+                     << "," << used.pixel.x << "," << used.pixel.y << "," << used.sequence << ","
+                     << used.sourceMs << "," << latency << "\n";
             }
         }
         frameTimes.push_back(msBetween(now, SteadyClock::now()));

@@ -26,7 +26,11 @@ class FixedGaze final : public GazeInput {
 public:
     explicit FixedGaze(glm::vec2 p) : mPoint(p) {}
     std::optional<GazeReading> read(double) override {
-        return GazeReading{mPoint, SteadyClock::now(), false, 1};
+        GazeReading r;
+        r.screenPx = mPoint;
+        r.sampled = SteadyClock::now();
+        r.sequence = 1;
+        return r;
     }
     std::string describe() const override { return "fixed"; }
 
@@ -38,7 +42,11 @@ class MouseGaze final : public GazeInput {
 public:
     explicit MouseGaze(std::function<glm::vec2()> cursor) : mCursor(std::move(cursor)) {}
     std::optional<GazeReading> read(double) override {
-        return GazeReading{mCursor(), SteadyClock::now(), false, ++mSequence};
+        GazeReading r;
+        r.screenPx = mCursor();
+        r.sampled = SteadyClock::now();
+        r.sequence = ++mSequence;
+        return r;
     }
     std::string describe() const override { return "mouse"; }
 
@@ -52,8 +60,23 @@ public:
     TraceGaze(foveation::GazeTrace trace, std::string file)
         : mTrace(std::move(trace)), mFile(std::move(file)) {}
     std::optional<GazeReading> read(double frameMs) override {
-        return GazeReading{mTrace.at(mTrace.startMs() + frameMs), SteadyClock::now(), false,
-                           ++mSequence};
+        const double t = mTrace.startMs() + frameMs;
+        GazeReading r;
+        r.sampled = SteadyClock::now();
+        r.sequence = ++mSequence;
+        r.sourceMs = t;
+        if (mTrace.units() == foveation::GazeUnits::AnglesDeg) {
+            r.anglesDeg = mTrace.at(t);
+            if (mTrace.hasEye(foveation::GazeEye::Left)) {
+                r.eyeAnglesDeg[0] = mTrace.at(t, foveation::GazeEye::Left);
+            }
+            if (mTrace.hasEye(foveation::GazeEye::Right)) {
+                r.eyeAnglesDeg[1] = mTrace.at(t, foveation::GazeEye::Right);
+            }
+        } else {
+            r.screenPx = mTrace.at(t);
+        }
+        return r;
     }
     std::string describe() const override { return "trace:" + mFile; }
 
@@ -90,8 +113,16 @@ public:
         const uint64_t saccades = mTracker->saccades();
         const bool saccade = saccades != mSaccadesSeen;
         mSaccadesSeen = saccades;
-        return GazeReading{glm::vec2(g->x, g->y) * scale, SteadyClock::now(), saccade,
-                           mTracker->frames()};
+        GazeReading r;
+        r.screenPx = glm::vec2(g->x, g->y) * scale;
+        r.windowPixels = false;
+        r.sampled = SteadyClock::now();
+        r.saccade = saccade;
+        r.sequence = mTracker->frames();
+        r.sourceMs = g->tMs;
+        const cv::Point2d a = d.anglesDeg({g->x, g->y}); // its calibration fits angles
+        r.anglesDeg = glm::vec2(static_cast<float>(a.x), static_cast<float>(a.y));
+        return r;
     }
     std::string describe() const override { return "track:" + mSpec; }
 
@@ -137,17 +168,37 @@ public:
                 break; // EAGAIN: drained
             }
             const auto j = nlohmann::json::parse(buffer, buffer + n, nullptr, false);
-            if (j.is_discarded() || !j.contains("x") || !j.contains("y") || !j["x"].is_number() ||
-                !j["y"].is_number()) {
+            const auto number = [&](const char* key) -> std::optional<float> {
+                if (j.is_discarded() || !j.is_object() || !j.contains(key) || !j[key].is_number()) {
+                    return std::nullopt;
+                }
+                const float v = j[key].get<float>();
+                return std::isfinite(v) ? std::optional(v) : std::nullopt;
+            };
+            const auto x = number("x"), y = number("y");
+            const auto yaw = number("yaw_deg"), pitch = number("pitch_deg");
+            const bool angles = yaw && pitch && std::abs(*yaw) < 90.0f && std::abs(*pitch) < 90.0f;
+            if (!(x && y) && !angles) {
                 ++mRejected;
                 continue;
             }
-            const glm::vec2 p(j["x"].get<float>(), j["y"].get<float>());
-            if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
-                ++mRejected;
-                continue;
+            GazeReading r = mLast.value_or(GazeReading{});
+            r.sampled = SteadyClock::now();
+            r.sequence = ++mSequence;
+            r.sourceMs = number("t_ms").value_or(0.0f);
+            r.windowPixels = false;
+            if (x && y) r.screenPx = {*x, *y};
+            const std::string eye = j.contains("eye") && j["eye"].is_string() ? j["eye"] : "both";
+            if (angles) {
+                const glm::vec2 a(*yaw, *pitch);
+                if (eye == "left") {
+                    r.eyeAnglesDeg[0] = a;
+                } else if (eye == "right") {
+                    r.eyeAnglesDeg[1] = a;
+                } else {
+                    r.anglesDeg = a;
+                }
             }
-            GazeReading r{p, SteadyClock::now(), false, ++mSequence};
             r.saccade = (mLast && mLast->saccade) || j.value("saccade_onset", false);
             mLast = r;
         }

@@ -17,12 +17,19 @@ namespace gt::app {
 using SteadyClock = std::chrono::steady_clock;
 
 struct GazeReading {
-    glm::vec2 screenPx{}; // on the source's screen, origin top-left
+    glm::vec2 screenPx{};     // pixels, origin top-left: the window's, or the screen's (below)
+    bool windowPixels = true; // false: screenPx is on the screen (tracker, UDP): subtract the
+                              // window's position
+    // The gaze as angles (degrees; yaw right, pitch up) where the source knows them (angle
+    // traces, the tracker, UDP): both eyes, and each tracked eye. They win over screenPx.
+    std::optional<glm::vec2> anglesDeg;
+    std::optional<glm::vec2> eyeAnglesDeg[2];
     // When the sample was taken, for gaze-to-photon latency: the camera frame's time for the eye
     // tracker, the poll for the mouse, the read for a trace (which has no clock of its own).
     SteadyClock::time_point sampled{};
     bool saccade = false;  // a saccade began since the last reading: drop temporal history
     uint64_t sequence = 0; // increases with every new sample the source received
+    double sourceMs = 0.0; // the sample's own time stamp (t_ms of a trace or a datagram)
 };
 
 class GazeInput {

@@ -23,6 +23,7 @@
 #include "foveation/point_set_cache.hpp"
 #include "full_resolution.hpp"
 #include "gaze/gaze_tracker.hpp"
+#include "gaze_mapping.hpp"
 #include "output_target.hpp"
 #include "point_sample/point_sample.hpp"
 #include "point_set_method.hpp"
@@ -138,7 +139,9 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
         if (!o.gaze.empty()) throw ArgumentError("--gaze and --gaze-trace exclude each other");
         if (!(o.frameMs > 0.0)) throw ArgumentError("--frame-ms must be positive");
         trace = foveation::GazeTrace::load(o.gazeTrace);
-        warnOffScreen(*trace, o.gazeTrace, w, h);
+        if (trace->units() == foveation::GazeUnits::Pixels) {
+            warnOffScreen(*trace, o.gazeTrace, w, h);
+        }
         if (!o.framesGiven) {
             frameCount = 1 + static_cast<uint32_t>((trace->endMs() - trace->startMs()) / o.frameMs);
         }
@@ -194,13 +197,22 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
     std::vector<std::string> outputs;
     const glm::vec2 lastPixel(static_cast<float>(w) - 1.0f, static_cast<float>(h) - 1.0f);
     for (uint32_t i = 0; i < frameCount; ++i) {
-        if (trace) {
-            gazePx =
-                glm::clamp(trace->at(trace->startMs() + i * o.frameMs), glm::vec2(0.0f), lastPixel);
+        render::StereoGaze gaze;
+        const double t = trace ? trace->startMs() + i * o.frameMs : 0.0;
+        if (trace && trace->units() == foveation::GazeUnits::AnglesDeg) {
+            // Angles: one direction for both eyes, or each tracked eye its own.
+            gaze.direction = render::directionOfAngles(trace->at(t));
+            for (const auto eye : {foveation::GazeEye::Left, foveation::GazeEye::Right}) {
+                if (trace->hasEye(eye)) {
+                    gaze.eyeDirection[eye == foveation::GazeEye::Left ? 0 : 1] =
+                        render::directionOfAngles(trace->at(t, eye));
+                }
+            }
+        } else {
+            if (trace) gazePx = glm::clamp(trace->at(t), glm::vec2(0.0f), lastPixel);
+            gaze.direction = rig.directionOfLeftPixel(gazePx);
         }
         if (reference) reference->settings.frameSeed = o.seed + i;
-        render::StereoGaze gaze;
-        gaze.direction = rig.directionOfLeftPixel(gazePx);
         if (o.vergenceM > 0.0) gaze.vergenceM = static_cast<float>(o.vergenceM);
         views = rig.views(head, gaze, *method, post, renderer.scene().exposure);
         const bool dot = !o.graphDot.empty() && i == 0;
@@ -313,7 +325,9 @@ nlohmann::json runRender(const RenderOptions& o) {
             throw ArgumentError("--gaze and --gaze-trace exclude each other");
         }
         trace = foveation::GazeTrace::load(o.gazeTrace);
-        warnOffScreen(*trace, o.gazeTrace, width, height);
+        if (trace->units() == foveation::GazeUnits::Pixels) {
+            warnOffScreen(*trace, o.gazeTrace, width, height);
+        }
         if (!o.framesGiven) {
             frameCount = 1 + static_cast<uint32_t>((trace->endMs() - trace->startMs()) / o.frameMs);
         }
@@ -400,8 +414,18 @@ nlohmann::json runRender(const RenderOptions& o) {
     for (uint32_t i = 0; i < frameCount; ++i) {
         const bool dot = !o.graphDot.empty() && i == 0;
         if (trace) {
-            view.gaze =
-                glm::clamp(trace->at(trace->startMs() + i * o.frameMs), glm::vec2(0.0f), lastPixel);
+            const glm::vec2 g = trace->at(trace->startMs() + i * o.frameMs);
+            glm::vec2 px = g;
+            if (trace->units() == foveation::GazeUnits::AnglesDeg) {
+                // The desktop profile: the physical screen, this render a window centred on it;
+                // an HMD eye (fove, vive) on its own: through the view's projection.
+                const render::ScreenGeometry screen;
+                px = o.profile == "desktop"
+                         ? screen.pixelOfAngles(g) -
+                               render::centredWindowOrigin(screen, {width, height})
+                         : render::pixelOfAnglesInView(g, view);
+            }
+            view.gaze = glm::clamp(px, glm::vec2(0.0f), lastPixel);
         }
         if (tracker) {
             if (const auto e = tracker->error()) {

@@ -49,7 +49,9 @@ nlohmann::json runTrack(const TrackOptions& o) {
     if (!o.truth.empty())
         truth = eyetrack::CsvTable::load(o.truth, {"frame", "cx", "cy", "visibility"});
     std::unique_ptr<eyetrack::UdpEmitter> emitter;
-    if (!o.emit.empty()) emitter = std::make_unique<eyetrack::UdpEmitter>(o.emit);
+    if (!o.emit.empty()) {
+        emitter = std::make_unique<eyetrack::UdpEmitter>(o.emit, calibration->display());
+    }
 
     std::unique_ptr<eyetrack::AtomicFile> gazeCsv, pupilCsv;
     if (!o.out.empty()) {

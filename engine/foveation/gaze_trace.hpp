@@ -1,7 +1,12 @@
 #pragma once
-// Recorded gaze for driving the renderer: CSV with a header line `t_ms,x,y` and one sample per
-// line (milliseconds, screen pixels, origin top-left). `gazetrace track --out` writes the same
-// format, so recorded gaze replays in the renderer. Times must increase.
+// Recorded gaze for driving the renderer: CSV with a header line and one sample per line.
+//  - `t_ms,x,y`: milliseconds and screen pixels, origin top-left (`gazetrace track --out` writes
+//    this, so recorded gaze replays in the renderer);
+//  - `t_ms,yaw_deg,pitch_deg[,eye]`: gaze angles in degrees from the eye's straight-ahead (yaw
+//    right, pitch up, as the tracker's calibration fits them), optionally per eye (`left`,
+//    `right` or `both`); they land on a desktop screen through its physical geometry and in an
+//    HMD through each eye's own projection.
+// Times must increase (per eye).
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -10,9 +15,13 @@
 
 namespace gt::foveation {
 
+enum class GazeUnits { Pixels, AnglesDeg };
+enum class GazeEye { Both, Left, Right };
+
 struct GazeTraceSample {
     double tMs = 0.0;
-    glm::vec2 position{};
+    glm::vec2 position{}; // pixels (x, y) or angles (yaw, pitch), see GazeTrace::units()
+    GazeEye eye = GazeEye::Both;
 };
 
 class GazeTrace {
@@ -21,14 +30,24 @@ public:
     [[nodiscard]] static GazeTrace load(const std::filesystem::path& file);
     [[nodiscard]] static GazeTrace fromSamples(std::vector<GazeTraceSample> samples);
 
+    [[nodiscard]] static GazeTrace fromSamples(std::vector<GazeTraceSample> samples,
+                                               GazeUnits units);
+
     [[nodiscard]] const std::vector<GazeTraceSample>& samples() const noexcept { return mSamples; }
+    [[nodiscard]] GazeUnits units() const noexcept { return mUnits; }
     [[nodiscard]] double startMs() const { return mSamples.front().tMs; }
     [[nodiscard]] double endMs() const { return mSamples.back().tMs; }
-    // Linear interpolation, clamped at both ends.
+    // Linear interpolation, clamped at both ends: the samples for both eyes (or, when the trace
+    // has only per-eye samples, the left eye's).
     [[nodiscard]] glm::vec2 at(double tMs) const;
+    // One eye: its own samples, else those for both eyes.
+    [[nodiscard]] glm::vec2 at(double tMs, GazeEye eye) const;
+    [[nodiscard]] bool hasEye(GazeEye eye) const noexcept;
 
 private:
     std::vector<GazeTraceSample> mSamples;
+    std::vector<GazeTraceSample> mPerEye[3]; // indexed by GazeEye
+    GazeUnits mUnits = GazeUnits::Pixels;
 };
 
 } // namespace gt::foveation

@@ -10,7 +10,7 @@
 
 namespace gt::eyetrack {
 
-UdpEmitter::UdpEmitter(const std::string& url) {
+UdpEmitter::UdpEmitter(const std::string& url, const DisplayGeometry& display) : mDisplay(display) {
     const std::string prefix = "udp://";
     auto bad = [&](const std::string& why) { return EyetrackError("--emit " + url + ": " + why); };
     if (url.rfind(prefix, 0) != 0) throw bad("expected udp://HOST:PORT");
@@ -41,10 +41,15 @@ UdpEmitter::~UdpEmitter() {
     if (mSocket >= 0) ::close(mSocket);
 }
 
-std::string UdpEmitter::toJson(const GazeSample& s) {
+std::string UdpEmitter::toJson(const GazeSample& s, const DisplayGeometry& d, const char* eye) {
+    const cv::Point2d a = d.anglesDeg({s.x, s.y});
     return nlohmann::json{{"t_ms", s.tMs},
+                          {"eye", eye},
+                          {"yaw_deg", a.x},
+                          {"pitch_deg", a.y},
                           {"x", s.x},
                           {"y", s.y},
+                          {"screen", {d.widthPx, d.heightPx}},
                           {"confidence", s.confidence},
                           {"event", toString(s.event)},
                           {"saccade_onset", s.saccade}}
@@ -52,7 +57,7 @@ std::string UdpEmitter::toJson(const GazeSample& s) {
 }
 
 bool UdpEmitter::send(const GazeSample& s) {
-    const std::string text = toJson(s);
+    const std::string text = toJson(s, mDisplay);
     return ::sendto(mSocket, text.data(), text.size(), 0, reinterpret_cast<const sockaddr*>(&mTo),
                     sizeof(mTo)) == static_cast<ssize_t>(text.size());
 }

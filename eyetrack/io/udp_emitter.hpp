@@ -1,10 +1,15 @@
 #pragma once
-// Sends each gaze sample as one JSON datagram to udp://HOST:PORT, for other programs:
-// {"t_ms":..,"x":..,"y":..,"confidence":..,"event":"fixation|saccade|blink","saccade_onset":..}
+// Sends each gaze sample as one JSON datagram to udp://HOST:PORT, for other programs (and
+// `gazetrace demo --gaze udp:PORT`):
+// {"t_ms":..,"eye":"both|left|right","yaw_deg":..,"pitch_deg":..,"x":..,"y":..,
+//  "screen":[W,H],"confidence":..,"event":"fixation|saccade|blink","saccade_onset":..}
+// Angles are degrees from the eye's straight-ahead (yaw right, pitch up); x, y are pixels of
+// the calibration's screen, given where one is known.
 #include <string>
 
 #include <netinet/in.h>
 
+#include "gaze/display_geometry.hpp"
 #include "gaze/gaze_sample.hpp"
 
 namespace gt::eyetrack {
@@ -12,16 +17,19 @@ namespace gt::eyetrack {
 class UdpEmitter {
 public:
     // url: udp://IPV4:PORT or udp://localhost:PORT. Throws EyetrackError for a bad URL.
-    explicit UdpEmitter(const std::string& url);
+    // `display`: the calibration's screen, for the angles and the screen size in each datagram.
+    UdpEmitter(const std::string& url, const DisplayGeometry& display);
     ~UdpEmitter();
     UdpEmitter(const UdpEmitter&) = delete;
     UdpEmitter& operator=(const UdpEmitter&) = delete;
 
     // Best effort, like any UDP stream: returns false if the datagram could not be sent.
     bool send(const GazeSample& s);
-    [[nodiscard]] static std::string toJson(const GazeSample& s);
+    [[nodiscard]] static std::string toJson(const GazeSample& s, const DisplayGeometry& display,
+                                            const char* eye = "both");
 
 private:
+    DisplayGeometry mDisplay;
     int mSocket = -1;
     sockaddr_in mTo{};
 };

@@ -1,13 +1,24 @@
 // `gazetrace demo` end to end under Xvfb (lavapipe, validation on): the window shows what the
 // headless path renders, survives a resize, and fails cleanly without a display or with a bad
 // gaze source.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "gaze_mapping.hpp"
 #include "scene/image_io.hpp"
 #include "support/cli_run.hpp"
 #include "support/gpu_test_context.hpp"
@@ -111,6 +122,79 @@ TEST(Demo, BadGazeSourceIsOneLine) {
     test::expectCleanFailure(
         test::run("demo --gaze track:synthetic:1 --screenshot " + shot.string()), "--calibration",
         shot);
+}
+
+} // namespace
+} // namespace gt
+
+namespace gt {
+namespace {
+
+// `gazetrace track --emit`'s datagrams drive the demo: a sender on this side sends numbered
+// samples, and every frame the demo logs shows the gaze of the sample it says it had received
+// last (its sequence), mapped from angles onto the desktop screen.
+TEST(Demo, UdpSenderAndDemoAgreeOnTheSamples) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    const auto dir = test::tempDir("demo_udp");
+    const int tx = ::socket(AF_INET, SOCK_DGRAM, 0);
+    ASSERT_GE(tx, 0);
+    // A free port: bind, read it back, close (the demo binds it a moment later).
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    {
+        const int probe = ::socket(AF_INET, SOCK_DGRAM, 0);
+        ASSERT_EQ(::bind(probe, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)), 0);
+        socklen_t len = sizeof(addr);
+        ASSERT_EQ(::getsockname(probe, reinterpret_cast<sockaddr*>(&addr), &len), 0);
+        ::close(probe);
+    }
+    const int port = ntohs(addr.sin_port);
+    // Sample i looks 20 degrees left and 12.5 - i/100 degrees up: with the window (320 x 180)
+    // at the screen's top-left, that lands inside it, and its height says which sample it is.
+    std::atomic<bool> stop{false};
+    std::thread sender([&] {
+        for (int i = 1; i <= 400 && !stop; ++i) {
+            const std::string msg = "{\"t_ms\":" + std::to_string(i) +
+                                    ",\"eye\":\"both\",\"yaw_deg\":-20,\"pitch_deg\":" +
+                                    std::to_string(12.5 - 0.01 * i) + "}";
+            (void)::sendto(tx, msg.data(), msg.size(), 0, reinterpret_cast<sockaddr*>(&addr),
+                           sizeof(addr));
+            std::this_thread::sleep_for(std::chrono::milliseconds(15));
+        }
+    });
+    const auto log = dir / "frames.csv";
+    const Result r = test::runWith(kXvfb, "demo --scene builtin:cornell --width 320 --height 180 "
+                                          "--overlay off --frames 25 --gaze udp:" +
+                                              std::to_string(port) + " --log " + log.string() +
+                                              " --cache " + (dir / "cache").string());
+    stop = true;
+    sender.join();
+    ::close(tx);
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::ifstream in(log);
+    std::string line;
+    std::getline(in, line);
+    ASSERT_EQ(line, "frame,t_ms,frame_ms,gpu_ms,gaze_x,gaze_y,gaze_sequence,gaze_t_ms,latency_ms");
+    const render::ScreenGeometry screen;
+    int matched = 0;
+    while (std::getline(in, line)) {
+        std::vector<double> v;
+        std::stringstream ss(line);
+        for (std::string f; std::getline(ss, f, ',');)
+            v.push_back(std::stod(f));
+        ASSERT_EQ(v.size(), 9u) << line;
+        if (v[6] == 0) continue; // no sample yet
+        // The sample the frame used, by its own t_ms (= the sender's i): its gaze must be where
+        // that sample's angles land.
+        const double i = v[7];
+        const glm::vec2 expected =
+            screen.pixelOfAngles({-20.0f, static_cast<float>(12.5 - 0.01 * i)});
+        EXPECT_NEAR(v[4], expected.x, 0.01) << line;
+        EXPECT_NEAR(v[5], std::clamp(expected.y, 0.0f, 179.0f), 0.01) << line;
+        ++matched;
+    }
+    EXPECT_GT(matched, 5);
 }
 
 } // namespace

@@ -389,7 +389,8 @@ TEST(UdpEmitter, SendsOneJsonObjectPerSample) {
     ASSERT_EQ(::getsockname(rx, reinterpret_cast<sockaddr*>(&addr), &len), 0);
     timeval tv{2, 0};
     ::setsockopt(rx, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof(tv));
-    UdpEmitter tx("udp://127.0.0.1:" + std::to_string(ntohs(addr.sin_port)));
+    const DisplayGeometry display; // the desktop screen
+    UdpEmitter tx("udp://127.0.0.1:" + std::to_string(ntohs(addr.sin_port)), display);
     GazeSample s;
     s.tMs = 12.5;
     s.x = 100.0f;
@@ -406,7 +407,14 @@ TEST(UdpEmitter, SendsOneJsonObjectPerSample) {
     EXPECT_DOUBLE_EQ(j.at("t_ms").get<double>(), 12.5);
     EXPECT_EQ(j.at("event"), "saccade");
     EXPECT_EQ(j.at("saccade_onset"), true);
-    EXPECT_THROW(UdpEmitter("tcp://1.2.3.4:5"), EyetrackError);
-    EXPECT_THROW(UdpEmitter("udp://example.com:5"), EyetrackError);
-    EXPECT_THROW(UdpEmitter("udp://127.0.0.1:99999"), EyetrackError);
+    // The renderer's schema: angles of that screen point, the eye, and the screen's size.
+    const cv::Point2d a = display.anglesDeg({100.0, 200.0});
+    EXPECT_NEAR(j.at("yaw_deg").get<double>(), a.x, 1e-9);
+    EXPECT_NEAR(j.at("pitch_deg").get<double>(), a.y, 1e-9);
+    EXPECT_LT(j.at("yaw_deg").get<double>(), -10.0); // left of centre
+    EXPECT_EQ(j.at("eye"), "both");
+    EXPECT_EQ(j.at("screen")[0], 1920);
+    EXPECT_THROW(UdpEmitter("tcp://1.2.3.4:5", display), EyetrackError);
+    EXPECT_THROW(UdpEmitter("udp://example.com:5", display), EyetrackError);
+    EXPECT_THROW(UdpEmitter("udp://127.0.0.1:99999", display), EyetrackError);
 }

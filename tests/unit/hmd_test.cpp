@@ -1,14 +1,19 @@
 // The HMD path's maths without a GPU: profiles, the lens model and its inverse, the stereo rig's
 // per-eye gaze, and a window's point-set profile.
 #include <cmath>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
 #include "display/hmd_profile.hpp"
 #include "foveation/contrast_sensitivity.hpp"
+#include "foveation/gaze_trace.hpp"
 #include "full_resolution.hpp"
+#include "gaze/display_geometry.hpp"
+#include "gaze_mapping.hpp"
 #include "stereo_rig.hpp"
+#include "support/gpu_test_context.hpp"
 
 namespace gt {
 namespace {
@@ -124,6 +129,80 @@ TEST(WindowProfile, KeepsTheScreensPixelsPerDegree) {
         foveation::ContrastSensitivity::eccentricityDeg(100, window.width, window.viewingDistance),
         foveation::ContrastSensitivity::eccentricityDeg(100, screen.width, screen.viewingDistance),
         1e-9);
+}
+
+} // namespace
+} // namespace gt
+
+namespace gt {
+namespace {
+
+// The tracker's old path put a gaze on the screen as pixels (DisplayGeometry::pixelAtDeg); the
+// renderer now takes angles and places them itself. On the desktop profile both must agree.
+TEST(GazeMapping, AnglesLandWhereTheTrackersPixelPathPutThem) {
+    const render::ScreenGeometry screen;
+    const eyetrack::DisplayGeometry old;
+    for (const glm::vec2 a : {glm::vec2(0.0f, 0.0f), glm::vec2(10.0f, -5.0f),
+                              glm::vec2(-20.0f, 12.0f), glm::vec2(23.0f, 13.0f)}) {
+        const glm::vec2 p = screen.pixelOfAngles(a);
+        const cv::Point2d q = old.pixelAtDeg({a.x, a.y});
+        EXPECT_NEAR(p.x, q.x, 1e-3);
+        EXPECT_NEAR(p.y, q.y, 1e-3);
+        const glm::vec2 back = screen.anglesOfPixel(p);
+        EXPECT_NEAR(back.x, a.x, 1e-4f);
+        EXPECT_NEAR(back.y, a.y, 1e-4f);
+    }
+    // The screen centre straight ahead; a window centred on the screen sees it at its centre.
+    const glm::vec2 c =
+        screen.pixelOfAngles({0.0f, 0.0f}) - render::centredWindowOrigin(screen, {640, 360});
+    EXPECT_NEAR(c.x, 320.0f, 1e-4f);
+    EXPECT_NEAR(c.y, 180.0f, 1e-4f);
+}
+
+// A single HMD eye: angles through its own projection (tangents), not a screen.
+TEST(GazeMapping, AnglesThroughAViewsProjection) {
+    render::View v;
+    v.width = 1280;
+    v.height = 1440;
+    v.frustum = trace::FrustumTangents{-1.2f, 1.0f, 1.1f, -1.1f};
+    const glm::vec2 ahead = render::pixelOfAnglesInView({0.0f, 0.0f}, v);
+    EXPECT_NEAR(ahead.x, 1.2f / 2.2f * 1280.0f, 1e-3f); // the optical axis
+    EXPECT_NEAR(ahead.y, 720.0f, 1e-3f);
+    const glm::vec2 right = render::pixelOfAnglesInView({45.0f, 0.0f}, v);
+    EXPECT_NEAR(right.x, (1.0f + 1.2f) / 2.2f * 1280.0f, 1e-2f); // tan 45 = 1: the right edge
+}
+
+TEST(GazeTrace, AngleFormPerEye) {
+    const auto dir = test::tempDir("angles");
+    const auto file = dir / "angles.csv";
+    {
+        std::ofstream out(file);
+        out << "t_ms,yaw_deg,pitch_deg,eye\n0,1,2,left\n0,3,4,right\n10,5,6,left\n10,7,8,right\n";
+    }
+    const foveation::GazeTrace t = foveation::GazeTrace::load(file);
+    EXPECT_EQ(t.units(), foveation::GazeUnits::AnglesDeg);
+    EXPECT_TRUE(t.hasEye(foveation::GazeEye::Left));
+    EXPECT_FALSE(t.hasEye(foveation::GazeEye::Both));
+    EXPECT_FLOAT_EQ(t.at(5.0, foveation::GazeEye::Left).x, 3.0f);
+    EXPECT_FLOAT_EQ(t.at(5.0, foveation::GazeEye::Right).y, 6.0f);
+    auto expectBad = [&](const std::string& body, const std::string& mention) {
+        const auto f = dir / "bad.csv";
+        {
+            std::ofstream out(f);
+            out << body;
+        }
+        try {
+            (void)foveation::GazeTrace::load(f);
+            ADD_FAILURE() << "accepted: " << body;
+        } catch (const LoadError& e) {
+            EXPECT_NE(std::string(e.what()).find(mention), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("bad.csv"), std::string::npos) << e.what();
+        }
+    };
+    expectBad("t_ms,yaw_deg,pitch_deg,eye\n0,1,2,middle\n", "eye must be");
+    expectBad("t_ms,yaw_deg,pitch_deg\n0,95,2\n", "90 degrees");
+    expectBad("t_ms,yaw_deg,pitch_deg\n0,1,2\n0,1,2\n", "increase");
+    expectBad("t_ms,yaw,pitch\n0,1,2\n", "header");
 }
 
 } // namespace
