@@ -18,6 +18,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "demo_calibration.hpp"
 #include "demo_overlay.hpp"
 #include "display/hmd_profile.hpp"
 #include "foveation/contrast_sensitivity.hpp"
@@ -219,7 +220,14 @@ nlohmann::json runDemo(const DemoOptions& o) {
     GazeInputContext gazeContext;
     gazeContext.calibration = o.calibration;
     gazeContext.cursor = [&window] { return window ? window->cursor() : glm::vec2(0.0f); };
-    std::unique_ptr<GazeInput> gaze = openGazeInput(o.gaze, gazeContext);
+    std::optional<CalibrationSession> calibration;
+    std::unique_ptr<GazeInput> gaze;
+    if (o.calibrate) {
+        calibration.emplace(o.gaze, o.calibration);
+        gaze = openGazeInput("fixed:0,0", gazeContext); // the fovea follows the target instead
+    } else {
+        gaze = openGazeInput(o.gaze, gazeContext);
+    }
     window.emplace("gazetrace", o.width, o.height);
 
     render::RendererOptions ro;
@@ -241,7 +249,10 @@ nlohmann::json runDemo(const DemoOptions& o) {
         o.scale,  o.taa,    o.view};
     Methods methods(renderer, settings, o.cacheDir);
     std::optional<DemoOverlay> overlay;
-    if (o.overlay) overlay.emplace(*window, ctx, swapchain.format(), swapchain.imageCount());
+    if (o.overlay || calibration) {
+        overlay.emplace(*window, ctx, swapchain.format(), swapchain.imageCount());
+        if (calibration) overlay->toggle(); // the targets only: the panel would hide some
+    }
     DemoStats stats;
     stats.gazeSource = gaze->describe();
     stats.device = ctx.deviceName();
@@ -328,6 +339,18 @@ nlohmann::json runDemo(const DemoOptions& o) {
         const double dtS = std::min(msBetween(last, now) * 1e-3, 0.25);
         last = now;
         const double tMs = o.frameMs > 0.0 ? frame * o.frameMs : msBetween(t0, now);
+        // Calibration: the target of this moment, from the desktop screen into the window (which
+        // stands for the whole screen during a calibration: run it full screen).
+        std::optional<glm::vec2> calibrationTarget;
+        if (calibration) {
+            const auto t = calibration->target(tMs);
+            if (!t) break; // every target shown
+            const eyetrack::DisplayGeometry& d = calibration->display();
+            const VkExtent2D fbNow = window->framebufferSize();
+            calibrationTarget =
+                *t * glm::vec2(static_cast<float>(fbNow.width) / static_cast<float>(d.widthPx),
+                               static_cast<float>(fbNow.height) / static_cast<float>(d.heightPx));
+        }
         fly.update(*window, dtS);
         if (path) fly.set(path->at(path->startMs() + tMs, fly.camera().yfov));
         if (recording) {
@@ -397,7 +420,9 @@ nlohmann::json runDemo(const DemoOptions& o) {
             if (reading) view.saccade = reading->saccade;
             const glm::vec2 lastPixel(static_cast<float>(ext.width) - 1.0f,
                                       static_cast<float>(ext.height) - 1.0f);
-            view.gaze = glm::clamp(gazePx.value_or(0.5f * glm::vec2(ext.width, ext.height)),
+            view.gaze = glm::clamp(calibrationTarget
+                                       ? *calibrationTarget
+                                       : gazePx.value_or(0.5f * glm::vec2(ext.width, ext.height)),
                                    glm::vec2(0.0f), lastPixel);
             views.push_back(view);
         }
@@ -414,7 +439,7 @@ nlohmann::json runDemo(const DemoOptions& o) {
             stats.latencyMs = latencies.empty() ? 0.0 : latencies.back();
             stats.pointsSampled =
                 methods.current() ? methods.current()->pointsSampled(views[0].gaze) : 0;
-            (void)overlay->build(settings, stats);
+            (void)overlay->build(settings, stats, calibrationTarget);
             target.setOverlay(
                 [&overlay](rg::RenderGraph& g, rg::TextureId img) { return overlay->add(g, img); });
         }
@@ -485,6 +510,8 @@ nlohmann::json runDemo(const DemoOptions& o) {
         log.reset();
         std::filesystem::rename(o.log + ".tmp", o.log);
     }
+    nlohmann::json calibrationSummary;
+    if (calibration) calibrationSummary = calibration->finish();
     // Steady state: leave out the first frames (pipelines warming, point set building).
     const std::vector<double> steady =
         frameTimes.size() > 4 ? std::vector<double>(frameTimes.begin() + 2, frameTimes.end())
@@ -495,14 +522,15 @@ nlohmann::json runDemo(const DemoOptions& o) {
             {"window", {swapchain.extent().width, swapchain.extent().height}},
             {"method", o.method},
             {"hmd", o.hmd},
-            {"gaze_source", gaze->describe()},
+            {"gaze_source", calibration ? o.gaze : gaze->describe()},
             {"frames", frame},
             {"frames_in_flight", renderer.framesInFlight()},
             {"frame_ms_median", frameMedian},
             {"fps", frameMedian > 0.0 ? 1000.0 / frameMedian : 0.0},
             {"latency_ms_median", median(latencies)},
             {"point_set_build_ms", methods.lastBuildMs()},
-            {"screenshot", o.screenshot}};
+            {"screenshot", o.screenshot},
+            {"calibration", calibrationSummary}};
 }
 
 } // namespace gt::app

@@ -40,6 +40,9 @@ struct DemoOptions {
     // HMD shows the window full screen). Gaze pixels are the left eye's image.
     std::string hmd;
     bool overlay = true; // the ImGui overlay (Tab toggles it)
+    // Show calibration and validation targets, fit the tracker of --gaze track:SOURCE, and
+    // write --calibration FILE (demo_calibration.hpp).
+    bool calibrate = false;
     bool distortion = true;
     double vergenceM = 0.0;
 };

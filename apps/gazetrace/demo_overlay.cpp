@@ -91,11 +91,18 @@ void DemoOverlay::addTimings(const rg::FrameTimings& t) {
         push(mPassHistory[p.name], static_cast<float>(p.gpuMs));
 }
 
-bool DemoOverlay::build(DemoSettings& s, const DemoStats& stats) {
+bool DemoOverlay::build(DemoSettings& s, const DemoStats& stats, std::optional<glm::vec2> target) {
     ImGui_ImplVulkan_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     bool changed = false;
+    if (target) {
+        // A calibration target: a ring with a dot, drawn over everything.
+        ImDrawList* d = ImGui::GetForegroundDrawList();
+        const ImVec2 c(target->x, target->y);
+        d->AddCircleFilled(c, 12.0f, IM_COL32(255, 255, 255, 255));
+        d->AddCircleFilled(c, 4.0f, IM_COL32(220, 0, 0, 255));
+    }
     if (mVisible) {
         ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
         ImGui::SetNextWindowBgAlpha(0.75f);

@@ -6,6 +6,9 @@
 #include <cstdint>
 #include <deque>
 #include <map>
+#include <optional>
+
+#include <glm/glm.hpp>
 #include <memory>
 #include <string>
 #include <vector>
@@ -51,7 +54,9 @@ public:
     DemoOverlay& operator=(const DemoOverlay&) = delete;
 
     // Builds this frame's UI; returns true when the user changed a setting.
-    bool build(DemoSettings& settings, const DemoStats& stats);
+    // `target`: a calibration target to draw (window pixels).
+    bool build(DemoSettings& settings, const DemoStats& stats,
+               std::optional<glm::vec2> target = std::nullopt);
     // Records a finished frame's GPU times for the graph.
     void addTimings(const rg::FrameTimings& t);
     // Adds pass `overlay` over `image`; returns its new version.

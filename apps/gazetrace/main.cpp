@@ -272,7 +272,11 @@ int main(int argc, char** argv) {
         ->add_option("--gaze", demo.gaze,
                      "mouse | fixed:X,Y | trace:FILE.csv | track:SOURCE | udp:PORT")
         ->capture_default_str();
-    demoCmd->add_option("--calibration", demo.calibration, "Calibration file for --gaze track:");
+    demoCmd->add_option("--calibration", demo.calibration,
+                        "Calibration file for --gaze track: (written by --calibrate)");
+    demoCmd->add_flag("--calibrate", demo.calibrate,
+                      "Show 3x3 calibration and 4 validation targets, fit --gaze track:SOURCE, "
+                      "write --calibration");
     demoCmd->add_option("--frame-ms", demo.frameMs,
                         "Advance trace and camera-path time this much per frame (default: "
                         "wall clock)");

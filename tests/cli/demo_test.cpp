@@ -199,3 +199,41 @@ TEST(Demo, UdpSenderAndDemoAgreeOnTheSamples) {
 
 } // namespace
 } // namespace gt
+
+namespace gt {
+namespace {
+
+// demo --calibrate with a synthetic eye that is handed the demo's schedule: 9 calibration and 4
+// validation targets, an accuracy well under a degree, and a file the tracker then loads.
+TEST(Demo, CalibratesASyntheticEyeThatLooksAtItsTargets) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    const auto dir = test::tempDir("demo_calibrate");
+    const auto file = dir / "calibration.json";
+    const std::string common = "--scene builtin:cornell --width 320 --height 180 --overlay off "
+                               "--cache " +
+                               (dir / "cache").string();
+    const Result r = test::runWith(kXvfb, "demo --calibrate --gaze track:synthetic:7 "
+                                          "--calibration " +
+                                              file.string() + " --frame-ms 500 --json " + common);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    const auto& c = j.at("calibration");
+    EXPECT_EQ(c.at("calibration_targets"), 9);
+    EXPECT_EQ(c.at("validation_targets"), 4);
+    EXPECT_LT(c.at("accuracy_deg").get<double>(), 1.0);
+    EXPECT_GT(c.at("validation_samples").get<int>(), 100);
+    ASSERT_TRUE(std::filesystem::exists(file));
+    // The tracker drives the demo with it.
+    const Result use = test::runWith(kXvfb, "demo --gaze track:synthetic:7 --calibration " +
+                                                file.string() + " --frames 3 " + common);
+    EXPECT_EQ(use.status, 0) << use.err;
+    // Without a camera to calibrate, or a file to write: one line each.
+    test::expectCleanFailure(
+        test::run("demo --calibrate --gaze mouse --calibration " + (dir / "x.json").string()),
+        "track:", dir / "x.json");
+    test::expectCleanFailure(test::run("demo --calibrate --gaze track:synthetic:1"),
+                             "--calibration", dir / "y.json");
+}
+
+} // namespace
+} // namespace gt
