@@ -185,6 +185,7 @@ void checkOptions(const DemoOptions& o) {
         throw ArgumentError("--frames-in-flight must be 0 (automatic) to 4");
     }
     (void)vk::parsePresentMode(o.present);
+    if (!o.hmd.empty()) (void)display::hmdProfile(o.hmd); // a bad name fails before the window
     if (!o.screenshot.empty() && std::filesystem::path(o.screenshot).extension() != ".png") {
         throw ArgumentError("--screenshot: give a .png file, got '" + o.screenshot + "'");
     }

@@ -93,6 +93,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1u, 100000u))
         ->capture_default_str();
     renderCmd->add_option("--cache", render.cacheDir, "Point-set cache folder");
+    renderCmd->add_option("--camera-path", render.cameraPath,
+                          "Camera path CSV t_ms,ex,ey,ez,tx,ty,tz (demo's R records one): a frame "
+                          "every --frame-ms along it");
     renderCmd->add_option("--hmd", render.hmd,
                           "HMD path: fove | vive | rift-cv1 (both eyes, side by side, lens "
                           "pre-distortion; --gaze is a pixel of the left eye's image)");

@@ -28,6 +28,7 @@
 #include "point_sample/point_sample.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
+#include "scene/camera_path.hpp"
 #include "scene/image_io.hpp"
 #include "scene/scene.hpp"
 #include "stereo_rig.hpp"
@@ -360,6 +361,17 @@ nlohmann::json runRender(const RenderOptions& o) {
     if (!foveated && !o.gaze.empty()) {
         throw ArgumentError("--gaze needs --method foveated");
     }
+    // --camera-path: the camera follows a recorded path, one frame every --frame-ms.
+    std::optional<scene::CameraPath> path;
+    if (!o.cameraPath.empty()) {
+        if (!(o.frameMs > 0.0)) throw ArgumentError("--frame-ms must be positive");
+        path = scene::CameraPath::load(o.cameraPath);
+        if (!o.framesGiven) {
+            frameCount = std::max(
+                trace ? frameCount : 1u,
+                1 + static_cast<uint32_t>((path->endMs() - path->startMs()) / o.frameMs));
+        }
+    }
     // --out: a .png file for one frame, else a folder for frame_NNNN.png.
     const std::filesystem::path outPath(o.out);
     const bool toFolder = outPath.extension() != ".png";
@@ -413,6 +425,7 @@ nlohmann::json runRender(const RenderOptions& o) {
     const glm::vec2 lastPixel(static_cast<float>(width) - 1.0f, static_cast<float>(height) - 1.0f);
     for (uint32_t i = 0; i < frameCount; ++i) {
         const bool dot = !o.graphDot.empty() && i == 0;
+        if (path) view.camera = path->at(path->startMs() + i * o.frameMs, view.camera.yfov);
         if (trace) {
             const glm::vec2 g = trace->at(trace->startMs() + i * o.frameMs);
             glm::vec2 px = g;

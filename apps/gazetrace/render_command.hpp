@@ -17,6 +17,7 @@ struct RenderOptions {
     std::string out = "out/render.png";
     std::string graphDot;  // --graph FILE.dot
     std::string camera;    // "X,Y,Z,TX,TY,TZ[,FOV_DEG]"; empty = the scene's own camera
+    std::string cameraPath; // CSV t_ms,ex,ey,ez,tx,ty,tz: one frame every frameMs along it
     bool validate = false; // Khronos validation layer
     // --method foveated (seed 000):
     std::string profile = "fove";

@@ -334,3 +334,66 @@ TEST(Cli, EyesimTrackCalibrateEndToEnd) {
 
 } // namespace
 } // namespace gt
+
+namespace gt {
+namespace {
+
+// render --camera-path: the camera follows the path, one frame per --frame-ms.
+TEST(Cli, CameraPathMovesTheView) {
+    const auto dir = test::tempDir("cli_path");
+    const auto path = dir / "path.csv";
+    {
+        std::ofstream out(path);
+        out << "t_ms,ex,ey,ez,tx,ty,tz\n0,0,1,3,0,1,0\n200,0.5,1,3,0.5,1,0\n";
+    }
+    const auto out = dir / "frames";
+    const Result r = run("render --scene builtin:cornell --width 48 --height 32 --camera-path " +
+                         path.string() + " --frame-ms 100 --validate --json --out " + out.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["frames"], 3);
+    EXPECT_NEAR(j["camera"]["position"][0].get<double>(), 0.5, 1e-6); // the last row
+    EXPECT_NE(slurp(out / "frame_0000.png"), slurp(out / "frame_0002.png"));
+    const auto png = dir / "never.png";
+    expectCleanFailure(run("render --camera-path " + (dir / "none.csv").string() + " --out " +
+                           png.string()),
+                       "none.csv", png);
+}
+
+// The HMD path: a side-by-side frame of both eyes; bad profiles and sizes are one line.
+TEST(Cli, HmdWritesBothEyesSideBySide) {
+    const auto dir = test::tempDir("cli_hmd");
+    const auto png = dir / "sbs.png";
+    const Result r = run("render --hmd vive --scene builtin:cornell --spp 1 --validate --json "
+                         "--out " +
+                         png.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["width"], 2160);
+    EXPECT_EQ(j["height"], 1200);
+    for (const char* pass : {"left.reference.trace", "right.reference.trace", "left.lens",
+                             "right.lens", "readback.composite"}) {
+        EXPECT_TRUE(j["gpu_ms"].contains(pass)) << pass;
+    }
+    // Mirrored tangents: the left eye's gaze straight ahead sits right of its image centre.
+    EXPECT_GT(j["eyes"][0]["tangents"][1].get<double>(), 0.0);
+    const image::DecodedImage img = image::readPng(png);
+    EXPECT_EQ(img.width, 2160u);
+    const auto bad = dir / "bad.png";
+    expectCleanFailure(run("render --hmd oculus-dk9 --out " + bad.string()), "oculus-dk9", bad);
+    expectCleanFailure(run("render --hmd fove --width 100 --out " + bad.string()), "--hmd", bad);
+    expectCleanFailure(run("demo --hmd oculus-dk9 --screenshot " + bad.string()), "oculus-dk9",
+                       bad);
+    // A broken calibration file for the tracker's gaze: one line naming it.
+    const auto broken = dir / "broken.json";
+    {
+        std::ofstream out(broken);
+        out << "{\"version\": 2, \"coefficients_x\": [1, 2";
+    }
+    expectCleanFailure(run("demo --gaze track:synthetic:1 --calibration " + broken.string() +
+                           " --screenshot " + bad.string()),
+                       "broken.json", bad);
+}
+
+} // namespace
+} // namespace gt

@@ -1,0 +1,61 @@
+// Camera paths (demo records, render and demo play): parsing, interpolation, errors, round trip.
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "scene/camera_path.hpp"
+#include "support/gpu_test_context.hpp"
+
+namespace gt {
+namespace {
+
+TEST(CameraPath, InterpolatesClampsAndRoundTrips) {
+    const auto dir = test::tempDir("camera_path");
+    const auto file = dir / "path.csv";
+    {
+        std::ofstream out(file);
+        out << "# recorded\nt_ms,ex,ey,ez,tx,ty,tz\n0,0,1,0,0,1,-1\n100,2,1,0,2,1,-1\n";
+    }
+    const scene::CameraPath p = scene::CameraPath::load(file);
+    const scene::Camera mid = p.at(50.0, 1.0f);
+    EXPECT_NEAR(mid.position.x, 1.0f, 1e-6f);
+    EXPECT_NEAR(mid.forward.z, -1.0f, 1e-6f);
+    EXPECT_FLOAT_EQ(mid.yfov, 1.0f);
+    EXPECT_NEAR(p.at(-10.0, 1.0f).position.x, 0.0f, 1e-6f); // clamped at both ends
+    EXPECT_NEAR(p.at(500.0, 1.0f).position.x, 2.0f, 1e-6f);
+    const auto copy = dir / "copy.csv";
+    p.save(copy);
+    const scene::CameraPath q = scene::CameraPath::load(copy);
+    ASSERT_EQ(q.keys().size(), 2u);
+    EXPECT_NEAR(q.at(50.0, 1.0f).position.x, 1.0f, 1e-5f);
+    EXPECT_FALSE(std::filesystem::exists(dir / "copy.csv.tmp"));
+}
+
+TEST(CameraPath, RefusesWhatItCannotPlay) {
+    const auto dir = test::tempDir("camera_path_bad");
+    auto expectBad = [&](const std::string& body, const std::string& mention) {
+        const auto f = dir / "bad.csv";
+        {
+            std::ofstream out(f);
+            out << body;
+        }
+        try {
+            (void)scene::CameraPath::load(f);
+            ADD_FAILURE() << "accepted: " << body;
+        } catch (const LoadError& e) {
+            EXPECT_NE(std::string(e.what()).find(mention), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("bad.csv"), std::string::npos) << e.what();
+        }
+    };
+    expectBad("t_ms,x,y\n0,1,2\n", "header");
+    expectBad("t_ms,ex,ey,ez,tx,ty,tz\n0,1,2,3,4,5\n", "seven numbers");
+    expectBad("t_ms,ex,ey,ez,tx,ty,tz\n0,1,1,1,1,1,1\n", "eye on its target");
+    expectBad("t_ms,ex,ey,ez,tx,ty,tz\n5,0,0,0,0,0,1\n5,0,0,0,0,0,1\n", "increase");
+    expectBad("t_ms,ex,ey,ez,tx,ty,tz\n0,nan,0,0,0,0,1\n", "seven numbers");
+    expectBad("", "empty");
+    EXPECT_THROW((void)scene::CameraPath::load(dir), LoadError); // a folder
+}
+
+} // namespace
+} // namespace gt
