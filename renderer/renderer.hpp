@@ -71,6 +71,7 @@ public:
     [[nodiscard]] vk::Context& context() noexcept;
     [[nodiscard]] const scene::Scene& scene() const noexcept;
     [[nodiscard]] const scene::BvhBuildStats& bvhStats() const noexcept;
+    [[nodiscard]] const scene::Bvh& bvh() const noexcept { return *mBvh; }
     [[nodiscard]] double loadMs() const noexcept { return mLoadMs; }
     [[nodiscard]] double bvhMs() const noexcept { return mBvhMs; }
     // For constructing foveation methods on this renderer's device and scene.

@@ -31,6 +31,7 @@
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"
 #include "scene/image_io.hpp"
+#include "scene/start_view.hpp"
 #include "stereo_rig.hpp"
 #include "swapchain_target.hpp"
 #include "view_args.hpp"
@@ -263,7 +264,12 @@ nlohmann::json runDemo(const DemoOptions& o) {
     const scene::Scene& sc = renderer.scene();
     const float sceneSize = glm::length(sc.boundsMax() - sc.boundsMin());
     scene::Camera start = sc.camera;
-    if (cameraArg) start = cameraArg->camera(sc.camera.yfov);
+    if (cameraArg) {
+        start = cameraArg->camera(sc.camera.yfov);
+    } else if (sc.cameraFramed) {
+        // No camera in the file: inside an enclosed scene, start inside rather than outside.
+        if (const auto inside = scene::insideStartView(sc, renderer.bvh())) start = *inside;
+    }
     FlyCamera fly(start, std::max(0.25f * sceneSize, 0.1f));
     std::optional<std::vector<scene::CameraKey>> recording;
 

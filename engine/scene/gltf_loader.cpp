@@ -625,6 +625,7 @@ private:
             mScene.camera.position = centre + dir * (radius / std::sin(0.5f * mScene.camera.yfov));
             mScene.camera.forward = -dir;
             mScene.camera.up = {0, 1, 0};
+            mScene.cameraFramed = true;
         }
         if (mScene.lights.empty()) {
             // Unlit files get a sun from above-front-left so shapes and shadows read clearly.

@@ -80,6 +80,9 @@ struct Scene {
     std::vector<Texture> textures;
     std::vector<Light> lights;
     Camera camera;
+    // The camera is the loader's framing from outside the bounds (a glTF without a camera), not
+    // one the scene's author placed: a viewer may want to start inside instead (start_view.hpp).
+    bool cameraFramed = false;
     Sky sky;
     Environment environment; // used for misses when it has texels (cubemap scenes)
     float exposure = 1.0f;

@@ -5,6 +5,8 @@
 
 #include "core/error.hpp"
 #include "scene/camera_path.hpp"
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "support/gpu_test_context.hpp"
 
 namespace gt {
@@ -55,6 +57,37 @@ TEST(CameraPath, RefusesWhatItCannotPlay) {
     expectBad("t_ms,ex,ey,ez,tx,ty,tz\n0,nan,0,0,0,0,1\n", "seven numbers");
     expectBad("", "empty");
     EXPECT_THROW((void)scene::CameraPath::load(dir), LoadError); // a folder
+}
+
+} // namespace
+} // namespace gt
+
+#include "scene/bvh.hpp"
+#include "scene/start_view.hpp"
+
+namespace gt {
+namespace {
+
+// A closed room 12 x 3 x 4 (long along x): the start is inside, at eye height, looking along x;
+// an open scene (a floor only) keeps the framing from outside.
+TEST(StartView, InsideAnEnclosedRoomAtEyeHeightLookingDownItsLength) {
+    scene::Scene room;
+    scene::SceneBuilder b(room);
+    const uint32_t m = b.material({});
+    b.box(glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(3.0f, 1.5f, 0.0f)),
+                     glm::vec3(12.0f, 3.0f, 4.0f)),
+          m);
+    const scene::Bvh bvh(room);
+    const auto v = scene::insideStartView(room, bvh);
+    ASSERT_TRUE(v.has_value());
+    EXPECT_NEAR(v->position.y, 1.6f, 1e-3f);
+    EXPECT_NEAR(v->position.x, 3.0f, 1e-3f);
+    EXPECT_GT(std::abs(glm::normalize(v->forward).x), 0.99f); // down the room's length
+    scene::Scene open;
+    scene::SceneBuilder ob(open);
+    ob.quad({-5, 0, -5}, {10, 0, 0}, {0, 0, 10}, ob.material({}));
+    const scene::Bvh obvh(open);
+    EXPECT_FALSE(scene::insideStartView(open, obvh).has_value());
 }
 
 } // namespace
