@@ -144,6 +144,9 @@ int main(int argc, char** argv) {
     pointsetCmd->add_option("--sweep", pointset.sweep,
                             "Scales to sweep, e.g. 1 1.5 2 2.5 3 (Figure 14)");
     pointsetCmd->add_flag("--json", pointsetJson, "Print a JSON summary on stdout");
+    pointsetCmd->add_option("--hmd", pointset.hmd,
+                            "fove | vive | rift-cv1: where the rays go with the set laid in the "
+                            "eye's image and laid on the panel after the lens");
 
     gt::app::BenchOptions bench;
     CLI::App* benchCmd = app.add_subcommand(

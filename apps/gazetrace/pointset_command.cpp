@@ -3,11 +3,13 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include <unistd.h>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "display/display_space.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "scene/image_io.hpp"
 
@@ -79,7 +81,9 @@ nlohmann::json describe(const foveation::CachedPointSet& c) {
 
 nlohmann::json runPointSet(const PointSetOptions& o) {
     foveation::PointSetParams params;
-    params.display = foveation::displayProfile(o.profile);
+    std::optional<display::HmdProfile> hmd;
+    if (!o.hmd.empty()) hmd = display::hmdProfile(o.hmd);
+    params.display = foveation::displayProfile(hmd ? hmd->pointSetProfile : o.profile);
     params.seed = o.seed;
     const std::filesystem::path dir =
         o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
@@ -107,6 +111,28 @@ nlohmann::json runPointSet(const PointSetOptions& o) {
         return {{"profile", o.profile}, {"sweep", rows}};
     }
     const foveation::CachedPointSet c = one(o.scale);
+    if (hmd) {
+        // Where the rays go with the set laid in the image and laid on the panel, for the left
+        // eye looking along its axis and at a quarter of the way from the top-left corner.
+        const display::EyeTangents t = display::eyeTangents(*hmd, 0);
+        const glm::vec2 centre = display::lensCentre(t);
+        const glm::vec2 size(static_cast<float>(hmd->eyeWidth), static_cast<float>(hmd->eyeHeight));
+        nlohmann::json rows = nlohmann::json::array();
+        for (const glm::vec2 gaze : {centre * size, 0.25f * size}) {
+            const display::LayoutComparison cmp =
+                display::compareLayouts(c.set, gaze, hmd->lens, centre, 10.0f);
+            rows.push_back({{"gaze_image", {gaze.x, gaze.y}},
+                            {"gaze_panel", {cmp.gazePanel.x, cmp.gazePanel.y}},
+                            {"image_points", cmp.imagePoints},
+                            {"panel_points", cmp.panelPoints},
+                            {"image_density_per_1000px", cmp.imageDensity},
+                            {"panel_density_per_1000px", cmp.panelDensity}});
+        }
+        nlohmann::json j = describe(c);
+        j["hmd"] = hmd->name;
+        j["layouts"] = rows;
+        return j;
+    }
     if (!o.out.empty()) foveation::savePointSet(o.out, c.set);
     if (!o.image.empty()) drawPoints(c.set, o.image);
     nlohmann::json j = describe(c);

@@ -16,6 +16,9 @@ struct PointSetOptions {
     std::string image; // draw every point into this PNG
     std::string cacheDir;
     std::vector<double> sweep; // scales for a Figure 14 sweep (overrides --scale)
+    // An HMD: compare laying the set in the eye's image with laying it on the panel after the
+    // lens (engine/display/display_space.hpp); the profile becomes the HMD's.
+    std::string hmd;
 };
 
 nlohmann::json runPointSet(const PointSetOptions& options);

@@ -207,3 +207,38 @@ TEST(GazeTrace, AngleFormPerEye) {
 
 } // namespace
 } // namespace gt
+
+#include "display/display_space.hpp"
+#include "foveation/point_set.hpp"
+
+namespace gt {
+namespace {
+
+// Laying the set on the panel: without a lens it is the image layout; with the barrel lens the
+// same points crowd the image's centre and thin its edge.
+TEST(DisplaySpace, PanelLayoutFollowsTheLens) {
+    foveation::PointSetParams params;
+    params.display = {"small-eye", 160, 180, 0.85};
+    const foveation::PointSet set = foveation::PointSet::generate(params);
+    const glm::vec2 centre(0.5f, 0.5f);
+    const glm::vec2 gaze(80.0f, 90.0f);
+    display::LensModel none;
+    none.k1 = none.k2 = 0.0f;
+    const display::LayoutComparison flat = display::compareLayouts(set, gaze, none, centre, 10.0f);
+    EXPECT_EQ(flat.imagePoints, flat.panelPoints);
+    for (std::size_t i = 0; i < 4; ++i) {
+        EXPECT_NEAR(flat.panelDensity[i], flat.imageDensity[i], 1e-9) << i;
+    }
+    const display::LensModel lens = display::hmdProfile("fove").lens;
+    const display::LayoutComparison barrel =
+        display::compareLayouts(set, gaze, lens, centre, 10.0f);
+    EXPECT_EQ(barrel.imagePoints, barrel.panelPoints); // gaze on the axis: the same points
+    EXPECT_GT(barrel.panelDensity[0], 1.1 * barrel.imageDensity[0]);
+    EXPECT_LT(barrel.panelDensity[3], 0.8 * barrel.imageDensity[3]);
+    // Each panel point lands where the lens model sends it.
+    const auto moved = display::panelPointsInImage(set, gaze, lens, centre, 10.0f);
+    ASSERT_EQ(moved.size(), barrel.panelPoints);
+}
+
+} // namespace
+} // namespace gt
