@@ -45,6 +45,13 @@ public:
     // Once per pipeline variant: the frame that compiles it. Empty when this view's variant has
     // run before. Called before the frame is recorded; also builds what the settings need.
     [[nodiscard]] virtual std::optional<WarmUp> warmUp(const View& view) = 0;
+    // The radiance is already what the view's HMD panel shows (the point set laid on the panel,
+    // display_space.hpp): the post chain applies only the residual chromatic shift of the lens,
+    // and no TAA (its reprojection assumes the image's pinhole projection).
+    [[nodiscard]] virtual bool rendersPanel(const View& view) const {
+        (void)view;
+        return false;
+    }
 };
 
 } // namespace gt::render

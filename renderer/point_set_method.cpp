@@ -47,7 +47,23 @@ std::size_t PointSetMethod::pointsSampled(glm::vec2 gaze) const {
 }
 
 uint64_t PointSetMethod::rays(const View& view) const {
-    return static_cast<uint64_t>(pointsSampled(view.gaze)) * settings.raysPerPoint;
+    return static_cast<uint64_t>(pointsSampled(sampledGaze(view))) * settings.raysPerPoint;
+}
+
+std::optional<passes::PanelWarp> PointSetMethod::warpFor(const View& view) const {
+    if (!settings.displaySpace || !view.post.lens) return std::nullopt;
+    return passes::PanelWarp{view.post.lens->model, view.post.lens->centre};
+}
+
+bool PointSetMethod::rendersPanel(const View& view) const {
+    return warpFor(view).has_value();
+}
+
+glm::vec2 PointSetMethod::sampledGaze(const View& view) const {
+    const std::optional<passes::PanelWarp> warp = warpFor(view);
+    if (!warp) return view.gaze;
+    const glm::vec2 size(static_cast<float>(view.width), static_cast<float>(view.height));
+    return warp->lens.displayOf(view.gaze / size, warp->centre, size.x / size.y) * size;
 }
 
 // The thesis's per-pixel table, and for RBF its per-pixel weights, when the settings ask for
@@ -102,10 +118,11 @@ const foveation::GpuRbfInverse& PointSetMethod::inverseFor(const passes::Interpo
 rg::TextureId PointSetMethod::addImage(rg::RenderGraph& graph,
                                        const shaders::trace::CameraPush& camera, glm::vec2 gaze,
                                        uint32_t rays, uint32_t lanes,
-                                       const passes::InterpolateInputs& prepared) {
+                                       const passes::InterpolateInputs& prepared,
+                                       const std::optional<passes::PanelWarp>& warp) {
     const passes::InterpolateSettings& s = settings.interpolation;
-    const rg::BufferId samples =
-        mPointSample.add(graph, mMc.scene, camera, mGpuPoints, gaze, rays, lanes);
+    const rg::BufferId samples = mPointSample.add(graph, mMc.scene, camera, mGpuPoints, gaze, rays,
+                                                  lanes, warp ? &*warp : nullptr);
     passes::InterpolateInputs in = prepared;
     if (passes::usesRbfSolve(s)) {
         in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), samples, gaze, s);
@@ -122,7 +139,8 @@ rg::TextureId PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& vi
     }
     const passes::InterpolateInputs prepared = tableInputs(settings.interpolation);
     const uint32_t lanes = passes::pointSampleLanes(mMc.ctx, settings.raysPerPoint);
-    return addImage(graph, view.cameraPush(), view.gaze, settings.raysPerPoint, lanes, prepared);
+    return addImage(graph, view.cameraPush(), sampledGaze(view), settings.raysPerPoint, lanes,
+                    prepared, warpFor(view));
 }
 
 std::optional<WarmUp> PointSetMethod::warmUp(const View& view) {
@@ -137,9 +155,11 @@ std::optional<WarmUp> PointSetMethod::warmUp(const View& view) {
     // those of the timed frame: idle lanes cost little and trace nothing.
     const passes::InterpolateInputs prepared = tableInputs(s);
     const shaders::trace::CameraPush cam = view.cameraPush();
-    const glm::vec2 gaze = view.gaze;
-    return WarmUp{view.width, view.height, [this, cam, gaze, lanes, prepared](rg::RenderGraph& g) {
-                      return addImage(g, cam, gaze, 1, lanes, prepared);
+    const glm::vec2 gaze = sampledGaze(view);
+    const std::optional<passes::PanelWarp> warp = warpFor(view);
+    return WarmUp{view.width, view.height,
+                  [this, cam, gaze, lanes, prepared, warp](rg::RenderGraph& g) {
+                      return addImage(g, cam, gaze, 1, lanes, prepared, warp);
                   }};
 }
 

@@ -32,6 +32,10 @@ struct Prepared {
 struct PointSetSettings {
     uint32_t raysPerPoint = 32;
     passes::InterpolateSettings interpolation;
+    // For views with a lens (the HMD path): lay the set on the panel, around the panel point
+    // that shows the gaze, and trace each ray where the lens sends its panel position
+    // (engine/display/display_space.hpp); the result is the panel's image.
+    bool displaySpace = false;
 };
 
 class PointSetMethod final : public FoveationMethod {
@@ -46,6 +50,9 @@ public:
     [[nodiscard]] rg::TextureId addRadiance(rg::RenderGraph& graph, const View& view) override;
     [[nodiscard]] uint64_t rays(const View& view) const override;
     [[nodiscard]] std::optional<WarmUp> warmUp(const View& view) override;
+    [[nodiscard]] bool rendersPanel(const View& view) const override;
+    // The panel point that shows `view`'s gaze when the set is laid on the panel, else the gaze.
+    [[nodiscard]] glm::vec2 sampledGaze(const View& view) const;
 
     PointSetSettings settings;
 
@@ -65,7 +72,9 @@ private:
     const foveation::GpuRbfInverse& inverseFor(const passes::InterpolateSettings& s);
     rg::TextureId addImage(rg::RenderGraph& graph, const shaders::trace::CameraPush& camera,
                            glm::vec2 gaze, uint32_t rays, uint32_t lanes,
-                           const passes::InterpolateInputs& prepared);
+                           const passes::InterpolateInputs& prepared,
+                           const std::optional<passes::PanelWarp>& warp);
+    [[nodiscard]] std::optional<passes::PanelWarp> warpFor(const View& view) const;
 
     MethodContext mMc;
     foveation::PointSet mPoints;

@@ -150,7 +150,8 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
         auto add = [&] {
             rg::TextureId image = v.method->addRadiance(graph, v);
             const shaders::trace::CameraPush camera = v.cameraPush();
-            if (v.post.taa) {
+            const bool panel = v.method->rendersPanel(v);
+            if (v.post.taa && !panel) {
                 const rg::HistoryTextures history = graph.importHistory(
                     *mHistory, kTaaHistory, VK_FORMAT_R32G32B32A32_SFLOAT, v.width, v.height);
                 const auto it = mViewHistory.find(v.name);
@@ -164,7 +165,14 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
             }
             rg::TextureId ldr = mTonemap->add(graph, image, v.exposure);
             if (v.post.lens) {
-                ldr = mLens->add(graph, ldr, v.post.lens->model, v.post.lens->centre);
+                display::LensModel lens = v.post.lens->model;
+                if (panel) {
+                    // Already the panel's image (green): only red and blue still need their
+                    // radial shift relative to green, c + (q - c) chroma.
+                    lens.k1 = lens.k2 = 0.0f;
+                    lens.chroma /= lens.chroma.g;
+                }
+                ldr = mLens->add(graph, ldr, lens, v.post.lens->centre, panel);
             }
             targets[i]->addOutput(graph, ldr, v);
         };

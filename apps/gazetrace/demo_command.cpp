@@ -113,8 +113,8 @@ private:
 // HMD, the point set of its eyes' display, shared by both eyes.
 class Methods {
 public:
-    Methods(render::Renderer& r, const DemoSettings& s, std::string cacheDir)
-        : mRenderer(r), mSettings(s), mCacheDir(std::move(cacheDir)) {}
+    Methods(render::Renderer& r, const DemoSettings& s, std::string cacheDir, bool displaySpace)
+        : mRenderer(r), mSettings(s), mCacheDir(std::move(cacheDir)), mDisplaySpace(displaySpace) {}
     render::FoveationMethod& forHmd(const display::HmdProfile& hmd) {
         return forDisplay(foveation::displayProfile(hmd.pointSetProfile));
     }
@@ -141,7 +141,7 @@ private:
         interp.method = mSettings.view.empty() ? passes::parseInterpolation(mSettings.interp)
                                                : passes::parseView(mSettings.view);
         interp.k = mSettings.k;
-        slot->settings = {mSettings.raysPerPoint, interp};
+        slot->settings = {mSettings.raysPerPoint, interp, mDisplaySpace};
         mCurrent = slot.get();
         return *slot;
     }
@@ -163,6 +163,7 @@ private:
     render::Renderer& mRenderer;
     const DemoSettings& mSettings;
     std::string mCacheDir;
+    bool mDisplaySpace;
     std::optional<render::FullResolution> mReference;
     std::map<std::tuple<uint32_t, uint32_t, double>, std::unique_ptr<render::PointSetMethod>>
         mPointSets;
@@ -249,7 +250,8 @@ nlohmann::json runDemo(const DemoOptions& o) {
     DemoSettings settings{
         o.method, o.interp, o.k,   o.method == "reference" ? o.spp : o.raysPerPoint,
         o.scale,  o.taa,    o.view};
-    Methods methods(renderer, settings, o.cacheDir);
+    Methods methods(renderer, settings, o.cacheDir,
+                    o.displaySpace && !o.hmd.empty() && o.distortion);
     std::optional<DemoOverlay> overlay;
     if (o.overlay || calibration) {
         overlay.emplace(*window, ctx, swapchain.format(), swapchain.imageCount());

@@ -45,6 +45,7 @@ struct DemoOptions {
     bool calibrate = false;
     bool distortion = true;
     double vergenceM = 0.0;
+    bool displaySpace = false; // the point set laid on the panel after the lens
 };
 
 // Runs until closed or --frames; returns the JSON summary. Throws gt::Error on failure.

@@ -101,6 +101,8 @@ int main(int argc, char** argv) {
                           "pre-distortion; --gaze is a pixel of the left eye's image)");
     bool noDistortion = false;
     renderCmd->add_flag("--no-distortion", noDistortion, "--hmd: the eyes as rendered, no lens");
+    renderCmd->add_flag("--display-space", render.displaySpace,
+                        "--hmd, foveated: lay the point set on the panel after the lens");
     renderCmd->add_option("--vergence-m", render.vergenceM,
                           "--hmd: distance the eyes converge at in metres (0: infinity)");
     renderCmd->add_option("--gaze-trace", render.gazeTrace, "Foveated: gaze trace CSV (t_ms,x,y)")
@@ -310,6 +312,8 @@ int main(int argc, char** argv) {
                         "HMD path: fove | vive | rift-cv1, both eyes side by side in the window");
     bool demoNoDistortion = false;
     demoCmd->add_flag("--no-distortion", demoNoDistortion, "--hmd: no lens pre-distortion");
+    demoCmd->add_flag("--display-space", demo.displaySpace,
+                      "--hmd: lay the point set on the panel after the lens");
     demoCmd->add_option("--vergence-m", demo.vergenceM,
                         "--hmd: distance the eyes converge at in metres (0: infinity)");
 

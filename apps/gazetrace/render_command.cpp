@@ -129,6 +129,10 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
     if (!o.gazeSource.empty()) {
         throw ArgumentError("--gaze-source is not available with --hmd yet (use --gaze-trace)");
     }
+    if (o.displaySpace && (!foveated || !o.distortion)) {
+        throw ArgumentError("--display-space needs --method foveated and the lens (no "
+                            "--no-distortion)");
+    }
     if (!(o.vergenceM >= 0.0) || !std::isfinite(o.vergenceM)) {
         throw ArgumentError("--vergence-m must be 0 (infinity) or a positive distance");
     }
@@ -179,7 +183,7 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
         interp.kernel = passes::parseKernel(o.kernel);
         interp.rbfShape = static_cast<float>(o.rbfShape);
         interp.knn = passes::parseKnnIndex(o.knn);
-        pointSet->settings = {o.raysPerPoint, interp};
+        pointSet->settings = {o.raysPerPoint, interp, o.displaySpace && o.distortion};
         method = &*pointSet;
     } else {
         reference.emplace(renderer.methodContext(), passes::ReferenceSettings{o.spp, o.seed});
@@ -257,6 +261,7 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
             {"height", h},
             {"method", o.method},
             {"distortion", o.distortion},
+            {"display_space", o.displaySpace},
             {"vergence_m", o.vergenceM},
             {"eyes", eyes},
             {"rays", rays},
@@ -367,9 +372,9 @@ nlohmann::json runRender(const RenderOptions& o) {
         if (!(o.frameMs > 0.0)) throw ArgumentError("--frame-ms must be positive");
         path = scene::CameraPath::load(o.cameraPath);
         if (!o.framesGiven) {
-            frameCount = std::max(
-                trace ? frameCount : 1u,
-                1 + static_cast<uint32_t>((path->endMs() - path->startMs()) / o.frameMs));
+            frameCount =
+                std::max(trace ? frameCount : 1u,
+                         1 + static_cast<uint32_t>((path->endMs() - path->startMs()) / o.frameMs));
         }
     }
     // --out: a .png file for one frame, else a folder for frame_NNNN.png.

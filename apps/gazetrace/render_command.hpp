@@ -15,10 +15,10 @@ struct RenderOptions {
     uint32_t seed = 0;
     std::string method = "reference";
     std::string out = "out/render.png";
-    std::string graphDot;  // --graph FILE.dot
-    std::string camera;    // "X,Y,Z,TX,TY,TZ[,FOV_DEG]"; empty = the scene's own camera
+    std::string graphDot;   // --graph FILE.dot
+    std::string camera;     // "X,Y,Z,TX,TY,TZ[,FOV_DEG]"; empty = the scene's own camera
     std::string cameraPath; // CSV t_ms,ex,ey,ez,tx,ty,tz: one frame every frameMs along it
-    bool validate = false; // Khronos validation layer
+    bool validate = false;  // Khronos validation layer
     // --method foveated (seed 000):
     std::string profile = "fove";
     std::string interp = "nn";
@@ -40,9 +40,10 @@ struct RenderOptions {
     std::string cacheDir;
     bool sizeGiven = false; // --width/--height were on the command line
     // The HMD path: both eyes of this profile in one graph, side by side.
-    std::string hmd;        // fove | vive | rift-cv1
-    bool distortion = true; // --no-distortion: the eyes' images as rendered
-    double vergenceM = 0.0; // distance the eyes converge at; 0: infinity (parallel)
+    std::string hmd;           // fove | vive | rift-cv1
+    bool distortion = true;    // --no-distortion: the eyes' images as rendered
+    double vergenceM = 0.0;    // distance the eyes converge at; 0: infinity (parallel)
+    bool displaySpace = false; // foveated --hmd: the point set laid on the panel after the lens
 };
 
 // Renders and writes the PNG; returns the JSON summary (device, width, height, method, rays,

@@ -24,14 +24,16 @@ LensPass::LensPass(vk::Context& ctx) : mCtx(ctx) {
 LensPass::~LensPass() = default;
 
 rg::TextureId LensPass::add(rg::RenderGraph& graph, rg::TextureId image,
-                            const display::LensModel& lens, glm::vec2 centre) const {
+                            const display::LensModel& lens, glm::vec2 centre,
+                            bool clampToEdge) const {
     const float aspect =
         static_cast<float>(graph.outputWidth()) / static_cast<float>(graph.outputHeight());
     const float dx = std::max(centre.x, 1.0f - centre.x) * aspect;
     const float dy = std::max(centre.y, 1.0f - centre.y);
-    const sh::LensPush push{glm::vec4(centre, aspect, std::sqrt(dx * dx + dy * dy)),
-                            glm::vec4(lens.k1, lens.k2, 1.0f / (1.0f + lens.k1 + lens.k2), 0.0f),
-                            glm::vec4(lens.chroma, 0.0f)};
+    const sh::LensPush push{
+        glm::vec4(centre, aspect, std::sqrt(dx * dx + dy * dy)),
+        glm::vec4(lens.k1, lens.k2, 1.0f / (1.0f + lens.k1 + lens.k2), clampToEdge ? 1.0f : 0.0f),
+        glm::vec4(lens.chroma, 0.0f)};
     struct Data {
         rg::TextureId input, output;
     };

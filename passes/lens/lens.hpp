@@ -22,8 +22,10 @@ public:
     ~LensPass();
     // Adds "lens" reading `image` (RGBA8, sRGB-encoded), writing a new same-sized RGBA8 texture
     // "lens.panel". `centre`: the lens centre in normalised image coordinates.
+    // `clampToEdge`: samples past the image's edge repeat it (the input is already the panel's
+    // image and only the chromatic shift remains) instead of showing black.
     rg::TextureId add(rg::RenderGraph& graph, rg::TextureId image, const display::LensModel& lens,
-                      glm::vec2 centre) const;
+                      glm::vec2 centre, bool clampToEdge = false) const;
 
 private:
     vk::Context& mCtx;

@@ -60,7 +60,8 @@ const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaM
 rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene& scene,
                                   const shaders::trace::CameraPush& cam,
                                   const foveation::GpuPointSet& points, glm::vec2 gaze,
-                                  uint32_t raysPerPoint, uint32_t lanesPerPoint) const {
+                                  uint32_t raysPerPoint, uint32_t lanesPerPoint,
+                                  const PanelWarp* warp) const {
     if (raysPerPoint == 0) {
         throw ArgumentError("--rays-per-point must be at least 1");
     }
@@ -73,12 +74,22 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
     const uint32_t pointsPerGroup = sh::kSampleGroupSize / lanes;
     const uint32_t w = graph.outputWidth(), h = graph.outputHeight();
     const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());
-    const sh::PointSamplePush push{cam.origin,
-                                   cam.forward,
-                                   cam.right,
-                                   cam.up,
-                                   glm::vec4(off, kSampleMargin, 0.0f),
-                                   glm::uvec4(w, h, raysPerPoint, points.count())};
+    sh::PointSamplePush push{cam.origin,
+                             cam.forward,
+                             cam.right,
+                             cam.up,
+                             glm::vec4(off, kSampleMargin, 0.0f),
+                             glm::uvec4(w, h, raysPerPoint, points.count()),
+                             glm::vec4(0.0f),
+                             glm::vec4(0.0f)};
+    if (warp) {
+        const float aspect = static_cast<float>(w) / static_cast<float>(h);
+        const glm::vec2 c = warp->centre;
+        const float dx = std::max(c.x, 1.0f - c.x) * aspect, dy = std::max(c.y, 1.0f - c.y);
+        push.lens = glm::vec4(c, aspect, std::sqrt(dx * dx + dy * dy));
+        push.lensCoeffs = glm::vec4(warp->lens.k1, warp->lens.k2,
+                                    1.0f / (1.0f + warp->lens.k1 + warp->lens.k2), 0.0f);
+    }
     struct Data {
         rg::BufferId samples;
     };

@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include "display/hmd_profile.hpp"
 #include "render_graph/render_graph.hpp"
 #include "trace_shared.h"
 
@@ -34,6 +35,13 @@ inline constexpr float kSampleMargin = 10.0f; // pixels beyond the screen (thesi
 // On a CPU driver 1: lavapipe at R = 8 took 2.05 s with 1 and 2.1-2.4 s with 8.
 [[nodiscard]] uint32_t pointSampleLanes(const vk::Context& ctx, uint32_t raysPerPoint);
 
+// The set laid on an HMD's panel: rays go through the lens model (display/hmd_profile.hpp)
+// from their panel position into the image; `gaze` is then the panel point that shows it.
+struct PanelWarp {
+    display::LensModel lens;
+    glm::vec2 centre{0.5f};
+};
+
 class PointSamplePass {
 public:
     explicit PointSamplePass(vk::Context& ctx);
@@ -42,7 +50,8 @@ public:
     // lanesPerPoint 0 picks pointSampleLanes(); otherwise a power of two from 1 to 32.
     rg::BufferId add(rg::RenderGraph& graph, const trace::GpuScene& scene,
                      const shaders::trace::CameraPush& camera, const foveation::GpuPointSet& points,
-                     glm::vec2 gaze, uint32_t raysPerPoint, uint32_t lanesPerPoint = 0) const;
+                     glm::vec2 gaze, uint32_t raysPerPoint, uint32_t lanesPerPoint = 0,
+                     const PanelWarp* warp = nullptr) const;
 
 private:
     const vk::ComputePipeline& pipeline(uint32_t lanes, bool alphaMask) const;

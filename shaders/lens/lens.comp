@@ -20,7 +20,11 @@ vec3 toSrgb(vec3 c) {
 
 // Bilinear in linear light at normalised position uv (pixel centres at (i + 0.5) / size).
 vec3 fetch(vec2 uv, ivec2 size) {
-    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
+    if (pc.coeffs.w > 0.5) {
+        uv = clamp(uv, vec2(0.0), vec2(1.0)); // the input is already the panel: hold its edge
+    } else if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
+        return vec3(0.0);
+    }
     vec2 p = uv * vec2(size) - 0.5;
     ivec2 i = ivec2(floor(p));
     vec2 f = p - vec2(i);

@@ -23,6 +23,16 @@ layout(push_constant) uniform Push { PointSamplePush pc; };
 
 shared vec3 partial[kSampleGroupSize];
 
+// Panel pixel -> image pixel through the lens (green), when the set is laid on the panel.
+vec2 toImage(vec2 panel, vec2 size) {
+    if (pc.lens.w <= 0.0) return panel;
+    vec2 d = panel / size - pc.lens.xy;
+    float r = length(d * vec2(pc.lens.z, 1.0)) / pc.lens.w;
+    float r2 = r * r;
+    float f = (1.0 + pc.lensCoeffs.x * r2 + pc.lensCoeffs.y * r2 * r2) * pc.lensCoeffs.z;
+    return (pc.lens.xy + d * f) * size;
+}
+
 void main() {
     const uint i = gl_GlobalInvocationID.x / kLanes;
     const uint lane = gl_LocalInvocationIndex % kLanes;
@@ -50,7 +60,7 @@ void main() {
             pos += radius * vec2(cos(angle), sin(angle));
         }
         float depth;
-        sum += traceRadiance(pc.origin.xyz, cameraRay(cam, pos, size), depth);
+        sum += traceRadiance(pc.origin.xyz, cameraRay(cam, toImage(pos, size), size), depth);
         if (r == 0u) firstDepth = depth;
     }
     if (kLanes > 1u) {

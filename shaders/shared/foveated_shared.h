@@ -17,6 +17,10 @@ struct PointSamplePush {
     vec4 up;
     vec4 offset;  // x, y: canvas -> screen offset (gaze - (W, H)); z: margin in pixels
     uvec4 params; // x = width, y = height, z = rays per point, w = point count
+    // The set laid on an HMD's panel (engine/display/display_space.hpp): each ray's panel
+    // position goes through the lens model into the image before it is traced.
+    vec4 lens;       // xy: lens centre (normalised), z: aspect, w: rMax (0: no warp)
+    vec4 lensCoeffs; // x = k1, y = k2, z = 1 / (1 + k1 + k2)
 };
 
 // interpolate:

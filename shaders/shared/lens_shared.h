@@ -13,7 +13,7 @@ GT_CONST kGroupY = 8;
 
 struct LensPush {
     vec4 centre; // xy: lens centre (normalised, y down); z: aspect (width / height); w: rMax
-    vec4 coeffs; // x = k1, y = k2, z = 1 / (1 + k1 + k2)
+    vec4 coeffs; // x = k1, y = k2, z = 1 / (1 + k1 + k2), w = 1: clamp to the edge, 0: black
     vec4 chroma; // radial scale per channel: red, green, blue
 };
 

@@ -223,3 +223,50 @@ TEST(FrameRingTest, FramesInFlightFinishInOrderAndReleaseLate) {
 
 } // namespace
 } // namespace gt
+
+#include "display/display_space.hpp"
+#include "point_set_method.hpp"
+
+namespace gt {
+namespace {
+
+// The point set laid on the panel (display space): with a lens that does nothing it is the
+// image layout exactly; with the barrel lens it shows what the image layout shows after the
+// lens pass, traces the points display::compareLayouts counts, and is not the undistorted eye.
+TEST_F(RendererTest, PanelLayoutShowsWhatTheLensPassShows) {
+    foveation::PointSetParams params;
+    params.display = {"small-eye", 160, 180, 0.85};
+    render::PointSetMethod method(renderer().methodContext(), params,
+                                  test::tempDir("panel_layout_cache"));
+    method.settings.raysPerPoint = 2;
+    method.settings.interpolation.method = passes::Interpolation::Nearest;
+    render::View v = view("eye", 160, 180, method);
+    v.gaze = {70.0f, 100.0f};
+    auto frame = [&](bool displaySpace, std::optional<display::LensModel> lens) {
+        method.settings.displaySpace = displaySpace;
+        render::View w = v;
+        if (lens) w.post.lens = render::LensSettings{*lens, glm::vec2(0.55f, 0.5f)};
+        render::FrameResult f;
+        auto px = render(std::span(&w, 1), &f)[0];
+        return std::make_pair(px, f.views[0].rays);
+    };
+    display::LensModel identity;
+    identity.k1 = identity.k2 = 0.0f;
+    EXPECT_EQ(frame(true, identity).first, frame(false, identity).first);
+    const display::LensModel lens = display::hmdProfile("fove").lens;
+    const auto [panel, panelRays] = frame(true, lens);
+    const auto imageLayout = frame(false, lens).first;
+    const auto undistorted = frame(false, std::nullopt).first;
+    EXPECT_LT(meanAbsDiff(panel, imageLayout), 0.25 * meanAbsDiff(panel, undistorted));
+    const display::LayoutComparison cmp =
+        display::compareLayouts(method.pointSet(), v.gaze, lens, {0.55f, 0.5f}, 10.0f);
+    EXPECT_EQ(panelRays, cmp.panelPoints * 2);
+    method.settings.displaySpace = true;
+    render::View withLens = v;
+    withLens.post.lens = render::LensSettings{lens, {0.55f, 0.5f}};
+    EXPECT_TRUE(method.rendersPanel(withLens));
+    EXPECT_FALSE(method.rendersPanel(v)); // no lens: nothing to lay the set on
+}
+
+} // namespace
+} // namespace gt
