@@ -428,6 +428,15 @@ nlohmann::json runRender(const RenderOptions& o) {
     std::vector<std::string> outputs;
     nlohmann::json gazes = nlohmann::json::array();
     const glm::vec2 lastPixel(static_cast<float>(width) - 1.0f, static_cast<float>(height) - 1.0f);
+    // Gaze angles on this render. The desktop profile: the physical screen (1920 px, 51 cm wide,
+    // 59 cm away), this render a window centred on it; an HMD eye (fove, vive) rendered on its
+    // own: through the view's projection. No flat rescaling of pixels between screens.
+    auto gazePixelOfAngles = [&](glm::vec2 angles) {
+        const render::ScreenGeometry screen;
+        return o.profile == "desktop" ? screen.pixelOfAngles(angles) -
+                                            render::centredWindowOrigin(screen, {width, height})
+                                      : render::pixelOfAnglesInView(angles, view);
+    };
     for (uint32_t i = 0; i < frameCount; ++i) {
         const bool dot = !o.graphDot.empty() && i == 0;
         if (path) view.camera = path->at(path->startMs() + i * o.frameMs, view.camera.yfov);
@@ -435,13 +444,7 @@ nlohmann::json runRender(const RenderOptions& o) {
             const glm::vec2 g = trace->at(trace->startMs() + i * o.frameMs);
             glm::vec2 px = g;
             if (trace->units() == foveation::GazeUnits::AnglesDeg) {
-                // The desktop profile: the physical screen, this render a window centred on it;
-                // an HMD eye (fove, vive) on its own: through the view's projection.
-                const render::ScreenGeometry screen;
-                px = o.profile == "desktop"
-                         ? screen.pixelOfAngles(g) -
-                               render::centredWindowOrigin(screen, {width, height})
-                         : render::pixelOfAnglesInView(g, view);
+                px = gazePixelOfAngles(g);
             }
             view.gaze = glm::clamp(px, glm::vec2(0.0f), lastPixel);
         }
@@ -450,11 +453,12 @@ nlohmann::json runRender(const RenderOptions& o) {
                 throw Error("--gaze-source " + o.gazeSource + ": " + *e);
             }
             if (const auto g = tracker->mailbox().latest()) {
-                // The calibration's screen is the one shown; scale when the render differs.
-                const eyetrack::DisplayGeometry& d = tracker->display();
-                const glm::vec2 scale(static_cast<float>(width) / static_cast<float>(d.widthPx),
-                                      static_cast<float>(height) / static_cast<float>(d.heightPx));
-                view.gaze = glm::clamp(glm::vec2(g->x, g->y) * scale, glm::vec2(0.0f), lastPixel);
+                // The calibration fits gaze angles: back from its screen's pixels to angles, then
+                // onto this render as an angle trace lands (gazePixelOfAngles).
+                const cv::Point2d a = tracker->display().anglesDeg({g->x, g->y});
+                view.gaze = glm::clamp(
+                    gazePixelOfAngles(glm::vec2(static_cast<float>(a.x), static_cast<float>(a.y))),
+                    glm::vec2(0.0f), lastPixel);
             }
             // A saccade since the last frame: the TAA history is dropped (seed 000, 3.1).
             const std::uint64_t saccades = tracker->saccades();
