@@ -4,6 +4,7 @@
 
 #include "blit/blit.hpp"
 #include "core/error.hpp"
+#include "readback/readback.hpp"
 #include "view.hpp"
 
 namespace gt::render {
@@ -57,24 +58,7 @@ void SwapchainTarget::endFrame(rg::RenderGraph& graph) {
         }
         const rg::BufferId host = graph.importBuffer(
             "screenshot.host", {mHost->handle(), bytes, std::nullopt, rg::Access::HostRead});
-        struct Data {
-            rg::TextureId src;
-            rg::BufferId dst;
-        };
-        graph.addPass<Data>(
-            "present.screenshot",
-            [&](rg::PassBuilder& b, Data& d) {
-                d.src = b.read(mTarget, rg::Access::TransferSrc);
-                d.dst = b.write(host, rg::Access::TransferDst);
-            },
-            [](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
-                const rg::ResolvedTexture& t = r.texture(d.src);
-                VkBufferImageCopy region{};
-                region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-                region.imageExtent = {t.width, t.height, 1};
-                vkCmdCopyImageToBuffer(cmd, t.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                       r.buffer(d.dst), 1, &region);
-            });
+        passes::addReadbackPass(graph, "screenshot", mTarget, host);
     }
     graph.sink(mTarget, rg::Access::Present);
 }

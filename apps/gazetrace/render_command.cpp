@@ -80,8 +80,42 @@ void warnOffScreen(const foveation::GazeTrace& trace, const std::string& file, u
               " screen; the gaze is clamped to its edge there");
 }
 
+// One frame at a time (each is written before the next), on GAZETRACE_DEVICE if set.
+render::RendererOptions rendererOptions(const RenderOptions& o) {
+    const char* device = std::getenv("GAZETRACE_DEVICE");
+    return {.scene = o.scene,
+            .validate = o.validate,
+            .framesInFlight = 1,
+            .deviceOverride = device ? device : ""};
+}
+
+// Frame i's file: the PNG itself, or frame_NNNN.png in the output folder.
+std::filesystem::path frameFile(const std::filesystem::path& out, bool toFolder, uint32_t i) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "frame_%04u.png", i);
+    return toFolder ? out / name : out;
+}
+
+// A run with validation errors has failed, whatever it wrote; else the last frame's GPU times.
+nlohmann::json checkedPassTimes(const vk::Context& ctx, const std::optional<rg::FrameTimings>& t) {
+    if (ctx.validationErrors() > 0) {
+        throw Error(std::to_string(ctx.validationErrors()) + " Vulkan validation error(s)");
+    }
+    nlohmann::json gpu = nlohmann::json::object();
+    if (t) {
+        for (const auto& p : t->passes) {
+            gpu[p.name] = p.gpuMs;
+        }
+    }
+    return gpu;
+}
+
 // Fail before any work when the output could not be written anyway.
-void prepareOutput(const std::filesystem::path& outPath, bool toFolder, const std::string& out) {
+void prepareOutput(const std::filesystem::path& outPath, bool toFolder, const std::string& out,
+                   uint32_t frames) {
+    if (!toFolder && frames > 1) {
+        throw ArgumentError("--out: give a folder for --frames > 1");
+    }
     const std::filesystem::path dir = toFolder                        ? outPath
                                       : outPath.parent_path().empty() ? "."
                                                                       : outPath.parent_path();
@@ -153,14 +187,9 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
     }
     const std::filesystem::path outPath(o.out);
     const bool toFolder = outPath.extension() != ".png";
-    if (!toFolder && frameCount > 1) throw ArgumentError("--out: give a folder for --frames > 1");
-    prepareOutput(outPath, toFolder, o.out);
+    prepareOutput(outPath, toFolder, o.out, frameCount);
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
-    const char* device = std::getenv("GAZETRACE_DEVICE");
-    render::Renderer renderer({.scene = o.scene,
-                               .validate = o.validate,
-                               .framesInFlight = 1,
-                               .deviceOverride = device ? device : ""});
+    render::Renderer renderer(rendererOptions(o));
     scene::Camera head = renderer.scene().camera;
     if (cameraArg) head = cameraArg->camera(head.yfov);
     std::optional<render::FullResolution> reference;
@@ -224,20 +253,13 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
         frame = renderer.renderFrame(views, targets, {.graphviz = dot});
         frameMs.push_back(frame.wallMs);
         if (dot) writeText(o.graphDot, frame.dot);
-        char name[32];
-        std::snprintf(name, sizeof(name), "frame_%04u.png", i);
-        const std::filesystem::path file = toFolder ? outPath / name : outPath;
+        const std::filesystem::path file = frameFile(outPath, toFolder, i);
         image::writePngAtomic(file, 2 * w, h, composite.pixels());
         outputs.push_back(file.string());
     }
     vk::Context& ctx = renderer.context();
-    if (ctx.validationErrors() > 0) {
-        throw Error(std::to_string(ctx.validationErrors()) + " Vulkan validation error(s)");
-    }
-    nlohmann::json gpu = nlohmann::json::object();
+    const nlohmann::json gpu = checkedPassTimes(ctx, frame.timings);
     const rg::FrameTimings timings = frame.timings.value_or(rg::FrameTimings{});
-    for (const auto& p : timings.passes)
-        gpu[p.name] = p.gpuMs;
     std::sort(frameMs.begin(), frameMs.end());
     nlohmann::json eyes = nlohmann::json::array();
     uint64_t rays = 0;
@@ -380,16 +402,9 @@ nlohmann::json runRender(const RenderOptions& o) {
     // --out: a .png file for one frame, else a folder for frame_NNNN.png.
     const std::filesystem::path outPath(o.out);
     const bool toFolder = outPath.extension() != ".png";
-    if (!toFolder && frameCount > 1) {
-        throw ArgumentError("--out: give a folder for --frames > 1");
-    }
-    prepareOutput(outPath, toFolder, o.out);
+    prepareOutput(outPath, toFolder, o.out, frameCount);
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
-    const char* device = std::getenv("GAZETRACE_DEVICE");
-    render::Renderer renderer({.scene = o.scene,
-                               .validate = o.validate,
-                               .framesInFlight = 1,
-                               .deviceOverride = device ? device : ""});
+    render::Renderer renderer(rendererOptions(o));
     render::View view;
     view.camera = renderer.scene().camera;
     if (cameraArg) {
@@ -475,22 +490,13 @@ nlohmann::json runRender(const RenderOptions& o) {
         if (dot) {
             writeText(o.graphDot, frame.dot);
         }
-        char name[32];
-        std::snprintf(name, sizeof(name), "frame_%04u.png", i);
-        const std::filesystem::path file = toFolder ? outPath / name : outPath;
+        const std::filesystem::path file = frameFile(outPath, toFolder, i);
         image::writePngAtomic(file, width, height, readback.pixels());
         outputs.push_back(file.string());
     }
     vk::Context& ctx = renderer.context();
-    if (ctx.validationErrors() > 0) {
-        throw Error(std::to_string(ctx.validationErrors()) + " Vulkan validation error(s)");
-    }
-
-    nlohmann::json gpu = nlohmann::json::object();
+    const nlohmann::json gpu = checkedPassTimes(ctx, frame.timings);
     const rg::FrameTimings timings = frame.timings.value_or(rg::FrameTimings{});
-    for (const auto& p : timings.passes) {
-        gpu[p.name] = p.gpuMs;
-    }
     std::vector<double> sorted = frameMs;
     std::sort(sorted.begin(), sorted.end());
     const double totalMs = sorted[sorted.size() / 2];

@@ -52,6 +52,15 @@ namespace {
 // time), so the three profiles below use this published lens as the model, scaled to each
 // HMD's field of view through the normalised radius.
 constexpr LensModel kPublishedLens{0.22f, 0.24f, {0.996f, 1.0f, 1.014f}};
+
+// The left eye's field of view from its half-angles: temporal (left), nasal (right), and
+// vertical (up and down alike), in degrees.
+void setFov(HmdProfile& p, float temporalDeg, float nasalDeg, float verticalDeg) {
+    p.tanLeft = -std::tan(glm::radians(temporalDeg));
+    p.tanRight = std::tan(glm::radians(nasalDeg));
+    p.tanUp = std::tan(glm::radians(verticalDeg));
+    p.tanDown = -p.tanUp;
+}
 } // namespace
 
 HmdProfile hmdProfile(const std::string& name) {
@@ -66,10 +75,7 @@ HmdProfile hmdProfile(const std::string& name) {
         p.eyeWidth = 1280;
         p.eyeHeight = 1440;
         p.refreshHz = 90.0;
-        p.tanLeft = -std::tan(glm::radians(52.0f));
-        p.tanRight = std::tan(glm::radians(48.0f));
-        p.tanUp = std::tan(glm::radians(53.0f));
-        p.tanDown = -std::tan(glm::radians(53.0f));
+        setFov(p, 52.0f, 48.0f, 53.0f);
         p.ipdM = 0.064f;
         p.pointSetProfile = "fove";
         p.sources = {"resolution, FOV: FOVE 0 specification (vendor)",
@@ -82,10 +88,7 @@ HmdProfile hmdProfile(const std::string& name) {
         p.eyeWidth = 1080;
         p.eyeHeight = 1200;
         p.refreshHz = 90.0;
-        p.tanLeft = -std::tan(glm::radians(56.0f));
-        p.tanRight = std::tan(glm::radians(50.0f));
-        p.tanUp = std::tan(glm::radians(55.0f));
-        p.tanDown = -std::tan(glm::radians(55.0f));
+        setFov(p, 56.0f, 50.0f, 55.0f);
         p.ipdM = 0.064f;
         p.pointSetProfile = "vive";
         p.sources = {"resolution, refresh, FOV: HTC Vive specification (vendor)",
@@ -98,10 +101,7 @@ HmdProfile hmdProfile(const std::string& name) {
         p.eyeWidth = 1080;
         p.eyeHeight = 1200;
         p.refreshHz = 90.0;
-        p.tanLeft = -std::tan(glm::radians(49.0f));
-        p.tanRight = std::tan(glm::radians(45.0f));
-        p.tanUp = std::tan(glm::radians(46.5f));
-        p.tanDown = -std::tan(glm::radians(46.5f));
+        setFov(p, 49.0f, 45.0f, 46.5f);
         p.ipdM = 0.0635f;
         p.pointSetProfile = "vive";
         p.sources = {"resolution, refresh: Oculus Rift CV1 specification (vendor)",

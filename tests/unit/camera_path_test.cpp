@@ -7,6 +7,7 @@
 #include "scene/camera_path.hpp"
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "support/bad_files.hpp"
 #include "support/gpu_test_context.hpp"
 
 namespace gt {
@@ -37,18 +38,9 @@ TEST(CameraPath, InterpolatesClampsAndRoundTrips) {
 TEST(CameraPath, RefusesWhatItCannotPlay) {
     const auto dir = test::tempDir("camera_path_bad");
     auto expectBad = [&](const std::string& body, const std::string& mention) {
-        const auto f = dir / "bad.csv";
-        {
-            std::ofstream out(f);
-            out << body;
-        }
-        try {
+        test::expectLoadError(dir / "bad.csv", body, mention, [](const std::filesystem::path& f) {
             (void)scene::CameraPath::load(f);
-            ADD_FAILURE() << "accepted: " << body;
-        } catch (const LoadError& e) {
-            EXPECT_NE(std::string(e.what()).find(mention), std::string::npos) << e.what();
-            EXPECT_NE(std::string(e.what()).find("bad.csv"), std::string::npos) << e.what();
-        }
+        });
     };
     expectBad("t_ms,x,y\n0,1,2\n", "header");
     expectBad("t_ms,ex,ey,ez,tx,ty,tz\n0,1,2,3,4,5\n", "seven numbers");

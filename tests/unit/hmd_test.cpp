@@ -13,6 +13,7 @@
 #include "gaze/display_geometry.hpp"
 #include "gaze_mapping.hpp"
 #include "stereo_rig.hpp"
+#include "support/bad_files.hpp"
 #include "support/gpu_test_context.hpp"
 
 namespace gt {
@@ -186,18 +187,9 @@ TEST(GazeTrace, AngleFormPerEye) {
     EXPECT_FLOAT_EQ(t.at(5.0, foveation::GazeEye::Left).x, 3.0f);
     EXPECT_FLOAT_EQ(t.at(5.0, foveation::GazeEye::Right).y, 6.0f);
     auto expectBad = [&](const std::string& body, const std::string& mention) {
-        const auto f = dir / "bad.csv";
-        {
-            std::ofstream out(f);
-            out << body;
-        }
-        try {
+        test::expectLoadError(dir / "bad.csv", body, mention, [](const std::filesystem::path& f) {
             (void)foveation::GazeTrace::load(f);
-            ADD_FAILURE() << "accepted: " << body;
-        } catch (const LoadError& e) {
-            EXPECT_NE(std::string(e.what()).find(mention), std::string::npos) << e.what();
-            EXPECT_NE(std::string(e.what()).find("bad.csv"), std::string::npos) << e.what();
-        }
+        });
     };
     expectBad("t_ms,yaw_deg,pitch_deg,eye\n0,1,2,middle\n", "eye must be");
     expectBad("t_ms,yaw_deg,pitch_deg\n0,95,2\n", "90 degrees");
