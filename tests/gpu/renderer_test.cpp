@@ -270,3 +270,44 @@ TEST_F(RendererTest, PanelLayoutShowsWhatTheLensPassShows) {
 
 } // namespace
 } // namespace gt
+
+namespace gt {
+namespace {
+
+// What render's loop used to decide itself: a saccade, or a gaze jump past 1/16 of the width,
+// drops the TAA history; a small move keeps it.
+TEST(TaaReset, SaccadeOrJumpDropsTheHistory) {
+    const passes::TaaSettings s;
+    EXPECT_TRUE(passes::taaMustReset(false, false, {10, 10}, {10, 10}, 160, s)); // no history
+    EXPECT_FALSE(passes::taaMustReset(true, false, {10, 10}, {12, 11}, 160, s));
+    EXPECT_TRUE(passes::taaMustReset(true, true, {10, 10}, {10, 10}, 160, s));  // saccade event
+    EXPECT_TRUE(passes::taaMustReset(true, false, {10, 10}, {21, 10}, 160, s)); // 11 > 160/16
+    EXPECT_FALSE(passes::taaMustReset(true, false, {10, 10}, {19, 10}, 160, s));
+}
+
+// Through the renderer: a view with `saccade` set starts its history afresh, exactly as after
+// resetHistory(); the frame without it blends.
+TEST_F(RendererTest, SaccadeStartsTheHistoryAfresh) {
+    render::FullResolution method(renderer().methodContext(), {1, 0});
+    render::View v = view("saccade_view", 40, 40, method);
+    v.post.taa = true;
+    auto run = [&](uint32_t seed, bool saccade) {
+        method.settings.frameSeed = seed;
+        render::View w = v;
+        w.saccade = saccade;
+        return render(std::span(&w, 1))[0];
+    };
+    renderer().resetHistory();
+    const auto fresh = run(3, false);
+    renderer().resetHistory();
+    (void)run(1, false);
+    (void)run(2, false);
+    EXPECT_EQ(run(3, true), fresh);
+    (void)run(4, false);
+    const auto blended = run(5, false);
+    renderer().resetHistory();
+    EXPECT_NE(blended, run(5, false));
+}
+
+} // namespace
+} // namespace gt
