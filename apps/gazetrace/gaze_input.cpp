@@ -120,6 +120,7 @@ public:
         r.saccade = saccade;
         r.sequence = mTracker->frames();
         r.sourceMs = g->tMs;
+        r.confidence = g->confidence;
         const cv::Point2d a = d.anglesDeg({g->x, g->y}); // its calibration fits angles
         r.anglesDeg = glm::vec2(static_cast<float>(a.x), static_cast<float>(a.y));
         return r;
@@ -186,6 +187,7 @@ public:
             r.sampled = SteadyClock::now();
             r.sequence = ++mSequence;
             r.sourceMs = number("t_ms").value_or(0.0f);
+            r.confidence = number("confidence").value_or(1.0f);
             r.windowPixels = false;
             if (x && y) r.screenPx = {*x, *y};
             const std::string eye = j.contains("eye") && j["eye"].is_string() ? j["eye"] : "both";

@@ -27,9 +27,10 @@ struct GazeReading {
     // When the sample was taken, for gaze-to-photon latency: the camera frame's time for the eye
     // tracker, the poll for the mouse, the read for a trace (which has no clock of its own).
     SteadyClock::time_point sampled{};
-    bool saccade = false;  // a saccade began since the last reading: drop temporal history
-    uint64_t sequence = 0; // increases with every new sample the source received
-    double sourceMs = 0.0; // the sample's own time stamp (t_ms of a trace or a datagram)
+    bool saccade = false;    // a saccade began since the last reading: drop temporal history
+    float confidence = 1.0f; // the detector's, for the tracker and UDP; 1 for the others
+    uint64_t sequence = 0;   // increases with every new sample the source received
+    double sourceMs = 0.0;   // the sample's own time stamp (t_ms of a trace or a datagram)
 };
 
 class GazeInput {
