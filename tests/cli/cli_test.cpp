@@ -112,11 +112,13 @@ TEST(Cli, PointSetJsonAndBadValues) {
 
 // RBF through the session both ways: per-pixel weights over the k-NN table, and rbf_solve
 // over the neighbour lists; the summary says which was prepared and what it cost.
+// The JSON contract of RBF's two neighbour indexes (the renderer's behaviour is tested in
+// RendererTest.RbfThroughTableAndListsAgree): a small desktop window keeps this quick.
 TEST(Cli, FoveatedRbfThroughTableAndLists) {
     const auto dir = test::tempDir("cli_rbf");
     for (const std::string knn : {"table", "lists"}) {
-        const Result r = run("render --method foveated --profile vive --scale 3 --rays-per-point 1 "
-                             "--taa off --interp rbf --k 5 --knn " +
+        const Result r = run("render --method foveated --profile desktop --width 160 --height 90 "
+                             "--rays-per-point 1 --taa off --interp rbf --k 5 --knn " +
                              knn + " --validate --json --cache " + (dir / "cache").string() +
                              " --out " + (dir / (knn + ".png")).string());
         ASSERT_EQ(r.status, 0) << r.err;
@@ -134,20 +136,22 @@ TEST(Cli, FoveatedRbfThroughTableAndLists) {
 TEST(Cli, GazeTraceDrivesTheFrames) {
     const auto dir = test::tempDir("cli_trace");
     const auto trace = dir / "trace.csv";
-    std::ofstream(trace) << "t_ms,x,y\n0,100,100\n10,1700,900\n20,5000,900\n";
-    const std::string common = "render --method foveated --profile desktop --scale 3 "
-                               "--rays-per-point 1 --taa off --frame-ms 10 --json --cache " +
+    std::ofstream(trace) << "t_ms,x,y\n0,20,20\n10,300,150\n20,5000,150\n";
+    // A 320 x 180 window of the desktop screen: the same checks as the full screen, quicker.
+    const std::string common = "render --method foveated --profile desktop --width 320 "
+                               "--height 180 --rays-per-point 1 --taa off --frame-ms 10 --json "
+                               "--cache " +
                                (dir / "cache").string();
     const Result r =
         run(common + " --gaze-trace " + trace.string() + " --out " + (dir / "frames").string());
     ASSERT_EQ(r.status, 0) << r.err;
-    EXPECT_NE(r.err.find("1 of 3 gaze samples lie outside the 1920x1080 screen"), std::string::npos)
+    EXPECT_NE(r.err.find("1 of 3 gaze samples lie outside the 320x180 screen"), std::string::npos)
         << r.err;
     const auto j = nlohmann::json::parse(r.out);
     ASSERT_EQ(j.at("gaze_per_frame").size(), 3u);
-    EXPECT_EQ(j.at("gaze_per_frame")[0], nlohmann::json::array({100.0, 100.0}));
-    EXPECT_EQ(j.at("gaze_per_frame")[1], nlohmann::json::array({1700.0, 900.0}));
-    EXPECT_EQ(j.at("gaze_per_frame")[2], nlohmann::json::array({1919.0, 900.0}));
+    EXPECT_EQ(j.at("gaze_per_frame")[0], nlohmann::json::array({20.0, 20.0}));
+    EXPECT_EQ(j.at("gaze_per_frame")[1], nlohmann::json::array({300.0, 150.0}));
+    EXPECT_EQ(j.at("gaze_per_frame")[2], nlohmann::json::array({319.0, 150.0}));
     EXPECT_EQ(j.at("gaze"), j.at("gaze_per_frame")[2]);
     // Near the corner more of the canvas falls off the screen than with the gaze centred.
     const Result centred = run(common + " --out " + (dir / "centred.png").string());
@@ -355,9 +359,9 @@ TEST(Cli, CameraPathMovesTheView) {
     EXPECT_NEAR(j["camera"]["position"][0].get<double>(), 0.5, 1e-6); // the last row
     EXPECT_NE(slurp(out / "frame_0000.png"), slurp(out / "frame_0002.png"));
     const auto png = dir / "never.png";
-    expectCleanFailure(run("render --camera-path " + (dir / "none.csv").string() + " --out " +
-                           png.string()),
-                       "none.csv", png);
+    expectCleanFailure(
+        run("render --camera-path " + (dir / "none.csv").string() + " --out " + png.string()),
+        "none.csv", png);
 }
 
 // The HMD path: a side-by-side frame of both eyes; bad profiles and sizes are one line.

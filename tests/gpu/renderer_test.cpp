@@ -311,3 +311,36 @@ TEST_F(RendererTest, SaccadeStartsTheHistoryAfresh) {
 
 } // namespace
 } // namespace gt
+
+namespace gt {
+namespace {
+
+// RBF through the per-pixel table (weights built once per setting) and through the neighbour
+// lists (per-point inverses, pass rbf_solve every frame) rebuild nearly the same image; what
+// each built is reported. Formerly a 9-second command-line test at the vive size.
+TEST_F(RendererTest, RbfThroughTableAndListsAgree) {
+    foveation::PointSetParams params;
+    params.display = {"small-eye", 160, 180, 0.85};
+    params.scale = 2.0;
+    render::PointSetMethod method(renderer().methodContext(), params, test::tempDir("rbf_cache"));
+    method.settings.raysPerPoint = 1;
+    method.settings.interpolation.method = passes::Interpolation::Rbf;
+    method.settings.interpolation.k = 5;
+    render::View v = view("rbf", 160, 180, method);
+    std::vector<std::vector<uint8_t>> images;
+    for (const auto knn : {passes::KnnIndex::PixelTable, passes::KnnIndex::NeighbourLists}) {
+        method.settings.interpolation.knn = knn;
+        render::FrameResult f;
+        images.push_back(render(std::span(&v, 1), &f)[0]);
+        ASSERT_TRUE(f.timings.has_value());
+        const bool solve = std::any_of(f.timings->passes.begin(), f.timings->passes.end(),
+                                       [](const auto& p) { return p.name == "rbf.rbf_solve"; });
+        EXPECT_EQ(solve, knn == passes::KnnIndex::NeighbourLists);
+        EXPECT_GT(method.rbfPrepared().mb, 0.0);
+    }
+    EXPECT_GT(method.knnTablePrepared().mb, 0.0);
+    EXPECT_LT(meanAbsDiff(images[0], images[1]), 3.0);
+}
+
+} // namespace
+} // namespace gt
