@@ -32,6 +32,12 @@ struct Aabb {
 // classroom) landed badly and traversal cost up to 2.3x more (GPU ms per frame, bench and
 // README); from 32 bins up the cost was flat within noise on every scene we ship or test.
 constexpr int kBins = 64;
+
+// The bin of a centroid at `x` bins from the low end; NaN or negative (never for finite,
+// in-range centroids) goes to bin 0 rather than to an undefined integer.
+int binOf(float x) {
+    return x >= 0.0f ? std::min(kBins - 1, static_cast<int>(std::min(x, 1e6f))) : 0;
+}
 constexpr float kTraversalCost = 1.0f;
 constexpr float kIntersectCost = 1.0f;
 
@@ -118,14 +124,15 @@ Bvh::Bvh(const Scene& scene) {
         int bestAxis = -1, bestSplit = 0;
         for (int axis = 0; axis < 3; ++axis) {
             const float lo = centroidBounds.lo[axis], hi = centroidBounds.hi[axis];
-            if (hi - lo < 1e-9f) continue;
+            // Also skips extents that overflow (infinite): their scale would be 0 and a bin
+            // index from inf * 0 undefined.
+            if (!(hi - lo >= 1e-9f) || !std::isfinite(hi - lo)) continue;
             std::array<Aabb, kBins> binBox{};
             std::array<uint32_t, kBins> binCount{};
             const float scale = static_cast<float>(kBins) / (hi - lo);
             for (uint32_t i = task.first; i < task.first + task.count; ++i) {
                 const uint32_t t = mOrder[i];
-                const int b =
-                    std::min(kBins - 1, static_cast<int>((centroids[t][axis] - lo) * scale));
+                const int b = binOf((centroids[t][axis] - lo) * scale);
                 binBox[b].grow(boxes[t]);
                 ++binCount[b];
             }
@@ -176,13 +183,11 @@ Bvh::Bvh(const Scene& scene) {
         } else {
             const float lo = centroidBounds.lo[bestAxis];
             const float scale = static_cast<float>(kBins) / (centroidBounds.hi[bestAxis] - lo);
-            auto it = std::partition(
-                mOrder.begin() + task.first, mOrder.begin() + task.first + task.count,
-                [&](uint32_t t) {
-                    const int b = std::min(kBins - 1,
-                                           static_cast<int>((centroids[t][bestAxis] - lo) * scale));
-                    return b <= bestSplit;
-                });
+            auto it =
+                std::partition(mOrder.begin() + task.first,
+                               mOrder.begin() + task.first + task.count, [&](uint32_t t) {
+                                   return binOf((centroids[t][bestAxis] - lo) * scale) <= bestSplit;
+                               });
             mid = static_cast<uint32_t>(it - mOrder.begin());
         }
         const auto left = static_cast<uint32_t>(mNodes.size());

@@ -1,5 +1,7 @@
 #include "scene/gltf_loader.hpp"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -477,7 +479,7 @@ private:
             if (static_cast<std::size_t>(node.mesh) >= mModel.meshes.size()) {
                 fail("node " + std::to_string(nodeIndex) + " has mesh index out of range");
             }
-            addMesh(mModel.meshes[node.mesh], world);
+            addMesh(mModel.meshes[node.mesh], world, nodeIndex);
         }
         if (node.camera >= 0 && !mHaveCamera &&
             static_cast<std::size_t>(node.camera) < mModel.cameras.size()) {
@@ -523,7 +525,26 @@ private:
         mScene.lights.push_back(out);
     }
 
-    void addMesh(const tinygltf::Mesh& mesh, const glm::mat4& world) {
+    // World-space coordinates beyond this are refused: no real scene needs them (1e12 m is
+    // seven times the Earth-Sun distance), and past about 1e19 the BVH's centroid sums and box
+    // areas overflow a float (a node at 3.4e38 crashed the build).
+    static constexpr float kMaxCoordinate = 1e12f;
+
+    void checkWorldPosition(const glm::vec3& w, int nodeIndex) {
+        if (std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z) &&
+            std::abs(w.x) <= kMaxCoordinate && std::abs(w.y) <= kMaxCoordinate &&
+            std::abs(w.z) <= kMaxCoordinate) {
+            return;
+        }
+        const std::string& name = mModel.nodes[static_cast<std::size_t>(nodeIndex)].name;
+        char where[96];
+        std::snprintf(where, sizeof(where), "(%g, %g, %g)", w.x, w.y, w.z);
+        fail("node " + std::to_string(nodeIndex) + (name.empty() ? "" : " '" + name + "'") +
+             " puts a vertex at " + where +
+             ", outside the +-1e12 units a scene may span (check its translation and scale)");
+    }
+
+    void addMesh(const tinygltf::Mesh& mesh, const glm::mat4& world, int nodeIndex) {
         const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(world)));
         for (const tinygltf::Primitive& prim : mesh.primitives) {
             if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
@@ -593,6 +614,7 @@ private:
                     const uint32_t i = tris[t + k];
                     v[k].position =
                         glm::vec3(world * glm::vec4(p[3 * i], p[3 * i + 1], p[3 * i + 2], 1.0f));
+                    checkWorldPosition(v[k].position, nodeIndex);
                     v[k].uv = uv.empty() ? glm::vec2(0.0f) : glm::vec2(uv[2 * i], uv[2 * i + 1]);
                     if (!n.empty())
                         v[k].normal =

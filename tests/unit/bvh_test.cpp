@@ -93,3 +93,29 @@ TEST(Bvh, StructureIsSound) {
 
 } // namespace
 } // namespace gt::scene
+
+namespace gt::scene {
+namespace {
+
+// Triangles whose centroid sums overflow to infinity (vertices at 2e38) next to ordinary ones:
+// the binning once indexed with NaN and crashed. It must build and still find the near hits.
+TEST(Bvh, SurvivesCentroidsThatOverflow) {
+    Scene s;
+    SceneBuilder b(s);
+    const uint32_t m = b.material({});
+    for (int i = 0; i < 8; ++i) {
+        b.quad({static_cast<float>(i), 0, -1}, {0.5f, 0, 0}, {0, 0.5f, 0}, m);
+    }
+    const float f = 2e38f;
+    b.triangle({{f, f, f}, {0, 0, 1}, {}}, {{f, f * 0.99f, f}, {0, 0, 1}, {}},
+               {{f * 0.98f, f, f}, {0, 0, 1}, {}}, m);
+    b.triangle({{-f, -f, -f}, {0, 0, 1}, {}}, {{-f, -f * 0.99f, -f}, {0, 0, 1}, {}},
+               {{-f * 0.98f, -f, -f}, {0, 0, 1}, {}}, m);
+    const Bvh bvh(s);
+    const Hit h = bvh.intersect({{0.25f, 0.25f, 1.0f}, {0, 0, -1}});
+    ASSERT_TRUE(h.valid());
+    EXPECT_NEAR(h.t, 2.0f, 1e-4f);
+}
+
+} // namespace
+} // namespace gt::scene

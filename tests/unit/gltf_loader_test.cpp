@@ -254,3 +254,36 @@ TEST(BuiltinScenes, MarketHasTheStudysHardCases) {
 
 } // namespace
 } // namespace gt::scene
+
+namespace gt::scene {
+namespace {
+
+// A node translated near the float limit (issue 20: it crashed the BVH build) is refused with a
+// line naming the node; so is one whose scale overflows, and one past the stated limit.
+TEST(GltfLoader, RefusesWorldCoordinatesBeyondTheLimitNamingTheNode) {
+    const auto dir = test::tempDir("far_node");
+    const auto bin = test::quadBin();
+    test::writeFile(dir / "quad.bin", bin.data(), bin.size());
+    const std::string base = test::quadJson("quad.bin");
+    const std::string home = R"({"mesh": 0, "scale": [2, 1, 2]})";
+    ASSERT_NE(base.find(home), std::string::npos);
+    for (const std::string node : {R"({"mesh": 0, "translation": [3.4e38, 0, 0], "name": "far"})",
+                                   R"({"mesh": 0, "translation": [2e38, 0, 0], "name": "far"})",
+                                   R"({"mesh": 0, "scale": [1e39, 1, 1], "name": "far"})",
+                                   R"({"mesh": 0, "translation": [2e12, 0, 0], "name": "far"})"}) {
+        std::string json = base;
+        json.replace(json.find(home), home.size(), node);
+        test::writeFile(dir / "far.gltf", json.data(), json.size());
+        const std::string e = loadError(dir / "far.gltf");
+        EXPECT_NE(e.find("node 0 'far'"), std::string::npos) << e;
+        EXPECT_NE(e.find("1e12"), std::string::npos) << e;
+    }
+    std::string json = base;
+    json.replace(json.find(home), home.size(),
+                 R"({"mesh": 0, "translation": [1e9, 0, 0], "scale": [1e8, 1, 1e8]})");
+    test::writeFile(dir / "near.gltf", json.data(), json.size());
+    EXPECT_NO_THROW((void)loadGltf(dir / "near.gltf")); // inside the limit: fine
+}
+
+} // namespace
+} // namespace gt::scene
