@@ -1,6 +1,9 @@
 #include "scene/gltf_loader.hpp"
 
 #include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <string_view>
 
 #include <algorithm>
 #include <cmath>
@@ -674,6 +677,63 @@ private:
 
 } // namespace
 
+namespace {
+
+// Deeper JSON than this is refused before tinygltf parses it: its parser recurses once per
+// level, and 20,000 levels (inside `extras`, say) overflowed the stack. Real glTF files nest a
+// dozen levels; extras written by tools stay far below this.
+constexpr int kMaxJsonDepth = 256;
+
+// The deepest nesting of objects and arrays in `json` (strings and escapes skipped), stopping
+// once past kMaxJsonDepth.
+int jsonDepth(std::string_view json) {
+    int depth = 0, deepest = 0;
+    bool inString = false, escaped = false;
+    for (const char c : json) {
+        if (inString) {
+            if (escaped) {
+                escaped = false;
+            } else if (c == '\\') {
+                escaped = true;
+            } else if (c == '"') {
+                inString = false;
+            }
+            continue;
+        }
+        if (c == '"') {
+            inString = true;
+        } else if (c == '{' || c == '[') {
+            deepest = std::max(deepest, ++depth);
+            if (deepest > kMaxJsonDepth) break;
+        } else if (c == '}' || c == ']') {
+            --depth;
+        }
+    }
+    return deepest;
+}
+
+// The JSON of a .gltf (the whole file) or a .glb (its first chunk), or empty if the header is
+// not a GLB's (tinygltf then says what is wrong).
+std::string jsonText(const std::filesystem::path& path, bool glb) {
+    std::ifstream in(path, std::ios::binary);
+    if (!glb) {
+        return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    }
+    uint32_t header[5] = {};
+    in.read(reinterpret_cast<char*>(header), sizeof(header));
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
+    if (!in || ec || header[0] != 0x46546C67u || header[4] != 0x4E4F534Au ||
+        header[3] > size - sizeof(header)) {
+        return {};
+    }
+    std::string json(header[3], '\0');
+    in.read(json.data(), static_cast<std::streamsize>(json.size()));
+    return json;
+}
+
+} // namespace
+
 Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
     GltfLoadReport local;
     GltfLoadReport& rep = report ? *report : local;
@@ -687,6 +747,10 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
                    [](unsigned char c) { return std::tolower(c); });
     if (ext != ".gltf" && ext != ".glb") {
         throw LoadError(file + ": not a .gltf or .glb file");
+    }
+    if (const int depth = jsonDepth(jsonText(path, ext == ".glb")); depth > kMaxJsonDepth) {
+        throw LoadError(file + ": JSON nested more than " + std::to_string(kMaxJsonDepth) +
+                        " levels deep; refused before parsing");
     }
     tinygltf::TinyGLTF loader;
     ImageLoaderState state{&rep.warnings, file};

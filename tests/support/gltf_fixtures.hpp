@@ -49,8 +49,8 @@ inline std::filesystem::path writeQuadGltf(const std::filesystem::path& dir) {
     return dir / "quad.gltf";
 }
 
-inline std::vector<uint8_t> quadGlb() {
-    std::string json = quadJson("");
+// `json`: the JSON chunk (default: the quad's, with an embedded buffer).
+inline std::vector<uint8_t> quadGlb(std::string json = quadJson("")) {
     while (json.size() % 4)
         json += ' ';
     auto bin = quadBin();

@@ -287,3 +287,36 @@ TEST(GltfLoader, RefusesWorldCoordinatesBeyondTheLimitNamingTheNode) {
 
 } // namespace
 } // namespace gt::scene
+
+namespace gt::scene {
+namespace {
+
+// JSON nested 20,000 deep overflowed the stack inside tinygltf's parser (issue 20); now it is
+// refused before parsing, in .gltf and in .glb. Brackets inside strings do not count.
+TEST(GltfLoader, RefusesJsonNestedTooDeep) {
+    const auto dir = test::tempDir("deep_json");
+    const auto bin = test::quadBin();
+    test::writeFile(dir / "quad.bin", bin.data(), bin.size());
+    const std::string deep = std::string(20000, '[') + std::string(20000, ']');
+    auto withExtras = [](std::string json, const std::string& extras) {
+        const std::string asset = R"("asset": {"version": "2.0"})";
+        json.replace(json.find(asset), asset.size(),
+                     R"("asset": {"version": "2.0", "extras": )" + extras + "}");
+        return json;
+    };
+    const std::string gltf = withExtras(test::quadJson("quad.bin"), deep);
+    test::writeFile(dir / "deep.gltf", gltf.data(), gltf.size());
+    EXPECT_NE(loadError(dir / "deep.gltf").find("nested more than 256"), std::string::npos);
+    const auto glb = test::quadGlb(withExtras(test::quadJson(""), deep));
+    test::writeFile(dir / "deep.glb", glb.data(), glb.size());
+    EXPECT_NE(loadError(dir / "deep.glb").find("nested more than 256"), std::string::npos);
+    // Within the limit, and brackets in a string: loads.
+    const std::string fine =
+        withExtras(test::quadJson("quad.bin"),
+                   std::string(100, '[') + "\"[[[[\\\"[[\"" + std::string(100, ']'));
+    test::writeFile(dir / "fine.gltf", fine.data(), fine.size());
+    EXPECT_NO_THROW((void)loadGltf(dir / "fine.gltf"));
+}
+
+} // namespace
+} // namespace gt::scene
