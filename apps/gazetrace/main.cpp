@@ -384,5 +384,11 @@ int main(int argc, char** argv) {
     } catch (const std::exception& e) {
         return fail(e.what());
     }
+    // What was asked for on standard output (--json, a listing) must have got there: a full
+    // disk or a closed pipe is a failed run, not a silent success.
+    std::cout.flush();
+    if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout)) {
+        return fail("cannot write to standard output (disk full or pipe closed?)");
+    }
     return 0;
 }

@@ -384,9 +384,17 @@ std::vector<std::string> Context::listDevices() {
     VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
     info.pApplicationInfo = &app;
     VkInstance instance = VK_NULL_HANDLE;
-    if (vkCreateInstance(&info, nullptr, &instance) != VK_SUCCESS) return {};
+    const VkResult r = vkCreateInstance(&info, nullptr, &instance);
+    if (r != VK_SUCCESS) {
+        throw VulkanError(r, "vkCreateInstance (no Vulkan driver? install mesa-vulkan-drivers)",
+                          __FILE__, __LINE__);
+    }
     std::vector<std::string> lines;
     const auto devices = enumerate(instance);
+    if (devices.empty()) {
+        vkDestroyInstance(instance, nullptr);
+        throw Error("no Vulkan device found (install mesa-vulkan-drivers for lavapipe)");
+    }
     for (std::size_t i = 0; i < devices.size(); ++i) {
         const DeviceCandidate c = describe(devices[i], VK_NULL_HANDLE, {});
         lines.push_back(std::to_string(i) + ": " + c.name + " (" + typeName(c.type) + ")");

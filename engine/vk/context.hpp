@@ -77,7 +77,8 @@ public:
                            VkPipelineLayout layout, uint32_t set, uint32_t count,
                            const VkWriteDescriptorSet* writes) const;
 
-    // Lists the Vulkan devices seen by the loader, one line each (for `gazetrace devices`).
+    // Lists the Vulkan devices seen by the loader, one line each (for `gazetrace devices`);
+    // throws when there is no instance or no device.
     [[nodiscard]] static std::vector<std::string> listDevices();
 
 private:

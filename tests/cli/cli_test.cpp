@@ -401,3 +401,30 @@ TEST(Cli, HmdWritesBothEyesSideBySide) {
 
 } // namespace
 } // namespace gt
+
+namespace gt {
+namespace {
+
+// Issue 20: --json to a full disk exited 0 with the JSON lost, and `devices` printed nothing
+// and exited 0 without a Vulkan driver. Both are failures with one line now.
+TEST(Cli, LostStandardOutputAndNoDriverAreErrors) {
+    const auto dir = test::tempDir("cli_stdout");
+    const auto err = dir / "err.txt";
+    auto status = [&](const std::string& cmd) {
+        const int raw = std::system((cmd + " 2>" + err.string()).c_str());
+        return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    };
+    const std::string exe = GT_GAZETRACE_EXE;
+    EXPECT_EQ(status(exe + " render --scene builtin:cornell --width 8 --height 8 --json --out " +
+                     (dir / "a.png").string() + " >/dev/full"),
+              1);
+    EXPECT_NE(slurp(err).find("cannot write to standard output"), std::string::npos) << slurp(err);
+    EXPECT_EQ(status(exe + " devices >/dev/full"), 1);
+    EXPECT_EQ(status("VK_ICD_FILENAMES=/nonexistent.json " + exe + " devices >/dev/null"), 1);
+    EXPECT_NE(slurp(err).find("vkCreateInstance"), std::string::npos) << slurp(err);
+    EXPECT_EQ(lines(slurp(err)), 1);
+    EXPECT_EQ(status(exe + " devices >/dev/null"), 0);
+}
+
+} // namespace
+} // namespace gt
