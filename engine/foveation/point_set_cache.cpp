@@ -66,6 +66,10 @@ void putParams(Writer& w, const PointSetParams& p) {
 } // namespace
 
 CacheLoad loadPointSet(const std::filesystem::path& file, const PointSetParams& params) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(file, ec)) {
+        return {std::nullopt, file.string() + " is a folder, not a point-set file"};
+    }
     std::ifstream in(file, std::ios::binary);
     if (!in) return {std::nullopt, "cannot open " + file.string()};
     const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
@@ -104,11 +108,30 @@ CacheLoad loadPointSet(const std::filesystem::path& file, const PointSetParams& 
     if (r.pos() + count * 12 + 8 != bytes.size()) {
         return {std::nullopt, file.string() + " has the wrong size"};
     }
+    // A valid checksum says the bytes are what was written, not that they make sense: a
+    // NaN or far-away point sent the neighbour search into an unbounded loop (issue 20).
+    if (count < 2) {
+        return {std::nullopt, file.string() + " holds " + std::to_string(count) +
+                                  " point(s); a point set has many"};
+    }
+    const float canvasW = 2.0f * static_cast<float>(params.display.width);
+    const float canvasH = 2.0f * static_cast<float>(params.display.height);
+    const float maxSpacing = canvasW + canvasH;
     std::vector<Point> pts(count);
-    for (Point& p : pts) {
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        Point& p = pts[i];
         r.get(p.x);
         r.get(p.y);
         r.get(p.spacing);
+        // Thesis eq. (4): p >= 1 - (1 - sqrt(1/pi)) = 0.564 pixels, and far less than the canvas.
+        if (!(p.x >= 0.0f && p.x < canvasW && p.y >= 0.0f && p.y < canvasH)) {
+            return {std::nullopt, file.string() + ": point " + std::to_string(i) +
+                                      " lies outside the canvas (or is not a number)"};
+        }
+        if (!(p.spacing >= 0.5f && p.spacing <= maxSpacing)) {
+            return {std::nullopt, file.string() + ": point " + std::to_string(i) +
+                                      " has an impossible spacing " + std::to_string(p.spacing)};
+        }
     }
     return {PointSet::fromPoints(params, std::move(pts)), {}};
 }

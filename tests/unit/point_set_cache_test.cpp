@@ -1,5 +1,6 @@
 // The point-set cache is never trusted when damaged or stale.
 #include <fstream>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -73,6 +74,45 @@ TEST(PointSetCache, TruncatedWrongMagicAndStaleFilesAreRejected) {
     EXPECT_NE(stale.problem.find("stale"), std::string::npos) << stale.problem;
     EXPECT_NE(cacheFile(dir, params(1.0)), cacheFile(dir, params(2.0)));
     EXPECT_FALSE(other.set.points().empty());
+}
+
+// Issue 20: a cache whose checksum is right but whose points are NaN, far away, or too few
+// was trusted (the neighbour search then ran unbounded; 0 or 1 points failed every later run).
+// Its contents are checked now: loadOrGenerate warns, regenerates and rewrites it.
+TEST(PointSetCache, ChecksItsContentsNotOnlyItsChecksum) {
+    const auto dir = test::tempDir("psc_contents");
+    const PointSetParams p = params();
+    const PointSet good = PointSet::generate(p);
+    const auto file = cacheFile(dir, p);
+    auto saveWith = [&](std::vector<Point> pts) {
+        savePointSet(file, PointSet::fromPoints(p, std::move(pts)));
+    };
+    std::vector<Point> bad = good.points();
+    bad[7].x = std::numeric_limits<float>::quiet_NaN();
+    saveWith(bad);
+    EXPECT_NE(loadPointSet(file, p).problem.find("lies outside the canvas"), std::string::npos);
+    bad = good.points();
+    bad[3].y *= 1e30f;
+    saveWith(bad);
+    EXPECT_NE(loadPointSet(file, p).problem.find("lies outside the canvas"), std::string::npos);
+    bad = good.points();
+    bad[5].spacing = std::numeric_limits<float>::infinity();
+    saveWith(bad);
+    EXPECT_NE(loadPointSet(file, p).problem.find("impossible spacing"), std::string::npos);
+    saveWith({good.points().front()});
+    EXPECT_NE(loadPointSet(file, p).problem.find("1 point(s)"), std::string::npos);
+    // Regenerated and rewritten: the next load trusts the file again.
+    const CachedPointSet again = loadOrGenerate(dir, p);
+    EXPECT_FALSE(again.fromCache);
+    EXPECT_NE(again.warning.find("regenerating"), std::string::npos);
+    EXPECT_EQ(again.set.points().size(), good.points().size());
+    EXPECT_TRUE(loadPointSet(file, p).set.has_value());
+    // A folder where the file should be: a warning and a fresh set, not a crash.
+    std::filesystem::remove(file);
+    std::filesystem::create_directories(file);
+    const CachedPointSet folder = loadOrGenerate(dir, p);
+    EXPECT_NE(folder.warning.find("is a folder"), std::string::npos) << folder.warning;
+    EXPECT_EQ(folder.set.points().size(), good.points().size());
 }
 
 } // namespace
