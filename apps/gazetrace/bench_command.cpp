@@ -13,6 +13,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "atomic_write.hpp"
 #include "core/error.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "full_resolution.hpp"
@@ -453,18 +454,7 @@ nlohmann::json runBench(const BenchOptions& o) {
 }
 
 void writeJsonFile(const std::string& path, const nlohmann::json& j) {
-    const std::filesystem::path tmp = path + ".tmp";
-    {
-        std::ofstream out(tmp);
-        out << j.dump(2) << "\n";
-        out.flush();
-        if (!out) {
-            std::error_code ec;
-            std::filesystem::remove(tmp, ec);
-            throw Error("cannot write " + path);
-        }
-    }
-    std::filesystem::rename(tmp, path);
+    io::writeFileAtomic(path, j.dump(2) + "\n");
 }
 
 } // namespace gt::app

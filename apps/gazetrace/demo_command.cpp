@@ -16,6 +16,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include "atomic_write.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "demo_calibration.hpp"
@@ -210,10 +211,11 @@ nlohmann::json runDemo(const DemoOptions& o) {
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
     std::optional<scene::CameraPath> path;
     if (!o.cameraPath.empty()) path = scene::CameraPath::load(o.cameraPath);
-    std::unique_ptr<std::ofstream> log;
+    std::optional<io::AtomicFile> logFile;
+    std::ostream* log = nullptr;
     if (!o.log.empty()) {
-        log = std::make_unique<std::ofstream>(o.log + ".tmp");
-        if (!*log) throw Error("--log: cannot write " + o.log);
+        logFile.emplace(o.log); // a missing folder fails now, not after the run
+        log = &logFile->stream();
         *log << "frame,t_ms,frame_ms,gpu_ms,gaze_x,gaze_y,gaze_sequence,gaze_t_ms,latency_ms\n";
     }
 
@@ -513,12 +515,7 @@ nlohmann::json runDemo(const DemoOptions& o) {
     if (ctx.validationErrors() > 0) {
         throw Error(std::to_string(ctx.validationErrors()) + " Vulkan validation error(s)");
     }
-    if (log) {
-        log->flush();
-        if (!*log) throw Error("--log: cannot write " + o.log);
-        log.reset();
-        std::filesystem::rename(o.log + ".tmp", o.log);
-    }
+    if (logFile) logFile->commit();
     nlohmann::json calibrationSummary;
     if (calibration) calibrationSummary = calibration->finish();
     // Steady state: leave out the first frames (pipelines warming, point set building).

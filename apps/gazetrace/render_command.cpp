@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "atomic_write.hpp"
 #include "capture/frame_source.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -130,16 +131,7 @@ void prepareOutput(const std::filesystem::path& outPath, bool toFolder, const st
 }
 
 void writeText(const std::string& path, const std::string& text) {
-    const std::filesystem::path p(path);
-    const std::filesystem::path tmp = p.string() + ".tmp";
-    {
-        std::ofstream out(tmp);
-        out << text;
-        if (!out) {
-            throw Error("cannot write " + path);
-        }
-    }
-    std::filesystem::rename(tmp, p);
+    io::writeFileAtomic(path, text);
 }
 
 } // namespace

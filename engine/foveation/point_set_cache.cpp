@@ -1,5 +1,7 @@
 #include "foveation/point_set_cache.hpp"
 
+#include <span>
+
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -7,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "atomic_write.hpp"
 #include "core/error.hpp"
 
 namespace gt::foveation {
@@ -151,22 +154,10 @@ void savePointSet(const std::filesystem::path& file, const PointSet& set) {
     w.put(fnv1a(w.bytes.data(), w.bytes.size()));
     std::error_code ec;
     if (!file.parent_path().empty()) std::filesystem::create_directories(file.parent_path(), ec);
-    const std::filesystem::path tmp =
-        file.string() + ".tmp" + std::to_string(std::random_device{}());
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        out.write(reinterpret_cast<const char*>(w.bytes.data()),
-                  static_cast<std::streamsize>(w.bytes.size()));
-        if (!out) {
-            out.close();
-            std::filesystem::remove(tmp, ec);
-            throw Error("cannot write point set " + file.string());
-        }
-    }
-    std::filesystem::rename(tmp, file, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw Error("cannot write point set " + file.string() + ": " + ec.message());
+    try {
+        io::writeFileAtomic(file, std::as_bytes(std::span(w.bytes)));
+    } catch (const io::WriteError& e) {
+        throw Error(std::string("point set: ") + e.what());
     }
 }
 

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string>
 
+#include "atomic_write.hpp"
 #include "core/error.hpp"
 
 namespace gt::scene {
@@ -75,24 +76,18 @@ CameraPath CameraPath::load(const std::filesystem::path& file) {
 }
 
 void CameraPath::save(const std::filesystem::path& file) const {
-    const std::filesystem::path tmp = file.string() + ".tmp";
-    {
-        std::ofstream out(tmp);
-        out << "t_ms,ex,ey,ez,tx,ty,tz\n";
-        char row[256];
-        for (const CameraKey& k : mKeys) {
-            std::snprintf(row, sizeof(row), "%.3f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", k.tMs, k.eye.x,
-                          k.eye.y, k.eye.z, k.target.x, k.target.y, k.target.z);
-            out << row;
-        }
-        out.flush();
-        if (!out) {
-            std::error_code ec;
-            std::filesystem::remove(tmp, ec);
-            throw Error("cannot write " + file.string());
-        }
+    std::string text = "t_ms,ex,ey,ez,tx,ty,tz\n";
+    char row[256];
+    for (const CameraKey& k : mKeys) {
+        std::snprintf(row, sizeof(row), "%.3f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", k.tMs, k.eye.x,
+                      k.eye.y, k.eye.z, k.target.x, k.target.y, k.target.z);
+        text += row;
     }
-    std::filesystem::rename(tmp, file);
+    try {
+        io::writeFileAtomic(file, text);
+    } catch (const io::WriteError& e) {
+        throw Error(e.what());
+    }
 }
 
 Camera CameraPath::at(double tMs, float yfov) const {

@@ -3,11 +3,12 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
-#include <random>
+#include <vector>
 
 #include <stb_image.h>
 #include <stb_image_write.h>
 
+#include "atomic_write.hpp"
 #include "core/error.hpp"
 
 namespace gt::image {
@@ -17,24 +18,23 @@ void writePngAtomic(const std::filesystem::path& path, uint32_t width, uint32_t 
     if (width == 0 || height == 0 || rgba.size() != static_cast<std::size_t>(width) * height * 4) {
         throw Error("cannot write " + path.string() + ": image size does not match its data");
     }
-    const std::filesystem::path dir = path.parent_path().empty() ? "." : path.parent_path();
-    std::error_code ec;
-    if (!std::filesystem::is_directory(dir, ec)) {
-        throw Error("cannot write " + path.string() + ": folder " + dir.string() +
-                    " does not exist");
+    // Encoded in memory, then written through io::writeFileAtomic, which checks that every byte
+    // reached the disk: stbi_write_png to a file cannot see a failing fwrite or fclose, and on a
+    // full disk render printed "wrote" and left a 0-byte PNG in place of the old one (issue 20).
+    std::vector<std::byte> png;
+    const auto append = [](void* context, void* data, int size) {
+        auto* out = static_cast<std::vector<std::byte>*>(context);
+        const auto* b = static_cast<const std::byte*>(data);
+        out->insert(out->end(), b, b + size);
+    };
+    if (!stbi_write_png_to_func(append, &png, static_cast<int>(width), static_cast<int>(height), 4,
+                                rgba.data(), static_cast<int>(width * 4))) {
+        throw Error("cannot write " + path.string() + ": PNG encoding failed");
     }
-    const std::filesystem::path tmp =
-        dir / ("." + path.filename().string() + ".tmp" + std::to_string(std::random_device{}()));
-    const int ok = stbi_write_png(tmp.c_str(), static_cast<int>(width), static_cast<int>(height), 4,
-                                  rgba.data(), static_cast<int>(width * 4));
-    if (!ok) {
-        std::filesystem::remove(tmp, ec);
-        throw Error("cannot write " + path.string() + " (disk full or no permission?)");
-    }
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw Error("cannot write " + path.string() + ": " + ec.message());
+    try {
+        io::writeFileAtomic(path, png);
+    } catch (const io::WriteError& e) {
+        throw Error(e.what());
     }
 }
 

@@ -1,54 +1,37 @@
 #pragma once
-// Writes a file whole or not at all: the text goes to a temporary beside it, renamed over the
-// target on commit(); destroyed without commit (an error midway), the temporary is removed.
+// Writes a file whole or not at all, through the project's one checked writer
+// (io/atomic_write.hpp: every write, the fsync and the close are checked before the rename), with
+// the eye tracker's error type. The text is kept in memory until commit(); destroyed without
+// commit() (an error midway), nothing is written.
 #include <filesystem>
-#include <fstream>
-#include <string>
+#include <ostream>
 
+#include "atomic_write.hpp"
 #include "error.hpp"
 
 namespace gt::eyetrack {
 
 class AtomicFile {
 public:
-    explicit AtomicFile(std::filesystem::path target) : mTarget(std::move(target)) {
-        mTemp = mTarget;
-        mTemp += ".partial";
-        const auto parent = mTarget.parent_path();
-        std::error_code ec;
-        if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
-            throw EyetrackError(mTarget.string() + ": folder " + parent.string() +
-                                " does not exist");
-        mOut.open(mTemp, std::ios::binary | std::ios::trunc);
-        if (!mOut) throw EyetrackError(mTarget.string() + ": cannot be written");
-    }
-    ~AtomicFile() {
-        if (!mCommitted) {
-            mOut.close();
-            std::error_code ec;
-            std::filesystem::remove(mTemp, ec);
-        }
+    explicit AtomicFile(std::filesystem::path target) try : mFile(std::move(target)) {
+    } catch (const io::WriteError& e) {
+        throw EyetrackError(e.what());
     }
     AtomicFile(const AtomicFile&) = delete;
     AtomicFile& operator=(const AtomicFile&) = delete;
 
-    std::ofstream& stream() { return mOut; }
-    [[nodiscard]] const std::filesystem::path& target() const noexcept { return mTarget; }
+    std::ostream& stream() { return mFile.stream(); }
+    [[nodiscard]] const std::filesystem::path& target() const noexcept { return mFile.target(); }
     void commit() {
-        mOut.flush();
-        if (!mOut) throw EyetrackError(mTarget.string() + ": write failed");
-        mOut.close();
-        std::error_code ec;
-        std::filesystem::rename(mTemp, mTarget, ec);
-        if (ec)
-            throw EyetrackError(mTarget.string() + ": cannot be written (" + ec.message() + ")");
-        mCommitted = true;
+        try {
+            mFile.commit();
+        } catch (const io::WriteError& e) {
+            throw EyetrackError(e.what());
+        }
     }
 
 private:
-    std::filesystem::path mTarget, mTemp;
-    std::ofstream mOut;
-    bool mCommitted = false;
+    io::AtomicFile mFile;
 };
 
 } // namespace gt::eyetrack

@@ -428,3 +428,34 @@ TEST(Cli, LostStandardOutputAndNoDriverAreErrors) {
 
 } // namespace
 } // namespace gt
+
+namespace gt {
+namespace {
+
+// Issue 20: on a full disk render printed "wrote", exited 0 and replaced an existing PNG with a
+// 0-byte file. Through the write-fault seam (GAZETRACE_WRITE_FAULT=enospc): one line, exit 1,
+// the old file as it was.
+TEST(Cli, FullDiskFailsAndKeepsTheOldFile) {
+    const auto dir = test::tempDir("cli_full");
+    const auto png = dir / "frame.png";
+    const Result first =
+        run("render --scene builtin:cornell --width 16 --height 16 --out " + png.string());
+    ASSERT_EQ(first.status, 0) << first.err;
+    const std::string before = slurp(png);
+    ASSERT_FALSE(before.empty());
+    const Result full = test::runWith("GAZETRACE_WRITE_FAULT=enospc",
+                                      "render --scene builtin:cornell --width 16 --height 16 "
+                                      "--seed 9 --out " +
+                                          png.string());
+    EXPECT_EQ(full.status, 1);
+    EXPECT_NE(full.err.find("No space left"), std::string::npos) << full.err;
+    // One error line (beside the device announcement).
+    EXPECT_EQ(full.err.find("error:"), full.err.rfind("error:")) << full.err;
+    EXPECT_EQ(slurp(png), before);
+    for (const auto& e : std::filesystem::directory_iterator(dir)) {
+        EXPECT_EQ(e.path().filename(), "frame.png") << "left behind: " << e.path();
+    }
+}
+
+} // namespace
+} // namespace gt

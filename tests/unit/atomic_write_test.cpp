@@ -1,0 +1,81 @@
+// The one file writer (io/atomic_write.hpp): a full disk, a folder in the way or a missing folder
+// fail with the reason, keep an existing file as it was, and leave no temporary behind.
+#include <cerrno>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "atomic_write.hpp"
+#include "support/gpu_test_context.hpp"
+
+namespace gt {
+namespace {
+
+std::string readAll(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+bool onlyFile(const std::filesystem::path& dir, const std::string& name) {
+    int n = 0;
+    for (const auto& e : std::filesystem::directory_iterator(dir)) {
+        if (e.path().filename() != name) return false;
+        ++n;
+    }
+    return n == 1;
+}
+
+struct ClearFaults {
+    ~ClearFaults() { io::testing::clearWriteFaults(); }
+};
+
+TEST(AtomicWrite, FullDiskKeepsTheOldFileAndLeavesNothing) {
+    const ClearFaults clear;
+    const auto dir = test::tempDir("atomic_full");
+    const auto file = dir / "out.png";
+    io::writeFileAtomic(file, std::string("old contents"));
+    ASSERT_EQ(readAll(file), "old contents");
+    const std::string big(100000, 'x');
+    for (const std::size_t ok : {std::size_t{0}, std::size_t{4096}}) {
+        io::testing::failWrites(ENOSPC, ok); // the disk fills after `ok` bytes
+        try {
+            io::writeFileAtomic(file, big);
+            ADD_FAILURE() << "a full disk was not noticed";
+        } catch (const io::WriteError& e) {
+            EXPECT_NE(std::string(e.what()).find("out.png"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("No space left"), std::string::npos) << e.what();
+        }
+        EXPECT_EQ(readAll(file), "old contents"); // untouched
+        EXPECT_TRUE(onlyFile(dir, "out.png"));    // no temporary left
+    }
+    io::testing::clearWriteFaults();
+    io::writeFileAtomic(file, big);
+    EXPECT_EQ(readAll(file), big);
+}
+
+TEST(AtomicWrite, FolderInTheWayOrMissingIsNamed) {
+    const auto dir = test::tempDir("atomic_folder");
+    std::filesystem::create_directories(dir / "x.png");
+    try {
+        io::writeFileAtomic(dir / "x.png", std::string("a"));
+        ADD_FAILURE();
+    } catch (const io::WriteError& e) {
+        EXPECT_NE(std::string(e.what()).find("is a folder"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(io::writeFileAtomic(dir / "none" / "y.png", std::string("a")), io::WriteError);
+    EXPECT_THROW(io::AtomicFile(dir / "none" / "z.csv"), io::WriteError); // at once
+    // Destroyed without commit: nothing written.
+    {
+        io::AtomicFile f(dir / "later.csv");
+        f.stream() << "a,b\n";
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir / "later.csv"));
+    io::AtomicFile g(dir / "now.csv");
+    g.stream() << "a,b\n";
+    g.commit();
+    EXPECT_EQ(readAll(dir / "now.csv"), "a,b\n");
+}
+
+} // namespace
+} // namespace gt
