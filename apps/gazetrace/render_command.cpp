@@ -90,6 +90,37 @@ render::RendererOptions rendererOptions(const RenderOptions& o) {
             .deviceOverride = device ? device : ""};
 }
 
+// What this run wrote: removed again unless the run succeeds, so a failed run (a full disk at
+// frame 7, a tracker clip cut short, validation errors at the end) leaves none of its outputs.
+class RunOutputs {
+public:
+    RunOutputs() = default;
+    RunOutputs(const RunOutputs&) = delete;
+    RunOutputs& operator=(const RunOutputs&) = delete;
+    ~RunOutputs() {
+        if (mKeep) return;
+        // Newest first: the frames, then the folder they were written into (only if empty).
+        for (auto it = mFiles.rbegin(); it != mFiles.rend(); ++it) {
+            std::error_code ec;
+            std::filesystem::remove(*it, ec);
+        }
+    }
+    void add(const std::filesystem::path& f) { mFiles.push_back(f); }
+    void keep() noexcept { mKeep = true; }
+
+private:
+    std::vector<std::filesystem::path> mFiles;
+    bool mKeep = false;
+};
+
+// --out: a .png file (any case) for one frame, else a folder for frame_NNNN.png.
+bool outIsFolder(const std::filesystem::path& out) {
+    std::string ext = out.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return ext != ".png";
+}
+
 // Frame i's file: the PNG itself, or frame_NNNN.png in the output folder.
 std::filesystem::path frameFile(const std::filesystem::path& out, bool toFolder, uint32_t i) {
     char name[32];
@@ -112,22 +143,29 @@ nlohmann::json checkedPassTimes(const vk::Context& ctx, const std::optional<rg::
 }
 
 // Fail before any work when the output could not be written anyway.
-void prepareOutput(const std::filesystem::path& outPath, bool toFolder, const std::string& out,
+// Returns whether it created the output folder.
+bool prepareOutput(const std::filesystem::path& outPath, bool toFolder, const std::string& out,
                    uint32_t frames) {
     if (!toFolder && frames > 1) {
         throw ArgumentError("--out: give a folder for --frames > 1");
+    }
+    std::error_code folderEc;
+    if (!toFolder && std::filesystem::is_directory(outPath, folderEc)) {
+        throw ArgumentError("--out: " + out + " is a folder; give a file name ending in .png");
     }
     const std::filesystem::path dir = toFolder                        ? outPath
                                       : outPath.parent_path().empty() ? "."
                                                                       : outPath.parent_path();
     std::error_code ec;
-    if (toFolder) {
+    const bool existed = std::filesystem::is_directory(dir, ec);
+    if (toFolder && !existed) {
         std::filesystem::create_directories(dir, ec);
     }
     if (!std::filesystem::is_directory(dir, ec)) {
         throw ArgumentError("--out: cannot write " + out + ": folder " + dir.string() +
                             " does not exist");
     }
+    return toFolder && !existed;
 }
 
 void writeText(const std::string& path, const std::string& text) {
@@ -178,8 +216,11 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
         }
     }
     const std::filesystem::path outPath(o.out);
-    const bool toFolder = outPath.extension() != ".png";
-    prepareOutput(outPath, toFolder, o.out, frameCount);
+    const bool toFolder = outIsFolder(outPath);
+    RunOutputs written;
+    if (prepareOutput(outPath, toFolder, o.out, frameCount)) {
+        written.add(outPath); // a folder this run made: removed again if empty after a failure
+    }
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
     render::Renderer renderer(rendererOptions(o));
     scene::Camera head = renderer.scene().camera;
@@ -244,9 +285,13 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
         const bool dot = !o.graphDot.empty() && i == 0;
         frame = renderer.renderFrame(views, targets, {.graphviz = dot});
         frameMs.push_back(frame.wallMs);
-        if (dot) writeText(o.graphDot, frame.dot);
+        if (dot) {
+            writeText(o.graphDot, frame.dot);
+            written.add(o.graphDot);
+        }
         const std::filesystem::path file = frameFile(outPath, toFolder, i);
         image::writePngAtomic(file, 2 * w, h, composite.pixels());
+        written.add(file);
         outputs.push_back(file.string());
     }
     vk::Context& ctx = renderer.context();
@@ -264,6 +309,7 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
                          {views[e].frustum->left, views[e].frustum->right, views[e].frustum->up,
                           views[e].frustum->down}}});
     }
+    written.keep();
     return {{"device", ctx.deviceName()},
             {"device_type", ctx.deviceDescription()},
             {"scene", o.scene},
@@ -393,8 +439,11 @@ nlohmann::json runRender(const RenderOptions& o) {
     }
     // --out: a .png file for one frame, else a folder for frame_NNNN.png.
     const std::filesystem::path outPath(o.out);
-    const bool toFolder = outPath.extension() != ".png";
-    prepareOutput(outPath, toFolder, o.out, frameCount);
+    const bool toFolder = outIsFolder(outPath);
+    RunOutputs written;
+    if (prepareOutput(outPath, toFolder, o.out, frameCount)) {
+        written.add(outPath); // a folder this run made: removed again if empty after a failure
+    }
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
     render::Renderer renderer(rendererOptions(o));
     render::View view;
@@ -481,9 +530,11 @@ nlohmann::json runRender(const RenderOptions& o) {
         frameMs.push_back(frame.wallMs);
         if (dot) {
             writeText(o.graphDot, frame.dot);
+            written.add(o.graphDot);
         }
         const std::filesystem::path file = frameFile(outPath, toFolder, i);
         image::writePngAtomic(file, width, height, readback.pixels());
+        written.add(file);
         outputs.push_back(file.string());
     }
     vk::Context& ctx = renderer.context();
@@ -563,6 +614,7 @@ nlohmann::json runRender(const RenderOptions& o) {
     }
     j["rays"] = rays;
     j["rays_per_second"] = totalMs > 0.0 ? static_cast<double>(rays) / (totalMs * 1e-3) : 0.0;
+    written.keep();
     return j;
 }
 

@@ -87,8 +87,9 @@ TEST(Cli, BadValues) {
                        "builtin:nowhere", dir / "o.png");
     expectCleanFailure(run("render --method magic --out " + (dir / "o.png").string()), "--method",
                        dir / "o.png");
+    // The file it would have written, not one elsewhere (this once checked dir / "o.png").
     expectCleanFailure(run("render --width 8 --height 8 --out /nonexistent-dir/o.png"),
-                       "/nonexistent-dir", dir / "o.png");
+                       "/nonexistent-dir", "/nonexistent-dir/o.png");
 }
 
 TEST(Cli, PointSetJsonAndBadValues) {
@@ -455,6 +456,35 @@ TEST(Cli, FullDiskFailsAndKeepsTheOldFile) {
     for (const auto& e : std::filesystem::directory_iterator(dir)) {
         EXPECT_EQ(e.path().filename(), "frame.png") << "left behind: " << e.path();
     }
+}
+
+} // namespace
+} // namespace gt
+
+namespace gt {
+namespace {
+
+// Issue 20: --out naming a folder (with --graph) exited 1 "cannot write ...: Success" and left
+// the graph behind; --out r.PNG was taken for a folder; a run that failed at a later frame kept
+// its earlier frames. A failed run now leaves none of its outputs.
+TEST(Cli, FailedRunLeavesNoneOfItsOutputs) {
+    const auto dir = test::tempDir("cli_outputs");
+    std::filesystem::create_directories(dir / "X.png");
+    const Result folder = run("render --scene builtin:cornell --width 8 --height 8 --out " +
+                              (dir / "X.png").string() + " --graph " + (dir / "g.dot").string());
+    expectCleanFailure(folder, "is a folder", dir / "g.dot");
+    const Result upper = run("render --scene builtin:cornell --width 8 --height 8 --out " +
+                             (dir / "r.PNG").string());
+    ASSERT_EQ(upper.status, 0) << upper.err;
+    EXPECT_TRUE(std::filesystem::is_regular_file(dir / "r.PNG"));
+    const auto frames = dir / "frames";
+    const Result full =
+        test::runWith("GAZETRACE_WRITE_FAULT=enospc",
+                      "render --scene builtin:cornell --width 8 --height 8 --frames 3 --graph " +
+                          (dir / "g2.dot").string() + " --out " + frames.string());
+    EXPECT_EQ(full.status, 1);
+    EXPECT_FALSE(std::filesystem::exists(dir / "g2.dot"));
+    EXPECT_FALSE(std::filesystem::exists(frames)); // the folder it made, removed again
 }
 
 } // namespace
