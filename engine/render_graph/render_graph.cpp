@@ -655,6 +655,7 @@ VkDeviceSize PassResources::bufferSize(BufferId b) const {
 struct TransientPool::Impl {
     std::map<std::string, vk::Image> images;
     std::map<std::string, vk::Buffer> buffers;
+    std::size_t created = 0;
 };
 
 TransientPool::TransientPool(vk::Context& ctx) : mCtx(ctx), mImpl(std::make_unique<Impl>()) {}
@@ -662,6 +663,10 @@ TransientPool::~TransientPool() = default;
 
 std::size_t TransientPool::imageCount() const noexcept {
     return mImpl->images.size();
+}
+
+std::size_t TransientPool::created() const noexcept {
+    return mImpl->created;
 }
 
 vk::Image& TransientPool::image(const std::string& name, uint32_t w, uint32_t h, VkFormat f,
@@ -674,6 +679,7 @@ vk::Image& TransientPool::image(const std::string& name, uint32_t w, uint32_t h,
         }
         mImpl->images.erase(it);
     }
+    ++mImpl->created;
     return mImpl->images.emplace(name, vk::Image(mCtx, {w, h, f, usage, name})).first->second;
 }
 
@@ -682,6 +688,7 @@ vk::Buffer& TransientPool::buffer(const std::string& name, VkDeviceSize size,
     auto it = mImpl->buffers.find(name);
     if (it != mImpl->buffers.end() && it->second.size() == size) return it->second;
     if (it != mImpl->buffers.end()) mImpl->buffers.erase(it);
+    ++mImpl->created;
     return mImpl->buffers
         .emplace(name, vk::Buffer(mCtx, {size, usage, vk::MemoryUsage::GpuOnly, name}))
         .first->second;

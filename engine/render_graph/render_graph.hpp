@@ -216,6 +216,8 @@ public:
     vk::Buffer& buffer(const std::string& name, VkDeviceSize size, VkBufferUsageFlags usage);
     [[nodiscard]] vk::Context& context() noexcept { return mCtx; }
     [[nodiscard]] std::size_t imageCount() const noexcept;
+    // Images and buffers created so far (a reused transient is not created again).
+    [[nodiscard]] std::size_t created() const noexcept;
 
 private:
     struct Impl;

@@ -35,6 +35,7 @@ public:
     [[nodiscard]] VkDeviceSize size() const noexcept { return mSize; }
     [[nodiscard]] std::byte* mapped() const noexcept { return mAllocation.mapped; }
     [[nodiscard]] bool valid() const noexcept { return mBuffer != VK_NULL_HANDLE; }
+    [[nodiscard]] const Allocation& allocation() const noexcept { return mAllocation; }
 
     // Writes bytes at `offset`: directly when mapped, else through a staging buffer.
     void upload(std::span<const std::byte> bytes, VkDeviceSize offset = 0);

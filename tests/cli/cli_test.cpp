@@ -221,8 +221,8 @@ TEST(Cli, CameraSetsTheView) {
 }
 
 TEST(Cli, HelpOnEverySubcommand) {
-    for (const char* sub :
-         {"", "render ", "pointset ", "devices ", "scenes ", "eyesim ", "track ", "calibrate "}) {
+    for (const char* sub : {"", "render ", "pointset ", "devices ", "scenes ", "eyesim ", "track ",
+                            "calibrate ", "bench ", "demo "}) {
         const Result r = run(std::string(sub) + "--help");
         EXPECT_EQ(r.status, 0) << sub;
         EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
