@@ -1,5 +1,6 @@
 // The `gazetrace` command line. Every error reaches the user as one line on stderr and a
 // non-zero exit status; stdout carries only what was asked for (--json).
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 
@@ -360,10 +361,23 @@ int main(int argc, char** argv) {
             const nlohmann::json result = gt::app::runTrack(track);
             std::cout << (trackJson ? result.dump() : result.dump(2)) << std::endl;
         } else if (calibrateCmd->parsed()) {
-            if (std::sscanf(screen.c_str(), "%dx%d", &calibrate.display.widthPx,
-                            &calibrate.display.heightPx) != 2 ||
-                calibrate.display.widthPx <= 0 || calibrate.display.heightPx <= 0)
-                throw gt::ArgumentError("--screen " + screen + ": expected WxH");
+            // Range checks let NaN through (every comparison with it is false), and %d wrapped
+            // 99999999999 to 1215752191 (issue 20): both are refused here.
+            unsigned long w = 0, h = 0;
+            char x = 0, extra = 0;
+            if (std::sscanf(screen.c_str(), "%lu%c%lu%c", &w, &x, &h, &extra) != 3 || x != 'x' ||
+                w == 0 || h == 0 || w > 32768 || h > 32768 || screen.find('-') != std::string::npos)
+                throw gt::ArgumentError("--screen " + screen +
+                                        ": expected WxH, each 1..32768 pixels");
+            calibrate.display.widthPx = static_cast<int>(w);
+            calibrate.display.heightPx = static_cast<int>(h);
+            for (const auto& [name, value] :
+                 {std::pair{"--screen-width-cm", calibrate.display.widthCm},
+                  std::pair{"--distance-cm", calibrate.display.distanceCm}}) {
+                if (!std::isfinite(value) || value < 1.0 || value > 1000.0)
+                    throw gt::ArgumentError(std::string(name) + ": expected 1..1000 cm, got " +
+                                            std::to_string(value));
+            }
             const nlohmann::json result = gt::app::runCalibrate(calibrate);
             std::cout << (calibrateJson ? result.dump() : result.dump(2)) << std::endl;
         } else if (demoCmd->parsed()) {

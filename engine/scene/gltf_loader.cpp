@@ -771,10 +771,21 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
     for (const tinygltf::Buffer& b : model.buffers) {
         if (b.data.empty()) throw LoadError(file + ": buffer '" + b.uri + "' is empty or missing");
     }
-    return Loader(model, file, rep).load();
+    try {
+        return Loader(model, file, rep).load();
+    } catch (const std::length_error& e) {
+        // An accessor count of 2^62, say: "cannot create std::vector larger than max_size()"
+        // alone did not say which file (issue 20).
+        throw LoadError(file + ": a size in the file is too large to hold (" + e.what() + ")");
+    } catch (const std::bad_alloc&) {
+        throw LoadError(file + ": out of memory while loading (a size in the file too large?)");
+    }
 }
 
 Scene loadScene(const std::string& spec, GltfLoadReport* report) {
+    if (spec.empty()) {
+        throw LoadError("--scene is empty: give builtin:NAME, FILE.gltf, FILE.glb or cubemap:FILE");
+    }
     if (spec.rfind("builtin:", 0) == 0) return makeBuiltin(spec);
     if (spec.rfind("cubemap:", 0) == 0) {
         // The thesis's experiment setup (6.1): no geometry, the camera looks into a panorama.

@@ -489,3 +489,24 @@ TEST(Cli, FailedRunLeavesNoneOfItsOutputs) {
 
 } // namespace
 } // namespace gt
+
+namespace gt {
+namespace {
+
+// Issue 20: calibrate --distance-cm nan / --screen-width-cm nan exited 0 and wrote nulls, and
+// --screen 99999999999x1 wrapped to 1215752191. Refused before any work now.
+TEST(Cli, CalibrateRefusesNanAndOverflowingScreens) {
+    const auto dir = test::tempDir("cli_calib_values");
+    const auto out = dir / "c.json";
+    const std::string base = "calibrate --source synthetic:1 --targets " +
+                             (dir / "none.csv").string() + " --out " + out.string();
+    expectCleanFailure(run(base + " --distance-cm nan"), "--distance-cm", out);
+    expectCleanFailure(run(base + " --screen-width-cm nan"), "--screen-width-cm", out);
+    expectCleanFailure(run(base + " --screen 99999999999x1"), "--screen", out);
+    expectCleanFailure(run(base + " --screen 1920x-5"), "--screen", out);
+    expectCleanFailure(run("render --scene '' --out " + (dir / "x.png").string()),
+                       "--scene is empty", dir / "x.png");
+}
+
+} // namespace
+} // namespace gt

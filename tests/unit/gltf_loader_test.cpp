@@ -320,3 +320,30 @@ TEST(GltfLoader, RefusesJsonNestedTooDeep) {
 
 } // namespace
 } // namespace gt::scene
+
+namespace gt::scene {
+namespace {
+
+// Issue 20: an accessor count of 2^62 said "cannot create std::vector larger than max_size()"
+// without the file's name; an empty --scene said ": no such file".
+TEST(GltfLoader, HugeCountsAndEmptySpecsNameWhatIsWrong) {
+    const auto dir = test::tempDir("huge_count");
+    const auto bin = test::quadBin();
+    test::writeFile(dir / "quad.bin", bin.data(), bin.size());
+    std::string json = test::quadJson("quad.bin");
+    const std::string count = R"("count": 4, "type": "VEC3")";
+    ASSERT_NE(json.find(count), std::string::npos);
+    json.replace(json.find(count), count.size(), R"("count": 4611686018427387904, "type": "VEC3")");
+    test::writeFile(dir / "huge.gltf", json.data(), json.size());
+    const std::string e = loadError(dir / "huge.gltf");
+    EXPECT_NE(e.find("huge.gltf"), std::string::npos) << e;
+    try {
+        (void)loadScene("");
+        ADD_FAILURE() << "an empty scene spec loaded";
+    } catch (const LoadError& err) {
+        EXPECT_NE(std::string(err.what()).find("--scene is empty"), std::string::npos);
+    }
+}
+
+} // namespace
+} // namespace gt::scene
