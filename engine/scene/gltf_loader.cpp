@@ -1,6 +1,7 @@
 #include "scene/gltf_loader.hpp"
 
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <string_view>
@@ -96,6 +97,7 @@ public:
 
     Scene load() {
         mScene.name = mFile;
+        checkExpansion();
         loadTextures();
         loadMaterials();
         const int sceneIndex = mModel.defaultScene >= 0 ? mModel.defaultScene : 0;
@@ -469,6 +471,97 @@ private:
         }
         if (n.scale.size() == 3) m = glm::scale(m, glm::vec3(n.scale[0], n.scale[1], n.scale[2]));
         return m;
+    }
+
+    // Triangles the scene's node graph expands to, counted before anything is built: a node
+    // graph whose levels each reference the next twice expands to 2^24 instances from 25 nodes
+    // (it ran out of memory after 135 s), and one mesh may be referenced by thousands of
+    // primitives and nodes. Counted per node once (memoised: the graph may be a DAG), with
+    // saturation instead of overflow.
+    // 200 times the largest shared scene (the flight helmet, 95 k triangles).
+    static constexpr double kDefaultMaxTriangles = 20e6;
+
+    double primitiveTriangles(const tinygltf::Primitive& prim) const {
+        if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+            prim.mode != TINYGLTF_MODE_TRIANGLE_FAN && prim.mode != -1) {
+            return 0.0;
+        }
+        int accessor = prim.indices;
+        if (accessor < 0) {
+            const auto it = prim.attributes.find("POSITION");
+            if (it == prim.attributes.end()) return 0.0;
+            accessor = it->second;
+        }
+        if (accessor < 0 || static_cast<std::size_t>(accessor) >= mModel.accessors.size()) {
+            return 0.0; // reported where it is used
+        }
+        const double n = static_cast<double>(mModel.accessors[accessor].count);
+        return prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP || prim.mode == TINYGLTF_MODE_TRIANGLE_FAN
+                   ? std::max(0.0, n - 2.0)
+                   : std::floor(n / 3.0);
+    }
+
+    void checkExpansion() {
+        double limit = kDefaultMaxTriangles;
+        if (const char* env = std::getenv("GAZETRACE_MAX_TRIANGLES")) {
+            char* end = nullptr;
+            const double v = std::strtod(env, &end);
+            if (end != env && *end == '\0' && v > 0.0 && std::isfinite(v)) limit = v;
+        }
+        std::vector<double> meshTriangles(mModel.meshes.size(), 0.0);
+        for (std::size_t m = 0; m < mModel.meshes.size(); ++m) {
+            for (const tinygltf::Primitive& prim : mModel.meshes[m].primitives) {
+                meshTriangles[m] += primitiveTriangles(prim);
+            }
+        }
+        std::vector<double> memo(mModel.nodes.size(), -1.0);
+        std::vector<char> onPath(mModel.nodes.size(), 0);
+        // Iterative-enough: depth is bounded like visit()'s (256).
+        std::function<double(int, int)> count = [&](int node, int depth) -> double {
+            if (node < 0 || static_cast<std::size_t>(node) >= mModel.nodes.size() || depth > 256 ||
+                onPath[static_cast<std::size_t>(node)]) {
+                return 0.0; // out of range or a cycle: visit() reports them
+            }
+            double& m = memo[static_cast<std::size_t>(node)];
+            if (m >= 0.0) return m;
+            onPath[static_cast<std::size_t>(node)] = 1;
+            const tinygltf::Node& n = mModel.nodes[static_cast<std::size_t>(node)];
+            double total = n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < meshTriangles.size()
+                               ? meshTriangles[static_cast<std::size_t>(n.mesh)]
+                               : 0.0;
+            for (const int c : n.children) {
+                total = std::min(total + count(c, depth + 1), 1e300);
+            }
+            onPath[static_cast<std::size_t>(node)] = 0;
+            return m = total;
+        };
+        double total = 0.0;
+        if (mModel.scenes.empty()) {
+            std::vector<bool> child(mModel.nodes.size(), false);
+            for (const auto& n : mModel.nodes) {
+                for (int c : n.children) {
+                    if (c >= 0 && static_cast<std::size_t>(c) < child.size()) child[c] = true;
+                }
+            }
+            for (std::size_t i = 0; i < mModel.nodes.size(); ++i) {
+                if (!child[i]) total += count(static_cast<int>(i), 0);
+            }
+        } else {
+            const int sceneIndex = mModel.defaultScene >= 0 ? mModel.defaultScene : 0;
+            if (sceneIndex >= 0 && sceneIndex < static_cast<int>(mModel.scenes.size())) {
+                for (int n : mModel.scenes[static_cast<std::size_t>(sceneIndex)].nodes) {
+                    total += count(n, 0);
+                }
+            }
+        }
+        if (total > limit) {
+            char what[160];
+            std::snprintf(what, sizeof(what),
+                          "its nodes expand to %.3g triangles, above the limit of %.3g "
+                          "(GAZETRACE_MAX_TRIANGLES raises it)",
+                          total, limit);
+            fail(what);
+        }
     }
 
     void visit(int nodeIndex, const glm::mat4& parent, int depth) {

@@ -6,6 +6,9 @@
 #include <iterator>
 #include <vector>
 
+#include <chrono>
+#include <cstdlib>
+
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
@@ -343,6 +346,46 @@ TEST(GltfLoader, HugeCountsAndEmptySpecsNameWhatIsWrong) {
     } catch (const LoadError& err) {
         EXPECT_NE(std::string(err.what()).find("--scene is empty"), std::string::npos);
     }
+}
+
+} // namespace
+} // namespace gt::scene
+
+namespace gt::scene {
+namespace {
+
+// Issue 20: 25 nodes, each level referencing the next twice, expand to 2^24 quads (33.6 M
+// triangles): it ran out of memory after 135 s. The expansion is counted first and refused with
+// the limit and how to raise it; GAZETRACE_MAX_TRIANGLES moves the limit either way.
+TEST(GltfLoader, RefusesNodeGraphsThatExpandPastTheTriangleLimit) {
+    const auto dir = test::tempDir("dag");
+    const auto bin = test::quadBin();
+    test::writeFile(dir / "quad.bin", bin.data(), bin.size());
+    std::string json = test::quadJson("quad.bin");
+    std::string nodes = R"("nodes": [)";
+    for (int i = 0; i < 24; ++i) {
+        nodes += R"({"children": [)" + std::to_string(i + 1) + "," + std::to_string(i + 1) + "]},";
+    }
+    nodes += R"({"mesh": 0}])";
+    const auto from = json.find(R"("nodes": [{"mesh")"); // the node array, not the scene's list
+    ASSERT_NE(from, std::string::npos);
+    const auto to = json.find("],\n", from);
+    json.replace(from, to + 1 - from, nodes);
+    const std::string scenes = R"("scenes": [{"nodes": [0, 1]}])";
+    json.replace(json.find(scenes), scenes.size(), R"("scenes": [{"nodes": [0]}])");
+    test::writeFile(dir / "dag.gltf", json.data(), json.size());
+    const auto start = std::chrono::steady_clock::now();
+    const std::string e = loadError(dir / "dag.gltf");
+    EXPECT_NE(e.find("3.36e+07 triangles"), std::string::npos) << e;
+    EXPECT_NE(e.find("GAZETRACE_MAX_TRIANGLES"), std::string::npos) << e;
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+              5.0); // refused before any expansion (a budget, not a speed target)
+    // The one quad alone is fine, and a lower limit refuses even that.
+    const Scene quad = loadGltf(test::writeQuadGltf(dir));
+    EXPECT_EQ(quad.triangleCount(), 2u);
+    ::setenv("GAZETRACE_MAX_TRIANGLES", "1", 1);
+    EXPECT_NE(loadError(test::writeQuadGltf(dir)).find("limit of 1"), std::string::npos);
+    ::unsetenv("GAZETRACE_MAX_TRIANGLES");
 }
 
 } // namespace
