@@ -827,6 +827,58 @@ std::string jsonText(const std::filesystem::path& path, bool glb) {
 
 } // namespace
 
+namespace {
+
+// tinygltf reads a model's external files (buffers, images) through these: a URI may only name
+// a file inside the model's folder (a `uri` of ../../../../etc/shadow was read; issue 20),
+// unless GAZETRACE_GLTF_ANY_PATH=1 allows it. `~` and variables are not expanded.
+struct UriGuard {
+    std::filesystem::path root; // weakly canonical
+    bool anyPath = false;
+};
+
+bool insideRoot(const std::string& file, const UriGuard& g) {
+    if (g.anyPath) return true;
+    std::error_code ec;
+    const std::filesystem::path p = std::filesystem::weakly_canonical(file, ec);
+    if (ec) return false;
+    auto r = g.root.begin();
+    auto q = p.begin();
+    for (; r != g.root.end(); ++r, ++q) {
+        if (q == p.end() || *q != *r) return false;
+    }
+    return true;
+}
+
+// Existence is answered truthfully, so that reading an outside file reaches guardedRead and
+// its message says why it was refused, not just "not found".
+bool guardedExists(const std::string& file, void*) {
+    return tinygltf::FileExists(file, nullptr);
+}
+
+std::string noExpansion(const std::string& file, void*) {
+    return file;
+}
+
+bool guardedRead(std::vector<unsigned char>* out, std::string* err, const std::string& file,
+                 void* user) {
+    if (!insideRoot(file, *static_cast<UriGuard*>(user))) {
+        if (err) {
+            *err += "refusing to read " + file +
+                    ": it lies outside the model's folder (GAZETRACE_GLTF_ANY_PATH=1 allows it)";
+        }
+        return false;
+    }
+    return tinygltf::ReadWholeFile(out, err, file, nullptr);
+}
+
+bool noWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err) *err += "gazetrace does not write glTF files";
+    return false;
+}
+
+} // namespace
+
 Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
     GltfLoadReport local;
     GltfLoadReport& rep = report ? *report : local;
@@ -846,6 +898,15 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
                         " levels deep; refused before parsing");
     }
     tinygltf::TinyGLTF loader;
+    UriGuard guard;
+    {
+        std::error_code gec;
+        guard.root = std::filesystem::weakly_canonical(
+            path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path(), gec);
+        const char* any = std::getenv("GAZETRACE_GLTF_ANY_PATH");
+        guard.anyPath = any != nullptr && std::string(any) == "1";
+    }
+    loader.SetFsCallbacks({guardedExists, noExpansion, guardedRead, noWrite, &guard});
     ImageLoaderState state{&rep.warnings, file};
     loader.SetImageLoader(loadImage, &state);
     tinygltf::Model model;

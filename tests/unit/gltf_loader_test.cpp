@@ -390,3 +390,43 @@ TEST(GltfLoader, RefusesNodeGraphsThatExpandPastTheTriangleLimit) {
 
 } // namespace
 } // namespace gt::scene
+
+namespace gt::scene {
+namespace {
+
+// Issue 20: an image `uri` of ../../../../etc/shadow was read. URIs resolve under the model's
+// folder: an image outside it is refused with a warning (the material keeps its factor), a
+// buffer outside it is an error; GAZETRACE_GLTF_ANY_PATH=1 allows both.
+TEST(GltfLoader, UrisStayInsideTheModelsFolder) {
+    const auto root = test::tempDir("uri_guard");
+    const auto dir = root / "model";
+    std::filesystem::create_directories(dir);
+    const auto bin = test::quadBin();
+    test::writeFile(root / "outside.bin", bin.data(), bin.size());
+    test::writeFile(dir / "quad.bin", bin.data(), bin.size());
+    std::string json = test::quadJson("quad.bin");
+    const std::string material = R"({"pbrMetallicRoughness": {"baseColorFactor")";
+    json.replace(
+        json.find(material), material.size(),
+        R"({"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "baseColorFactor")");
+    json.insert(json.rfind('}'), R"(, "images": [{"uri": "../../../../etc/hostname"}],
+        "textures": [{"source": 0}])");
+    test::writeFile(dir / "image.gltf", json.data(), json.size());
+    GltfLoadReport report;
+    const Scene s = loadGltf(dir / "image.gltf", &report);
+    EXPECT_TRUE(s.textures.empty() || s.materials.front().baseColorTexture < 0);
+    bool refused = false;
+    for (const std::string& w : report.warnings) {
+        refused |= w.find("outside the model's folder") != std::string::npos;
+    }
+    EXPECT_TRUE(refused);
+    std::string buf = test::quadJson("../outside.bin");
+    test::writeFile(dir / "buffer.gltf", buf.data(), buf.size());
+    EXPECT_NE(loadError(dir / "buffer.gltf").find("outside the model's folder"), std::string::npos);
+    ::setenv("GAZETRACE_GLTF_ANY_PATH", "1", 1);
+    EXPECT_NO_THROW((void)loadGltf(dir / "buffer.gltf"));
+    ::unsetenv("GAZETRACE_GLTF_ANY_PATH");
+}
+
+} // namespace
+} // namespace gt::scene
