@@ -92,9 +92,17 @@ render::RendererOptions rendererOptions(const RenderOptions& o) {
 
 // What this run wrote: removed again unless the run succeeds, so a failed run (a full disk at
 // frame 7, a tracker clip cut short, validation errors at the end) leaves none of its outputs.
+bool prepareOutput(const std::filesystem::path& outPath, bool toFolder, const std::string& out,
+                   uint32_t frames);
+
 class RunOutputs {
 public:
-    RunOutputs() = default;
+    // Checks --out before any work (prepareOutput); a folder it makes is this run's output too,
+    // removed again if it is empty after a failure.
+    RunOutputs(const std::filesystem::path& out, bool toFolder, const std::string& text,
+               uint32_t frames) {
+        if (prepareOutput(out, toFolder, text, frames)) add(out);
+    }
     RunOutputs(const RunOutputs&) = delete;
     RunOutputs& operator=(const RunOutputs&) = delete;
     ~RunOutputs() {
@@ -217,10 +225,7 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
     }
     const std::filesystem::path outPath(o.out);
     const bool toFolder = outIsFolder(outPath);
-    RunOutputs written;
-    if (prepareOutput(outPath, toFolder, o.out, frameCount)) {
-        written.add(outPath); // a folder this run made: removed again if empty after a failure
-    }
+    RunOutputs written(outPath, toFolder, o.out, frameCount);
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
     render::Renderer renderer(rendererOptions(o));
     scene::Camera head = renderer.scene().camera;
@@ -440,10 +445,7 @@ nlohmann::json runRender(const RenderOptions& o) {
     // --out: a .png file for one frame, else a folder for frame_NNNN.png.
     const std::filesystem::path outPath(o.out);
     const bool toFolder = outIsFolder(outPath);
-    RunOutputs written;
-    if (prepareOutput(outPath, toFolder, o.out, frameCount)) {
-        written.add(outPath); // a folder this run made: removed again if empty after a failure
-    }
+    RunOutputs written(outPath, toFolder, o.out, frameCount);
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
     render::Renderer renderer(rendererOptions(o));
     render::View view;

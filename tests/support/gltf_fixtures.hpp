@@ -41,6 +41,13 @@ inline void writeFile(const std::filesystem::path& p, const void* data, std::siz
 }
 
 // Writes quad.gltf + quad.bin into `dir`; returns the .gltf path.
+// Writes quad.bin into `dir` and returns the quad's JSON naming it, to be edited by a test.
+inline std::string quadJsonBesideBin(const std::filesystem::path& dir) {
+    const auto bin = quadBin();
+    writeFile(dir / "quad.bin", bin.data(), bin.size());
+    return quadJson("quad.bin");
+}
+
 inline std::filesystem::path writeQuadGltf(const std::filesystem::path& dir) {
     const auto bin = quadBin();
     writeFile(dir / "quad.bin", bin.data(), bin.size());

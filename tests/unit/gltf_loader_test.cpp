@@ -265,9 +265,7 @@ namespace {
 // line naming the node; so is one whose scale overflows, and one past the stated limit.
 TEST(GltfLoader, RefusesWorldCoordinatesBeyondTheLimitNamingTheNode) {
     const auto dir = test::tempDir("far_node");
-    const auto bin = test::quadBin();
-    test::writeFile(dir / "quad.bin", bin.data(), bin.size());
-    const std::string base = test::quadJson("quad.bin");
+    const std::string base = test::quadJsonBesideBin(dir);
     const std::string home = R"({"mesh": 0, "scale": [2, 1, 2]})";
     ASSERT_NE(base.find(home), std::string::npos);
     for (const std::string node : {R"({"mesh": 0, "translation": [3.4e38, 0, 0], "name": "far"})",
@@ -331,9 +329,7 @@ namespace {
 // without the file's name; an empty --scene said ": no such file".
 TEST(GltfLoader, HugeCountsAndEmptySpecsNameWhatIsWrong) {
     const auto dir = test::tempDir("huge_count");
-    const auto bin = test::quadBin();
-    test::writeFile(dir / "quad.bin", bin.data(), bin.size());
-    std::string json = test::quadJson("quad.bin");
+    std::string json = test::quadJsonBesideBin(dir);
     const std::string count = R"("count": 4, "type": "VEC3")";
     ASSERT_NE(json.find(count), std::string::npos);
     json.replace(json.find(count), count.size(), R"("count": 4611686018427387904, "type": "VEC3")");
@@ -359,9 +355,7 @@ namespace {
 // the limit and how to raise it; GAZETRACE_MAX_TRIANGLES moves the limit either way.
 TEST(GltfLoader, RefusesNodeGraphsThatExpandPastTheTriangleLimit) {
     const auto dir = test::tempDir("dag");
-    const auto bin = test::quadBin();
-    test::writeFile(dir / "quad.bin", bin.data(), bin.size());
-    std::string json = test::quadJson("quad.bin");
+    std::string json = test::quadJsonBesideBin(dir);
     std::string nodes = R"("nodes": [)";
     for (int i = 0; i < 24; ++i) {
         nodes += R"({"children": [)" + std::to_string(i + 1) + "," + std::to_string(i + 1) + "]},";
