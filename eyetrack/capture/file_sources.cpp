@@ -12,8 +12,12 @@ namespace gt::eyetrack {
 
 VideoFileSource::VideoFileSource(const std::filesystem::path& file) : mFile(file) {
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec))
+    if (!std::filesystem::exists(file, ec))
         throw CaptureError("video " + file.string() + ": no such file");
+    if (!std::filesystem::is_regular_file(file, ec)) {
+        // /dev/null, a folder, a pipe: there, but not a video file (issue 20: "no such file").
+        throw CaptureError("video " + file.string() + ": not a regular file");
+    }
     if (std::filesystem::file_size(file, ec) == 0)
         throw CaptureError("video " + file.string() + ": file is empty");
     // FFmpeg would print its own lines about damaged files; the error we raise says it in one.

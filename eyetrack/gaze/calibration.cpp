@@ -162,8 +162,9 @@ Calibration Calibration::fromJson(const nlohmann::json& j, const std::string& wh
         throw bad("not a gazetrace calibration (\"format\" is missing or wrong)");
     if (!j.contains("version") || !j["version"].is_number_integer())
         throw bad("\"version\" is missing");
-    if (j["version"].get<int>() != kVersion)
-        throw bad("version " + std::to_string(j["version"].get<int>()) +
+    // As the number it is (2^40 read through int was reported as "version 0"; issue 20).
+    if (j["version"].get<long long>() != kVersion)
+        throw bad("version " + std::to_string(j["version"].get<long long>()) +
                   " is not supported (expected " + std::to_string(kVersion) +
                   "; run gazetrace calibrate again)");
     Calibration c;
@@ -211,6 +212,10 @@ void Calibration::save(const std::filesystem::path& file) const {
 }
 
 Calibration Calibration::load(const std::filesystem::path& file) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(file, ec)) {
+        throw FormatError("calibration " + file.string() + ": is a folder, not a calibration file");
+    }
     std::ifstream in(file);
     if (!in) throw FormatError("calibration " + file.string() + ": cannot be opened");
     nlohmann::json j;

@@ -418,3 +418,37 @@ TEST(UdpEmitter, SendsOneJsonObjectPerSample) {
     EXPECT_THROW(UdpEmitter("udp://example.com:5", display), EyetrackError);
     EXPECT_THROW(UdpEmitter("udp://127.0.0.1:99999", display), EyetrackError);
 }
+
+namespace gt::eyetrack {
+namespace {
+
+// Issue 20: a folder given as a calibration file ended in "basic_filebuf::underflow ... Is a
+// directory" with no file name; version 2^40 was reported as "version 0"; video:/dev/null said
+// "no such file". Each message now names the file and what is wrong.
+TEST(BadInput, FolderHugeVersionAndNonRegularVideoAreNamed) {
+    const auto dir = std::filesystem::temp_directory_path() / "gazetrace_eyetrack_bad_input";
+    std::filesystem::create_directories(dir / "calibration.json");
+    try {
+        (void)Calibration::load(dir / "calibration.json");
+        ADD_FAILURE() << "a folder loaded as a calibration";
+    } catch (const FormatError& e) {
+        EXPECT_NE(std::string(e.what()).find("is a folder"), std::string::npos) << e.what();
+    }
+    const nlohmann::json huge = {{"format", "gazetrace-calibration"}, {"version", 1099511627776LL}};
+    try {
+        (void)Calibration::fromJson(huge, "c.json");
+        ADD_FAILURE() << "version 2^40 accepted";
+    } catch (const FormatError& e) {
+        EXPECT_NE(std::string(e.what()).find("version 1099511627776"), std::string::npos)
+            << e.what();
+    }
+    try {
+        (void)openFrameSource("video:/dev/null");
+        ADD_FAILURE() << "/dev/null opened as a video";
+    } catch (const CaptureError& e) {
+        EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+    }
+}
+
+} // namespace
+} // namespace gt::eyetrack
