@@ -87,7 +87,40 @@ glm::vec3 equirectDirection(float u, float v) {
 
 } // namespace
 
-Environment loadEnvironment(const std::filesystem::path& path) {
+namespace {
+
+// Halves `img` with a 2 x 2 box filter (odd edges dropped) until its width is within the limit.
+void halveToLimit(RgbImage& img, uint32_t maxWidth) {
+    while (img.width > static_cast<int>(maxWidth) && img.width >= 2 && img.height >= 2) {
+        const int w = img.width / 2, h = img.height / 2;
+        std::vector<float> out(static_cast<std::size_t>(w) * h * 3);
+        for (int y = 0; y < h; ++y) {
+            for (int x = 0; x < w; ++x) {
+                for (int c = 0; c < 3; ++c) {
+                    auto at = [&](int xx, int yy) {
+                        return img.rgb[(static_cast<std::size_t>(yy) * img.width + xx) * 3 + c];
+                    };
+                    out[(static_cast<std::size_t>(y) * w + x) * 3 + c] =
+                        0.25f * (at(2 * x, 2 * y) + at(2 * x + 1, 2 * y) + at(2 * x, 2 * y + 1) +
+                                 at(2 * x + 1, 2 * y + 1));
+                }
+            }
+        }
+        img.rgb = std::move(out);
+        img.width = w;
+        img.height = h;
+    }
+}
+
+void note(std::vector<std::string>* warnings, const std::string& line) {
+    if (warnings) warnings->push_back(line);
+}
+
+} // namespace
+
+Environment loadEnvironment(const std::filesystem::path& path, std::vector<std::string>* warnings,
+                            uint32_t maxWidth) {
+    maxWidth = std::max(maxWidth, 2u);
     std::error_code ec;
     Environment env;
     env.name = path.string();
@@ -120,8 +153,13 @@ Environment loadEnvironment(const std::filesystem::path& path) {
             if (f.width != size || f.height != size)
                 throw LoadError(path.string() + ": cube faces differ in size or are not square");
         }
-        env.width = static_cast<uint32_t>(4 * size);
-        env.height = static_cast<uint32_t>(2 * size);
+        env.width = std::min(static_cast<uint32_t>(4 * size), maxWidth);
+        env.height = env.width / 2;
+        if (env.width < static_cast<uint32_t>(4 * size)) {
+            note(warnings, path.string() + ": cube faces of " + std::to_string(size) +
+                               " pixels resampled to a " + std::to_string(env.width) + "x" +
+                               std::to_string(env.height) + " sky (the limit)");
+        }
         env.texels.resize(static_cast<std::size_t>(env.width) * env.height);
         for (uint32_t y = 0; y < env.height; ++y) {
             for (uint32_t x = 0; x < env.width; ++x) {
@@ -134,11 +172,19 @@ Environment loadEnvironment(const std::filesystem::path& path) {
         }
         return env;
     }
-    const RgbImage img = loadFloat(path);
+    RgbImage img = loadFloat(path);
     if (img.width != 2 * img.height) {
         throw LoadError(path.string() +
                         ": an equirectangular environment must be twice as wide as high (" +
                         std::to_string(img.width) + "x" + std::to_string(img.height) + ")");
+    }
+    if (img.width > static_cast<int>(maxWidth)) {
+        const int before = img.width, beforeH = img.height;
+        halveToLimit(img, maxWidth);
+        note(warnings, path.string() + ": " + std::to_string(before) + "x" +
+                           std::to_string(beforeH) + " sky downsampled to " +
+                           std::to_string(img.width) + "x" + std::to_string(img.height) +
+                           " (the limit is " + std::to_string(maxWidth) + " wide)");
     }
     env.width = static_cast<uint32_t>(img.width);
     env.height = static_cast<uint32_t>(img.height);

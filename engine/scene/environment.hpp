@@ -21,7 +21,14 @@ struct Environment {
 
 // FILE.hdr (or .png/.jpg) with a 2:1 aspect: equirectangular. A face named PREFIX_px.hdr (or a
 // folder holding px/nx/py/ny/pz/nz faces): a cube map. Throws gt::LoadError naming the file.
-[[nodiscard]] Environment loadEnvironment(const std::filesystem::path& path);
+// Skies are kept to at most kMaxEnvironmentWidth x kMaxEnvironmentWidth / 2 texels (32 M; 512 MB
+// as the tracer holds them): a larger one is box-filtered down by halves, a cube map resampled
+// at that size, and a line saying so goes to `warnings` (issue 20: 16384 x 8192 did not finish;
+// it also exceeds lavapipe's 128 M-element texel buffers).
+inline constexpr uint32_t kMaxEnvironmentWidth = 8192;
+[[nodiscard]] Environment loadEnvironment(const std::filesystem::path& path,
+                                          std::vector<std::string>* warnings = nullptr,
+                                          uint32_t maxWidth = kMaxEnvironmentWidth);
 
 // Equirectangular lookup: u from the azimuth (0 at -z, growing towards +x), v from the polar
 // angle (0 straight up). Bilinear, wrapping in u. The GLSL twin is in shaders/common/trace.glsl.

@@ -945,7 +945,7 @@ Scene loadScene(const std::string& spec, GltfLoadReport* report) {
         // The thesis's experiment setup (6.1): no geometry, the camera looks into a panorama.
         Scene s;
         s.name = spec;
-        s.environment = loadEnvironment(spec.substr(8));
+        s.environment = loadEnvironment(spec.substr(8), report ? &report->warnings : nullptr);
         s.camera.position = {0.0f, 0.0f, 0.0f};
         s.camera.forward = {0.0f, 0.0f, -1.0f};
         s.camera.yfov = glm::radians(75.0f);

@@ -155,3 +155,41 @@ TEST(RadianceHdr, SharedSkiesMatchStbAndTruncatedOnesFail) {
 
 } // namespace
 } // namespace gt::scene
+
+#include "scene/image_io.hpp"
+
+namespace gt::scene {
+namespace {
+
+// Issue 20: a 16384 x 8192 sky never finished loading. Skies past the limit are box-filtered
+// down by halves with a warning (here with a small limit, to stay quick).
+TEST(Environment, LargerThanTheLimitIsDownsampledWithAWarning) {
+    const auto dir = test::tempDir("env_limit");
+    std::vector<uint8_t> rgba(64 * 32 * 4);
+    for (uint32_t i = 0; i < 64 * 32; ++i) {
+        const uint8_t v = (i % 2) ? 255 : 0; // alternating columns: average to grey
+        rgba[4 * i] = rgba[4 * i + 1] = rgba[4 * i + 2] = v;
+        rgba[4 * i + 3] = 255;
+    }
+    image::writePngAtomic(dir / "sky.png", 64, 32, rgba);
+    std::vector<std::string> warnings;
+    const Environment env = loadEnvironment(dir / "sky.png", &warnings, 16);
+    EXPECT_EQ(env.width, 16u);
+    EXPECT_EQ(env.height, 8u);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("64x32 sky downsampled to 16x8"), std::string::npos) << warnings[0];
+    // Box-filtered: every texel is the mean of black and white columns.
+    const float grey = env.texels[0].r;
+    for (const glm::vec4& t : env.texels) {
+        EXPECT_NEAR(t.r, grey, 1e-5f);
+    }
+    EXPECT_GT(grey, 0.05f);
+    EXPECT_LT(grey, 0.95f);
+    // Within the limit: as it is, no warning.
+    warnings.clear();
+    EXPECT_EQ(loadEnvironment(dir / "sky.png", &warnings).width, 64u);
+    EXPECT_TRUE(warnings.empty());
+}
+
+} // namespace
+} // namespace gt::scene
