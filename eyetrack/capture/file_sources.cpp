@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdlib>
 
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio/registry.hpp>
 
 #include "error.hpp"
 
@@ -23,7 +25,19 @@ VideoFileSource::VideoFileSource(const std::filesystem::path& file) : mFile(file
     // FFmpeg would print its own lines about damaged files; the error we raise says it in one.
     // (Read by OpenCV's FFmpeg backend when it loads; a value the user set is kept.)
     ::setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
-    if (!mCapture.open(file.string(), cv::CAP_FFMPEG) && !mCapture.open(file.string()))
+    // Only FFmpeg, probed first: letting OpenCV fall back to any backend made GStreamer and the
+    // image-sequence reader try an unreadable file and print four lines of their own before
+    // ours (issue 20). OpenCV's own log is quiet while it opens.
+    if (!cv::videoio_registry::hasBackend(cv::CAP_FFMPEG)) {
+        throw CaptureError("video " + file.string() +
+                           ": this OpenCV has no FFmpeg video backend (install libopencv-dev "
+                           "from Debian, which has it)");
+    }
+    const auto level = cv::utils::logging::getLogLevel();
+    cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+    const bool opened = mCapture.open(file.string(), cv::CAP_FFMPEG);
+    cv::utils::logging::setLogLevel(level);
+    if (!opened)
         throw CaptureError("video " + file.string() +
                            ": cannot be decoded (not a video, or truncated)");
     mFps = mCapture.get(cv::CAP_PROP_FPS);

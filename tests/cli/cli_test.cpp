@@ -510,3 +510,25 @@ TEST(Cli, CalibrateRefusesNanAndOverflowingScreens) {
 
 } // namespace
 } // namespace gt
+
+namespace gt {
+namespace {
+
+// Issue 20: an unreadable video printed four OpenCV/GStreamer lines before gazetrace's own.
+TEST(Cli, UnreadableVideoIsOneLine) {
+    const auto dir = test::tempDir("cli_badvideo");
+    const auto video = dir / "noise.mkv";
+    {
+        std::ofstream out(video, std::ios::binary);
+        for (int i = 0; i < 4096; ++i) {
+            out.put(static_cast<char>((i * 7919) & 0xFF));
+        }
+    }
+    const Result r = run("track --source video:" + video.string());
+    EXPECT_NE(r.status, 0);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("noise.mkv"), std::string::npos) << r.err;
+}
+
+} // namespace
+} // namespace gt
