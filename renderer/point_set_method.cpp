@@ -42,8 +42,14 @@ PointSetMethod::~PointSetMethod() = default;
 std::size_t PointSetMethod::pointsSampled(glm::vec2 gaze) const {
     const auto w = mPoints.params().display.width, h = mPoints.params().display.height;
     const glm::vec2 off = passes::gazeOffset(gaze, w, h);
-    return mPoints.countOnScreen(off.x + static_cast<float>(w), off.y + static_cast<float>(h),
-                                 passes::kSampleMargin);
+    // renderFrame asks every frame for every view (and the demo's overlay once more): a pass
+    // over the whole set. The offset moves in whole pixels, so the last answer usually holds.
+    if (!mSampledMemo || mSampledMemo->first != off) {
+        mSampledMemo.emplace(off, mPoints.countOnScreen(off.x + static_cast<float>(w),
+                                                        off.y + static_cast<float>(h),
+                                                        passes::kSampleMargin));
+    }
+    return mSampledMemo->second;
 }
 
 uint64_t PointSetMethod::rays(const View& view) const {

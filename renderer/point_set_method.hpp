@@ -10,6 +10,7 @@
 #include <optional>
 #include <set>
 #include <tuple>
+#include <utility>
 
 #include <glm/glm.hpp>
 
@@ -88,6 +89,7 @@ private:
     std::optional<foveation::GpuRbfPixelWeights> mRbfPixelWeights;
     Prepared mRbfPrepared, mKnnTablePrepared;
     double mPointSetMs = 0.0, mNeighbourMs = 0.0, mNeighbourMb = 0.0;
+    mutable std::optional<std::pair<glm::vec2, std::size_t>> mSampledMemo; // offset -> points
     // Pipeline variants (interpolation, reads the table, point_sample lanes) that have run.
     std::set<std::tuple<passes::Interpolation, bool, uint32_t>> mWarm;
 };

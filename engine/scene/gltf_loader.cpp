@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <string_view>
 
 #include <algorithm>
@@ -95,28 +96,34 @@ public:
     Loader(const tinygltf::Model& model, std::string file, GltfLoadReport& report)
         : mModel(model), mFile(std::move(file)), mReport(report) {}
 
+    // The default scene's nodes, or without a scene list every node no other node names.
+    std::vector<int> rootNodes() {
+        if (!mModel.scenes.empty()) {
+            const int sceneIndex = mModel.defaultScene >= 0 ? mModel.defaultScene : 0;
+            if (sceneIndex >= static_cast<int>(mModel.scenes.size()))
+                fail("default scene out of range");
+            return mModel.scenes[static_cast<std::size_t>(sceneIndex)].nodes;
+        }
+        std::vector<bool> child(mModel.nodes.size(), false);
+        for (const auto& n : mModel.nodes) {
+            for (int c : n.children) {
+                if (c >= 0 && static_cast<std::size_t>(c) < child.size()) child[c] = true;
+            }
+        }
+        std::vector<int> roots;
+        for (std::size_t i = 0; i < mModel.nodes.size(); ++i) {
+            if (!child[i]) roots.push_back(static_cast<int>(i));
+        }
+        return roots;
+    }
+
     Scene load() {
         mScene.name = mFile;
         checkExpansion();
         loadTextures();
         loadMaterials();
-        const int sceneIndex = mModel.defaultScene >= 0 ? mModel.defaultScene : 0;
-        if (mModel.scenes.empty()) {
-            // No scene list: treat every root node as part of the scene.
-            std::vector<bool> child(mModel.nodes.size(), false);
-            for (const auto& n : mModel.nodes) {
-                for (int c : n.children) {
-                    if (c >= 0 && static_cast<std::size_t>(c) < child.size()) child[c] = true;
-                }
-            }
-            for (std::size_t i = 0; i < mModel.nodes.size(); ++i) {
-                if (!child[i]) visit(static_cast<int>(i), glm::mat4(1.0f), 0);
-            }
-        } else {
-            if (sceneIndex >= static_cast<int>(mModel.scenes.size()))
-                fail("default scene out of range");
-            for (int n : mModel.scenes[sceneIndex].nodes)
-                visit(n, glm::mat4(1.0f), 0);
+        for (const int n : rootNodes()) {
+            visit(n, glm::mat4(1.0f), 0);
         }
         if (mScene.triangleCount() == 0) fail("contains no triangle meshes");
         finish();
@@ -536,23 +543,8 @@ private:
             return m = total;
         };
         double total = 0.0;
-        if (mModel.scenes.empty()) {
-            std::vector<bool> child(mModel.nodes.size(), false);
-            for (const auto& n : mModel.nodes) {
-                for (int c : n.children) {
-                    if (c >= 0 && static_cast<std::size_t>(c) < child.size()) child[c] = true;
-                }
-            }
-            for (std::size_t i = 0; i < mModel.nodes.size(); ++i) {
-                if (!child[i]) total += count(static_cast<int>(i), 0);
-            }
-        } else {
-            const int sceneIndex = mModel.defaultScene >= 0 ? mModel.defaultScene : 0;
-            if (sceneIndex >= 0 && sceneIndex < static_cast<int>(mModel.scenes.size())) {
-                for (int n : mModel.scenes[static_cast<std::size_t>(sceneIndex)].nodes) {
-                    total += count(n, 0);
-                }
-            }
+        for (const int n : rootNodes()) {
+            total += count(n, 0);
         }
         if (total > limit) {
             char what[160];
@@ -893,7 +885,13 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
     if (ext != ".gltf" && ext != ".glb") {
         throw LoadError(file + ": not a .gltf or .glb file");
     }
-    if (const int depth = jsonDepth(jsonText(path, ext == ".glb")); depth > kMaxJsonDepth) {
+    const bool glb = ext == ".glb";
+    // A .gltf is read once: the text scanned here is the text tinygltf parses.
+    const std::string json = jsonText(path, glb);
+    if (!glb && json.size() > std::numeric_limits<unsigned int>::max()) {
+        throw LoadError(file + ": a .gltf of over 4 GiB of JSON");
+    }
+    if (const int depth = jsonDepth(json); depth > kMaxJsonDepth) {
         throw LoadError(file + ": JSON nested more than " + std::to_string(kMaxJsonDepth) +
                         " levels deep; refused before parsing");
     }
@@ -911,8 +909,13 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
     loader.SetImageLoader(loadImage, &state);
     tinygltf::Model model;
     std::string err, warn;
-    const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, file)
-                                  : loader.LoadASCIIFromFile(&model, &err, &warn, file);
+    // tinygltf's base folder for relative URIs, as LoadASCIIFromFile would take it.
+    const std::string baseDir =
+        file.find_last_of('/') == std::string::npos ? "" : file.substr(0, file.find_last_of('/'));
+    const bool ok =
+        glb ? loader.LoadBinaryFromFile(&model, &err, &warn, file)
+            : loader.LoadASCIIFromString(&model, &err, &warn, json.data(),
+                                         static_cast<unsigned int>(json.size()), baseDir);
     if (!warn.empty()) rep.warnings.push_back(oneLine(warn));
     if (!ok) throw LoadError(file + ": " + (err.empty() ? "cannot parse glTF" : oneLine(err)));
     for (const std::string& e : model.extensionsRequired) {
