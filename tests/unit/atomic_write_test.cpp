@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "atomic_write.hpp"
+#include "support/bad_files.hpp"
 #include "support/gpu_test_context.hpp"
 
 namespace gt {
@@ -39,13 +40,10 @@ TEST(AtomicWrite, FullDiskKeepsTheOldFileAndLeavesNothing) {
     const std::string big(100000, 'x');
     for (const std::size_t ok : {std::size_t{0}, std::size_t{4096}}) {
         io::testing::failWrites(ENOSPC, ok); // the disk fills after `ok` bytes
-        try {
-            io::writeFileAtomic(file, big);
-            ADD_FAILURE() << "a full disk was not noticed";
-        } catch (const io::WriteError& e) {
-            EXPECT_NE(std::string(e.what()).find("out.png"), std::string::npos) << e.what();
-            EXPECT_NE(std::string(e.what()).find("No space left"), std::string::npos) << e.what();
-        }
+        const std::string e =
+            test::thrownMessage<io::WriteError>([&] { io::writeFileAtomic(file, big); });
+        EXPECT_NE(e.find("out.png"), std::string::npos) << e;
+        EXPECT_NE(e.find("No space left"), std::string::npos) << e;
         EXPECT_EQ(readAll(file), "old contents"); // untouched
         EXPECT_TRUE(onlyFile(dir, "out.png"));    // no temporary left
     }
@@ -57,12 +55,9 @@ TEST(AtomicWrite, FullDiskKeepsTheOldFileAndLeavesNothing) {
 TEST(AtomicWrite, FolderInTheWayOrMissingIsNamed) {
     const auto dir = test::tempDir("atomic_folder");
     std::filesystem::create_directories(dir / "x.png");
-    try {
-        io::writeFileAtomic(dir / "x.png", std::string("a"));
-        ADD_FAILURE();
-    } catch (const io::WriteError& e) {
-        EXPECT_NE(std::string(e.what()).find("is a folder"), std::string::npos) << e.what();
-    }
+    const std::string e = test::thrownMessage<io::WriteError>(
+        [&] { io::writeFileAtomic(dir / "x.png", std::string("a")); });
+    EXPECT_NE(e.find("is a folder"), std::string::npos) << e;
     EXPECT_THROW(io::writeFileAtomic(dir / "none" / "y.png", std::string("a")), io::WriteError);
     EXPECT_THROW(io::AtomicFile(dir / "none" / "z.csv"), io::WriteError); // at once
     // Destroyed without commit: nothing written.
