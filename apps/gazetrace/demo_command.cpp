@@ -198,7 +198,10 @@ void checkOptions(const DemoOptions& o) {
 
 nlohmann::json runDemo(const DemoOptions& o) {
     checkOptions(o);
-    std::optional<std::pair<uint32_t, VkExtent2D>> resizeAt;
+    // --resize FRAME:WxH (GCC warned about an optional<pair> here: plain values instead).
+    bool resizePending = false;
+    uint32_t resizeFrame = 0;
+    VkExtent2D resizeTo{};
     if (!o.resize.empty()) {
         unsigned f = 0, w = 0, h = 0;
         char extra = 0;
@@ -206,7 +209,9 @@ nlohmann::json runDemo(const DemoOptions& o) {
             h < 16 || w > 8192 || h > 8192) {
             throw ArgumentError("--resize: expected FRAME:WxH (16..8192), got '" + o.resize + "'");
         }
-        resizeAt = {f, VkExtent2D{w, h}};
+        resizePending = true;
+        resizeFrame = f;
+        resizeTo = {w, h};
     }
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
     std::optional<scene::CameraPath> path;
@@ -298,9 +303,9 @@ nlohmann::json runDemo(const DemoOptions& o) {
     int screenshotsTaken = 0;
     double fpsShown = 0.0;
     while (!window->shouldClose() && (o.frames == 0 || frame < o.frames)) {
-        if (resizeAt && frame == resizeAt->first) {
-            window->setSize(resizeAt->second.width, resizeAt->second.height);
-            resizeAt.reset();
+        if (resizePending && frame == resizeFrame) {
+            window->setSize(resizeTo.width, resizeTo.height);
+            resizePending = false;
         }
         window->poll();
         VkExtent2D fb = window->framebufferSize();

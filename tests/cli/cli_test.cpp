@@ -298,8 +298,8 @@ TEST(Cli, EyesimTrackCalibrateEndToEnd) {
         std::string row;
         std::getline(in, row); // header
         while (std::getline(in, row)) {
-            double t = 0, x = 0, y = 0;
-            if (std::sscanf(row.c_str(), "%lf,%lf,%lf", &t, &x, &y) == 3) {
+            double tMs = 0, x = 0, y = 0;
+            if (std::sscanf(row.c_str(), "%lf,%lf,%lf", &tMs, &x, &y) == 3) {
                 samples.emplace_back(std::clamp(x, 0.0, 1919.0), std::clamp(y, 0.0, 1079.0));
             }
         }
