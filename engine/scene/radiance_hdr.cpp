@@ -13,6 +13,9 @@ namespace {
 
 // Beyond this a picture is more likely a corrupt header than an environment map.
 constexpr int kMaxSide = 1 << 15;
+// The largest skies published (16k, 16384 x 8192: 1.5 GiB as floats). The environment loader
+// halves anything wider than it keeps; a larger picture is refused rather than decoded.
+constexpr long kMaxPixels = 16384L * 8192L;
 
 class Reader {
 public:
@@ -22,6 +25,8 @@ public:
     [[noreturn]] void fail(const std::string& what) const { throw LoadError(mName + ": " + what); }
 
     [[nodiscard]] std::size_t left() const noexcept { return mBytes.size() - mAt; }
+    [[nodiscard]] std::size_t at() const noexcept { return mAt; }
+    void seek(std::size_t at) noexcept { mAt = at; }
 
     // One header line without its '\n'; the header must end before the data does.
     std::string_view line() {
@@ -65,6 +70,10 @@ void parseResolution(Reader& in, std::string_view l, int& width, int& height) {
     }
     if (w < 1 || h < 1 || w > kMaxSide || h > kMaxSide) {
         in.fail("resolution " + std::to_string(w) + "x" + std::to_string(h) + " out of range");
+    }
+    if (w * h > kMaxPixels) {
+        in.fail(std::to_string(w) + "x" + std::to_string(h) +
+                " pixels, more than the 16384x8192 gazetrace reads");
     }
     width = static_cast<int>(w);
     height = static_cast<int>(h);
@@ -138,6 +147,26 @@ void decodeFlat(Reader& in, int y, std::vector<std::uint8_t>& rgbe, const std::u
     }
 }
 
+// One scanline into `rgbe` (width x 4 bytes), in whichever encoding it starts with.
+void decodeScanline(Reader& in, int y, std::vector<std::uint8_t>& rgbe) {
+    const int width = static_cast<int>(rgbe.size() / 4);
+    std::uint8_t head[4];
+    for (std::uint8_t& b : head) {
+        b = in.byte(y);
+    }
+    const bool newRle =
+        width >= 8 && width < 0x8000 && head[0] == 2 && head[1] == 2 && (head[2] & 0x80) == 0;
+    if (newRle) {
+        if ((head[2] << 8 | head[3]) != width) {
+            in.fail("scanline " + std::to_string(y) + " is not " + std::to_string(width) +
+                    " pixels wide");
+        }
+        decodeChannels(in, y, rgbe);
+    } else {
+        decodeFlat(in, y, rgbe, head);
+    }
+}
+
 } // namespace
 
 bool isRadianceHdr(std::span<const std::uint8_t> bytes) noexcept {
@@ -161,24 +190,18 @@ RgbImage decodeRadianceHdr(std::span<const std::uint8_t> bytes, const std::strin
     }
     RgbImage img;
     parseResolution(in, in.line(), img.width, img.height);
-    img.rgb.resize(static_cast<std::size_t>(img.width) * img.height * 3);
+    // Two passes: the first only checks that every scanline is there and well formed, so a
+    // header that promises a large picture in a few bytes (issue 20: 12 GB asked for by a
+    // 30-byte file) fails before the picture's memory is taken; the second decodes.
+    const std::size_t scanlines = in.at();
     std::vector<std::uint8_t> rgbe(static_cast<std::size_t>(img.width) * 4);
     for (int y = 0; y < img.height; ++y) {
-        std::uint8_t head[4];
-        for (std::uint8_t& b : head) {
-            b = in.byte(y);
-        }
-        const bool newRle = img.width >= 8 && img.width < 0x8000 && head[0] == 2 && head[1] == 2 &&
-                            (head[2] & 0x80) == 0;
-        if (newRle) {
-            if ((head[2] << 8 | head[3]) != img.width) {
-                in.fail("scanline " + std::to_string(y) + " is not " + std::to_string(img.width) +
-                        " pixels wide");
-            }
-            decodeChannels(in, y, rgbe);
-        } else {
-            decodeFlat(in, y, rgbe, head);
-        }
+        decodeScanline(in, y, rgbe);
+    }
+    in.seek(scanlines);
+    img.rgb.resize(static_cast<std::size_t>(img.width) * img.height * 3);
+    for (int y = 0; y < img.height; ++y) {
+        decodeScanline(in, y, rgbe);
         float* out = &img.rgb[static_cast<std::size_t>(y) * img.width * 3];
         for (int x = 0; x < img.width; ++x) {
             const std::uint8_t* p = &rgbe[static_cast<std::size_t>(x) * 4];

@@ -68,6 +68,7 @@ void GazeTracker::run(const std::stop_token& stop) {
         mError = e.what();
     }
     mFinished = true;
+    mFinished.notify_all();
 }
 
 } // namespace gt::eyetrack

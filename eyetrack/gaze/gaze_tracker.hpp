@@ -46,6 +46,9 @@ public:
     [[nodiscard]] std::optional<std::string> error() const;
     // Waits until the first sample is published or the tracker finished, at most `timeoutMs`.
     bool waitForFirstSample(double timeoutMs) const;
+    // Blocks until the source ran out or failed, however long that takes: a recording processed
+    // as fast as possible ends when its last frame is done, on a slow build as on a fast one.
+    void waitUntilFinished() const noexcept { mFinished.wait(false); }
 
 private:
     void run(const std::stop_token& stop);

@@ -314,9 +314,9 @@ TEST(Calibration, FromASyntheticRecording) {
     EyeSimConfig upToLastTarget = c;
     upToLastTarget.frames = 930; // ends fixating the 13th target (free viewing follows)
     GazeTracker tracker(std::make_unique<SyntheticSource>(upToLastTarget), r.calibration, options);
-    EXPECT_TRUE(tracker.waitForFirstSample(10'000.0));
-    for (int i = 0; i < 20'000 && !tracker.finished(); ++i)
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    // No deadline: under ASan the 930 frames take several times longer (issue 20); CTest's
+    // timeout is the only limit.
+    tracker.waitUntilFinished();
     ASSERT_TRUE(tracker.finished());
     EXPECT_FALSE(tracker.error());
     EXPECT_EQ(tracker.frames(), 930u);
