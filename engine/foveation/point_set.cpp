@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "core/error.hpp"
 
@@ -163,6 +164,15 @@ PointSet PointSet::generate(const PointSetParams& params, const Progress& progre
 }
 
 PointSet PointSet::fromPoints(const PointSetParams& params, std::vector<Point> points) {
+    const auto cw = static_cast<float>(2 * params.display.width);
+    const auto ch = static_cast<float>(2 * params.display.height);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const Point& q = points[i];
+        if (!(q.x >= 0.0f && q.x < cw && q.y >= 0.0f && q.y < ch)) {
+            throw ArgumentError("point set: point " + std::to_string(i) +
+                                " lies outside the canvas (or is not a number)");
+        }
+    }
     std::vector<std::pair<uint32_t, uint32_t>> keys(points.size());
     for (uint32_t i = 0; i < points.size(); ++i) {
         keys[i] = {

@@ -64,7 +64,8 @@ public:
     [[nodiscard]] std::size_t countOnScreen(float gazeX, float gazeY, float margin = 0.0f) const;
     [[nodiscard]] PointSetStats stats(float margin = 0.0f) const;
 
-    // For the cache: build from stored data.
+    // For the cache: build from stored data. Every point must lie on the 2W x 2H canvas (the
+    // Morton sort casts coordinates to integers); throws gt::ArgumentError otherwise.
     static PointSet fromPoints(const PointSetParams& params, std::vector<Point> points);
 
 private:

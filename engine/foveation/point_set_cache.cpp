@@ -68,6 +68,10 @@ void putParams(Writer& w, const PointSetParams& p) {
 
 } // namespace
 
+uint64_t pointSetChecksum(std::span<const uint8_t> bytes) noexcept {
+    return fnv1a(bytes.data(), bytes.size());
+}
+
 CacheLoad loadPointSet(const std::filesystem::path& file, const PointSetParams& params) {
     std::error_code ec;
     if (std::filesystem::is_directory(file, ec)) {

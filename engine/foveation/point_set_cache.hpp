@@ -7,6 +7,7 @@
 // and rewrites it. Files are written under a temporary name and renamed when complete.
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "foveation/point_set.hpp"
@@ -19,6 +20,10 @@ struct CacheLoad {
     std::optional<PointSet> set;
     std::string problem; // why the file was not used, when set is empty
 };
+
+// FNV-1a 64 of a cache file's bytes before its trailing checksum: what save writes and load
+// compares (the fuzz target forges valid checksums with it to reach the content checks).
+[[nodiscard]] uint64_t pointSetChecksum(std::span<const uint8_t> bytes) noexcept;
 
 [[nodiscard]] CacheLoad loadPointSet(const std::filesystem::path& file,
                                      const PointSetParams& params);

@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <limits>
+#include <string>
 #include <vector>
 
 #include <stb_image.h>
@@ -39,7 +41,20 @@ void writePngAtomic(const std::filesystem::path& path, uint32_t width, uint32_t 
 }
 
 DecodedImage decode(std::span<const uint8_t> bytes, const std::string& what) {
+    if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+        throw LoadError(what + ": too large for the image decoder");
+    }
     int w = 0, h = 0, n = 0;
+    // The header first: stb allocates the whole picture before it reads the pixels, so a
+    // 100-byte PNG claiming 23000 x 23000 makes it ask for 2 GB (issue 20: limits up front).
+    // Textures are box-filtered to 2048 anyway; 16384 a side is past any real one.
+    constexpr int kMaxSide = 16384;
+    if (stbi_info_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &n) &&
+        (w > kMaxSide || h > kMaxSide)) {
+        throw LoadError(what + ": " + std::to_string(w) + "x" + std::to_string(h) +
+                        " pixels, more than the " + std::to_string(kMaxSide) +
+                        " a side gazetrace decodes");
+    }
     stbi_uc* pixels =
         stbi_load_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &n, 4);
     if (!pixels) {

@@ -1,10 +1,16 @@
 // The point-set cache is never trusted when damaged or stale.
+#include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
+#include <span>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "foveation/point_set_cache.hpp"
+#include "core/error.hpp"
+#include "support/gltf_fixtures.hpp"
 #include "support/gpu_test_context.hpp"
 
 namespace gt::foveation {
@@ -15,6 +21,11 @@ PointSetParams params(double scale = 1.0) {
     p.display = {"tiny", 96, 80, 0.85};
     p.scale = scale;
     return p;
+}
+
+std::vector<uint8_t> readBytes(const std::filesystem::path& f) {
+    std::ifstream in(f, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 void flipByte(const std::filesystem::path& f, std::size_t offset) {
@@ -84,23 +95,29 @@ TEST(PointSetCache, ChecksItsContentsNotOnlyItsChecksum) {
     const PointSetParams p = params();
     const PointSet good = PointSet::generate(p);
     const auto file = cacheFile(dir, p);
-    auto saveWith = [&](std::vector<Point> pts) {
-        savePointSet(file, PointSet::fromPoints(p, std::move(pts)));
+    // A file with a valid checksum and one field of point i replaced, as a hostile or broken
+    // writer would leave it (fromPoints refuses such points, so the bytes are edited).
+    savePointSet(file, good);
+    const std::vector<uint8_t> saved = readBytes(file);
+    const std::size_t firstPoint = saved.size() - 8 - 12 * good.points().size();
+    auto saveWith = [&](std::size_t i, int field, float value) {
+        std::vector<uint8_t> b = saved;
+        std::memcpy(b.data() + firstPoint + 12 * i + 4 * static_cast<std::size_t>(field), &value,
+                    4);
+        const uint64_t sum = pointSetChecksum(std::span(b).first(b.size() - 8));
+        std::memcpy(b.data() + b.size() - 8, &sum, 8);
+        test::writeFile(file, b.data(), b.size());
     };
-    std::vector<Point> bad = good.points();
-    bad[7].x = std::numeric_limits<float>::quiet_NaN();
-    saveWith(bad);
+    saveWith(7, 0, std::numeric_limits<float>::quiet_NaN());
     EXPECT_NE(loadPointSet(file, p).problem.find("lies outside the canvas"), std::string::npos);
-    bad = good.points();
-    bad[3].y *= 1e30f;
-    saveWith(bad);
+    saveWith(3, 1, good.points()[3].y * 1e30f);
     EXPECT_NE(loadPointSet(file, p).problem.find("lies outside the canvas"), std::string::npos);
-    bad = good.points();
-    bad[5].spacing = std::numeric_limits<float>::infinity();
-    saveWith(bad);
+    saveWith(5, 2, std::numeric_limits<float>::infinity());
     EXPECT_NE(loadPointSet(file, p).problem.find("impossible spacing"), std::string::npos);
-    saveWith({good.points().front()});
+    savePointSet(file, PointSet::fromPoints(p, {good.points().front()}));
     EXPECT_NE(loadPointSet(file, p).problem.find("1 point(s)"), std::string::npos);
+    EXPECT_THROW((void)PointSet::fromPoints(p, {{std::numeric_limits<float>::quiet_NaN(), 1, 1}}),
+                 ArgumentError);
     // Regenerated and rewritten: the next load trusts the file again.
     const CachedPointSet again = loadOrGenerate(dir, p);
     EXPECT_FALSE(again.fromCache);
