@@ -101,6 +101,11 @@ GazeTrace GazeTrace::load(const std::filesystem::path& file) {
         if (*units == GazeUnits::AnglesDeg && (std::abs(v[1]) >= 90.0 || std::abs(v[2]) >= 90.0)) {
             throw bad("gaze angles must lie within +-90 degrees");
         }
+        // Positions are kept as floats: 1e300 became infinity (a fuzz regression case). Gaze may
+        // leave the screen, but not by a million pixels.
+        if (*units == GazeUnits::Pixels && (std::abs(v[1]) > 1e6 || std::abs(v[2]) > 1e6)) {
+            throw bad("gaze pixels must lie within +-1000000");
+        }
         samples.push_back({v[0], {static_cast<float>(v[1]), static_cast<float>(v[2])}, eye});
     }
     if (!units || samples.empty()) throw LoadError(file.string() + ": gaze trace has no samples");

@@ -11,6 +11,7 @@
 
 #include "atomic_write.hpp"
 #include "core/error.hpp"
+#include "foveation/neighbour_index.hpp"
 
 namespace gt::foveation {
 
@@ -117,7 +118,9 @@ CacheLoad loadPointSet(const std::filesystem::path& file, const PointSetParams& 
     }
     // A valid checksum says the bytes are what was written, not that they make sense: a
     // NaN or far-away point sent the neighbour search into an unbounded loop (issue 20).
-    if (count < 2) {
+    // Every consumer asks for up to kMaxNeighbours neighbours of a point (the fuzz target's
+    // 2-point seed loaded, then failed in the neighbour index, as it would have every run).
+    if (count <= NeighbourIndex::kMaxNeighbours) {
         return {std::nullopt, file.string() + " holds " + std::to_string(count) +
                                   " point(s); a point set has many"};
     }
@@ -139,6 +142,16 @@ CacheLoad loadPointSet(const std::filesystem::path& file, const PointSetParams& 
             return {std::nullopt, file.string() + ": point " + std::to_string(i) +
                                       " has an impossible spacing " + std::to_string(p.spacing)};
         }
+    }
+    // A dart-thrown set is maximal: discs of radius p around its points cover the canvas, so
+    // the sum of p^2 is at least canvas / pi (generated sets reach 0.45 to 0.9 of the canvas).
+    // Far less means points are missing: holes the interpolation would smear over.
+    double covered = 0.0;
+    for (const Point& p : pts)
+        covered += static_cast<double>(p.spacing) * p.spacing;
+    if (covered < 0.1 * static_cast<double>(canvasW) * canvasH) {
+        return {std::nullopt, file.string() + ": its " + std::to_string(count) +
+                                  " points cover too little of the canvas (points are missing)"};
     }
     return {PointSet::fromPoints(params, std::move(pts)), {}};
 }

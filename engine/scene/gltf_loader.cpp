@@ -407,10 +407,17 @@ private:
         const std::string where = "accessor " + std::to_string(index);
         const std::size_t size = elementSize(a, index);
         // Nothing bounds a count that no bufferView backs: refuse what no real mesh needs
-        // rather than fail to allocate it.
+        // rather than fail to allocate it. Three vertices per triangle of the limit is all a
+        // scene can use (issue 20: 178,956,969 zeros took 4.2 GB before "no triangles").
         constexpr std::size_t kMaxDenseBytes = std::size_t{1} << 31;
-        if (a.count > kMaxDenseBytes / size) {
-            fail(where + " has " + std::to_string(a.count) + " elements, too many to make dense");
+        if (a.count > kMaxDenseBytes / size ||
+            static_cast<double>(a.count) > 3.0 * triangleLimit()) {
+            char what[200];
+            std::snprintf(what, sizeof(what),
+                          " has %zu elements, more than 3 x the limit of %.3g triangles can use "
+                          "(GAZETRACE_MAX_TRIANGLES raises it)",
+                          a.count, triangleLimit());
+            fail(where + what);
         }
         std::vector<unsigned char> out(a.count * size, 0);
         if (a.bufferView >= 0) {
@@ -508,13 +515,19 @@ private:
                    : std::floor(n / 3.0);
     }
 
-    void checkExpansion() {
+    // kDefaultMaxTriangles, or GAZETRACE_MAX_TRIANGLES when that is a positive number.
+    static double triangleLimit() {
         double limit = kDefaultMaxTriangles;
         if (const char* env = std::getenv("GAZETRACE_MAX_TRIANGLES")) {
             char* end = nullptr;
             const double v = std::strtod(env, &end);
             if (end != env && *end == '\0' && v > 0.0 && std::isfinite(v)) limit = v;
         }
+        return limit;
+    }
+
+    void checkExpansion() {
+        const double limit = triangleLimit();
         std::vector<double> meshTriangles(mModel.meshes.size(), 0.0);
         for (std::size_t m = 0; m < mModel.meshes.size(); ++m) {
             for (const tinygltf::Primitive& prim : mModel.meshes[m].primitives) {

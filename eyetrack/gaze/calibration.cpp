@@ -202,6 +202,18 @@ Calibration Calibration::fromJson(const nlohmann::json& j, const std::string& wh
         !(c.mDisplay.distanceCm > 0.0))
         throw bad("values out of range (non-finite coefficients, or a non-positive scale or "
                   "display size)");
+    // Finite is not enough: a coefficient of 1e308 or a scale of 1e-300 maps an ordinary pupil
+    // to an infinite gaze (fuzz regression cases). What a fit produces: pupil means and spreads
+    // in camera pixels, coefficients in degrees per unit of normalised feature. Within these
+    // bounds the largest feature, ((1e5 + 1e5) / 1e-3)^4, times 1e6 stays finite.
+    const auto within = [](const std::vector<double>& v, double limit) {
+        return std::all_of(v.begin(), v.end(), [&](double x) { return std::abs(x) <= limit; });
+    };
+    if (!within(c.mX, 1e6) || !within(c.mY, 1e6) || !within({c.mMean.x, c.mMean.y}, 1e5) ||
+        !(c.mScale.x >= 1e-3 && c.mScale.x <= 1e5 && c.mScale.y >= 1e-3 && c.mScale.y <= 1e5) ||
+        !(c.mDisplay.widthCm <= 1e5 && c.mDisplay.distanceCm <= 1e5))
+        throw bad("values out of range (coefficients beyond 1e6, a pupil mean beyond 1e5 px, a "
+                  "pupil scale outside 1e-3..1e5 px or a display beyond 1 km)");
     return c;
 }
 

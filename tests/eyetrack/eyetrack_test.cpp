@@ -283,6 +283,13 @@ TEST(Calibration, RecoversAKnownPolynomialMapping) {
     j = c.toJson();
     j.erase("display");
     reject(j.dump(), "missing or mistyped field");
+    // Fuzz regression cases: finite values that map an ordinary pupil to an infinite gaze.
+    j = c.toJson();
+    j["coefficients_x"][6] = 1e308;
+    reject(j.dump(), "coefficients beyond 1e6");
+    j = c.toJson();
+    j["pupil_scale"] = {1e-300, 1.0};
+    reject(j.dump(), "pupil scale outside");
     EXPECT_THROW((void)Calibration::fit({pts.begin(), pts.begin() + 3}, d), CalibrationError);
     fs::remove_all(dir);
 }

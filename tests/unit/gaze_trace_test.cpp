@@ -39,6 +39,9 @@ TEST(GazeTrace, MalformedFilesNameFileAndLine) {
     EXPECT_NE(error(write("o.csv", "t_ms,x,y\n5,1,2\n5,1,2\n")).find("must increase"),
               std::string::npos);
     EXPECT_NE(error(write("e.csv", "t_ms,x,y\n")).find("no samples"), std::string::npos);
+    // A fuzz regression case: 1e300 pixels became an infinite float gaze.
+    EXPECT_NE(error(write("far.csv", "t_ms,x,y\n0,1e300,5\n")).find("far.csv:2: gaze pixels"),
+              std::string::npos);
     EXPECT_NE(error("/nonexistent/trace.csv").find("/nonexistent/trace.csv"), std::string::npos);
 }
 

@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "foveation/point_set_cache.hpp"
 #include "core/error.hpp"
+#include "foveation/point_set_cache.hpp"
 #include "support/gltf_fixtures.hpp"
 #include "support/gpu_test_context.hpp"
 
@@ -116,6 +116,17 @@ TEST(PointSetCache, ChecksItsContentsNotOnlyItsChecksum) {
     EXPECT_NE(loadPointSet(file, p).problem.find("impossible spacing"), std::string::npos);
     savePointSet(file, PointSet::fromPoints(p, {good.points().front()}));
     EXPECT_NE(loadPointSet(file, p).problem.find("1 point(s)"), std::string::npos);
+    // The fuzz target's 2-point seed loaded and failed in the neighbour index; 21 points are the
+    // fewest a 20-neighbour query can use, and a set that covers a tenth of the canvas has
+    // lost points.
+    savePointSet(file, PointSet::fromPoints(p, {good.points().begin(), good.points().begin() + 2}));
+    EXPECT_NE(loadPointSet(file, p).problem.find("2 point(s)"), std::string::npos);
+    const std::size_t tenth = good.points().size() / 10;
+    savePointSet(file, PointSet::fromPoints(p, {good.points().begin(),
+                                                good.points().begin() + static_cast<long>(tenth)}));
+    EXPECT_NE(loadPointSet(file, p).problem.find("cover too little of the canvas"),
+              std::string::npos)
+        << loadPointSet(file, p).problem;
     EXPECT_THROW((void)PointSet::fromPoints(p, {{std::numeric_limits<float>::quiet_NaN(), 1, 1}}),
                  ArgumentError);
     // Regenerated and rewritten: the next load trusts the file again.
