@@ -94,7 +94,8 @@ GpuScene::GpuScene(vk::Context& ctx, const scene::Scene& scene, const scene::Bvh
                           VK_FORMAT_R32G32B32A32_UINT, "scene.texture_info");
     mEnvironment =
         upload(ctx, p.environment.data(), p.environment.size() * 16, f4, "scene.environment");
-    mUniforms = vk::Buffer(ctx, {sizeof(p.uniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+    // A storage buffer: see the note on SceneBlock in shaders/common/trace.glsl.
+    mUniforms = vk::Buffer(ctx, {sizeof(p.uniforms), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                  vk::MemoryUsage::GpuOnly, "scene.uniforms"});
     mUniforms.upload(std::as_bytes(std::span(&p.uniforms, 1)));
     mBytes += sizeof(p.uniforms);
@@ -109,7 +110,7 @@ void GpuScene::bind(vk::DescriptorWriter& w) const {
         .texelBuffer(t::kBindingLights, mLights.view.handle())
         .texelBuffer(t::kBindingTexels, mTexels.view.handle())
         .texelBuffer(t::kBindingTextureInfo, mTextureInfo.view.handle())
-        .uniformBuffer(t::kBindingSceneUniforms, mUniforms.handle())
+        .storageBuffer(t::kBindingSceneUniforms, mUniforms.handle())
         .texelBuffer(t::kBindingEnvironment, mEnvironment.view.handle());
 }
 

@@ -44,7 +44,7 @@ const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaM
     if (!slot) {
         std::vector<VkDescriptorType> bindings(shaders::trace::kSceneBindingCount,
                                                VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
-        bindings[shaders::trace::kBindingSceneUniforms] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        bindings[shaders::trace::kBindingSceneUniforms] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         bindings.push_back(VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER); // kBindingPoints
         bindings.push_back(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);       // kBindingSamples
         slot = std::make_unique<vk::ComputePipeline>(

@@ -20,7 +20,7 @@ const vk::ComputePipeline& ReferencePass::pipeline(bool alphaMask) const {
     if (!slot) {
         std::vector<VkDescriptorType> bindings(shaders::trace::kSceneBindingCount,
                                                VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
-        bindings[shaders::trace::kBindingSceneUniforms] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        bindings[shaders::trace::kBindingSceneUniforms] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         bindings.push_back(VK_DESCRIPTOR_TYPE_STORAGE_IMAGE); // sh::kBindingOutput
         slot = std::make_unique<vk::ComputePipeline>(
             mCtx, vk::ComputePipelineDesc{"reference.trace",
