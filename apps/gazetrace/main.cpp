@@ -15,6 +15,7 @@
 #include "pointset_command.hpp"
 #include "render_command.hpp"
 #include "scene/builtin_scenes.hpp"
+#include "soak_command.hpp"
 #include "vk/context.hpp"
 
 namespace {
@@ -165,6 +166,30 @@ int main(int argc, char** argv) {
                      "render (thesis tables, headline) | eye (pupil detection speed)")
         ->check(CLI::IsMember({"render", "eye", "stereo"}))
         ->capture_default_str();
+
+    gt::app::SoakOptions soak;
+    bool soakJson = false;
+    CLI::App* soakCmd = app.add_subcommand(
+        "soak", "Many frames with changing gaze and settings under validation; fails on any "
+                "validation error or resident memory growth");
+    soakCmd->add_option("--scene", soak.scene, "Scene")->capture_default_str();
+    soakCmd->add_option("--frames", soak.frames, "Frames to render")
+        ->check(CLI::Range(1u, 1000000u))
+        ->capture_default_str();
+    soakCmd->add_option("--width", soak.width, "Width (default: the desktop profile's screen)")
+        ->check(CLI::Range(16u, 16384u))
+        ->capture_default_str();
+    soakCmd->add_option("--height", soak.height, "Height")
+        ->check(CLI::Range(16u, 16384u))
+        ->capture_default_str();
+    soakCmd
+        ->add_option("--max-growth", soak.maxGrowthPercent,
+                     "Resident memory growth allowed from frame 100 to the last, in percent")
+        ->check(CLI::Range(0.0, 1000.0))
+        ->capture_default_str();
+    soakCmd->add_option("--cache", soak.cacheDir, "Point-set cache folder");
+    soakCmd->add_option("--json-file", soak.json, "Also write the results as JSON to this file");
+    soakCmd->add_flag("--json", soakJson, "Print the results as JSON on stdout");
 
     gt::app::EyesimOptions eyesim;
     CLI::App* eyesimCmd =
@@ -354,6 +379,10 @@ int main(int argc, char** argv) {
             } else {
                 (void)gt::app::runBench(bench);
             }
+        } else if (soakCmd->parsed()) {
+            soak.quiet = quiet;
+            const nlohmann::json result = gt::app::runSoak(soak);
+            if (soakJson) std::cout << result.dump() << std::endl;
         } else if (eyesimCmd->parsed()) {
             const nlohmann::json result = gt::app::runEyesim(eyesim);
             if (eyesimJson) std::cout << result.dump() << std::endl;
