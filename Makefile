@@ -7,7 +7,7 @@ PRESET ?= default
 JOBS ?= $(shell nproc)
 export XDG_RUNTIME_DIR ?= /tmp/gazetrace-xdg
 
-.PHONY: all deps configure build run test clean asan format
+.PHONY: all deps configure build run test clean asan fuzz format
 
 all: build
 
@@ -39,9 +39,19 @@ run: build
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j 2 --timeout 900
 
-# LeakSanitizer is off: Mesa's llvmpipe keeps allocations alive by design.
+# The sanitizer build: clang, ASan + UBSan (undefined behaviour aborts), warnings as errors, and
+# the fuzz targets linked against libFuzzer; every test, including the replay of each fuzz
+# target's seeds and regression cases. LeakSanitizer is off: Mesa's llvmpipe keeps allocations
+# alive by design.
 asan:
 	ASAN_OPTIONS=detect_leaks=0 $(MAKE) PRESET=asan BUILD=build-asan test
+
+# Each fuzz target for FUZZ_SECONDS (default 60), FUZZ_JOBS at once; figures per target, and a
+# non-zero exit when any found a crash, hang, leak or out-of-memory input (build-asan/fuzz-findings).
+FUZZ_SECONDS ?= 60
+fuzz:
+	$(MAKE) PRESET=asan BUILD=build-asan build
+	bash scripts/fuzz.sh build-asan $(FUZZ_SECONDS)
 
 format:
 	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i

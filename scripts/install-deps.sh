@@ -11,6 +11,7 @@ PACKAGES=(
   libv4l-dev libopencv-dev
   nlohmann-json3-dev libgtest-dev libbenchmark-dev libcli11-dev libimgui-dev
   xvfb xauth
+  clang libclang-rt-dev
 )
 
 missing=()
