@@ -270,23 +270,20 @@ void gltf() {
   "accessors": [{"bufferView": 0, "componentType": 5126, "count": 9000, "type": "VEC3",
                  "min": [0, 0, 0], "max": [3.001, 1, 0]}]})");
     }
-    // An image URI leaving the model's folder was read.
-    put(t, "regressions", "image_uri_outside_folder.gltf",
-        replaced(
+    // The quad with a base-colour texture whose image is `uri`.
+    const auto textured = [&](const std::string& uri) {
+        return replaced(
             replaced(
                 quad, R"({"pbrMetallicRoughness": {"baseColorFactor")",
                 R"({"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "baseColorFactor")"),
             R"("buffers")",
-            R"("images": [{"uri": "../../../../etc/shadow"}], "textures": [{"source": 0}], "buffers")"));
+            R"("images": [{"uri": ")" + uri + R"("}], "textures": [{"source": 0}], "buffers")");
+    };
+    // An image URI leaving the model's folder was read.
+    put(t, "regressions", "image_uri_outside_folder.gltf", textured("../../../../etc/shadow"));
     // A texture whose header claims 23000 x 23000 pixels: stb asks for 2 GB before reading.
     put(t, "regressions", "texture_claims_23000x23000.gltf",
-        replaced(
-            replaced(
-                quad, R"({"pbrMetallicRoughness": {"baseColorFactor")",
-                R"({"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "baseColorFactor")"),
-            R"("buffers")",
-            R"("images": [{"uri": ")" + dataUri(pngHeaderOnly(23000, 23000), "image/png") +
-                R"("}], "textures": [{"source": 0}], "buffers")"));
+        textured(dataUri(pngHeaderOnly(23000, 23000), "image/png")));
 }
 
 // ---- Radiance ----------------------------------------------------------------------------------

@@ -5,6 +5,8 @@
 #include <fstream>
 #include <string>
 
+#include <sys/resource.h>
+
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
@@ -20,6 +22,16 @@ template <typename E, typename F> std::string thrownMessage(F&& f) {
     }
     ADD_FAILURE() << "nothing was thrown";
     return {};
+}
+
+// How much the process's peak resident memory rose while `f` ran, in KiB: whether a loader took
+// the memory a hostile file asked for, independent of the machine's speed.
+template <typename F> long peakResidentGrowthKiB(F&& f) {
+    rusage before{}, after{};
+    getrusage(RUSAGE_SELF, &before);
+    f();
+    getrusage(RUSAGE_SELF, &after);
+    return after.ru_maxrss - before.ru_maxrss;
 }
 
 template <typename Load>
