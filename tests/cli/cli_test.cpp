@@ -313,6 +313,18 @@ TEST(Cli, EyesimTrackCalibrateEndToEnd) {
         EXPECT_LT(nearest, 1.0) << g;
     }
     EXPECT_TRUE(std::filesystem::exists(dir / "live" / "frame_0001.png"));
+    // Issue 20: a multi-frame render following a clip that turns out truncated kept the frames
+    // written before the tracker failed. The failure is one line and leaves no frame behind.
+    {
+        const std::string whole = slurp(clip);
+        std::ofstream(dir / "cut.mkv", std::ios::binary) << whole.substr(0, whole.size() / 8);
+    }
+    expectCleanFailure(run("-q render --method foveated --profile desktop --scale 3 "
+                           "--rays-per-point 1 --frames 40 --cache " +
+                           (dir / "cache").string() +
+                           " --gaze-source video:" + (dir / "cut.mkv").string() +
+                           " --calibration " + calib + " --out " + (dir / "live_cut").string()),
+                       "truncated", dir / "live_cut");
     expectCleanFailure(run("render --method foveated --profile desktop --scale 3 --gaze-source "
                            "video:" +
                            (dir / "nope.mkv").string() + " --calibration " + calib + " --out " +
