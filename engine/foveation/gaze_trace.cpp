@@ -131,6 +131,11 @@ GazeTrace GazeTrace::fromSamples(std::vector<GazeTraceSample> samples, GazeUnits
         }
         stream.push_back(s);
     }
+    const auto [first, last] = std::minmax_element(
+        samples.begin(), samples.end(),
+        [](const GazeTraceSample& a, const GazeTraceSample& b) { return a.tMs < b.tMs; });
+    t.mStartMs = first->tMs;
+    t.mEndMs = last->tMs;
     t.mSamples = std::move(samples);
     return t;
 }

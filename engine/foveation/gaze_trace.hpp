@@ -35,8 +35,10 @@ public:
 
     [[nodiscard]] const std::vector<GazeTraceSample>& samples() const noexcept { return mSamples; }
     [[nodiscard]] GazeUnits units() const noexcept { return mUnits; }
-    [[nodiscard]] double startMs() const { return mSamples.front().tMs; }
-    [[nodiscard]] double endMs() const { return mSamples.back().tMs; }
+    // The first and the last sample's time over every eye (per-eye rows may interleave: the
+    // file's last row is not always the latest; found by fuzzing).
+    [[nodiscard]] double startMs() const noexcept { return mStartMs; }
+    [[nodiscard]] double endMs() const noexcept { return mEndMs; }
     // Linear interpolation, clamped at both ends: the samples for both eyes (or, when the trace
     // has only per-eye samples, the left eye's).
     [[nodiscard]] glm::vec2 at(double tMs) const;
@@ -48,6 +50,7 @@ private:
     std::vector<GazeTraceSample> mSamples;
     std::vector<GazeTraceSample> mPerEye[3]; // indexed by GazeEye
     GazeUnits mUnits = GazeUnits::Pixels;
+    double mStartMs = 0.0, mEndMs = 0.0;
 };
 
 } // namespace gt::foveation

@@ -158,7 +158,9 @@ Calibration Calibration::fromJson(const nlohmann::json& j, const std::string& wh
         return FormatError("calibration " + what + ": " + why);
     };
     if (!j.is_object()) throw bad("not a JSON object");
-    if (j.value("format", "") != "gazetrace-calibration")
+    // is_string first: value() throws a JSON type_error on a number (found by fuzzing).
+    if (!j.contains("format") || !j["format"].is_string() ||
+        j["format"].get<std::string>() != "gazetrace-calibration")
         throw bad("not a gazetrace calibration (\"format\" is missing or wrong)");
     if (!j.contains("version") || !j["version"].is_number_integer())
         throw bad("\"version\" is missing");

@@ -290,6 +290,9 @@ TEST(Calibration, RecoversAKnownPolynomialMapping) {
     j = c.toJson();
     j["pupil_scale"] = {1e-300, 1.0};
     reject(j.dump(), "pupil scale outside");
+    j = c.toJson();
+    j["format"] = 1920; // found by fuzzing: escaped as nlohmann's type_error
+    reject(j.dump(), "not a gazetrace calibration");
     EXPECT_THROW((void)Calibration::fit({pts.begin(), pts.begin() + 3}, d), CalibrationError);
     fs::remove_all(dir);
 }

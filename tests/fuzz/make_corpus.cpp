@@ -386,6 +386,9 @@ void gazeTrace() {
     put(t, "regressions", "header_only.csv", "t_ms,yaw_deg,pitch_deg,eye\n");
     put(t, "regressions", "angle_90.csv", "t_ms,yaw_deg,pitch_deg\n0,90,0\n");
     put(t, "regressions", "unknown_eye.csv", "t_ms,yaw_deg,pitch_deg,eye\n0,1,1,middle\n");
+    // Found by fuzzing: per-eye rows out of order across eyes made the trace end before it began.
+    put(t, "regressions", "per_eye_interleaved.csv",
+        "t_ms,yaw_deg,pitch_deg,eye\n1,1,1,left\n0,-1,1,right\n");
 }
 
 // ---- calibration -------------------------------------------------------------------------------
@@ -421,6 +424,8 @@ void calibration() {
     variant("coefficient_1e308.json", [](nlohmann::json& v) { v["coefficients_x"][6] = 1e308; });
     variant("display_width_0.json", [](nlohmann::json& v) { v["display"]["width_px"] = 0; });
     variant("mean_is_text.json", [](nlohmann::json& v) { v["pupil_mean"] = "centre"; });
+    // Found by fuzzing: a number where the format string belongs escaped as a JSON type_error.
+    variant("format_is_number.json", [](nlohmann::json& v) { v["format"] = 1920; });
     put(t, "regressions", "deep_20000.json", std::string(20000, '[') + std::string(20000, ']'));
     put(t, "regressions", "number_1e999.json",
         replaced(poly7, R"("fit_error_deg": )", R"("fit_error_deg": 1e999, "x": )"));

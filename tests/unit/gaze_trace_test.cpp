@@ -24,6 +24,16 @@ TEST(GazeTrace, ParsesAndInterpolates) {
     EXPECT_EQ(t.at(99.0), glm::vec2(30.0f, 40.0f));
 }
 
+// Found by fuzzing: each eye's times increase, but the rows of the two eyes interleave, so the
+// file's first and last rows are not the trace's start and end.
+TEST(GazeTrace, PerEyeRowsOutOfOrderAcrossEyes) {
+    const GazeTrace t =
+        GazeTrace::load(write("eyes.csv", "t_ms,yaw_deg,pitch_deg,eye\n20,1,1,left\n5,-1,1,right\n"
+                                          "30,2,2,left\n10,-2,2,right\n"));
+    EXPECT_EQ(t.startMs(), 5.0);
+    EXPECT_EQ(t.endMs(), 30.0);
+}
+
 TEST(GazeTrace, MalformedFilesNameFileAndLine) {
     auto error = [](const std::filesystem::path& p) {
         try {
