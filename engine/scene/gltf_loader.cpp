@@ -494,6 +494,9 @@ private:
     // saturation instead of overflow.
     // 200 times the largest shared scene (the flight helmet, 95 k triangles).
     static constexpr double kDefaultMaxTriangles = 20e6;
+    // Node instances after expansion: a million is far beyond hand-made scenes (Sponza and the
+    // shared scenes have under a thousand) and still visited in well under a second.
+    static constexpr double kDefaultMaxInstances = 1e6;
 
     double primitiveTriangles(const tinygltf::Primitive& prim) const {
         if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
@@ -515,57 +518,76 @@ private:
                    : std::floor(n / 3.0);
     }
 
-    // kDefaultMaxTriangles, or GAZETRACE_MAX_TRIANGLES when that is a positive number.
-    static double triangleLimit() {
-        double limit = kDefaultMaxTriangles;
-        if (const char* env = std::getenv("GAZETRACE_MAX_TRIANGLES")) {
+    // `fallback`, or the environment variable `name` when that is a positive number.
+    static double limitFromEnv(const char* name, double fallback) {
+        if (const char* env = std::getenv(name)) {
             char* end = nullptr;
             const double v = std::strtod(env, &end);
-            if (end != env && *end == '\0' && v > 0.0 && std::isfinite(v)) limit = v;
+            if (end != env && *end == '\0' && v > 0.0 && std::isfinite(v)) return v;
         }
-        return limit;
+        return fallback;
+    }
+    static double triangleLimit() {
+        return limitFromEnv("GAZETRACE_MAX_TRIANGLES", kDefaultMaxTriangles);
     }
 
+    // Counted before anything is expanded: the triangles the node graph instantiates, and the
+    // node instances it visits. Both are needed: a graph of meshless nodes, each referencing the
+    // next twice, 24 deep, is 2^24 visits and no triangle (found by fuzzing: 11 s per file).
     void checkExpansion() {
-        const double limit = triangleLimit();
         std::vector<double> meshTriangles(mModel.meshes.size(), 0.0);
         for (std::size_t m = 0; m < mModel.meshes.size(); ++m) {
             for (const tinygltf::Primitive& prim : mModel.meshes[m].primitives) {
                 meshTriangles[m] += primitiveTriangles(prim);
             }
         }
-        std::vector<double> memo(mModel.nodes.size(), -1.0);
+        struct Expansion {
+            double triangles = -1.0; // -1: not counted yet
+            double instances = 0.0;
+        };
+        std::vector<Expansion> memo(mModel.nodes.size());
         std::vector<char> onPath(mModel.nodes.size(), 0);
         // Iterative-enough: depth is bounded like visit()'s (256).
-        std::function<double(int, int)> count = [&](int node, int depth) -> double {
+        std::function<Expansion(int, int)> count = [&](int node, int depth) -> Expansion {
             if (node < 0 || static_cast<std::size_t>(node) >= mModel.nodes.size() || depth > 256 ||
                 onPath[static_cast<std::size_t>(node)]) {
-                return 0.0; // out of range or a cycle: visit() reports them
+                return {0.0, 0.0}; // out of range or a cycle: visit() reports them
             }
-            double& m = memo[static_cast<std::size_t>(node)];
-            if (m >= 0.0) return m;
+            Expansion& m = memo[static_cast<std::size_t>(node)];
+            if (m.triangles >= 0.0) return m;
             onPath[static_cast<std::size_t>(node)] = 1;
             const tinygltf::Node& n = mModel.nodes[static_cast<std::size_t>(node)];
-            double total = n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < meshTriangles.size()
-                               ? meshTriangles[static_cast<std::size_t>(n.mesh)]
-                               : 0.0;
+            Expansion total{n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < meshTriangles.size()
+                                ? meshTriangles[static_cast<std::size_t>(n.mesh)]
+                                : 0.0,
+                            1.0};
             for (const int c : n.children) {
-                total = std::min(total + count(c, depth + 1), 1e300);
+                const Expansion child = count(c, depth + 1);
+                total.triangles = std::min(total.triangles + child.triangles, 1e300);
+                total.instances = std::min(total.instances + child.instances, 1e300);
             }
             onPath[static_cast<std::size_t>(node)] = 0;
             return m = total;
         };
-        double total = 0.0;
+        Expansion total{0.0, 0.0};
         for (const int n : rootNodes()) {
-            total += count(n, 0);
+            const Expansion e = count(n, 0);
+            total.triangles += e.triangles;
+            total.instances += e.instances;
         }
-        if (total > limit) {
-            char what[160];
-            std::snprintf(what, sizeof(what),
-                          "its nodes expand to %.3g triangles, above the limit of %.3g "
-                          "(GAZETRACE_MAX_TRIANGLES raises it)",
-                          total, limit);
-            fail(what);
+        const auto refuse = [&](double value, const char* what, double limit, const char* env) {
+            char line[200];
+            std::snprintf(line, sizeof(line),
+                          "its nodes expand to %.3g %s, above the limit of %.3g (%s raises it)",
+                          value, what, limit, env);
+            fail(line);
+        };
+        if (total.triangles > triangleLimit()) {
+            refuse(total.triangles, "triangles", triangleLimit(), "GAZETRACE_MAX_TRIANGLES");
+        }
+        const double instanceLimit = limitFromEnv("GAZETRACE_MAX_INSTANCES", kDefaultMaxInstances);
+        if (total.instances > instanceLimit) {
+            refuse(total.instances, "node instances", instanceLimit, "GAZETRACE_MAX_INSTANCES");
         }
     }
 

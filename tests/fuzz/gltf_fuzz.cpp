@@ -54,9 +54,11 @@ void checkScene(const gt::scene::Scene& s) {
 } // namespace
 
 extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
-    // The shipped limit (20 M triangles) is for real scenes; fuzzing explores the loader's
-    // logic, not how long a 20 M-triangle BVH takes, so inputs get a smaller budget.
+    // The shipped limits (20 M triangles, 1 M node instances) are for real scenes; fuzzing
+    // explores the loader's logic, not how long a 20 M-triangle BVH takes, so inputs get a
+    // smaller budget.
     ::setenv("GAZETRACE_MAX_TRIANGLES", "100000", 0);
+    ::setenv("GAZETRACE_MAX_INSTANCES", "100000", 0);
     return 0;
 }
 

@@ -249,6 +249,11 @@ void gltf() {
     dag.replace(from, dag.find("],\n", from) + 1 - from, nodes);
     put(t, "regressions", "dag_24_levels.gltf",
         replaced(dag, R"("scenes": [{"nodes": [0, 1]}])", R"("scenes": [{"nodes": [0]}])"));
+    // Found by fuzzing: the same graph over a mesh without primitives is 2^24 visits and no
+    // triangle, which the triangle count let through (11 s a file).
+    put(t, "regressions", "dag_24_levels_no_triangles.gltf",
+        replaced(replaced(dag, R"("scenes": [{"nodes": [0, 1]}])", R"("scenes": [{"nodes": [0]}])"),
+                 R"("primitives")", R"("primithves")"));
     // One mesh referenced by 2,000 and 20,000 primitives (3,000 triangles each).
     Bytes many;
     for (int i = 0; i < 3000; ++i)

@@ -375,6 +375,16 @@ TEST(GltfLoader, RefusesNodeGraphsThatExpandPastTheTriangleLimit) {
     ::setenv("GAZETRACE_MAX_TRIANGLES", "1", 1);
     EXPECT_NE(loadError(test::writeQuadGltf(dir)).find("limit of 1"), std::string::npos);
     ::unsetenv("GAZETRACE_MAX_TRIANGLES");
+    // Found by fuzzing: the same graph over a mesh without primitives has no triangle to count
+    // but 2^25 node instances to visit (11 s a file under ASan). Instances have a limit too.
+    std::string empty = json;
+    const std::string prims = R"("primitives")";
+    empty.replace(empty.find(prims), prims.size(), R"("unknown")");
+    test::writeFile(dir / "empty_dag.gltf", empty.data(), empty.size());
+    const std::string e2 = loadError(dir / "empty_dag.gltf");
+    EXPECT_NE(e2.find("3.36e+07 node instances, above the limit of 1e+06"), std::string::npos)
+        << e2;
+    EXPECT_NE(e2.find("GAZETRACE_MAX_INSTANCES"), std::string::npos) << e2;
 }
 
 } // namespace
