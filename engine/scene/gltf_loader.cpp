@@ -133,6 +133,19 @@ public:
 private:
     [[noreturn]] void fail(const std::string& what) const { throw LoadError(mFile + ": " + what); }
 
+    // A factor from the JSON as a float, refused outside [lo, hi]: a colour of 1.7e117 became an
+    // infinite light (found by fuzzing). The bounds are wider than the spec's where exporters
+    // are known to stray (colours above 1), never wider than a float.
+    float factor(double v, double lo, double hi, const std::string& what) const {
+        if (!(v >= lo && v <= hi)) {
+            char line[160];
+            std::snprintf(line, sizeof(line), "%s is %g, outside [%g, %g]", what.c_str(), v, lo,
+                          hi);
+            fail(line);
+        }
+        return static_cast<float>(v);
+    }
+
     void loadTextures() {
         mTextureOfImage.assign(mModel.images.size(), -1);
         for (std::size_t i = 0; i < mModel.images.size(); ++i) {
@@ -233,9 +246,12 @@ private:
             Material out;
             out.name = m.name;
             const auto& pbr = m.pbrMetallicRoughness;
+            const std::string name = "material '" + m.name + "'";
             if (pbr.baseColorFactor.size() == 4) {
-                out.baseColor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1],
-                                          pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
+                for (int c = 0; c < 4; ++c) {
+                    out.baseColor[c] = factor(pbr.baseColorFactor[static_cast<std::size_t>(c)], 0.0,
+                                              1e6, name + " baseColorFactor");
+                }
             }
             out.baseColorTexture = textureFor(pbr.baseColorTexture.index);
             mMaterialUv.push_back(uvTransformOf(pbr.baseColorTexture));
@@ -247,17 +263,19 @@ private:
             out.metallic = static_cast<float>(std::clamp(pbr.metallicFactor, 0.0, 1.0));
             out.roughness = static_cast<float>(std::clamp(pbr.roughnessFactor, 0.0, 1.0));
             if (m.emissiveFactor.size() == 3) {
-                out.emissive =
-                    glm::vec3(m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]);
+                for (int c = 0; c < 3; ++c) {
+                    out.emissive[c] = factor(m.emissiveFactor[static_cast<std::size_t>(c)], 0.0,
+                                             1e6, name + " emissiveFactor");
+                }
             }
             auto strength = m.extensions.find("KHR_materials_emissive_strength");
             if (strength != m.extensions.end() && strength->second.Has("emissiveStrength")) {
-                out.emissive *= static_cast<float>(
-                    strength->second.Get("emissiveStrength").GetNumberAsDouble());
+                out.emissive *= factor(strength->second.Get("emissiveStrength").GetNumberAsDouble(),
+                                       0.0, 1e6, name + " emissiveStrength");
             }
             out.unlit = m.extensions.count("KHR_materials_unlit") > 0;
             if (m.alphaMode == "MASK") {
-                out.alphaCutoff = static_cast<float>(std::max(m.alphaCutoff, 0.0));
+                out.alphaCutoff = factor(m.alphaCutoff, 0.0, 1e6, name + " alphaCutoff");
             } else if (m.alphaMode == "BLEND") {
                 translucent += (translucent.empty() ? "" : ", ") + ("'" + m.name + "'");
             }
@@ -611,7 +629,8 @@ private:
             mScene.camera.forward = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
             mScene.camera.up = glm::normalize(glm::vec3(world * glm::vec4(0, 1, 0, 0)));
             if (c.type == "perspective" && c.perspective.yfov > 0.0) {
-                mScene.camera.yfov = static_cast<float>(c.perspective.yfov);
+                mScene.camera.yfov = factor(c.perspective.yfov, 1e-6, 3.14159,
+                                            "camera " + std::to_string(node.camera) + " yfov");
             }
             mHaveCamera = true;
         }
@@ -622,13 +641,14 @@ private:
                 fail("node " + std::to_string(nodeIndex) + " references light " +
                      std::to_string(li) + ", which does not exist");
             }
-            addLight(mModel.lights[li], world);
+            addLight(mModel.lights[li], li, world);
         }
         for (int c : node.children)
             visit(c, world, depth + 1);
     }
 
-    void addLight(const tinygltf::Light& l, const glm::mat4& world) {
+    void addLight(const tinygltf::Light& l, int index, const glm::mat4& world) {
+        const std::string name = "light " + std::to_string(index);
         Light out;
         if (l.type == "directional")
             out.type = LightType::Directional;
@@ -640,11 +660,20 @@ private:
             fail("light type '" + l.type + "' is not point, spot or directional");
         out.position = glm::vec3(world[3]);
         out.direction = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
-        if (l.color.size() == 3) out.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
-        out.intensity = static_cast<float>(l.intensity);
-        out.range = static_cast<float>(l.range);
-        out.innerConeCos = static_cast<float>(std::cos(l.spot.innerConeAngle));
-        out.outerConeCos = static_cast<float>(std::cos(l.spot.outerConeAngle));
+        if (l.color.size() == 3) {
+            for (int c = 0; c < 3; ++c) {
+                out.color[c] =
+                    factor(l.color[static_cast<std::size_t>(c)], 0.0, 1e6, name + " color");
+            }
+        }
+        // Candela or lux: the sun is 1e5 lux; 1e12 leaves room without reaching a float's end.
+        out.intensity = factor(l.intensity, 0.0, 1e12, name + " intensity");
+        out.range = factor(l.range, 0.0, 1e12, name + " range");
+        const double quarter = 1.5707964; // pi / 2, the spec's largest cone angle (rounded up)
+        out.innerConeCos = static_cast<float>(
+            std::cos(factor(l.spot.innerConeAngle, 0.0, quarter, name + " innerConeAngle")));
+        out.outerConeCos = static_cast<float>(
+            std::cos(factor(l.spot.outerConeAngle, 0.0, quarter, name + " outerConeAngle")));
         mScene.lights.push_back(out);
     }
 

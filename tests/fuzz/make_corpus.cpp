@@ -254,6 +254,9 @@ void gltf() {
     put(t, "regressions", "dag_24_levels_no_triangles.gltf",
         replaced(replaced(dag, R"("scenes": [{"nodes": [0, 1]}])", R"("scenes": [{"nodes": [0]}])"),
                  R"("primitives")", R"("primithves")"));
+    // Found by fuzzing: a light colour of 1.7e117 became an infinite float.
+    put(t, "regressions", "light_color_1.7e117.gltf",
+        replaced(featureful(), R"("color": [1, 0.5, 0.2])", R"("color": [1.7e117, 0.5, 0.2])"));
     // One mesh referenced by 2,000 and 20,000 primitives (3,000 triangles each).
     Bytes many;
     for (int i = 0; i < 3000; ++i)

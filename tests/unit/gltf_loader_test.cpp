@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <fstream>
 #include <iterator>
+#include <tuple>
 #include <vector>
 
 #include <cstdlib>
@@ -437,6 +438,29 @@ namespace {
 // 4.3 GB before an error; the first fix (a 2 GiB cap on such accessors) still let it take
 // 4.2 GB, which the fuzz replay showed. Now three vertices per triangle of the limit is the
 // most an accessor of zeros may hold; peak memory tells whether it was allocated.
+// Found by fuzzing: a light colour of 1.7e117 loaded as an infinite float. Factors outside what
+// a float and a sane scene hold are refused, naming the light or material.
+TEST(GltfLoader, FactorsBeyondAFloatAreRefused) {
+    const auto dir = test::tempDir("factors");
+    const std::string base = test::quadJsonBesideBin(dir);
+    const std::string light = R"("intensity": 20)";
+    const std::string factor = R"("baseColorFactor": [0.5, 0.25, 1.0, 1.0])";
+    ASSERT_NE(base.find(light), std::string::npos);
+    ASSERT_NE(base.find(factor), std::string::npos);
+    for (const auto& [from, to, mention] :
+         {std::tuple{light, R"("intensity": 20, "color": [1.7e117, 1, 1])",
+                     "light 0 color is 1.7e+117"},
+          std::tuple{light, R"("intensity": -1)", "light 0 intensity is -1"},
+          std::tuple{factor, R"("baseColorFactor": [0.5, 1e40, 1.0, 1.0])",
+                     "baseColorFactor is 1e+40"}}) {
+        std::string json = base;
+        json.replace(json.find(from), from.size(), to);
+        test::writeFile(dir / "f.gltf", json.data(), json.size());
+        const std::string e = loadError(dir / "f.gltf");
+        EXPECT_NE(e.find(mention), std::string::npos) << e;
+    }
+}
+
 TEST(GltfLoader, AnAccessorOfZerosIsBoundedByTheTriangleLimit) {
     const auto dir = test::tempDir("zeros");
     std::string json = test::quadJsonBesideBin(dir);
