@@ -636,10 +636,14 @@ private:
         }
         auto light = node.extensions.find("KHR_lights_punctual");
         if (light != node.extensions.end() && light->second.Has("light")) {
-            const int li = light->second.Get("light").GetNumberAsInt();
+            // IsInt first: tinygltf's GetNumberAsInt casts any real to int, and 1.5e44 is
+            // undefined behaviour there (found by fuzzing under UBSan).
+            const tinygltf::Value& ref = light->second.Get("light");
+            const int li = ref.IsInt() ? ref.GetNumberAsInt() : -1;
             if (li < 0 || static_cast<std::size_t>(li) >= mModel.lights.size()) {
                 fail("node " + std::to_string(nodeIndex) + " references light " +
-                     std::to_string(li) + ", which does not exist");
+                     (ref.IsInt() ? std::to_string(li) : std::string("that is not an index")) +
+                     ", which does not exist");
             }
             addLight(mModel.lights[li], li, world);
         }

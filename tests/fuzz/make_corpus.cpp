@@ -257,6 +257,10 @@ void gltf() {
     // Found by fuzzing: a light colour of 1.7e117 became an infinite float.
     put(t, "regressions", "light_color_1.7e117.gltf",
         replaced(featureful(), R"("color": [1, 0.5, 0.2])", R"("color": [1.7e117, 0.5, 0.2])"));
+    // Found by fuzzing (UBSan): a light reference of 1.5e44 went through tinygltf's int cast.
+    put(t, "regressions", "light_index_1.5e44.gltf",
+        replaced(quad, R"("KHR_lights_punctual": {"light": 0})",
+                 R"("KHR_lights_punctual": {"light": 1.5e44})"));
     // One mesh referenced by 2,000 and 20,000 primitives (3,000 triangles each).
     Bytes many;
     for (int i = 0; i < 3000; ++i)

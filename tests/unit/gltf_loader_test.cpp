@@ -451,6 +451,9 @@ TEST(GltfLoader, FactorsBeyondAFloatAreRefused) {
          {std::tuple{light, R"("intensity": 20, "color": [1.7e117, 1, 1])",
                      "light 0 color is 1.7e+117"},
           std::tuple{light, R"("intensity": -1)", "light 0 intensity is -1"},
+          // Found by fuzzing (UBSan): tinygltf cast 1.5e44 to int.
+          std::tuple{std::string(R"({"light": 0})"), R"({"light": 1.5e44})",
+                     "references light that is not an index"},
           std::tuple{factor, R"("baseColorFactor": [0.5, 1e40, 1.0, 1.0])",
                      "baseColorFactor is 1e+40"}}) {
         std::string json = base;
