@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <limits>
+#include <optional>
 
 #include <opencv2/core.hpp>
 
@@ -11,6 +14,27 @@
 #include "stats.hpp"
 
 namespace gt::eyetrack {
+
+namespace {
+
+// An integer field as an int, or nothing. nlohmann's get<int>() casts a real such as 1.3e123 to
+// int, which is undefined behaviour (found by fuzzing under UBSan), and wraps large integers.
+std::optional<int> asInt(const nlohmann::json& v) {
+    if (v.is_number_unsigned()) {
+        const auto u = v.get<std::uint64_t>();
+        if (u <= static_cast<std::uint64_t>(std::numeric_limits<int>::max())) {
+            return static_cast<int>(u);
+        }
+    } else if (v.is_number_integer()) {
+        const auto i = v.get<std::int64_t>();
+        if (i >= std::numeric_limits<int>::min() && i <= std::numeric_limits<int>::max()) {
+            return static_cast<int>(i);
+        }
+    }
+    return std::nullopt;
+}
+
+} // namespace
 
 std::vector<double> Calibration::features(cv::Point2d pupil) const {
     const double x = (pupil.x - mMean.x) / mScale.x, y = (pupil.y - mMean.y) / mScale.y;
@@ -175,8 +199,13 @@ Calibration Calibration::fromJson(const nlohmann::json& j, const std::string& wh
         const std::size_t terms = model == "poly7" ? 7 : model == "poly4" ? 4 : 0;
         if (terms == 0) throw bad("unknown model '" + model + "'");
         const auto& d = j.at("display");
-        c.mDisplay.widthPx = d.at("width_px").get<int>();
-        c.mDisplay.heightPx = d.at("height_px").get<int>();
+        const auto intAt = [&](const nlohmann::json& o, const char* key) {
+            const std::optional<int> v = asInt(o.at(key));
+            if (!v) throw bad(std::string("\"") + key + "\" is not an integer in range");
+            return *v;
+        };
+        c.mDisplay.widthPx = intAt(d, "width_px");
+        c.mDisplay.heightPx = intAt(d, "height_px");
         c.mDisplay.widthCm = d.at("width_cm").get<double>();
         c.mDisplay.distanceCm = d.at("distance_cm").get<double>();
         const auto mean = j.at("pupil_mean").get<std::vector<double>>();
@@ -190,8 +219,8 @@ Calibration Calibration::fromJson(const nlohmann::json& j, const std::string& wh
                       " coefficients per axis");
         c.mMean = {mean[0], mean[1]};
         c.mScale = {scale[0], scale[1]};
-        c.mUsed = j.value("points_used", 0);
-        c.mDropped = j.value("outliers_dropped", 0);
+        c.mUsed = j.contains("points_used") ? intAt(j, "points_used") : 0;
+        c.mDropped = j.contains("outliers_dropped") ? intAt(j, "outliers_dropped") : 0;
         c.mFitErrorDeg = j.value("fit_error_deg", 0.0);
     } catch (const nlohmann::json::exception& e) {
         throw bad(std::string("missing or mistyped field (") + e.what() + ")");

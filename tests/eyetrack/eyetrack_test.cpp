@@ -293,6 +293,12 @@ TEST(Calibration, RecoversAKnownPolynomialMapping) {
     j = c.toJson();
     j["format"] = 1920; // found by fuzzing: escaped as nlohmann's type_error
     reject(j.dump(), "not a gazetrace calibration");
+    j = c.toJson();
+    j["display"]["width_px"] = 1.3e123; // found by fuzzing: get<int>() on it is UB
+    reject(j.dump(), "\"width_px\" is not an integer in range");
+    j = c.toJson();
+    j["points_used"] = 1LL << 40;
+    reject(j.dump(), "\"points_used\" is not an integer in range");
     EXPECT_THROW((void)Calibration::fit({pts.begin(), pts.begin() + 3}, d), CalibrationError);
     fs::remove_all(dir);
 }

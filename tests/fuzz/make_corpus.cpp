@@ -438,6 +438,9 @@ void calibration() {
     variant("mean_is_text.json", [](nlohmann::json& v) { v["pupil_mean"] = "centre"; });
     // Found by fuzzing: a number where the format string belongs escaped as a JSON type_error.
     variant("format_is_number.json", [](nlohmann::json& v) { v["format"] = 1920; });
+    // Found by fuzzing (UBSan): nlohmann's get<int>() cast 1.3e123 to int.
+    variant("width_px_1.3e123.json", [](nlohmann::json& v) { v["display"]["width_px"] = 1.3e123; });
+    variant("points_used_2pow40.json", [](nlohmann::json& v) { v["points_used"] = 1LL << 40; });
     put(t, "regressions", "deep_20000.json", std::string(20000, '[') + std::string(20000, ']'));
     put(t, "regressions", "number_1e999.json",
         replaced(poly7, R"("fit_error_deg": )", R"("fit_error_deg": 1e999, "x": )"));
