@@ -20,6 +20,17 @@
 
 namespace {
 
+// --width and --height, each checked to lie in [min, 16384] pixels.
+void addSizeOptions(CLI::App* cmd, uint32_t& width, uint32_t& height, uint32_t min,
+                    const std::string& what) {
+    cmd->add_option("--width", width, what + " width in pixels")
+        ->check(CLI::Range(min, 16384u))
+        ->capture_default_str();
+    cmd->add_option("--height", height, what + " height in pixels")
+        ->check(CLI::Range(min, 16384u))
+        ->capture_default_str();
+}
+
 int fail(const std::string& message) {
     std::fprintf(stderr, "gazetrace: error: %s\n", message.c_str());
     return 1;
@@ -44,12 +55,7 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--camera", render.camera,
                           "Camera X,Y,Z,TX,TY,TZ[,FOV]: eye, look-at target (scene units), "
                           "vertical field of view in degrees (default: the scene's camera)");
-    renderCmd->add_option("--width", render.width, "Image width in pixels")
-        ->check(CLI::Range(1u, 16384u))
-        ->capture_default_str();
-    renderCmd->add_option("--height", render.height, "Image height in pixels")
-        ->check(CLI::Range(1u, 16384u))
-        ->capture_default_str();
+    addSizeOptions(renderCmd, render.width, render.height, 1u, "Image");
     renderCmd->add_option("--spp", render.spp, "Rays per pixel (stratified, jittered)")
         ->check(CLI::Range(1u, 4096u))
         ->capture_default_str();
@@ -176,12 +182,7 @@ int main(int argc, char** argv) {
     soakCmd->add_option("--frames", soak.frames, "Frames to render")
         ->check(CLI::Range(1u, 1000000u))
         ->capture_default_str();
-    soakCmd->add_option("--width", soak.width, "Width (default: the desktop profile's screen)")
-        ->check(CLI::Range(16u, 16384u))
-        ->capture_default_str();
-    soakCmd->add_option("--height", soak.height, "Height")
-        ->check(CLI::Range(16u, 16384u))
-        ->capture_default_str();
+    addSizeOptions(soakCmd, soak.width, soak.height, 16u, "Frame (default: the desktop screen's)");
     soakCmd
         ->add_option("--max-growth", soak.maxGrowthPercent,
                      "Resident memory growth allowed from frame 100 to the last, in percent")
