@@ -127,6 +127,10 @@ CacheLoad loadPointSet(const std::filesystem::path& file, const PointSetParams& 
     const float canvasW = 2.0f * static_cast<float>(params.display.width);
     const float canvasH = 2.0f * static_cast<float>(params.display.height);
     const float maxSpacing = canvasW + canvasH;
+    // A dart-thrown set is maximal: discs of radius p around its points cover the canvas, so
+    // the sum of p^2 is at least canvas / pi (generated sets reach 0.45 to 0.9 of the canvas).
+    // Far less means points are missing: holes the interpolation would smear over.
+    double covered = 0.0;
     std::vector<Point> pts(count);
     for (std::size_t i = 0; i < pts.size(); ++i) {
         Point& p = pts[i];
@@ -134,26 +138,22 @@ CacheLoad loadPointSet(const std::filesystem::path& file, const PointSetParams& 
         r.get(p.y);
         r.get(p.spacing);
         // Thesis eq. (4): p >= 1 - (1 - sqrt(1/pi)) = 0.564 pixels, and far less than the canvas.
-        if (!(p.x >= 0.0f && p.x < canvasW && p.y >= 0.0f && p.y < canvasH)) {
-            return {std::nullopt, file.string() + ": point " + std::to_string(i) +
-                                      " lies outside the canvas (or is not a number)"};
-        }
         if (!(p.spacing >= 0.5f && p.spacing <= maxSpacing)) {
             return {std::nullopt, file.string() + ": point " + std::to_string(i) +
                                       " has an impossible spacing " + std::to_string(p.spacing)};
         }
-    }
-    // A dart-thrown set is maximal: discs of radius p around its points cover the canvas, so
-    // the sum of p^2 is at least canvas / pi (generated sets reach 0.45 to 0.9 of the canvas).
-    // Far less means points are missing: holes the interpolation would smear over.
-    double covered = 0.0;
-    for (const Point& p : pts)
         covered += static_cast<double>(p.spacing) * p.spacing;
+    }
     if (covered < 0.1 * static_cast<double>(canvasW) * canvasH) {
         return {std::nullopt, file.string() + ": its " + std::to_string(count) +
                                   " points cover too little of the canvas (points are missing)"};
     }
-    return {PointSet::fromPoints(params, std::move(pts)), {}};
+    // fromPoints checks that every point lies on the canvas (NaN and 1e30 do not).
+    try {
+        return {PointSet::fromPoints(params, std::move(pts)), {}};
+    } catch (const ArgumentError& e) {
+        return {std::nullopt, file.string() + ": " + e.what()};
+    }
 }
 
 void savePointSet(const std::filesystem::path& file, const PointSet& set) {
