@@ -428,13 +428,13 @@ private:
         // rather than fail to allocate it. Three vertices per triangle of the limit is all a
         // scene can use (issue 20: 178,956,969 zeros took 4.2 GB before "no triangles").
         constexpr std::size_t kMaxDenseBytes = std::size_t{1} << 31;
-        if (a.count > kMaxDenseBytes / size ||
-            static_cast<double>(a.count) > 3.0 * triangleLimit()) {
+        const double limit = triangleLimit();
+        if (a.count > kMaxDenseBytes / size || static_cast<double>(a.count) > 3.0 * limit) {
             char what[200];
             std::snprintf(what, sizeof(what),
                           " has %zu elements, more than 3 x the limit of %.3g triangles can use "
                           "(GAZETRACE_MAX_TRIANGLES raises it)",
-                          a.count, triangleLimit());
+                          a.count, limit);
             fail(where + what);
         }
         std::vector<unsigned char> out(a.count * size, 0);
@@ -600,8 +600,8 @@ private:
                           value, what, limit, env);
             fail(line);
         };
-        if (total.triangles > triangleLimit()) {
-            refuse(total.triangles, "triangles", triangleLimit(), "GAZETRACE_MAX_TRIANGLES");
+        if (const double limit = triangleLimit(); total.triangles > limit) {
+            refuse(total.triangles, "triangles", limit, "GAZETRACE_MAX_TRIANGLES");
         }
         const double instanceLimit = limitFromEnv("GAZETRACE_MAX_INSTANCES", kDefaultMaxInstances);
         if (total.instances > instanceLimit) {

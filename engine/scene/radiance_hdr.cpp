@@ -24,7 +24,6 @@ public:
 
     [[noreturn]] void fail(const std::string& what) const { throw LoadError(mName + ": " + what); }
 
-    [[nodiscard]] std::size_t left() const noexcept { return mBytes.size() - mAt; }
     [[nodiscard]] std::size_t at() const noexcept { return mAt; }
     void seek(std::size_t at) noexcept { mAt = at; }
 
