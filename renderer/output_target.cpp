@@ -8,24 +8,31 @@
 
 namespace gt::render {
 
-void ReadbackTarget::addOutput(rg::RenderGraph& graph, rg::TextureId image, const View& view) {
-    const VkDeviceSize bytes = static_cast<VkDeviceSize>(view.width) * view.height * 4;
+void HostImageCopy::add(rg::RenderGraph& graph, const std::string& name, rg::TextureId image,
+                        uint32_t width, uint32_t height) {
+    const VkDeviceSize bytes = static_cast<VkDeviceSize>(width) * height * 4;
     if (!mHost || mHost->size() != bytes) {
-        mHost.reset(); // a frame never reads another frame's readback: waitsForFrame()
+        mHost.reset(); // a frame never reads another frame's copy: its target waits for it
         mHost.emplace(mCtx, vk::BufferDesc{bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                           vk::MemoryUsage::Readback, "readback.frame"});
+                                           vk::MemoryUsage::Readback, "readback." + name});
     }
     const rg::BufferId host = graph.importBuffer(
-        "frame.host", {mHost->handle(), mHost->size(), std::nullopt, rg::Access::HostRead});
-    passes::addReadbackPass(graph, "frame", image, host);
+        name + ".host", {mHost->handle(), mHost->size(), std::nullopt, rg::Access::HostRead});
+    passes::addReadbackPass(graph, name, image, host);
+}
+
+std::vector<uint8_t> HostImageCopy::download() const {
+    std::vector<uint8_t> px(mHost ? mHost->size() : 0);
+    if (mHost) mHost->download(std::as_writable_bytes(std::span(px)));
+    return px;
+}
+
+void ReadbackTarget::addOutput(rg::RenderGraph& graph, rg::TextureId image, const View& view) {
+    mCopy.add(graph, "frame", image, view.width, view.height);
 }
 
 void ReadbackTarget::frameFinished() {
-    if (!mHost) {
-        return;
-    }
-    mPixels.resize(mHost->size());
-    mHost->download(std::as_writable_bytes(std::span(mPixels)));
+    if (mCopy.recorded()) mPixels = mCopy.download();
 }
 
 void CompositeReadbackTarget::beginFrame(rg::RenderGraph& graph) {

@@ -17,6 +17,23 @@ namespace gt::render {
 
 struct View;
 
+// A host-visible copy of a texture (RGBA8), recorded inside a frame and read once the frame
+// finished: a PNG's pixels, a window's or an OpenXR eye's screenshot.
+class HostImageCopy {
+public:
+    explicit HostImageCopy(vk::Context& ctx) : mCtx(ctx) {}
+    // Adds pass "readback.NAME" copying `image` (width x height) into "NAME.host".
+    void add(rg::RenderGraph& graph, const std::string& name, rg::TextureId image, uint32_t width,
+             uint32_t height);
+    [[nodiscard]] bool recorded() const noexcept { return mHost.has_value(); }
+    // Rows top first, tightly packed; call only after the frame finished.
+    [[nodiscard]] std::vector<uint8_t> download() const;
+
+private:
+    vk::Context& mCtx;
+    std::optional<vk::Buffer> mHost;
+};
+
 class OutputTarget {
 public:
     virtual ~OutputTarget() = default;
@@ -37,7 +54,7 @@ public:
 // Copies the image into host memory; pixels() holds it once renderFrame returns.
 class ReadbackTarget final : public OutputTarget {
 public:
-    explicit ReadbackTarget(vk::Context& ctx) : mCtx(ctx) {}
+    explicit ReadbackTarget(vk::Context& ctx) : mCopy(ctx) {}
     void addOutput(rg::RenderGraph& graph, rg::TextureId image, const View& view) override;
     [[nodiscard]] bool waitsForFrame() const noexcept override { return true; }
     void frameFinished() override;
@@ -46,8 +63,7 @@ public:
     [[nodiscard]] std::vector<uint8_t> takePixels() noexcept { return std::move(mPixels); }
 
 private:
-    vk::Context& mCtx;
-    std::optional<vk::Buffer> mHost;
+    HostImageCopy mCopy;
     std::vector<uint8_t> mPixels;
 };
 

@@ -4,7 +4,6 @@
 
 #include "blit/blit.hpp"
 #include "core/error.hpp"
-#include "readback/readback.hpp"
 #include "view.hpp"
 
 namespace gt::render {
@@ -50,15 +49,7 @@ void SwapchainTarget::endFrame(rg::RenderGraph& graph) {
         mTarget = mOverlay(graph, mTarget);
     }
     if (mScreenshotWanted) {
-        const VkDeviceSize bytes = static_cast<VkDeviceSize>(mExtent.width) * mExtent.height * 4;
-        if (!mHost || mHost->size() != bytes) {
-            mHost.reset();
-            mHost.emplace(mCtx, vk::BufferDesc{bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                               vk::MemoryUsage::Readback, "screenshot"});
-        }
-        const rg::BufferId host = graph.importBuffer(
-            "screenshot.host", {mHost->handle(), bytes, std::nullopt, rg::Access::HostRead});
-        passes::addReadbackPass(graph, "screenshot", mTarget, host);
+        mScreenshotCopy.add(graph, "screenshot", mTarget, mExtent.width, mExtent.height);
     }
     graph.sink(mTarget, rg::Access::Present);
 }
@@ -75,11 +66,10 @@ void SwapchainTarget::addSync(rg::SubmitSync& sync) {
 }
 
 void SwapchainTarget::frameFinished() {
-    if (!mScreenshotWanted || !mHost) {
+    if (!mScreenshotWanted || !mScreenshotCopy.recorded()) {
         return;
     }
-    std::vector<uint8_t> px(mHost->size());
-    mHost->download(std::as_writable_bytes(std::span(px)));
+    std::vector<uint8_t> px = mScreenshotCopy.download();
     if (mFormat == VK_FORMAT_B8G8R8A8_UNORM) {
         for (std::size_t i = 0; i + 3 < px.size(); i += 4) {
             std::swap(px[i], px[i + 2]);

@@ -18,7 +18,7 @@ namespace gt::render {
 
 class SwapchainTarget final : public OutputTarget {
 public:
-    explicit SwapchainTarget(vk::Context& ctx) : mCtx(ctx) {}
+    explicit SwapchainTarget(vk::Context& ctx) : mScreenshotCopy(ctx) {}
     // The image this frame draws into (acquired by the caller, who presents it afterwards).
     void setImage(const vk::Swapchain::Image& image, VkFormat format, VkExtent2D extent);
     // Where the view named `view` goes, in swapchain pixels; unplaced views fill the image.
@@ -42,7 +42,6 @@ public:
     void frameFinished() override;
 
 private:
-    vk::Context& mCtx;
     std::optional<vk::Swapchain::Image> mImage;
     VkFormat mFormat = VK_FORMAT_UNDEFINED;
     VkExtent2D mExtent{};
@@ -50,7 +49,7 @@ private:
     Overlay mOverlay;
     rg::TextureId mTarget;
     bool mScreenshotWanted = false;
-    std::optional<vk::Buffer> mHost;
+    HostImageCopy mScreenshotCopy;
     std::optional<std::vector<uint8_t>> mScreenshot;
 };
 

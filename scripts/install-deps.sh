@@ -12,6 +12,11 @@ PACKAGES=(
   nlohmann-json3-dev libgtest-dev libbenchmark-dev libcli11-dev libimgui-dev
   xvfb xauth
   clang libclang-rt-dev
+  # OpenXR: the loader gazetrace links, and what ../shared/tools/monado.sh needs to build the
+  # Monado runtime the OpenXR tests run against (its PACKAGES list), so nothing installs at test time.
+  libopenxr-dev libopenxr-loader1
+  libudev-dev libeigen3-dev libx11-dev libxrandr-dev libxcb-randr0-dev libx11-xcb-dev libbsd-dev
+  libcjson-dev
 )
 
 missing=()

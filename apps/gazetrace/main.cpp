@@ -17,6 +17,7 @@
 #include "scene/builtin_scenes.hpp"
 #include "soak_command.hpp"
 #include "vk/context.hpp"
+#include "xr_command.hpp"
 
 namespace {
 
@@ -344,6 +345,69 @@ int main(int argc, char** argv) {
     demoCmd->add_option("--vergence-m", demo.vergenceM,
                         "--hmd: distance the eyes converge at in metres (0: infinity)");
 
+    gt::app::XrOptions xr;
+    bool xrJson = false;
+    CLI::App* xrCmd = app.add_subcommand(
+        "xr", "OpenXR application: both eyes foveated into the runtime's swapchains, eye gaze "
+              "from the runtime or gazetrace's own sources");
+    xrCmd->add_option("--scene", xr.scene, "builtin:NAME | FILE.gltf | FILE.glb | cubemap:FILE")
+        ->capture_default_str();
+    xrCmd->add_option("--camera", xr.camera,
+                      "Start view X,Y,Z,TX,TY,TZ[,FOV]: the viewer stands at X,Y,Z facing the "
+                      "target (default: the scene's camera, or a view inside it)");
+    xrCmd->add_option("--xr-origin", xr.origin,
+                      "X,Y,Z: the scene point at the reference space's origin (default: the "
+                      "start view's eye; with --xr-space stage, 1.6 m below it)");
+    xrCmd->add_option("--xr-yaw", xr.yawDeg,
+                      "Degrees: the scene direction the viewer faces (default: the start view's)");
+    xrCmd->add_option("--xr-scale", xr.worldScale, "Scene units per metre the head moves")
+        ->capture_default_str();
+    xrCmd->add_option("--xr-space", xr.space, "local | stage (floor-level; LOCAL if not offered)")
+        ->capture_default_str();
+    xrCmd->add_option("--resolution-scale", xr.resolutionScale,
+                      "Eye image size as a share of the runtime's recommended size")
+        ->capture_default_str();
+    xrCmd->add_option("--method", xr.method, "foveated | reference")->capture_default_str();
+    xrCmd->add_option("--interp", xr.interp, "nn | msm | rbf")->capture_default_str();
+    xrCmd->add_option("--k", xr.k, "Neighbours for msm / rbf")->capture_default_str();
+    xrCmd->add_option("--scale", xr.pointScale, "Point-set scaling value (sparser above 1)")
+        ->check(CLI::Range(0.25, 8.0))
+        ->capture_default_str();
+    xrCmd->add_option("--rays-per-point", xr.raysPerPoint, "Rays traced per point")
+        ->check(CLI::Range(1u, 1024u))
+        ->capture_default_str();
+    xrCmd->add_option("--spp", xr.spp, "Rays per pixel (reference method)")
+        ->check(CLI::Range(1u, 1024u))
+        ->capture_default_str();
+    std::string xrTaa = "on";
+    xrCmd->add_option("--taa", xrTaa, "on | off")
+        ->check(CLI::IsMember({"on", "off"}))
+        ->capture_default_str();
+    xrCmd
+        ->add_option("--gaze", xr.gaze,
+                     "Gaze when the runtime gives none: ahead | fixed:X,Y (left eye pixels) | "
+                     "trace:FILE.csv | track:SOURCE | udp:PORT")
+        ->capture_default_str();
+    xrCmd->add_option("--calibration", xr.calibration, "Calibration file for --gaze track:");
+    xrCmd->add_option("--vergence-m", xr.vergenceM,
+                      "Distance the eyes converge at in metres (0: infinity)")
+        ->capture_default_str();
+    bool xrNoRuntimeGaze = false;
+    xrCmd->add_flag("--no-runtime-gaze", xrNoRuntimeGaze,
+                    "Ignore XR_EXT_eye_gaze_interaction; use --gaze only");
+    xrCmd->add_option("--frames", xr.frames, "Render this many frames, then end the session")
+        ->check(CLI::Range(0u, 10000000u))
+        ->capture_default_str();
+    std::vector<std::string> xrShot;
+    xrCmd->add_option("--screenshot-eye", xrShot, "left|right FILE.png: that eye's last image")
+        ->expected(2);
+    xrCmd->add_option("--start-timeout", xr.startTimeoutS,
+                      "Seconds the session may take to start running")
+        ->capture_default_str();
+    xrCmd->add_flag("--validate", xr.validate, "Khronos validation layer");
+    xrCmd->add_option("--cache", xr.cacheDir, "Point-set cache folder");
+    xrCmd->add_flag("--json", xrJson, "Print a JSON summary");
+
     CLI::App* devicesCmd = app.add_subcommand("devices", "List the Vulkan devices");
     CLI::App* scenesCmd = app.add_subcommand("scenes", "List the built-in scenes");
 
@@ -416,6 +480,15 @@ int main(int argc, char** argv) {
             demo.overlay = demoOverlay == "on";
             const nlohmann::json result = gt::app::runDemo(demo);
             if (demoJson) std::cout << result.dump() << std::endl;
+        } else if (xrCmd->parsed()) {
+            xr.taa = xrTaa == "on";
+            xr.runtimeGaze = !xrNoRuntimeGaze;
+            if (xrShot.size() == 2) {
+                xr.screenshotEye = xrShot[0];
+                xr.screenshot = xrShot[1];
+            }
+            const nlohmann::json result = gt::app::runXr(xr);
+            if (xrJson) std::cout << result.dump() << std::endl;
         } else if (devicesCmd->parsed()) {
             for (const std::string& line : gt::vk::Context::listDevices())
                 std::cout << line << "\n";

@@ -18,7 +18,11 @@ VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(VkDebugUtilsMessageSeverityFlagBits
                                              void* user) {
     auto* counters = static_cast<ValidationCounters*>(user);
     const char* msg = data && data->pMessage ? data->pMessage : "(no message)";
-    if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+    if ((severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) &&
+        counters->runtimeCallDepth.load() > 0) {
+        ++counters->runtimeErrors;
+        log::warn(std::string("validation (inside the OpenXR runtime's call): ") + msg);
+    } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
         ++counters->errors;
         {
             std::lock_guard lock(counters->mutex);
@@ -253,13 +257,19 @@ void Context::createDevice(const ContextOptions& options) {
     q.queueCount = 1;
     q.pQueuePriorities = &priority;
 
-    VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-    f13.synchronization2 = VK_TRUE;
-    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-    f12.hostQueryReset = VK_TRUE;
-    f12.pNext = &f13;
+    // The features one at a time, not as VkPhysicalDeviceVulkan12/13Features: an OpenXR runtime
+    // creating the device (xrCreateVulkanDeviceKHR) chains its own single-feature structures
+    // (Monado: VkPhysicalDeviceTimelineSemaphoreFeatures), which must not meet the 1.2 block
+    // in one chain (VUID-VkDeviceCreateInfo-pNext-02830).
+    VkPhysicalDeviceSynchronization2Features sync2{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES};
+    sync2.synchronization2 = VK_TRUE;
+    VkPhysicalDeviceHostQueryResetFeatures queryReset{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_HOST_QUERY_RESET_FEATURES};
+    queryReset.hostQueryReset = VK_TRUE;
+    queryReset.pNext = &sync2;
     VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-    f2.pNext = &f12;
+    f2.pNext = &queryReset;
 
     std::vector<const char*> extensions = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
     for (const std::string& e : options.deviceExtensions)

@@ -41,6 +41,10 @@ struct ValidationCounters {
     std::atomic<uint32_t> warnings{0};
     std::mutex mutex;
     std::vector<std::string> messages; // errors only, in order
+    // An OpenXR runtime's compositor runs in this process on this device and makes its own
+    // Vulkan calls inside xr* calls: what validation reports meanwhile is the runtime's.
+    std::atomic<int> runtimeCallDepth{0};
+    std::atomic<uint32_t> runtimeErrors{0};
 };
 
 class Context {
@@ -65,6 +69,23 @@ public:
     [[nodiscard]] uint32_t validationErrors() const noexcept { return mCounters.errors.load(); }
     [[nodiscard]] uint32_t validationWarnings() const noexcept { return mCounters.warnings.load(); }
     [[nodiscard]] std::vector<std::string> validationMessages();
+
+    // While one lives, validation errors count as the OpenXR runtime's (its calls into Vulkan
+    // from inside an xr* call), not gazetrace's: runtimeValidationErrors(), logged as warnings.
+    class RuntimeCallScope {
+    public:
+        explicit RuntimeCallScope(ValidationCounters& c) : mCounters(c) { ++c.runtimeCallDepth; }
+        ~RuntimeCallScope() { --mCounters.runtimeCallDepth; }
+        RuntimeCallScope(const RuntimeCallScope&) = delete;
+        RuntimeCallScope& operator=(const RuntimeCallScope&) = delete;
+
+    private:
+        ValidationCounters& mCounters;
+    };
+    [[nodiscard]] RuntimeCallScope runtimeCalls() { return RuntimeCallScope(mCounters); }
+    [[nodiscard]] uint32_t runtimeValidationErrors() const noexcept {
+        return mCounters.runtimeErrors.load();
+    }
 
     // Records with `record`, submits, and waits: for uploads, readbacks and tests.
     void submitAndWait(const std::function<void(VkCommandBuffer)>& record);

@@ -1,0 +1,83 @@
+#include "xr_views.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gt::xr {
+
+glm::quat toQuat(const XrQuaternionf& q) noexcept {
+    return {q.w, q.x, q.y, q.z};
+}
+
+glm::vec3 toVec(const XrVector3f& v) noexcept {
+    return {v.x, v.y, v.z};
+}
+
+glm::vec3 ScenePlacement::direction(const glm::vec3& d) const {
+    const float c = std::cos(yawRad), s = std::sin(yawRad);
+    // A turn about +Y by yawRad (counter-clockwise seen from above, as glTF's rotations).
+    return {c * d.x + s * d.z, d.y, -s * d.x + c * d.z};
+}
+
+glm::vec3 ScenePlacement::point(const XrVector3f& p) const {
+    return origin + direction(toVec(p) * scale);
+}
+
+ScenePlacement ScenePlacement::facing(const scene::Camera& camera, float scale) {
+    ScenePlacement p;
+    p.origin = camera.position;
+    p.scale = scale;
+    const glm::vec3 f = camera.forward;
+    // The turn that takes -Z to f's horizontal part; straight up or down keeps the scene's axes.
+    p.yawRad = std::hypot(f.x, f.z) > 1e-6f ? std::atan2(-f.x, -f.z) : 0.0f;
+    return p;
+}
+
+scene::Camera cameraOfPose(const XrPosef& pose, const ScenePlacement& placement) {
+    const glm::quat q = toQuat(pose.orientation);
+    scene::Camera c;
+    c.position = placement.point(pose.position);
+    c.forward = glm::normalize(placement.direction(q * glm::vec3(0.0f, 0.0f, -1.0f)));
+    c.up = glm::normalize(placement.direction(q * glm::vec3(0.0f, 1.0f, 0.0f)));
+    return c;
+}
+
+trace::FrustumTangents tangentsOfFov(const XrFovf& fov) {
+    return {std::tan(fov.angleLeft), std::tan(fov.angleRight), std::tan(fov.angleUp),
+            std::tan(fov.angleDown)};
+}
+
+foveation::DisplayProfile eyeDisplay(const XrFovf& fov, uint32_t width, uint32_t height) {
+    const trace::FrustumTangents t = tangentsOfFov(fov);
+    foveation::DisplayProfile d;
+    d.name = "xr";
+    d.width = width;
+    d.height = height;
+    d.viewingDistance = 1.0 / static_cast<double>(t.right - t.left);
+    return d;
+}
+
+glm::vec2 gazePixel(const glm::vec3& pointHead, bool atInfinity, const XrPosef& eyeInHead,
+                    const XrFovf& fov, uint32_t width, uint32_t height) {
+    const glm::quat q = toQuat(eyeInHead.orientation);
+    const glm::vec3 inEye = glm::inverse(q) * (atInfinity ? pointHead
+                                                          : pointHead - toVec(eyeInHead.position));
+    const trace::FrustumTangents t = tangentsOfFov(fov);
+    const float ahead = std::max(-inEye.z, 1e-6f); // behind the eye: pinned to the edge below
+    const float tx = inEye.x / ahead, ty = inEye.y / ahead;
+    const glm::vec2 px((tx - t.left) / (t.right - t.left) * static_cast<float>(width),
+                       (t.up - ty) / (t.up - t.down) * static_cast<float>(height));
+    return glm::clamp(px, glm::vec2(0.0f),
+                      glm::vec2(static_cast<float>(width) - 1.0f,
+                                static_cast<float>(height) - 1.0f));
+}
+
+glm::vec3 directionOfPixel(const glm::vec2& pixel, const XrPosef& eyeInHead, const XrFovf& fov,
+                           uint32_t width, uint32_t height) {
+    const trace::FrustumTangents t = tangentsOfFov(fov);
+    const float tx = t.left + pixel.x / static_cast<float>(width) * (t.right - t.left);
+    const float ty = t.up - pixel.y / static_cast<float>(height) * (t.up - t.down);
+    return glm::normalize(toQuat(eyeInHead.orientation) * glm::vec3(tx, ty, -1.0f));
+}
+
+} // namespace gt::xr
