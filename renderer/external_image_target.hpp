@@ -26,7 +26,8 @@ public:
     explicit ExternalImageTarget(vk::Context& ctx) : mScreenshotCopy(ctx) {}
     // The image this frame writes; the view is scaled to fill it.
     void setImage(const ExternalImage& image) { mImage = image; }
-    // Copies the next frame's view image (RGBA8 sRGB-encoded, the view's size) to host memory.
+    // Reads the next frame's image back after the view was written into it, as RGBA8
+    // sRGB-encoded (whatever the image's format), the image's size.
     void requestScreenshot() { mScreenshotWanted = true; }
     [[nodiscard]] const std::optional<std::vector<uint8_t>>& screenshot() const noexcept {
         return mScreenshot;
@@ -40,6 +41,7 @@ private:
     std::optional<ExternalImage> mImage;
     bool mScreenshotWanted = false;
     HostImageCopy mScreenshotCopy;
+    VkFormat mScreenshotFormat = VK_FORMAT_UNDEFINED;
     std::optional<std::vector<uint8_t>> mScreenshot;
 };
 

@@ -46,6 +46,9 @@ bool contains(const std::vector<std::string>& v, const char* name) {
 } // namespace
 
 Runtime::Runtime(const RuntimeOptions& options) {
+    // The loader prints its own errors on stderr; gazetrace says what went wrong in one line.
+    // XR_LOADER_DEBUG set by the user (e.g. "all") still wins.
+    setenv("XR_LOADER_DEBUG", "none", 0);
     const std::vector<std::string> offered = instanceExtensions();
     if (!contains(offered, XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME)) {
         throw Error("the OpenXR runtime offers no Vulkan support (XR_KHR_vulkan_enable2); "

@@ -126,8 +126,9 @@ void Session::createSwapchains(const SessionOptions& options) {
         eye.extent = {scaled(v.recommendedImageRectWidth, v.maxImageRectWidth),
                       scaled(v.recommendedImageRectHeight, v.maxImageRectHeight)};
         XrSwapchainCreateInfo info{XR_TYPE_SWAPCHAIN_CREATE_INFO};
-        // Written by a copy (transfer), then read by the runtime's compositor.
-        info.usageFlags = XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT |
+        // Written by a blit (transfer), read back for --screenshot-eye (transfer), then read by
+        // the runtime's compositor.
+        info.usageFlags = XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT |
                           XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_SAMPLED_BIT;
         info.format = static_cast<int64_t>(mFormat);
         info.sampleCount = 1;

@@ -407,7 +407,23 @@ nlohmann::json runXr(const XrOptions& o) {
                             {"camera", poseJson(v.camera)},
                             {"tangents",
                              {v.frustum->left, v.frustum->right, v.frustum->up, v.frustum->down}},
-                            {"gaze", {v.gaze.x, v.gaze.y}}};
+                            {"gaze", {v.gaze.x, v.gaze.y}},
+                            // What the runtime reported for this eye and frame, in its space.
+                            {"xr_pose",
+                             {{"position",
+                               {frame.views[shotEye].pose.position.x,
+                                frame.views[shotEye].pose.position.y,
+                                frame.views[shotEye].pose.position.z}},
+                              {"orientation_xyzw",
+                               {frame.views[shotEye].pose.orientation.x,
+                                frame.views[shotEye].pose.orientation.y,
+                                frame.views[shotEye].pose.orientation.z,
+                                frame.views[shotEye].pose.orientation.w}}}},
+                            {"xr_fov_rad",
+                             {frame.views[shotEye].fov.angleLeft,
+                              frame.views[shotEye].fov.angleRight,
+                              frame.views[shotEye].fov.angleUp,
+                              frame.views[shotEye].fov.angleDown}}};
             }
             ++rendered;
         } else {

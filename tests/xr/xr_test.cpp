@@ -1,0 +1,286 @@
+// `gazetrace xr` against a real OpenXR runtime: Monado, built from ../shared and started
+// headless by the CTest fixture (tests/xr/monado_fixture.sh: simulated HMD, null compositor,
+// lavapipe). Validation is on in every run; the runtime's own Vulkan calls (its client
+// compositor runs in gazetrace's process) are counted apart from gazetrace's.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <csignal>
+#include <cstdlib>
+#include <fstream>
+#include <thread>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "foveation/contrast_sensitivity.hpp"
+#include "output_target.hpp"
+#include "point_set_method.hpp"
+#include "renderer.hpp"
+#include "scene/image_io.hpp"
+#include "support/cli_run.hpp"
+#include "support/gpu_test_context.hpp"
+
+namespace gt {
+namespace {
+
+using test::Result;
+
+const std::string kRuntimeJson = std::string(GT_MONADO_DIR) + "/build/openxr_monado-dev.json";
+
+// Every gazetrace this binary starts talks to the fixture's service.
+const bool kEnvironmentSet = [] {
+    setenv("XDG_RUNTIME_DIR", GT_XR_RUNTIME_DIR, 1);
+    setenv("XR_RUNTIME_JSON", kRuntimeJson.c_str(), 1);
+    return true;
+}();
+
+// The fixture's runtime, or empty (the test then skips).
+std::string monadoRuntime() {
+    if (!std::filesystem::exists(kRuntimeJson) ||
+        !std::filesystem::exists(std::filesystem::path(GT_XR_RUNTIME_DIR) / "monado.pid")) {
+        return {};
+    }
+    return kRuntimeJson;
+}
+
+#define REQUIRE_MONADO()                                                                           \
+    if (monadoRuntime().empty())                                                                   \
+    GTEST_SKIP() << "no Monado service: ../shared is absent or the monado fixture did not run"
+
+double meanAbsDiff(const image::DecodedImage& a, const std::vector<uint8_t>& b, glm::vec2 centre,
+                   double radius, std::size_t& count) {
+    double diff = 0.0;
+    count = 0;
+    for (uint32_t y = 0; y < a.height; ++y) {
+        for (uint32_t x = 0; x < a.width; ++x) {
+            if (std::hypot(x - centre.x, y - centre.y) > radius) continue;
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t i = (static_cast<std::size_t>(y) * a.width + x) * 4 + c;
+                diff += std::abs(static_cast<int>(a.rgba[i]) - static_cast<int>(b[i]));
+                ++count;
+            }
+        }
+    }
+    return count ? diff / static_cast<double>(count) : 0.0;
+}
+
+glm::vec3 vec3(const nlohmann::json& j) {
+    return {j[0].get<float>(), j[1].get<float>(), j[2].get<float>()};
+}
+
+// Reaches FOCUSED, renders both eyes for N frames with zero validation errors, ends the session
+// on --frames; the left eye's image is what a headless render of the pose the runtime reported
+// for that frame shows (TAA off: each frame stands alone), with the gaze from --gaze.
+TEST(Xr, RendersBothEyesAndEachMatchesAHeadlessRenderOfItsPose) {
+    REQUIRE_MONADO();
+    const auto dir = test::tempDir("xr_focused");
+    const auto cache = dir / "cache";
+    const auto shot = dir / "left.png";
+    const Result r = test::run("xr --frames 4 --validate --json --resolution-scale 0.5 --taa off "
+                               "--interp nn --rays-per-point 4 --gaze fixed:100,70 --cache " +
+                               cache.string() + " --screenshot-eye left " + shot.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["frames"], 4);
+    EXPECT_EQ(j["validation_errors"], 0);
+    EXPECT_NE(j["runtime"].get<std::string>().find("Monado"), std::string::npos);
+    const auto states = j["session_states"].get<std::vector<std::string>>();
+    const auto at = [&](const char* s) {
+        return std::find(states.begin(), states.end(), s) - states.begin();
+    };
+    ASSERT_LT(at("FOCUSED"), static_cast<long>(states.size())) << r.err;
+    EXPECT_LT(at("READY"), at("FOCUSED"));
+    EXPECT_LT(at("FOCUSED"), at("STOPPING"));
+    EXPECT_EQ(states.back(), "EXITING"); // ended cleanly on --frames
+    EXPECT_TRUE(j["session_ended_by_runtime"].get<bool>());
+    // Monado's simulated HMD has no eye tracker: the fallback is used, and said so.
+    EXPECT_EQ(j["gaze_source"], "fixed");
+    EXPECT_EQ(j["frames_with_runtime_gaze"], 0);
+    for (const char* pass : {"left.point_sample", "right.point_sample", "left.xr.blit",
+                             "right.xr.blit"}) {
+        EXPECT_TRUE(j["gpu_ms"].contains(pass)) << pass;
+    }
+    for (const auto& eye : j["eyes"]) {
+        EXPECT_GT(eye["width"].get<int>(), 0);
+        EXPECT_GT(eye["gpu_ms_median"].get<double>(), 0.0);
+    }
+
+    // The left eye's last image against the renderer fed the same view headlessly.
+    const auto& s = j["screenshot"];
+    ASSERT_EQ(s["eye"], "left");
+    const uint32_t w = s["width"], h = s["height"];
+    const glm::vec2 gaze(s["gaze"][0].get<float>(), s["gaze"][1].get<float>());
+    EXPECT_NEAR(gaze.x, 100.0f, 0.5f); // --gaze is a pixel of the left eye's image
+    EXPECT_NEAR(gaze.y, 70.0f, 0.5f);
+    const image::DecodedImage xrImage = image::readPng(shot);
+    ASSERT_EQ(xrImage.width, w);
+    ASSERT_EQ(xrImage.height, h);
+
+    // The view rebuilt here from what the runtime reported (its pose and XrFovf) and the scene
+    // placement gazetrace printed, without gazetrace's own conversion code: the reference
+    // space's origin at `origin`, turned by `yaw` about +Y, `scale` scene units per metre.
+    const auto& pl = j["placement"];
+    const glm::vec3 origin = vec3(pl["origin"]);
+    const float yaw = glm::radians(pl["yaw_deg"].get<float>());
+    const float scale = pl["scale"].get<float>();
+    const glm::mat3 turn = glm::mat3(glm::rotate(glm::mat4(1.0f), yaw, glm::vec3(0, 1, 0)));
+    const auto& q = s["xr_pose"]["orientation_xyzw"];
+    const glm::quat orientation(q[3].get<float>(), q[0].get<float>(), q[1].get<float>(),
+                                q[2].get<float>());
+    const auto& fov = s["xr_fov_rad"];
+    const trace::FrustumTangents t{std::tan(fov[0].get<float>()), std::tan(fov[1].get<float>()),
+                                   std::tan(fov[2].get<float>()), std::tan(fov[3].get<float>())};
+    render::View v;
+    v.name = "left";
+    v.camera.position = origin + turn * (scale * vec3(s["xr_pose"]["position"]));
+    v.camera.forward = turn * (orientation * glm::vec3(0, 0, -1));
+    v.camera.up = turn * (orientation * glm::vec3(0, 1, 0));
+    v.frustum = t;
+    v.width = w;
+    v.height = h;
+    v.gaze = gaze;
+    v.post.taa = false;
+
+    render::RendererOptions ro;
+    ro.validate = true;
+    render::Renderer renderer(ro);
+    foveation::PointSetParams params;
+    params.display = {"xr", w, h, 1.0 / static_cast<double>(t.right - t.left)};
+    render::PointSetMethod method(renderer.methodContext(), params, cache);
+    method.settings.raysPerPoint = 4;
+    method.settings.interpolation.method = passes::Interpolation::Nearest;
+    v.method = &method;
+    v.exposure = renderer.scene().exposure;
+    render::ReadbackTarget target(renderer.context());
+    render::OutputTarget* const targets[] = {&target};
+    (void)renderer.renderFrame(std::span<const render::View>(&v, 1), targets);
+    EXPECT_EQ(renderer.context().validationErrors(), 0u);
+    // The fovea: 5 degrees around the gaze at this eye's pixels per degree.
+    const double ppd = w / glm::degrees(std::atan(t.right) - std::atan(t.left));
+    std::size_t n = 0;
+    const double fovea = meanAbsDiff(xrImage, target.pixels(), gaze, 5.0 * ppd, n);
+    const std::size_t foveaPixels = n / 3;
+    ASSERT_GT(n, 30u);
+    EXPECT_LE(fovea, 1.0) << "fovea, " << n / 3 << " pixels";
+    const double whole = meanAbsDiff(xrImage, target.pixels(), gaze, 1e9, n);
+    EXPECT_LE(whole, 1.0);
+    std::printf("xr eye against headless: fovea %.4f/255 (%zu px), whole %.4f/255\n", fovea,
+                foveaPixels, whole);
+    // And the image is a picture, not a cleared swapchain.
+    double sum = 0.0;
+    for (std::size_t i = 0; i < xrImage.rgba.size(); i += 4)
+        sum += xrImage.rgba[i];
+    EXPECT_GT(sum / (w * h), 10.0);
+}
+
+// A runtime that exits mid-session (its service killed): a clear one-line error, no hang.
+TEST(Xr, RuntimeThatDiesMidSessionEndsWithOneLine) {
+    REQUIRE_MONADO();
+    const std::string monadoDir = GT_MONADO_DIR;
+    const auto dir = test::tempDir("xr_killed");
+    // A private service (its own runtime dir), so the shared one lives on for the other tests.
+    const auto xdg = dir / "xdg";
+    std::filesystem::create_directories(xdg);
+    std::filesystem::permissions(xdg, std::filesystem::perms::owner_all);
+    const std::string script = std::string(GT_SOURCE_DIR) + "/../shared/tools/monado.sh";
+    const auto envFile = dir / "monado.env";
+    ASSERT_EQ(std::system(("XDG_RUNTIME_DIR=" + xdg.string() + " bash " + script + " start " +
+                           monadoDir + " > " + envFile.string())
+                              .c_str()),
+              0);
+    std::string pid;
+    {
+        std::ifstream in(envFile);
+        std::string line;
+        while (std::getline(in, line)) {
+            if (line.rfind("export MONADO_PID=", 0) == 0) pid = line.substr(18);
+        }
+    }
+    ASSERT_FALSE(pid.empty());
+    const auto err = dir / "err.txt";
+    const auto status = dir / "status.txt";
+    // Endless (--frames 0) until the runtime goes; `timeout` turns a hang into status 124.
+    const std::string cmd = "(XDG_RUNTIME_DIR=" + xdg.string() + " timeout 90 " +
+                            GT_GAZETRACE_EXE + " xr --resolution-scale 0.25 --cache " +
+                            (dir / "cache").string() + " 2> " + err.string() +
+                            " > /dev/null; echo $? > " + status.string() + ") &";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    const auto waitFor = [](const std::function<bool()>& done, double seconds) {
+        const auto end = std::chrono::steady_clock::now() +
+                         std::chrono::milliseconds(static_cast<int>(seconds * 1000));
+        while (std::chrono::steady_clock::now() < end) {
+            if (done()) return true;
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        }
+        return done();
+    };
+    const bool focused = waitFor(
+        [&] { return test::slurp(err).find("session FOCUSED") != std::string::npos; }, 60);
+    // Let it render a few frames, then kill the service.
+    std::this_thread::sleep_for(std::chrono::seconds(2));
+    ASSERT_EQ(std::system(("kill -9 " + pid).c_str()), 0);
+    ASSERT_TRUE(focused) << test::slurp(err);
+    const bool ended = waitFor([&] { return std::filesystem::exists(status) &&
+                                            !test::slurp(status).empty(); },
+                               95);
+    ASSERT_TRUE(ended) << "gazetrace xr did not exit after its runtime died";
+    const int code = std::stoi(test::slurp(status));
+    EXPECT_NE(code, 124) << "gazetrace xr hung after its runtime died";
+    EXPECT_NE(code, 0);
+    EXPECT_LT(code, 128) << "gazetrace xr crashed (signal " << code - 128 << ")";
+    const std::string text = test::slurp(err);
+    const auto last = text.rfind("gazetrace: error:");
+    ASSERT_NE(last, std::string::npos) << text;
+    const std::string message = text.substr(last);
+    EXPECT_EQ(test::lines(message), 1) << message;
+    EXPECT_NE(message.find("OpenXR runtime"), std::string::npos) << message;
+}
+
+// No runtime, or a runtime whose service is not running: one line naming the problem and what
+// to install or set.
+TEST(Xr, MissingRuntimeIsOneLine) {
+    const auto dir = test::tempDir("xr_missing");
+    const auto shot = dir / "never.png";
+    const Result r = test::runWith("env XR_RUNTIME_JSON=" + (dir / "no_runtime.json").string(),
+                                   "xr --frames 2 --screenshot-eye left " + shot.string());
+    test::expectCleanFailure(r, "XR_RUNTIME_JSON", shot);
+    EXPECT_NE(r.err.find("no OpenXR runtime"), std::string::npos) << r.err;
+}
+
+TEST(Xr, RuntimeWithoutItsServiceIsOneLine) {
+    REQUIRE_MONADO();
+    const auto dir = test::tempDir("xr_noservice");
+    const auto xdg = dir / "empty_xdg";
+    std::filesystem::create_directories(xdg);
+    const auto shot = dir / "never.png";
+    const Result r = test::runWith("env XDG_RUNTIME_DIR=" + xdg.string(),
+                                   "xr --frames 2 --screenshot-eye left " + shot.string());
+    // Monado prints its own lines about the missing service first; gazetrace's is the last one.
+    EXPECT_NE(r.status, 0);
+    const auto last = r.err.rfind("gazetrace: error:");
+    ASSERT_NE(last, std::string::npos) << r.err;
+    const std::string message = r.err.substr(last);
+    EXPECT_EQ(test::lines(message), 1) << message;
+    EXPECT_NE(message.find("service is running"), std::string::npos) << message;
+    EXPECT_FALSE(std::filesystem::exists(shot));
+}
+
+TEST(Xr, BadOptionsFailBeforeTheRuntime) {
+    const auto dir = test::tempDir("xr_badargs");
+    const auto shot = dir / "never.png";
+    test::expectCleanFailure(test::run("xr --xr-space moon"), "--xr-space", shot);
+    test::expectCleanFailure(test::run("xr --xr-origin 1,2"), "--xr-origin", shot);
+    test::expectCleanFailure(test::run("xr --xr-scale 0"), "--xr-scale", shot);
+    test::expectCleanFailure(test::run("xr --screenshot-eye middle " + shot.string() +
+                                       " --frames 1"),
+                             "--screenshot-eye", shot);
+    test::expectCleanFailure(test::run("xr --screenshot-eye left " + shot.string()),
+                             "--frames", shot);
+    test::expectCleanFailure(test::run("xr --gaze nonsense"), "--gaze", shot);
+}
+
+} // namespace
+} // namespace gt
