@@ -250,6 +250,21 @@ TEST(Xr, MissingRuntimeIsOneLine) {
     EXPECT_NE(r.err.find("no OpenXR runtime"), std::string::npos) << r.err;
 }
 
+TEST(Xr, RuntimeWithoutVulkanIsOneLine) {
+    const auto dir = test::tempDir("xr_novulkan");
+    const auto manifest = dir / "fake_runtime.json";
+    {
+        std::ofstream out(manifest);
+        out << R"({"file_format_version": "1.0.0", "runtime": {"name": "fake", "library_path": ")"
+            << GT_FAKE_XR_RUNTIME << "\"}}\n";
+    }
+    const auto shot = dir / "never.png";
+    const Result r = test::runWith("env XR_RUNTIME_JSON=" + manifest.string(),
+                                   "xr --frames 2 --screenshot-eye left " + shot.string());
+    test::expectCleanFailure(r, "XR_KHR_vulkan_enable2", shot);
+    EXPECT_NE(r.err.find("XR_RUNTIME_JSON"), std::string::npos) << r.err;
+}
+
 TEST(Xr, RuntimeWithoutItsServiceIsOneLine) {
     REQUIRE_MONADO();
     const auto dir = test::tempDir("xr_noservice");
