@@ -11,8 +11,7 @@
 
 namespace gt::render {
 
-void ExternalImageTarget::addOutput(rg::RenderGraph& graph, rg::TextureId image,
-                                    const View& view) {
+void ExternalImageTarget::addOutput(rg::RenderGraph& graph, rg::TextureId image, const View& view) {
     if (!mImage) throw Error("external image target: no image handed over for this frame");
     rg::ImportedTexture t;
     t.image = mImage->image;
@@ -24,11 +23,10 @@ void ExternalImageTarget::addOutput(rg::RenderGraph& graph, rg::TextureId image,
     // earlier work on the queue, where the runtime recorded its own hand-over of the image.
     t.acquireStage = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
     const rg::TextureId target = graph.importTexture("xr.image", t);
-    const rg::TextureId srgb =
-        passes::addCopyPass(graph, "xr.srgb", image, VK_FORMAT_R8G8B8A8_SRGB, view.width,
-                            view.height);
-    const rg::TextureId written = passes::addBlitPass(
-        graph, "xr.blit", srgb, target, {{0, 0}, mImage->extent});
+    const rg::TextureId srgb = passes::addCopyPass(graph, "xr.srgb", image, VK_FORMAT_R8G8B8A8_SRGB,
+                                                   view.width, view.height);
+    const rg::TextureId written =
+        passes::addBlitPass(graph, "xr.blit", srgb, target, {{0, 0}, mImage->extent});
     if (mScreenshotWanted) {
         // What the runtime receives, read back from its own image.
         mScreenshotCopy.add(graph, "screenshot", written, mImage->extent.width,

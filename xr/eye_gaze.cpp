@@ -34,7 +34,8 @@ EyeGaze::EyeGaze(const Runtime& runtime, XrSession session) : mSession(session) 
                                          path(runtime, "/user/eyes_ext/input/gaze_ext/pose")};
         XrInteractionProfileSuggestedBinding suggested{
             XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING};
-        suggested.interactionProfile = path(runtime, "/interaction_profiles/ext/eye_gaze_interaction");
+        suggested.interactionProfile =
+            path(runtime, "/interaction_profiles/ext/eye_gaze_interaction");
         suggested.countSuggestedBindings = 1;
         suggested.suggestedBindings = &binding;
         GT_XR_CHECK(xrSuggestInteractionProfileBindings(runtime.instance(), &suggested));

@@ -15,9 +15,9 @@
 namespace gt::xr {
 
 struct EyeGazeSample {
-    glm::vec3 origin{0.0f};                      // head frame (VIEW space), metres
-    glm::vec3 direction{0.0f, 0.0f, -1.0f};      // head frame, OpenXR axes (-Z ahead)
-    XrTime time = 0;                             // when the tracker took it (0: not reported)
+    glm::vec3 origin{0.0f};                 // head frame (VIEW space), metres
+    glm::vec3 direction{0.0f, 0.0f, -1.0f}; // head frame, OpenXR axes (-Z ahead)
+    XrTime time = 0;                        // when the tracker took it (0: not reported)
 };
 
 class EyeGaze {

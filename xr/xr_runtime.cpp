@@ -14,8 +14,9 @@ namespace {
 std::string runtimeHint() {
     const char* json = std::getenv("XR_RUNTIME_JSON");
     return json && *json
-               ? std::string("XR_RUNTIME_JSON is ") + json + ": check that file and that its "
-                                                             "runtime's service is running"
+               ? std::string("XR_RUNTIME_JSON is ") + json +
+                     ": check that file and that its "
+                     "runtime's service is running"
                : "install an OpenXR runtime (Monado: apt-get install monado-service, then start "
                  "monado-service; or SteamVR) or set XR_RUNTIME_JSON to a runtime's manifest";
 }
@@ -127,7 +128,8 @@ Runtime::~Runtime() {
 PFN_xrVoidFunction Runtime::rawFunction(const char* name) const {
     PFN_xrVoidFunction f = nullptr;
     const XrResult r = xrGetInstanceProcAddr(mInstance, name, &f);
-    if (XR_FAILED(r) || f == nullptr) throw XrError(r, std::string("xrGetInstanceProcAddr ") + name);
+    if (XR_FAILED(r) || f == nullptr)
+        throw XrError(r, std::string("xrGetInstanceProcAddr ") + name);
     return f;
 }
 

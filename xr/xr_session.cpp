@@ -14,8 +14,7 @@ namespace {
 // sRGB formats first: the runtime then reads the image as display-referred, as gazetrace's
 // tonemapped output is. UNORM ones are taken too (the output target writes linear values there).
 constexpr std::array<VkFormat, 4> kFormats = {VK_FORMAT_R8G8B8A8_SRGB, VK_FORMAT_B8G8R8A8_SRGB,
-                                              VK_FORMAT_R8G8B8A8_UNORM,
-                                              VK_FORMAT_B8G8R8A8_UNORM};
+                                              VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_B8G8R8A8_UNORM};
 
 // How long one wait for a swapchain image may take before it counts as a runtime that hangs.
 constexpr XrDuration kImageWaitNs = 2'000'000'000;
@@ -54,29 +53,29 @@ Session::Session(const Runtime& runtime, vk::Context& ctx, const SessionOptions&
         GT_XR_CHECK(xrEnumerateReferenceSpaces(mSession, 0, &n, nullptr));
         std::vector<XrReferenceSpaceType> spaces(n);
         GT_XR_CHECK(xrEnumerateReferenceSpaces(mSession, n, &n, spaces.data()));
-        const bool stage = options.stageSpace &&
-                           std::find(spaces.begin(), spaces.end(),
-                                     XR_REFERENCE_SPACE_TYPE_STAGE) != spaces.end();
+        const bool stage =
+            options.stageSpace &&
+            std::find(spaces.begin(), spaces.end(), XR_REFERENCE_SPACE_TYPE_STAGE) != spaces.end();
         if (options.stageSpace && !stage) {
             log::warn("xr: the runtime offers no STAGE space; using LOCAL");
         }
-        mAppSpace = createReferenceSpace(
-            mSession, stage ? XR_REFERENCE_SPACE_TYPE_STAGE : XR_REFERENCE_SPACE_TYPE_LOCAL);
+        mAppSpace = createReferenceSpace(mSession, stage ? XR_REFERENCE_SPACE_TYPE_STAGE
+                                                         : XR_REFERENCE_SPACE_TYPE_LOCAL);
         mSpaceName = stage ? "STAGE" : "LOCAL";
         mViewSpace = createReferenceSpace(mSession, XR_REFERENCE_SPACE_TYPE_VIEW);
 
-        GT_XR_CHECK(xrEnumerateEnvironmentBlendModes(
-            runtime.instance(), runtime.system(), XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0,
-            &n, nullptr));
+        GT_XR_CHECK(xrEnumerateEnvironmentBlendModes(runtime.instance(), runtime.system(),
+                                                     XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0,
+                                                     &n, nullptr));
         std::vector<XrEnvironmentBlendMode> modes(n);
-        GT_XR_CHECK(xrEnumerateEnvironmentBlendModes(
-            runtime.instance(), runtime.system(), XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, n,
-            &n, modes.data()));
+        GT_XR_CHECK(xrEnumerateEnvironmentBlendModes(runtime.instance(), runtime.system(),
+                                                     XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, n,
+                                                     &n, modes.data()));
         if (modes.empty()) throw Error("the OpenXR runtime offers no environment blend mode");
-        mBlendMode = std::find(modes.begin(), modes.end(), XR_ENVIRONMENT_BLEND_MODE_OPAQUE) !=
-                             modes.end()
-                         ? XR_ENVIRONMENT_BLEND_MODE_OPAQUE
-                         : modes.front();
+        mBlendMode =
+            std::find(modes.begin(), modes.end(), XR_ENVIRONMENT_BLEND_MODE_OPAQUE) != modes.end()
+                ? XR_ENVIRONMENT_BLEND_MODE_OPAQUE
+                : modes.front();
         createSwapchains(options);
     } catch (...) {
         release();
@@ -87,12 +86,12 @@ Session::Session(const Runtime& runtime, vk::Context& ctx, const SessionOptions&
 void Session::createSwapchains(const SessionOptions& options) {
     uint32_t n = 0;
     GT_XR_CHECK(xrEnumerateViewConfigurationViews(mRuntime.instance(), mRuntime.system(),
-                                                  XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0,
-                                                  &n, nullptr));
+                                                  XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0, &n,
+                                                  nullptr));
     std::vector<XrViewConfigurationView> views(n, {XR_TYPE_VIEW_CONFIGURATION_VIEW});
     GT_XR_CHECK(xrEnumerateViewConfigurationViews(mRuntime.instance(), mRuntime.system(),
-                                                  XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, n,
-                                                  &n, views.data()));
+                                                  XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, n, &n,
+                                                  views.data()));
     if (n != 2) {
         throw Error("the OpenXR runtime's stereo view configuration has " + std::to_string(n) +
                     " views, not 2");
@@ -128,7 +127,8 @@ void Session::createSwapchains(const SessionOptions& options) {
         XrSwapchainCreateInfo info{XR_TYPE_SWAPCHAIN_CREATE_INFO};
         // Written by a blit (transfer), read back for --screenshot-eye (transfer), then read by
         // the runtime's compositor.
-        info.usageFlags = XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT |
+        info.usageFlags = XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT |
+                          XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT |
                           XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_SAMPLED_BIT;
         info.format = static_cast<int64_t>(mFormat);
         info.sampleCount = 1;

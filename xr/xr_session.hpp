@@ -23,10 +23,10 @@ struct SessionOptions {
 
 // One frame as the runtime paces it.
 struct FrameInfo {
-    XrTime displayTime = 0;     // predicted display time of this frame
+    XrTime displayTime = 0; // predicted display time of this frame
     XrDuration displayPeriod = 0;
-    bool shouldRender = false;  // false while SYNCHRONIZED (frames are not shown)
-    bool posesValid = false;    // both eyes' orientation and position are known
+    bool shouldRender = false;         // false while SYNCHRONIZED (frames are not shown)
+    bool posesValid = false;           // both eyes' orientation and position are known
     std::array<XrView, 2> views{};     // each eye in the application's reference space
     std::array<XrView, 2> headViews{}; // each eye relative to the head (VIEW space)
 };

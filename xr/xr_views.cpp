@@ -60,16 +60,16 @@ foveation::DisplayProfile eyeDisplay(const XrFovf& fov, uint32_t width, uint32_t
 glm::vec2 gazePixel(const glm::vec3& pointHead, bool atInfinity, const XrPosef& eyeInHead,
                     const XrFovf& fov, uint32_t width, uint32_t height) {
     const glm::quat q = toQuat(eyeInHead.orientation);
-    const glm::vec3 inEye = glm::inverse(q) * (atInfinity ? pointHead
-                                                          : pointHead - toVec(eyeInHead.position));
+    const glm::vec3 inEye =
+        glm::inverse(q) * (atInfinity ? pointHead : pointHead - toVec(eyeInHead.position));
     const trace::FrustumTangents t = tangentsOfFov(fov);
     const float ahead = std::max(-inEye.z, 1e-6f); // behind the eye: pinned to the edge below
     const float tx = inEye.x / ahead, ty = inEye.y / ahead;
     const glm::vec2 px((tx - t.left) / (t.right - t.left) * static_cast<float>(width),
                        (t.up - ty) / (t.up - t.down) * static_cast<float>(height));
-    return glm::clamp(px, glm::vec2(0.0f),
-                      glm::vec2(static_cast<float>(width) - 1.0f,
-                                static_cast<float>(height) - 1.0f));
+    return glm::clamp(
+        px, glm::vec2(0.0f),
+        glm::vec2(static_cast<float>(width) - 1.0f, static_cast<float>(height) - 1.0f));
 }
 
 glm::vec3 directionOfPixel(const glm::vec2& pixel, const XrPosef& eyeInHead, const XrFovf& fov,

@@ -364,8 +364,9 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     xrCmd->add_option("--xr-space", xr.space, "local | stage (floor-level; LOCAL if not offered)")
         ->capture_default_str();
-    xrCmd->add_option("--resolution-scale", xr.resolutionScale,
-                      "Eye image size as a share of the runtime's recommended size")
+    xrCmd
+        ->add_option("--resolution-scale", xr.resolutionScale,
+                     "Eye image size as a share of the runtime's recommended size")
         ->capture_default_str();
     xrCmd->add_option("--method", xr.method, "foveated | reference")->capture_default_str();
     xrCmd->add_option("--interp", xr.interp, "nn | msm | rbf")->capture_default_str();
@@ -389,8 +390,9 @@ int main(int argc, char** argv) {
                      "trace:FILE.csv | track:SOURCE | udp:PORT")
         ->capture_default_str();
     xrCmd->add_option("--calibration", xr.calibration, "Calibration file for --gaze track:");
-    xrCmd->add_option("--vergence-m", xr.vergenceM,
-                      "Distance the eyes converge at in metres (0: infinity)")
+    xrCmd
+        ->add_option("--vergence-m", xr.vergenceM,
+                     "Distance the eyes converge at in metres (0: infinity)")
         ->capture_default_str();
     bool xrNoRuntimeGaze = false;
     xrCmd->add_flag("--no-runtime-gaze", xrNoRuntimeGaze,
@@ -401,8 +403,9 @@ int main(int argc, char** argv) {
     std::vector<std::string> xrShot;
     xrCmd->add_option("--screenshot-eye", xrShot, "left|right FILE.png: that eye's last image")
         ->expected(2);
-    xrCmd->add_option("--start-timeout", xr.startTimeoutS,
-                      "Seconds the session may take to start running")
+    xrCmd
+        ->add_option("--start-timeout", xr.startTimeoutS,
+                     "Seconds the session may take to start running")
         ->capture_default_str();
     xrCmd->add_flag("--validate", xr.validate, "Khronos validation layer");
     xrCmd->add_option("--cache", xr.cacheDir, "Point-set cache folder");

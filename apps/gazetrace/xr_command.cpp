@@ -14,8 +14,8 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
-#include "eye_gaze.hpp"
 #include "external_image_target.hpp"
+#include "eye_gaze.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "full_resolution.hpp"
@@ -81,8 +81,7 @@ void checkOptions(const XrOptions& o) {
     }
     if (!o.screenshotEye.empty()) {
         if (o.screenshotEye != "left" && o.screenshotEye != "right") {
-            throw ArgumentError("--screenshot-eye: '" + o.screenshotEye +
-                                "' (known: left, right)");
+            throw ArgumentError("--screenshot-eye: '" + o.screenshotEye + "' (known: left, right)");
         }
         if (std::filesystem::path(o.screenshot).extension() != ".png") {
             throw ArgumentError("--screenshot-eye: give a .png file, got '" + o.screenshot + "'");
@@ -110,8 +109,8 @@ public:
         }
         const foveation::DisplayProfile display = xr::eyeDisplay(fov, size.width, size.height);
         // v to 1e-4 display widths: a runtime's per-frame float noise must not rebuild the set.
-        const auto key = std::make_tuple(size.width, size.height,
-                                         std::lround(display.viewingDistance * 1e4));
+        const auto key =
+            std::make_tuple(size.width, size.height, std::lround(display.viewingDistance * 1e4));
         auto& slot = mPointSets[key];
         if (!slot) {
             foveation::PointSetParams params;
@@ -223,8 +222,7 @@ nlohmann::json runXr(const XrOptions& o) {
     std::optional<xr::Session> session;
     {
         const auto scope = ctx.runtimeCalls();
-        session.emplace(runtime, ctx,
-                        xr::SessionOptions{o.space == "stage", o.resolutionScale});
+        session.emplace(runtime, ctx, xr::SessionOptions{o.space == "stage", o.resolutionScale});
     }
     xr::ScenePlacement placement =
         xr::ScenePlacement::facing(start, static_cast<float>(o.worldScale));
@@ -282,8 +280,8 @@ nlohmann::json runXr(const XrOptions& o) {
         if (!session->running()) {
             if (!exitAsked && rendered == 0 && msSince(t0, now) > o.startTimeoutS * 1000.0) {
                 throw Error("the OpenXR session did not start within " +
-                            std::to_string(static_cast<int>(o.startTimeoutS)) +
-                            " s (last state " + xr::stateName(session->lifecycle().state()) +
+                            std::to_string(static_cast<int>(o.startTimeoutS)) + " s (last state " +
+                            xr::stateName(session->lifecycle().state()) +
                             "): is the headset on and the runtime's compositor running?");
             }
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -308,10 +306,9 @@ nlohmann::json runXr(const XrOptions& o) {
             if (sample) {
                 gaze.fromRuntime = true;
                 gaze.atInfinity = o.vergenceM <= 0.0;
-                gaze.point = gaze.atInfinity
-                                 ? sample->direction
-                                 : sample->origin +
-                                       sample->direction * static_cast<float>(o.vergenceM);
+                gaze.point = gaze.atInfinity ? sample->direction
+                                             : sample->origin + sample->direction *
+                                                                    static_cast<float>(o.vergenceM);
                 if (sample->time != 0) gaze.sampled = runtime.fromXrTime(sample->time);
                 ++runtimeGazeFrames;
             } else if (ownGaze) {
@@ -319,10 +316,10 @@ nlohmann::json runXr(const XrOptions& o) {
                 if (const std::optional<GazeReading> r = ownGaze->read(tMs)) {
                     const VkExtent2D left = session->eyeExtent(0);
                     const glm::vec3 dir =
-                        r->anglesDeg ? xrDirectionOfAngles(*r->anglesDeg)
-                                     : xr::directionOfPixel(r->screenPx, frame.headViews[0].pose,
-                                                            frame.headViews[0].fov, left.width,
-                                                            left.height);
+                        r->anglesDeg
+                            ? xrDirectionOfAngles(*r->anglesDeg)
+                            : xr::directionOfPixel(r->screenPx, frame.headViews[0].pose,
+                                                   frame.headViews[0].fov, left.width, left.height);
                     gaze.atInfinity = o.vergenceM <= 0.0;
                     gaze.point = gaze.atInfinity ? dir : dir * static_cast<float>(o.vergenceM);
                     for (int e = 0; e < 2; ++e) {
@@ -399,31 +396,29 @@ nlohmann::json runXr(const XrOptions& o) {
                 if (!px) throw Error("--screenshot-eye: the eye image was not read back");
                 const render::View& v = views[shotEye];
                 image::writePngAtomic(o.screenshot, v.width, v.height, *px);
-                shotInfo = {{"eye", o.screenshotEye},
-                            {"file", o.screenshot},
-                            {"frame", rendered},
-                            {"width", v.width},
-                            {"height", v.height},
-                            {"camera", poseJson(v.camera)},
-                            {"tangents",
-                             {v.frustum->left, v.frustum->right, v.frustum->up, v.frustum->down}},
-                            {"gaze", {v.gaze.x, v.gaze.y}},
-                            // What the runtime reported for this eye and frame, in its space.
-                            {"xr_pose",
-                             {{"position",
-                               {frame.views[shotEye].pose.position.x,
-                                frame.views[shotEye].pose.position.y,
-                                frame.views[shotEye].pose.position.z}},
-                              {"orientation_xyzw",
-                               {frame.views[shotEye].pose.orientation.x,
-                                frame.views[shotEye].pose.orientation.y,
-                                frame.views[shotEye].pose.orientation.z,
-                                frame.views[shotEye].pose.orientation.w}}}},
-                            {"xr_fov_rad",
-                             {frame.views[shotEye].fov.angleLeft,
-                              frame.views[shotEye].fov.angleRight,
-                              frame.views[shotEye].fov.angleUp,
-                              frame.views[shotEye].fov.angleDown}}};
+                shotInfo = {
+                    {"eye", o.screenshotEye},
+                    {"file", o.screenshot},
+                    {"frame", rendered},
+                    {"width", v.width},
+                    {"height", v.height},
+                    {"camera", poseJson(v.camera)},
+                    {"tangents",
+                     {v.frustum->left, v.frustum->right, v.frustum->up, v.frustum->down}},
+                    {"gaze", {v.gaze.x, v.gaze.y}},
+                    // What the runtime reported for this eye and frame, in its space.
+                    {"xr_pose",
+                     {{"position",
+                       {frame.views[shotEye].pose.position.x, frame.views[shotEye].pose.position.y,
+                        frame.views[shotEye].pose.position.z}},
+                      {"orientation_xyzw",
+                       {frame.views[shotEye].pose.orientation.x,
+                        frame.views[shotEye].pose.orientation.y,
+                        frame.views[shotEye].pose.orientation.z,
+                        frame.views[shotEye].pose.orientation.w}}}},
+                    {"xr_fov_rad",
+                     {frame.views[shotEye].fov.angleLeft, frame.views[shotEye].fov.angleRight,
+                      frame.views[shotEye].fov.angleUp, frame.views[shotEye].fov.angleDown}}};
             }
             ++rendered;
         } else {

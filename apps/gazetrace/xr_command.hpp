@@ -14,12 +14,12 @@ namespace gt::app {
 
 struct XrOptions {
     std::string scene = "builtin:market";
-    std::string camera;       // start view (render's --camera): where the viewer stands
-    std::string origin;       // --xr-origin X,Y,Z: the reference space's origin in the scene
-    std::string yawDeg;       // --xr-yaw DEG: the direction the viewer faces (scene yaw)
-    double worldScale = 1.0;  // --xr-scale: scene units per metre
-    std::string space = "local"; // local | stage
-    double resolutionScale = 1.0; // of the runtime's recommended eye size
+    std::string camera;              // start view (render's --camera): where the viewer stands
+    std::string origin;              // --xr-origin X,Y,Z: the reference space's origin in the scene
+    std::string yawDeg;              // --xr-yaw DEG: the direction the viewer faces (scene yaw)
+    double worldScale = 1.0;         // --xr-scale: scene units per metre
+    std::string space = "local";     // local | stage
+    double resolutionScale = 1.0;    // of the runtime's recommended eye size
     std::string method = "foveated"; // foveated | reference
     std::string interp = "nn";
     uint32_t k = 10;
@@ -31,9 +31,9 @@ struct XrOptions {
     std::string calibration;    // for track:
     double vergenceM = 0.0;     // fixation distance for a combined gaze; 0: infinity
     bool runtimeGaze = true;    // use XR_EXT_eye_gaze_interaction where valid
-    uint32_t frames = 0;        // rendered frames, then end the session; 0: until the runtime ends it
-    std::string screenshotEye;  // left | right
-    std::string screenshot;     // FILE.png: that eye's image of the last frame
+    uint32_t frames = 0; // rendered frames, then end the session; 0: until the runtime ends it
+    std::string screenshotEye;   // left | right
+    std::string screenshot;      // FILE.png: that eye's image of the last frame
     double startTimeoutS = 30.0; // for the session to start running
     bool validate = false;
     std::string cacheDir;

@@ -13,10 +13,9 @@ rg::TextureId addCopyPass(rg::RenderGraph& graph, const std::string& name, rg::T
         name,
         [&](rg::PassBuilder& b, Data& d) {
             d.src = b.read(source, rg::Access::TransferSrc);
-            d.dst = b.write(b.createTexture(name + ".image",
-                                            {format, rg::SizeMode::Absolute,
-                                             static_cast<float>(width),
-                                             static_cast<float>(height)}),
+            d.dst = b.write(b.createTexture(name + ".image", {format, rg::SizeMode::Absolute,
+                                                              static_cast<float>(width),
+                                                              static_cast<float>(height)}),
                             rg::Access::TransferDst);
         },
         [](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {

@@ -32,8 +32,8 @@ TEST(XrLifecycle, BeginsOnReadyEndsOnStoppingExitsOnExiting) {
     EXPECT_FALSE(s.running());
     EXPECT_EQ(s.onStateChanged(XR_SESSION_STATE_IDLE), LifecycleAction::None);
     EXPECT_EQ(s.onStateChanged(XR_SESSION_STATE_EXITING), LifecycleAction::Exit);
-    const std::vector<std::string> expected = {"IDLE",     "READY", "SYNCHRONIZED", "VISIBLE",
-                                               "FOCUSED",  "STOPPING", "IDLE",      "EXITING"};
+    const std::vector<std::string> expected = {"IDLE",    "READY",    "SYNCHRONIZED", "VISIBLE",
+                                               "FOCUSED", "STOPPING", "IDLE",         "EXITING"};
     EXPECT_EQ(s.history(), expected);
 }
 
@@ -64,8 +64,9 @@ TEST(XrError, NamesTheResultAndSaysWhenTheRuntimeIsGone) {
     EXPECT_EQ(xr::resultName(XR_ERROR_SESSION_LOST), "XR_ERROR_SESSION_LOST");
     EXPECT_EQ(xr::resultName(static_cast<XrResult>(-999999)), "XrResult -999999");
     const xr::XrError gone(XR_ERROR_INSTANCE_LOST, "xrWaitFrame(session, &info, &state)");
-    EXPECT_NE(std::string(gone.what()).find("stopped responding (xrWaitFrame: "
-                                            "XR_ERROR_INSTANCE_LOST)"),
+    EXPECT_NE(std::string(gone.what())
+                  .find("stopped responding (xrWaitFrame: "
+                        "XR_ERROR_INSTANCE_LOST)"),
               std::string::npos)
         << gone.what();
     const xr::XrError other(XR_ERROR_VALIDATION_FAILURE, "xrBeginFrame(s, &b)");
@@ -98,8 +99,7 @@ TEST(XrViews, FovBecomesTangentsAndTheDisplayDistance) {
 
 TEST(XrViews, GazeAheadLandsOnTheAxisAndVergenceShiftsEachEyeInward) {
     const XrFovf fov = fovDeg(-45, 45, 45, -45);
-    const glm::vec2 centre =
-        xr::gazePixel({0, 0, -1}, true, pose({-0.032f, 0, 0}), fov, 640, 640);
+    const glm::vec2 centre = xr::gazePixel({0, 0, -1}, true, pose({-0.032f, 0, 0}), fov, 640, 640);
     EXPECT_NEAR(centre.x, 320.0f, 1e-3f);
     EXPECT_NEAR(centre.y, 320.0f, 1e-3f);
     // A point 0.5 m ahead of the head: the left eye (at -32 mm) sees it right of its axis, the
@@ -138,8 +138,8 @@ TEST(XrViews, PlacementPutsTheViewerAtTheStartViewFacingItsTarget) {
     EXPECT_NEAR(moved.position.z - start.position.z, 2.0f, 1e-5f);
     EXPECT_NEAR(moved.position.x - start.position.x, 0.0f, 1e-5f);
     // A head turned 90 degrees left looks along the scene's -Z.
-    const scene::Camera left =
-        xr::cameraOfPose(pose({0, 0, 0}, glm::angleAxis(glm::radians(90.0f), glm::vec3(0, 1, 0))), p);
+    const scene::Camera left = xr::cameraOfPose(
+        pose({0, 0, 0}, glm::angleAxis(glm::radians(90.0f), glm::vec3(0, 1, 0))), p);
     EXPECT_NEAR(left.forward.z, -1.0f, 1e-5f);
 }
 

@@ -4,8 +4,8 @@
 // compositor runs in gazetrace's process) are counted apart from gazetrace's.
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <thread>
@@ -99,8 +99,8 @@ TEST(Xr, RendersBothEyesAndEachMatchesAHeadlessRenderOfItsPose) {
     // Monado's simulated HMD has no eye tracker: the fallback is used, and said so.
     EXPECT_EQ(j["gaze_source"], "fixed");
     EXPECT_EQ(j["frames_with_runtime_gaze"], 0);
-    for (const char* pass : {"left.point_sample", "right.point_sample", "left.xr.blit",
-                             "right.xr.blit"}) {
+    for (const char* pass :
+         {"left.point_sample", "right.point_sample", "left.xr.blit", "right.xr.blit"}) {
         EXPECT_TRUE(j["gpu_ms"].contains(pass)) << pass;
     }
     for (const auto& eye : j["eyes"]) {
@@ -203,10 +203,10 @@ TEST(Xr, RuntimeThatDiesMidSessionEndsWithOneLine) {
     const auto err = dir / "err.txt";
     const auto status = dir / "status.txt";
     // Endless (--frames 0) until the runtime goes; `timeout` turns a hang into status 124.
-    const std::string cmd = "(XDG_RUNTIME_DIR=" + xdg.string() + " timeout 90 " +
-                            GT_GAZETRACE_EXE + " xr --resolution-scale 0.25 --cache " +
-                            (dir / "cache").string() + " 2> " + err.string() +
-                            " > /dev/null; echo $? > " + status.string() + ") &";
+    const std::string cmd = "(XDG_RUNTIME_DIR=" + xdg.string() + " timeout 90 " + GT_GAZETRACE_EXE +
+                            " xr --resolution-scale 0.25 --cache " + (dir / "cache").string() +
+                            " 2> " + err.string() + " > /dev/null; echo $? > " + status.string() +
+                            ") &";
     ASSERT_EQ(std::system(cmd.c_str()), 0);
     const auto waitFor = [](const std::function<bool()>& done, double seconds) {
         const auto end = std::chrono::steady_clock::now() +
@@ -217,15 +217,14 @@ TEST(Xr, RuntimeThatDiesMidSessionEndsWithOneLine) {
         }
         return done();
     };
-    const bool focused = waitFor(
-        [&] { return test::slurp(err).find("session FOCUSED") != std::string::npos; }, 60);
+    const bool focused =
+        waitFor([&] { return test::slurp(err).find("session FOCUSED") != std::string::npos; }, 60);
     // Let it render a few frames, then kill the service.
     std::this_thread::sleep_for(std::chrono::seconds(2));
     ASSERT_EQ(std::system(("kill -9 " + pid).c_str()), 0);
     ASSERT_TRUE(focused) << test::slurp(err);
-    const bool ended = waitFor([&] { return std::filesystem::exists(status) &&
-                                            !test::slurp(status).empty(); },
-                               95);
+    const bool ended = waitFor(
+        [&] { return std::filesystem::exists(status) && !test::slurp(status).empty(); }, 95);
     ASSERT_TRUE(ended) << "gazetrace xr did not exit after its runtime died";
     const int code = std::stoi(test::slurp(status));
     EXPECT_NE(code, 124) << "gazetrace xr hung after its runtime died";
@@ -289,11 +288,11 @@ TEST(Xr, BadOptionsFailBeforeTheRuntime) {
     test::expectCleanFailure(test::run("xr --xr-space moon"), "--xr-space", shot);
     test::expectCleanFailure(test::run("xr --xr-origin 1,2"), "--xr-origin", shot);
     test::expectCleanFailure(test::run("xr --xr-scale 0"), "--xr-scale", shot);
-    test::expectCleanFailure(test::run("xr --screenshot-eye middle " + shot.string() +
-                                       " --frames 1"),
-                             "--screenshot-eye", shot);
-    test::expectCleanFailure(test::run("xr --screenshot-eye left " + shot.string()),
-                             "--frames", shot);
+    test::expectCleanFailure(
+        test::run("xr --screenshot-eye middle " + shot.string() + " --frames 1"),
+        "--screenshot-eye", shot);
+    test::expectCleanFailure(test::run("xr --screenshot-eye left " + shot.string()), "--frames",
+                             shot);
     test::expectCleanFailure(test::run("xr --gaze nonsense"), "--gaze", shot);
 }
 
