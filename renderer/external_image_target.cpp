@@ -12,7 +12,9 @@
 namespace gt::render {
 
 void ExternalImageTarget::addOutput(rg::RenderGraph& graph, rg::TextureId image, const View& view) {
-    if (!mImage) throw Error("external image target: no image handed over for this frame");
+    if (!mImage) {
+        throw Error("external image target: no image handed over for this frame");
+    }
     rg::ImportedTexture t;
     t.image = mImage->image;
     t.format = mImage->format;
@@ -38,7 +40,9 @@ void ExternalImageTarget::addOutput(rg::RenderGraph& graph, rg::TextureId image,
 }
 
 void ExternalImageTarget::frameFinished() {
-    if (!mScreenshotWanted || !mScreenshotCopy.recorded()) return;
+    if (!mScreenshotWanted || !mScreenshotCopy.recorded()) {
+        return;
+    }
     std::vector<uint8_t> px = mScreenshotCopy.download();
     const bool bgra = mScreenshotFormat == VK_FORMAT_B8G8R8A8_SRGB ||
                       mScreenshotFormat == VK_FORMAT_B8G8R8A8_UNORM;
@@ -52,10 +56,13 @@ void ExternalImageTarget::frameFinished() {
         encode[static_cast<std::size_t>(i)] = static_cast<uint8_t>(std::lround(e * 255.0));
     }
     for (std::size_t i = 0; i + 3 < px.size(); i += 4) {
-        if (bgra) std::swap(px[i], px[i + 2]);
+        if (bgra) {
+            std::swap(px[i], px[i + 2]);
+        }
         if (linear) {
-            for (std::size_t c = 0; c < 3; ++c)
+            for (std::size_t c = 0; c < 3; ++c) {
                 px[i + c] = encode[px[i + c]];
+            }
         }
     }
     mScreenshot = std::move(px);

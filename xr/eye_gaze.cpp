@@ -50,15 +50,21 @@ EyeGaze::EyeGaze(const Runtime& runtime, XrSession session) : mSession(session) 
         spaceInfo.poseInActionSpace.orientation.w = 1.0f;
         GT_XR_CHECK(xrCreateActionSpace(session, &spaceInfo, &mSpace));
     } catch (...) {
-        if (mSpace != XR_NULL_HANDLE) xrDestroySpace(mSpace);
+        if (mSpace != XR_NULL_HANDLE) {
+            xrDestroySpace(mSpace);
+        }
         xrDestroyActionSet(mActionSet); // destroys its actions too
         throw;
     }
 }
 
 EyeGaze::~EyeGaze() {
-    if (mSpace != XR_NULL_HANDLE) xrDestroySpace(mSpace);
-    if (mActionSet != XR_NULL_HANDLE) xrDestroyActionSet(mActionSet);
+    if (mSpace != XR_NULL_HANDLE) {
+        xrDestroySpace(mSpace);
+    }
+    if (mActionSet != XR_NULL_HANDLE) {
+        xrDestroyActionSet(mActionSet);
+    }
 }
 
 std::optional<EyeGazeSample> EyeGaze::locate(XrSpace viewSpace, XrTime displayTime) {
@@ -68,13 +74,17 @@ std::optional<EyeGazeSample> EyeGaze::locate(XrSpace viewSpace, XrTime displayTi
     sync.activeActionSets = &active;
     const XrResult synced = xrSyncActions(mSession, &sync);
     GT_XR_CHECK(synced);
-    if (synced == XR_SESSION_NOT_FOCUSED) return std::nullopt; // input goes elsewhere
+    if (synced == XR_SESSION_NOT_FOCUSED) {
+        return std::nullopt; // input goes elsewhere
+    }
 
     XrActionStateGetInfo get{XR_TYPE_ACTION_STATE_GET_INFO};
     get.action = mAction;
     XrActionStatePose state{XR_TYPE_ACTION_STATE_POSE};
     GT_XR_CHECK(xrGetActionStatePose(mSession, &get, &state));
-    if (!state.isActive) return std::nullopt;
+    if (!state.isActive) {
+        return std::nullopt;
+    }
 
     XrEyeGazeSampleTimeEXT sampleTime{XR_TYPE_EYE_GAZE_SAMPLE_TIME_EXT};
     XrSpaceLocation location{XR_TYPE_SPACE_LOCATION};
@@ -82,7 +92,9 @@ std::optional<EyeGazeSample> EyeGaze::locate(XrSpace viewSpace, XrTime displayTi
     GT_XR_CHECK(xrLocateSpace(mSpace, viewSpace, displayTime, &location));
     constexpr XrSpaceLocationFlags valid =
         XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT;
-    if ((location.locationFlags & valid) != valid) return std::nullopt;
+    if ((location.locationFlags & valid) != valid) {
+        return std::nullopt;
+    }
     const XrQuaternionf& q = location.pose.orientation;
     const glm::quat rotation(q.w, q.x, q.y, q.z);
     EyeGazeSample s;

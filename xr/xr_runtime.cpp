@@ -30,16 +30,21 @@ std::vector<std::string> instanceExtensions() {
     }
     std::vector<XrExtensionProperties> props(n, {XR_TYPE_EXTENSION_PROPERTIES});
     r = xrEnumerateInstanceExtensionProperties(nullptr, n, &n, props.data());
-    if (XR_FAILED(r)) throw XrError(r, "xrEnumerateInstanceExtensionProperties");
+    if (XR_FAILED(r)) {
+        throw XrError(r, "xrEnumerateInstanceExtensionProperties");
+    }
     std::vector<std::string> names;
-    for (uint32_t i = 0; i < n; ++i)
+    for (uint32_t i = 0; i < n; ++i) {
         names.emplace_back(props[i].extensionName);
+    }
     return names;
 }
 
 bool contains(const std::vector<std::string>& v, const char* name) {
     for (const std::string& s : v) {
-        if (s == name) return true;
+        if (s == name) {
+            return true;
+        }
     }
     return false;
 }
@@ -59,9 +64,13 @@ Runtime::Runtime(const RuntimeOptions& options) {
     std::vector<const char*> enabled = {XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME};
     mEyeGazeExtension =
         options.eyeGaze && contains(offered, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
-    if (mEyeGazeExtension) enabled.push_back(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
+    if (mEyeGazeExtension) {
+        enabled.push_back(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
+    }
     mTimespec = contains(offered, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME);
-    if (mTimespec) enabled.push_back(XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME);
+    if (mTimespec) {
+        enabled.push_back(XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME);
+    }
 
     XrInstanceCreateInfo info{XR_TYPE_INSTANCE_CREATE_INFO};
     std::strncpy(info.applicationInfo.applicationName, options.applicationName.c_str(),
@@ -99,7 +108,9 @@ Runtime::Runtime(const RuntimeOptions& options) {
         XrSystemEyeGazeInteractionPropertiesEXT eye{
             XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT};
         XrSystemProperties sp{XR_TYPE_SYSTEM_PROPERTIES};
-        if (mEyeGazeExtension) sp.next = &eye;
+        if (mEyeGazeExtension) {
+            sp.next = &eye;
+        }
         GT_XR_CHECK(xrGetSystemProperties(mInstance, mSystem, &sp));
         mSystemName = sp.systemName;
         mEyeGazeSupported = mEyeGazeExtension && eye.supportsEyeGazeInteraction == XR_TRUE;
@@ -122,14 +133,17 @@ Runtime::Runtime(const RuntimeOptions& options) {
 }
 
 Runtime::~Runtime() {
-    if (mInstance != XR_NULL_HANDLE) xrDestroyInstance(mInstance);
+    if (mInstance != XR_NULL_HANDLE) {
+        xrDestroyInstance(mInstance);
+    }
 }
 
 PFN_xrVoidFunction Runtime::rawFunction(const char* name) const {
     PFN_xrVoidFunction f = nullptr;
     const XrResult r = xrGetInstanceProcAddr(mInstance, name, &f);
-    if (XR_FAILED(r) || f == nullptr)
+    if (XR_FAILED(r) || f == nullptr) {
         throw XrError(r, std::string("xrGetInstanceProcAddr ") + name);
+    }
     return f;
 }
 
@@ -175,7 +189,9 @@ vk::ContextOptions Runtime::vulkanHooks() const {
 XrTime Runtime::toXrTime(std::chrono::steady_clock::time_point t) const {
     const auto ns =
         std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
-    if (!mTimespec) return static_cast<XrTime>(ns);
+    if (!mTimespec) {
+        return static_cast<XrTime>(ns);
+    }
     timespec ts{};
     ts.tv_sec = static_cast<time_t>(ns / 1'000'000'000);
     ts.tv_nsec = static_cast<long>(ns % 1'000'000'000);

@@ -71,7 +71,9 @@ Session::Session(const Runtime& runtime, vk::Context& ctx, const SessionOptions&
         GT_XR_CHECK(xrEnumerateEnvironmentBlendModes(runtime.instance(), runtime.system(),
                                                      XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, n,
                                                      &n, modes.data()));
-        if (modes.empty()) throw Error("the OpenXR runtime offers no environment blend mode");
+        if (modes.empty()) {
+            throw Error("the OpenXR runtime offers no environment blend mode");
+        }
         mBlendMode =
             std::find(modes.begin(), modes.end(), XR_ENVIRONMENT_BLEND_MODE_OPAQUE) != modes.end()
                 ? XR_ENVIRONMENT_BLEND_MODE_OPAQUE
@@ -107,8 +109,9 @@ void Session::createSwapchains(const SessionOptions& options) {
     }
     if (mFormat == VK_FORMAT_UNDEFINED) {
         std::string offered;
-        for (const int64_t f : formats)
+        for (const int64_t f : formats) {
             offered += (offered.empty() ? "" : ", ") + std::to_string(f);
+        }
         throw Error("the OpenXR runtime offers no 8-bit RGBA swapchain format gazetrace can "
                     "write (it needs VkFormat 43, 50, 37 or 44; offered: " +
                     offered + ")");
@@ -142,8 +145,9 @@ void Session::createSwapchains(const SessionOptions& options) {
         std::vector<XrSwapchainImageVulkan2KHR> images(n, {XR_TYPE_SWAPCHAIN_IMAGE_VULKAN2_KHR});
         GT_XR_CHECK(xrEnumerateSwapchainImages(
             eye.swapchain, n, &n, reinterpret_cast<XrSwapchainImageBaseHeader*>(images.data())));
-        for (const auto& img : images)
+        for (const auto& img : images) {
             eye.images.push_back(img.image);
+        }
     }
 }
 
@@ -154,12 +158,20 @@ Session::~Session() {
 void Session::release() noexcept {
     // Errors are ignored here: a runtime that went away answers every call with one.
     for (Eye& eye : mEyes) {
-        if (eye.swapchain != XR_NULL_HANDLE) xrDestroySwapchain(eye.swapchain);
+        if (eye.swapchain != XR_NULL_HANDLE) {
+            xrDestroySwapchain(eye.swapchain);
+        }
         eye.swapchain = XR_NULL_HANDLE;
     }
-    if (mViewSpace != XR_NULL_HANDLE) xrDestroySpace(mViewSpace);
-    if (mAppSpace != XR_NULL_HANDLE) xrDestroySpace(mAppSpace);
-    if (mSession != XR_NULL_HANDLE) xrDestroySession(mSession);
+    if (mViewSpace != XR_NULL_HANDLE) {
+        xrDestroySpace(mViewSpace);
+    }
+    if (mAppSpace != XR_NULL_HANDLE) {
+        xrDestroySpace(mAppSpace);
+    }
+    if (mSession != XR_NULL_HANDLE) {
+        xrDestroySession(mSession);
+    }
     mViewSpace = mAppSpace = XR_NULL_HANDLE;
     mSession = XR_NULL_HANDLE;
 }
@@ -168,7 +180,9 @@ bool Session::pollEvents() {
     for (;;) {
         XrEventDataBuffer event{XR_TYPE_EVENT_DATA_BUFFER};
         const XrResult r = xrPollEvent(mRuntime.instance(), &event);
-        if (r == XR_EVENT_UNAVAILABLE) return true;
+        if (r == XR_EVENT_UNAVAILABLE) {
+            return true;
+        }
         GT_XR_CHECK(r);
         if (event.type == XR_TYPE_EVENT_DATA_INSTANCE_LOSS_PENDING) {
             throw Error("the OpenXR runtime is shutting down (instance loss pending)");
@@ -177,7 +191,9 @@ bool Session::pollEvents() {
             log::warn("xr: the runtime dropped events");
             continue;
         }
-        if (event.type != XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED) continue;
+        if (event.type != XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED) {
+            continue;
+        }
         const auto& changed = reinterpret_cast<const XrEventDataSessionStateChanged&>(event);
         log::info("xr: session " + stateName(changed.state));
         switch (mLifecycle.onStateChanged(changed.state)) {
@@ -204,9 +220,13 @@ bool Session::pollEvents() {
 }
 
 void Session::requestExit() {
-    if (mLifecycle.isExitRequested()) return;
+    if (mLifecycle.isExitRequested()) {
+        return;
+    }
     mLifecycle.exitRequested();
-    if (mLifecycle.running()) GT_XR_CHECK(xrRequestExitSession(mSession));
+    if (mLifecycle.running()) {
+        GT_XR_CHECK(xrRequestExitSession(mSession));
+    }
 }
 
 FrameInfo Session::beginFrame() {
@@ -219,7 +239,9 @@ FrameInfo Session::beginFrame() {
     f.displayTime = state.predictedDisplayTime;
     f.displayPeriod = state.predictedDisplayPeriod;
     f.shouldRender = state.shouldRender == XR_TRUE;
-    if (!f.shouldRender) return f;
+    if (!f.shouldRender) {
+        return f;
+    }
     const auto locate = [&](XrSpace space, std::array<XrView, 2>& out) {
         XrViewLocateInfo info{XR_TYPE_VIEW_LOCATE_INFO};
         info.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
@@ -249,7 +271,9 @@ EyeImage Session::acquire(uint32_t eye) {
         throw Error("the OpenXR runtime did not hand back a swapchain image within 2 s");
     }
     GT_XR_CHECK(r);
-    if (e.acquired >= e.images.size()) throw Error("the OpenXR runtime gave an unknown image");
+    if (e.acquired >= e.images.size()) {
+        throw Error("the OpenXR runtime gave an unknown image");
+    }
     return {e.images[e.acquired], mFormat, e.extent};
 }
 

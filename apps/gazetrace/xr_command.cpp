@@ -42,7 +42,9 @@ double msSince(Clock::time_point a, Clock::time_point b) {
 }
 
 double medianOf(std::vector<double> v) {
-    if (v.empty()) return 0.0;
+    if (v.empty()) {
+        return 0.0;
+    }
     std::sort(v.begin(), v.end());
     return v[v.size() / 2];
 }
@@ -86,12 +88,16 @@ void checkOptions(const XrOptions& o) {
         if (std::filesystem::path(o.screenshot).extension() != ".png") {
             throw ArgumentError("--screenshot-eye: give a .png file, got '" + o.screenshot + "'");
         }
-        if (o.frames == 0) throw ArgumentError("--screenshot-eye needs --frames N");
+        if (o.frames == 0) {
+            throw ArgumentError("--screenshot-eye needs --frames N");
+        }
     }
     if (!(o.vergenceM >= 0.0) || o.vergenceM > 1e6) {
         throw ArgumentError("--vergence-m must be 0 (infinity) to 1e6");
     }
-    if (!(o.startTimeoutS > 0.0)) throw ArgumentError("--start-timeout must be above 0");
+    if (!(o.startTimeoutS > 0.0)) {
+        throw ArgumentError("--start-timeout must be above 0");
+    }
 }
 
 // The foveation method of an eye image (its size and field of view), built on first use and
@@ -171,7 +177,9 @@ nlohmann::json runXr(const XrOptions& o) {
     checkOptions(o);
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
     std::optional<glm::vec3> origin;
-    if (!o.origin.empty()) origin = parseVec3(o.origin, "--xr-origin");
+    if (!o.origin.empty()) {
+        origin = parseVec3(o.origin, "--xr-origin");
+    }
     std::optional<float> yaw;
     if (!o.yawDeg.empty()) {
         char* end = nullptr;
@@ -216,7 +224,9 @@ nlohmann::json runXr(const XrOptions& o) {
     if (cameraArg) {
         start = cameraArg->camera(sc.camera.yfov);
     } else if (sc.cameraFramed) {
-        if (const auto inside = scene::insideStartView(sc, renderer.bvh())) start = *inside;
+        if (const auto inside = scene::insideStartView(sc, renderer.bvh())) {
+            start = *inside;
+        }
     }
 
     std::optional<xr::Session> session;
@@ -230,8 +240,12 @@ nlohmann::json runXr(const XrOptions& o) {
         // STAGE's origin is on the floor: the start view's eye stands 1.6 m above it.
         placement.origin.y -= 1.6f * placement.scale;
     }
-    if (origin) placement.origin = *origin;
-    if (yaw) placement.yawRad = *yaw;
+    if (origin) {
+        placement.origin = *origin;
+    }
+    if (yaw) {
+        placement.yawRad = *yaw;
+    }
 
     std::optional<xr::EyeGaze> eyeGaze;
     std::string eyeGazeStatus = "not offered by the runtime";
@@ -309,7 +323,9 @@ nlohmann::json runXr(const XrOptions& o) {
                 gaze.point = gaze.atInfinity ? sample->direction
                                              : sample->origin + sample->direction *
                                                                     static_cast<float>(o.vergenceM);
-                if (sample->time != 0) gaze.sampled = runtime.fromXrTime(sample->time);
+                if (sample->time != 0) {
+                    gaze.sampled = runtime.fromXrTime(sample->time);
+                }
                 ++runtimeGazeFrames;
             } else if (ownGaze) {
                 const double tMs = msSince(t0, renderStart);
@@ -355,7 +371,9 @@ nlohmann::json runXr(const XrOptions& o) {
                 v.exposure = sc.exposure;
             }
             const bool lastFrame = o.frames != 0 && rendered + 1 == o.frames;
-            if (lastFrame && !o.screenshot.empty()) targets[shotEye].requestScreenshot();
+            if (lastFrame && !o.screenshot.empty()) {
+                targets[shotEye].requestScreenshot();
+            }
             {
                 const auto scope = ctx.runtimeCalls();
                 for (uint32_t e = 0; e < 2; ++e) {
@@ -375,14 +393,19 @@ nlohmann::json runXr(const XrOptions& o) {
                             " Vulkan validation error(s) in gazetrace's own calls");
             }
             renderMs.push_back(msSince(renderStart, Clock::now()));
-            for (const auto& v : result.views)
+            for (const auto& v : result.views) {
                 rays += v.rays;
+            }
             if (result.timings) {
                 std::array<double, 2> eyeSum{0.0, 0.0};
                 for (const rg::PassTiming& p : result.timings->passes) {
                     passMs[p.name].push_back(p.gpuMs);
-                    if (p.name.starts_with("left.")) eyeSum[0] += p.gpuMs;
-                    if (p.name.starts_with("right.")) eyeSum[1] += p.gpuMs;
+                    if (p.name.starts_with("left.")) {
+                        eyeSum[0] += p.gpuMs;
+                    }
+                    if (p.name.starts_with("right.")) {
+                        eyeSum[1] += p.gpuMs;
+                    }
                 }
                 eyeGpuMs[0].push_back(eyeSum[0]);
                 eyeGpuMs[1].push_back(eyeSum[1]);
@@ -393,7 +416,9 @@ nlohmann::json runXr(const XrOptions& o) {
             }
             if (lastFrame && !o.screenshot.empty()) {
                 const auto& px = targets[shotEye].screenshot();
-                if (!px) throw Error("--screenshot-eye: the eye image was not read back");
+                if (!px) {
+                    throw Error("--screenshot-eye: the eye image was not read back");
+                }
                 const render::View& v = views[shotEye];
                 image::writePngAtomic(o.screenshot, v.width, v.height, *px);
                 shotInfo = {
@@ -427,7 +452,9 @@ nlohmann::json runXr(const XrOptions& o) {
             ++emptyFrames;
         }
         const auto end = Clock::now();
-        if (render) frameMs.push_back(msSince(lastFrameEnd, end));
+        if (render) {
+            frameMs.push_back(msSince(lastFrameEnd, end));
+        }
         lastFrameEnd = end;
         if (o.frames != 0 && rendered >= o.frames && !exitAsked) {
             const auto scope = ctx.runtimeCalls();
@@ -458,11 +485,15 @@ nlohmann::json runXr(const XrOptions& o) {
     nlohmann::json passes = nlohmann::json::object();
     for (auto& [name, times] : passMs) {
         // The first frame compiles pipelines and builds tables: steady state from the second.
-        if (times.size() > 1) times.erase(times.begin());
+        if (times.size() > 1) {
+            times.erase(times.begin());
+        }
         passes[name] = medianOf(times);
     }
     const auto steady = [](std::vector<double> v) {
-        if (v.size() > 1) v.erase(v.begin());
+        if (v.size() > 1) {
+            v.erase(v.begin());
+        }
         return medianOf(std::move(v));
     };
     nlohmann::json eyes = nlohmann::json::array();
@@ -480,7 +511,9 @@ nlohmann::json runXr(const XrOptions& o) {
         gazeUsed = "XR_EXT_eye_gaze_interaction, else " + ownGazeName;
     } else {
         gazeUsed = ownGazeName;
-        if (eyeGaze) eyeGazeStatus = "offered, but no valid gaze pose was reported";
+        if (eyeGaze) {
+            eyeGazeStatus = "offered, but no valid gaze pose was reported";
+        }
     }
     return {{"runtime", runtime.runtimeName()},
             {"system", runtime.systemName()},
