@@ -5,7 +5,6 @@
 #include <utility>
 
 #include "blit/blit.hpp"
-#include "copy/copy.hpp"
 #include "core/error.hpp"
 #include "view.hpp"
 

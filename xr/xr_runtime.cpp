@@ -40,6 +40,17 @@ std::vector<std::string> instanceExtensions() {
     return names;
 }
 
+// Calls one of XR_KHR_vulkan_enable2's create functions, which answer twice: the runtime's
+// XrResult, and the VkResult of the Vulkan call it made for us.
+template <typename Handle, typename Create, typename Info>
+Handle createThroughRuntime(Create create, XrInstance instance, const Info& info) {
+    Handle handle = VK_NULL_HANDLE;
+    VkResult vr = VK_SUCCESS;
+    GT_XR_CHECK(create(instance, &info, &handle, &vr));
+    GT_VK_CHECK(vr);
+    return handle;
+}
+
 bool contains(const std::vector<std::string>& v, const char* name) {
     for (const std::string& s : v) {
         if (s == name) {
@@ -155,11 +166,7 @@ vk::ContextOptions Runtime::vulkanHooks() const {
         ci.systemId = mSystem;
         ci.pfnGetInstanceProcAddr = &vkGetInstanceProcAddr;
         ci.vulkanCreateInfo = &info;
-        VkInstance instance = VK_NULL_HANDLE;
-        VkResult vr = VK_SUCCESS;
-        GT_XR_CHECK(create(mInstance, &ci, &instance, &vr));
-        GT_VK_CHECK(vr);
-        return instance;
+        return createThroughRuntime<VkInstance>(create, mInstance, ci);
     };
     o.choosePhysicalDevice = [this](VkInstance instance) {
         auto get = function<PFN_xrGetVulkanGraphicsDevice2KHR>("xrGetVulkanGraphicsDevice2KHR");
@@ -177,11 +184,7 @@ vk::ContextOptions Runtime::vulkanHooks() const {
         ci.pfnGetInstanceProcAddr = &vkGetInstanceProcAddr;
         ci.vulkanPhysicalDevice = pd;
         ci.vulkanCreateInfo = &info;
-        VkDevice device = VK_NULL_HANDLE;
-        VkResult vr = VK_SUCCESS;
-        GT_XR_CHECK(create(mInstance, &ci, &device, &vr));
-        GT_VK_CHECK(vr);
-        return device;
+        return createThroughRuntime<VkDevice>(create, mInstance, ci);
     };
     return o;
 }

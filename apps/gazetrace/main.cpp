@@ -32,6 +32,26 @@ void addSizeOptions(CLI::App* cmd, uint32_t& width, uint32_t& height, uint32_t m
         ->capture_default_str();
 }
 
+// The method settings of the real-time front ends (demo, xr).
+void addLiveMethodOptions(CLI::App* cmd, std::string& method, std::string& interp, uint32_t& k,
+                          double& scale, uint32_t& raysPerPoint, uint32_t& spp, std::string& taa) {
+    cmd->add_option("--method", method, "foveated | reference")->capture_default_str();
+    cmd->add_option("--interp", interp, "nn | msm | rbf")->capture_default_str();
+    cmd->add_option("--k", k, "Neighbours for msm / rbf")->capture_default_str();
+    cmd->add_option("--scale", scale, "Point-set scaling value (sparser above 1)")
+        ->check(CLI::Range(0.25, 8.0))
+        ->capture_default_str();
+    cmd->add_option("--rays-per-point", raysPerPoint, "Rays traced per point")
+        ->check(CLI::Range(1u, 1024u))
+        ->capture_default_str();
+    cmd->add_option("--spp", spp, "Rays per pixel (reference method)")
+        ->check(CLI::Range(1u, 1024u))
+        ->capture_default_str();
+    cmd->add_option("--taa", taa, "on | off")
+        ->check(CLI::IsMember({"on", "off"}))
+        ->capture_default_str();
+}
+
 int fail(const std::string& message) {
     std::fprintf(stderr, "gazetrace: error: %s\n", message.c_str());
     return 1;
@@ -288,21 +308,8 @@ int main(int argc, char** argv) {
     demoCmd->add_option("--height", demo.height, "Window height at start")
         ->check(CLI::Range(16u, 8192u))
         ->capture_default_str();
-    demoCmd->add_option("--method", demo.method, "foveated | reference")->capture_default_str();
-    demoCmd->add_option("--interp", demo.interp, "nn | msm | rbf")->capture_default_str();
-    demoCmd->add_option("--k", demo.k, "Neighbours for msm / rbf")->capture_default_str();
-    demoCmd->add_option("--scale", demo.scale, "Point-set scaling value (sparser above 1)")
-        ->check(CLI::Range(0.25, 8.0))
-        ->capture_default_str();
-    demoCmd->add_option("--rays-per-point", demo.raysPerPoint, "Rays traced per point")
-        ->check(CLI::Range(1u, 1024u))
-        ->capture_default_str();
-    demoCmd->add_option("--spp", demo.spp, "Rays per pixel (reference method)")
-        ->check(CLI::Range(1u, 1024u))
-        ->capture_default_str();
-    demoCmd->add_option("--taa", demoTaa, "on | off")
-        ->check(CLI::IsMember({"on", "off"}))
-        ->capture_default_str();
+    addLiveMethodOptions(demoCmd, demo.method, demo.interp, demo.k, demo.scale, demo.raysPerPoint,
+                         demo.spp, demoTaa);
     demoCmd->add_option("--view", demo.view, "Debug view: points | cells | eccentricity");
     demoCmd
         ->add_option("--gaze", demo.gaze,
@@ -368,22 +375,9 @@ int main(int argc, char** argv) {
         ->add_option("--resolution-scale", xr.resolutionScale,
                      "Eye image size as a share of the runtime's recommended size")
         ->capture_default_str();
-    xrCmd->add_option("--method", xr.method, "foveated | reference")->capture_default_str();
-    xrCmd->add_option("--interp", xr.interp, "nn | msm | rbf")->capture_default_str();
-    xrCmd->add_option("--k", xr.k, "Neighbours for msm / rbf")->capture_default_str();
-    xrCmd->add_option("--scale", xr.pointScale, "Point-set scaling value (sparser above 1)")
-        ->check(CLI::Range(0.25, 8.0))
-        ->capture_default_str();
-    xrCmd->add_option("--rays-per-point", xr.raysPerPoint, "Rays traced per point")
-        ->check(CLI::Range(1u, 1024u))
-        ->capture_default_str();
-    xrCmd->add_option("--spp", xr.spp, "Rays per pixel (reference method)")
-        ->check(CLI::Range(1u, 1024u))
-        ->capture_default_str();
     std::string xrTaa = "on";
-    xrCmd->add_option("--taa", xrTaa, "on | off")
-        ->check(CLI::IsMember({"on", "off"}))
-        ->capture_default_str();
+    addLiveMethodOptions(xrCmd, xr.method, xr.interp, xr.k, xr.pointScale, xr.raysPerPoint, xr.spp,
+                         xrTaa);
     xrCmd
         ->add_option("--gaze", xr.gaze,
                      "Gaze when the runtime gives none: ahead | fixed:X,Y (left eye pixels) | "
