@@ -102,9 +102,9 @@ void rendersAndMatches(const std::string& eye) {
          {"left.point_sample", "right.point_sample", "left.xr.blit", "right.xr.blit"}) {
         EXPECT_TRUE(j["gpu_ms"].contains(pass)) << pass;
     }
-    for (const auto& eye : j["eyes"]) {
-        EXPECT_GT(eye["width"].get<int>(), 0);
-        EXPECT_GT(eye["gpu_ms_median"].get<double>(), 0.0);
+    for (const auto& e : j["eyes"]) {
+        EXPECT_GT(e["width"].get<int>(), 0);
+        EXPECT_GT(e["gpu_ms_median"].get<double>(), 0.0);
     }
 
     // The left eye's last image against the renderer fed the same view headlessly.
