@@ -23,9 +23,9 @@ struct XrOptions {
     std::string method = "foveated"; // foveated | reference
     std::string interp = "nn";
     uint32_t k = 10;
-    double pointScale = 1.0; // the point set's scaling value
+    double pointScale = 1.0;   // the point set's scaling value
     uint32_t raysPerPoint = 1; // as the demo: real time first (the thesis traced up to 32)
-    uint32_t spp = 1; // reference: rays per pixel
+    uint32_t spp = 1;          // reference: rays per pixel
     bool taa = true;
     std::string gaze = "ahead"; // fallback: ahead | fixed:X,Y | trace:FILE | track:SRC | udp:PORT
     std::string calibration;    // for track:
