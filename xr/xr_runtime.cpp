@@ -78,8 +78,8 @@ Runtime::Runtime(const RuntimeOptions& options) {
     if (mEyeGazeExtension) {
         enabled.push_back(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
     }
-    mTimespec = contains(offered, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME);
-    if (mTimespec) {
+    const bool timespec = contains(offered, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME);
+    if (timespec) {
         enabled.push_back(XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME);
     }
 
@@ -124,6 +124,12 @@ Runtime::Runtime(const RuntimeOptions& options) {
         }
         GT_XR_CHECK(xrGetSystemProperties(mInstance, mSystem, &sp));
         mSystemName = sp.systemName;
+        if (timespec) {
+            mTimeOfTimespec =
+                function<PFN_xrConvertTimespecTimeToTimeKHR>("xrConvertTimespecTimeToTimeKHR");
+            mTimespecOfTime =
+                function<PFN_xrConvertTimeToTimespecTimeKHR>("xrConvertTimeToTimespecTimeKHR");
+        }
         mEyeGazeSupported = mEyeGazeExtension && eye.supportsEyeGazeInteraction == XR_TRUE;
 
         // Must precede xrCreateSession; also where a runtime says which Vulkan it accepts.
@@ -192,25 +198,22 @@ vk::ContextOptions Runtime::vulkanHooks() const {
 XrTime Runtime::toXrTime(std::chrono::steady_clock::time_point t) const {
     const auto ns =
         std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
-    if (!mTimespec) {
+    if (mTimeOfTimespec == nullptr) {
         return static_cast<XrTime>(ns);
     }
     timespec ts{};
     ts.tv_sec = static_cast<time_t>(ns / 1'000'000'000);
     ts.tv_nsec = static_cast<long>(ns % 1'000'000'000);
-    auto convert = function<PFN_xrConvertTimespecTimeToTimeKHR>("xrConvertTimespecTimeToTimeKHR");
     XrTime out = 0;
-    GT_XR_CHECK(convert(mInstance, &ts, &out));
+    GT_XR_CHECK(mTimeOfTimespec(mInstance, &ts, &out));
     return out;
 }
 
 std::chrono::steady_clock::time_point Runtime::fromXrTime(XrTime t) const {
     int64_t ns = t;
-    if (mTimespec) {
-        auto convert =
-            function<PFN_xrConvertTimeToTimespecTimeKHR>("xrConvertTimeToTimespecTimeKHR");
+    if (mTimespecOfTime != nullptr) {
         timespec ts{};
-        GT_XR_CHECK(convert(mInstance, t, &ts));
+        GT_XR_CHECK(mTimespecOfTime(mInstance, t, &ts));
         ns = static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
     }
     return std::chrono::steady_clock::time_point(std::chrono::nanoseconds(ns));

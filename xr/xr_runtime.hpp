@@ -55,7 +55,11 @@ private:
     XrInstance mInstance = XR_NULL_HANDLE;
     XrSystemId mSystem = XR_NULL_SYSTEM_ID;
     std::string mRuntimeName, mSystemName;
-    bool mEyeGazeExtension = false, mEyeGazeSupported = false, mTimespec = false;
+    bool mEyeGazeExtension = false, mEyeGazeSupported = false;
+    // XR_KHR_convert_timespec_time's functions, looked up once (they run every frame); null
+    // when the runtime does not offer it.
+    PFN_xrConvertTimespecTimeToTimeKHR mTimeOfTimespec = nullptr;
+    PFN_xrConvertTimeToTimespecTimeKHR mTimespecOfTime = nullptr;
 };
 
 } // namespace gt::xr
