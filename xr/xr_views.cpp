@@ -1,5 +1,7 @@
 #include "xr_views.hpp"
 
+#include "stereo_rig.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -57,16 +59,25 @@ foveation::DisplayProfile eyeDisplay(const XrFovf& fov, uint32_t width, uint32_t
     return d;
 }
 
+namespace {
+// The renderer's pixel <-> direction maths (renderer/stereo_rig.hpp) works in an eye frame with
+// +Z ahead; OpenXR's has -Z ahead.
+glm::vec3 flipZ(const glm::vec3& d) {
+    return {d.x, d.y, -d.z};
+}
+
+display::EyeTangents eyeTangents(const XrFovf& fov) {
+    const trace::FrustumTangents t = tangentsOfFov(fov);
+    return {t.left, t.right, t.up, t.down};
+}
+} // namespace
+
 glm::vec2 gazePixel(const glm::vec3& pointHead, bool atInfinity, const XrPosef& eyeInHead,
                     const XrFovf& fov, uint32_t width, uint32_t height) {
     const glm::quat q = toQuat(eyeInHead.orientation);
     const glm::vec3 inEye =
         glm::inverse(q) * (atInfinity ? pointHead : pointHead - toVec(eyeInHead.position));
-    const trace::FrustumTangents t = tangentsOfFov(fov);
-    const float ahead = std::max(-inEye.z, 1e-6f); // behind the eye: pinned to the edge below
-    const float tx = inEye.x / ahead, ty = inEye.y / ahead;
-    const glm::vec2 px((tx - t.left) / (t.right - t.left) * static_cast<float>(width),
-                       (t.up - ty) / (t.up - t.down) * static_cast<float>(height));
+    const glm::vec2 px = render::pixelOfDirection(flipZ(inEye), eyeTangents(fov), width, height);
     return glm::clamp(
         px, glm::vec2(0.0f),
         glm::vec2(static_cast<float>(width) - 1.0f, static_cast<float>(height) - 1.0f));
@@ -74,10 +85,8 @@ glm::vec2 gazePixel(const glm::vec3& pointHead, bool atInfinity, const XrPosef& 
 
 glm::vec3 directionOfPixel(const glm::vec2& pixel, const XrPosef& eyeInHead, const XrFovf& fov,
                            uint32_t width, uint32_t height) {
-    const trace::FrustumTangents t = tangentsOfFov(fov);
-    const float tx = t.left + pixel.x / static_cast<float>(width) * (t.right - t.left);
-    const float ty = t.up - pixel.y / static_cast<float>(height) * (t.up - t.down);
-    return glm::normalize(toQuat(eyeInHead.orientation) * glm::vec3(tx, ty, -1.0f));
+    const glm::vec3 inEye = render::directionOfPixel(pixel, eyeTangents(fov), width, height);
+    return glm::normalize(toQuat(eyeInHead.orientation) * flipZ(inEye));
 }
 
 } // namespace gt::xr
