@@ -16,7 +16,9 @@ XrPath path(const Runtime& runtime, const char* text) {
 }
 } // namespace
 
-EyeGaze::EyeGaze(const Runtime& runtime, XrSession session) : mSession(session) {
+EyeGaze::EyeGaze(Session& session) : mSession(session) {
+    const auto scope = session.context().runtimeCalls();
+    const Runtime& runtime = session.runtime();
     XrActionSetCreateInfo setInfo{XR_TYPE_ACTION_SET_CREATE_INFO};
     std::strncpy(setInfo.actionSetName, "gazetrace", XR_MAX_ACTION_SET_NAME_SIZE - 1);
     std::strncpy(setInfo.localizedActionSetName, "gazetrace",
@@ -43,12 +45,12 @@ EyeGaze::EyeGaze(const Runtime& runtime, XrSession session) : mSession(session) 
         XrSessionActionSetsAttachInfo attach{XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO};
         attach.countActionSets = 1;
         attach.actionSets = &mActionSet;
-        GT_XR_CHECK(xrAttachSessionActionSets(session, &attach));
+        GT_XR_CHECK(xrAttachSessionActionSets(session.handle(), &attach));
 
         XrActionSpaceCreateInfo spaceInfo{XR_TYPE_ACTION_SPACE_CREATE_INFO};
         spaceInfo.action = mAction;
         spaceInfo.poseInActionSpace.orientation.w = 1.0f;
-        GT_XR_CHECK(xrCreateActionSpace(session, &spaceInfo, &mSpace));
+        GT_XR_CHECK(xrCreateActionSpace(session.handle(), &spaceInfo, &mSpace));
     } catch (...) {
         if (mSpace != XR_NULL_HANDLE) {
             xrDestroySpace(mSpace);
@@ -59,6 +61,7 @@ EyeGaze::EyeGaze(const Runtime& runtime, XrSession session) : mSession(session) 
 }
 
 EyeGaze::~EyeGaze() {
+    const auto scope = mSession.context().runtimeCalls();
     if (mSpace != XR_NULL_HANDLE) {
         xrDestroySpace(mSpace);
     }
@@ -67,12 +70,13 @@ EyeGaze::~EyeGaze() {
     }
 }
 
-std::optional<EyeGazeSample> EyeGaze::locate(XrSpace viewSpace, XrTime displayTime) {
+std::optional<EyeGazeSample> EyeGaze::locate(XrTime displayTime) {
+    const auto scope = mSession.context().runtimeCalls();
     XrActiveActionSet active{mActionSet, XR_NULL_PATH};
     XrActionsSyncInfo sync{XR_TYPE_ACTIONS_SYNC_INFO};
     sync.countActiveActionSets = 1;
     sync.activeActionSets = &active;
-    const XrResult synced = xrSyncActions(mSession, &sync);
+    const XrResult synced = xrSyncActions(mSession.handle(), &sync);
     GT_XR_CHECK(synced);
     if (synced == XR_SESSION_NOT_FOCUSED) {
         return std::nullopt; // input goes elsewhere
@@ -81,7 +85,7 @@ std::optional<EyeGazeSample> EyeGaze::locate(XrSpace viewSpace, XrTime displayTi
     XrActionStateGetInfo get{XR_TYPE_ACTION_STATE_GET_INFO};
     get.action = mAction;
     XrActionStatePose state{XR_TYPE_ACTION_STATE_POSE};
-    GT_XR_CHECK(xrGetActionStatePose(mSession, &get, &state));
+    GT_XR_CHECK(xrGetActionStatePose(mSession.handle(), &get, &state));
     if (!state.isActive) {
         return std::nullopt;
     }
@@ -89,7 +93,7 @@ std::optional<EyeGazeSample> EyeGaze::locate(XrSpace viewSpace, XrTime displayTi
     XrEyeGazeSampleTimeEXT sampleTime{XR_TYPE_EYE_GAZE_SAMPLE_TIME_EXT};
     XrSpaceLocation location{XR_TYPE_SPACE_LOCATION};
     location.next = &sampleTime;
-    GT_XR_CHECK(xrLocateSpace(mSpace, viewSpace, displayTime, &location));
+    GT_XR_CHECK(xrLocateSpace(mSpace, mSession.viewSpace(), displayTime, &location));
     constexpr XrSpaceLocationFlags valid =
         XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT;
     if ((location.locationFlags & valid) != valid) {

@@ -10,7 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "openxr.hpp"
-#include "xr_runtime.hpp"
+#include "xr_session.hpp"
 
 namespace gt::xr {
 
@@ -23,16 +23,19 @@ struct EyeGazeSample {
 class EyeGaze {
 public:
     // Creates and attaches the action set (once per session, before the first xrSyncActions).
-    EyeGaze(const Runtime& runtime, XrSession session);
+    // Only where the runtime supports eye gaze (Runtime::eyeGazeSupported()); `session` must
+    // outlive this.
+    explicit EyeGaze(Session& session);
     ~EyeGaze();
     EyeGaze(const EyeGaze&) = delete;
     EyeGaze& operator=(const EyeGaze&) = delete;
 
-    // The gaze at `displayTime` in `viewSpace`, or empty when the runtime has no valid pose.
-    [[nodiscard]] std::optional<EyeGazeSample> locate(XrSpace viewSpace, XrTime displayTime);
+    // The gaze at `displayTime` in the session's VIEW space, or empty when the runtime has no
+    // valid pose.
+    [[nodiscard]] std::optional<EyeGazeSample> locate(XrTime displayTime);
 
 private:
-    XrSession mSession;
+    Session& mSession;
     XrActionSet mActionSet = XR_NULL_HANDLE;
     XrAction mAction = XR_NULL_HANDLE;
     XrSpace mSpace = XR_NULL_HANDLE;

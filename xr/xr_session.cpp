@@ -37,7 +37,8 @@ XrSpace createReferenceSpace(XrSession session, XrReferenceSpaceType type) {
 } // namespace
 
 Session::Session(const Runtime& runtime, vk::Context& ctx, const SessionOptions& options)
-    : mRuntime(runtime) {
+    : mRuntime(runtime), mCtx(ctx) {
+    const auto scope = mCtx.runtimeCalls();
     XrGraphicsBindingVulkan2KHR binding{XR_TYPE_GRAPHICS_BINDING_VULKAN2_KHR};
     binding.instance = ctx.instance();
     binding.physicalDevice = ctx.physicalDevice();
@@ -152,6 +153,7 @@ void Session::createSwapchains(const SessionOptions& options) {
 }
 
 Session::~Session() {
+    const auto scope = mCtx.runtimeCalls();
     release();
 }
 
@@ -177,6 +179,7 @@ void Session::release() noexcept {
 }
 
 bool Session::pollEvents() {
+    const auto scope = mCtx.runtimeCalls();
     for (;;) {
         XrEventDataBuffer event{XR_TYPE_EVENT_DATA_BUFFER};
         const XrResult r = xrPollEvent(mRuntime.instance(), &event);
@@ -220,6 +223,7 @@ bool Session::pollEvents() {
 }
 
 void Session::requestExit() {
+    const auto scope = mCtx.runtimeCalls();
     if (mLifecycle.isExitRequested()) {
         return;
     }
@@ -230,6 +234,7 @@ void Session::requestExit() {
 }
 
 FrameInfo Session::beginFrame() {
+    const auto scope = mCtx.runtimeCalls();
     FrameInfo f;
     XrFrameWaitInfo wait{XR_TYPE_FRAME_WAIT_INFO};
     XrFrameState state{XR_TYPE_FRAME_STATE};
@@ -261,6 +266,7 @@ FrameInfo Session::beginFrame() {
 }
 
 EyeImage Session::acquire(uint32_t eye) {
+    const auto scope = mCtx.runtimeCalls();
     Eye& e = mEyes.at(eye);
     XrSwapchainImageAcquireInfo info{XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO};
     GT_XR_CHECK(xrAcquireSwapchainImage(e.swapchain, &info, &e.acquired));
@@ -278,6 +284,7 @@ EyeImage Session::acquire(uint32_t eye) {
 }
 
 void Session::release(uint32_t eye) {
+    const auto scope = mCtx.runtimeCalls();
     Eye& e = mEyes.at(eye);
     XrSwapchainImageReleaseInfo info{XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO};
     GT_XR_CHECK(xrReleaseSwapchainImage(e.swapchain, &info));
@@ -285,6 +292,7 @@ void Session::release(uint32_t eye) {
 }
 
 void Session::endFrame(const FrameInfo& frame, bool layer) {
+    const auto scope = mCtx.runtimeCalls();
     std::array<XrCompositionLayerProjectionView, 2> views{};
     XrCompositionLayerProjection projection{XR_TYPE_COMPOSITION_LAYER_PROJECTION};
     const XrCompositionLayerBaseHeader* layers[1] = {

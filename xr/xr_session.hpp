@@ -3,7 +3,9 @@
 // reference spaces, one swapchain per eye of the primary stereo view configuration, and the
 // frame calls (xrWaitFrame / xrBeginFrame / xrLocateViews / xrEndFrame with one projection layer).
 // The renderer draws each eye into the image acquired from that eye's swapchain between
-// beginFrame() and endFrame().
+// beginFrame() and endFrame(). Every call into the runtime runs inside the context's
+// runtimeCalls() scope: the validation messages its in-process compositor raises meanwhile are
+// the runtime's, not gazetrace's.
 #include <array>
 #include <cstdint>
 #include <string>
@@ -64,6 +66,8 @@ public:
     void endFrame(const FrameInfo& frame, bool layer);
 
     [[nodiscard]] XrSession handle() const noexcept { return mSession; }
+    [[nodiscard]] const Runtime& runtime() const noexcept { return mRuntime; }
+    [[nodiscard]] vk::Context& context() const noexcept { return mCtx; }
     [[nodiscard]] XrSpace appSpace() const noexcept { return mAppSpace; }
     [[nodiscard]] XrSpace viewSpace() const noexcept { return mViewSpace; }
     [[nodiscard]] const std::string& spaceName() const noexcept { return mSpaceName; }
@@ -84,6 +88,7 @@ private:
     void release() noexcept;
 
     const Runtime& mRuntime;
+    vk::Context& mCtx;
     XrSession mSession = XR_NULL_HANDLE;
     XrSpace mAppSpace = XR_NULL_HANDLE, mViewSpace = XR_NULL_HANDLE;
     std::string mSpaceName;

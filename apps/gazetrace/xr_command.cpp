@@ -148,16 +148,23 @@ private:
 };
 
 // The gaze of one frame in the head frame (OpenXR axes): a fixation point, or a direction
-// when the eyes look at infinity; and where it came from.
+// when the eyes look at infinity.
 struct HeadGaze {
-    glm::vec3 point{0.0f, 0.0f, -1.0f};
+    glm::vec3 point{0.0f, 0.0f, -1.0f}; // straight ahead
     bool atInfinity = true;
     // Each tracked eye's own direction (per-eye angle traces, UDP): replaces `point` for it.
     std::optional<glm::vec3> eyeDirection[2];
     bool saccade = false;
     std::optional<Clock::time_point> sampled; // when the sample was taken
-    bool fromRuntime = false;
 };
+
+// The gaze ray from `origin` along `direction`, fixated at `vergenceM` (0: infinity).
+HeadGaze fixation(const glm::vec3& origin, const glm::vec3& direction, double vergenceM) {
+    HeadGaze g;
+    g.atInfinity = vergenceM <= 0.0;
+    g.point = g.atInfinity ? direction : origin + direction * static_cast<float>(vergenceM);
+    return g;
+}
 
 // gazetrace's own angles (yaw right, pitch up; +Z ahead) in OpenXR's axes (-Z ahead).
 glm::vec3 xrDirectionOfAngles(glm::vec2 anglesDeg) {
@@ -165,10 +172,149 @@ glm::vec3 xrDirectionOfAngles(glm::vec2 anglesDeg) {
     return {d.x, d.y, -d.z};
 }
 
-nlohmann::json poseJson(const scene::Camera& c) {
-    return {{"position", {c.position.x, c.position.y, c.position.z}},
-            {"forward", {c.forward.x, c.forward.y, c.forward.z}},
-            {"up", {c.up.x, c.up.y, c.up.z}}};
+HeadGaze runtimeHeadGaze(const xr::EyeGazeSample& s, double vergenceM, const xr::Runtime& rt) {
+    HeadGaze g = fixation(s.origin, s.direction, vergenceM);
+    if (s.time != 0) {
+        g.sampled = rt.fromXrTime(s.time);
+    }
+    return g;
+}
+
+// From one of gazetrace's sources (none: straight ahead). Pixels are the left eye's image's.
+HeadGaze ownHeadGaze(GazeInput* input, double tMs, const xr::FrameInfo& frame, VkExtent2D left,
+                     double vergenceM) {
+    const std::optional<GazeReading> r = input ? input->read(tMs) : std::nullopt;
+    if (!r) {
+        return {};
+    }
+    const glm::vec3 dir =
+        r->anglesDeg ? xrDirectionOfAngles(*r->anglesDeg)
+                     : xr::directionOfPixel(r->screenPx, frame.headViews[0].pose,
+                                            frame.headViews[0].fov, left.width, left.height);
+    HeadGaze g = fixation(glm::vec3(0.0f), dir, vergenceM);
+    for (int e = 0; e < 2; ++e) {
+        if (r->eyeAnglesDeg[e]) {
+            g.eyeDirection[e] = xrDirectionOfAngles(*r->eyeAnglesDeg[e]);
+        }
+    }
+    g.saccade = r->saccade;
+    g.sampled = r->sampled;
+    return g;
+}
+
+// Both eyes' views of a frame: each eye's reported pose through the scene placement, its own
+// field of view, and the gaze seen through that eye.
+std::array<render::View, 2> eyeViews(const xr::FrameInfo& frame, const HeadGaze& gaze,
+                                     const xr::ScenePlacement& placement,
+                                     const xr::Session& session, EyeMethods& methods, bool taa,
+                                     float exposure) {
+    std::array<render::View, 2> views;
+    for (uint32_t e = 0; e < 2; ++e) {
+        render::View& v = views[e];
+        const XrView& eye = frame.views[e];
+        const VkExtent2D size = session.eyeExtent(e);
+        v.name = e == 0 ? "left" : "right";
+        v.camera = xr::cameraOfPose(eye.pose, placement);
+        v.camera.yfov = eye.fov.angleUp - eye.fov.angleDown;
+        v.frustum = xr::tangentsOfFov(eye.fov);
+        v.width = size.width;
+        v.height = size.height;
+        const bool own = gaze.eyeDirection[e].has_value();
+        v.gaze =
+            xr::gazePixel(own ? *gaze.eyeDirection[e] : gaze.point, own || gaze.atInfinity,
+                          frame.headViews[e].pose, frame.headViews[e].fov, size.width, size.height);
+        v.saccade = gaze.saccade;
+        v.method = &methods.forEye(eye.fov, size);
+        v.post.taa = taa;
+        v.exposure = exposure;
+    }
+    return views;
+}
+
+// What --screenshot-eye wrote, with everything a test needs to render the same view headless:
+// the camera gazetrace used and the pose and field of view the runtime reported.
+nlohmann::json screenshotJson(const XrOptions& o, uint32_t frameNumber, const render::View& v,
+                              const XrView& reported) {
+    const XrPosef& p = reported.pose;
+    const XrFovf& f = reported.fov;
+    return {{"eye", o.screenshotEye},
+            {"file", o.screenshot},
+            {"frame", frameNumber},
+            {"width", v.width},
+            {"height", v.height},
+            {"camera",
+             {{"position", {v.camera.position.x, v.camera.position.y, v.camera.position.z}},
+              {"forward", {v.camera.forward.x, v.camera.forward.y, v.camera.forward.z}},
+              {"up", {v.camera.up.x, v.camera.up.y, v.camera.up.z}}}},
+            {"tangents", {v.frustum->left, v.frustum->right, v.frustum->up, v.frustum->down}},
+            {"gaze", {v.gaze.x, v.gaze.y}},
+            {"xr_pose",
+             {{"position", {p.position.x, p.position.y, p.position.z}},
+              {"orientation_xyzw",
+               {p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w}}}},
+            {"xr_fov_rad", {f.angleLeft, f.angleRight, f.angleUp, f.angleDown}}};
+}
+
+// The median of all but the first value: the first frame compiles pipelines and builds tables.
+double steadyMedian(std::vector<double> v) {
+    if (v.size() > 1) {
+        v.erase(v.begin());
+    }
+    return medianOf(std::move(v));
+}
+
+// The run's figures: per-pass and per-eye GPU times, wall times, rays and gaze ages.
+class RunStats {
+public:
+    void addFrame(const render::FrameResult& result, double renderMs) {
+        mRenderMs.push_back(renderMs);
+        for (const auto& v : result.views) {
+            mRays += v.rays;
+        }
+        if (!result.timings) {
+            return;
+        }
+        std::array<double, 2> eyeSum{0.0, 0.0};
+        for (const rg::PassTiming& p : result.timings->passes) {
+            mPassMs[p.name].push_back(p.gpuMs);
+            for (std::size_t e = 0; e < 2; ++e) {
+                if (p.name.starts_with(e == 0 ? "left." : "right.")) {
+                    eyeSum[e] += p.gpuMs;
+                }
+            }
+        }
+        mEyeGpuMs[0].push_back(eyeSum[0]);
+        mEyeGpuMs[1].push_back(eyeSum[1]);
+    }
+    void addInterval(double ms) { mFrameMs.push_back(ms); }
+    void addGazeAge(double ms) { mGazeToDisplayMs.push_back(ms); }
+
+    [[nodiscard]] uint64_t rays() const noexcept { return mRays; }
+    [[nodiscard]] double eyeGpuMs(std::size_t eye) const { return steadyMedian(mEyeGpuMs[eye]); }
+    [[nodiscard]] nlohmann::json json() const {
+        nlohmann::json passes = nlohmann::json::object();
+        for (const auto& [name, times] : mPassMs) {
+            passes[name] = steadyMedian(times);
+        }
+        return {{"rays", mRays},
+                {"gpu_ms", passes},
+                {"frame_ms_median", steadyMedian(mFrameMs)},
+                {"render_ms_median", steadyMedian(mRenderMs)},
+                {"gaze_to_display_ms_median", medianOf(mGazeToDisplayMs)}};
+    }
+
+private:
+    std::vector<double> mFrameMs, mRenderMs, mGazeToDisplayMs;
+    std::map<std::string, std::vector<double>> mPassMs;
+    std::array<std::vector<double>, 2> mEyeGpuMs;
+    uint64_t mRays = 0;
+};
+
+void checkOwnValidation(const vk::Context& ctx) {
+    if (ctx.validationErrors() > 0) {
+        throw Error(std::to_string(ctx.validationErrors()) +
+                    " Vulkan validation error(s) in gazetrace's own calls");
+    }
 }
 
 } // namespace
@@ -230,10 +376,7 @@ nlohmann::json runXr(const XrOptions& o) {
     }
 
     std::optional<xr::Session> session;
-    {
-        const auto scope = ctx.runtimeCalls();
-        session.emplace(runtime, ctx, xr::SessionOptions{o.space == "stage", o.resolutionScale});
-    }
+    session.emplace(runtime, ctx, xr::SessionOptions{o.space == "stage", o.resolutionScale});
     xr::ScenePlacement placement =
         xr::ScenePlacement::facing(start, static_cast<float>(o.worldScale));
     if (session->spaceName() == "STAGE" && !origin) {
@@ -254,11 +397,9 @@ nlohmann::json runXr(const XrOptions& o) {
     } else if (runtime.eyeGazeOffered() && !runtime.eyeGazeSupported()) {
         eyeGazeStatus = "offered, but the system reports no eye tracker";
     } else if (runtime.eyeGazeSupported()) {
-        const auto scope = ctx.runtimeCalls();
-        eyeGaze.emplace(runtime, session->handle());
+        eyeGaze.emplace(*session);
         eyeGazeStatus = "offered";
     }
-    const std::string ownGazeName = ownGaze ? ownGaze->describe() : "ahead";
 
     EyeMethods methods(renderer, o);
     std::array<render::ExternalImageTarget, 2> targets{render::ExternalImageTarget(ctx),
@@ -266,23 +407,15 @@ nlohmann::json runXr(const XrOptions& o) {
     const std::array<render::OutputTarget*, 2> targetPtrs{&targets[0], &targets[1]};
     const uint32_t shotEye = o.screenshotEye == "right" ? 1 : 0;
 
-    std::vector<double> frameMs, renderMs, gazeToDisplayMs;
-    std::map<std::string, std::vector<double>> passMs;
-    std::array<std::vector<double>, 2> eyeGpuMs;
-    uint32_t rendered = 0, runtimeGazeFrames = 0, ownGazeFrames = 0, emptyFrames = 0;
-    uint64_t rays = 0;
+    RunStats stats;
+    uint32_t rendered = 0, runtimeGazeFrames = 0, emptyFrames = 0;
     nlohmann::json shotInfo;
     const auto t0 = Clock::now();
     auto lastFrameEnd = t0;
     std::optional<Clock::time_point> exitAsked;
     bool exited = false;
     while (true) {
-        bool keepGoing = true;
-        {
-            const auto scope = ctx.runtimeCalls();
-            keepGoing = session->pollEvents();
-        }
-        if (!keepGoing) {
+        if (!session->pollEvents()) {
             exited = true;
             break;
         }
@@ -301,118 +434,38 @@ nlohmann::json runXr(const XrOptions& o) {
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
             continue;
         }
-        xr::FrameInfo frame;
-        {
-            const auto scope = ctx.runtimeCalls();
-            frame = session->beginFrame();
-        }
+        const xr::FrameInfo frame = session->beginFrame();
         const bool wanted = !exitAsked && (o.frames == 0 || rendered < o.frames);
         const bool render = wanted && frame.shouldRender && frame.posesValid;
-        if (render) {
+        if (!render) {
+            session->endFrame(frame, false);
+            ++emptyFrames;
+        } else {
             const auto renderStart = Clock::now();
-            // The gaze of this frame, in the head frame.
-            HeadGaze gaze;
-            std::optional<xr::EyeGazeSample> sample;
-            if (eyeGaze) {
-                const auto scope = ctx.runtimeCalls();
-                sample = eyeGaze->locate(session->viewSpace(), frame.displayTime);
-            }
-            if (sample) {
-                gaze.fromRuntime = true;
-                gaze.atInfinity = o.vergenceM <= 0.0;
-                gaze.point = gaze.atInfinity ? sample->direction
-                                             : sample->origin + sample->direction *
-                                                                    static_cast<float>(o.vergenceM);
-                if (sample->time != 0) {
-                    gaze.sampled = runtime.fromXrTime(sample->time);
-                }
-                ++runtimeGazeFrames;
-            } else if (ownGaze) {
-                const double tMs = msSince(t0, renderStart);
-                if (const std::optional<GazeReading> r = ownGaze->read(tMs)) {
-                    const VkExtent2D left = session->eyeExtent(0);
-                    const glm::vec3 dir =
-                        r->anglesDeg
-                            ? xrDirectionOfAngles(*r->anglesDeg)
-                            : xr::directionOfPixel(r->screenPx, frame.headViews[0].pose,
-                                                   frame.headViews[0].fov, left.width, left.height);
-                    gaze.atInfinity = o.vergenceM <= 0.0;
-                    gaze.point = gaze.atInfinity ? dir : dir * static_cast<float>(o.vergenceM);
-                    for (int e = 0; e < 2; ++e) {
-                        if (r->eyeAnglesDeg[e]) {
-                            gaze.eyeDirection[e] = xrDirectionOfAngles(*r->eyeAnglesDeg[e]);
-                        }
-                    }
-                    gaze.saccade = r->saccade;
-                    gaze.sampled = r->sampled;
-                }
-                ++ownGazeFrames;
-            } else {
-                ++ownGazeFrames; // straight ahead
-            }
-
-            std::array<render::View, 2> views;
-            for (uint32_t e = 0; e < 2; ++e) {
-                render::View& v = views[e];
-                const VkExtent2D size = session->eyeExtent(e);
-                v.name = e == 0 ? "left" : "right";
-                v.camera = xr::cameraOfPose(frame.views[e].pose, placement);
-                v.camera.yfov = frame.views[e].fov.angleUp - frame.views[e].fov.angleDown;
-                v.frustum = xr::tangentsOfFov(frame.views[e].fov);
-                v.width = size.width;
-                v.height = size.height;
-                const bool ownDirection = gaze.eyeDirection[e].has_value();
-                v.gaze = xr::gazePixel(ownDirection ? *gaze.eyeDirection[e] : gaze.point,
-                                       ownDirection || gaze.atInfinity, frame.headViews[e].pose,
-                                       frame.headViews[e].fov, size.width, size.height);
-                v.saccade = gaze.saccade;
-                v.method = &methods.forEye(frame.views[e].fov, size);
-                v.post.taa = o.taa;
-                v.exposure = sc.exposure;
-            }
+            const std::optional<xr::EyeGazeSample> sample =
+                eyeGaze ? eyeGaze->locate(frame.displayTime) : std::nullopt;
+            const HeadGaze gaze = sample ? runtimeHeadGaze(*sample, o.vergenceM, runtime)
+                                         : ownHeadGaze(ownGaze.get(), msSince(t0, renderStart),
+                                                       frame, session->eyeExtent(0), o.vergenceM);
+            runtimeGazeFrames += sample ? 1 : 0;
+            const std::array<render::View, 2> views =
+                eyeViews(frame, gaze, placement, *session, methods, o.taa, sc.exposure);
             const bool lastFrame = o.frames != 0 && rendered + 1 == o.frames;
             if (lastFrame && !o.screenshot.empty()) {
                 targets[shotEye].requestScreenshot();
             }
-            {
-                const auto scope = ctx.runtimeCalls();
-                for (uint32_t e = 0; e < 2; ++e) {
-                    const xr::EyeImage img = session->acquire(e);
-                    targets[e].setImage({img.image, img.format, img.extent, 0});
-                }
+            for (uint32_t e = 0; e < 2; ++e) {
+                const xr::EyeImage img = session->acquire(e);
+                targets[e].setImage({img.image, img.format, img.extent, 0});
             }
             const render::FrameResult result = renderer.renderFrame(views, targetPtrs);
-            {
-                const auto scope = ctx.runtimeCalls();
-                session->release(0);
-                session->release(1);
-                session->endFrame(frame, true);
-            }
-            if (ctx.validationErrors() > 0) {
-                throw Error(std::to_string(ctx.validationErrors()) +
-                            " Vulkan validation error(s) in gazetrace's own calls");
-            }
-            renderMs.push_back(msSince(renderStart, Clock::now()));
-            for (const auto& v : result.views) {
-                rays += v.rays;
-            }
-            if (result.timings) {
-                std::array<double, 2> eyeSum{0.0, 0.0};
-                for (const rg::PassTiming& p : result.timings->passes) {
-                    passMs[p.name].push_back(p.gpuMs);
-                    if (p.name.starts_with("left.")) {
-                        eyeSum[0] += p.gpuMs;
-                    }
-                    if (p.name.starts_with("right.")) {
-                        eyeSum[1] += p.gpuMs;
-                    }
-                }
-                eyeGpuMs[0].push_back(eyeSum[0]);
-                eyeGpuMs[1].push_back(eyeSum[1]);
-            }
+            session->release(0);
+            session->release(1);
+            session->endFrame(frame, true);
+            checkOwnValidation(ctx);
+            stats.addFrame(result, msSince(renderStart, Clock::now()));
             if (gaze.sampled) {
-                gazeToDisplayMs.push_back(
-                    msSince(*gaze.sampled, runtime.fromXrTime(frame.displayTime)));
+                stats.addGazeAge(msSince(*gaze.sampled, runtime.fromXrTime(frame.displayTime)));
             }
             if (lastFrame && !o.screenshot.empty()) {
                 const auto& px = targets[shotEye].screenshot();
@@ -421,89 +474,38 @@ nlohmann::json runXr(const XrOptions& o) {
                 }
                 const render::View& v = views[shotEye];
                 image::writePngAtomic(o.screenshot, v.width, v.height, *px);
-                shotInfo = {
-                    {"eye", o.screenshotEye},
-                    {"file", o.screenshot},
-                    {"frame", rendered},
-                    {"width", v.width},
-                    {"height", v.height},
-                    {"camera", poseJson(v.camera)},
-                    {"tangents",
-                     {v.frustum->left, v.frustum->right, v.frustum->up, v.frustum->down}},
-                    {"gaze", {v.gaze.x, v.gaze.y}},
-                    // What the runtime reported for this eye and frame, in its space.
-                    {"xr_pose",
-                     {{"position",
-                       {frame.views[shotEye].pose.position.x, frame.views[shotEye].pose.position.y,
-                        frame.views[shotEye].pose.position.z}},
-                      {"orientation_xyzw",
-                       {frame.views[shotEye].pose.orientation.x,
-                        frame.views[shotEye].pose.orientation.y,
-                        frame.views[shotEye].pose.orientation.z,
-                        frame.views[shotEye].pose.orientation.w}}}},
-                    {"xr_fov_rad",
-                     {frame.views[shotEye].fov.angleLeft, frame.views[shotEye].fov.angleRight,
-                      frame.views[shotEye].fov.angleUp, frame.views[shotEye].fov.angleDown}}};
+                shotInfo = screenshotJson(o, rendered, v, frame.views[shotEye]);
             }
             ++rendered;
-        } else {
-            const auto scope = ctx.runtimeCalls();
-            session->endFrame(frame, false);
-            ++emptyFrames;
         }
         const auto end = Clock::now();
         if (render) {
-            frameMs.push_back(msSince(lastFrameEnd, end));
+            stats.addInterval(msSince(lastFrameEnd, end));
         }
         lastFrameEnd = end;
         if (o.frames != 0 && rendered >= o.frames && !exitAsked) {
-            const auto scope = ctx.runtimeCalls();
             session->requestExit();
             exitAsked = Clock::now();
         }
     }
     renderer.waitIdle();
-    const std::vector<std::string> states = session->lifecycle().history();
-    const std::string spaceName = session->spaceName();
-    const VkFormat format = session->format();
-    std::array<VkExtent2D, 2> sizes{session->eyeExtent(0), session->eyeExtent(1)};
-    std::array<VkExtent2D, 2> recommended{session->recommendedExtent(0),
-                                          session->recommendedExtent(1)};
-    {
-        const auto scope = ctx.runtimeCalls();
-        session.reset();
-    }
-    if (ctx.validationErrors() > 0) {
-        throw Error(std::to_string(ctx.validationErrors()) +
-                    " Vulkan validation error(s) in gazetrace's own calls");
-    }
-    if (o.frames != 0 && rendered < o.frames) {
-        throw Error("the OpenXR runtime ended the session after " + std::to_string(rendered) +
-                    " of " + std::to_string(o.frames) + " frames");
-    }
-
-    nlohmann::json passes = nlohmann::json::object();
-    for (auto& [name, times] : passMs) {
-        // The first frame compiles pipelines and builds tables: steady state from the second.
-        if (times.size() > 1) {
-            times.erase(times.begin());
-        }
-        passes[name] = medianOf(times);
-    }
-    const auto steady = [](std::vector<double> v) {
-        if (v.size() > 1) {
-            v.erase(v.begin());
-        }
-        return medianOf(std::move(v));
-    };
     nlohmann::json eyes = nlohmann::json::array();
     for (uint32_t e = 0; e < 2; ++e) {
+        const VkExtent2D size = session->eyeExtent(e), recommended = session->recommendedExtent(e);
         eyes.push_back({{"name", e == 0 ? "left" : "right"},
-                        {"width", sizes[e].width},
-                        {"height", sizes[e].height},
-                        {"recommended", {recommended[e].width, recommended[e].height}},
-                        {"gpu_ms_median", steady(eyeGpuMs[e])}});
+                        {"width", size.width},
+                        {"height", size.height},
+                        {"recommended", {recommended.width, recommended.height}},
+                        {"gpu_ms_median", stats.eyeGpuMs(e)}});
     }
+    nlohmann::json summary = {{"runtime", runtime.runtimeName()},
+                              {"system", runtime.systemName()},
+                              {"device", ctx.deviceName()},
+                              {"space", session->spaceName()},
+                              {"swapchain_format", static_cast<int>(session->format())},
+                              {"session_states", session->lifecycle().history()}};
+    const std::string ownGazeName = ownGaze ? ownGaze->describe() : "ahead";
+    const uint32_t ownGazeFrames = rendered - runtimeGazeFrames;
     std::string gazeUsed;
     if (runtimeGazeFrames > 0 && ownGazeFrames == 0) {
         gazeUsed = "XR_EXT_eye_gaze_interaction";
@@ -515,32 +517,32 @@ nlohmann::json runXr(const XrOptions& o) {
             eyeGazeStatus = "offered, but no valid gaze pose was reported";
         }
     }
-    return {{"runtime", runtime.runtimeName()},
-            {"system", runtime.systemName()},
-            {"device", ctx.deviceName()},
-            {"space", spaceName},
-            {"swapchain_format", static_cast<int>(format)},
-            {"placement",
-             {{"origin", {placement.origin.x, placement.origin.y, placement.origin.z}},
-              {"yaw_deg", glm::degrees(placement.yawRad)},
-              {"scale", placement.scale}}},
-            {"method", o.method},
-            {"eye_gaze_extension", eyeGazeStatus},
-            {"gaze_source", gazeUsed},
-            {"frames", rendered},
-            {"frames_with_runtime_gaze", runtimeGazeFrames},
-            {"frames_not_shown", emptyFrames},
-            {"session_states", states},
-            {"session_ended_by_runtime", exited},
-            {"rays", rays},
-            {"eyes", eyes},
-            {"gpu_ms", passes},
-            {"frame_ms_median", steady(frameMs)},
-            {"render_ms_median", steady(renderMs)},
-            {"gaze_to_display_ms_median", medianOf(gazeToDisplayMs)},
-            {"validation_errors", ctx.validationErrors()},
-            {"validation_errors_in_runtime_calls", ctx.runtimeValidationErrors()},
-            {"screenshot", shotInfo}};
+    // The action set before the session it belongs to.
+    eyeGaze.reset();
+    session.reset();
+    checkOwnValidation(ctx);
+    if (o.frames != 0 && rendered < o.frames) {
+        throw Error("the OpenXR runtime ended the session after " + std::to_string(rendered) +
+                    " of " + std::to_string(o.frames) + " frames");
+    }
+
+    summary.update(stats.json());
+    summary.update({{"placement",
+                     {{"origin", {placement.origin.x, placement.origin.y, placement.origin.z}},
+                      {"yaw_deg", glm::degrees(placement.yawRad)},
+                      {"scale", placement.scale}}},
+                    {"method", o.method},
+                    {"eye_gaze_extension", eyeGazeStatus},
+                    {"gaze_source", gazeUsed},
+                    {"frames", rendered},
+                    {"frames_with_runtime_gaze", runtimeGazeFrames},
+                    {"frames_not_shown", emptyFrames},
+                    {"session_ended_by_runtime", exited},
+                    {"eyes", eyes},
+                    {"validation_errors", ctx.validationErrors()},
+                    {"validation_errors_in_runtime_calls", ctx.runtimeValidationErrors()},
+                    {"screenshot", shotInfo}});
+    return summary;
 }
 
 } // namespace gt::app
