@@ -12,6 +12,7 @@
 #include "core/log.hpp"
 #include "demo_command.hpp"
 #include "eye_commands.hpp"
+#include "layers_command.hpp"
 #include "pointset_command.hpp"
 #include "render_command.hpp"
 #include "scene/builtin_scenes.hpp"
@@ -178,6 +179,28 @@ int main(int argc, char** argv) {
     pointsetCmd->add_option("--hmd", pointset.hmd,
                             "fove | vive | rift-cv1: where the rays go with the set laid in the "
                             "eye's image and laid on the panel after the lens");
+
+    gt::app::LayersOptions layers;
+    bool layersJson = false;
+    CLI::App* layersCmd = app.add_subcommand(
+        "layers", "Eccentricity-layer optimisation and predicted speed-up (Guenter 2012, 4.3)");
+    layersCmd->add_option("--profile", layers.profile, "desktop | fove | vive | paper")
+        ->check(CLI::IsMember({"desktop", "fove", "vive", "paper"}))
+        ->capture_default_str();
+    layersCmd->add_option("--slope", layers.slope, "MAR slope: A (0.0275) | B (0.0220) | VALUE")
+        ->capture_default_str();
+    layersCmd->add_option("--layers", layers.layers, "Number of layers")
+        ->check(CLI::Range(1u, 4u))
+        ->capture_default_str();
+    layersCmd->add_option("--weights", layers.weights, "unit | half-rate (eq. 5's w_i)")
+        ->check(CLI::IsMember({"unit", "half-rate"}))
+        ->capture_default_str();
+    layersCmd->add_option("--steps", layers.steps, "Brute-force grid divisions of (0, e*)")
+        ->check(CLI::Range(8u, 4000u))
+        ->capture_default_str();
+    layersCmd->add_flag("--fov-table", layers.fovTable,
+                        "Figure 12: speed-up for 20..120 degrees at foveal sharpness");
+    layersCmd->add_flag("--json", layersJson, "Print JSON instead of a table");
 
     gt::app::BenchOptions bench;
     CLI::App* benchCmd = app.add_subcommand(
@@ -433,6 +456,9 @@ int main(int argc, char** argv) {
         } else if (pointsetCmd->parsed()) {
             const nlohmann::json result = gt::app::runPointSet(pointset);
             std::cout << (pointsetJson ? result.dump() : result.dump(2)) << std::endl;
+        } else if (layersCmd->parsed()) {
+            const nlohmann::json result = gt::app::runLayers(layers);
+            std::cout << (layersJson ? result.dump() : gt::app::layersText(result)) << std::flush;
         } else if (benchCmd->parsed()) {
             if (benchSuite == "eye") {
                 (void)gt::app::runEyeBench();
