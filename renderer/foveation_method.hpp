@@ -1,6 +1,6 @@
 #pragma once
 // How a view's radiance is made: every pixel traced (full resolution), a perceptual point set
-// traced and interpolated (seed 000), and later nested eccentricity layers (seed 002). The
+// traced and interpolated (seed 000), or nested eccentricity layers (seed 002). The
 // renderer adds a method's passes per view and runs the post chain on what it returns.
 #include <cstdint>
 #include <functional>
@@ -20,10 +20,13 @@ namespace gt::render {
 
 struct View;
 
-// What a method needs from the renderer: the device and the scene on it.
+// What a method needs from the renderer: the device, the scene on it, and the renderer's
+// history pool for what a method keeps from frame to frame itself (its names live in the view's
+// scope, so Renderer::resetHistory(view) drops them too).
 struct MethodContext {
     vk::Context& ctx;
     const trace::GpuScene& scene;
+    rg::HistoryPool& history;
 };
 
 // An untimed frame through the pipelines a timed frame will use: lavapipe compiles a pipeline at
@@ -52,6 +55,12 @@ public:
         (void)view;
         return false;
     }
+    // The method blends its own temporal history (eccentricity layers, one per layer): the post
+    // chain then runs no TAA of its own.
+    [[nodiscard]] virtual bool accumulates() const { return false; }
+    // The frame last recorded was submitted: what the method kept for the next frame is now
+    // what the history holds. (A frame that fails before its submit does not call this.)
+    virtual void frameSubmitted() {}
 };
 
 } // namespace gt::render

@@ -67,14 +67,19 @@ const scene::BvhBuildStats& Renderer::bvhStats() const noexcept {
     return mBvh->stats();
 }
 MethodContext Renderer::methodContext() const noexcept {
-    return {*mCtx, *mGpuScene};
+    return {*mCtx, *mGpuScene, *mHistory};
 }
 uint32_t Renderer::framesInFlight() const noexcept {
     return mRing->framesInFlight();
 }
 
 void Renderer::resetHistory(const std::string& view) {
-    mHistory->invalidate(view.empty() ? std::string(kTaaHistory) : view + "." + kTaaHistory);
+    // The view's TAA and whatever history its method keeps (layers: one per layer).
+    if (view.empty()) {
+        mHistory->invalidateAll();
+    } else {
+        mHistory->invalidatePrefix(view + ".");
+    }
     mViewHistory.erase(view);
 }
 
@@ -151,7 +156,7 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
             rg::TextureId image = v.method->addRadiance(graph, v);
             const shaders::trace::CameraPush camera = v.cameraPush();
             const bool panel = v.method->rendersPanel(v);
-            if (v.post.taa && !panel) {
+            if (v.post.taa && !panel && !v.method->accumulates()) {
                 const rg::HistoryTextures history = graph.importHistory(
                     *mHistory, kTaaHistory, VK_FORMAT_R32G32B32A32_SFLOAT, v.width, v.height);
                 const auto it = mViewHistory.find(v.name);
@@ -207,6 +212,13 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
     mHistory->commit(graph);
     for (auto& [name, h] : nextHistory) {
         mViewHistory[name] = h;
+    }
+    std::vector<FoveationMethod*> methods;
+    for (const View& v : views) {
+        if (std::find(methods.begin(), methods.end(), v.method) == methods.end()) {
+            methods.push_back(v.method);
+            v.method->frameSubmitted();
+        }
     }
     if (wait) {
         mRing->waitIdle();

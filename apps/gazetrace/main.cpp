@@ -83,7 +83,22 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     renderCmd->add_option("--seed", render.seed, "Frame seed for the jitter")
         ->capture_default_str();
-    renderCmd->add_option("--method", render.method, "reference | foveated")->capture_default_str();
+    renderCmd->add_option("--method", render.method, "reference | foveated | layers")
+        ->capture_default_str();
+    renderCmd->add_option("--slope", render.slope, "Layers: MAR slope A | B | VALUE")
+        ->capture_default_str();
+    renderCmd->add_option("--layers", render.layers, "Layers: number of eccentricity layers")
+        ->check(CLI::Range(1u, 4u))
+        ->capture_default_str();
+    std::string renderHalfRate = "on", renderJitter = "on";
+    renderCmd
+        ->add_option("--half-rate", renderHalfRate,
+                     "Layers: outer layers at half the frame rate, staggered (on | off)")
+        ->check(CLI::IsMember({"on", "off"}))
+        ->capture_default_str();
+    renderCmd->add_option("--jitter", renderJitter, "Layers: per-frame grid jitter (on | off)")
+        ->check(CLI::IsMember({"on", "off"}))
+        ->capture_default_str();
     renderCmd->add_option("--out", render.out, "Output PNG, or a folder for frame_NNNN.png")
         ->capture_default_str();
     renderCmd
@@ -445,6 +460,8 @@ int main(int argc, char** argv) {
     try {
         if (renderCmd->parsed()) {
             render.taa = taaFlag == "on";
+            render.halfRate = renderHalfRate == "on";
+            render.jitter = renderJitter == "on";
             render.distortion = !noDistortion;
             render.framesGiven = renderCmd->count("--frames") > 0;
             render.sizeGiven = renderCmd->count("--width") + renderCmd->count("--height") > 0;

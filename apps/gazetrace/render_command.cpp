@@ -27,6 +27,7 @@
 #include "gaze_mapping.hpp"
 #include "output_target.hpp"
 #include "point_sample/point_sample.hpp"
+#include "eccentricity_layers.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"
@@ -184,14 +185,51 @@ void writeText(const std::string& path, const std::string& text) {
 
 namespace {
 
+render::EccentricityLayerSettings layerSettings(const RenderOptions& o,
+                                                std::optional<foveation::DisplayProfile> display) {
+    render::EccentricityLayerSettings s;
+    s.slope = foveation::parseSlope(o.slope);
+    s.layers = o.layers;
+    s.raysPerPixel = o.spp;
+    s.halfRate = o.halfRate;
+    s.jitter = o.jitter;
+    s.temporal = o.taa;
+    s.display = std::move(display);
+    return s;
+}
+
+nlohmann::json layersJson(render::EccentricityLayers& layers, const render::View& view) {
+    const render::LayerLayout& lay = layers.layout(view);
+    const std::vector<bool> traced = layers.tracedLastFrame(view);
+    nlohmann::json list = nlohmann::json::array();
+    for (std::size_t i = 0; i < lay.grids.size(); ++i) {
+        const render::LayerGrid& g = lay.grids[i];
+        list.push_back({{"e_deg", lay.plan.layers[i].radiusDeg},
+                        {"s", g.pitch},
+                        {"width", g.width},
+                        {"height", g.height},
+                        {"radius_px", g.radiusPx},
+                        {"traced", i < traced.size() && traced[i]}});
+    }
+    return {{"slope", layers.settings().slope},
+            {"layers", list},
+            {"layer_pixels", lay.pixels()},
+            {"predicted_P", lay.plan.work},
+            {"predicted_P_star", lay.plan.displayPixels},
+            {"predicted_speedup", lay.plan.speedup()},
+            {"half_rate", layers.settings().halfRate},
+            {"jitter", layers.settings().jitter},
+            {"temporal", layers.settings().temporal}};
+}
+
 // `render --hmd NAME`: both eyes of the profile in one render graph (scopes left., right.), each
 // with its off-axis frustum, its own gaze and its lens, composed into the side-by-side frame an
 // extended-mode HMD shows. --gaze and --gaze-trace are pixels of the left eye's image.
 nlohmann::json runRenderHmd(const RenderOptions& o) {
     const display::HmdProfile profile = display::hmdProfile(o.hmd);
     const bool foveated = o.method == "foveated";
-    if (o.method != "reference" && !foveated) {
-        throw ArgumentError("--method: '" + o.method + "' (known: reference, foveated)");
+    if (o.method != "reference" && o.method != "layers" && !foveated) {
+        throw ArgumentError("--method: '" + o.method + "' (known: reference, foveated, layers)");
     }
     if (o.sizeGiven) {
         throw ArgumentError("--width/--height: --hmd " + o.hmd + " renders " +
@@ -232,8 +270,13 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
     if (cameraArg) head = cameraArg->camera(head.yfov);
     std::optional<render::FullResolution> reference;
     std::optional<render::PointSetMethod> pointSet;
+    std::optional<render::EccentricityLayers> layers;
     render::FoveationMethod* method = nullptr;
-    if (foveated) {
+    if (o.method == "layers") {
+        // Each eye's layers from its own frustum: the HMD image fills the eye's field of view.
+        layers.emplace(renderer.methodContext(), layerSettings(o, std::nullopt));
+        method = &*layers;
+    } else if (foveated) {
         foveation::PointSetParams params;
         params.display = foveation::displayProfile(profile.pointSetProfile);
         params.scale = o.scale;
@@ -314,6 +357,9 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
                          {views[e].frustum->left, views[e].frustum->right, views[e].frustum->up,
                           views[e].frustum->down}}});
     }
+    if (layers) {
+        for (std::size_t e = 0; e < 2; ++e) eyes[e]["layers"] = layersJson(*layers, views[e]);
+    }
     written.keep();
     return {{"device", ctx.deviceName()},
             {"device_type", ctx.deviceDescription()},
@@ -344,14 +390,16 @@ nlohmann::json runRender(const RenderOptions& o) {
     if (!o.hmd.empty()) {
         return runRenderHmd(o);
     }
-    if (o.method != "reference" && o.method != "foveated") {
+    if (o.method != "reference" && o.method != "foveated" && o.method != "layers") {
         throw ArgumentError("--method: '" + o.method +
-                            "' is not available (known: reference, foveated)");
+                            "' is not available (known: reference, foveated, layers)");
     }
     if (o.out.empty()) {
         throw ArgumentError("--out: empty path");
     }
     const bool foveated = o.method == "foveated";
+    const bool layered = o.method == "layers";
+    const bool gazeDriven = foveated || layered;
     uint32_t width = o.width, height = o.height;
     foveation::PointSetParams psParams;
     passes::InterpolateSettings interp;
@@ -382,12 +430,21 @@ nlohmann::json runRender(const RenderOptions& o) {
         if (!o.view.empty()) {
             interp.method = passes::parseView(o.view);
         }
+    } else if (layered) {
+        // The profile's screen (or a window on it, with --width/--height): layer sizes follow
+        // its viewing geometry, as the point set's do.
+        const foveation::DisplayProfile screen = foveation::displayProfile(o.profile);
+        if (!o.sizeGiven) {
+            width = screen.width;
+            height = screen.height;
+        }
+        gaze = parseGaze(o.gaze, width, height);
     }
     std::optional<foveation::GazeTrace> trace;
     uint32_t frameCount = o.frames;
     if (!o.gazeTrace.empty()) {
-        if (!foveated) {
-            throw ArgumentError("--gaze-trace needs --method foveated");
+        if (!gazeDriven) {
+            throw ArgumentError("--gaze-trace needs --method foveated or layers");
         }
         if (!(o.frameMs > 0.0)) {
             throw ArgumentError("--frame-ms must be positive");
@@ -408,8 +465,8 @@ nlohmann::json runRender(const RenderOptions& o) {
     std::unique_ptr<eyetrack::FrameSource> gazeSource;
     std::optional<eyetrack::Calibration> calibration;
     if (!o.gazeSource.empty()) {
-        if (!foveated) {
-            throw ArgumentError("--gaze-source needs --method foveated");
+        if (!gazeDriven) {
+            throw ArgumentError("--gaze-source needs --method foveated or layers");
         }
         if (trace) {
             throw ArgumentError("--gaze-source and --gaze-trace exclude each other");
@@ -428,8 +485,8 @@ nlohmann::json runRender(const RenderOptions& o) {
     if (!foveated && !o.view.empty()) {
         throw ArgumentError("--view needs --method foveated");
     }
-    if (!foveated && !o.gaze.empty()) {
-        throw ArgumentError("--gaze needs --method foveated");
+    if (!gazeDriven && !o.gaze.empty()) {
+        throw ArgumentError("--gaze needs --method foveated or layers");
     }
     // --camera-path: the camera follows a recorded path, one frame every --frame-ms.
     std::optional<scene::CameraPath> path;
@@ -461,7 +518,13 @@ nlohmann::json runRender(const RenderOptions& o) {
     view.post.taa = false;
     std::optional<render::FullResolution> reference;
     std::optional<render::PointSetMethod> pointSet;
-    if (foveated) {
+    std::optional<render::EccentricityLayers> layers;
+    if (layered) {
+        layers.emplace(renderer.methodContext(),
+                       layerSettings(o, foveation::displayProfile(o.profile)));
+        view.method = &*layers;
+        view.gaze = gaze;
+    } else if (foveated) {
         pointSet.emplace(renderer.methodContext(), psParams,
                          o.cacheDir.empty() ? foveation::defaultCacheDir()
                                             : std::filesystem::path(o.cacheDir));
@@ -523,7 +586,7 @@ nlohmann::json runRender(const RenderOptions& o) {
             view.saccade = saccades != saccadesSeen;
             saccadesSeen = saccades;
         }
-        if (foveated) {
+        if (gazeDriven) {
             gazes.push_back({view.gaze.x, view.gaze.y});
         } else {
             reference->settings.frameSeed = o.seed + i;
@@ -611,6 +674,13 @@ nlohmann::json runRender(const RenderOptions& o) {
             j["rbf_prepared_ms"] = pointSet->rbfPrepared().ms;
             j["rbf_prepared_mb"] = pointSet->rbfPrepared().mb;
         }
+    } else if (layered) {
+        rays = frame.views.front().rays; // the last frame's: half-rate layers alternate
+        j["spp"] = o.spp;
+        j["profile"] = o.profile;
+        j["gaze"] = {view.gaze.x, view.gaze.y};
+        if (trace || tracker) j["gaze_per_frame"] = gazes;
+        j["layers"] = layersJson(*layers, view);
     } else {
         j["spp"] = o.spp;
     }

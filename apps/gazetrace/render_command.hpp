@@ -44,6 +44,12 @@ struct RenderOptions {
     bool distortion = true;    // --no-distortion: the eyes' images as rendered
     double vergenceM = 0.0;    // distance the eyes converge at; 0: infinity (parallel)
     bool displaySpace = false; // foveated --hmd: the point set laid on the panel after the lens
+    // --method layers (seed 002): MAR slope, layer count, half-rate outer layers, grid jitter.
+    // --spp is the rays per layer pixel, --taa the per-layer history.
+    std::string slope = "A";
+    uint32_t layers = 3;
+    bool halfRate = true;
+    bool jitter = true;
 };
 
 // Renders and writes the PNG; returns the JSON summary (device, width, height, method, rays,

@@ -880,6 +880,15 @@ void HistoryPool::invalidate(std::string_view name) {
     }
 }
 
+void HistoryPool::invalidatePrefix(std::string_view prefix) {
+    for (auto& [name, e] : mEntries) {
+        if (std::string_view(name).starts_with(prefix)) {
+            e->valid = false;
+            e->frames = 0;
+        }
+    }
+}
+
 void HistoryPool::invalidateAll() {
     for (auto& [name, e] : mEntries) {
         e->valid = false;
@@ -926,6 +935,21 @@ HistoryTextures RenderGraph::importHistory(HistoryPool& pool, std::string_view u
     h.previous = import(readIndex, ".previous");
     h.next = import(writeIndex, ".next");
     mHistories.push_back({&pool, name, writeIndex});
+    return h;
+}
+
+HistoryTextures RenderGraph::readHistory(HistoryPool& pool, std::string_view unscoped,
+                                         VkFormat format, uint32_t width, uint32_t height) {
+    HistoryPool::Entry& e = pool.entry(scopedName(unscoped), width, height, format);
+    const vk::Image& img = *e.images[static_cast<std::size_t>(e.read)];
+    HistoryTextures h;
+    h.valid = e.valid;
+    h.previous = importTexture(std::string(unscoped) + ".previous",
+                               {img.handle(), img.view(), format, width, height,
+                                e.written[static_cast<std::size_t>(e.read)]
+                                    ? std::optional(Access::StorageWrite)
+                                    : std::nullopt,
+                                Access::StorageRead});
     return h;
 }
 

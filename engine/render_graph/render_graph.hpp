@@ -251,6 +251,8 @@ public:
     HistoryPool& operator=(const HistoryPool&) = delete;
     // Makes the next frame start without history for `name` (a saccade, a camera cut).
     void invalidate(std::string_view name);
+    // Every history whose name starts with `prefix` (a view's, "left.").
+    void invalidatePrefix(std::string_view prefix);
     void invalidateAll();
     // Swaps read and write images of every history `graph` imported. Call after its submit.
     void commit(const RenderGraph& graph);
@@ -304,6 +306,10 @@ public:
     // `format`, `width` and `height` describe the history image (absolute size).
     [[nodiscard]] HistoryTextures importHistory(HistoryPool& pool, std::string_view name,
                                                 VkFormat format, uint32_t width, uint32_t height);
+    // Last frame's image only (`next` stays invalid): a pass that skips this frame (a layer
+    // updated at half rate) still reads what it wrote before, and commit() leaves it as it is.
+    [[nodiscard]] HistoryTextures readHistory(HistoryPool& pool, std::string_view name,
+                                              VkFormat format, uint32_t width, uint32_t height);
 
     // The version of `t` (or `b`) is a result of the frame: its producers are never culled and
     // it is left in `finalAccess` (Present for a swapchain image, StorageRead for a texture a

@@ -1,0 +1,123 @@
+#include "layers/layers.hpp"
+
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "layers_compose_comp.h"
+#include "layers_shared.h"
+#include "layers_trace_comp.h"
+#include "trace/gpu_scene.hpp"
+#include "vk/context.hpp"
+#include "vk/pipeline.hpp"
+
+namespace gt::passes {
+
+namespace sh = shaders::layers;
+
+LayersPass::LayersPass(vk::Context& ctx) : mCtx(ctx) {
+    std::vector<VkDescriptorType> bindings(sh::kMaxLayers + 1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
+    mCompose = std::make_unique<vk::ComputePipeline>(
+        ctx, vk::ComputePipelineDesc{"layers.compose", gt_spv_layers_compose_comp, bindings,
+                                     sizeof(sh::LayerComposePush)});
+    (void)tracePipeline(false); // a bad shader fails at construction
+}
+
+LayersPass::~LayersPass() = default;
+
+const vk::ComputePipeline& LayersPass::tracePipeline(bool alphaMask) const {
+    auto& slot = mTrace[alphaMask ? 1 : 0];
+    if (!slot) {
+        std::vector<VkDescriptorType> bindings(shaders::trace::kSceneBindingCount,
+                                               VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
+        bindings[shaders::trace::kBindingSceneUniforms] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        bindings.push_back(VK_DESCRIPTOR_TYPE_STORAGE_IMAGE); // sh::kBindingTraceOutput
+        slot = std::make_unique<vk::ComputePipeline>(
+            mCtx, vk::ComputePipelineDesc{"layers.trace",
+                                          gt_spv_layers_trace_comp,
+                                          bindings,
+                                          sizeof(sh::LayerTracePush),
+                                          {alphaMask ? 1u : 0u}});
+    }
+    return *slot;
+}
+
+rg::TextureId LayersPass::addTrace(rg::RenderGraph& graph, const trace::GpuScene& scene,
+                                   const shaders::trace::CameraPush& cam, uint32_t width,
+                                   uint32_t height, uint32_t raysPerPixel) const {
+    if (raysPerPixel == 0) throw ArgumentError("rays per layer pixel must be at least 1");
+    if (width == 0 || height == 0) throw ArgumentError("an eccentricity layer of zero size");
+    struct Data {
+        rg::TextureId output;
+    };
+    const sh::LayerTracePush push{cam.origin, cam.forward, cam.right, cam.up,
+                                  glm::uvec4(width, height, raysPerPixel, 0u)};
+    const auto& data = graph.addPass<Data>(
+        "layers.trace",
+        [&](rg::PassBuilder& b, Data& d) {
+            d.output = b.write(b.createTexture("layers.radiance",
+                                               {VK_FORMAT_R32G32B32A32_SFLOAT, rg::SizeMode::Absolute,
+                                                static_cast<float>(width),
+                                                static_cast<float>(height)}),
+                               rg::Access::StorageWrite);
+        },
+        [ctx = &mCtx, pipeline = &tracePipeline(scene.alphaMasked()), scene = &scene,
+         push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+            vk::DescriptorWriter writer;
+            scene->bind(writer);
+            writer.storageImage(sh::kBindingTraceOutput, r.texture(d.output).view);
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline->handle());
+            writer.push(*ctx, cmd, *pipeline);
+            vk::dispatch(cmd, *pipeline, &push, sizeof(push),
+                         (push.params.x + sh::kGroupSizeX - 1) / sh::kGroupSizeX,
+                         (push.params.y + sh::kGroupSizeY - 1) / sh::kGroupSizeY);
+        });
+    return data.output;
+}
+
+rg::TextureId LayersPass::addCompose(rg::RenderGraph& graph,
+                                     std::span<const ComposedLayer> layers, glm::vec2 gaze,
+                                     float transition) const {
+    if (layers.empty() || layers.size() > sh::kMaxLayers) {
+        throw ArgumentError("layers.compose: " + std::to_string(layers.size()) +
+                            " layers (1 to 4)");
+    }
+    sh::LayerComposePush push{};
+    push.gaze = glm::vec4(gaze, static_cast<float>(layers.size()), transition);
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+        push.layer[i] = glm::vec4(layers[i].origin, layers[i].pitch, layers[i].radiusPx);
+    }
+    struct Data {
+        std::array<rg::TextureId, sh::kMaxLayers> layers;
+        std::size_t count = 0;
+        rg::TextureId output;
+    };
+    const auto& data = graph.addPass<Data>(
+        "layers.compose",
+        [&](rg::PassBuilder& b, Data& d) {
+            d.count = layers.size();
+            for (std::size_t i = 0; i < layers.size(); ++i) {
+                d.layers[i] = b.read(layers[i].image, rg::Access::StorageRead);
+            }
+            d.output = b.write(
+                b.createTexture("layers.composed", {VK_FORMAT_R32G32B32A32_SFLOAT}),
+                rg::Access::StorageWrite);
+        },
+        [ctx = &mCtx, pipeline = mCompose.get(), push](const rg::PassResources& r, const Data& d,
+                                                        VkCommandBuffer cmd) {
+            const rg::ResolvedTexture& out = r.texture(d.output);
+            vk::DescriptorWriter writer;
+            for (uint32_t i = 0; i < sh::kMaxLayers; ++i) {
+                // Slots past the count repeat the outer layer (never read by the shader).
+                const std::size_t src = i < d.count ? i : d.count - 1;
+                writer.storageImage(sh::kBindingLayer0 + i, r.texture(d.layers[src]).view);
+            }
+            writer.storageImage(sh::kBindingComposeOutput, out.view);
+            writer.push(*ctx, cmd, *pipeline);
+            vk::dispatch(cmd, *pipeline, &push, sizeof(push), (out.width + 7) / 8,
+                         (out.height + 7) / 8);
+        });
+    return data.output;
+}
+
+} // namespace gt::passes

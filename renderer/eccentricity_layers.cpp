@@ -1,0 +1,142 @@
+#include "eccentricity_layers.hpp"
+
+#include <memory>
+
+#include "core/error.hpp"
+#include "view.hpp"
+
+namespace gt::render {
+
+namespace {
+constexpr const char* kLayerHistory = "layers.history";
+constexpr VkFormat kLayerFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+
+std::string layerScope(std::size_t i) {
+    return "layer" + std::to_string(i + 1);
+}
+} // namespace
+
+EccentricityLayers::EccentricityLayers(const MethodContext& mc, EccentricityLayerSettings s)
+    : mMc(mc), mSettings(s), mPass(mc.ctx), mTaa(mc.ctx) {
+    if (!(s.slope > 0.0)) throw ArgumentError("--slope must be positive");
+    if (s.layers < 1 || s.layers > passes::kMaxEccentricityLayers) {
+        throw ArgumentError("--layers: " + std::to_string(s.layers) + " (1 to 4)");
+    }
+    if (s.raysPerPixel == 0) throw ArgumentError("--rays-per-pixel must be at least 1");
+    if (!(s.transition > 0.0f) || s.transition > 1.0f) {
+        throw ArgumentError("layer blend transition must be in (0, 1]");
+    }
+}
+
+const LayerLayout& EccentricityLayers::layout(const View& view) {
+    const trace::FrustumTangents t = tangentsOf(view.cameraPush());
+    const LayoutKey key{view.width, view.height, t.left, t.right, t.up, t.down};
+    auto it = mLayouts.find(key);
+    if (it == mLayouts.end()) {
+        const foveation::LayerDisplay display =
+            mSettings.display ? foveation::LayerDisplay::fromProfile(foveation::windowProfile(
+                                    *mSettings.display, view.width, view.height))
+                              : viewDisplay(view.width, view.height, t);
+        it = mLayouts
+                 .emplace(key, layoutLayers(view.width, view.height, display,
+                                            foveation::MarModel{mSettings.slope}, mSettings.layers))
+                 .first;
+    }
+    return it->second;
+}
+
+rg::TextureId EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View& view) {
+    const LayerLayout& lay = layout(view);
+    const std::size_t n = lay.grids.size();
+    const shaders::trace::CameraPush viewCamera = view.cameraPush();
+    const trace::FrustumTangents tangents = tangentsOf(viewCamera);
+    ViewState prev = mViews.count(view.name) ? mViews.at(view.name) : ViewState{};
+    if (prev.layers.size() != n) prev.layers.assign(n, LayerState{});
+    // A saccade, or a gaze jump the tracker did not report: every layer starts afresh around
+    // the new gaze, so the fovea is sharp at once.
+    const bool reset = passes::taaMustReset(prev.known, view.saccade, view.gaze,
+                                            prev.known ? prev.gaze : view.gaze, view.width,
+                                            mSettings.taa);
+    const glm::vec2 jitter = mSettings.jitter ? layerJitter(prev.frame) : glm::vec2(0.0f);
+
+    Pending p;
+    p.state = prev;
+    p.state.gaze = view.gaze;
+    p.state.known = true;
+    p.traced.assign(n, false);
+    std::vector<passes::ComposedLayer> composed;
+    for (std::size_t i = 0; i < n; ++i) {
+        const LayerGrid& grid = lay.grids[i];
+        const LayerState& last = prev.layers[i];
+        const rg::RenderGraph::Scope scope = graph.scope(layerScope(i), grid.width, grid.height);
+        const bool kept = last.valid && mMc.history.frames(graph.scopedName(kLayerHistory)) > 0;
+        // Half rate (section 4.3): the inner layer every frame, the others on alternate frames,
+        // staggered so that one of them is traced on even frames and the next on odd ones.
+        const bool due =
+            i == 0 || !mSettings.halfRate || reset || !kept || (prev.frame + i) % 2 == 0;
+        rg::TextureId image;
+        LayerRect rect = last.rect;
+        if (due) {
+            rect = placeLayer(grid, view.width, view.height, view.gaze, jitter);
+            const shaders::trace::CameraPush camera =
+                trace::cameraPush(view.camera, subFrustum(tangents, view.width, view.height, rect));
+            const rg::TextureId traced = mPass.addTrace(graph, mMc.scene, camera, grid.width,
+                                                        grid.height, mSettings.raysPerPixel);
+            const rg::HistoryTextures history = graph.importHistory(
+                mMc.history, kLayerHistory, kLayerFormat, grid.width, grid.height);
+            const bool fresh = reset || !mSettings.temporal || !kept;
+            image = mTaa.add(graph, history, traced, camera, kept ? last.camera : camera, fresh,
+                             mSettings.taa);
+            p.state.layers[i] = {rect, camera, true};
+            p.traced[i] = true;
+            p.rays += static_cast<uint64_t>(grid.width) * grid.height * mSettings.raysPerPixel;
+        } else {
+            image = graph.readHistory(mMc.history, kLayerHistory, kLayerFormat, grid.width,
+                                      grid.height)
+                        .previous;
+        }
+        composed.push_back({image, rect.origin, grid.pitch, grid.radiusPx});
+    }
+    mPending[view.name] = std::move(p);
+    return mPass.addCompose(graph, composed, view.gaze, mSettings.transition);
+}
+
+uint64_t EccentricityLayers::rays(const View& view) const {
+    if (const auto it = mPending.find(view.name); it != mPending.end()) return it->second.rays;
+    if (const auto it = mLast.find(view.name); it != mLast.end()) return it->second.rays;
+    return 0;
+}
+
+std::vector<bool> EccentricityLayers::tracedLastFrame(const View& view) const {
+    if (const auto it = mPending.find(view.name); it != mPending.end()) return it->second.traced;
+    if (const auto it = mLast.find(view.name); it != mLast.end()) return it->second.traced;
+    return {};
+}
+
+void EccentricityLayers::frameSubmitted() {
+    for (auto& [name, p] : mPending) {
+        p.state.frame += 1;
+        mViews[name] = p.state;
+        mLast[name] = std::move(p);
+    }
+    mPending.clear();
+}
+
+std::optional<WarmUp> EccentricityLayers::warmUp(const View& view) {
+    if (mWarm) return std::nullopt;
+    mWarm = true;
+    // trace -> taa -> compose once at 16 x 16, with a throwaway history.
+    auto pool = std::make_shared<rg::HistoryPool>(mMc.ctx);
+    const shaders::trace::CameraPush cam = view.cameraPush();
+    return WarmUp{16, 16, [this, pool, cam](rg::RenderGraph& g) {
+                      const rg::TextureId traced = mPass.addTrace(g, mMc.scene, cam, 16, 16, 1);
+                      const rg::HistoryTextures h =
+                          g.importHistory(*pool, kLayerHistory, kLayerFormat, 16, 16);
+                      const passes::ComposedLayer layer{
+                          mTaa.add(g, h, traced, cam, cam, true, mSettings.taa), {}, 1.0f, 0.0f};
+                      return mPass.addCompose(g, std::span(&layer, 1), glm::vec2(8.0f),
+                                              mSettings.transition);
+                  }};
+}
+
+} // namespace gt::render

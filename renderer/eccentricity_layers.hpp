@@ -1,0 +1,85 @@
+#pragma once
+// Guenter et al.'s method (seed 002): nested eccentricity layers at falling resolution around the
+// gaze, sized by the linear MAR model and the layer optimisation of section 4.3 (layer_layout),
+// ray traced by pass `layers` as grids over their sub-frusta. As in section 4.2, each layer's grid
+// is jittered every frame, blended with its own temporally reprojected history (pass `taa`, one
+// history per layer), resampled bilinearly to the display and blended with smoothstep masks
+// (Figure 3); the middle and outer layers are updated at half rate, staggered.
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "foveation/eccentricity_layers.hpp"
+#include "foveation_method.hpp"
+#include "layer_layout.hpp"
+#include "layers/layers.hpp"
+#include "taa/taa.hpp"
+
+namespace gt::render {
+
+struct EccentricityLayerSettings {
+    double slope = foveation::kSlopeA; // m of eq. (1): kSlopeA, kSlopeB or any positive value
+    uint32_t layers = 3;               // n, 1..4 (the paper uses 3)
+    uint32_t raysPerPixel = 1;         // rays per layer pixel (the paper's MSAA)
+    bool halfRate = true;    // layers 2.. at half the frame rate, staggered (section 4.3)
+    bool jitter = true;      // whole-grid jitter by up to half a layer pixel (section 4.2)
+    bool temporal = true;    // blend each layer with its reprojected history (section 4.2)
+    float transition = 0.4f; // smoothstep share of a layer's radius (Figure 3)
+    // The physical display the eye sees the view on (desktop: its size and viewing distance);
+    // empty: the view's frustum is the eye's field of view (an HMD eye, an OpenXR view). A view
+    // smaller than the profile is a window on that screen (windowProfile).
+    std::optional<foveation::DisplayProfile> display;
+    passes::TaaSettings taa; // the per-layer history blend
+};
+
+class EccentricityLayers final : public FoveationMethod {
+public:
+    explicit EccentricityLayers(const MethodContext& mc, EccentricityLayerSettings settings = {});
+    [[nodiscard]] std::string_view name() const override { return "layers"; }
+    [[nodiscard]] rg::TextureId addRadiance(rg::RenderGraph& graph, const View& view) override;
+    [[nodiscard]] uint64_t rays(const View& view) const override;
+    [[nodiscard]] std::optional<WarmUp> warmUp(const View& view) override;
+    [[nodiscard]] bool accumulates() const override { return true; }
+    void frameSubmitted() override;
+
+    // The layers of `view` (computed once per view size and frustum).
+    [[nodiscard]] const LayerLayout& layout(const View& view);
+    // Which layers `view`'s last recorded frame traced (inner first).
+    [[nodiscard]] std::vector<bool> tracedLastFrame(const View& view) const;
+
+    [[nodiscard]] const EccentricityLayerSettings& settings() const noexcept { return mSettings; }
+
+private:
+    struct LayerState {
+        LayerRect rect;
+        shaders::trace::CameraPush camera{};
+        bool valid = false;
+    };
+    struct ViewState {
+        uint64_t frame = 0; // frames of this view committed so far
+        glm::vec2 gaze{};
+        bool known = false;
+        std::vector<LayerState> layers;
+    };
+    struct Pending {
+        ViewState state;
+        std::vector<bool> traced;
+        uint64_t rays = 0;
+    };
+    using LayoutKey = std::tuple<uint32_t, uint32_t, float, float, float, float>;
+
+    MethodContext mMc;
+    EccentricityLayerSettings mSettings;
+    passes::LayersPass mPass;
+    passes::TaaPass mTaa;
+    std::map<LayoutKey, LayerLayout> mLayouts;
+    std::map<std::string, ViewState> mViews;
+    std::map<std::string, Pending> mPending;
+    std::map<std::string, Pending> mLast; // the last recorded frame's, for rays() and tests
+    bool mWarm = false;
+};
+
+} // namespace gt::render
