@@ -1,5 +1,8 @@
 #include "eccentricity_layers.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <memory>
 
 #include "core/error.hpp"
@@ -37,9 +40,13 @@ const LayerLayout& EccentricityLayers::layout(const View& view) {
             mSettings.display ? foveation::LayerDisplay::fromProfile(foveation::windowProfile(
                                     *mSettings.display, view.width, view.height))
                               : viewDisplay(view.width, view.height, t);
+        const foveation::MarModel mar{mSettings.slope};
         it = mLayouts
-                 .emplace(key, layoutLayers(view.width, view.height, display,
-                                            foveation::MarModel{mSettings.slope}, mSettings.layers))
+                 .emplace(key, mSettings.radiiDeg.empty()
+                                   ? layoutLayers(view.width, view.height, display, mar,
+                                                  mSettings.layers)
+                                   : layoutLayers(view.width, view.height, display, mar,
+                                                  mSettings.radiiDeg))
                  .first;
     }
     return it->second;
@@ -57,7 +64,6 @@ rg::TextureId EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View
     const bool reset = passes::taaMustReset(prev.known, view.saccade, view.gaze,
                                             prev.known ? prev.gaze : view.gaze, view.width,
                                             mSettings.taa);
-    const glm::vec2 jitter = mSettings.jitter ? layerJitter(prev.frame) : glm::vec2(0.0f);
 
     Pending p;
     p.state = prev;
@@ -77,17 +83,43 @@ rg::TextureId EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View
         rg::TextureId image;
         LayerRect rect = last.rect;
         if (due) {
-            rect = placeLayer(grid, view.width, view.height, view.gaze, jitter);
-            const shaders::trace::CameraPush camera =
-                trace::cameraPush(view.camera, subFrustum(tangents, view.width, view.height, rect));
-            const rg::TextureId traced = mPass.addTrace(graph, mMc.scene, camera, grid.width,
-                                                        grid.height, mSettings.raysPerPixel);
+            // Rays through the jittered grid; the history and the compose step on the grid
+            // itself (without a history, where the rays went).
+            // Each layer walks the jitter sequence by its own count: a half-rate layer sampling
+            // every other entry would cover only half of its pixel.
+            const uint64_t traces = kept ? last.traces : 0;
+            const glm::vec2 jitter = mSettings.jitter ? layerJitter(traces) : glm::vec2(0.0f);
+            const LayerRect grid0 = placeLayer(grid, view.width, view.height, view.gaze);
+            const LayerRect rays = jittered(grid0, grid.pitch, jitter);
+            rect = mSettings.temporal ? grid0 : rays;
+            auto cameraThrough = [&](const LayerRect& r) {
+                return trace::cameraPush(view.camera,
+                                         subFrustum(tangents, view.width, view.height, r));
+            };
+            const shaders::trace::CameraPush camera = cameraThrough(rect);
+            const rg::TextureId traced =
+                mPass.addTrace(graph, mMc.scene, cameraThrough(rays), grid.width, grid.height,
+                               mSettings.raysPerPixel);
             const rg::HistoryTextures history = graph.importHistory(
                 mMc.history, kLayerHistory, kLayerFormat, grid.width, grid.height);
             const bool fresh = reset || !mSettings.temporal || !kept;
+            const bool still =
+                !fresh && std::memcmp(&camera, &last.camera, sizeof(camera)) == 0;
+            passes::TaaSettings blend = mSettings.taa;
+            const auto movingCap = static_cast<uint32_t>(std::lround(1.0f / blend.currentWeight));
+            uint32_t samples = fresh ? 0 : last.samples;
+            if (still) {
+                samples = std::min(samples, mSettings.maxStillSamples - 1);
+                blend.clipGamma = 1e30f;      // nothing moved: the history is this grid's
+                blend.depthTolerance = 1e30f; // and the jitter changes distances, not surfaces
+            } else {
+                samples = std::min(samples, movingCap - 1);
+                blend.depthTolerance *= grid.pitch;
+            }
+            blend.currentWeight = 1.0f / static_cast<float>(samples + 1);
             image = mTaa.add(graph, history, traced, camera, kept ? last.camera : camera, fresh,
-                             mSettings.taa);
-            p.state.layers[i] = {rect, camera, true};
+                             blend);
+            p.state.layers[i] = {rect, camera, true, traces + 1, samples + 1};
             p.traced[i] = true;
             p.rays += static_cast<uint64_t>(grid.width) * grid.height * mSettings.raysPerPixel;
         } else {

@@ -23,6 +23,9 @@ namespace gt::render {
 struct EccentricityLayerSettings {
     double slope = foveation::kSlopeA; // m of eq. (1): kSlopeA, kSlopeB or any positive value
     uint32_t layers = 3;               // n, 1..4 (the paper uses 3)
+    // The inner layers' radii in degrees (n - 1, rising) instead of eq. (5)'s optimum; empty:
+    // optimised. The pitch of each layer still follows eq. (2).
+    std::vector<double> radiiDeg;
     uint32_t raysPerPixel = 1;         // rays per layer pixel (the paper's MSAA)
     bool halfRate = true;    // layers 2.. at half the frame rate, staggered (section 4.3)
     bool jitter = true;      // whole-grid jitter by up to half a layer pixel (section 4.2)
@@ -32,7 +35,15 @@ struct EccentricityLayerSettings {
     // empty: the view's frustum is the eye's field of view (an HMD eye, an OpenXR view). A view
     // smaller than the profile is a window on that screen (windowProfile).
     std::optional<foveation::DisplayProfile> display;
-    passes::TaaSettings taa; // the per-layer history blend
+    // The per-layer history blend while the layer moves (camera or gaze): reprojected, clipped
+    // to the new frame's neighbourhood, the new frame weighing at least currentWeight. While a
+    // layer's grid stays where it was, its history is exact: the new frame weighs 1 / (frames
+    // averaged + 1), unclipped, so a still view averages every jittered sample evenly and
+    // converges to the layer's box-filtered, supersampled image. The disocclusion tolerance
+    // grows with the layer's pitch: the jitter moves a ray by up to half a layer pixel, along
+    // which a grazing surface's distance changes that much.
+    passes::TaaSettings taa{.currentWeight = 0.05f};
+    uint32_t maxStillSamples = 256; // the still average's weight floor, 1 / 256
 };
 
 class EccentricityLayers final : public FoveationMethod {
@@ -57,6 +68,8 @@ private:
         LayerRect rect;
         shaders::trace::CameraPush camera{};
         bool valid = false;
+        uint64_t traces = 0;  // frames this layer was traced: its own jitter index
+        uint32_t samples = 0; // frames its history averages (see addRadiance)
     };
     struct ViewState {
         uint64_t frame = 0; // frames of this view committed so far

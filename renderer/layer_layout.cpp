@@ -26,16 +26,42 @@ foveation::LayerDisplay viewDisplay(uint32_t width, uint32_t height,
                                                  portrait ? t.up - t.down : t.right - t.left);
 }
 
-LayerLayout layoutLayers(uint32_t width, uint32_t height, const foveation::LayerDisplay& display,
-                         const foveation::MarModel& mar, uint32_t count, uint32_t steps) {
+namespace {
+
+LayerLayout gridsOf(uint32_t width, uint32_t height, const foveation::LayerDisplay& display,
+                    foveation::LayerPlan plan);
+
+void checkView(uint32_t width, uint32_t height, const foveation::LayerDisplay& display) {
     if (width == 0 || height == 0) throw ArgumentError("eccentricity layers: a view of no size");
     if (std::abs(display.resolution - std::max(width, height)) > 0.5) {
         throw ArgumentError("eccentricity layers: the display's " +
                             std::to_string(display.resolution) + " px do not match the view's " +
                             std::to_string(std::max(width, height)));
     }
+}
+
+} // namespace
+
+LayerLayout layoutLayers(uint32_t width, uint32_t height, const foveation::LayerDisplay& display,
+                         const foveation::MarModel& mar, uint32_t count, uint32_t steps) {
+    checkView(width, height, display);
+    return gridsOf(width, height, display,
+                   foveation::optimiseLayers(display, mar, count, {}, steps));
+}
+
+LayerLayout layoutLayers(uint32_t width, uint32_t height, const foveation::LayerDisplay& display,
+                         const foveation::MarModel& mar, std::span<const double> radiiDeg) {
+    checkView(width, height, display);
+    if (radiiDeg.size() + 1 > 4) throw ArgumentError("--layer-radii: at most 3 inner radii");
+    return gridsOf(width, height, display, foveation::planLayers(display, mar, radiiDeg));
+}
+
+namespace {
+
+LayerLayout gridsOf(uint32_t width, uint32_t height, const foveation::LayerDisplay& display,
+                    foveation::LayerPlan plan) {
     LayerLayout layout;
-    layout.plan = foveation::optimiseLayers(display, mar, count, {}, steps);
+    layout.plan = std::move(plan);
     const double perTangent = display.pixelsPerTangent();
     for (std::size_t i = 0; i < layout.plan.layers.size(); ++i) {
         const foveation::Layer& l = layout.plan.layers[i];
@@ -56,22 +82,25 @@ LayerLayout layoutLayers(uint32_t width, uint32_t height, const foveation::Layer
     return layout;
 }
 
-LayerRect placeLayer(const LayerGrid& g, uint32_t width, uint32_t height, glm::vec2 gaze,
-                     glm::vec2 jitter) {
+} // namespace
+
+LayerRect placeLayer(const LayerGrid& g, uint32_t width, uint32_t height, glm::vec2 gaze) {
     const glm::vec2 display(static_cast<float>(width), static_cast<float>(height));
     const glm::vec2 size = glm::vec2(static_cast<float>(g.width), static_cast<float>(g.height)) *
                            g.pitch;
-    glm::vec2 centre = display * 0.5f;
-    if (!g.outer) {
-        const glm::vec2 half = size * 0.5f;
-        centre = gaze + 0.5f; // pixel centres at integers -> pixel edges
-        for (int a = 0; a < 2; ++a) {
-            centre[a] = half[a] >= display[a] * 0.5f
-                            ? display[a] * 0.5f
-                            : std::clamp(centre[a], half[a], display[a] - half[a]);
-        }
+    if (g.outer) return {(display - size) * 0.5f, size};
+    const glm::vec2 half = size * 0.5f;
+    glm::vec2 centre = gaze + 0.5f; // pixel centres at integers -> pixel edges
+    for (int a = 0; a < 2; ++a) {
+        centre[a] = half[a] >= display[a] * 0.5f
+                        ? display[a] * 0.5f
+                        : std::clamp(centre[a], half[a], display[a] - half[a]);
     }
-    return {centre - size * 0.5f + jitter * g.pitch, size};
+    return {glm::round((centre - half) / g.pitch) * g.pitch, size};
+}
+
+LayerRect jittered(const LayerRect& rect, float pitch, glm::vec2 jitter) {
+    return {rect.origin + jitter * pitch, rect.size};
 }
 
 trace::FrustumTangents subFrustum(const trace::FrustumTangents& v, uint32_t width,

@@ -3,6 +3,7 @@
 // lies on the display this frame, and the sub-frustum each is traced through. Pure CPU maths,
 // kept apart from the method so it is tested without a device.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -34,6 +35,12 @@ struct LayerLayout {
                                        const foveation::LayerDisplay& display,
                                        const foveation::MarModel& mar, uint32_t count,
                                        uint32_t steps = 400);
+// The same with the inner layers' radii given (degrees, rising, count - 1 of them) instead of
+// optimised: eq. (2) still sets each layer's pitch.
+[[nodiscard]] LayerLayout layoutLayers(uint32_t width, uint32_t height,
+                                       const foveation::LayerDisplay& display,
+                                       const foveation::MarModel& mar,
+                                       std::span<const double> radiiDeg);
 
 // How the eye sees a view: through its frustum (an HMD eye, an OpenXR view: the image fills the
 // field of view the frustum spans).
@@ -42,14 +49,19 @@ struct LayerLayout {
 
 // The display rectangle (pixel edges) a layer grid covers this frame: centred on the gaze (pixel
 // centres at integers) and moved inside the display — which keeps everything within its radius
-// of the gaze covered — then shifted by `jitter` layer pixels (each in [-0.5, 0.5], seed 002
-// 4.2). The outer layer is centred on the display.
+// of the gaze covered — with its corner on a multiple of the layer's pitch, so that as the gaze
+// moves the grid moves by whole layer pixels and its history is reprojected without resampling
+// blur. The outer layer is centred on the display.
 struct LayerRect {
     glm::vec2 origin{}; // top-left corner, display pixel edges
     glm::vec2 size{};   // grid size times pitch
 };
 [[nodiscard]] LayerRect placeLayer(const LayerGrid& grid, uint32_t width, uint32_t height,
-                                   glm::vec2 gaze, glm::vec2 jitter);
+                                   glm::vec2 gaze);
+// `rect` shifted by `jitter` layer pixels (each in [-0.5, 0.5], seed 002 4.2): where this frame's
+// rays go. The history stays on the unjittered grid, so a still view accumulates the jittered
+// samples of each layer pixel (a box-filtered, supersampled layer) instead of blurring them.
+[[nodiscard]] LayerRect jittered(const LayerRect& rect, float pitch, glm::vec2 jitter);
 
 // The frustum through `rect` of a view of `width` x `height` pixels spanning `view`.
 [[nodiscard]] trace::FrustumTangents subFrustum(const trace::FrustumTangents& view, uint32_t width,

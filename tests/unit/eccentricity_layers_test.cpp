@@ -2,12 +2,15 @@
 // values worked by hand.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <numbers>
 #include <limits>
 #include <vector>
 
 #include "core/error.hpp"
 #include "foveation/eccentricity_layers.hpp"
+#include "layer_layout.hpp"
 
 namespace gt::foveation {
 namespace {
@@ -145,6 +148,92 @@ TEST(EccentricityLayers, ParsesSlopes) {
     EXPECT_THROW((void)parseSlope("C"), ArgumentError);
     EXPECT_THROW((void)parseSlope("-0.1"), ArgumentError);
     EXPECT_THROW((void)parseSlope("0.02x"), ArgumentError);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Where the layers go on a view (renderer/layer_layout).
+
+TEST(LayerLayout, JitterCoversThePixelEvenly) {
+    // Halton (2, 3): any 6 consecutive frames put one offset in each cell of a 2 x 3 split of
+    // the pixel, and 64 frames fill a 4 x 4 split with 4 each, all within [-0.5, 0.5).
+    for (uint64_t start : {0u, 5u, 17u}) {
+        std::array<int, 6> cells{};
+        for (uint64_t f = start; f < start + 6; ++f) {
+            const glm::vec2 j = render::layerJitter(f);
+            ASSERT_GE(j.x, -0.5f);
+            ASSERT_LT(j.x, 0.5f);
+            ASSERT_GE(j.y, -0.5f);
+            ASSERT_LT(j.y, 0.5f);
+            ++cells[static_cast<std::size_t>(std::floor((j.x + 0.5f) * 2.0f) * 3 +
+                                             std::floor((j.y + 0.5f) * 3.0f))];
+        }
+        for (const int c : cells) EXPECT_EQ(c, 1) << start;
+    }
+    std::array<int, 16> grid{};
+    glm::vec2 mean(0.0f);
+    for (uint64_t f = 0; f < 64; ++f) {
+        const glm::vec2 j = render::layerJitter(f);
+        mean += j / 64.0f;
+        ++grid[static_cast<std::size_t>(std::floor((j.x + 0.5f) * 4.0f) * 4 +
+                                        std::floor((j.y + 0.5f) * 4.0f))];
+    }
+    for (const int c : grid) EXPECT_GE(c, 2);
+    EXPECT_NEAR(mean.x, 0.0f, 0.02f);
+    EXPECT_NEAR(mean.y, 0.0f, 0.02f);
+}
+
+TEST(LayerLayout, DesktopLayersMatchTheOptimum) {
+    // The desktop profile at 1920 x 1080, slope A: the optimiser's plan, each inner layer a
+    // square of 2 tan(e_i) * D* V* / W* display pixels at pitch s_i, the outer the whole screen.
+    const LayerDisplay d = LayerDisplay::fromProfile({"desktop", 1920, 1080, 59.0 / 51.0});
+    const render::LayerLayout lay = render::layoutLayers(1920, 1080, d, MarModel{kSlopeA}, 3);
+    ASSERT_EQ(lay.grids.size(), 3u);
+    const double perTangent = 1920.0 * 59.0 / 51.0;
+    for (std::size_t i = 0; i < 2; ++i) {
+        const double r = std::tan(lay.plan.layers[i].radiusDeg * std::numbers::pi / 180.0) *
+                         perTangent;
+        EXPECT_NEAR(lay.grids[i].radiusPx, r, 1e-3);
+        EXPECT_EQ(lay.grids[i].width,
+                  static_cast<uint32_t>(std::ceil(std::min(2.0 * r, 1080.0) /
+                                                  lay.plan.layers[i].samplingFactor - 1e-6)));
+    }
+    EXPECT_TRUE(lay.grids[2].outer);
+    EXPECT_EQ(lay.grids[2].width, static_cast<uint32_t>(std::ceil(1920.0 / lay.grids[2].pitch)));
+    EXPECT_EQ(lay.grids[2].height, static_cast<uint32_t>(std::ceil(1080.0 / lay.grids[2].pitch)));
+    // The layers hold about P of eq. (5): the outer layer's ceil() and clipping aside.
+    EXPECT_NEAR(static_cast<double>(lay.pixels()), lay.plan.work, 0.01 * lay.plan.work);
+}
+
+TEST(LayerLayout, InnerLayersFollowTheGazeInsideTheDisplay) {
+    render::LayerGrid g{50, 50, 2.0f, 100.0f, false}; // 100 px square
+    // Centred on the gaze, the corner on a multiple of the pitch.
+    render::LayerRect r = render::placeLayer(g, 640, 480, {320.0f, 240.0f});
+    EXPECT_EQ(r.size, glm::vec2(100.0f));
+    EXPECT_NEAR(r.origin.x + 50.0f, 320.5f, 1.0f);
+    EXPECT_FLOAT_EQ(std::fmod(r.origin.x, 2.0f), 0.0f);
+    // Near a corner it moves inside: the display's part of the gaze's disc stays covered.
+    r = render::placeLayer(g, 640, 480, {10.0f, 470.0f});
+    EXPECT_EQ(r.origin, glm::vec2(0.0f, 380.0f));
+    // The outer layer is centred on the display; a jitter moves the grid in layer pixels.
+    const render::LayerGrid outer{107, 81, 6.0f, 0.0f, true};
+    r = render::placeLayer(outer, 640, 480, {10.0f, 10.0f});
+    EXPECT_EQ(r.origin, glm::vec2((640.0f - 642.0f) / 2.0f, (480.0f - 486.0f) / 2.0f));
+    EXPECT_EQ(render::jittered(r, 6.0f, {0.5f, -0.25f}).origin, r.origin + glm::vec2(3.0f, -1.5f));
+}
+
+TEST(LayerLayout, SubFrustumSpansItsRectangle) {
+    const trace::FrustumTangents view{-1.0f, 1.0f, 0.75f, -0.75f};
+    const trace::FrustumTangents sub =
+        render::subFrustum(view, 800, 600, {{200.0f, 150.0f}, {400.0f, 300.0f}});
+    EXPECT_FLOAT_EQ(sub.left, -0.5f);
+    EXPECT_FLOAT_EQ(sub.right, 0.5f);
+    EXPECT_FLOAT_EQ(sub.up, 0.375f);
+    EXPECT_FLOAT_EQ(sub.down, -0.375f);
+    // And back: a symmetric camera's push gives its tangents.
+    const shaders::trace::CameraPush c = trace::cameraPush(scene::Camera{}, view);
+    const trace::FrustumTangents t = render::tangentsOf(c);
+    EXPECT_FLOAT_EQ(t.left, -1.0f);
+    EXPECT_FLOAT_EQ(t.up, 0.75f);
 }
 
 } // namespace
