@@ -33,7 +33,8 @@ EccentricityLayers::EccentricityLayers(const MethodContext& mc, EccentricityLaye
 
 const LayerLayout& EccentricityLayers::layout(const View& view) {
     const trace::FrustumTangents t = tangentsOf(view.cameraPush());
-    const LayoutKey key{view.width, view.height, t.left, t.right, t.up, t.down};
+    auto q = [](float v) { return std::lround(static_cast<double>(v) * 1e4); };
+    const LayoutKey key{view.width, view.height, q(t.left), q(t.right), q(t.up), q(t.down)};
     auto it = mLayouts.find(key);
     if (it == mLayouts.end()) {
         const foveation::LayerDisplay display =

@@ -82,7 +82,9 @@ private:
         std::vector<bool> traced;
         uint64_t rays = 0;
     };
-    using LayoutKey = std::tuple<uint32_t, uint32_t, float, float, float, float>;
+    // Size and frustum tangents to 1e-4: a runtime's per-frame float noise in its field of view
+    // must not re-optimise the layers every frame.
+    using LayoutKey = std::tuple<uint32_t, uint32_t, long, long, long, long>;
 
     MethodContext mMc;
     EccentricityLayerSettings mSettings;

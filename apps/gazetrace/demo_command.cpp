@@ -28,6 +28,7 @@
 #include "full_resolution.hpp"
 #include "gaze_input.hpp"
 #include "gaze_mapping.hpp"
+#include "eccentricity_layers.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"
@@ -114,12 +115,20 @@ private:
 // HMD, the point set of its eyes' display, shared by both eyes.
 class Methods {
 public:
-    Methods(render::Renderer& r, const DemoSettings& s, std::string cacheDir, bool displaySpace)
-        : mRenderer(r), mSettings(s), mCacheDir(std::move(cacheDir)), mDisplaySpace(displaySpace) {}
+    Methods(render::Renderer& r, const DemoSettings& s, std::string cacheDir, bool displaySpace,
+            render::EccentricityLayerSettings layers)
+        : mRenderer(r), mSettings(s), mCacheDir(std::move(cacheDir)), mDisplaySpace(displaySpace),
+          mLayerSettings(std::move(layers)) {}
     render::FoveationMethod& forHmd(const display::HmdProfile& hmd) {
+        // Layers: each eye's frustum is its field of view.
+        if (mSettings.method == "layers") return layers(mHmdLayers, std::nullopt);
         return forDisplay(foveation::displayProfile(hmd.pointSetProfile));
     }
     render::FoveationMethod& forSize(uint32_t w, uint32_t h) {
+        // Layers: the window on the desktop screen (the method sizes them per window).
+        if (mSettings.method == "layers") {
+            return layers(mWindowLayers, foveation::displayProfile("desktop"));
+        }
         return forDisplay(foveation::windowProfile(foveation::displayProfile("desktop"), w, h));
     }
     [[nodiscard]] double lastBuildMs() const noexcept { return mBuildMs; }
@@ -127,6 +136,16 @@ public:
     [[nodiscard]] const render::PointSetMethod* current() const noexcept { return mCurrent; }
 
 private:
+    render::FoveationMethod& layers(std::optional<render::EccentricityLayers>& slot,
+                                    std::optional<foveation::DisplayProfile> display) {
+        if (!slot) {
+            render::EccentricityLayerSettings s = mLayerSettings;
+            s.display = std::move(display);
+            slot.emplace(mRenderer.methodContext(), s);
+        }
+        mCurrent = nullptr;
+        return *slot;
+    }
     render::FoveationMethod& forDisplay(const foveation::DisplayProfile& display) {
         if (mSettings.method == "reference") {
             if (!mReference) mReference.emplace(mRenderer.methodContext());
@@ -165,7 +184,9 @@ private:
     const DemoSettings& mSettings;
     std::string mCacheDir;
     bool mDisplaySpace;
+    render::EccentricityLayerSettings mLayerSettings;
     std::optional<render::FullResolution> mReference;
+    std::optional<render::EccentricityLayers> mWindowLayers, mHmdLayers;
     std::map<std::tuple<uint32_t, uint32_t, double>, std::unique_ptr<render::PointSetMethod>>
         mPointSets;
     const render::PointSetMethod* mCurrent = nullptr;
@@ -173,9 +194,10 @@ private:
 };
 
 void checkOptions(const DemoOptions& o) {
-    if (o.method != "foveated" && o.method != "reference") {
-        throw ArgumentError("--method: '" + o.method + "' (known: foveated, reference)");
+    if (o.method != "foveated" && o.method != "reference" && o.method != "layers") {
+        throw ArgumentError("--method: '" + o.method + "' (known: foveated, layers, reference)");
     }
+    (void)foveation::parseSlope(o.slope);
     if (o.method == "foveated") {
         (void)passes::parseInterpolation(o.interp);
         if (!o.view.empty()) (void)passes::parseView(o.view);
@@ -255,10 +277,14 @@ nlohmann::json runDemo(const DemoOptions& o) {
     render::SwapchainTarget target(ctx);
     render::OutputTarget* const targetPtr = &target;
     DemoSettings settings{
-        o.method, o.interp, o.k,   o.method == "reference" ? o.spp : o.raysPerPoint,
+        o.method, o.interp, o.k,   o.method == "foveated" ? o.raysPerPoint : o.spp,
         o.scale,  o.taa,    o.view};
+    render::EccentricityLayerSettings layerSettings;
+    layerSettings.slope = foveation::parseSlope(o.slope);
+    layerSettings.layers = o.layers;
+    layerSettings.raysPerPixel = o.spp;
     Methods methods(renderer, settings, o.cacheDir,
-                    o.displaySpace && !o.hmd.empty() && o.distortion);
+                    o.displaySpace && !o.hmd.empty() && o.distortion, layerSettings);
     std::optional<DemoOverlay> overlay;
     if (o.overlay || calibration) {
         overlay.emplace(*window, ctx, swapchain.format(), swapchain.imageCount());
@@ -322,7 +348,9 @@ nlohmann::json runDemo(const DemoOptions& o) {
             if (key == GLFW_KEY_T) settings.taa = !settings.taa;
             if (key == GLFW_KEY_TAB && overlay) overlay->toggle();
             if (key == GLFW_KEY_M) {
-                settings.method = settings.method == "foveated" ? "reference" : "foveated";
+                settings.method = settings.method == "foveated" ? "layers"
+                                  : settings.method == "layers" ? "reference"
+                                                                : "foveated";
             }
             if (key == GLFW_KEY_I) {
                 settings.interp = settings.interp == "nn"    ? "msm"

@@ -12,7 +12,9 @@ struct DemoOptions {
     std::string scene = "builtin:market";
     uint32_t width = 640; // window size at start; the view follows the window
     uint32_t height = 360;
-    std::string method = "foveated"; // foveated | reference
+    std::string method = "foveated"; // foveated | layers | reference
+    std::string slope = "A";         // layers: MAR slope
+    uint32_t layers = 3;             // layers: how many
     std::string interp = "nn";
     uint32_t k = 5;
     // 2.0: at the desktop screen's pixels per degree a 640x360 window spans only 18 degrees, so

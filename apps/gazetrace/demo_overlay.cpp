@@ -111,7 +111,7 @@ bool DemoOverlay::build(DemoSettings& s, const DemoStats& stats, std::optional<g
                     stats.frameMs);
         ImGui::Text("gaze-to-photon %.1f ms (%s)", stats.latencyMs, stats.gazeSource.c_str());
         ImGui::Text("%s", stats.device.c_str());
-        changed |= combo("method (M)", s.method, {"foveated", "reference"});
+        changed |= combo("method (M)", s.method, {"foveated", "layers", "reference"});
         if (s.method == "foveated") {
             changed |= combo("interpolation (I)", s.interp, {"nn", "msm", "rbf"});
             int k = static_cast<int>(s.k);

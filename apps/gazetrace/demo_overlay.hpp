@@ -28,7 +28,7 @@ class Window;
 
 // What the overlay shows and may change; the demo applies the changes before the next frame.
 struct DemoSettings {
-    std::string method = "foveated"; // foveated | reference
+    std::string method = "foveated"; // foveated | layers | reference
     std::string interp = "nn";       // nn | msm | rbf
     uint32_t k = 5;
     uint32_t raysPerPoint = 1;

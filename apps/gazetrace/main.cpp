@@ -35,8 +35,13 @@ void addSizeOptions(CLI::App* cmd, uint32_t& width, uint32_t& height, uint32_t m
 
 // The method settings of the real-time front ends (demo, xr).
 void addLiveMethodOptions(CLI::App* cmd, std::string& method, std::string& interp, uint32_t& k,
-                          double& scale, uint32_t& raysPerPoint, uint32_t& spp, std::string& taa) {
-    cmd->add_option("--method", method, "foveated | reference")->capture_default_str();
+                          double& scale, uint32_t& raysPerPoint, uint32_t& spp, std::string& taa,
+                          std::string& slope, uint32_t& layers) {
+    cmd->add_option("--method", method, "foveated | layers | reference")->capture_default_str();
+    cmd->add_option("--slope", slope, "Layers: MAR slope A | B | VALUE")->capture_default_str();
+    cmd->add_option("--layers", layers, "Layers: number of eccentricity layers")
+        ->check(CLI::Range(1u, 4u))
+        ->capture_default_str();
     cmd->add_option("--interp", interp, "nn | msm | rbf")->capture_default_str();
     cmd->add_option("--k", k, "Neighbours for msm / rbf")->capture_default_str();
     cmd->add_option("--scale", scale, "Point-set scaling value (sparser above 1)")
@@ -45,7 +50,7 @@ void addLiveMethodOptions(CLI::App* cmd, std::string& method, std::string& inter
     cmd->add_option("--rays-per-point", raysPerPoint, "Rays traced per point")
         ->check(CLI::Range(1u, 1024u))
         ->capture_default_str();
-    cmd->add_option("--spp", spp, "Rays per pixel (reference method)")
+    cmd->add_option("--spp", spp, "Rays per pixel (reference) or per layer pixel (layers)")
         ->check(CLI::Range(1u, 1024u))
         ->capture_default_str();
     cmd->add_option("--taa", taa, "on | off")
@@ -347,7 +352,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(16u, 8192u))
         ->capture_default_str();
     addLiveMethodOptions(demoCmd, demo.method, demo.interp, demo.k, demo.scale, demo.raysPerPoint,
-                         demo.spp, demoTaa);
+                         demo.spp, demoTaa, demo.slope, demo.layers);
     demoCmd->add_option("--view", demo.view, "Debug view: points | cells | eccentricity");
     demoCmd
         ->add_option("--gaze", demo.gaze,
@@ -415,7 +420,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     std::string xrTaa = "on";
     addLiveMethodOptions(xrCmd, xr.method, xr.interp, xr.k, xr.pointScale, xr.raysPerPoint, xr.spp,
-                         xrTaa);
+                         xrTaa, xr.slope, xr.layers);
     xrCmd
         ->add_option("--gaze", xr.gaze,
                      "Gaze when the runtime gives none: ahead | fixed:X,Y (left eye pixels) | "

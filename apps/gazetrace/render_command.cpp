@@ -387,6 +387,7 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
 } // namespace
 
 nlohmann::json runRender(const RenderOptions& o) {
+    if (o.method == "layers") (void)foveation::parseSlope(o.slope); // before any work
     if (!o.hmd.empty()) {
         return runRenderHmd(o);
     }

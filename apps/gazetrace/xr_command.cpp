@@ -20,6 +20,7 @@
 #include "foveation/point_set_cache.hpp"
 #include "full_resolution.hpp"
 #include "gaze_input.hpp"
+#include "eccentricity_layers.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "scene/image_io.hpp"
@@ -62,9 +63,10 @@ glm::vec3 parseVec3(const std::string& text, const char* flag) {
 }
 
 void checkOptions(const XrOptions& o) {
-    if (o.method != "foveated" && o.method != "reference") {
-        throw ArgumentError("--method: '" + o.method + "' (known: foveated, reference)");
+    if (o.method != "foveated" && o.method != "reference" && o.method != "layers") {
+        throw ArgumentError("--method: '" + o.method + "' (known: foveated, layers, reference)");
     }
+    (void)foveation::parseSlope(o.slope);
     (void)passes::parseInterpolation(o.interp);
     if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
         throw ArgumentError("--k must be 1..20");
@@ -113,6 +115,17 @@ public:
             }
             return *mReference;
         }
+        if (mOptions.method == "layers") {
+            // One method for both eyes: each eye's layers follow its own frustum (XrFovf).
+            if (!mLayers) {
+                render::EccentricityLayerSettings s;
+                s.slope = foveation::parseSlope(mOptions.slope);
+                s.layers = mOptions.layers;
+                s.raysPerPixel = mOptions.spp;
+                mLayers.emplace(mRenderer.methodContext(), s);
+            }
+            return *mLayers;
+        }
         const foveation::DisplayProfile display = xr::eyeDisplay(fov, size.width, size.height);
         // v to 1e-4 display widths: a runtime's per-frame float noise must not rebuild the set.
         const auto key =
@@ -143,6 +156,7 @@ private:
     render::Renderer& mRenderer;
     const XrOptions& mOptions;
     std::optional<render::FullResolution> mReference;
+    std::optional<render::EccentricityLayers> mLayers;
     std::map<std::tuple<uint32_t, uint32_t, long>, std::unique_ptr<render::PointSetMethod>>
         mPointSets;
 };

@@ -430,6 +430,67 @@ TEST(Cli, HmdWritesBothEyesSideBySide) {
                        "broken.json", bad);
 }
 
+// Issue 18: `layers` prints the paper's optimisation; `render --method layers` traces the layers
+// (alone and per HMD eye) and reports what it traced; bad values are one line.
+TEST(Cli, LayersPlanAndRender) {
+    const auto dir = test::tempDir("cli_layers");
+    Result r = run("layers --profile paper --slope A --json");
+    ASSERT_EQ(r.status, 0) << r.err;
+    auto j = nlohmann::json::parse(r.out);
+    EXPECT_NEAR(j["e_star_deg"].get<double>(), 23.37, 0.01);
+    EXPECT_NEAR(j["omega_star_deg"].get<double>(), 0.0516, 0.0001);
+    ASSERT_EQ(j["layers"].size(), 3u);
+    EXPECT_GT(j["speedup"].get<double>(), 5.0);
+    r = run("layers --fov-table --slope B");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("Figure 12"), std::string::npos);
+    EXPECT_EQ(lines(r.out), 13);
+
+    const auto png = dir / "l.png";
+    r = run("render --method layers --scene builtin:cornell --profile desktop --width 320 "
+            "--height 180 --slope 0.02 --frames 3 --validate --json --out " +
+            dir.string() + "/seq");
+    ASSERT_EQ(r.status, 0) << r.err;
+    j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["method"], "layers");
+    EXPECT_EQ(j["width"], 320);
+    ASSERT_EQ(j["layers"]["layers"].size(), 3u);
+    uint64_t traced = 0;
+    for (const auto& l : j["layers"]["layers"]) {
+        if (l["traced"].get<bool>()) {
+            traced += l["width"].get<uint64_t>() * l["height"].get<uint64_t>();
+        }
+    }
+    EXPECT_EQ(j["rays"].get<uint64_t>(), traced); // the last frame's rays: its traced layers
+    EXPECT_TRUE(j["gpu_ms"].contains("layer1.layers.trace"));
+    EXPECT_TRUE(j["gpu_ms"].contains("layers.compose"));
+    EXPECT_FALSE(j["gpu_ms"].contains("taa")); // the layers keep their own histories
+    EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;
+
+    r = run("render --hmd vive --method layers --scene builtin:cornell --validate --json --out " +
+            png.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    j = nlohmann::json::parse(r.out);
+    for (const char* pass : {"left.layer1.layers.trace", "right.layers.compose", "left.lens"}) {
+        EXPECT_TRUE(j["gpu_ms"].contains(pass)) << pass;
+    }
+    EXPECT_EQ(j["eyes"][1]["layers"]["layers"].size(), 3u);
+
+    const auto bad = dir / "bad.png";
+    expectCleanFailure(run("render --method layers --slope C --out " + bad.string()), "--slope",
+                       bad);
+    expectCleanFailure(run("render --method layers --layers 5 --out " + bad.string()), "--layers",
+                       bad);
+    expectCleanFailure(run("render --method layers --slope -1 --out " + bad.string()), "--slope",
+                       bad);
+    r = run("layers --slope 0");
+    EXPECT_NE(r.status, 0);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("--slope"), std::string::npos) << r.err;
+    expectCleanFailure(run("demo --method layers --slope X --screenshot " + bad.string()),
+                       "--slope", bad);
+}
+
 } // namespace
 } // namespace gt
 
