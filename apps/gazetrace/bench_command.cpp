@@ -16,6 +16,8 @@
 #include "atomic_write.hpp"
 #include "core/error.hpp"
 #include "foveation/point_set_cache.hpp"
+#include "eccentricity_layers.hpp"
+#include "foveation/eccentricity_layers.hpp"
 #include "full_resolution.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
@@ -129,6 +131,131 @@ double passMs(const Frame& f, const std::string& name) {
 // The GPU time of a whole frame: first pass start to last pass end, every pass counted.
 double frameMs(const Frame& f) {
     return f.timings.gpuMs;
+}
+
+// Seed 002's predictions (Figure 12's model, section 4.3) for the desktop and fove profiles at
+// slopes A and B: unit weights, as the paper predicts, and half-rate weights, as it measures.
+nlohmann::json layerPredictions() {
+    nlohmann::json out = nlohmann::json::array();
+    for (const char* profile : {"desktop", "fove"}) {
+        const foveation::LayerDisplay d =
+            foveation::LayerDisplay::fromProfile(foveation::displayProfile(profile));
+        for (const auto& [name, slope] : {std::pair{"A", foveation::kSlopeA},
+                                          std::pair{"B", foveation::kSlopeB}}) {
+            const foveation::LayerPlan plan = foveation::optimiseLayers(d, {slope}, 3);
+            std::vector<double> radii;
+            nlohmann::json layers = nlohmann::json::array();
+            for (std::size_t i = 0; i < plan.layers.size(); ++i) {
+                const foveation::Layer& l = plan.layers[i];
+                if (i + 1 < plan.layers.size()) radii.push_back(l.radiusDeg);
+                layers.push_back({{"e_deg", l.radiusDeg}, {"s", l.samplingFactor}, {"P", l.pixels}});
+            }
+            const double halfRate =
+                foveation::planLayers(d, {slope}, radii, foveation::halfRateWeights(3)).speedup();
+            out.push_back({{"profile", profile},
+                           {"slope", name},
+                           {"layers", layers},
+                           {"speedup", plan.speedup()},
+                           {"speedup_half_rate", halfRate}});
+        }
+    }
+    return out;
+}
+
+// Measured: `layers` against `reference` on the scene at the desktop profile (1920 x 1080), one
+// ray per reference pixel and per layer pixel, gaze centred, same run and device. The middle
+// and outer layers alternate frames, so each sample is the mean over two consecutive frames,
+// paired with a reference frame between them (machine drift hits both alike).
+nlohmann::json measureLayers(render::Renderer& renderer, int pairs) {
+    const foveation::DisplayProfile desktop = foveation::displayProfile("desktop");
+    const uint32_t w = desktop.width, h = desktop.height;
+    render::FullResolution reference(renderer.methodContext(), {1, 0});
+    render::DiscardTarget discard;
+    render::View v;
+    v.camera = renderer.scene().camera;
+    v.width = w;
+    v.height = h;
+    v.exposure = renderer.scene().exposure;
+    v.gaze = {0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h)};
+    v.post.taa = false; // the reference at 1 ray as rendered; the layers blend their own
+    auto run = [&](render::FoveationMethod& method, uint64_t* rays = nullptr) {
+        render::View view = v;
+        view.method = &method;
+        view.name = std::string(method.name());
+        render::OutputTarget* const target = &discard;
+        const render::FrameResult f =
+            renderer.renderFrame(std::span(&view, 1), std::span(&target, 1));
+        if (rays) *rays = f.views.front().rays;
+        return Frame{f.timings.value_or(rg::FrameTimings{}), f.wallMs};
+    };
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& [name, slope] :
+         {std::pair{"A", foveation::kSlopeA}, std::pair{"B", foveation::kSlopeB}}) {
+        render::EccentricityLayerSettings s;
+        s.slope = slope;
+        s.display = desktop;
+        render::EccentricityLayers layers(renderer.methodContext(), s);
+        warmUp([&] { return run(reference).wallMs + run(layers).wallMs; });
+        std::vector<double> refMs, layerMs, layerRays, ratios;
+        std::map<std::string, std::vector<double>> passes;
+        for (int i = 0; i < pairs; ++i) {
+            uint64_t r1 = 0, r2 = 0;
+            const Frame a = run(layers, &r1);
+            const Frame ref = run(reference);
+            const Frame b = run(layers, &r2);
+            const double ms = 0.5 * (frameMs(a) + frameMs(b));
+            refMs.push_back(frameMs(ref));
+            layerMs.push_back(ms);
+            layerRays.push_back(0.5 * static_cast<double>(r1 + r2));
+            ratios.push_back(frameMs(ref) / ms);
+            // Per pass, the mean over the two frames (a half-rate layer's pass counts half).
+            std::map<std::string, double> pair;
+            for (const Frame* f : {&a, &b}) {
+                for (const auto& p : f->timings.passes) pair[p.name] += 0.5 * p.gpuMs;
+            }
+            for (const auto& [pass, ms2] : pair) passes[pass].push_back(ms2);
+        }
+        const double pixels = static_cast<double>(w) * h;
+        render::View probe = v;
+        probe.method = &layers;
+        nlohmann::json grids = nlohmann::json::array();
+        for (const render::LayerGrid& g : layers.layout(probe).grids) {
+            grids.push_back({{"width", g.width}, {"height", g.height}, {"s", g.pitch}});
+        }
+        nlohmann::json perPass = nlohmann::json::object();
+        for (const auto& [pass, ms] : passes) perPass[pass] = median(ms);
+        out.push_back({{"slope", name},
+                       {"grids", grids},
+                       {"reference_rays", pixels},
+                       {"layers_rays_per_frame", median(layerRays)},
+                       {"pixel_ratio", pixels / median(layerRays)},
+                       {"reference_ms", median(refMs)},
+                       {"layers_ms_per_frame", median(layerMs)},
+                       {"time_ratio", median(ratios)},
+                       {"layers_passes_ms_per_frame", perPass},
+                       {"pairs", pairs}});
+    }
+    return out;
+}
+
+void printLayers(const nlohmann::json& predicted, const nlohmann::json& measured) {
+    std::printf("Eccentricity layers (seed 002), predicted P*/P with 3 layers (unit weights; "
+                "half-rate weights):\n");
+    for (const auto& p : predicted) {
+        std::printf("  %-7s slope %s: %5.2f; %5.2f\n", p["profile"].get<std::string>().c_str(),
+                    p["slope"].get<std::string>().c_str(), p["speedup"].get<double>(),
+                    p["speedup_half_rate"].get<double>());
+    }
+    std::printf("Layers against the reference, desktop 1920x1080, 1 ray per pixel, mean of two "
+                "frames (paper: 13.3x / 5.7x at A, 9.8x / 4.8x at B):\n");
+    for (const auto& m : measured) {
+        std::printf("  slope %s: rays %.0f vs %.0f, pixel ratio %.2f; %.1f ms vs %.1f ms, "
+                    "time ratio %.2f\n",
+                    m["slope"].get<std::string>().c_str(), m["layers_rays_per_frame"].get<double>(),
+                    m["reference_rays"].get<double>(), m["pixel_ratio"].get<double>(),
+                    m["layers_ms_per_frame"].get<double>(), m["reference_ms"].get<double>(),
+                    m["time_ratio"].get<double>());
+    }
 }
 
 } // namespace
@@ -306,6 +433,9 @@ nlohmann::json runBench(const BenchOptions& o) {
                           {"point_sample_us_per_ray", 1e3 * median(ms) / points}});
     }
 
+    const nlohmann::json layerPredicted = layerPredictions();
+    const nlohmann::json layerMeasured = measureLayers(session.renderer, frames);
+
     nlohmann::json table2json = nlohmann::json::array();
     for (const auto& [name, settings] : table2) {
         table2json.push_back(
@@ -391,6 +521,7 @@ nlohmann::json runBench(const BenchOptions& o) {
         {"table2", table2json},
         {"headline", headline},
         {"ray_cost_by_gaze", perRay},
+        {"layers", {{"predicted", layerPredicted}, {"measured", layerMeasured}}},
         {"neighbour_index",
          {{"build_ms", session.pointSet.neighbourIndexMs()},
           {"mb", session.pointSet.neighbourIndexMb()},
@@ -447,9 +578,26 @@ nlohmann::json runBench(const BenchOptions& o) {
         }
         std::printf("\n");
     }
+    printLayers(layerPredicted, layerMeasured);
     if (!o.json.empty()) {
         writeJsonFile(o.json, result);
     }
+    return result;
+}
+
+nlohmann::json runLayersBench(const BenchOptions& o) {
+    render::Renderer renderer({.scene = o.scene, .deviceOverride = deviceFromEnvironment()});
+    std::printf("gazetrace bench --suite layers on %s (%s)\n",
+                renderer.context().deviceName().c_str(),
+                renderer.context().deviceDescription().c_str());
+    const nlohmann::json predicted = layerPredictions();
+    const nlohmann::json measured = measureLayers(renderer, o.quick ? 2 : 5);
+    printLayers(predicted, measured);
+    const nlohmann::json result = {{"device", renderer.context().deviceName()},
+                                   {"device_type", renderer.context().deviceDescription()},
+                                   {"scene", o.scene},
+                                   {"layers", {{"predicted", predicted}, {"measured", measured}}}};
+    if (!o.json.empty()) writeJsonFile(o.json, result);
     return result;
 }
 

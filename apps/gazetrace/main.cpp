@@ -233,8 +233,9 @@ int main(int argc, char** argv) {
     std::string benchSuite = "render";
     benchCmd
         ->add_option("--suite", benchSuite,
-                     "render (thesis tables, headline) | eye (pupil detection speed)")
-        ->check(CLI::IsMember({"render", "eye", "stereo"}))
+                     "render (thesis tables, headline, layers) | eye (pupil detection speed) | "
+                     "stereo | layers (seed 002 only)")
+        ->check(CLI::IsMember({"render", "eye", "stereo", "layers"}))
         ->capture_default_str();
 
     gt::app::SoakOptions soak;
@@ -484,6 +485,8 @@ int main(int argc, char** argv) {
         } else if (benchCmd->parsed()) {
             if (benchSuite == "eye") {
                 (void)gt::app::runEyeBench();
+            } else if (benchSuite == "layers") {
+                (void)gt::app::runLayersBench(bench);
             } else if (benchSuite == "stereo") {
                 (void)gt::app::runStereoBench(bench);
             } else {
