@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "core/error.hpp"
+#include "scene/subdivision.hpp"
 #include "view.hpp"
 
 namespace gt::render {
@@ -98,9 +99,11 @@ rg::TextureId EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View
                                          subFrustum(tangents, view.width, view.height, r));
             };
             const shaders::trace::CameraPush camera = cameraThrough(rect);
+            const uint32_t lod =
+                mSettings.lod ? scene::lodForPitch(grid.pitch, mMc.scene.lodLevels()) : 0;
             const rg::TextureId traced =
                 mPass.addTrace(graph, mMc.scene, cameraThrough(rays), grid.width, grid.height,
-                               mSettings.raysPerPixel);
+                               mSettings.raysPerPixel, lod);
             const rg::HistoryTextures history = graph.importHistory(
                 mMc.history, kLayerHistory, kLayerFormat, grid.width, grid.height);
             const bool fresh = reset || !mSettings.temporal || !kept;

@@ -31,6 +31,9 @@ struct EccentricityLayerSettings {
     bool jitter = true;      // whole-grid jitter by up to half a layer pixel (section 4.2)
     bool temporal = true;    // blend each layer with its reprojected history (section 4.2)
     float transition = 0.4f; // smoothstep share of a layer's radius (Figure 3)
+    // Geometric LOD (seed 002, 6): a layer sampled s display pixels apart traces the scene's
+    // subdivision cages log2(s) refinement levels coarser (scene::lodForPitch); off: full detail.
+    bool lod = true;
     // The physical display the eye sees the view on (desktop: its size and viewing distance);
     // empty: the view's frustum is the eye's field of view (an HMD eye, an OpenXR view). A view
     // smaller than the profile is a window on that screen (windowProfile).

@@ -7,6 +7,7 @@
 #include "core/log.hpp"
 #include "lens/lens.hpp"
 #include "scene/gltf_loader.hpp"
+#include "scene/subdivision.hpp"
 #include "taa/taa.hpp"
 #include "tonemap/tonemap.hpp"
 #include "trace/gpu_scene.hpp"
@@ -29,6 +30,16 @@ Renderer::Renderer(const RendererOptions& o) {
     for (const std::string& w : report.warnings) {
         log::warn(o.scene + ": " + w);
     }
+    if (!mScene.cages.empty()) {
+        // Geometric LOD (seed 002, 6): the cages refined once per level, a BVH per level.
+        const scene::Scene cages = std::move(mScene);
+        mScene = scene::refinedScene(cages, scene::kLodRefinements[0]);
+        for (std::size_t l = 1; l < scene::kLodRefinements.size(); ++l) {
+            scene::Scene level = scene::refinedScene(cages, scene::kLodRefinements[l]);
+            scene::Bvh bvh(level);
+            mCoarser.emplace_back(std::move(level), std::move(bvh));
+        }
+    }
     mLoadMs = msSince(t0);
     const auto t1 = Clock::now();
     mBvh.emplace(mScene);
@@ -38,7 +49,9 @@ Renderer::Renderer(const RendererOptions& o) {
     co.synchronizationValidation = o.validate;
     co.deviceOverride = o.deviceOverride;
     mCtx = std::make_unique<vk::Context>(co);
-    mGpuScene = std::make_unique<trace::GpuScene>(*mCtx, mScene, *mBvh);
+    std::vector<trace::LodGeometry> levels{{&mScene, &*mBvh}};
+    for (const auto& [level, bvh] : mCoarser) levels.push_back({&level, &bvh});
+    mGpuScene = std::make_unique<trace::GpuScene>(*mCtx, levels);
     mTaa = std::make_unique<passes::TaaPass>(*mCtx);
     mTonemap = std::make_unique<passes::TonemapPass>(*mCtx);
     mLens = std::make_unique<passes::LensPass>(*mCtx);
@@ -55,6 +68,12 @@ Renderer::~Renderer() {
         } catch (const std::exception&) { // NOLINT(bugprone-empty-catch): a lost device
         }
     }
+}
+
+std::vector<std::size_t> Renderer::lodTriangles() const {
+    std::vector<std::size_t> n{mScene.triangleCount()};
+    for (const auto& [level, bvh] : mCoarser) n.push_back(level.triangleCount());
+    return n;
 }
 
 vk::Context& Renderer::context() noexcept {

@@ -72,6 +72,9 @@ public:
     [[nodiscard]] const scene::Scene& scene() const noexcept;
     [[nodiscard]] const scene::BvhBuildStats& bvhStats() const noexcept;
     [[nodiscard]] const scene::Bvh& bvh() const noexcept { return *mBvh; }
+    // Triangles of each geometric LOD level (one level for a scene without subdivision cages;
+    // scene() and bvh() are level 0, the full detail).
+    [[nodiscard]] std::vector<std::size_t> lodTriangles() const;
     [[nodiscard]] double loadMs() const noexcept { return mLoadMs; }
     [[nodiscard]] double bvhMs() const noexcept { return mBvhMs; }
     // For constructing foveation methods on this renderer's device and scene.
@@ -102,6 +105,7 @@ private:
     double mLoadMs = 0.0, mBvhMs = 0.0;
     scene::Scene mScene;
     std::optional<scene::Bvh> mBvh;
+    std::vector<std::pair<scene::Scene, scene::Bvh>> mCoarser; // LOD levels 1..
     std::unique_ptr<vk::Context> mCtx;
     std::unique_ptr<trace::GpuScene> mGpuScene;
     std::unique_ptr<passes::TaaPass> mTaa;

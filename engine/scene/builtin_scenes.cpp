@@ -226,15 +226,87 @@ Scene makeCornell() {
     return scene;
 }
 
+// A sculpture gallery made of Catmull-Clark cages (the geometric LOD's test content, seed 002
+// section 6): rounded blocks, slabs, pillars and rings on plinths along a hall, lit by a sun
+// through the open side and lamps; only the room itself is plain triangles.
+Scene makeGallery() {
+    Scene scene;
+    scene.name = "builtin:gallery";
+    SceneBuilder b(scene);
+    Pcg32 rng(2012);
+    constexpr float kW = 8.0f, kZ0 = -34.0f, kZ1 = 6.0f, kH = 6.0f;
+    const uint32_t floorMat = b.material(diffuse({0.30f, 0.29f, 0.27f}, "floor"));
+    const uint32_t wallMat = b.material(diffuse({0.82f, 0.80f, 0.76f}, "wall"));
+    const uint32_t plinthMat = b.material(diffuse({0.9f, 0.9f, 0.88f}, "plinth"));
+    const glm::vec3 colours[6] = {{0.75f, 0.2f, 0.12f}, {0.12f, 0.3f, 0.7f}, {0.85f, 0.7f, 0.2f},
+                                  {0.1f, 0.5f, 0.3f},   {0.05f, 0.05f, 0.06f}, {0.9f, 0.9f, 0.9f}};
+    uint32_t stone[6];
+    for (int i = 0; i < 6; ++i) stone[i] = b.material(diffuse(colours[i], "sculpture"));
+    Material bronze = diffuse({0.8f, 0.55f, 0.3f}, "bronze");
+    bronze.metallic = 1.0f;
+    bronze.roughness = 0.3f;
+    const uint32_t bronzeMat = b.material(bronze);
+
+    b.quad({-kW, 0, kZ1}, {2 * kW, 0, 0}, {0, 0, kZ0 - kZ1}, floorMat, {6, 16});
+    b.quad({-kW, 0, kZ0}, {0, 0, kZ1 - kZ0}, {0, kH, 0}, wallMat); // left wall; right side open
+    b.quad({kW, 0, kZ0}, {-2 * kW, 0, 0}, {0, kH, 0}, wallMat);    // far wall
+    for (int i = 0; i < 7; ++i) {
+        const float z = 2.0f - 5.0f * static_cast<float>(i);
+        for (const float x : {-4.0f, 0.5f, 4.5f}) {
+            const float jitter = 0.6f * (rng.uniform() - 0.5f);
+            const glm::vec3 base(x + jitter, 0.0f, z + jitter);
+            b.box(trs(base + glm::vec3(0, 0.4f, 0), {0.9f, 0.8f, 0.9f}), plinthMat);
+            const float yaw = 6.28f * rng.uniform();
+            const uint32_t mat = (i + static_cast<int>(x)) % 4 == 0
+                                     ? bronzeMat
+                                     : stone[static_cast<int>(rng.uniform() * 5.99f)];
+            switch ((i * 3 + static_cast<int>(x + 4.0f)) % 4) {
+            case 0: // a rounded block
+                b.boxCage(trs(base + glm::vec3(0, 1.3f, 0), {1.0f, 1.0f, 1.0f}, yaw), mat);
+                break;
+            case 1: // a slab on edge
+                b.boxCage(trs(base + glm::vec3(0, 1.6f, 0), {1.1f, 1.6f, 0.3f}, yaw), mat, "slab");
+                break;
+            case 2: // a ring standing up
+                b.torusCage(glm::rotate(trs(base + glm::vec3(0, 1.7f, 0), {1.6f, 1.6f, 1.6f}, yaw),
+                                        1.5708f, glm::vec3(1, 0, 0)),
+                            mat, 12, 6);
+                break;
+            default: // a pillar
+                b.boxCage(trs(base + glm::vec3(0, 2.0f, 0), {0.35f, 2.4f, 0.35f}, yaw), mat,
+                          "pillar");
+                break;
+            }
+        }
+    }
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::normalize(glm::vec3(-0.6f, -0.7f, -0.3f));
+    sun.intensity = 2.5f;
+    sun.color = {1.0f, 0.95f, 0.85f};
+    scene.lights.push_back(sun);
+    for (int i = 0; i < 3; ++i) {
+        Light lamp;
+        lamp.position = {0.0f, kH - 0.3f, -2.0f - 12.0f * static_cast<float>(i)};
+        lamp.intensity = 40.0f;
+        lamp.color = {1.0f, 0.9f, 0.75f};
+        scene.lights.push_back(lamp);
+    }
+    scene.camera = lookAt({0.5f, 1.7f, 5.0f}, {0.3f, 1.4f, -10.0f}, glm::radians(60.0f));
+    scene.sky.ambient = 0.12f;
+    return scene;
+}
+
 std::vector<std::string> builtinSceneNames() {
-    return {"builtin:market", "builtin:cornell"};
+    return {"builtin:market", "builtin:cornell", "builtin:gallery"};
 }
 
 Scene makeBuiltin(const std::string& spec) {
     if (spec == "builtin:market") return makeMarket();
     if (spec == "builtin:cornell") return makeCornell();
+    if (spec == "builtin:gallery") return makeGallery();
     throw LoadError("unknown built-in scene '" + spec +
-                    "' (known: builtin:market, builtin:cornell)");
+                    "' (known: builtin:market, builtin:cornell, builtin:gallery)");
 }
 
 } // namespace gt::scene

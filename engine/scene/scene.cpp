@@ -132,3 +132,53 @@ void SceneBuilder::sphere(const glm::mat4& t, uint32_t material, int rings, int 
 }
 
 } // namespace gt::scene
+
+namespace gt::scene {
+
+void SceneBuilder::boxCage(const glm::mat4& t, uint32_t material, const std::string& name) {
+    SubdivisionCage c;
+    c.material = material;
+    c.name = name;
+    for (int i = 0; i < 8; ++i) {
+        const glm::vec3 p((i & 1) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f, (i & 4) ? 0.5f : -0.5f);
+        c.points.emplace_back(t * glm::vec4(p, 1.0f));
+    }
+    // Counter-clockwise seen from outside.
+    const uint32_t faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                  {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& f : faces) {
+        c.faceSizes.push_back(4);
+        c.indices.insert(c.indices.end(), std::begin(f), std::end(f));
+    }
+    mScene.cages.push_back(std::move(c));
+}
+
+void SceneBuilder::torusCage(const glm::mat4& t, uint32_t material, int ring, int tube) {
+    SubdivisionCage c;
+    c.material = material;
+    c.name = "torus";
+    constexpr float kTwoPi = 6.28318531f;
+    for (int i = 0; i < ring; ++i) {
+        const float a = kTwoPi * static_cast<float>(i) / static_cast<float>(ring);
+        for (int j = 0; j < tube; ++j) {
+            const float b = kTwoPi * static_cast<float>(j) / static_cast<float>(tube);
+            const float r = 0.5f + 0.2f * std::cos(b);
+            c.points.emplace_back(
+                t * glm::vec4(r * std::cos(a), 0.2f * std::sin(b), r * std::sin(a), 1.0f));
+        }
+    }
+    auto at = [&](int i, int j) {
+        return static_cast<uint32_t>(((i + ring) % ring) * tube + (j + tube) % tube);
+    };
+    for (int i = 0; i < ring; ++i) {
+        for (int j = 0; j < tube; ++j) {
+            c.faceSizes.push_back(4);
+            for (const uint32_t v : {at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)}) {
+                c.indices.push_back(v);
+            }
+        }
+    }
+    mScene.cages.push_back(std::move(c));
+}
+
+} // namespace gt::scene

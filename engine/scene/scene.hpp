@@ -72,6 +72,17 @@ struct Vertex {
     glm::vec2 uv;
 };
 
+// A Catmull-Clark control cage (the geometric LOD of seed 002, section 6): polygons over shared
+// control points in world space, refined by OpenSubdiv to as many levels as the renderer's LOD
+// needs (scene/subdivision.hpp). Its triangles are not in Scene::vertices.
+struct SubdivisionCage {
+    std::vector<glm::vec3> points;
+    std::vector<uint32_t> faceSizes; // corners of each face (3 or more)
+    std::vector<uint32_t> indices;   // into points, faceSizes[i] per face, counter-clockwise
+    uint32_t material = 0;
+    std::string name;
+};
+
 struct Scene {
     std::string name;
     std::vector<Vertex> vertices; // 3 per triangle, world space
@@ -85,6 +96,7 @@ struct Scene {
     bool cameraFramed = false;
     Sky sky;
     Environment environment; // used for misses when it has texels (cubemap scenes)
+    std::vector<SubdivisionCage> cages; // refined per LOD level, beside `vertices`
     float exposure = 1.0f;
 
     [[nodiscard]] std::size_t triangleCount() const noexcept { return triangleMaterial.size(); }
@@ -106,6 +118,10 @@ public:
     void cylinder(const glm::mat4& transform, uint32_t material,
                   int segments = 16); // r 0.5, y 0..1
     void sphere(const glm::mat4& transform, uint32_t material, int rings = 8, int segments = 12);
+    // Catmull-Clark cages: a cube [-0.5, 0.5]^3 (6 quads; a rounded blob once refined) and a
+    // torus of `ring` x `tube` quads around y (radii 0.5 and 0.2 before the transform).
+    void boxCage(const glm::mat4& transform, uint32_t material, const std::string& name = "box");
+    void torusCage(const glm::mat4& transform, uint32_t material, int ring = 8, int tube = 4);
 
 private:
     Scene& mScene;

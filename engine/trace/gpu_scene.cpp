@@ -1,9 +1,11 @@
 #include "trace/gpu_scene.hpp"
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
 
+#include "core/error.hpp"
 #include "vk/context.hpp"
 #include "vk/pipeline.hpp"
 
@@ -65,6 +67,36 @@ PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh) {
     return p;
 }
 
+PackedScene packScene(std::span<const LodGeometry> levels) {
+    if (levels.empty() || levels.size() > shaders::trace::kLodLevels) {
+        throw Error("packScene: " + std::to_string(levels.size()) + " LOD levels (1 to " +
+                    std::to_string(shaders::trace::kLodLevels) + ")");
+    }
+    PackedScene p = packScene(*levels[0].scene, *levels[0].bvh);
+    uint32_t roots[shaders::trace::kLodLevels] = {};
+    for (std::size_t l = 1; l < levels.size(); ++l) {
+        const PackedScene level = packScene(*levels[l].scene, *levels[l].bvh);
+        const auto nodeBase = static_cast<uint32_t>(p.nodes.size() / 2);
+        const auto triBase = static_cast<uint32_t>(p.triangles.size() / 3);
+        roots[l] = nodeBase;
+        for (std::size_t n = 0; n < level.nodes.size(); n += 2) {
+            glm::vec4 lo = level.nodes[n], hi = level.nodes[n + 1];
+            const uint32_t count = std::bit_cast<uint32_t>(hi.w);
+            // Leaves point at triangles, inner nodes at their left child.
+            lo.w = asFloat(std::bit_cast<uint32_t>(lo.w) + (count > 0 ? triBase : nodeBase));
+            p.nodes.push_back(lo);
+            p.nodes.push_back(hi);
+        }
+        p.triangles.insert(p.triangles.end(), level.triangles.begin(), level.triangles.end());
+        p.shading.insert(p.shading.end(), level.shading.begin(), level.shading.end());
+    }
+    for (std::size_t l = levels.size(); l < shaders::trace::kLodLevels; ++l) {
+        roots[l] = roots[levels.size() - 1];
+    }
+    p.uniforms.lodRoots = {roots[0], roots[1], roots[2], roots[3]};
+    return p;
+}
+
 GpuScene::Table GpuScene::upload(vk::Context& ctx, const void* data, std::size_t bytes,
                                  VkFormat format, const char* name) {
     // Empty tables still need a valid view: one zeroed texel.
@@ -80,8 +112,12 @@ GpuScene::Table GpuScene::upload(vk::Context& ctx, const void* data, std::size_t
     return t;
 }
 
-GpuScene::GpuScene(vk::Context& ctx, const scene::Scene& scene, const scene::Bvh& bvh) {
-    const PackedScene p = packScene(scene, bvh);
+GpuScene::GpuScene(vk::Context& ctx, const scene::Scene& scene, const scene::Bvh& bvh)
+    : GpuScene(ctx, std::span<const LodGeometry>(std::array{LodGeometry{&scene, &bvh}})) {}
+
+GpuScene::GpuScene(vk::Context& ctx, std::span<const LodGeometry> levels) {
+    const PackedScene p = packScene(levels);
+    mLodLevels = static_cast<uint32_t>(levels.size());
     mAlphaMasked = p.alphaMasked;
     constexpr VkFormat f4 = VK_FORMAT_R32G32B32A32_SFLOAT;
     mNodes = upload(ctx, p.nodes.data(), p.nodes.size() * 16, f4, "scene.bvh_nodes");

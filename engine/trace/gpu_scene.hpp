@@ -4,6 +4,7 @@
 // by 1.6x for BVH nodes on lavapipe, docs/LAVAPIPE.md), plus a small uniform block.
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -36,14 +37,27 @@ struct PackedScene {
 
 [[nodiscard]] PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh);
 
+// One geometric LOD level: the scene with its cages refined for it, and its BVH.
+struct LodGeometry {
+    const scene::Scene* scene;
+    const scene::Bvh* bvh;
+};
+// Every level in one set of tables: materials, lights and textures from the first (levels share
+// them), then each level's nodes, triangles and shading appended, its node and triangle indices
+// offset, its root in uniforms.lodRoots. At most shaders::trace::kLodLevels levels.
+[[nodiscard]] PackedScene packScene(std::span<const LodGeometry> levels);
+
 class GpuScene {
 public:
     GpuScene(vk::Context& ctx, const scene::Scene& scene, const scene::Bvh& bvh);
+    GpuScene(vk::Context& ctx, std::span<const LodGeometry> levels);
     // Adds the nine scene bindings (trace::kBinding*) to a descriptor update.
     void bind(vk::DescriptorWriter& writer) const;
     [[nodiscard]] std::size_t bytes() const noexcept { return mBytes; }
     // Tracing passes build their pipelines with kAlphaMask (trace.glsl) set to this.
     [[nodiscard]] bool alphaMasked() const noexcept { return mAlphaMasked; }
+    // Geometric LOD levels held (1 for a scene without subdivision cages).
+    [[nodiscard]] uint32_t lodLevels() const noexcept { return mLodLevels; }
 
 private:
     struct Table {
@@ -56,6 +70,7 @@ private:
     vk::Buffer mUniforms;
     std::size_t mBytes = 0;
     bool mAlphaMasked = false;
+    uint32_t mLodLevels = 1;
 };
 
 // The camera as push-constant vectors, for an image of the given aspect ratio.

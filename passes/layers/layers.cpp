@@ -44,14 +44,15 @@ const vk::ComputePipeline& LayersPass::tracePipeline(bool alphaMask) const {
 
 rg::TextureId LayersPass::addTrace(rg::RenderGraph& graph, const trace::GpuScene& scene,
                                    const shaders::trace::CameraPush& cam, uint32_t width,
-                                   uint32_t height, uint32_t raysPerPixel) const {
+                                   uint32_t height, uint32_t raysPerPixel,
+                                   uint32_t lod) const {
     if (raysPerPixel == 0) throw ArgumentError("rays per layer pixel must be at least 1");
     if (width == 0 || height == 0) throw ArgumentError("an eccentricity layer of zero size");
     struct Data {
         rg::TextureId output;
     };
     const sh::LayerTracePush push{cam.origin, cam.forward, cam.right, cam.up,
-                                  glm::uvec4(width, height, raysPerPixel, 0u)};
+                                  glm::uvec4(width, height, raysPerPixel, lod)};
     const auto& data = graph.addPass<Data>(
         "layers.trace",
         [&](rg::PassBuilder& b, Data& d) {

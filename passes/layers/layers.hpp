@@ -39,10 +39,11 @@ public:
     explicit LayersPass(vk::Context& ctx);
     ~LayersPass();
     // Adds "layers.trace" writing a new `width` x `height` texture "layers.radiance" seen through
-    // `camera` (the layer's sub-frustum), `raysPerPixel` stratified rays per layer pixel.
+    // `camera` (the layer's sub-frustum), `raysPerPixel` stratified rays per layer pixel,
+    // through the scene's geometric LOD level `lod` (0: full detail).
     rg::TextureId addTrace(rg::RenderGraph& graph, const trace::GpuScene& scene,
                            const shaders::trace::CameraPush& camera, uint32_t width,
-                           uint32_t height, uint32_t raysPerPixel) const;
+                           uint32_t height, uint32_t raysPerPixel, uint32_t lod = 0) const;
     // Adds "layers.compose" writing the output-sized "layers.composed": `layers` inner first, the
     // last covering the whole display; `transition` is the smoothstep's share of each radius.
     rg::TextureId addCompose(rg::RenderGraph& graph, std::span<const ComposedLayer> layers,

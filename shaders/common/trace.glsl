@@ -28,6 +28,13 @@ layout(std430, set = 0, binding = kBindingSceneUniforms) readonly buffer SceneBl
 // material was masked (reference, market, 2 spp: 2.08 s -> 7.4 s).
 layout(constant_id = 0) const bool kAlphaMask = false;
 
+// The BVH rays traverse: one geometric LOD level's (SceneUniforms::lodRoots). A pass picks the
+// level once per ray, before tracing it; the shadow rays of its hits then use the same level.
+int gLodRoot = 0;
+void selectLod(uint level) {
+    gLodRoot = int(uScene.lodRoots[min(level, uint(kLodLevels - 1))]);
+}
+
 const float kPi = 3.14159265358979;
 const float kInf = 1.0 / 0.0;
 
@@ -112,13 +119,13 @@ Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
     if (uScene.counts.w == 0u) return Hit(kInf, 0xffffffffu, 0.0, 0.0); // environment only
     vec3 invDir = 1.0 / dir;
     float tEnter;
-    if (slabTest(0, origin, invDir, tMin, tMax, tEnter)) {
+    if (slabTest(gLodRoot, origin, invDir, tMin, tMax, tEnter)) {
         // Children are tested at their parent; the far one waits on the stack with its entry
         // distance and is skipped if a closer hit has been found by the time it is popped.
         uint stack[kStackSize];
         float stackT[kStackSize];
         int sp = 0;
-        int node = 0;
+        int node = gLodRoot;
         while (true) {
             uvec2 links = nodeLinks(node);
             uint leftFirst = links.x, count = links.y;
@@ -161,10 +168,10 @@ bool traceOccluded(vec3 origin, vec3 dir, float tMax) {
     if (uScene.counts.w == 0u) return false;
     vec3 invDir = 1.0 / dir;
     float tEnter;
-    if (!slabTest(0, origin, invDir, 0.0, tMax, tEnter)) return false;
+    if (!slabTest(gLodRoot, origin, invDir, 0.0, tMax, tEnter)) return false;
     uint stack[kStackSize];
     int sp = 0;
-    int node = 0;
+    int node = gLodRoot;
     while (true) {
         uvec2 links = nodeLinks(node);
         uint leftFirst = links.x, count = links.y;

@@ -16,6 +16,7 @@ void main() {
     uint width = pc.params.x, height = pc.params.y, rays = pc.params.z;
     if (pixel.x >= width || pixel.y >= height) return;
     CameraPush cam = CameraPush(pc.origin, pc.forward, pc.right, pc.up);
+    selectLod(pc.params.w); // coarser layers traverse coarser refinements (seed 002, 6)
     uint nx = 1u;
     while (nx * nx < rays) nx++;
     uint ny = (rays + nx - 1u) / nx;

@@ -16,7 +16,7 @@ struct LayerTracePush {
     vec4 forward;
     vec4 right;
     vec4 up;
-    uvec4 params; // x = width, y = height, z = rays per layer pixel, w unused
+    uvec4 params; // x = width, y = height, z = rays per layer pixel, w = geometric LOD level
 };
 
 // layers.compose: the layers inner first; slots past the layer count repeat the outer layer.

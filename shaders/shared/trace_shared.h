@@ -37,7 +37,11 @@ struct SceneUniforms {
     vec4 skyGround;    // rgb, w unused
     uvec4 counts;      // x = lights, y = materials, z = textures, w = triangles
     uvec4 environment; // x = width, y = height (0: none, use the sky gradient)
+    // Root node of each geometric LOD level's BVH (0 = full detail, 1.. coarser Catmull-Clark
+    // refinements; levels past the scene's last repeat it). A scene without cages has one.
+    uvec4 lodRoots;
 };
+GT_CONST kLodLevels = 4;
 
 // Camera as a pinhole with an off-axis frustum: dir = normalize(forward + sx * right + sy * up),
 // sx = u * tan(yfov / 2) * aspect + centre.x and sy = v * tan(yfov / 2) + centre.y with u, v in

@@ -1,0 +1,35 @@
+#pragma once
+// Catmull-Clark refinement of the scene's cages with OpenSubdiv (Far), for geometric LOD by
+// eccentricity (seed 002, section 6: "the outer layer is rendered with roughly half as many
+// triangles"). Every refined vertex is placed on the limit surface with its limit normal, so the
+// levels differ only by how finely they approximate one smooth surface: shading barely changes
+// between them and silhouettes move by the chord error, which falls about fourfold per level.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "scene/scene.hpp"
+
+namespace gt::scene {
+
+// The cage refined `level` times (0: the cage's own faces), as a triangle list (3 vertices per
+// triangle, counter-clockwise). Throws gt::Error naming the cage when OpenSubdiv rejects its
+// topology (a non-manifold cage, a bad index).
+[[nodiscard]] std::vector<Vertex> refineCage(const SubdivisionCage& cage, uint32_t level);
+
+// Faces of the cage after `level` uniform refinements (each face of n corners becomes n quads).
+[[nodiscard]] std::size_t refinedFaceCount(const SubdivisionCage& cage, uint32_t level);
+
+// Catmull-Clark refinements of the cages at each geometric LOD level, full detail first. Each
+// level halves the edge length, so a ray sampling s display pixels apart can take about
+// log2(s) levels coarser than the finest (renderer: lodForPitch).
+inline constexpr std::array<uint32_t, 3> kLodRefinements{3, 2, 1};
+
+// The LOD level for rays `pitch` display pixels apart (1: full detail), of `levels` held:
+// floor(log2(pitch)), clamped.
+[[nodiscard]] uint32_t lodForPitch(float pitch, uint32_t levels);
+
+// The scene with every cage refined `level` times and appended to its triangles.
+[[nodiscard]] Scene refinedScene(const Scene& scene, uint32_t level);
+
+} // namespace gt::scene
