@@ -128,7 +128,7 @@ rg::TextureId PointSetMethod::addImage(rg::RenderGraph& graph,
                                        const std::optional<passes::PanelWarp>& warp) {
     const passes::InterpolateSettings& s = settings.interpolation;
     const rg::BufferId samples = mPointSample.add(graph, mMc.scene, camera, mGpuPoints, gaze, rays,
-                                                  lanes, warp ? &*warp : nullptr);
+                                                  lanes, warp ? &*warp : nullptr, settings.lod);
     passes::InterpolateInputs in = prepared;
     if (passes::usesRbfSolve(s)) {
         in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), samples, gaze, s);

@@ -37,6 +37,9 @@ struct PointSetSettings {
     // that shows the gaze, and trace each ray where the lens sends its panel position
     // (engine/display/display_space.hpp); the result is the panel's image.
     bool displaySpace = false;
+    // Geometric LOD (seed 002, 6): points whose spacing is large trace coarser refinements of
+    // the scene's subdivision cages (point_sample.comp); a scene without cages is unaffected.
+    bool lod = true;
 };
 
 class PointSetMethod final : public FoveationMethod {

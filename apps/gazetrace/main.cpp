@@ -77,7 +77,8 @@ int main(int argc, char** argv) {
     CLI::App* renderCmd = app.add_subcommand("render", "Render one frame headless to a PNG");
     renderCmd
         ->add_option("--scene", render.scene,
-                     "builtin:market | builtin:cornell | FILE.gltf | FILE.glb | cubemap:FILE")
+                     "builtin:market | builtin:cornell | builtin:gallery | FILE.gltf | FILE.glb | "
+                     "cubemap:FILE")
         ->capture_default_str();
     renderCmd->add_option("--camera", render.camera,
                           "Camera X,Y,Z,TX,TY,TZ[,FOV]: eye, look-at target (scene units), "
@@ -102,6 +103,12 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"on", "off"}))
         ->capture_default_str();
     renderCmd->add_option("--jitter", renderJitter, "Layers: per-frame grid jitter (on | off)")
+        ->check(CLI::IsMember({"on", "off"}))
+        ->capture_default_str();
+    std::string renderLod = "on";
+    renderCmd
+        ->add_option("--lod", renderLod,
+                     "Geometric LOD of subdivision cages by sampling pitch (on | off)")
         ->check(CLI::IsMember({"on", "off"}))
         ->capture_default_str();
     renderCmd->add_option("--out", render.out, "Output PNG, or a folder for frame_NNNN.png")
@@ -468,6 +475,7 @@ int main(int argc, char** argv) {
             render.taa = taaFlag == "on";
             render.halfRate = renderHalfRate == "on";
             render.jitter = renderJitter == "on";
+            render.lod = renderLod == "on";
             render.distortion = !noDistortion;
             render.framesGiven = renderCmd->count("--frames") > 0;
             render.sizeGiven = renderCmd->count("--width") + renderCmd->count("--height") > 0;

@@ -194,6 +194,7 @@ render::EccentricityLayerSettings layerSettings(const RenderOptions& o,
     s.halfRate = o.halfRate;
     s.jitter = o.jitter;
     s.temporal = o.taa;
+    s.lod = o.lod;
     s.display = std::move(display);
     return s;
 }
@@ -293,7 +294,7 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
         interp.kernel = passes::parseKernel(o.kernel);
         interp.rbfShape = static_cast<float>(o.rbfShape);
         interp.knn = passes::parseKnnIndex(o.knn);
-        pointSet->settings = {o.raysPerPoint, interp, o.displaySpace && o.distortion};
+        pointSet->settings = {o.raysPerPoint, interp, o.displaySpace && o.distortion, o.lod};
         method = &*pointSet;
     } else {
         reference.emplace(renderer.methodContext(), passes::ReferenceSettings{o.spp, o.seed});
@@ -529,7 +530,7 @@ nlohmann::json runRender(const RenderOptions& o) {
         pointSet.emplace(renderer.methodContext(), psParams,
                          o.cacheDir.empty() ? foveation::defaultCacheDir()
                                             : std::filesystem::path(o.cacheDir));
-        pointSet->settings = {o.raysPerPoint, interp};
+        pointSet->settings = {o.raysPerPoint, interp, false, o.lod};
         view.method = &*pointSet;
         view.gaze = gaze;
         view.post.taa = o.taa && o.view.empty(); // debug views show one frame's data as is
@@ -614,6 +615,8 @@ nlohmann::json runRender(const RenderOptions& o) {
                         {"device_type", ctx.deviceDescription()},
                         {"scene", o.scene},
                         {"triangles", renderer.scene().triangleCount()},
+                        {"lod_triangles", renderer.lodTriangles()},
+                        {"lod", o.lod},
                         {"width", width},
                         {"height", height},
                         {"method", o.method},

@@ -50,6 +50,9 @@ struct RenderOptions {
     uint32_t layers = 3;
     bool halfRate = true;
     bool jitter = true;
+    // Geometric LOD for scenes with subdivision cages: coarser layers and sparser points trace
+    // coarser refinements (foveated and layers).
+    bool lod = true;
 };
 
 // Renders and writes the PNG; returns the JSON summary (device, width, height, method, rays,

@@ -101,8 +101,8 @@ std::vector<Vertex> refineCage(const SubdivisionCage& cage, uint32_t level) {
 }
 
 uint32_t lodForPitch(float pitch, uint32_t levels) {
-    if (levels <= 1 || !(pitch > 1.0f)) return 0;
-    const auto l = static_cast<uint32_t>(std::floor(std::log2(pitch)));
+    if (levels <= 1 || !(pitch >= 4.0f)) return 0;
+    const auto l = static_cast<uint32_t>(std::floor(std::log2(pitch / 2.0f)));
     return std::min(l, levels - 1);
 }
 

@@ -47,11 +47,12 @@ public:
     explicit PointSamplePass(vk::Context& ctx);
     ~PointSamplePass();
     // Adds "point_sample" writing a new buffer "point_sample.samples" (one vec4 per point).
-    // lanesPerPoint 0 picks pointSampleLanes(); otherwise a power of two from 1 to 32.
+    // lanesPerPoint 0 picks pointSampleLanes(); otherwise a power of two from 1 to 32. With
+    // `lod`, points whose spacing is large trace the scene's coarser geometric LOD levels.
     rg::BufferId add(rg::RenderGraph& graph, const trace::GpuScene& scene,
                      const shaders::trace::CameraPush& camera, const foveation::GpuPointSet& points,
                      glm::vec2 gaze, uint32_t raysPerPoint, uint32_t lanesPerPoint = 0,
-                     const PanelWarp* warp = nullptr) const;
+                     const PanelWarp* warp = nullptr, bool lod = false) const;
 
 private:
     const vk::ComputePipeline& pipeline(uint32_t lanes, bool alphaMask) const;

@@ -49,6 +49,13 @@ void main() {
     }
     if (kLanes == 1u && !onScreen) return; // a specialisation constant: no barrier follows
     const CameraPush cam = CameraPush(pc.origin, pc.forward, pc.right, pc.up);
+    // Geometric LOD (seed 002, 6, here for the point set): a point whose neighbours lie p pixels
+    // apart resolves no detail finer than that, so it traces the scene's subdivision cages
+    // one level coarser per doubling past 4 px (scene::lodForPitch). Each point keeps its level
+    // as the set follows the gaze.
+    if (pc.offset.w > 1.5 && p.z >= 4.0) {
+        selectLod(min(uint(floor(log2(p.z * 0.5))), uint(pc.offset.w) - 1u));
+    }
     vec3 sum = vec3(0.0);
     float firstDepth = 0.0; // first-hit distance of ray 0 (always lane 0's), for TAA
     for (uint r = lane; onScreen && r < rays; r += kLanes) {

@@ -313,3 +313,60 @@ TEST_F(EccentricityLayersTest, ConvergedLayersShowNoSeams) {
 
 } // namespace
 } // namespace gt
+
+namespace gt {
+namespace {
+
+// Geometric LOD by eccentricity on builtin:gallery (subdivision cages): the inner layers trace
+// full detail whether LOD is on or off, the outer layer (pitch >= 4 px) a coarser refinement.
+TEST(LayersLod, OuterLayerTracesCoarserGeometry) {
+    render::Renderer renderer({.scene = "builtin:gallery", .validate = true});
+    const uint32_t errorsBefore = renderer.context().validationErrors();
+    ASSERT_EQ(renderer.lodTriangles().size(), 3u);
+    EXPECT_LT(renderer.lodTriangles()[1], renderer.lodTriangles()[0]);
+    render::EccentricityLayerSettings s;
+    s.slope = 0.25;
+    s.jitter = false;
+    s.temporal = false;
+    render::EccentricityLayers withLod(renderer.methodContext(), s);
+    s.lod = false;
+    render::EccentricityLayers without(renderer.methodContext(), s);
+    auto render = [&](render::EccentricityLayers& m, const std::string& name) {
+        render::View v;
+        v.name = name;
+        v.camera = renderer.scene().camera;
+        v.width = 320;
+        v.height = 180;
+        v.gaze = {160.0f, 90.0f};
+        v.method = &m;
+        render::ReadbackTarget readback(renderer.context());
+        render::OutputTarget* const target = &readback;
+        (void)renderer.renderFrame(std::span(&v, 1), std::span(&target, 1));
+        return std::pair{readback.takePixels(), m.layout(v)};
+    };
+    const auto [on, layout] = render(withLod, "on");
+    const auto [off, layoutOff] = render(without, "off");
+    ASSERT_EQ(layout.grids.size(), 3u);
+    ASSERT_GE(layout.grids[2].pitch, 4.0f);
+    ASSERT_LT(layout.grids[1].pitch, 4.0f);
+    // Inside 0.6 of the middle layer's radius only full-detail layers show: identical there.
+    const float inner = 0.6f * layout.grids[1].radiusPx;
+    uint64_t outerDiffer = 0;
+    for (uint32_t y = 0; y < 180; ++y) {
+        for (uint32_t x = 0; x < 320; ++x) {
+            const std::size_t i = (static_cast<std::size_t>(y) * 320 + x) * 4;
+            const bool same = on[i] == off[i] && on[i + 1] == off[i + 1] && on[i + 2] == off[i + 2];
+            if (glm::length(glm::vec2(static_cast<float>(x), static_cast<float>(y)) -
+                            glm::vec2(160.0f, 90.0f)) < inner) {
+                ASSERT_TRUE(same) << x << "," << y;
+            } else if (!same) {
+                ++outerDiffer;
+            }
+        }
+    }
+    EXPECT_GT(outerDiffer, 0u) << "the outer layer traced the same geometry with LOD on";
+    EXPECT_EQ(renderer.context().validationErrors(), errorsBefore);
+}
+
+} // namespace
+} // namespace gt
