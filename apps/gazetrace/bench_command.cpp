@@ -19,6 +19,7 @@
 #include "eccentricity_layers.hpp"
 #include "foveation/eccentricity_layers.hpp"
 #include "full_resolution.hpp"
+#include "layers_quality.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
@@ -593,10 +594,15 @@ nlohmann::json runLayersBench(const BenchOptions& o) {
     const nlohmann::json predicted = layerPredictions();
     const nlohmann::json measured = measureLayers(renderer, o.quick ? 2 : 5);
     printLayers(predicted, measured);
-    const nlohmann::json result = {{"device", renderer.context().deviceName()},
-                                   {"device_type", renderer.context().deviceDescription()},
-                                   {"scene", o.scene},
-                                   {"layers", {{"predicted", predicted}, {"measured", measured}}}};
+    std::fflush(stdout);
+    const nlohmann::json quality =
+        measureLayerQuality({.quick = o.quick, .scene = o.scene, .cacheDir = o.cacheDir});
+    printLayerQuality(quality);
+    const nlohmann::json result = {
+        {"device", renderer.context().deviceName()},
+        {"device_type", renderer.context().deviceDescription()},
+        {"scene", o.scene},
+        {"layers", {{"predicted", predicted}, {"measured", measured}, {"quality", quality}}}};
     if (!o.json.empty()) writeJsonFile(o.json, result);
     return result;
 }

@@ -1,0 +1,329 @@
+#include "layers_quality.hpp"
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "eccentricity_layers.hpp"
+#include "foveation/contrast_sensitivity.hpp"
+#include "foveation/eccentricity_layers.hpp"
+#include "foveation/point_set_cache.hpp"
+#include "full_resolution.hpp"
+#include "output_target.hpp"
+#include "point_set_method.hpp"
+#include "scene/camera_path.hpp"
+#include "renderer.hpp"
+
+namespace gt::app {
+
+namespace {
+
+using Image = std::vector<uint8_t>; // RGBA8, rows top first
+
+// The eccentricity bands every picture-quality number is given in.
+constexpr std::array<double, 4> kBandStartDeg{0.0, 5.0, 10.0, 20.0};
+constexpr std::size_t kBands = kBandStartDeg.size();
+const char* const kBandNames[kBands] = {"0-5", "5-10", "10-20", "20+"};
+
+// The band of every pixel of the desktop screen for a gaze (thesis eq. 1: e = atan(d / (N v))).
+std::vector<uint8_t> bandMap(const foveation::DisplayProfile& d, glm::vec2 gaze) {
+    std::vector<uint8_t> band(static_cast<std::size_t>(d.width) * d.height);
+    for (uint32_t y = 0; y < d.height; ++y) {
+        for (uint32_t x = 0; x < d.width; ++x) {
+            const double dist =
+                glm::length(glm::vec2(static_cast<float>(x), static_cast<float>(y)) - gaze);
+            const double e = foveation::ContrastSensitivity::eccentricityDeg(
+                dist, d.width, d.viewingDistance);
+            std::size_t b = 0;
+            while (b + 1 < kBands && e >= kBandStartDeg[b + 1]) ++b;
+            band[static_cast<std::size_t>(y) * d.width + x] = static_cast<uint8_t>(b);
+        }
+    }
+    return band;
+}
+
+// Mean absolute difference (0-255) and PSNR (dB) per band.
+nlohmann::json errorByBand(const Image& img, const Image& ref, const std::vector<uint8_t>& band) {
+    std::array<double, kBands> abs{}, sq{};
+    std::array<uint64_t, kBands> n{};
+    for (std::size_t p = 0; p < band.size(); ++p) {
+        for (int c = 0; c < 3; ++c) {
+            const double d = static_cast<double>(img[4 * p + c]) - ref[4 * p + c];
+            abs[band[p]] += std::abs(d);
+            sq[band[p]] += d * d;
+        }
+        n[band[p]] += 3;
+    }
+    nlohmann::json out = nlohmann::json::object();
+    for (std::size_t b = 0; b < kBands; ++b) {
+        const double mse = n[b] ? sq[b] / static_cast<double>(n[b]) : 0.0;
+        out[kBandNames[b]] = {
+            {"mad", n[b] ? abs[b] / static_cast<double>(n[b]) : 0.0},
+            {"psnr_db", mse > 0.0 ? 10.0 * std::log10(255.0 * 255.0 / mse) : 99.0}};
+    }
+    return out;
+}
+
+// Share (%) of each band's pixels whose colour changed by more than 10/255 in any channel.
+std::array<double, kBands> changedShare(const Image& a, const Image& b,
+                                        const std::vector<uint8_t>& band) {
+    std::array<uint64_t, kBands> changed{}, n{};
+    for (std::size_t p = 0; p < band.size(); ++p) {
+        bool c = false;
+        for (int k = 0; k < 3; ++k) c = c || std::abs(int(a[4 * p + k]) - int(b[4 * p + k])) > 10;
+        changed[band[p]] += c ? 1 : 0;
+        ++n[band[p]];
+    }
+    std::array<double, kBands> out{};
+    for (std::size_t i = 0; i < kBands; ++i) {
+        out[i] = n[i] ? 100.0 * static_cast<double>(changed[i]) / static_cast<double>(n[i]) : 0.0;
+    }
+    return out;
+}
+
+// Bilinear upscale of an RGBA8 image (the uniform baseline's "upscaled").
+Image upscale(const Image& src, uint32_t sw, uint32_t sh, uint32_t w, uint32_t h) {
+    Image out(static_cast<std::size_t>(w) * h * 4);
+    for (uint32_t y = 0; y < h; ++y) {
+        const float fy = std::clamp((static_cast<float>(y) + 0.5f) * sh / h - 0.5f, 0.0f,
+                                    static_cast<float>(sh - 1));
+        const auto y0 = static_cast<uint32_t>(fy);
+        const uint32_t y1 = std::min(y0 + 1, sh - 1);
+        const float ty = fy - static_cast<float>(y0);
+        for (uint32_t x = 0; x < w; ++x) {
+            const float fx = std::clamp((static_cast<float>(x) + 0.5f) * sw / w - 0.5f, 0.0f,
+                                        static_cast<float>(sw - 1));
+            const auto x0 = static_cast<uint32_t>(fx);
+            const uint32_t x1 = std::min(x0 + 1, sw - 1);
+            const float tx = fx - static_cast<float>(x0);
+            for (int c = 0; c < 4; ++c) {
+                auto at = [&](uint32_t xx, uint32_t yy) {
+                    return static_cast<float>(src[(static_cast<std::size_t>(yy) * sw + xx) * 4 + c]);
+                };
+                const float v = (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x1, y0)) +
+                                ty * ((1 - tx) * at(x0, y1) + tx * at(x1, y1));
+                out[(static_cast<std::size_t>(y) * w + x) * 4 + c] =
+                    static_cast<uint8_t>(std::lround(v));
+            }
+        }
+    }
+    return out;
+}
+
+// Renders views of one renderer, read back.
+class Shots {
+public:
+    explicit Shots(render::Renderer& r) : mRenderer(r), mReadback(r.context()) {}
+    Image shot(render::View v, render::FoveationMethod& m, uint64_t* rays = nullptr) {
+        v.method = &m;
+        v.exposure = mRenderer.scene().exposure;
+        render::OutputTarget* const target = &mReadback;
+        const render::FrameResult f = mRenderer.renderFrame(std::span(&v, 1), std::span(&target, 1));
+        if (rays) *rays = f.views.front().rays;
+        return mReadback.takePixels();
+    }
+
+private:
+    render::Renderer& mRenderer;
+    render::ReadbackTarget mReadback;
+};
+
+nlohmann::json bandsJson(const std::array<double, kBands>& v) {
+    nlohmann::json j = nlohmann::json::object();
+    for (std::size_t b = 0; b < kBands; ++b) j[kBandNames[b]] = v[b];
+    return j;
+}
+
+} // namespace
+
+nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
+    const foveation::DisplayProfile desktop = foveation::displayProfile("desktop");
+    const uint32_t w = desktop.width, h = desktop.height;
+    const glm::vec2 centre(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h));
+    const std::vector<uint8_t> bands = bandMap(desktop, centre);
+    const std::filesystem::path cache =
+        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
+    const int settle = o.quick ? 4 : 16; // frames for the histories to converge
+    const uint32_t refRays = o.quick ? 4 : 16;
+    nlohmann::json out;
+
+    render::Renderer renderer({.scene = o.scene});
+    Shots shots(renderer);
+    render::View base;
+    base.camera = renderer.scene().camera;
+    base.width = w;
+    base.height = h;
+    base.gaze = centre;
+    base.post.taa = true;
+
+    // The methods at about equal rays: layers at slope A (mean of two frames), the point set at
+    // the scale whose on-screen points match them (1.5 on this profile), 1 ray per point, nn,
+    // TAA; the uniform render at the resolution that spends the same rays, upscaled.
+    render::EccentricityLayerSettings ls;
+    ls.display = desktop;
+    render::EccentricityLayers layers(renderer.methodContext(), ls);
+    foveation::PointSetParams pp;
+    pp.display = desktop;
+    pp.scale = 1.5;
+    render::PointSetMethod points(renderer.methodContext(), pp, cache);
+    points.settings.raysPerPoint = 1;
+    points.settings.interpolation.method = passes::Interpolation::Nearest;
+    render::FullResolution uniform(renderer.methodContext(), {1, 0});
+    render::FullResolution reference(renderer.methodContext(), {refRays, 7});
+
+    render::View v = base;
+    v.name = "reference";
+    v.post.taa = false;
+    const Image ref = shots.shot(v, reference);
+    Image layerImg, pointImg;
+    uint64_t layerRays = 0, r1 = 0, r2 = 0;
+    v = base;
+    v.name = "layers";
+    for (int i = 0; i < settle; ++i) layerImg = shots.shot(v, layers, i % 2 ? &r2 : &r1);
+    layerRays = (r1 + r2) / 2;
+    v.name = "points";
+    for (int i = 0; i < settle; ++i) pointImg = shots.shot(v, points);
+    const uint64_t pointRays = points.pointsSampled(centre);
+    const double k = std::sqrt(static_cast<double>(w) * h / static_cast<double>(layerRays));
+    const auto uw = static_cast<uint32_t>(std::lround(w / k));
+    const auto uh = static_cast<uint32_t>(std::lround(h / k));
+    v = base;
+    v.name = "uniform";
+    v.width = uw;
+    v.height = uh;
+    v.post.taa = false;
+    const Image uniformImg = upscale(shots.shot(v, uniform), uw, uh, w, h);
+    out["still"] = {
+        {"scene", o.scene},
+        {"reference_rays_per_pixel", refRays},
+        {"frames", settle},
+        {"layers", {{"rays", layerRays}, {"bands", errorByBand(layerImg, ref, bands)}}},
+        {"points", {{"rays", pointRays}, {"scale", pp.scale}, {"bands", errorByBand(pointImg, ref, bands)}}},
+        {"uniform",
+         {{"rays", static_cast<uint64_t>(uw) * uh},
+          {"size", {uw, uh}},
+          {"bands", errorByBand(uniformImg, ref, bands)}}}};
+
+    // A moving camera: a dolly forward with a slow turn; per band, the share of pixels changing
+    // by more than 10/255 between frames, against the reference's own (1 ray, same seed).
+    const int moving = o.quick ? 4 : 12;
+    std::vector<scene::CameraKey> keys;
+    const scene::Camera c0 = renderer.scene().camera;
+    for (int i = 0; i <= 1; ++i) {
+        const glm::vec3 eye = c0.position + static_cast<float>(i) * 0.6f * c0.forward;
+        const glm::vec3 target = eye + c0.forward + glm::vec3(0.15f * static_cast<float>(i), 0, 0);
+        keys.push_back({static_cast<double>(i) * 1000.0, eye, target});
+    }
+    const scene::CameraPath path = scene::CameraPath::fromKeys(keys);
+    nlohmann::json movingJson = nlohmann::json::object();
+    render::FullResolution oneRay(renderer.methodContext(), {1, 3});
+    for (const char* name : {"layers", "points", "uniform", "reference"}) {
+        std::array<double, kBands> sum{};
+        Image last;
+        for (int i = 0; i < moving; ++i) {
+            render::View mv = base;
+            mv.name = std::string("moving_") + name;
+            mv.camera = path.at(1000.0 * i / (moving - 1), c0.yfov);
+            Image img;
+            if (std::string(name) == "layers") {
+                img = shots.shot(mv, layers);
+            } else if (std::string(name) == "points") {
+                img = shots.shot(mv, points);
+            } else if (std::string(name) == "uniform") {
+                mv.width = uw;
+                mv.height = uh;
+                mv.post.taa = false;
+                img = upscale(shots.shot(mv, uniform), uw, uh, w, h);
+            } else {
+                mv.post.taa = false;
+                img = shots.shot(mv, oneRay);
+            }
+            if (!last.empty()) {
+                const auto s = changedShare(img, last, bands);
+                for (std::size_t b = 0; b < kBands; ++b) sum[b] += s[b] / (moving - 1);
+            }
+            last = std::move(img);
+        }
+        movingJson[name] = bandsJson(sum);
+    }
+    out["moving"] = {{"frames", moving}, {"changed_percent", movingJson}};
+
+    // Smooth pursuit over a still scene with subdivision cages, with and without geometric LOD:
+    // the share of pixels changing by more than 10/255 from frame to frame (all bands).
+    const int pursuitFrames = o.quick ? 6 : 24;
+    render::Renderer lodRenderer({.scene = o.lodScene});
+    Shots lodShots(lodRenderer);
+    nlohmann::json pursuit = nlohmann::json::object();
+    for (const bool lod : {false, true}) {
+        render::EccentricityLayerSettings s = ls;
+        s.lod = lod;
+        render::EccentricityLayers lodLayers(lodRenderer.methodContext(), s);
+        render::PointSetMethod lodPoints(lodRenderer.methodContext(), pp, cache);
+        lodPoints.settings = points.settings;
+        lodPoints.settings.lod = lod;
+        for (const char* name : {"layers", "points"}) {
+            double share = 0.0;
+            Image last;
+            for (int i = 0; i < pursuitFrames; ++i) {
+                render::View pv = base;
+                pv.camera = lodRenderer.scene().camera;
+                pv.name = std::string("pursuit_") + name + (lod ? "_lod" : "");
+                // content/gaze/pursuit.csv's target: a circle of 260 px radius once every 2 s,
+                // sampled at 90 Hz, here around the screen's centre.
+                const double a = 2.0 * 3.14159265358979 * (i / 90.0) / 2.0;
+                pv.gaze = centre + 260.0f * glm::vec2(static_cast<float>(std::cos(a)),
+                                                      static_cast<float>(std::sin(a)));
+                const Image img = std::string(name) == "layers" ? lodShots.shot(pv, lodLayers)
+                                                                : lodShots.shot(pv, lodPoints);
+                if (!last.empty()) {
+                    const auto sh = changedShare(img, last, std::vector<uint8_t>(bands.size(), 0));
+                    share += sh[0] / (pursuitFrames - 1);
+                }
+                last = img;
+            }
+            pursuit[name][lod ? "lod" : "full_detail"] = share;
+        }
+    }
+    out["pursuit"] = {{"scene", o.lodScene},
+                      {"frames", pursuitFrames},
+                      {"lod_triangles", lodRenderer.lodTriangles()},
+                      {"changed_percent", pursuit}};
+    out["device"] = renderer.context().deviceName();
+    return out;
+}
+
+void printLayerQuality(const nlohmann::json& q) {
+    const auto& s = q["still"];
+    std::printf("Still view, %s, mean abs error /255 and PSNR per band against %u rays/pixel "
+                "(after %d frames):\n",
+                s["scene"].get<std::string>().c_str(), s["reference_rays_per_pixel"].get<uint32_t>(),
+                s["frames"].get<int>());
+    for (const char* m : {"layers", "points", "uniform"}) {
+        std::printf("  %-8s %8llu rays:", m, static_cast<unsigned long long>(s[m]["rays"].get<uint64_t>()));
+        for (const char* b : kBandNames) {
+            std::printf("  %s deg %5.2f (%4.1f dB)", b, s[m]["bands"][b]["mad"].get<double>(),
+                        s[m]["bands"][b]["psnr_db"].get<double>());
+        }
+        std::printf("\n");
+    }
+    std::printf("Moving camera, %% of pixels changing > 10/255 per frame, per band:\n");
+    for (const char* m : {"layers", "points", "uniform", "reference"}) {
+        std::printf("  %-9s", m);
+        for (const char* b : kBandNames) {
+            std::printf("  %s deg %5.2f", b, q["moving"]["changed_percent"][m][b].get<double>());
+        }
+        std::printf("\n");
+    }
+    const auto& p = q["pursuit"]["changed_percent"];
+    std::printf("Pursuit over %s, %% of pixels changing > 10/255 per frame: layers %.3f (LOD %.3f), "
+                "points %.3f (LOD %.3f)\n",
+                q["pursuit"]["scene"].get<std::string>().c_str(),
+                p["layers"]["full_detail"].get<double>(), p["layers"]["lod"].get<double>(),
+                p["points"]["full_detail"].get<double>(), p["points"]["lod"].get<double>());
+}
+
+} // namespace gt::app
