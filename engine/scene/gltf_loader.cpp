@@ -13,6 +13,7 @@
 #include <functional>
 #include <map>
 #include <span>
+#include <tuple>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -125,7 +126,7 @@ public:
         for (const int n : rootNodes()) {
             visit(n, glm::mat4(1.0f), 0);
         }
-        if (mScene.triangleCount() == 0) fail("contains no triangle meshes");
+        if (mScene.triangleCount() == 0 && mScene.cages.empty()) fail("contains no triangle meshes");
         finish();
         return std::move(mScene);
     }
@@ -558,6 +559,9 @@ private:
             for (const tinygltf::Primitive& prim : mModel.meshes[m].primitives) {
                 meshTriangles[m] += primitiveTriangles(prim);
             }
+            // A cage is refined up to kLodRefinements[0] times: 4^3 quads per quad, 3 x 4^2
+            // per triangle, two triangles each.
+            if (isCage(mModel.meshes[m])) meshTriangles[m] *= 128.0;
         }
         struct Expansion {
             double triangles = -1.0; // -1: not counted yet
@@ -700,8 +704,62 @@ private:
              ", outside the +-1e12 units a scene may span (check its translation and scale)");
     }
 
+    // gazetrace's glTF convention for subdivision surfaces (README, "Geometric LOD"): a mesh
+    // whose extras hold "gazetrace_subdivision": "catmull-clark" is a Catmull-Clark control cage;
+    // its triangles (welded by position) are the cage's faces, or, with "gazetrace_quads": true,
+    // each pair of consecutive triangles (a, b, c), (a, c, d) is the quad (a, b, c, d), as
+    // exporters triangulate quads.
+    bool isCage(const tinygltf::Mesh& mesh) const {
+        if (!mesh.extras.IsObject() || !mesh.extras.Has("gazetrace_subdivision")) return false;
+        const tinygltf::Value& v = mesh.extras.Get("gazetrace_subdivision");
+        if (!v.IsString() || v.Get<std::string>() != "catmull-clark") {
+            fail("mesh '" + mesh.name +
+                 "': extras.gazetrace_subdivision must be \"catmull-clark\"");
+        }
+        return true;
+    }
+    static bool quadPairs(const tinygltf::Mesh& mesh) {
+        if (!mesh.extras.IsObject() || !mesh.extras.Has("gazetrace_quads")) return false;
+        const tinygltf::Value& v = mesh.extras.Get("gazetrace_quads");
+        return v.IsBool() && v.Get<bool>();
+    }
+
+    void addCage(const tinygltf::Mesh& mesh, const std::vector<glm::vec3>& corners,
+                 uint32_t material) {
+        SubdivisionCage cage;
+        cage.name = mesh.name.empty() ? "cage" : mesh.name;
+        cage.material = material;
+        std::map<std::tuple<float, float, float>, uint32_t> weld;
+        auto index = [&](const glm::vec3& p) {
+            const auto [it, added] = weld.emplace(std::tuple{p.x, p.y, p.z},
+                                                  static_cast<uint32_t>(cage.points.size()));
+            if (added) cage.points.push_back(p);
+            return it->second;
+        };
+        const bool quads = quadPairs(mesh);
+        for (std::size_t t = 0; t + 2 < corners.size(); t += 3) {
+            std::vector<uint32_t> face{index(corners[t]), index(corners[t + 1]),
+                                       index(corners[t + 2])};
+            if (quads && t + 5 < corners.size()) {
+                const uint32_t a = index(corners[t + 3]), c = index(corners[t + 4]),
+                               d = index(corners[t + 5]);
+                if (a == face[0] && c == face[2]) {
+                    face.push_back(d);
+                    t += 3;
+                }
+            }
+            std::vector<uint32_t> sorted = face;
+            std::sort(sorted.begin(), sorted.end());
+            if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;
+            cage.faceSizes.push_back(static_cast<uint32_t>(face.size()));
+            cage.indices.insert(cage.indices.end(), face.begin(), face.end());
+        }
+        if (!cage.faceSizes.empty()) mScene.cages.push_back(std::move(cage));
+    }
+
     void addMesh(const tinygltf::Mesh& mesh, const glm::mat4& world, int nodeIndex) {
         const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(world)));
+        const bool cage = isCage(mesh);
         for (const tinygltf::Primitive& prim : mesh.primitives) {
             if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
                 prim.mode != TINYGLTF_MODE_TRIANGLE_FAN && prim.mode != -1) {
@@ -763,6 +821,15 @@ private:
             } else {
                 tris = std::move(idx);
                 tris.resize(tris.size() / 3 * 3);
+            }
+            if (cage) {
+                std::vector<glm::vec3> corners;
+                for (const uint32_t i : tris) {
+                    corners.emplace_back(world * glm::vec4(p[3 * i], p[3 * i + 1], p[3 * i + 2], 1.0f));
+                    checkWorldPosition(corners.back(), nodeIndex);
+                }
+                addCage(mesh, corners, material);
+                continue;
             }
             for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
                 Vertex v[3];

@@ -10,6 +10,9 @@ glm::vec3 Scene::boundsMin() const {
     glm::vec3 m(std::numeric_limits<float>::max());
     for (const Vertex& v : vertices)
         m = glm::min(m, v.position);
+    for (const SubdivisionCage& c : cages) // the limit surface lies inside its cage's hull
+        for (const glm::vec3& p : c.points)
+            m = glm::min(m, p);
     return m;
 }
 
@@ -17,6 +20,9 @@ glm::vec3 Scene::boundsMax() const {
     glm::vec3 m(-std::numeric_limits<float>::max());
     for (const Vertex& v : vertices)
         m = glm::max(m, v.position);
+    for (const SubdivisionCage& c : cages)
+        for (const glm::vec3& p : c.points)
+            m = glm::max(m, p);
     return m;
 }
 

@@ -1,12 +1,17 @@
 // OpenSubdiv refinement of subdivision cages and the geometric LOD levels (seed 002, section 6).
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/error.hpp"
 #include "scene/builtin_scenes.hpp"
 #include "scene/bvh.hpp"
+#include "scene/gltf_loader.hpp"
 #include "scene/subdivision.hpp"
+#include "support/gltf_fixtures.hpp"
+#include "support/gpu_test_context.hpp"
 #include "trace/gpu_scene.hpp"
 
 namespace gt::scene {
@@ -117,6 +122,67 @@ TEST(Subdivision, PackedLevelsKeepTheirOwnTrees) {
             EXPECT_GT(first, root1);
             EXPECT_LT(first + 1, p.nodes.size() / 2);
         }
+    }
+}
+
+// The glTF convention: a mesh with extras.gazetrace_subdivision = "catmull-clark" is a cage; with
+// gazetrace_quads, triangle pairs (a, b, c), (a, c, d) are quads. A cube written as 12
+// triangles over 8 shared corners.
+std::filesystem::path writeCubeGltf(const std::filesystem::path& dir, const std::string& extras) {
+    std::vector<float> pos;
+    for (int i = 0; i < 8; ++i) {
+        pos.insert(pos.end(), {(i & 1) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f,
+                               (i & 4) ? 0.5f : -0.5f});
+    }
+    const uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                  {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    std::vector<uint16_t> idx;
+    for (const auto& q : quads) {
+        for (const uint32_t i : {q[0], q[1], q[2], q[0], q[2], q[3]}) {
+            idx.push_back(static_cast<uint16_t>(i));
+        }
+    }
+    std::vector<uint8_t> bin(pos.size() * 4 + idx.size() * 2);
+    std::memcpy(bin.data(), pos.data(), pos.size() * 4);
+    std::memcpy(bin.data() + pos.size() * 4, idx.data(), idx.size() * 2);
+    test::writeFile(dir / "cube.bin", bin.data(), bin.size());
+    const std::string json = R"({"asset": {"version": "2.0"}, "scene": 0,
+  "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0, "translation": [0, 1, 0]}],
+  "meshes": [{"name": "blob", "extras": )" + extras + R"(,
+              "primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+  "buffers": [{"uri": "cube.bin", "byteLength": 168}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 96},
+                  {"buffer": 0, "byteOffset": 96, "byteLength": 72}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3",
+                 "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5]},
+                {"bufferView": 1, "componentType": 5123, "count": 36, "type": "SCALAR"}]})";
+    test::writeFile(dir / "cube.gltf", json.data(), json.size());
+    return dir / "cube.gltf";
+}
+
+TEST(Subdivision, GltfMeshesMarkedAsCagesAreRefined) {
+    const auto dir = test::tempDir("gltf_cage");
+    Scene s = loadGltf(writeCubeGltf(
+        dir, R"({"gazetrace_subdivision": "catmull-clark", "gazetrace_quads": true})"));
+    ASSERT_EQ(s.cages.size(), 1u);
+    EXPECT_EQ(s.triangleCount(), 0u); // the cage's triangles are not drawn as they are
+    EXPECT_EQ(s.cages[0].name, "blob");
+    EXPECT_EQ(s.cages[0].points.size(), 8u); // welded
+    EXPECT_EQ(s.cages[0].faceSizes, std::vector<uint32_t>(6, 4));
+    EXPECT_FLOAT_EQ(s.boundsMax().y, 1.5f); // the node's transform applied
+    EXPECT_EQ(refinedScene(s, 3).triangleCount(), 2u * 6 * 64);
+    // Without the quad flag, the twelve triangles are the cage's faces.
+    s = loadGltf(writeCubeGltf(dir, R"({"gazetrace_subdivision": "catmull-clark"})"));
+    EXPECT_EQ(s.cages[0].faceSizes, std::vector<uint32_t>(12, 3));
+    // Without the mark, plain triangles; an unknown scheme is an error naming the mesh.
+    s = loadGltf(writeCubeGltf(dir, R"({"author": "x"})"));
+    EXPECT_TRUE(s.cages.empty());
+    EXPECT_EQ(s.triangleCount(), 12u);
+    try {
+        (void)loadGltf(writeCubeGltf(dir, R"({"gazetrace_subdivision": "loop"})"));
+        FAIL() << "no error";
+    } catch (const LoadError& e) {
+        EXPECT_NE(std::string(e.what()).find("blob"), std::string::npos) << e.what();
     }
 }
 
