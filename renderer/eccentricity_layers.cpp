@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <memory>
+#include <utility>
 
 #include "core/error.hpp"
 #include "scene/subdivision.hpp"
@@ -21,13 +21,17 @@ std::string layerScope(std::size_t i) {
 } // namespace
 
 EccentricityLayers::EccentricityLayers(const MethodContext& mc, EccentricityLayerSettings s)
-    : mMc(mc), mSettings(s), mPass(mc.ctx), mTaa(mc.ctx) {
-    if (!(s.slope > 0.0)) throw ArgumentError("--slope must be positive");
-    if (s.layers < 1 || s.layers > passes::kMaxEccentricityLayers) {
-        throw ArgumentError("--layers: " + std::to_string(s.layers) + " (1 to 4)");
+    : mMc(mc), mSettings(std::move(s)), mPass(mc.ctx), mTaa(mc.ctx) {
+    if (!(mSettings.slope > 0.0)) {
+        throw ArgumentError("--slope must be positive");
     }
-    if (s.raysPerPixel == 0) throw ArgumentError("--rays-per-pixel must be at least 1");
-    if (!(s.transition > 0.0f) || s.transition > 1.0f) {
+    if (mSettings.layers < 1 || mSettings.layers > passes::kMaxEccentricityLayers) {
+        throw ArgumentError("--layers: " + std::to_string(mSettings.layers) + " (1 to 4)");
+    }
+    if (mSettings.raysPerPixel == 0) {
+        throw ArgumentError("--rays-per-pixel must be at least 1");
+    }
+    if (!(mSettings.transition > 0.0f) || mSettings.transition > 1.0f) {
         throw ArgumentError("layer blend transition must be in (0, 1]");
     }
 }
@@ -44,11 +48,11 @@ const LayerLayout& EccentricityLayers::layout(const View& view) {
                               : viewDisplay(view.width, view.height, t);
         const foveation::MarModel mar{mSettings.slope};
         it = mLayouts
-                 .emplace(key, mSettings.radiiDeg.empty()
-                                   ? layoutLayers(view.width, view.height, display, mar,
-                                                  mSettings.layers)
-                                   : layoutLayers(view.width, view.height, display, mar,
-                                                  mSettings.radiiDeg))
+                 .emplace(
+                     key,
+                     mSettings.radiiDeg.empty()
+                         ? layoutLayers(view.width, view.height, display, mar, mSettings.layers)
+                         : layoutLayers(view.width, view.height, display, mar, mSettings.radiiDeg))
                  .first;
     }
     return it->second;
@@ -60,12 +64,14 @@ rg::TextureId EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View
     const shaders::trace::CameraPush viewCamera = view.cameraPush();
     const trace::FrustumTangents tangents = tangentsOf(viewCamera);
     ViewState prev = mViews.count(view.name) ? mViews.at(view.name) : ViewState{};
-    if (prev.layers.size() != n) prev.layers.assign(n, LayerState{});
+    if (prev.layers.size() != n) {
+        prev.layers.assign(n, LayerState{});
+    }
     // A saccade, or a gaze jump the tracker did not report: every layer starts afresh around
     // the new gaze, so the fovea is sharp at once.
-    const bool reset = passes::taaMustReset(prev.known, view.saccade, view.gaze,
-                                            prev.known ? prev.gaze : view.gaze, view.width,
-                                            mSettings.taa);
+    const bool reset =
+        passes::taaMustReset(prev.known, view.saccade, view.gaze,
+                             prev.known ? prev.gaze : view.gaze, view.width, mSettings.taa);
 
     Pending p;
     p.state = prev;
@@ -107,8 +113,9 @@ rg::TextureId EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View
             const rg::HistoryTextures history = graph.importHistory(
                 mMc.history, kLayerHistory, kLayerFormat, grid.width, grid.height);
             const bool fresh = reset || !mSettings.temporal || !kept;
-            const bool still =
-                !fresh && std::memcmp(&camera, &last.camera, sizeof(camera)) == 0;
+            const bool still = !fresh && camera.origin == last.camera.origin &&
+                               camera.forward == last.camera.forward &&
+                               camera.right == last.camera.right && camera.up == last.camera.up;
             passes::TaaSettings blend = mSettings.taa;
             const auto movingCap = static_cast<uint32_t>(std::lround(1.0f / blend.currentWeight));
             uint32_t samples = fresh ? 0 : last.samples;
@@ -121,15 +128,15 @@ rg::TextureId EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View
                 blend.depthTolerance *= grid.pitch;
             }
             blend.currentWeight = 1.0f / static_cast<float>(samples + 1);
-            image = mTaa.add(graph, history, traced, camera, kept ? last.camera : camera, fresh,
-                             blend);
+            image =
+                mTaa.add(graph, history, traced, camera, kept ? last.camera : camera, fresh, blend);
             p.state.layers[i] = {rect, camera, true, traces + 1, samples + 1};
             p.traced[i] = true;
             p.rays += static_cast<uint64_t>(grid.width) * grid.height * mSettings.raysPerPixel;
         } else {
-            image = graph.readHistory(mMc.history, kLayerHistory, kLayerFormat, grid.width,
-                                      grid.height)
-                        .previous;
+            image =
+                graph.readHistory(mMc.history, kLayerHistory, kLayerFormat, grid.width, grid.height)
+                    .previous;
         }
         composed.push_back({image, rect.origin, grid.pitch, grid.radiusPx});
     }
@@ -138,14 +145,22 @@ rg::TextureId EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View
 }
 
 uint64_t EccentricityLayers::rays(const View& view) const {
-    if (const auto it = mPending.find(view.name); it != mPending.end()) return it->second.rays;
-    if (const auto it = mLast.find(view.name); it != mLast.end()) return it->second.rays;
+    if (const auto it = mPending.find(view.name); it != mPending.end()) {
+        return it->second.rays;
+    }
+    if (const auto it = mLast.find(view.name); it != mLast.end()) {
+        return it->second.rays;
+    }
     return 0;
 }
 
 std::vector<bool> EccentricityLayers::tracedLastFrame(const View& view) const {
-    if (const auto it = mPending.find(view.name); it != mPending.end()) return it->second.traced;
-    if (const auto it = mLast.find(view.name); it != mLast.end()) return it->second.traced;
+    if (const auto it = mPending.find(view.name); it != mPending.end()) {
+        return it->second.traced;
+    }
+    if (const auto it = mLast.find(view.name); it != mLast.end()) {
+        return it->second.traced;
+    }
     return {};
 }
 
@@ -159,7 +174,9 @@ void EccentricityLayers::frameSubmitted() {
 }
 
 std::optional<WarmUp> EccentricityLayers::warmUp(const View& view) {
-    if (mWarm) return std::nullopt;
+    if (mWarm) {
+        return std::nullopt;
+    }
     mWarm = true;
     // trace -> taa -> compose once at 16 x 16, with a throwaway history.
     auto pool = std::make_shared<rg::HistoryPool>(mMc.ctx);

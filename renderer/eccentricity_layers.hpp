@@ -26,11 +26,11 @@ struct EccentricityLayerSettings {
     // The inner layers' radii in degrees (n - 1, rising) instead of eq. (5)'s optimum; empty:
     // optimised. The pitch of each layer still follows eq. (2).
     std::vector<double> radiiDeg;
-    uint32_t raysPerPixel = 1;         // rays per layer pixel (the paper's MSAA)
-    bool halfRate = true;    // layers 2.. at half the frame rate, staggered (section 4.3)
-    bool jitter = true;      // whole-grid jitter by up to half a layer pixel (section 4.2)
-    bool temporal = true;    // blend each layer with its reprojected history (section 4.2)
-    float transition = 0.4f; // smoothstep share of a layer's radius (Figure 3)
+    uint32_t raysPerPixel = 1; // rays per layer pixel (the paper's MSAA)
+    bool halfRate = true;      // layers 2.. at half the frame rate, staggered (section 4.3)
+    bool jitter = true;        // whole-grid jitter by up to half a layer pixel (section 4.2)
+    bool temporal = true;      // blend each layer with its reprojected history (section 4.2)
+    float transition = 0.4f;   // smoothstep share of a layer's radius (Figure 3)
     // Geometric LOD (seed 002, 6): a layer sampled s display pixels apart traces the scene's
     // subdivision cages log2(s) refinement levels coarser (scene::lodForPitch); off: full detail.
     bool lod = true;

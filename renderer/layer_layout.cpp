@@ -10,7 +10,9 @@ namespace gt::render {
 
 uint64_t LayerLayout::pixels() const {
     uint64_t n = 0;
-    for (const LayerGrid& g : grids) n += static_cast<uint64_t>(g.width) * g.height;
+    for (const LayerGrid& g : grids) {
+        n += static_cast<uint64_t>(g.width) * g.height;
+    }
     return n;
 }
 
@@ -32,7 +34,9 @@ LayerLayout gridsOf(uint32_t width, uint32_t height, const foveation::LayerDispl
                     foveation::LayerPlan plan);
 
 void checkView(uint32_t width, uint32_t height, const foveation::LayerDisplay& display) {
-    if (width == 0 || height == 0) throw ArgumentError("eccentricity layers: a view of no size");
+    if (width == 0 || height == 0) {
+        throw ArgumentError("eccentricity layers: a view of no size");
+    }
     if (std::abs(display.resolution - std::max(width, height)) > 0.5) {
         throw ArgumentError("eccentricity layers: the display's " +
                             std::to_string(display.resolution) + " px do not match the view's " +
@@ -52,7 +56,9 @@ LayerLayout layoutLayers(uint32_t width, uint32_t height, const foveation::Layer
 LayerLayout layoutLayers(uint32_t width, uint32_t height, const foveation::LayerDisplay& display,
                          const foveation::MarModel& mar, std::span<const double> radiiDeg) {
     checkView(width, height, display);
-    if (radiiDeg.size() + 1 > 4) throw ArgumentError("--layer-radii: at most 3 inner radii");
+    if (radiiDeg.size() + 1 > 4) {
+        throw ArgumentError("--layer-radii: at most 3 inner radii");
+    }
     return gridsOf(width, height, display, foveation::planLayers(display, mar, radiiDeg));
 }
 
@@ -70,8 +76,8 @@ LayerLayout gridsOf(uint32_t width, uint32_t height, const foveation::LayerDispl
         g.outer = i + 1 == layout.plan.layers.size();
         double coverX = width, coverY = height; // display pixels the grid spans
         if (!g.outer) {
-            g.radiusPx = static_cast<float>(std::tan(l.radiusDeg * std::numbers::pi / 180.0) *
-                                            perTangent);
+            g.radiusPx =
+                static_cast<float>(std::tan(l.radiusDeg * std::numbers::pi / 180.0) * perTangent);
             coverX = std::min<double>(2.0 * g.radiusPx, width);
             coverY = std::min<double>(2.0 * g.radiusPx, height);
         }
@@ -86,9 +92,11 @@ LayerLayout gridsOf(uint32_t width, uint32_t height, const foveation::LayerDispl
 
 LayerRect placeLayer(const LayerGrid& g, uint32_t width, uint32_t height, glm::vec2 gaze) {
     const glm::vec2 display(static_cast<float>(width), static_cast<float>(height));
-    const glm::vec2 size = glm::vec2(static_cast<float>(g.width), static_cast<float>(g.height)) *
-                           g.pitch;
-    if (g.outer) return {(display - size) * 0.5f, size};
+    const glm::vec2 size =
+        glm::vec2(static_cast<float>(g.width), static_cast<float>(g.height)) * g.pitch;
+    if (g.outer) {
+        return {(display - size) * 0.5f, size};
+    }
     const glm::vec2 half = size * 0.5f;
     glm::vec2 centre = gaze + 0.5f; // pixel centres at integers -> pixel edges
     for (int a = 0; a < 2; ++a) {
@@ -103,12 +111,11 @@ LayerRect jittered(const LayerRect& rect, float pitch, glm::vec2 jitter) {
     return {rect.origin + jitter * pitch, rect.size};
 }
 
-trace::FrustumTangents subFrustum(const trace::FrustumTangents& v, uint32_t width,
-                                  uint32_t height, const LayerRect& r) {
+trace::FrustumTangents subFrustum(const trace::FrustumTangents& v, uint32_t width, uint32_t height,
+                                  const LayerRect& r) {
     auto tx = [&](float x) { return v.left + (v.right - v.left) * x / static_cast<float>(width); };
     auto ty = [&](float y) { return v.up - (v.up - v.down) * y / static_cast<float>(height); };
-    return {tx(r.origin.x), tx(r.origin.x + r.size.x), ty(r.origin.y),
-            ty(r.origin.y + r.size.y)};
+    return {tx(r.origin.x), tx(r.origin.x + r.size.x), ty(r.origin.y), ty(r.origin.y + r.size.y)};
 }
 
 float radicalInverse(uint64_t index, uint32_t base) {

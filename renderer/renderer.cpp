@@ -50,7 +50,8 @@ Renderer::Renderer(const RendererOptions& o) {
     co.deviceOverride = o.deviceOverride;
     mCtx = std::make_unique<vk::Context>(co);
     std::vector<trace::LodGeometry> levels{{&mScene, &*mBvh}};
-    for (const auto& [level, bvh] : mCoarser) levels.push_back({&level, &bvh});
+    for (const auto& [level, bvh] : mCoarser)
+        levels.push_back({&level, &bvh});
     mGpuScene = std::make_unique<trace::GpuScene>(*mCtx, levels);
     mTaa = std::make_unique<passes::TaaPass>(*mCtx);
     mTonemap = std::make_unique<passes::TonemapPass>(*mCtx);
@@ -72,7 +73,8 @@ Renderer::~Renderer() {
 
 std::vector<std::size_t> Renderer::lodTriangles() const {
     std::vector<std::size_t> n{mScene.triangleCount()};
-    for (const auto& [level, bvh] : mCoarser) n.push_back(level.triangleCount());
+    for (const auto& [level, bvh] : mCoarser)
+        n.push_back(level.triangleCount());
     return n;
 }
 

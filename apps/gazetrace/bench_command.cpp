@@ -15,9 +15,9 @@
 
 #include "atomic_write.hpp"
 #include "core/error.hpp"
-#include "foveation/point_set_cache.hpp"
 #include "eccentricity_layers.hpp"
 #include "foveation/eccentricity_layers.hpp"
+#include "foveation/point_set_cache.hpp"
 #include "full_resolution.hpp"
 #include "layers_quality.hpp"
 #include "output_target.hpp"
@@ -141,15 +141,16 @@ nlohmann::json layerPredictions() {
     for (const char* profile : {"desktop", "fove"}) {
         const foveation::LayerDisplay d =
             foveation::LayerDisplay::fromProfile(foveation::displayProfile(profile));
-        for (const auto& [name, slope] : {std::pair{"A", foveation::kSlopeA},
-                                          std::pair{"B", foveation::kSlopeB}}) {
+        for (const auto& [name, slope] :
+             {std::pair{"A", foveation::kSlopeA}, std::pair{"B", foveation::kSlopeB}}) {
             const foveation::LayerPlan plan = foveation::optimiseLayers(d, {slope}, 3);
             std::vector<double> radii;
             nlohmann::json layers = nlohmann::json::array();
             for (std::size_t i = 0; i < plan.layers.size(); ++i) {
                 const foveation::Layer& l = plan.layers[i];
                 if (i + 1 < plan.layers.size()) radii.push_back(l.radiusDeg);
-                layers.push_back({{"e_deg", l.radiusDeg}, {"s", l.samplingFactor}, {"P", l.pixels}});
+                layers.push_back(
+                    {{"e_deg", l.radiusDeg}, {"s", l.samplingFactor}, {"P", l.pixels}});
             }
             const double halfRate =
                 foveation::planLayers(d, {slope}, radii, foveation::halfRateWeights(3)).speedup();
@@ -212,9 +213,11 @@ nlohmann::json measureLayers(render::Renderer& renderer, int pairs) {
             // Per pass, the mean over the two frames (a half-rate layer's pass counts half).
             std::map<std::string, double> pair;
             for (const Frame* f : {&a, &b}) {
-                for (const auto& p : f->timings.passes) pair[p.name] += 0.5 * p.gpuMs;
+                for (const auto& p : f->timings.passes)
+                    pair[p.name] += 0.5 * p.gpuMs;
             }
-            for (const auto& [pass, ms2] : pair) passes[pass].push_back(ms2);
+            for (const auto& [pass, ms2] : pair)
+                passes[pass].push_back(ms2);
         }
         const double pixels = static_cast<double>(w) * h;
         render::View probe = v;
@@ -224,7 +227,8 @@ nlohmann::json measureLayers(render::Renderer& renderer, int pairs) {
             grids.push_back({{"width", g.width}, {"height", g.height}, {"s", g.pitch}});
         }
         nlohmann::json perPass = nlohmann::json::object();
-        for (const auto& [pass, ms] : passes) perPass[pass] = median(ms);
+        for (const auto& [pass, ms] : passes)
+            perPass[pass] = median(ms);
         out.push_back({{"slope", name},
                        {"grids", grids},
                        {"reference_rays", pixels},

@@ -16,13 +16,19 @@ using foveation::LayerPlan;
 using foveation::MarModel;
 
 LayerDisplay displayOf(const std::string& profile) {
-    if (profile == "paper") return LayerDisplay::paperMonitor();
+    if (profile == "paper") {
+        return LayerDisplay::paperMonitor();
+    }
     return LayerDisplay::fromProfile(foveation::displayProfile(profile));
 }
 
 std::vector<double> weightsOf(const std::string& name, uint32_t layers) {
-    if (name == "unit") return std::vector<double>(layers, 1.0);
-    if (name == "half-rate") return foveation::halfRateWeights(layers);
+    if (name == "unit") {
+        return std::vector<double>(layers, 1.0);
+    }
+    if (name == "half-rate") {
+        return foveation::halfRateWeights(layers);
+    }
     throw ArgumentError("--weights: '" + name + "' (unit or half-rate)");
 }
 
@@ -35,17 +41,17 @@ nlohmann::json planJson(const LayerPlan& p) {
                           {"P", l.pixels},
                           {"w", l.weight}});
     }
-    return {{"layers", layers},
-            {"P", p.work},
-            {"P_star", p.displayPixels},
-            {"speedup", p.speedup()}};
+    return {
+        {"layers", layers}, {"P", p.work}, {"P_star", p.displayPixels}, {"speedup", p.speedup()}};
 }
 
 } // namespace
 
 nlohmann::json runLayers(const LayersOptions& o) {
     const MarModel mar{foveation::parseSlope(o.slope)};
-    if (o.steps < 8 || o.steps > 4000) throw ArgumentError("--steps: 8 to 4000");
+    if (o.steps < 8 || o.steps > 4000) {
+        throw ArgumentError("--steps: 8 to 4000");
+    }
     if (o.fovTable) {
         // Figure 12: the display matched to foveal acuity at every field of view.
         nlohmann::json rows = nlohmann::json::array();

@@ -15,8 +15,8 @@
 #include "full_resolution.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
-#include "scene/camera_path.hpp"
 #include "renderer.hpp"
+#include "scene/camera_path.hpp"
 
 namespace gt::app {
 
@@ -36,10 +36,12 @@ std::vector<uint8_t> bandMap(const foveation::DisplayProfile& d, glm::vec2 gaze)
         for (uint32_t x = 0; x < d.width; ++x) {
             const double dist =
                 glm::length(glm::vec2(static_cast<float>(x), static_cast<float>(y)) - gaze);
-            const double e = foveation::ContrastSensitivity::eccentricityDeg(
-                dist, d.width, d.viewingDistance);
+            const double e =
+                foveation::ContrastSensitivity::eccentricityDeg(dist, d.width, d.viewingDistance);
             std::size_t b = 0;
-            while (b + 1 < kBands && e >= kBandStartDeg[b + 1]) ++b;
+            while (b + 1 < kBands && e >= kBandStartDeg[b + 1]) {
+                ++b;
+            }
             band[static_cast<std::size_t>(y) * d.width + x] = static_cast<uint8_t>(b);
         }
     }
@@ -74,7 +76,9 @@ std::array<double, kBands> changedShare(const Image& a, const Image& b,
     std::array<uint64_t, kBands> changed{}, n{};
     for (std::size_t p = 0; p < band.size(); ++p) {
         bool c = false;
-        for (int k = 0; k < 3; ++k) c = c || std::abs(int(a[4 * p + k]) - int(b[4 * p + k])) > 10;
+        for (int k = 0; k < 3; ++k) {
+            c = c || std::abs(int(a[4 * p + k]) - int(b[4 * p + k])) > 10;
+        }
         changed[band[p]] += c ? 1 : 0;
         ++n[band[p]];
     }
@@ -102,7 +106,8 @@ Image upscale(const Image& src, uint32_t sw, uint32_t sh, uint32_t w, uint32_t h
             const float tx = fx - static_cast<float>(x0);
             for (int c = 0; c < 4; ++c) {
                 auto at = [&](uint32_t xx, uint32_t yy) {
-                    return static_cast<float>(src[(static_cast<std::size_t>(yy) * sw + xx) * 4 + c]);
+                    return static_cast<float>(
+                        src[(static_cast<std::size_t>(yy) * sw + xx) * 4 + c]);
                 };
                 const float v = (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x1, y0)) +
                                 ty * ((1 - tx) * at(x0, y1) + tx * at(x1, y1));
@@ -122,8 +127,11 @@ public:
         v.method = &m;
         v.exposure = mRenderer.scene().exposure;
         render::OutputTarget* const target = &mReadback;
-        const render::FrameResult f = mRenderer.renderFrame(std::span(&v, 1), std::span(&target, 1));
-        if (rays) *rays = f.views.front().rays;
+        const render::FrameResult f =
+            mRenderer.renderFrame(std::span(&v, 1), std::span(&target, 1));
+        if (rays) {
+            *rays = f.views.front().rays;
+        }
         return mReadback.takePixels();
     }
 
@@ -134,7 +142,9 @@ private:
 
 nlohmann::json bandsJson(const std::array<double, kBands>& v) {
     nlohmann::json j = nlohmann::json::object();
-    for (std::size_t b = 0; b < kBands; ++b) j[kBandNames[b]] = v[b];
+    for (std::size_t b = 0; b < kBands; ++b) {
+        j[kBandNames[b]] = v[b];
+    }
     return j;
 }
 
@@ -183,10 +193,14 @@ nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
     uint64_t layerRays = 0, r1 = 0, r2 = 0;
     v = base;
     v.name = "layers";
-    for (int i = 0; i < settle; ++i) layerImg = shots.shot(v, layers, i % 2 ? &r2 : &r1);
+    for (int i = 0; i < settle; ++i) {
+        layerImg = shots.shot(v, layers, i % 2 ? &r2 : &r1);
+    }
     layerRays = (r1 + r2) / 2;
     v.name = "points";
-    for (int i = 0; i < settle; ++i) pointImg = shots.shot(v, points);
+    for (int i = 0; i < settle; ++i) {
+        pointImg = shots.shot(v, points);
+    }
     const uint64_t pointRays = points.pointsSampled(centre);
     const double k = std::sqrt(static_cast<double>(w) * h / static_cast<double>(layerRays));
     const auto uw = static_cast<uint32_t>(std::lround(w / k));
@@ -202,7 +216,8 @@ nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
         {"reference_rays_per_pixel", refRays},
         {"frames", settle},
         {"layers", {{"rays", layerRays}, {"bands", errorByBand(layerImg, ref, bands)}}},
-        {"points", {{"rays", pointRays}, {"scale", pp.scale}, {"bands", errorByBand(pointImg, ref, bands)}}},
+        {"points",
+         {{"rays", pointRays}, {"scale", pp.scale}, {"bands", errorByBand(pointImg, ref, bands)}}},
         {"uniform",
          {{"rays", static_cast<uint64_t>(uw) * uh},
           {"size", {uw, uh}},
@@ -244,7 +259,9 @@ nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
             }
             if (!last.empty()) {
                 const auto s = changedShare(img, last, bands);
-                for (std::size_t b = 0; b < kBands; ++b) sum[b] += s[b] / (moving - 1);
+                for (std::size_t b = 0; b < kBands; ++b) {
+                    sum[b] += s[b] / (moving - 1);
+                }
             }
             last = std::move(img);
         }
@@ -300,10 +317,11 @@ void printLayerQuality(const nlohmann::json& q) {
     const auto& s = q["still"];
     std::printf("Still view, %s, mean abs error /255 and PSNR per band against %u rays/pixel "
                 "(after %d frames):\n",
-                s["scene"].get<std::string>().c_str(), s["reference_rays_per_pixel"].get<uint32_t>(),
-                s["frames"].get<int>());
+                s["scene"].get<std::string>().c_str(),
+                s["reference_rays_per_pixel"].get<uint32_t>(), s["frames"].get<int>());
     for (const char* m : {"layers", "points", "uniform"}) {
-        std::printf("  %-8s %8llu rays:", m, static_cast<unsigned long long>(s[m]["rays"].get<uint64_t>()));
+        std::printf("  %-8s %8llu rays:", m,
+                    static_cast<unsigned long long>(s[m]["rays"].get<uint64_t>()));
         for (const char* b : kBandNames) {
             std::printf("  %s deg %5.2f (%4.1f dB)", b, s[m]["bands"][b]["mad"].get<double>(),
                         s[m]["bands"][b]["psnr_db"].get<double>());
@@ -319,11 +337,12 @@ void printLayerQuality(const nlohmann::json& q) {
         std::printf("\n");
     }
     const auto& p = q["pursuit"]["changed_percent"];
-    std::printf("Pursuit over %s, %% of pixels changing > 10/255 per frame: layers %.3f (LOD %.3f), "
-                "points %.3f (LOD %.3f)\n",
-                q["pursuit"]["scene"].get<std::string>().c_str(),
-                p["layers"]["full_detail"].get<double>(), p["layers"]["lod"].get<double>(),
-                p["points"]["full_detail"].get<double>(), p["points"]["lod"].get<double>());
+    std::printf(
+        "Pursuit over %s, %% of pixels changing > 10/255 per frame: layers %.3f (LOD %.3f), "
+        "points %.3f (LOD %.3f)\n",
+        q["pursuit"]["scene"].get<std::string>().c_str(), p["layers"]["full_detail"].get<double>(),
+        p["layers"]["lod"].get<double>(), p["points"]["full_detail"].get<double>(),
+        p["points"]["lod"].get<double>());
 }
 
 } // namespace gt::app

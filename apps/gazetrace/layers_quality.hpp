@@ -8,7 +8,7 @@
 namespace gt::app {
 
 struct LayerQualityOptions {
-    bool quick = false;       // fewer frames and reference rays (a smoke run)
+    bool quick = false; // fewer frames and reference rays (a smoke run)
     std::string scene = "builtin:market";
     std::string lodScene = "builtin:gallery"; // the pursuit with and without LOD
     std::string cacheDir;

@@ -19,6 +19,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "display/hmd_profile.hpp"
+#include "eccentricity_layers.hpp"
 #include "foveation/gaze_trace.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
@@ -27,7 +28,6 @@
 #include "gaze_mapping.hpp"
 #include "output_target.hpp"
 #include "point_sample/point_sample.hpp"
-#include "eccentricity_layers.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"
@@ -359,7 +359,8 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
                           views[e].frustum->down}}});
     }
     if (layers) {
-        for (std::size_t e = 0; e < 2; ++e) eyes[e]["layers"] = layersJson(*layers, views[e]);
+        for (std::size_t e = 0; e < 2; ++e)
+            eyes[e]["layers"] = layersJson(*layers, views[e]);
     }
     written.keep();
     return {{"device", ctx.deviceName()},

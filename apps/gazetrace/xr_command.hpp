@@ -21,8 +21,8 @@ struct XrOptions {
     std::string space = "local";     // local | stage
     double resolutionScale = 1.0;    // of the runtime's recommended eye size
     std::string method = "foveated"; // foveated | reference
-    std::string slope = "A"; // --method layers: MAR slope
-    uint32_t layers = 3;     // --method layers: how many
+    std::string slope = "A";         // --method layers: MAR slope
+    uint32_t layers = 3;             // --method layers: how many
     std::string interp = "nn";
     uint32_t k = 10;
     double pointScale = 1.0;   // the point set's scaling value

@@ -19,13 +19,17 @@ double degrees(double rad) {
 }
 
 std::vector<double> checkedWeights(std::span<const double> weights, std::size_t layers) {
-    if (weights.empty()) return std::vector<double>(layers, 1.0);
+    if (weights.empty()) {
+        return std::vector<double>(layers, 1.0);
+    }
     if (weights.size() != layers) {
         throw ArgumentError("layer weights: " + std::to_string(weights.size()) + " for " +
                             std::to_string(layers) + " layers");
     }
     for (const double w : weights) {
-        if (!(w > 0.0) || !std::isfinite(w)) throw ArgumentError("layer weights must be positive");
+        if (!(w > 0.0) || !std::isfinite(w)) {
+            throw ArgumentError("layer weights must be positive");
+        }
     }
     return {weights.begin(), weights.end()};
 }
@@ -38,8 +42,12 @@ double samplingFactor(const MarModel& mar, double innerRadiusDeg, double sharpne
 } // namespace
 
 double parseSlope(const std::string& text) {
-    if (text == "A" || text == "a") return kSlopeA;
-    if (text == "B" || text == "b") return kSlopeB;
+    if (text == "A" || text == "a") {
+        return kSlopeA;
+    }
+    if (text == "B" || text == "b") {
+        return kSlopeB;
+    }
     std::size_t used = 0;
     double v = 0.0;
     try {
@@ -63,7 +71,9 @@ LayerDisplay LayerDisplay::fromProfile(const DisplayProfile& p) {
     }
     // Widths are the unit of v; pixels are square, so the height is height / width widths.
     const double w = p.width, h = p.height;
-    if (h > w) return {h, h / w, p.viewingDistance, w / h}; // portrait: the long axis is y
+    if (h > w) {
+        return {h, h / w, p.viewingDistance, w / h}; // portrait: the long axis is y
+    }
     return {w, 1.0, p.viewingDistance, h / w};
 }
 
@@ -119,11 +129,11 @@ LayerPlan planLayers(const LayerDisplay& display, const MarModel& mar,
             l.radiusDeg = radiiDeg[i];
             l.diameter = 2.0 * display.distance * std::tan(radians(l.radiusDeg)) *
                          display.resolution / (l.samplingFactor * display.width); // eq. (3)
-            l.pixels = l.diameter * l.diameter;                                 // eq. (4)
+            l.pixels = l.diameter * l.diameter;                                   // eq. (4)
         } else {
             l.radiusDeg = eStar;
-            l.diameter = display.resolution / l.samplingFactor;         // eq. (3), i = n
-            l.pixels = display.aspect * l.diameter * l.diameter;        // eq. (4), i = n
+            l.diameter = display.resolution / l.samplingFactor;  // eq. (3), i = n
+            l.pixels = display.aspect * l.diameter * l.diameter; // eq. (4), i = n
         }
         plan.work += l.weight * l.pixels; // eq. (5)
         plan.layers.push_back(l);
@@ -136,9 +146,13 @@ LayerPlan optimiseLayers(const LayerDisplay& display, const MarModel& mar, uint3
     if (layerCount < 1 || layerCount > 4) {
         throw ArgumentError("--layers: " + std::to_string(layerCount) + " (1 to 4 layers)");
     }
-    if (steps < layerCount) throw ArgumentError("layer optimisation needs more grid steps");
+    if (steps < layerCount) {
+        throw ArgumentError("layer optimisation needs more grid steps");
+    }
     const std::vector<double> w = checkedWeights(weights, layerCount);
-    if (layerCount == 1) return planLayers(display, mar, {}, w);
+    if (layerCount == 1) {
+        return planLayers(display, mar, {}, w);
+    }
     const double eStar = display.radiusDeg(), omegaStar = display.sharpnessDeg();
     // Grid radii e = k e* / steps, k = 1 .. steps - 1, and what each layer's pixels need of them.
     std::vector<double> e(steps), tanE(steps), s(steps);
@@ -160,8 +174,8 @@ LayerPlan optimiseLayers(const LayerDisplay& display, const MarModel& mar, uint3
     };
     double best = std::numeric_limits<double>::infinity();
     std::vector<uint32_t> arg(layerCount - 1), cur(layerCount - 1);
-    // Depth-first over rising radii; partial sums prune nothing (all terms positive but the
-    // outer layer shrinks as radii grow), so this is the plain brute force of section 4.3.
+    // Depth-first over every rising choice of radii on the grid: the plain brute force of
+    // section 4.3 (no pruning: the outer layer's pixels fall as the inner radii grow).
     auto search = [&](auto& self, std::size_t depth, uint32_t in, double sum) -> void {
         if (depth == layerCount - 1) {
             const double total = sum + outer(in);
@@ -177,14 +191,16 @@ LayerPlan optimiseLayers(const LayerDisplay& display, const MarModel& mar, uint3
         }
     };
     search(search, 0, 0, 0.0);
-    std::vector<double> radii;
-    for (const uint32_t k : arg) radii.push_back(e[k]);
+    std::vector<double> radii(arg.size());
+    std::transform(arg.begin(), arg.end(), radii.begin(), [&](uint32_t k) { return e[k]; });
     return planLayers(display, mar, radii, w);
 }
 
 std::vector<double> halfRateWeights(uint32_t layerCount) {
     std::vector<double> w(layerCount, 0.5);
-    if (!w.empty()) w[0] = 1.0;
+    if (!w.empty()) {
+        w[0] = 1.0;
+    }
     return w;
 }
 

@@ -81,8 +81,8 @@ struct Layer {
 };
 
 struct LayerPlan {
-    std::vector<Layer> layers; // inner first; the last covers the whole display
-    double work = 0.0;         // P, eq. (5)
+    std::vector<Layer> layers;  // inner first; the last covers the whole display
+    double work = 0.0;          // P, eq. (5)
     double displayPixels = 0.0; // P*, eq. (8)
     [[nodiscard]] double speedup() const { return displayPixels / work; } // P* / P
 };

@@ -238,10 +238,11 @@ Scene makeGallery() {
     const uint32_t floorMat = b.material(diffuse({0.30f, 0.29f, 0.27f}, "floor"));
     const uint32_t wallMat = b.material(diffuse({0.82f, 0.80f, 0.76f}, "wall"));
     const uint32_t plinthMat = b.material(diffuse({0.9f, 0.9f, 0.88f}, "plinth"));
-    const glm::vec3 colours[6] = {{0.75f, 0.2f, 0.12f}, {0.12f, 0.3f, 0.7f}, {0.85f, 0.7f, 0.2f},
+    const glm::vec3 colours[6] = {{0.75f, 0.2f, 0.12f}, {0.12f, 0.3f, 0.7f},   {0.85f, 0.7f, 0.2f},
                                   {0.1f, 0.5f, 0.3f},   {0.05f, 0.05f, 0.06f}, {0.9f, 0.9f, 0.9f}};
     uint32_t stone[6];
-    for (int i = 0; i < 6; ++i) stone[i] = b.material(diffuse(colours[i], "sculpture"));
+    for (int i = 0; i < 6; ++i)
+        stone[i] = b.material(diffuse(colours[i], "sculpture"));
     Material bronze = diffuse({0.8f, 0.55f, 0.3f}, "bronze");
     bronze.metallic = 1.0f;
     bronze.roughness = 0.3f;

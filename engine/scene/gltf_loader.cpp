@@ -126,7 +126,8 @@ public:
         for (const int n : rootNodes()) {
             visit(n, glm::mat4(1.0f), 0);
         }
-        if (mScene.triangleCount() == 0 && mScene.cages.empty()) fail("contains no triangle meshes");
+        if (mScene.triangleCount() == 0 && mScene.cages.empty())
+            fail("contains no triangle meshes");
         finish();
         return std::move(mScene);
     }
@@ -731,8 +732,8 @@ private:
         cage.material = material;
         std::map<std::tuple<float, float, float>, uint32_t> weld;
         auto index = [&](const glm::vec3& p) {
-            const auto [it, added] = weld.emplace(std::tuple{p.x, p.y, p.z},
-                                                  static_cast<uint32_t>(cage.points.size()));
+            const auto [it, added] =
+                weld.emplace(std::tuple{p.x, p.y, p.z}, static_cast<uint32_t>(cage.points.size()));
             if (added) cage.points.push_back(p);
             return it->second;
         };
@@ -825,7 +826,8 @@ private:
             if (cage) {
                 std::vector<glm::vec3> corners;
                 for (const uint32_t i : tris) {
-                    corners.emplace_back(world * glm::vec4(p[3 * i], p[3 * i + 1], p[3 * i + 2], 1.0f));
+                    corners.emplace_back(world *
+                                         glm::vec4(p[3 * i], p[3 * i + 1], p[3 * i + 2], 1.0f));
                     checkWorldPosition(corners.back(), nodeIndex);
                 }
                 addCage(mesh, corners, material);

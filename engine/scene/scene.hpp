@@ -95,7 +95,7 @@ struct Scene {
     // one the scene's author placed: a viewer may want to start inside instead (start_view.hpp).
     bool cameraFramed = false;
     Sky sky;
-    Environment environment; // used for misses when it has texels (cubemap scenes)
+    Environment environment;            // used for misses when it has texels (cubemap scenes)
     std::vector<SubdivisionCage> cages; // refined per LOD level, beside `vertices`
     float exposure = 1.0f;
 

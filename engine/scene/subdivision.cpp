@@ -27,14 +27,18 @@ struct Point {
 std::unique_ptr<Far::TopologyRefiner> refiner(const SubdivisionCage& cage, uint32_t level) {
     std::size_t corners = 0;
     for (const uint32_t n : cage.faceSizes) {
-        if (n < 3) throw Error("cage '" + cage.name + "': a face with fewer than 3 corners");
+        if (n < 3) {
+            throw Error("cage '" + cage.name + "': a face with fewer than 3 corners");
+        }
         corners += n;
     }
     if (corners != cage.indices.size()) {
         throw Error("cage '" + cage.name + "': face sizes do not match its indices");
     }
     for (const uint32_t i : cage.indices) {
-        if (i >= cage.points.size()) throw Error("cage '" + cage.name + "': index out of range");
+        if (i >= cage.points.size()) {
+            throw Error("cage '" + cage.name + "': index out of range");
+        }
     }
     const std::vector<int> sizes(cage.faceSizes.begin(), cage.faceSizes.end());
     const std::vector<int> indices(cage.indices.begin(), cage.indices.end());
@@ -48,7 +52,9 @@ std::unique_ptr<Far::TopologyRefiner> refiner(const SubdivisionCage& cage, uint3
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
     std::unique_ptr<Far::TopologyRefiner> r(
         Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, options)));
-    if (!r) throw Error("cage '" + cage.name + "': OpenSubdiv rejected its topology");
+    if (!r) {
+        throw Error("cage '" + cage.name + "': OpenSubdiv rejected its topology");
+    }
     Far::TopologyRefiner::UniformOptions uniform(static_cast<int>(level));
     uniform.fullTopologyInLastLevel = true; // the limit evaluation needs it
     r->RefineUniform(uniform);
@@ -58,13 +64,16 @@ std::unique_ptr<Far::TopologyRefiner> refiner(const SubdivisionCage& cage, uint3
 } // namespace
 
 std::size_t refinedFaceCount(const SubdivisionCage& cage, uint32_t level) {
-    return static_cast<std::size_t>(refiner(cage, level)->GetLevel(static_cast<int>(level)).GetNumFaces());
+    return static_cast<std::size_t>(
+        refiner(cage, level)->GetLevel(static_cast<int>(level)).GetNumFaces());
 }
 
 std::vector<Vertex> refineCage(const SubdivisionCage& cage, uint32_t level) {
     const std::unique_ptr<Far::TopologyRefiner> r = refiner(cage, level);
     std::vector<Point> points(static_cast<std::size_t>(r->GetNumVerticesTotal()));
-    for (std::size_t i = 0; i < cage.points.size(); ++i) points[i].p = cage.points[i];
+    for (std::size_t i = 0; i < cage.points.size(); ++i) {
+        points[i].p = cage.points[i];
+    }
     const Far::PrimvarRefiner primvar(*r);
     Point* src = points.data();
     for (int l = 1; l <= static_cast<int>(level); ++l) {
@@ -92,7 +101,9 @@ std::vector<Vertex> refineCage(const SubdivisionCage& cage, uint32_t level) {
                 const float len = glm::length(normal);
                 // A degenerate tangent frame (an extraordinary point's limit): the face's normal.
                 normal = len > 1e-12f ? normal / len : glm::normalize(face);
-                if (glm::dot(normal, face) < 0.0f) normal = -normal; // the winding's side
+                if (glm::dot(normal, face) < 0.0f) {
+                    normal = -normal; // the winding's side
+                }
                 out.push_back({limit[u].p, normal, glm::vec2(0.0f)});
             }
         }
@@ -101,7 +112,9 @@ std::vector<Vertex> refineCage(const SubdivisionCage& cage, uint32_t level) {
 }
 
 uint32_t lodForPitch(float pitch, uint32_t levels) {
-    if (levels <= 1 || !(pitch >= 4.0f)) return 0;
+    if (levels <= 1 || !(pitch >= 4.0f)) {
+        return 0;
+    }
     const auto l = static_cast<uint32_t>(std::floor(std::log2(pitch / 2.0f)));
     return std::min(l, levels - 1);
 }

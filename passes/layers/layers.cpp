@@ -44,10 +44,13 @@ const vk::ComputePipeline& LayersPass::tracePipeline(bool alphaMask) const {
 
 rg::TextureId LayersPass::addTrace(rg::RenderGraph& graph, const trace::GpuScene& scene,
                                    const shaders::trace::CameraPush& cam, uint32_t width,
-                                   uint32_t height, uint32_t raysPerPixel,
-                                   uint32_t lod) const {
-    if (raysPerPixel == 0) throw ArgumentError("rays per layer pixel must be at least 1");
-    if (width == 0 || height == 0) throw ArgumentError("an eccentricity layer of zero size");
+                                   uint32_t height, uint32_t raysPerPixel, uint32_t lod) const {
+    if (raysPerPixel == 0) {
+        throw ArgumentError("rays per layer pixel must be at least 1");
+    }
+    if (width == 0 || height == 0) {
+        throw ArgumentError("an eccentricity layer of zero size");
+    }
     struct Data {
         rg::TextureId output;
     };
@@ -56,11 +59,11 @@ rg::TextureId LayersPass::addTrace(rg::RenderGraph& graph, const trace::GpuScene
     const auto& data = graph.addPass<Data>(
         "layers.trace",
         [&](rg::PassBuilder& b, Data& d) {
-            d.output = b.write(b.createTexture("layers.radiance",
-                                               {VK_FORMAT_R32G32B32A32_SFLOAT, rg::SizeMode::Absolute,
-                                                static_cast<float>(width),
-                                                static_cast<float>(height)}),
-                               rg::Access::StorageWrite);
+            d.output =
+                b.write(b.createTexture("layers.radiance",
+                                        {VK_FORMAT_R32G32B32A32_SFLOAT, rg::SizeMode::Absolute,
+                                         static_cast<float>(width), static_cast<float>(height)}),
+                        rg::Access::StorageWrite);
         },
         [ctx = &mCtx, pipeline = &tracePipeline(scene.alphaMasked()), scene = &scene,
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
@@ -76,9 +79,8 @@ rg::TextureId LayersPass::addTrace(rg::RenderGraph& graph, const trace::GpuScene
     return data.output;
 }
 
-rg::TextureId LayersPass::addCompose(rg::RenderGraph& graph,
-                                     std::span<const ComposedLayer> layers, glm::vec2 gaze,
-                                     float transition) const {
+rg::TextureId LayersPass::addCompose(rg::RenderGraph& graph, std::span<const ComposedLayer> layers,
+                                     glm::vec2 gaze, float transition) const {
     if (layers.empty() || layers.size() > sh::kMaxLayers) {
         throw ArgumentError("layers.compose: " + std::to_string(layers.size()) +
                             " layers (1 to 4)");
@@ -100,12 +102,11 @@ rg::TextureId LayersPass::addCompose(rg::RenderGraph& graph,
             for (std::size_t i = 0; i < layers.size(); ++i) {
                 d.layers[i] = b.read(layers[i].image, rg::Access::StorageRead);
             }
-            d.output = b.write(
-                b.createTexture("layers.composed", {VK_FORMAT_R32G32B32A32_SFLOAT}),
-                rg::Access::StorageWrite);
+            d.output = b.write(b.createTexture("layers.composed", {VK_FORMAT_R32G32B32A32_SFLOAT}),
+                               rg::Access::StorageWrite);
         },
         [ctx = &mCtx, pipeline = mCompose.get(), push](const rg::PassResources& r, const Data& d,
-                                                        VkCommandBuffer cmd) {
+                                                       VkCommandBuffer cmd) {
             const rg::ResolvedTexture& out = r.texture(d.output);
             vk::DescriptorWriter writer;
             for (uint32_t i = 0; i < sh::kMaxLayers; ++i) {

@@ -28,10 +28,10 @@ inline constexpr uint32_t kMaxEccentricityLayers = 4;
 
 // One layer as the compose step sees it.
 struct ComposedLayer {
-    rg::TextureId image;     // rgb radiance, a = first-hit distance
-    glm::vec2 origin{};      // display position of the grid's top-left corner (pixel edges)
-    float pitch = 1.0f;      // display pixels per layer pixel (s_i)
-    float radiusPx = 0.0f;   // where its blend weight reaches 0 (ignored for the outer layer)
+    rg::TextureId image;   // rgb radiance, a = first-hit distance
+    glm::vec2 origin{};    // display position of the grid's top-left corner (pixel edges)
+    float pitch = 1.0f;    // display pixels per layer pixel (s_i)
+    float radiusPx = 0.0f; // where its blend weight reaches 0 (ignored for the outer layer)
 };
 
 class LayersPass {

@@ -74,15 +74,15 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
     const uint32_t pointsPerGroup = sh::kSampleGroupSize / lanes;
     const uint32_t w = graph.outputWidth(), h = graph.outputHeight();
     const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());
-    sh::PointSamplePush push{cam.origin,
-                             cam.forward,
-                             cam.right,
-                             cam.up,
-                             glm::vec4(off, kSampleMargin,
-                                       lod ? static_cast<float>(scene.lodLevels()) : 0.0f),
-                             glm::uvec4(w, h, raysPerPoint, points.count()),
-                             glm::vec4(0.0f),
-                             glm::vec4(0.0f)};
+    sh::PointSamplePush push{
+        cam.origin,
+        cam.forward,
+        cam.right,
+        cam.up,
+        glm::vec4(off, kSampleMargin, lod ? static_cast<float>(scene.lodLevels()) : 0.0f),
+        glm::uvec4(w, h, raysPerPoint, points.count()),
+        glm::vec4(0.0f),
+        glm::vec4(0.0f)};
     if (warp) {
         const float aspect = static_cast<float>(w) / static_cast<float>(h);
         const glm::vec2 c = warp->centre;

@@ -60,8 +60,8 @@ rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& hi
             d.history = b.read(history.previous, rg::Access::StorageRead);
             d.output = b.write(history.next, rg::Access::StorageWrite);
         },
-        [ctx = &mCtx, pipeline = &pipeline(s.compressHighlights), push](const rg::PassResources& r, const Data& d,
-                                                        VkCommandBuffer cmd) {
+        [ctx = &mCtx, pipeline = &pipeline(s.compressHighlights),
+         push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             const rg::ResolvedTexture& out = r.texture(d.output);
             vk::DescriptorWriter writer;
             writer.storageImage(sh::kBindingCurrent, r.texture(d.current).view)

@@ -48,8 +48,7 @@ protected:
                     },
                     [c](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
                         const VkClearColorValue v{{c.r, c.g, c.b, c.a}};
-                        const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0,
-                                                            1};
+                        const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
                         vkCmdClearColorImage(cmd, r.texture(d.t).image,
                                              VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &v, 1, &range);
                     })
@@ -61,13 +60,14 @@ protected:
                                   36.0f},
             passes::ComposedLayer{fill("outer", kSize, {0, 0, 1, 1}), {}, 1.0f, 0.0f}};
         const rg::TextureId out = pass.addCompose(g, layers, glm::vec2(48.0f), 0.4f);
-        vk::Buffer host(ctx(), {kSize * kSize * 16, 0, vk::MemoryUsage::Readback, "host"});
+        vk::Buffer host(ctx(),
+                        {VkDeviceSize{kSize} * kSize * 16, 0, vk::MemoryUsage::Readback, "host"});
         const auto hostId = g.importBuffer(
             "host", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
         passes::addReadbackPass(g, "composed", out, hostId);
         rg::TransientPool pool(ctx());
         (void)g.executeAndWait(g.compile(), pool);
-        std::vector<glm::vec4> px(kSize * kSize);
+        std::vector<glm::vec4> px(std::size_t{kSize} * kSize);
         host.download(std::as_writable_bytes(std::span(px)));
         return px;
     }
@@ -94,9 +94,9 @@ TEST_F(LayersComposeTest, MasksSumToOneAndFollowFigureThree) {
             ASSERT_NEAR(c.g, middle, 1e-5f) << x << "," << y;
         }
     }
-    EXPECT_EQ(px[48 * kSize + 48], glm::vec4(1, 0, 0, 1));   // the gaze: inner only
+    EXPECT_EQ(px[48 * kSize + 48], glm::vec4(1, 0, 0, 1));      // the gaze: inner only
     EXPECT_EQ(px[48 * kSize + 48 + 18], glm::vec4(0, 1, 0, 1)); // 18 px out: middle only
-    EXPECT_EQ(px[0], glm::vec4(0, 0, 1, 1));                 // the corner: outer only
+    EXPECT_EQ(px[0], glm::vec4(0, 0, 1, 1));                    // the corner: outer only
 }
 
 TEST_F(LayersComposeTest, PixelsALayerDoesNotCoverShowTheLayerOutside) {
@@ -105,7 +105,9 @@ TEST_F(LayersComposeTest, PixelsALayerDoesNotCoverShowTheLayerOutside) {
     const glm::vec4 left = px[48 * kSize + 48 - 18], right = px[48 * kSize + 48 + 18];
     EXPECT_EQ(left, glm::vec4(0, 1, 0, 1));
     EXPECT_EQ(right, glm::vec4(0, 0, 1, 1));
-    for (const glm::vec4& c : px) ASSERT_NEAR(c.r + c.g + c.b, 1.0f, 1e-5f);
+    for (const glm::vec4& c : px) {
+        ASSERT_NEAR(c.r + c.g + c.b, 1.0f, 1e-5f);
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -146,11 +148,15 @@ protected:
         v.post.taa = false;
         return v;
     }
-    static std::vector<uint8_t> frame(const render::View& v, render::FrameResult* result = nullptr) {
+    static std::vector<uint8_t> frame(const render::View& v,
+                                      render::FrameResult* result = nullptr) {
         render::ReadbackTarget readback(renderer().context());
         render::OutputTarget* const target = &readback;
-        const render::FrameResult f = renderer().renderFrame(std::span(&v, 1), std::span(&target, 1));
-        if (result) *result = f;
+        const render::FrameResult f =
+            renderer().renderFrame(std::span(&v, 1), std::span(&target, 1));
+        if (result) {
+            *result = f;
+        }
         return readback.takePixels();
     }
     static scene::Camera sideCamera() {
@@ -236,7 +242,9 @@ TEST_F(EccentricityLayersTest, StaticSceneConverges) {
     v.camera = sideCamera();
     const double first = meanAbsDiff(frame(v), limit);
     std::vector<uint8_t> last;
-    for (int i = 1; i < 32; ++i) last = frame(v);
+    for (int i = 1; i < 32; ++i) {
+        last = frame(v);
+    }
     const double converged = meanAbsDiff(last, limit);
     EXPECT_LT(converged, 0.6 * first) << "first " << first << ", after 32 frames " << converged;
     std::printf("to the 16-ray layers: first frame %.2f/255, after 32 frames %.2f/255\n", first,
@@ -248,8 +256,8 @@ TEST_F(EccentricityLayersTest, StaticSceneConverges) {
 // would show as a difference.
 TEST_F(EccentricityLayersTest, LayersAtOnePitchRegisterExactly) {
     render::EccentricityLayerSettings s = settings();
-    s.slope = 1e-4;              // every s_i = 1
-    s.radiiDeg = {10.0, 25.0};   // layers wide enough to matter (the optimum would shrink them)
+    s.slope = 1e-4;            // every s_i = 1
+    s.radiiDeg = {10.0, 25.0}; // layers wide enough to matter (the optimum would shrink them)
     s.jitter = false;
     s.temporal = false;
     render::EccentricityLayers three(renderer().methodContext(), s);
@@ -279,7 +287,9 @@ TEST_F(EccentricityLayersTest, ConvergedLayersShowNoSeams) {
     render::View v = view(layers, "seams");
     v.camera = sideCamera();
     std::vector<uint8_t> last;
-    for (int i = 0; i < 24; ++i) last = frame(v);
+    for (int i = 0; i < 24; ++i) {
+        last = frame(v);
+    }
     auto mad = [&](auto&& keep) {
         double sum = 0.0;
         uint64_t n = 0;
@@ -302,9 +312,8 @@ TEST_F(EccentricityLayersTest, ConvergedLayersShowNoSeams) {
     for (std::size_t l = 0; l + 1 < lay.grids.size(); ++l) {
         const float r = lay.grids[l].radiusPx;
         const double band = mad([&](float d) { return std::abs(d - r) <= 4.0f; });
-        const double around = mad([&](float d) {
-            return std::abs(d - r) > 4.0f && std::abs(d - r) <= 20.0f;
-        });
+        const double around =
+            mad([&](float d) { return std::abs(d - r) > 4.0f && std::abs(d - r) <= 20.0f; });
         EXPECT_LE(band, 1.5 * around) << "layer " << l + 1 << " border at " << r << " px";
         std::printf("layer %zu border at %.1f px: band %.2f/255, around it %.2f/255\n", l + 1, r,
                     band, around);

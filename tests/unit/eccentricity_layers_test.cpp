@@ -4,8 +4,8 @@
 
 #include <array>
 #include <cmath>
-#include <numbers>
 #include <limits>
+#include <numbers>
 #include <vector>
 
 #include "core/error.hpp"
@@ -34,9 +34,10 @@ TEST(EccentricityLayers, MarModelIsLinear) {
 
 TEST(EccentricityLayers, ThreeLayersMatchHandWorkedValues) {
     // e1 = 5 deg, e2 = 12 deg at slope A on the paper's monitor, worked by hand from eqs. (2)-(5):
-    // s2 = (0.0275 * 5 + 1/48) / 0.0515905 = 3.0690, s3 = (0.0275 * 12 + 1/48) / 0.0515905 = 6.8004,
-    // D1 = 2 * 59 * tan 5 * 1920 / 51 = 388.66, D2 = 2 * 59 * tan 12 * 1920 / (3.0690 * 51) = 307.67,
-    // D3 = 1920 / 6.8004 = 282.34; P = 388.66^2 + 307.67^2 + 0.5625 * 282.34^2 = 290,553.
+    // s2 = (0.0275 * 5 + 1/48) / 0.0515905 = 3.0690, s3 = (0.0275 * 12 + 1/48) / 0.0515905
+    // = 6.8004, D1 = 2 * 59 * tan 5 * 1920 / 51 = 388.66, D2 = 2 * 59 * tan 12 * 1920 / (3.0690 *
+    // 51) = 307.67, D3 = 1920 / 6.8004 = 282.34; P = 388.66^2 + 307.67^2 + 0.5625 * 282.34^2 =
+    // 290,553.
     const std::vector<double> radii{5.0, 12.0};
     const LayerPlan p = planLayers(LayerDisplay::paperMonitor(), MarModel{kSlopeA}, radii);
     ASSERT_EQ(p.layers.size(), 3u);
@@ -124,8 +125,8 @@ TEST(EccentricityLayers, FigureTwelveShape) {
             last4 = s4;
         }
         // Cost grows as tan^2 e* without foveation and far slower with it (Figure 13).
-        EXPECT_GT(last4, 10.0 * optimiseLayers(LayerDisplay::acuityMatched(20.0),
-                                               MarModel{slope}, 4, {}, 100)
+        EXPECT_GT(last4, 10.0 * optimiseLayers(LayerDisplay::acuityMatched(20.0), MarModel{slope},
+                                               4, {}, 100)
                                     .speedup());
     }
 }
@@ -167,7 +168,9 @@ TEST(LayerLayout, JitterCoversThePixelEvenly) {
             ++cells[static_cast<std::size_t>(std::floor((j.x + 0.5f) * 2.0f) * 3 +
                                              std::floor((j.y + 0.5f) * 3.0f))];
         }
-        for (const int c : cells) EXPECT_EQ(c, 1) << start;
+        for (const int c : cells) {
+            EXPECT_EQ(c, 1) << start;
+        }
     }
     std::array<int, 16> grid{};
     glm::vec2 mean(0.0f);
@@ -177,7 +180,9 @@ TEST(LayerLayout, JitterCoversThePixelEvenly) {
         ++grid[static_cast<std::size_t>(std::floor((j.x + 0.5f) * 4.0f) * 4 +
                                         std::floor((j.y + 0.5f) * 4.0f))];
     }
-    for (const int c : grid) EXPECT_GE(c, 2);
+    for (const int c : grid) {
+        EXPECT_GE(c, 2);
+    }
     EXPECT_NEAR(mean.x, 0.0f, 0.02f);
     EXPECT_NEAR(mean.y, 0.0f, 0.02f);
 }
@@ -190,12 +195,12 @@ TEST(LayerLayout, DesktopLayersMatchTheOptimum) {
     ASSERT_EQ(lay.grids.size(), 3u);
     const double perTangent = 1920.0 * 59.0 / 51.0;
     for (std::size_t i = 0; i < 2; ++i) {
-        const double r = std::tan(lay.plan.layers[i].radiusDeg * std::numbers::pi / 180.0) *
-                         perTangent;
+        const double r =
+            std::tan(lay.plan.layers[i].radiusDeg * std::numbers::pi / 180.0) * perTangent;
         EXPECT_NEAR(lay.grids[i].radiusPx, r, 1e-3);
         EXPECT_EQ(lay.grids[i].width,
-                  static_cast<uint32_t>(std::ceil(std::min(2.0 * r, 1080.0) /
-                                                  lay.plan.layers[i].samplingFactor - 1e-6)));
+                  static_cast<uint32_t>(std::ceil(
+                      std::min(2.0 * r, 1080.0) / lay.plan.layers[i].samplingFactor - 1e-6)));
     }
     EXPECT_TRUE(lay.grids[2].outer);
     EXPECT_EQ(lay.grids[2].width, static_cast<uint32_t>(std::ceil(1920.0 / lay.grids[2].pitch)));

@@ -1,6 +1,7 @@
 // OpenSubdiv refinement of subdivision cages and the geometric LOD levels (seed 002, section 6).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -30,7 +31,7 @@ TEST(Subdivision, CubeCageFaceCountsPerLevel) {
     std::size_t faces = 6;
     for (uint32_t level = 0; level <= 3; ++level) {
         EXPECT_EQ(refinedFaceCount(cube, level), faces) << level;
-        EXPECT_EQ(refineCage(cube, level).size(), 3 * 2 * faces) << level;
+        EXPECT_EQ(refineCage(cube, level).size(), std::size_t{6} * faces) << level;
         faces *= 4;
     }
     // A triangle cage: each triangle becomes three quads at the first level.
@@ -55,7 +56,9 @@ TEST(Subdivision, VerticesLieOnOneSmoothSurfaceWithOutwardNormals) {
             hi = std::max(hi, r);
             EXPECT_NEAR(glm::length(v.normal), 1.0f, 1e-4f);
             EXPECT_GT(glm::dot(v.normal, v.position), 0.0f); // outward
-            for (int a = 0; a < 3; ++a) EXPECT_LE(std::abs(v.position[a]), 0.5f);
+            for (int a = 0; a < 3; ++a) {
+                EXPECT_LE(std::abs(v.position[a]), 0.5f);
+            }
         }
         EXPECT_GT(lo, 0.25f) << level;
         EXPECT_LT(hi, 0.5f * std::sqrt(3.0f)) << level;
@@ -79,7 +82,7 @@ TEST(Subdivision, BadCagesAreErrorsNamingThem) {
 
 TEST(Subdivision, LodFollowsTheSamplingPitch) {
     EXPECT_EQ(lodForPitch(1.0f, 3), 0u);
-    EXPECT_EQ(lodForPitch(3.9f, 3), 0u); // the middle layer (s ~ 2) keeps full detail
+    EXPECT_EQ(lodForPitch(3.9f, 3), 0u);  // the middle layer (s ~ 2) keeps full detail
     EXPECT_EQ(lodForPitch(4.73f, 3), 1u); // the outer layer at slope A
     EXPECT_EQ(lodForPitch(8.0f, 3), 2u);
     EXPECT_EQ(lodForPitch(100.0f, 3), 2u);
@@ -89,8 +92,9 @@ TEST(Subdivision, LodFollowsTheSamplingPitch) {
 TEST(Subdivision, GalleryLevelsHalveTheTriangles) {
     const Scene gallery = makeBuiltin("builtin:gallery");
     ASSERT_FALSE(gallery.cages.empty());
-    std::vector<std::size_t> counts;
-    for (const uint32_t r : kLodRefinements) counts.push_back(refinedScene(gallery, r).triangleCount());
+    std::vector<std::size_t> counts(kLodRefinements.size());
+    std::transform(kLodRefinements.begin(), kLodRefinements.end(), counts.begin(),
+                   [&](uint32_t r) { return refinedScene(gallery, r).triangleCount(); });
     const std::size_t room = gallery.triangleCount();
     for (std::size_t l = 1; l < counts.size(); ++l) {
         EXPECT_EQ(4 * (counts[l] - room), counts[l - 1] - room) << l; // cage triangles / 4
@@ -131,8 +135,8 @@ TEST(Subdivision, PackedLevelsKeepTheirOwnTrees) {
 std::filesystem::path writeCubeGltf(const std::filesystem::path& dir, const std::string& extras) {
     std::vector<float> pos;
     for (int i = 0; i < 8; ++i) {
-        pos.insert(pos.end(), {(i & 1) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f,
-                               (i & 4) ? 0.5f : -0.5f});
+        pos.insert(pos.end(),
+                   {(i & 1) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f, (i & 4) ? 0.5f : -0.5f});
     }
     const uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
                                   {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
@@ -148,7 +152,8 @@ std::filesystem::path writeCubeGltf(const std::filesystem::path& dir, const std:
     test::writeFile(dir / "cube.bin", bin.data(), bin.size());
     const std::string json = R"({"asset": {"version": "2.0"}, "scene": 0,
   "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0, "translation": [0, 1, 0]}],
-  "meshes": [{"name": "blob", "extras": )" + extras + R"(,
+  "meshes": [{"name": "blob", "extras": )" +
+                             extras + R"(,
               "primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
   "buffers": [{"uri": "cube.bin", "byteLength": 168}],
   "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 96},
