@@ -137,6 +137,27 @@ GpuScene::GpuScene(vk::Context& ctx, std::span<const LodGeometry> levels) {
     mBytes += sizeof(p.uniforms);
 }
 
+std::vector<VkDescriptorType> tracingBindings(std::initializer_list<VkDescriptorType> own) {
+    std::vector<VkDescriptorType> b(shaders::trace::kSceneBindingCount,
+                                    VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
+    b[shaders::trace::kBindingSceneUniforms] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    b.insert(b.end(), own);
+    return b;
+}
+
+void dispatchImageTrace(vk::Context& ctx, VkCommandBuffer cmd, const vk::ComputePipeline& pipeline,
+                        const GpuScene& scene, uint32_t outputBinding, VkImageView output,
+                        std::span<const std::byte> push, VkExtent2D extent, VkExtent2D group) {
+    vk::DescriptorWriter writer;
+    scene.bind(writer);
+    writer.storageImage(outputBinding, output);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
+    writer.push(ctx, cmd, pipeline);
+    vk::dispatch(cmd, pipeline, push.data(), static_cast<uint32_t>(push.size()),
+                 (extent.width + group.width - 1) / group.width,
+                 (extent.height + group.height - 1) / group.height);
+}
+
 void GpuScene::bind(vk::DescriptorWriter& w) const {
     namespace t = shaders::trace;
     w.texelBuffer(t::kBindingNodes, mNodes.view.handle())

@@ -3,6 +3,7 @@
 // materials, lights and textures in uniform texel buffers (texel buffers beat storage buffers
 // by 1.6x for BVH nodes on lavapipe, docs/LAVAPIPE.md), plus a small uniform block.
 #include <cstdint>
+#include <initializer_list>
 #include <memory>
 #include <span>
 #include <vector>
@@ -17,6 +18,7 @@
 namespace gt::vk {
 class Context;
 class DescriptorWriter;
+class ComputePipeline;
 } // namespace gt::vk
 
 namespace gt::trace {
@@ -72,6 +74,17 @@ private:
     bool mAlphaMasked = false;
     uint32_t mLodLevels = 1;
 };
+
+// The descriptor types of a tracing pass's pipeline: the scene's nine bindings (GpuScene::bind,
+// set 0, bindings 0-8), then the pass's own from binding 9 on.
+[[nodiscard]] std::vector<VkDescriptorType>
+tracingBindings(std::initializer_list<VkDescriptorType> passBindings);
+
+// Records a tracing shader that writes one image: the scene's bindings and the image at
+// `outputBinding`, `push`, and one thread per pixel of `extent` in groups of `group`.
+void dispatchImageTrace(vk::Context& ctx, VkCommandBuffer cmd, const vk::ComputePipeline& pipeline,
+                        const GpuScene& scene, uint32_t outputBinding, VkImageView output,
+                        std::span<const std::byte> push, VkExtent2D extent, VkExtent2D group);
 
 // The camera as push-constant vectors, for an image of the given aspect ratio.
 [[nodiscard]] shaders::trace::CameraPush cameraPush(const scene::Camera& camera, float aspect);

@@ -28,10 +28,8 @@ LayersPass::~LayersPass() = default;
 const vk::ComputePipeline& LayersPass::tracePipeline(bool alphaMask) const {
     auto& slot = mTrace[alphaMask ? 1 : 0];
     if (!slot) {
-        std::vector<VkDescriptorType> bindings(shaders::trace::kSceneBindingCount,
-                                               VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
-        bindings[shaders::trace::kBindingSceneUniforms] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        bindings.push_back(VK_DESCRIPTOR_TYPE_STORAGE_IMAGE); // sh::kBindingTraceOutput
+        const std::vector<VkDescriptorType> bindings =
+            trace::tracingBindings({VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}); // kBindingTraceOutput
         slot = std::make_unique<vk::ComputePipeline>(
             mCtx, vk::ComputePipelineDesc{"layers.trace",
                                           gt_spv_layers_trace_comp,
@@ -67,14 +65,10 @@ rg::TextureId LayersPass::addTrace(rg::RenderGraph& graph, const trace::GpuScene
         },
         [ctx = &mCtx, pipeline = &tracePipeline(scene.alphaMasked()), scene = &scene,
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
-            vk::DescriptorWriter writer;
-            scene->bind(writer);
-            writer.storageImage(sh::kBindingTraceOutput, r.texture(d.output).view);
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline->handle());
-            writer.push(*ctx, cmd, *pipeline);
-            vk::dispatch(cmd, *pipeline, &push, sizeof(push),
-                         (push.params.x + sh::kGroupSizeX - 1) / sh::kGroupSizeX,
-                         (push.params.y + sh::kGroupSizeY - 1) / sh::kGroupSizeY);
+            trace::dispatchImageTrace(*ctx, cmd, *pipeline, *scene, sh::kBindingTraceOutput,
+                                      r.texture(d.output).view, std::as_bytes(std::span(&push, 1)),
+                                      {push.params.x, push.params.y},
+                                      {sh::kGroupSizeX, sh::kGroupSizeY});
         });
     return data.output;
 }

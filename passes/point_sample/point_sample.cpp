@@ -42,11 +42,9 @@ PointSamplePass::~PointSamplePass() = default;
 const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaMask) const {
     auto& slot = mPipelines[{lanes, alphaMask}];
     if (!slot) {
-        std::vector<VkDescriptorType> bindings(shaders::trace::kSceneBindingCount,
-                                               VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
-        bindings[shaders::trace::kBindingSceneUniforms] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        bindings.push_back(VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER); // kBindingPoints
-        bindings.push_back(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);       // kBindingSamples
+        const std::vector<VkDescriptorType> bindings =
+            trace::tracingBindings({VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, // kBindingPoints
+                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});     // kBindingSamples
         slot = std::make_unique<vk::ComputePipeline>(
             mCtx, vk::ComputePipelineDesc{"point_sample",
                                           gt_spv_point_sample_comp,

@@ -18,10 +18,8 @@ ReferencePass::ReferencePass(vk::Context& ctx) : mCtx(ctx) {
 const vk::ComputePipeline& ReferencePass::pipeline(bool alphaMask) const {
     auto& slot = mPipelines[alphaMask ? 1 : 0];
     if (!slot) {
-        std::vector<VkDescriptorType> bindings(shaders::trace::kSceneBindingCount,
-                                               VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
-        bindings[shaders::trace::kBindingSceneUniforms] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        bindings.push_back(VK_DESCRIPTOR_TYPE_STORAGE_IMAGE); // sh::kBindingOutput
+        const std::vector<VkDescriptorType> bindings =
+            trace::tracingBindings({VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}); // sh::kBindingOutput
         slot = std::make_unique<vk::ComputePipeline>(
             mCtx, vk::ComputePipelineDesc{"reference.trace",
                                           gt_spv_reference_comp,
@@ -53,14 +51,10 @@ rg::TextureId ReferencePass::add(rg::RenderGraph& graph, const trace::GpuScene& 
         },
         [ctx = &mCtx, pipeline = &pipeline(scene.alphaMasked()), scene = &scene,
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
-            vk::DescriptorWriter writer;
-            scene->bind(writer);
-            writer.storageImage(sh::kBindingOutput, r.texture(d.output).view);
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline->handle());
-            writer.push(*ctx, cmd, *pipeline);
-            vk::dispatch(cmd, *pipeline, &push, sizeof(push),
-                         (push.params.x + sh::kGroupSizeX - 1) / sh::kGroupSizeX,
-                         (push.params.y + sh::kGroupSizeY - 1) / sh::kGroupSizeY);
+            trace::dispatchImageTrace(*ctx, cmd, *pipeline, *scene, sh::kBindingOutput,
+                                      r.texture(d.output).view, std::as_bytes(std::span(&push, 1)),
+                                      {push.params.x, push.params.y},
+                                      {sh::kGroupSizeX, sh::kGroupSizeY});
         });
     return data.output;
 }

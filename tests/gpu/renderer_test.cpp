@@ -14,6 +14,7 @@
 #include "render_graph/frame_ring.hpp"
 #include "renderer.hpp"
 #include "support/gpu_test_context.hpp"
+#include "support/image_diff.hpp"
 #include "vk/context.hpp"
 
 namespace gt {
@@ -71,11 +72,7 @@ protected:
     }
 
     static double meanAbsDiff(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
-        double d = 0.0;
-        for (std::size_t i = 0; i < a.size(); ++i) {
-            d += std::abs(static_cast<int>(a[i]) - static_cast<int>(b[i]));
-        }
-        return d / static_cast<double>(a.size());
+        return test::meanAbsDiff(a, b);
     }
 
     inline static std::unique_ptr<render::Renderer> sRenderer;

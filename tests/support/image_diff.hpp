@@ -1,0 +1,18 @@
+#pragma once
+// Comparing 8-bit images in tests.
+#include <cstdint>
+#include <cstdlib>
+#include <vector>
+
+namespace gt::test {
+
+// Mean absolute difference over every byte (RGBA8: 0-255 per channel, alpha included).
+inline double meanAbsDiff(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+    double d = 0.0;
+    for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
+        d += std::abs(static_cast<int>(a[i]) - static_cast<int>(b[i]));
+    }
+    return a.empty() ? 0.0 : d / static_cast<double>(a.size());
+}
+
+} // namespace gt::test
