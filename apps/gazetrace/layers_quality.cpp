@@ -1,5 +1,6 @@
 #include "layers_quality.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -132,10 +133,22 @@ public:
         if (rays) {
             *rays = f.views.front().rays;
         }
+        mLast = f.timings.value_or(rg::FrameTimings{});
         return mReadback.takePixels();
+    }
+    // GPU ms of the last frame's passes whose names contain `part` ("trace", "point_sample").
+    [[nodiscard]] double lastPassMs(const std::string& part) const {
+        double ms = 0.0;
+        for (const auto& p : mLast.passes) {
+            if (p.name.find(part) != std::string::npos) {
+                ms += p.gpuMs;
+            }
+        }
+        return ms;
     }
 
 private:
+    rg::FrameTimings mLast;
     render::Renderer& mRenderer;
     render::ReadbackTarget mReadback;
 };
@@ -275,6 +288,7 @@ nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
     render::Renderer lodRenderer({.scene = o.lodScene});
     Shots lodShots(lodRenderer);
     nlohmann::json pursuit = nlohmann::json::object();
+    nlohmann::json traceGpu = nlohmann::json::object(); // median GPU ms of the tracing passes
     for (const bool lod : {false, true}) {
         render::EccentricityLayerSettings s = ls;
         s.lod = lod;
@@ -284,6 +298,7 @@ nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
         lodPoints.settings.lod = lod;
         for (const char* name : {"layers", "points"}) {
             double share = 0.0;
+            std::vector<double> traceMs;
             Image last;
             for (int i = 0; i < pursuitFrames; ++i) {
                 render::View pv = base;
@@ -294,8 +309,12 @@ nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
                 const double a = 2.0 * 3.14159265358979 * (i / 90.0) / 2.0;
                 pv.gaze = centre + 260.0f * glm::vec2(static_cast<float>(std::cos(a)),
                                                       static_cast<float>(std::sin(a)));
-                const Image img = std::string(name) == "layers" ? lodShots.shot(pv, lodLayers)
-                                                                : lodShots.shot(pv, lodPoints);
+                const bool isLayers = std::string(name) == "layers";
+                const Image img =
+                    isLayers ? lodShots.shot(pv, lodLayers) : lodShots.shot(pv, lodPoints);
+                if (i > 0) { // the first frame compiles and traces every layer
+                    traceMs.push_back(lodShots.lastPassMs(isLayers ? "trace" : "point_sample"));
+                }
                 if (!last.empty()) {
                     const auto sh = changedShare(img, last, std::vector<uint8_t>(bands.size(), 0));
                     share += sh[0] / (pursuitFrames - 1);
@@ -303,12 +322,16 @@ nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
                 last = img;
             }
             pursuit[name][lod ? "lod" : "full_detail"] = share;
+            std::sort(traceMs.begin(), traceMs.end());
+            traceGpu[name][lod ? "lod" : "full_detail"] =
+                traceMs.empty() ? 0.0 : traceMs[traceMs.size() / 2];
         }
     }
     out["pursuit"] = {{"scene", o.lodScene},
                       {"frames", pursuitFrames},
                       {"lod_triangles", lodRenderer.lodTriangles()},
-                      {"changed_percent", pursuit}};
+                      {"changed_percent", pursuit},
+                      {"trace_gpu_ms_median", traceGpu}};
     out["device"] = renderer.context().deviceName();
     return out;
 }
@@ -336,6 +359,13 @@ void printLayerQuality(const nlohmann::json& q) {
         }
         std::printf("\n");
     }
+    const auto& t = q["pursuit"]["trace_gpu_ms_median"];
+    std::printf("LOD savings on %s (triangles per level %s), median GPU ms of the tracing passes: "
+                "layers %.1f -> %.1f, points %.1f -> %.1f\n",
+                q["pursuit"]["scene"].get<std::string>().c_str(),
+                q["pursuit"]["lod_triangles"].dump().c_str(),
+                t["layers"]["full_detail"].get<double>(), t["layers"]["lod"].get<double>(),
+                t["points"]["full_detail"].get<double>(), t["points"]["lod"].get<double>());
     const auto& p = q["pursuit"]["changed_percent"];
     std::printf(
         "Pursuit over %s, %% of pixels changing > 10/255 per frame: layers %.3f (LOD %.3f), "
