@@ -22,19 +22,22 @@ build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
 # The thesis's main job: a short foveated sequence on the built-in market following a recorded
-# saccade, the full-resolution reference beside it, and the debug views, all in out/.
+# saccade, the same with eccentricity layers (seed 002), the full-resolution reference beside
+# them, and the debug views, all in out/.
 run: build
 	@mkdir -p out
 	./$(BUILD)/gazetrace render --method foveated --profile fove --interp msm --k 10 \
 	    --rays-per-point 4 --gaze-trace content/gaze/saccade.csv --frame-ms 100 \
 	    --out out/foveated --graph out/foveated_graph.dot --json
+	./$(BUILD)/gazetrace render --method layers --profile fove --slope A \
+	    --gaze-trace content/gaze/saccade.csv --frame-ms 100 --out out/layers --json
 	./$(BUILD)/gazetrace render --method reference --width 1280 --height 1440 --spp 4 \
 	    --out out/reference.png --json
 	./$(BUILD)/gazetrace render --method foveated --view points --rays-per-point 1 --out out/view_points.png
 	./$(BUILD)/gazetrace render --method foveated --view cells --rays-per-point 1 --out out/view_cells.png
 	./$(BUILD)/gazetrace render --method foveated --view eccentricity --rays-per-point 1 \
 	    --out out/view_eccentricity.png
-	@echo "wrote out/foveated/frame_*.png, out/reference.png, out/view_*.png"
+	@echo "wrote out/foveated/frame_*.png, out/layers/frame_*.png, out/reference.png, out/view_*.png"
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j 2 --timeout 900
