@@ -440,6 +440,8 @@ nlohmann::json runBench(const BenchOptions& o) {
 
     const nlohmann::json layerPredicted = layerPredictions();
     const nlohmann::json layerMeasured = measureLayers(session.renderer, frames);
+    const nlohmann::json layerQuality =
+        measureLayerQuality({.quick = o.quick, .scene = o.scene, .cacheDir = o.cacheDir});
 
     nlohmann::json table2json = nlohmann::json::array();
     for (const auto& [name, settings] : table2) {
@@ -526,7 +528,8 @@ nlohmann::json runBench(const BenchOptions& o) {
         {"table2", table2json},
         {"headline", headline},
         {"ray_cost_by_gaze", perRay},
-        {"layers", {{"predicted", layerPredicted}, {"measured", layerMeasured}}},
+        {"layers",
+         {{"predicted", layerPredicted}, {"measured", layerMeasured}, {"quality", layerQuality}}},
         {"neighbour_index",
          {{"build_ms", session.pointSet.neighbourIndexMs()},
           {"mb", session.pointSet.neighbourIndexMb()},
@@ -584,6 +587,7 @@ nlohmann::json runBench(const BenchOptions& o) {
         std::printf("\n");
     }
     printLayers(layerPredicted, layerMeasured);
+    printLayerQuality(layerQuality);
     if (!o.json.empty()) {
         writeJsonFile(o.json, result);
     }
