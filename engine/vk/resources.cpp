@@ -213,34 +213,4 @@ BufferView& BufferView::operator=(BufferView&& o) noexcept {
     return *this;
 }
 
-Sampler::Sampler(Context& ctx, bool linear) : mDevice(ctx.device()) {
-    VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-    info.magFilter = info.minFilter = linear ? VK_FILTER_LINEAR : VK_FILTER_NEAREST;
-    info.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-    info.addressModeU = info.addressModeV = info.addressModeW =
-        VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-    info.maxLod = 0.0f;
-    GT_VK_CHECK(vkCreateSampler(mDevice, &info, nullptr, &mSampler));
-}
-
-Sampler::~Sampler() {
-    if (mSampler != VK_NULL_HANDLE) {
-        vkDestroySampler(mDevice, mSampler, nullptr);
-    }
-}
-
-Sampler::Sampler(Sampler&& o) noexcept
-    : mDevice(o.mDevice), mSampler(std::exchange(o.mSampler, VK_NULL_HANDLE)) {}
-
-Sampler& Sampler::operator=(Sampler&& o) noexcept {
-    if (this != &o) {
-        if (mSampler != VK_NULL_HANDLE) {
-            vkDestroySampler(mDevice, mSampler, nullptr);
-        }
-        mDevice = o.mDevice;
-        mSampler = std::exchange(o.mSampler, VK_NULL_HANDLE);
-    }
-    return *this;
-}
-
 } // namespace gt::vk

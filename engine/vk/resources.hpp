@@ -100,23 +100,6 @@ private:
     VkBufferView mView = VK_NULL_HANDLE;
 };
 
-// A sampler: clamp to edge, no mipmaps; `linear` filters bilinearly (texture() in a shader).
-class Sampler {
-public:
-    Sampler() = default;
-    Sampler(Context& ctx, bool linear);
-    ~Sampler();
-    Sampler(Sampler&& other) noexcept;
-    Sampler& operator=(Sampler&& other) noexcept;
-    Sampler(const Sampler&) = delete;
-    Sampler& operator=(const Sampler&) = delete;
-    [[nodiscard]] VkSampler handle() const noexcept { return mSampler; }
-
-private:
-    VkDevice mDevice = VK_NULL_HANDLE;
-    VkSampler mSampler = VK_NULL_HANDLE;
-};
-
 [[nodiscard]] uint32_t bytesPerPixel(VkFormat format);
 
 } // namespace gt::vk

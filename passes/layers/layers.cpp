@@ -15,10 +15,8 @@ namespace gt::passes {
 
 namespace sh = shaders::layers;
 
-LayersPass::LayersPass(vk::Context& ctx) : mCtx(ctx), mBilinear(ctx, true) {
-    std::vector<VkDescriptorType> bindings(sh::kMaxLayers,
-                                           VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER);
-    bindings.push_back(VK_DESCRIPTOR_TYPE_STORAGE_IMAGE); // kBindingComposeOutput
+LayersPass::LayersPass(vk::Context& ctx) : mCtx(ctx) {
+    std::vector<VkDescriptorType> bindings(sh::kMaxLayers + 1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
     mCompose = std::make_unique<vk::ComputePipeline>(
         ctx, vk::ComputePipelineDesc{"layers.compose", gt_spv_layers_compose_comp, bindings,
                                      sizeof(sh::LayerComposePush)});
@@ -96,19 +94,19 @@ rg::TextureId LayersPass::addCompose(rg::RenderGraph& graph, std::span<const Com
         [&](rg::PassBuilder& b, Data& d) {
             d.count = layers.size();
             for (std::size_t i = 0; i < layers.size(); ++i) {
-                d.layers[i] = b.read(layers[i].image, rg::Access::SampledCompute);
+                d.layers[i] = b.read(layers[i].image, rg::Access::StorageRead);
             }
             d.output = b.write(b.createTexture("layers.composed", {VK_FORMAT_R32G32B32A32_SFLOAT}),
                                rg::Access::StorageWrite);
         },
-        [ctx = &mCtx, pipeline = mCompose.get(), sampler = mBilinear.handle(),
-         push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+        [ctx = &mCtx, pipeline = mCompose.get(), push](const rg::PassResources& r, const Data& d,
+                                                       VkCommandBuffer cmd) {
             const rg::ResolvedTexture& out = r.texture(d.output);
             vk::DescriptorWriter writer;
             for (uint32_t i = 0; i < sh::kMaxLayers; ++i) {
                 // Slots past the count repeat the outer layer (never read by the shader).
                 const std::size_t src = i < d.count ? i : d.count - 1;
-                writer.sampledImage(sh::kBindingLayer0 + i, r.texture(d.layers[src]).view, sampler);
+                writer.storageImage(sh::kBindingLayer0 + i, r.texture(d.layers[src]).view);
             }
             writer.storageImage(sh::kBindingComposeOutput, out.view);
             writer.push(*ctx, cmd, *pipeline);

@@ -13,7 +13,6 @@
 
 #include "render_graph/render_graph.hpp"
 #include "trace_shared.h"
-#include "vk/resources.hpp"
 
 namespace gt::vk {
 class Context;
@@ -56,7 +55,6 @@ private:
     vk::Context& mCtx;
     mutable std::array<std::unique_ptr<vk::ComputePipeline>, 2> mTrace;
     std::unique_ptr<vk::ComputePipeline> mCompose;
-    vk::Sampler mBilinear;
 };
 
 } // namespace gt::passes

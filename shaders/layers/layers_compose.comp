@@ -7,29 +7,40 @@
 #include "layers_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-// Sampled with a bilinear, clamp-to-edge sampler: one filtered fetch per layer instead of four
-// image loads (the compose was a third of a layers frame on lavapipe at 1920 x 1080).
-layout(set = 0, binding = 0) uniform sampler2D uLayer0;
-layout(set = 0, binding = 1) uniform sampler2D uLayer1;
-layout(set = 0, binding = 2) uniform sampler2D uLayer2;
-layout(set = 0, binding = 3) uniform sampler2D uLayer3;
+layout(set = 0, binding = 0, rgba32f) uniform readonly image2D uLayer0;
+layout(set = 0, binding = 1, rgba32f) uniform readonly image2D uLayer1;
+layout(set = 0, binding = 2, rgba32f) uniform readonly image2D uLayer2;
+layout(set = 0, binding = 3, rgba32f) uniform readonly image2D uLayer3;
 layout(set = 0, binding = kBindingComposeOutput, rgba32f) uniform writeonly image2D uOutput;
 layout(push_constant) uniform Push { LayerComposePush pc; };
 
-ivec2 layerSize(int layer) {
-    if (layer == 0) return textureSize(uLayer0, 0);
-    if (layer == 1) return textureSize(uLayer1, 0);
-    if (layer == 2) return textureSize(uLayer2, 0);
-    return textureSize(uLayer3, 0);
+vec4 texel(int layer, ivec2 p) {
+    if (layer == 0) return imageLoad(uLayer0, p);
+    if (layer == 1) return imageLoad(uLayer1, p);
+    if (layer == 2) return imageLoad(uLayer2, p);
+    return imageLoad(uLayer3, p);
 }
 
-// Bilinear at `u`, in layer pixels measured from the grid's corner (pixel edges).
+ivec2 layerSize(int layer) {
+    if (layer == 0) return imageSize(uLayer0);
+    if (layer == 1) return imageSize(uLayer1);
+    if (layer == 2) return imageSize(uLayer2);
+    return imageSize(uLayer3);
+}
+
+// Bilinear, clamped to the edge; `u` in layer pixels with texel centres at integers.
 vec4 bilinear(int layer, vec2 u, ivec2 size) {
-    vec2 uv = u / vec2(size);
-    if (layer == 0) return textureLod(uLayer0, uv, 0.0);
-    if (layer == 1) return textureLod(uLayer1, uv, 0.0);
-    if (layer == 2) return textureLod(uLayer2, uv, 0.0);
-    return textureLod(uLayer3, uv, 0.0);
+    vec2 f = u - floor(u);
+    ivec2 i0 = ivec2(floor(u));
+    ivec2 hi = size - 1;
+    vec4 a = texel(layer, clamp(i0, ivec2(0), hi));
+    vec4 b = texel(layer, clamp(i0 + ivec2(1, 0), ivec2(0), hi));
+    vec4 c = texel(layer, clamp(i0 + ivec2(0, 1), ivec2(0), hi));
+    vec4 d = texel(layer, clamp(i0 + ivec2(1, 1), ivec2(0), hi));
+    vec4 colour = mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
+    // Distances do not interpolate across silhouettes: keep the nearest texel's.
+    vec4 nearest = f.y < 0.5 ? (f.x < 0.5 ? a : b) : (f.x < 0.5 ? c : d);
+    return vec4(colour.rgb, nearest.a);
 }
 
 void main() {
@@ -40,16 +51,17 @@ void main() {
     vec2 p = vec2(px) + 0.5; // the pixel's centre, in pixel edges
     float d = length(vec2(px) - pc.gaze.xy);
     int outer = count - 1;
-    vec4 result = bilinear(outer, (p - pc.layer[outer].xy) / pc.layer[outer].z, layerSize(outer));
+    vec4 result = bilinear(outer, (p - pc.layer[outer].xy) / pc.layer[outer].z - 0.5,
+                           layerSize(outer));
     for (int i = outer - 1; i >= 0; --i) {
         float r = pc.layer[i].w;
         float w = 1.0 - smoothstep((1.0 - pc.gaze.w) * r, r, d);
         if (w <= 0.0) continue;
         ivec2 ls = layerSize(i);
-        vec2 u = (p - pc.layer[i].xy) / pc.layer[i].z;
+        vec2 u = (p - pc.layer[i].xy) / pc.layer[i].z - 0.5;
         // A half-rate layer traced around last frame's gaze may not reach this pixel yet: the
         // layer outside it shows there instead.
-        if (any(lessThan(u, vec2(0.0))) || any(greaterThan(u, vec2(ls)))) continue;
+        if (any(lessThan(u, vec2(-0.5))) || any(greaterThan(u, vec2(ls) - 0.5))) continue;
         result = mix(result, bilinear(i, u, ls), w);
     }
     imageStore(uOutput, px, result);

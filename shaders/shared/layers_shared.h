@@ -21,7 +21,7 @@ struct LayerTracePush {
 
 // layers.compose: the layers inner first; slots past the layer count repeat the outer layer.
 GT_CONST kMaxLayers = 4;
-GT_CONST kBindingLayer0 = 0; // sampler2D (bilinear, clamped), one binding per layer
+GT_CONST kBindingLayer0 = 0; // image2D rgba32f, one binding per layer
 GT_CONST kBindingComposeOutput = 4;
 
 struct LayerComposePush {
