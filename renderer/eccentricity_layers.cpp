@@ -178,17 +178,24 @@ std::optional<WarmUp> EccentricityLayers::warmUp(const View& view) {
         return std::nullopt;
     }
     mWarm = true;
-    // trace -> taa -> compose once at 16 x 16, with a throwaway history.
+    // trace -> taa -> compose once at 16 x 16 with a throwaway history, composing as many
+    // layers as the view has (the compose pipeline is specialised on the count).
     auto pool = std::make_shared<rg::HistoryPool>(mMc.ctx);
     const shaders::trace::CameraPush cam = view.cameraPush();
-    return WarmUp{16, 16, [this, pool, cam](rg::RenderGraph& g) {
-                      const rg::TextureId traced = mPass.addTrace(g, mMc.scene, cam, 16, 16, 1);
-                      const rg::HistoryTextures h =
-                          g.importHistory(*pool, kLayerHistory, kLayerFormat, 16, 16);
-                      const passes::ComposedLayer layer{
-                          mTaa.add(g, h, traced, cam, cam, true, mSettings.taa), {}, 1.0f, 0.0f};
-                      return mPass.addCompose(g, std::span(&layer, 1), glm::vec2(8.0f),
-                                              mSettings.transition);
+    const std::size_t n = layout(view).grids.size();
+    return WarmUp{16, 16, [this, pool, cam, n](rg::RenderGraph& g) {
+                      std::vector<passes::ComposedLayer> layers;
+                      for (std::size_t i = 0; i < n; ++i) {
+                          const rg::RenderGraph::Scope scope = g.scope(layerScope(i), 16, 16);
+                          rg::TextureId image = mPass.addTrace(g, mMc.scene, cam, 16, 16, 1);
+                          if (i == 0) {
+                              const rg::HistoryTextures h =
+                                  g.importHistory(*pool, kLayerHistory, kLayerFormat, 16, 16);
+                              image = mTaa.add(g, h, image, cam, cam, true, mSettings.taa);
+                          }
+                          layers.push_back({image, {}, 1.0f, 8.0f});
+                      }
+                      return mPass.addCompose(g, layers, glm::vec2(8.0f), mSettings.transition);
                   }};
 }
 

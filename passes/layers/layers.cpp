@@ -16,11 +16,23 @@ namespace gt::passes {
 namespace sh = shaders::layers;
 
 LayersPass::LayersPass(vk::Context& ctx) : mCtx(ctx) {
-    std::vector<VkDescriptorType> bindings(sh::kMaxLayers + 1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
-    mCompose = std::make_unique<vk::ComputePipeline>(
-        ctx, vk::ComputePipelineDesc{"layers.compose", gt_spv_layers_compose_comp, bindings,
-                                     sizeof(sh::LayerComposePush)});
-    (void)tracePipeline(false); // a bad shader fails at construction
+    (void)tracePipeline(false); // bad shaders fail at construction
+    (void)composePipeline(3);
+}
+
+const vk::ComputePipeline& LayersPass::composePipeline(std::size_t layers) const {
+    auto& slot = mCompose.at(layers - 1);
+    if (!slot) {
+        std::vector<VkDescriptorType> bindings(sh::kMaxLayers + 1,
+                                               VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
+        slot = std::make_unique<vk::ComputePipeline>(
+            mCtx, vk::ComputePipelineDesc{"layers.compose",
+                                          gt_spv_layers_compose_comp,
+                                          bindings,
+                                          sizeof(sh::LayerComposePush),
+                                          {static_cast<uint32_t>(layers)}});
+    }
+    return *slot;
 }
 
 LayersPass::~LayersPass() = default;
@@ -80,7 +92,7 @@ rg::TextureId LayersPass::addCompose(rg::RenderGraph& graph, std::span<const Com
                             " layers (1 to 4)");
     }
     sh::LayerComposePush push{};
-    push.gaze = glm::vec4(gaze, static_cast<float>(layers.size()), transition);
+    push.gaze = glm::vec4(gaze, 0.0f, transition);
     for (std::size_t i = 0; i < layers.size(); ++i) {
         push.layer[i] = glm::vec4(layers[i].origin, layers[i].pitch, layers[i].radiusPx);
     }
@@ -99,8 +111,8 @@ rg::TextureId LayersPass::addCompose(rg::RenderGraph& graph, std::span<const Com
             d.output = b.write(b.createTexture("layers.composed", {VK_FORMAT_R32G32B32A32_SFLOAT}),
                                rg::Access::StorageWrite);
         },
-        [ctx = &mCtx, pipeline = mCompose.get(), push](const rg::PassResources& r, const Data& d,
-                                                       VkCommandBuffer cmd) {
+        [ctx = &mCtx, pipeline = &composePipeline(layers.size()),
+         push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             const rg::ResolvedTexture& out = r.texture(d.output);
             vk::DescriptorWriter writer;
             for (uint32_t i = 0; i < sh::kMaxLayers; ++i) {

@@ -51,10 +51,12 @@ public:
 
 private:
     const vk::ComputePipeline& tracePipeline(bool alphaMask) const;
+    const vk::ComputePipeline& composePipeline(std::size_t layers) const;
 
     vk::Context& mCtx;
     mutable std::array<std::unique_ptr<vk::ComputePipeline>, 2> mTrace;
-    std::unique_ptr<vk::ComputePipeline> mCompose;
+    // One per layer count (1-4), built on first use.
+    mutable std::array<std::unique_ptr<vk::ComputePipeline>, kMaxEccentricityLayers> mCompose;
 };
 
 } // namespace gt::passes

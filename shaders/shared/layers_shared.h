@@ -25,8 +25,9 @@ GT_CONST kBindingLayer0 = 0; // image2D rgba32f, one binding per layer
 GT_CONST kBindingComposeOutput = 4;
 
 struct LayerComposePush {
-    vec4 gaze; // xy = gaze (display pixels, centres at integers), z = layer count, w = the
-               // transition's share of a layer's radius (0.4, Figure 3)
+    vec4 gaze; // xy = gaze (display pixels, centres at integers), z unused (the layer count is
+               // the pipeline's specialisation constant), w = the transition's share of a
+               // layer's radius (0.4, Figure 3)
     // Per layer: xy = display position of the layer grid's top-left corner (pixel edges, this
     // frame's jitter included), z = pitch (display pixels per layer pixel, s_i), w = radius in
     // display pixels where the layer's blend weight reaches 0 (unused for the outer layer).
