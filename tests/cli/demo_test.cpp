@@ -86,6 +86,49 @@ TEST(Demo, WindowMatchesHeadlessRenderInTheFovea) {
     EXPECT_LE(diff / static_cast<double>(n), 2.0);
 }
 
+// Issue 18: the demo shows layered foveation, the same as `render --method layers` where the eye
+// looks, and both eyes of the HMD path take their own layers.
+TEST(Demo, LayersInTheWindowMatchHeadless) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    const auto dir = test::tempDir("demo_layers");
+    const auto trace = writeTrace(dir);
+    const std::string common =
+        "--scene builtin:market --method layers --slope 0.05 --frame-ms 50 --frames 12";
+    const auto shot = dir / "window.png";
+    Result r = test::runWith(kXvfb, "demo --width 320 --height 180 --gaze trace:" + trace.string() +
+                                        " --overlay off --validate --json "
+                                        "--screenshot " +
+                                        shot.string() + " " + common);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["method"], "layers");
+    r = test::run("render --profile desktop --width 320 --height 180 --gaze-trace " +
+                  trace.string() + " --validate --out " + (dir / "frames").string() + " " + common);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const image::DecodedImage a = image::readPng(shot);
+    const image::DecodedImage b = image::readPng(dir / "frames" / "frame_0011.png");
+    ASSERT_EQ(a.width, b.width);
+    ASSERT_EQ(a.height, b.height);
+    double diff = 0.0;
+    std::size_t n = 0;
+    for (uint32_t y = 0; y < a.height; ++y) {
+        for (uint32_t x = 0; x < a.width; ++x) {
+            if (std::hypot(x - 220.0, y - 120.0) > 60.0) continue;
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t i = (static_cast<std::size_t>(y) * a.width + x) * 4 + c;
+                diff += std::abs(static_cast<int>(a.rgba[i]) - static_cast<int>(b.rgba[i]));
+                ++n;
+            }
+        }
+    }
+    EXPECT_LE(diff / static_cast<double>(n), 2.0);
+    r = test::runWith(kXvfb, "demo --hmd vive --method layers --frames 3 --overlay off "
+                             "--validate --json --screenshot " +
+                                 (dir / "hmd.png").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;
+    EXPECT_TRUE(std::filesystem::exists(dir / "hmd.png"));
+}
+
 TEST(Demo, ResizeMidRunIsValidationClean) {
     if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
     const auto dir = test::tempDir("demo_resize");

@@ -183,6 +183,29 @@ TEST(Xr, RendersBothEyesAndEachMatchesAHeadlessRenderOfItsPose) {
     rendersAndMatches("right");
 }
 
+// Issue 18: eccentricity layers through OpenXR: each eye traces its own layers (from its XrFovf)
+// into the runtime's swapchain, validation clean, the session ended cleanly.
+TEST(Xr, LayersRenderBothEyes) {
+    REQUIRE_MONADO();
+    const auto dir = test::tempDir("xr_layers");
+    const auto shot = dir / "left.png";
+    const Result r = test::run("xr --method layers --slope 0.3 --frames 4 --validate --json "
+                               "--resolution-scale 0.5 --gaze fixed:100,70 --screenshot-eye left " +
+                               shot.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["method"], "layers");
+    EXPECT_EQ(j["frames"], 4);
+    EXPECT_EQ(j["validation_errors"], 0);
+    EXPECT_EQ(j["session_states"].back(), "EXITING");
+    for (const char* pass : {"left.layer1.layers.trace", "right.layer1.layers.trace",
+                             "left.layers.compose", "right.layers.compose", "right.xr.blit"}) {
+        EXPECT_TRUE(j["gpu_ms"].contains(pass)) << pass;
+    }
+    const image::DecodedImage img = image::readPng(shot);
+    EXPECT_GT(img.width, 0u);
+}
+
 // A runtime that exits mid-session (its service killed): a clear one-line error, no hang.
 TEST(Xr, RuntimeThatDiesMidSessionEndsWithOneLine) {
     REQUIRE_MONADO();
