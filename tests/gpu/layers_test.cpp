@@ -221,6 +221,21 @@ TEST_F(EccentricityLayersTest, OuterLayersRunAtHalfRateStaggered) {
     EXPECT_EQ(layers.tracedLastFrame(v), (std::vector<bool>{true, true, true}));
 }
 
+// A resized view retraces every layer at once: a half-rate layer on its off frame must not read a
+// history the new size replaced (it would compose uninitialised texels).
+TEST_F(EccentricityLayersTest, ResizeRetracesEveryLayer) {
+    render::EccentricityLayers layers(renderer().methodContext(), settings());
+    render::View v = view(layers, "resize");
+    for (int i = 0; i < 2; ++i) {
+        (void)frame(v);
+    }
+    ASSERT_EQ(layers.tracedLastFrame(v), (std::vector<bool>{true, true, false}));
+    v.width = 200; // the gaze stays where it was: no saccade resets the layers
+    v.height = 120;
+    (void)frame(v);
+    EXPECT_EQ(layers.tracedLastFrame(v), (std::vector<bool>{true, true, true}));
+}
+
 // A still view converges: one jittered ray per layer pixel a frame, averaged in each layer's
 // history, approaches what 16 stratified rays per layer pixel give in one frame (the layer's
 // box-filtered, supersampled image). Linear radiance averages slowly around highlights, so the
