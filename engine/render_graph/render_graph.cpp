@@ -914,42 +914,40 @@ void HistoryPool::commit(const RenderGraph& graph) {
     }
 }
 
+TextureId RenderGraph::importHistoryImage(const HistoryPool::Entry& e, int index,
+                                          std::string_view name, VkFormat format, uint32_t width,
+                                          uint32_t height) {
+    const vk::Image& img = *e.images[static_cast<std::size_t>(index)];
+    return importTexture(name, {img.handle(), img.view(), format, width, height,
+                                e.written[static_cast<std::size_t>(index)]
+                                    ? std::optional(Access::StorageWrite)
+                                    : std::nullopt,
+                                // Whatever reads it this frame, leave it in GENERAL, the layout
+                                // the next frame's import declares.
+                                Access::StorageRead});
+}
+
 HistoryTextures RenderGraph::importHistory(HistoryPool& pool, std::string_view unscoped,
                                            VkFormat format, uint32_t width, uint32_t height) {
     const std::string name = scopedName(unscoped);
     HistoryPool::Entry& e = pool.entry(name, width, height, format);
     const int readIndex = e.read, writeIndex = 1 - e.read;
-    auto import = [&](int i, std::string_view what) {
-        const vk::Image& img = *e.images[static_cast<std::size_t>(i)];
-        return importTexture(std::string(unscoped) + std::string(what),
-                             {img.handle(), img.view(), format, width, height,
-                              e.written[static_cast<std::size_t>(i)]
-                                  ? std::optional(Access::StorageWrite)
-                                  : std::nullopt,
-                              // Whatever reads it this frame, leave it in GENERAL, the layout the
-                              // next frame's import declares.
-                              Access::StorageRead});
-    };
+    const std::string base(unscoped);
     HistoryTextures h;
     h.valid = e.valid;
-    h.previous = import(readIndex, ".previous");
-    h.next = import(writeIndex, ".next");
+    h.previous = importHistoryImage(e, readIndex, base + ".previous", format, width, height);
+    h.next = importHistoryImage(e, writeIndex, base + ".next", format, width, height);
     mHistories.push_back({&pool, name, writeIndex});
     return h;
 }
 
 HistoryTextures RenderGraph::readHistory(HistoryPool& pool, std::string_view unscoped,
                                          VkFormat format, uint32_t width, uint32_t height) {
-    HistoryPool::Entry& e = pool.entry(scopedName(unscoped), width, height, format);
-    const vk::Image& img = *e.images[static_cast<std::size_t>(e.read)];
+    const HistoryPool::Entry& e = pool.entry(scopedName(unscoped), width, height, format);
     HistoryTextures h;
     h.valid = e.valid;
-    h.previous = importTexture(std::string(unscoped) + ".previous",
-                               {img.handle(), img.view(), format, width, height,
-                                e.written[static_cast<std::size_t>(e.read)]
-                                    ? std::optional(Access::StorageWrite)
-                                    : std::nullopt,
-                                Access::StorageRead});
+    h.previous = importHistoryImage(e, e.read, std::string(unscoped) + ".previous", format, width,
+                                    height);
     return h;
 }
 

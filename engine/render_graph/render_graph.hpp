@@ -359,6 +359,9 @@ public:
 private:
     friend class PassBuilder;
     friend class HistoryPool;
+    // One of a history's two images, imported (importHistory, readHistory).
+    TextureId importHistoryImage(const HistoryPool::Entry& e, int index, std::string_view name,
+                                 VkFormat format, uint32_t width, uint32_t height);
     struct Resource;
     struct Use;
     struct Pass;

@@ -17,22 +17,13 @@ bool taaMustReset(bool historyValid, bool saccade, glm::vec2 gaze, glm::vec2 pre
 }
 
 TaaPass::TaaPass(vk::Context& ctx) : mCtx(ctx) {
-    (void)pipeline(false); // a bad shader fails at construction
-}
-
-const vk::ComputePipeline& TaaPass::pipeline(bool compressHighlights) const {
-    auto& slot = mPipelines[compressHighlights ? 1 : 0];
-    if (!slot) {
-        slot = std::make_unique<vk::ComputePipeline>(
-            mCtx, vk::ComputePipelineDesc{"taa",
-                                          gt_spv_taa_comp,
-                                          {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                                           VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                                           VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-                                          sizeof(sh::TaaPush),
-                                          {compressHighlights ? 1u : 0u}});
-    }
-    return *slot;
+    mPipeline = std::make_unique<vk::ComputePipeline>(
+        ctx,
+        vk::ComputePipelineDesc{"taa",
+                                gt_spv_taa_comp,
+                                {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                 VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                                sizeof(sh::TaaPush)});
 }
 
 TaaPass::~TaaPass() = default;
@@ -60,8 +51,8 @@ rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& hi
             d.history = b.read(history.previous, rg::Access::StorageRead);
             d.output = b.write(history.next, rg::Access::StorageWrite);
         },
-        [ctx = &mCtx, pipeline = &pipeline(s.compressHighlights),
-         push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+        [ctx = &mCtx, pipeline = mPipeline.get(), push](const rg::PassResources& r, const Data& d,
+                                                        VkCommandBuffer cmd) {
             const rg::ResolvedTexture& out = r.texture(d.output);
             vk::DescriptorWriter writer;
             writer.storageImage(sh::kBindingCurrent, r.texture(d.current).view)

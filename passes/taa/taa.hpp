@@ -2,7 +2,6 @@
 // Pass `taa`: temporal anti-aliasing with reprojection, YCoCg variance clipping and history
 // rejection on disocclusion and on saccades (gaze jumps). The history is the render graph's
 // (rg::HistoryPool): last frame's output in, this frame's output out.
-#include <array>
 #include <cstdint>
 #include <memory>
 
@@ -24,8 +23,6 @@ struct TaaSettings {
     float depthTolerance = 0.05f; // relative distance change that counts as disocclusion
     // A gaze move larger than this share of the image width is a saccade: history is dropped.
     float saccadeFraction = 1.0f / 16.0f;
-    // Blend in c / (1 + luma) instead of linear radiance (taa.comp): jittered input.
-    bool compressHighlights = false;
 };
 
 // Whether a frame must start TAA afresh: no committed history yet, a saccade reported by the eye
@@ -48,10 +45,8 @@ public:
                       const TaaSettings& settings = {}) const;
 
 private:
-    [[nodiscard]] const vk::ComputePipeline& pipeline(bool compressHighlights) const;
-
     vk::Context& mCtx;
-    mutable std::array<std::unique_ptr<vk::ComputePipeline>, 2> mPipelines;
+    std::unique_ptr<vk::ComputePipeline> mPipeline;
 };
 
 } // namespace gt::passes

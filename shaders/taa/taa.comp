@@ -12,15 +12,6 @@ layout(set = 0, binding = kBindingCurrent, rgba32f) uniform readonly image2D uCu
 layout(set = 0, binding = kBindingHistory, rgba32f) uniform readonly image2D uHistory;
 layout(set = 0, binding = kBindingOutput, rgba32f) uniform writeonly image2D uOutput;
 layout(push_constant) uniform Push { TaaPush pc; };
-// Blend in a reversible tone-mapped space, c / (1 + luma) (Karis 2014, "High-quality temporal
-// supersampling"), so that one very bright sample among jittered ones (a lamp, a sunlit window)
-// moves the pixel by what it shows, not by its linear radiance: used by the eccentricity layers,
-// whose jittered history would otherwise flicker around every highlight.
-layout(constant_id = 0) const bool kCompressHighlights = false;
-
-float luma(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
-vec3 compress(vec3 c) { return kCompressHighlights ? c / (1.0 + luma(c)) : c; }
-vec3 expand(vec3 c) { return kCompressHighlights ? c / max(1.0 - luma(c), 1e-4) : c; }
 
 vec3 toYCoCg(vec3 c) {
     return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b,
@@ -63,7 +54,7 @@ void main() {
     vec3 m1 = vec3(0.0), m2 = vec3(0.0);
     for (int dy = -1; dy <= 1; ++dy) {
         for (int dx = -1; dx <= 1; ++dx) {
-            vec3 c = toYCoCg(compress(imageLoad(uCurrent, clamp(px + ivec2(dx, dy), ivec2(0), size - 1)).rgb));
+            vec3 c = toYCoCg(imageLoad(uCurrent, clamp(px + ivec2(dx, dy), ivec2(0), size - 1)).rgb);
             m1 += c;
             m2 += c * c;
         }
@@ -97,8 +88,8 @@ void main() {
     }
     vec3 result = current.rgb;
     if (valid) {
-        vec3 clipped = fromYCoCg(clipToBox(toYCoCg(compress(history.rgb)), m1, pc.params.y * sigma));
-        result = expand(mix(clipped, compress(current.rgb), pc.params.x));
+        vec3 clipped = fromYCoCg(clipToBox(toYCoCg(history.rgb), m1, pc.params.y * sigma));
+        result = mix(clipped, current.rgb, pc.params.x);
     }
     imageStore(uOutput, px, vec4(result, current.a));
 }
