@@ -31,14 +31,14 @@ Renderer::Renderer(const RendererOptions& o) {
         log::warn(o.scene + ": " + w);
     }
     if (!mScene.cages.empty()) {
-        // Geometric LOD (seed 002, 6): the cages refined once per level, a BVH per level.
-        const scene::Scene cages = std::move(mScene);
-        mScene = scene::refinedScene(cages, scene::kLodRefinements[0]);
+        // Geometric LOD (seed 002, 6): the cages refined once per level, a BVH per level; the
+        // coarser levels hold geometry only, the full scene is refined in place last.
         for (std::size_t l = 1; l < scene::kLodRefinements.size(); ++l) {
-            scene::Scene level = scene::refinedScene(cages, scene::kLodRefinements[l]);
+            scene::Scene level = scene::refinedGeometry(mScene, scene::kLodRefinements[l]);
             scene::Bvh bvh(level);
             mCoarser.emplace_back(std::move(level), std::move(bvh));
         }
+        scene::refineCages(mScene, scene::kLodRefinements[0]);
     }
     mLoadMs = msSince(t0);
     const auto t1 = Clock::now();

@@ -119,17 +119,34 @@ uint32_t lodForPitch(float pitch, uint32_t levels) {
     return std::min(l, levels - 1);
 }
 
-Scene refinedScene(const Scene& scene, uint32_t level) {
-    Scene out = scene;
-    out.cages.clear();
-    for (const SubdivisionCage& cage : scene.cages) {
-        if (cage.material >= scene.materials.size()) {
+namespace {
+
+void appendRefined(const std::vector<SubdivisionCage>& cages, std::size_t materials, uint32_t level,
+                   Scene& out) {
+    for (const SubdivisionCage& cage : cages) {
+        if (cage.material >= materials) {
             throw Error("cage '" + cage.name + "': material out of range");
         }
         const std::vector<Vertex> tris = refineCage(cage, level);
         out.vertices.insert(out.vertices.end(), tris.begin(), tris.end());
         out.triangleMaterial.insert(out.triangleMaterial.end(), tris.size() / 3, cage.material);
     }
+}
+
+} // namespace
+
+void refineCages(Scene& scene, uint32_t level) {
+    const std::vector<SubdivisionCage> cages = std::move(scene.cages);
+    scene.cages.clear();
+    appendRefined(cages, scene.materials.size(), level, scene);
+}
+
+Scene refinedGeometry(const Scene& scene, uint32_t level) {
+    Scene out;
+    out.name = scene.name;
+    out.vertices = scene.vertices;
+    out.triangleMaterial = scene.triangleMaterial;
+    appendRefined(scene.cages, scene.materials.size(), level, out);
     return out;
 }
 

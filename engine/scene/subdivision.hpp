@@ -32,7 +32,11 @@ inline constexpr std::array<uint32_t, 3> kLodRefinements{3, 2, 1};
 // paper (section 6), only the outer layer and the sparsest points take coarser geometry.
 [[nodiscard]] uint32_t lodForPitch(float pitch, uint32_t levels);
 
-// The scene with every cage refined `level` times and appended to its triangles.
-[[nodiscard]] Scene refinedScene(const Scene& scene, uint32_t level);
+// Every cage of `scene` refined `level` times and appended to its triangles; the cages are gone
+// afterwards (the renderer's full-detail level, refined in place).
+void refineCages(Scene& scene, uint32_t level);
+// The scene's geometry alone (its triangles and its cages refined `level` times), all a coarser
+// LOD level's BVH and tables need: materials, lights and textures stay with the full scene.
+[[nodiscard]] Scene refinedGeometry(const Scene& scene, uint32_t level);
 
 } // namespace gt::scene

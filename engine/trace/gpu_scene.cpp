@@ -15,12 +15,15 @@ namespace {
 float asFloat(uint32_t v) {
     return std::bit_cast<float>(v);
 }
-} // namespace
 
-PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh) {
-    PackedScene p;
+// One BVH's nodes, triangles and shading appended to `p`, its node links offset to where its
+// nodes and triangles land (leaves point at triangles, inner nodes at their left child).
+void appendGeometry(const scene::Scene& scene, const scene::Bvh& bvh, PackedScene& p) {
+    const auto nodeBase = static_cast<uint32_t>(p.nodes.size() / 2);
+    const auto triBase = static_cast<uint32_t>(p.triangles.size() / 3);
     for (const scene::BvhNode& n : bvh.nodes()) {
-        p.nodes.emplace_back(n.boundsMin, asFloat(n.leftFirst));
+        p.nodes.emplace_back(n.boundsMin,
+                             asFloat(n.leftFirst + (n.count > 0 ? triBase : nodeBase)));
         p.nodes.emplace_back(n.boundsMax, asFloat(n.count));
     }
     const auto& order = bvh.triangleOrder();
@@ -36,6 +39,11 @@ PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh) {
         p.shading.emplace_back(v[1].uv.y, v[2].uv.x, v[2].uv.y,
                                asFloat(scene.triangleMaterial[order[i]]));
     }
+}
+
+// Everything but the geometry: materials, lights, textures, sky; shared by every LOD level.
+PackedScene packShared(const scene::Scene& scene) {
+    PackedScene p;
     for (const scene::Material& m : scene.materials) {
         p.materials.push_back(m.baseColor);
         // Metallic -1 marks KHR_materials_unlit: the shading reads this texel anyway, so the flag
@@ -67,28 +75,25 @@ PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh) {
     return p;
 }
 
+} // namespace
+
+PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh) {
+    PackedScene p = packShared(scene);
+    appendGeometry(scene, bvh, p);
+    return p;
+}
+
 PackedScene packScene(std::span<const LodGeometry> levels) {
     if (levels.empty() || levels.size() > shaders::trace::kLodLevels) {
         throw Error("packScene: " + std::to_string(levels.size()) + " LOD levels (1 to " +
                     std::to_string(shaders::trace::kLodLevels) + ")");
     }
-    PackedScene p = packScene(*levels[0].scene, *levels[0].bvh);
+    // Materials, lights and textures once, from the full-detail level; then each level's trees.
+    PackedScene p = packShared(*levels[0].scene);
     uint32_t roots[shaders::trace::kLodLevels] = {};
-    for (std::size_t l = 1; l < levels.size(); ++l) {
-        const PackedScene level = packScene(*levels[l].scene, *levels[l].bvh);
-        const auto nodeBase = static_cast<uint32_t>(p.nodes.size() / 2);
-        const auto triBase = static_cast<uint32_t>(p.triangles.size() / 3);
-        roots[l] = nodeBase;
-        for (std::size_t n = 0; n < level.nodes.size(); n += 2) {
-            glm::vec4 lo = level.nodes[n], hi = level.nodes[n + 1];
-            const uint32_t count = std::bit_cast<uint32_t>(hi.w);
-            // Leaves point at triangles, inner nodes at their left child.
-            lo.w = asFloat(std::bit_cast<uint32_t>(lo.w) + (count > 0 ? triBase : nodeBase));
-            p.nodes.push_back(lo);
-            p.nodes.push_back(hi);
-        }
-        p.triangles.insert(p.triangles.end(), level.triangles.begin(), level.triangles.end());
-        p.shading.insert(p.shading.end(), level.shading.begin(), level.shading.end());
+    for (std::size_t l = 0; l < levels.size(); ++l) {
+        roots[l] = static_cast<uint32_t>(p.nodes.size() / 2);
+        appendGeometry(*levels[l].scene, *levels[l].bvh, p);
     }
     for (std::size_t l = levels.size(); l < shaders::trace::kLodLevels; ++l) {
         roots[l] = roots[levels.size() - 1];

@@ -94,7 +94,7 @@ TEST(Subdivision, GalleryLevelsHalveTheTriangles) {
     ASSERT_FALSE(gallery.cages.empty());
     std::vector<std::size_t> counts(kLodRefinements.size());
     std::transform(kLodRefinements.begin(), kLodRefinements.end(), counts.begin(),
-                   [&](uint32_t r) { return refinedScene(gallery, r).triangleCount(); });
+                   [&](uint32_t r) { return refinedGeometry(gallery, r).triangleCount(); });
     const std::size_t room = gallery.triangleCount();
     for (std::size_t l = 1; l < counts.size(); ++l) {
         EXPECT_EQ(4 * (counts[l] - room), counts[l - 1] - room) << l; // cage triangles / 4
@@ -105,7 +105,7 @@ TEST(Subdivision, PackedLevelsKeepTheirOwnTrees) {
     // Two levels in one set of tables: level 1's root, nodes and leaves point into level 1's
     // part, and its triangles follow level 0's.
     const Scene gallery = makeBuiltin("builtin:gallery");
-    const Scene fine = refinedScene(gallery, 2), coarse = refinedScene(gallery, 1);
+    const Scene fine = refinedGeometry(gallery, 2), coarse = refinedGeometry(gallery, 1);
     const Bvh fineBvh(fine), coarseBvh(coarse);
     const std::array levels{trace::LodGeometry{&fine, &fineBvh},
                             trace::LodGeometry{&coarse, &coarseBvh}};
@@ -175,7 +175,7 @@ TEST(Subdivision, GltfMeshesMarkedAsCagesAreRefined) {
     EXPECT_EQ(s.cages[0].points.size(), 8u); // welded
     EXPECT_EQ(s.cages[0].faceSizes, std::vector<uint32_t>(6, 4));
     EXPECT_FLOAT_EQ(s.boundsMax().y, 1.5f); // the node's transform applied
-    EXPECT_EQ(refinedScene(s, 3).triangleCount(), 2u * 6 * 64);
+    EXPECT_EQ(refinedGeometry(s, 3).triangleCount(), 2u * 6 * 64);
     // Without the quad flag, the twelve triangles are the cage's faces.
     s = loadGltf(writeCubeGltf(dir, R"({"gazetrace_subdivision": "catmull-clark"})"));
     EXPECT_EQ(s.cages[0].faceSizes, std::vector<uint32_t>(12, 3));
