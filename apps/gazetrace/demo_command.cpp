@@ -29,6 +29,7 @@
 #include "full_resolution.hpp"
 #include "gaze_input.hpp"
 #include "gaze_mapping.hpp"
+#include "layers_command.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"
@@ -279,12 +280,9 @@ nlohmann::json runDemo(const DemoOptions& o) {
     DemoSettings settings{
         o.method, o.interp, o.k,   o.method == "foveated" ? o.raysPerPoint : o.spp,
         o.scale,  o.taa,    o.view};
-    render::EccentricityLayerSettings layerSettings;
-    layerSettings.slope = foveation::parseSlope(o.slope);
-    layerSettings.layers = o.layers;
-    layerSettings.raysPerPixel = o.spp;
     Methods methods(renderer, settings, o.cacheDir,
-                    o.displaySpace && !o.hmd.empty() && o.distortion, layerSettings);
+                    o.displaySpace && !o.hmd.empty() && o.distortion,
+                    layerSettings(o.slope, o.layers, o.spp));
     std::optional<DemoOverlay> overlay;
     if (o.overlay || calibration) {
         overlay.emplace(*window, ctx, swapchain.format(), swapchain.imageCount());

@@ -47,6 +47,15 @@ nlohmann::json planJson(const LayerPlan& p) {
 
 } // namespace
 
+render::EccentricityLayerSettings layerSettings(const std::string& slope, uint32_t layers,
+                                                uint32_t raysPerPixel) {
+    render::EccentricityLayerSettings s;
+    s.slope = foveation::parseSlope(slope);
+    s.layers = layers;
+    s.raysPerPixel = raysPerPixel;
+    return s;
+}
+
 nlohmann::json runLayers(const LayersOptions& o) {
     const MarModel mar{foveation::parseSlope(o.slope)};
     if (o.steps < 8 || o.steps > 4000) {

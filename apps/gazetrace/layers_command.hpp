@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "eccentricity_layers.hpp"
+
 namespace gt::app {
 
 struct LayersOptions {
@@ -19,6 +21,11 @@ struct LayersOptions {
 };
 
 [[nodiscard]] nlohmann::json runLayers(const LayersOptions& options);
+
+// `--method layers` of render, demo and xr: the settings from --slope, --layers and --spp (rays
+// per layer pixel). Throws ArgumentError naming --slope for a bad slope.
+[[nodiscard]] render::EccentricityLayerSettings
+layerSettings(const std::string& slope, uint32_t layers, uint32_t raysPerPixel);
 // The plan as text, one line per layer, for people.
 [[nodiscard]] std::string layersText(const nlohmann::json& result);
 

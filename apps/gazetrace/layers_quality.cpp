@@ -91,27 +91,33 @@ std::array<double, kBands> changedShare(const Image& a, const Image& b,
 }
 
 // Bilinear upscale of an RGBA8 image (the uniform baseline's "upscaled").
+// Where destination pixel `i` of `dst` samples a row or column of `src` pixels: the two source
+// pixels around its centre and the weight of the second.
+struct Tap {
+    uint32_t i0, i1;
+    float t;
+};
+Tap tap(uint32_t i, uint32_t src, uint32_t dst) {
+    const float f = std::clamp((static_cast<float>(i) + 0.5f) * src / dst - 0.5f, 0.0f,
+                               static_cast<float>(src - 1));
+    const auto i0 = static_cast<uint32_t>(f);
+    return {i0, std::min(i0 + 1, src - 1), f - static_cast<float>(i0)};
+}
+
 Image upscale(const Image& src, uint32_t sw, uint32_t sh, uint32_t w, uint32_t h) {
     Image out(static_cast<std::size_t>(w) * h * 4);
     for (uint32_t y = 0; y < h; ++y) {
-        const float fy = std::clamp((static_cast<float>(y) + 0.5f) * sh / h - 0.5f, 0.0f,
-                                    static_cast<float>(sh - 1));
-        const auto y0 = static_cast<uint32_t>(fy);
-        const uint32_t y1 = std::min(y0 + 1, sh - 1);
-        const float ty = fy - static_cast<float>(y0);
+        const Tap ty = tap(y, sh, h);
         for (uint32_t x = 0; x < w; ++x) {
-            const float fx = std::clamp((static_cast<float>(x) + 0.5f) * sw / w - 0.5f, 0.0f,
-                                        static_cast<float>(sw - 1));
-            const auto x0 = static_cast<uint32_t>(fx);
-            const uint32_t x1 = std::min(x0 + 1, sw - 1);
-            const float tx = fx - static_cast<float>(x0);
+            const Tap tx = tap(x, sw, w);
             for (int c = 0; c < 4; ++c) {
                 auto at = [&](uint32_t xx, uint32_t yy) {
                     return static_cast<float>(
                         src[(static_cast<std::size_t>(yy) * sw + xx) * 4 + c]);
                 };
-                const float v = (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x1, y0)) +
-                                ty * ((1 - tx) * at(x0, y1) + tx * at(x1, y1));
+                const float v =
+                    (1 - ty.t) * ((1 - tx.t) * at(tx.i0, ty.i0) + tx.t * at(tx.i1, ty.i0)) +
+                    ty.t * ((1 - tx.t) * at(tx.i0, ty.i1) + tx.t * at(tx.i1, ty.i1));
                 out[(static_cast<std::size_t>(y) * w + x) * 4 + c] =
                     static_cast<uint8_t>(std::lround(v));
             }

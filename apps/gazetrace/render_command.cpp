@@ -26,6 +26,7 @@
 #include "full_resolution.hpp"
 #include "gaze/gaze_tracker.hpp"
 #include "gaze_mapping.hpp"
+#include "layers_command.hpp"
 #include "output_target.hpp"
 #include "point_sample/point_sample.hpp"
 #include "point_set_method.hpp"
@@ -185,12 +186,9 @@ void writeText(const std::string& path, const std::string& text) {
 
 namespace {
 
-render::EccentricityLayerSettings layerSettings(const RenderOptions& o,
-                                                std::optional<foveation::DisplayProfile> display) {
-    render::EccentricityLayerSettings s;
-    s.slope = foveation::parseSlope(o.slope);
-    s.layers = o.layers;
-    s.raysPerPixel = o.spp;
+render::EccentricityLayerSettings
+renderLayerSettings(const RenderOptions& o, std::optional<foveation::DisplayProfile> display) {
+    render::EccentricityLayerSettings s = layerSettings(o.slope, o.layers, o.spp);
     s.halfRate = o.halfRate;
     s.jitter = o.jitter;
     s.temporal = o.taa;
@@ -275,7 +273,7 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
     render::FoveationMethod* method = nullptr;
     if (o.method == "layers") {
         // Each eye's layers from its own frustum: the HMD image fills the eye's field of view.
-        layers.emplace(renderer.methodContext(), layerSettings(o, std::nullopt));
+        layers.emplace(renderer.methodContext(), renderLayerSettings(o, std::nullopt));
         method = &*layers;
     } else if (foveated) {
         foveation::PointSetParams params;
@@ -524,7 +522,7 @@ nlohmann::json runRender(const RenderOptions& o) {
     std::optional<render::EccentricityLayers> layers;
     if (layered) {
         layers.emplace(renderer.methodContext(),
-                       layerSettings(o, foveation::displayProfile(o.profile)));
+                       renderLayerSettings(o, foveation::displayProfile(o.profile)));
         view.method = &*layers;
         view.gaze = gaze;
     } else if (foveated) {

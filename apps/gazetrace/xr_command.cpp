@@ -21,6 +21,7 @@
 #include "foveation/point_set_cache.hpp"
 #include "full_resolution.hpp"
 #include "gaze_input.hpp"
+#include "layers_command.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "scene/image_io.hpp"
@@ -118,11 +119,8 @@ public:
         if (mOptions.method == "layers") {
             // One method for both eyes: each eye's layers follow its own frustum (XrFovf).
             if (!mLayers) {
-                render::EccentricityLayerSettings s;
-                s.slope = foveation::parseSlope(mOptions.slope);
-                s.layers = mOptions.layers;
-                s.raysPerPixel = mOptions.spp;
-                mLayers.emplace(mRenderer.methodContext(), s);
+                mLayers.emplace(mRenderer.methodContext(),
+                                layerSettings(mOptions.slope, mOptions.layers, mOptions.spp));
             }
             return *mLayers;
         }
