@@ -30,9 +30,6 @@ foveation::LayerDisplay viewDisplay(uint32_t width, uint32_t height,
 
 namespace {
 
-LayerLayout gridsOf(uint32_t width, uint32_t height, const foveation::LayerDisplay& display,
-                    foveation::LayerPlan plan);
-
 void checkView(uint32_t width, uint32_t height, const foveation::LayerDisplay& display) {
     if (width == 0 || height == 0) {
         throw ArgumentError("eccentricity layers: a view of no size");
@@ -43,26 +40,6 @@ void checkView(uint32_t width, uint32_t height, const foveation::LayerDisplay& d
                             std::to_string(std::max(width, height)));
     }
 }
-
-} // namespace
-
-LayerLayout layoutLayers(uint32_t width, uint32_t height, const foveation::LayerDisplay& display,
-                         const foveation::MarModel& mar, uint32_t count, uint32_t steps) {
-    checkView(width, height, display);
-    return gridsOf(width, height, display,
-                   foveation::optimiseLayers(display, mar, count, {}, steps));
-}
-
-LayerLayout layoutLayers(uint32_t width, uint32_t height, const foveation::LayerDisplay& display,
-                         const foveation::MarModel& mar, std::span<const double> radiiDeg) {
-    checkView(width, height, display);
-    if (radiiDeg.size() + 1 > 4) {
-        throw ArgumentError("--layer-radii: at most 3 inner radii");
-    }
-    return gridsOf(width, height, display, foveation::planLayers(display, mar, radiiDeg));
-}
-
-namespace {
 
 LayerLayout gridsOf(uint32_t width, uint32_t height, const foveation::LayerDisplay& display,
                     foveation::LayerPlan plan) {
@@ -89,6 +66,22 @@ LayerLayout gridsOf(uint32_t width, uint32_t height, const foveation::LayerDispl
 }
 
 } // namespace
+
+LayerLayout layoutLayers(uint32_t width, uint32_t height, const foveation::LayerDisplay& display,
+                         const foveation::MarModel& mar, uint32_t count, uint32_t steps) {
+    checkView(width, height, display);
+    return gridsOf(width, height, display,
+                   foveation::optimiseLayers(display, mar, count, {}, steps));
+}
+
+LayerLayout layoutLayers(uint32_t width, uint32_t height, const foveation::LayerDisplay& display,
+                         const foveation::MarModel& mar, std::span<const double> radiiDeg) {
+    checkView(width, height, display);
+    if (radiiDeg.size() + 1 > 4) {
+        throw ArgumentError("eccentricity layers: at most 3 inner radii");
+    }
+    return gridsOf(width, height, display, foveation::planLayers(display, mar, radiiDeg));
+}
 
 LayerRect placeLayer(const LayerGrid& g, uint32_t width, uint32_t height, glm::vec2 gaze) {
     const glm::vec2 display(static_cast<float>(width), static_cast<float>(height));
