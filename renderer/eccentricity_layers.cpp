@@ -83,10 +83,10 @@ rg::TextureId EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View
         const LayerGrid& grid = lay.grids[i];
         const LayerState& last = prev.layers[i];
         const rg::RenderGraph::Scope scope = graph.scope(layerScope(i), grid.width, grid.height);
-        // The history holds this layer's grid: not after a resize (a half-rate layer must not
-        // read a history that the new size has just replaced) or a reset.
-        const bool kept = last.valid && last.width == grid.width && last.height == grid.height &&
-                          mMc.history.frames(graph.scopedName(kLayerHistory)) > 0;
+        // The history holds this layer's grid: not after a reset, nor after a resize (a
+        // half-rate layer must not read a history the new size has just replaced).
+        const bool kept = last.valid && mMc.history.holds(graph.scopedName(kLayerHistory),
+                                                          grid.width, grid.height, kLayerFormat);
         // Half rate (section 4.3): the inner layer every frame, the others on alternate frames,
         // staggered so that one of them is traced on even frames and the next on odd ones.
         const bool due =
@@ -133,8 +133,7 @@ rg::TextureId EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View
             blend.currentWeight = 1.0f / static_cast<float>(samples + 1);
             image =
                 mTaa.add(graph, history, traced, camera, kept ? last.camera : camera, fresh, blend);
-            p.state.layers[i] = {rect,        camera,     true,       traces + 1,
-                                 samples + 1, grid.width, grid.height};
+            p.state.layers[i] = {rect, camera, true, traces + 1, samples + 1};
             p.traced[i] = true;
             p.rays += static_cast<uint64_t>(grid.width) * grid.height * mSettings.raysPerPixel;
         } else {

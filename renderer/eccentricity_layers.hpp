@@ -71,9 +71,8 @@ private:
         LayerRect rect;
         shaders::trace::CameraPush camera{};
         bool valid = false;
-        uint64_t traces = 0;            // frames this layer was traced: its own jitter index
-        uint32_t samples = 0;           // frames its history averages (see addRadiance)
-        uint32_t width = 0, height = 0; // the grid its history holds
+        uint64_t traces = 0;  // frames this layer was traced: its own jitter index
+        uint32_t samples = 0; // frames its history averages (see addRadiance)
     };
     struct ViewState {
         uint64_t frame = 0; // frames of this view committed so far

@@ -901,6 +901,16 @@ uint32_t HistoryPool::frames(std::string_view name) const {
     return it == mEntries.end() ? 0 : it->second->frames;
 }
 
+bool HistoryPool::holds(std::string_view name, uint32_t width, uint32_t height,
+                        VkFormat format) const {
+    const auto it = mEntries.find(name);
+    if (it == mEntries.end() || !it->second->valid) {
+        return false;
+    }
+    const vk::ImageDesc& d = it->second->images[0]->desc();
+    return d.width == width && d.height == height && d.format == format;
+}
+
 void HistoryPool::commit(const RenderGraph& graph) {
     for (const RenderGraph::HistoryUse& u : graph.mHistories) {
         if (u.pool != this) continue;
@@ -946,8 +956,8 @@ HistoryTextures RenderGraph::readHistory(HistoryPool& pool, std::string_view uns
     const HistoryPool::Entry& e = pool.entry(scopedName(unscoped), width, height, format);
     HistoryTextures h;
     h.valid = e.valid;
-    h.previous = importHistoryImage(e, e.read, std::string(unscoped) + ".previous", format, width,
-                                    height);
+    h.previous =
+        importHistoryImage(e, e.read, std::string(unscoped) + ".previous", format, width, height);
     return h;
 }
 

@@ -258,6 +258,10 @@ public:
     void commit(const RenderGraph& graph);
     // Frames accumulated since the history of `name` was last reset (0: none yet).
     [[nodiscard]] uint32_t frames(std::string_view name) const;
+    // Whether `name` holds a committed frame of this size and format (what readHistory would
+    // hand out as valid): a resize replaces the images, so a pass that skips frames asks first.
+    [[nodiscard]] bool holds(std::string_view name, uint32_t width, uint32_t height,
+                             VkFormat format) const;
     void setFrameNumber(uint64_t frame) noexcept { mFrame = frame; }
 
 private:
