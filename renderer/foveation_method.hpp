@@ -55,6 +55,9 @@ public:
         (void)view;
         return false;
     }
+    // Where the method traces follows the gaze (a point set shifted to it): with the camera
+    // still and the gaze moving, TAA then leans on the history away from the gaze.
+    [[nodiscard]] virtual bool gazeDependent() const { return false; }
     // The method blends its own temporal history (eccentricity layers, one per layer): the post
     // chain then runs no TAA of its own.
     [[nodiscard]] virtual bool accumulates() const { return false; }

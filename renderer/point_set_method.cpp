@@ -27,6 +27,21 @@ foveation::PointSet loadPointSet(const foveation::PointSetParams& params,
 }
 } // namespace
 
+void useThesisReconstruction(PointSetSettings& settings, passes::TaaSettings& taa) {
+    settings.displayReferred = false;
+    settings.jitter = false;
+    settings.interpolation.shepardPower = 1.0f;
+    settings.interpolation.edgeTolerance = 0.0f;
+    settings.interpolation.rangeSigma = 0.0f;
+    taa.adaptive = false;
+}
+
+bool parseReconstruction(const std::string& name) {
+    if (name == "thesis") return true;
+    if (name == "gazetrace") return false;
+    throw ArgumentError("--reconstruction: expected gazetrace or thesis, got '" + name + "'");
+}
+
 PointSetMethod::PointSetMethod(const MethodContext& mc, const foveation::PointSetParams& params,
                                const std::filesystem::path& cacheDir)
     : mMc(mc), mPoints(loadPointSet(params, cacheDir, mPointSetMs)),
@@ -125,10 +140,16 @@ rg::TextureId PointSetMethod::addImage(rg::RenderGraph& graph,
                                        const shaders::trace::CameraPush& camera, glm::vec2 gaze,
                                        uint32_t rays, uint32_t lanes,
                                        const passes::InterpolateInputs& prepared,
-                                       const std::optional<passes::PanelWarp>& warp) {
-    const passes::InterpolateSettings& s = settings.interpolation;
-    const rg::BufferId samples = mPointSample.add(graph, mMc.scene, camera, mGpuPoints, gaze, rays,
-                                                  lanes, warp ? &*warp : nullptr, settings.lod);
+                                       const std::optional<passes::PanelWarp>& warp,
+                                       passes::InterpolateSettings s, uint32_t frame) {
+    // Nearest neighbour and Modified Shepard blend from the sites of this frame; RBF's weights
+    // were solved for the fixed ones.
+    const bool moveSites = frame > 0 && (s.method == passes::Interpolation::Nearest ||
+                                         s.method == passes::Interpolation::Shepard);
+    s.siteFrame = moveSites ? frame : 0u;
+    const rg::BufferId samples =
+        mPointSample.add(graph, mMc.scene, camera, mGpuPoints, gaze, rays, lanes,
+                         warp ? &*warp : nullptr, settings.lod, frame, moveSites);
     passes::InterpolateInputs in = prepared;
     if (passes::usesRbfSolve(s)) {
         in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), samples, gaze, s);
@@ -145,8 +166,10 @@ rg::TextureId PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& vi
     }
     const passes::InterpolateInputs prepared = tableInputs(settings.interpolation);
     const uint32_t lanes = passes::pointSampleLanes(mMc.ctx, settings.raysPerPoint);
+    passes::InterpolateSettings s = settings.interpolation;
+    s.displayExposure = settings.displayReferred ? view.exposure : 0.0f;
     return addImage(graph, view.cameraPush(), sampledGaze(view), settings.raysPerPoint, lanes,
-                    prepared, warpFor(view));
+                    prepared, warpFor(view), s, settings.jitter ? mFrame : 0u);
 }
 
 std::optional<WarmUp> PointSetMethod::warmUp(const View& view) {
@@ -164,8 +187,8 @@ std::optional<WarmUp> PointSetMethod::warmUp(const View& view) {
     const glm::vec2 gaze = sampledGaze(view);
     const std::optional<passes::PanelWarp> warp = warpFor(view);
     return WarmUp{view.width, view.height,
-                  [this, cam, gaze, lanes, prepared, warp](rg::RenderGraph& g) {
-                      return addImage(g, cam, gaze, 1, lanes, prepared, warp);
+                  [this, cam, gaze, lanes, prepared, warp, s](rg::RenderGraph& g) {
+                      return addImage(g, cam, gaze, 1, lanes, prepared, warp, s, 0u);
                   }};
 }
 

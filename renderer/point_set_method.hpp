@@ -21,6 +21,7 @@
 #include "interpolate/interpolate.hpp"
 #include "point_sample/point_sample.hpp"
 #include "rbf_solve/rbf_solve.hpp"
+#include "taa/taa.hpp"
 
 namespace gt::render {
 
@@ -40,7 +41,22 @@ struct PointSetSettings {
     // Geometric LOD (seed 002, 6): points whose spacing is large trace coarser refinements of
     // the scene's subdivision cages (point_sample.comp); a scene without cages is unaffected.
     bool lod = true;
+    // Blend the interpolation in display-referred space at the view's exposure
+    // (InterpolateSettings::displayExposure); false: linear radiance, as the thesis.
+    bool displayReferred = true;
+    // Every frame, rotate each point's rays inside its disc (point_sample.comp) and, for nearest
+    // neighbour and Modified Shepard, move its site within half its spacing
+    // (site_jitter.glsl), so TAA accumulates new rays and new cell boundaries on a still view;
+    // false: the same rays at the same sites every frame, as the thesis.
+    bool jitter = true;
 };
+
+// Seed 000's reconstruction exactly as the thesis did it, for comparison: linear radiance,
+// Modified Shepard with q = 1 and no guidance, the same rays every frame, and a fixed TAA blend.
+// The defaults instead blend display-referred, weigh neighbours by depth and colour, use q = 2,
+// rotate the rays every frame and let TAA average a still view (README, "Reconstruction").
+void useThesisReconstruction(PointSetSettings& settings, passes::TaaSettings& taa);
+[[nodiscard]] bool parseReconstruction(const std::string& name); // gazetrace | thesis -> thesis?
 
 class PointSetMethod final : public FoveationMethod {
 public:
@@ -57,6 +73,8 @@ public:
     [[nodiscard]] bool rendersPanel(const View& view) const override;
     // The panel point that shows `view`'s gaze when the set is laid on the panel, else the gaze.
     [[nodiscard]] glm::vec2 sampledGaze(const View& view) const;
+    void frameSubmitted() override { ++mFrame; }
+    [[nodiscard]] bool gazeDependent() const override { return true; }
 
     PointSetSettings settings;
 
@@ -77,10 +95,12 @@ private:
     rg::TextureId addImage(rg::RenderGraph& graph, const shaders::trace::CameraPush& camera,
                            glm::vec2 gaze, uint32_t rays, uint32_t lanes,
                            const passes::InterpolateInputs& prepared,
-                           const std::optional<passes::PanelWarp>& warp);
+                           const std::optional<passes::PanelWarp>& warp,
+                           passes::InterpolateSettings s, uint32_t frame);
     [[nodiscard]] std::optional<passes::PanelWarp> warpFor(const View& view) const;
 
     MethodContext mMc;
+    uint32_t mFrame = 0; // frames submitted: the ray-position rotation of the next one
     foveation::PointSet mPoints;
     foveation::NeighbourIndex mNeighbours;
     foveation::GpuPointSet mGpuPoints;

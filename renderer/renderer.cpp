@@ -185,9 +185,16 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
                 const bool reset = passes::taaMustReset(known && history.valid, v.saccade, v.gaze,
                                                         known ? it->second.gaze : v.gaze, v.width,
                                                         v.post.taaSettings);
-                image = mTaa->add(graph, history, image, camera, known ? it->second.camera : camera,
-                                  reset, v.post.taaSettings);
-                nextHistory.emplace_back(v.name, ViewHistory{camera, v.gaze, true});
+                const shaders::trace::CameraPush previous = known ? it->second.camera : camera;
+                const passes::TaaFrameState state{v.exposure, v.gaze, v.method->gazeDependent(),
+                                                  known && it->second.gaze == v.gaze,
+                                                  known ? it->second.samples : 0u};
+                image = mTaa->add(graph, history, image, camera, previous, reset,
+                                  v.post.taaSettings, state);
+                nextHistory.emplace_back(
+                    v.name, ViewHistory{camera, v.gaze, true,
+                                        passes::TaaPass::nextSamples(camera, previous, reset,
+                                                                     v.post.taaSettings, state)});
             }
             rg::TextureId ldr = mTonemap->add(graph, image, v.exposure);
             if (v.post.lens) {

@@ -99,6 +99,7 @@ private:
         shaders::trace::CameraPush camera{};
         glm::vec2 gaze{};
         bool valid = false;
+        uint32_t samples = 0; // frames the TAA history holds
     };
     void runWarmUp(const WarmUp& warm);
 

@@ -125,9 +125,9 @@ rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuP
         glm::uvec4(graph.outputWidth(), graph.outputHeight(), k, method),
         glm::uvec4(points.canvasWidth(), points.canvasHeight(), points.storedNeighbours(),
                    s.kernel == RbfKernel::Gaussian ? sh::kKernelGaussian : sh::kKernelMultiquadric),
-        glm::vec4(s.rbfShape, 0.0f, 0.0f, 0.0f),
-        useTable ? glm::uvec4(table->texelsPerPixel(), table->k(), (s.k + 3) / 4, 0u)
-                 : glm::uvec4(0u)};
+        glm::vec4(s.rbfShape, s.displayExposure, s.edgeTolerance, s.rangeSigma),
+        useTable ? glm::uvec4(table->texelsPerPixel(), table->k(), (s.k + 3) / 4, s.siteFrame)
+                 : glm::uvec4(0u, 0u, 0u, s.siteFrame)};
     struct Data {
         rg::BufferId samples;
         rg::TextureId output;

@@ -44,10 +44,24 @@ enum class KnnIndex { NeighbourLists, PixelTable };
 struct InterpolateSettings {
     Interpolation method = Interpolation::Nearest;
     uint32_t k = 10;
-    float shepardPower = 1.0f;                  // 1: the thesis's eq. (6); 2: Renka's original
+    float shepardPower = 2.0f;                  // 1: the thesis's eq. (6); 2: Renka's original
     RbfKernel kernel = RbfKernel::Multiquadric; // thesis eq. (10); Gaussian is eq. (9)
     float rbfShape = 1.0f;                      // c, in units of the point's spacing p
     KnnIndex knn = KnnIndex::PixelTable;        // where msm finds its k neighbours
+    // Blend in display-referred space at this exposure (the view's): T(c) = c / (1 + e L(c)),
+    // mapped back after (interpolate.comp). 0: linear radiance, as the thesis. Modified Shepard
+    // and RBF with the pixel table; rbf_solve's per-point weights stay linear.
+    float displayExposure = 0.0f;
+    // Geometry-aware Modified Shepard: neighbours whose first-hit distance differs from the
+    // nearest sample's by more than about this share of it lose their weight. 0: off (the
+    // thesis).
+    float edgeTolerance = 0.1f;
+    // Colour-guided Modified Shepard: neighbours whose display-referred luminance differs from
+    // the nearest sample's by more than about this lose their weight. 0: off (the thesis).
+    float rangeSigma = 0.1f;
+    // The frame whose moved sites point_sample traced (site_jitter.glsl), set per frame by the
+    // method: nearest neighbour and Modified Shepard blend from them. 0: the fixed sites.
+    uint32_t siteFrame = 0;
 };
 
 // The RBF weights rbf_solve wrote (one buffer per colour channel).

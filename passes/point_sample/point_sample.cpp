@@ -59,7 +59,8 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
                                   const shaders::trace::CameraPush& cam,
                                   const foveation::GpuPointSet& points, glm::vec2 gaze,
                                   uint32_t raysPerPoint, uint32_t lanesPerPoint,
-                                  const PanelWarp* warp, bool lod) const {
+                                  const PanelWarp* warp, bool lod, uint32_t frame,
+                                  bool moveSites) const {
     if (raysPerPoint == 0) {
         throw ArgumentError("--rays-per-point must be at least 1");
     }
@@ -80,14 +81,16 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
         glm::vec4(off, kSampleMargin, lod ? static_cast<float>(scene.lodLevels()) : 0.0f),
         glm::uvec4(w, h, raysPerPoint, points.count()),
         glm::vec4(0.0f),
-        glm::vec4(0.0f)};
+        glm::vec4(0.0f, 0.0f, 0.0f,
+                  (moveSites ? 1.0f : -1.0f) * static_cast<float>(frame % (1u << 20)))};
     if (warp) {
         const float aspect = static_cast<float>(w) / static_cast<float>(h);
         const glm::vec2 c = warp->centre;
         const float dx = std::max(c.x, 1.0f - c.x) * aspect, dy = std::max(c.y, 1.0f - c.y);
         push.lens = glm::vec4(c, aspect, std::sqrt(dx * dx + dy * dy));
-        push.lensCoeffs = glm::vec4(warp->lens.k1, warp->lens.k2,
-                                    1.0f / (1.0f + warp->lens.k1 + warp->lens.k2), 0.0f);
+        push.lensCoeffs =
+            glm::vec4(warp->lens.k1, warp->lens.k2, 1.0f / (1.0f + warp->lens.k1 + warp->lens.k2),
+                      push.lensCoeffs.w);
     }
     struct Data {
         rg::BufferId samples;

@@ -49,10 +49,13 @@ public:
     // Adds "point_sample" writing a new buffer "point_sample.samples" (one vec4 per point).
     // lanesPerPoint 0 picks pointSampleLanes(); otherwise a power of two from 1 to 32. With
     // `lod`, points whose spacing is large trace the scene's coarser geometric LOD levels.
+    // `frame` rotates the rays' positions inside each disc (frame 0: the thesis's fixed ones);
+    // with `moveSites` the disc centres move too (site_jitter.glsl).
     rg::BufferId add(rg::RenderGraph& graph, const trace::GpuScene& scene,
                      const shaders::trace::CameraPush& camera, const foveation::GpuPointSet& points,
                      glm::vec2 gaze, uint32_t raysPerPoint, uint32_t lanesPerPoint = 0,
-                     const PanelWarp* warp = nullptr, bool lod = false) const;
+                     const PanelWarp* warp = nullptr, bool lod = false, uint32_t frame = 0,
+                     bool moveSites = false) const;
 
 private:
     const vk::ComputePipeline& pipeline(uint32_t lanes, bool alphaMask) const;

@@ -1,5 +1,11 @@
 #include "taa/taa.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <glm/gtc/packing.hpp>
+
 #include "taa_comp.h"
 #include "taa_shared.h"
 #include "vk/context.hpp"
@@ -28,19 +34,68 @@ TaaPass::TaaPass(vk::Context& ctx) : mCtx(ctx) {
 
 TaaPass::~TaaPass() = default;
 
+namespace {
+bool sameCamera(const shaders::trace::CameraPush& a, const shaders::trace::CameraPush& b) {
+    return a.origin == b.origin && a.forward == b.forward && a.right == b.right && a.up == b.up;
+}
+
+// The frames the history may stand for: the running mean of a still view, else the window
+// the fixed current weight averages over.
+uint32_t cappedSamples(bool camStill, const TaaSettings& s, const TaaFrameState& st) {
+    const auto movingCap =
+        std::max(1u, static_cast<uint32_t>(std::lround(1.0f / std::max(s.currentWeight, 1e-3f))));
+    const uint32_t cap =
+        camStill && st.gazeStill ? std::max(s.maxStillFrames, movingCap) : movingCap;
+    return std::min(st.samples, cap - 1);
+}
+} // namespace
+
+uint32_t TaaPass::nextSamples(const shaders::trace::CameraPush& cur,
+                              const shaders::trace::CameraPush& prev, bool reset,
+                              const TaaSettings& s, const TaaFrameState& st) {
+    if (!s.adaptive) {
+        return 0u;
+    }
+    return reset ? 1u : cappedSamples(sameCamera(cur, prev), s, st) + 1u;
+}
+
 rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& history,
                            rg::TextureId current, const shaders::trace::CameraPush& cur,
-                           const shaders::trace::CameraPush& prev, bool reset,
-                           const TaaSettings& s) const {
-    const sh::TaaPush push{cur.origin,
-                           cur.forward,
-                           cur.right,
-                           prev.origin,
-                           prev.forward,
-                           prev.right,
-                           glm::vec4(s.currentWeight, s.clipGamma,
-                                     reset || !history.valid ? 1.0f : 0.0f, s.depthTolerance),
-                           glm::vec4(cur.right.w, cur.up.w, prev.right.w, prev.up.w)};
+                           const shaders::trace::CameraPush& prev, bool reset, const TaaSettings& s,
+                           const std::optional<TaaFrameState>& state) const {
+    const bool still = sameCamera(cur, prev);
+    float alpha = s.currentWeight, gamma = s.clipGamma, exposure = 0.0f, radius = 0.0f;
+    float depthTolerance = s.depthTolerance;
+    glm::vec2 gaze{1.0f};
+    if (state && s.adaptive) {
+        // Over a static scene a still camera's history is exact: clip loosely, and average
+        // (the method's own sampling is what changes).
+        if (still) {
+            // Nothing moved: the history is exact, and the current frame's 3x3 box says little
+            // of an interpolated image, whose noise is correlated over a point's neighbourhood.
+            gamma = state->gazeStill ? 1e30f : s.stillClipGamma;
+            depthTolerance = 1e30f; // rays moved in their discs: distances change, not surfaces
+        }
+        alpha = 1.0f / static_cast<float>(cappedSamples(still, s, *state) + 1);
+        exposure = s.displayReferred ? state->exposure : 0.0f;
+        if (still && state->gazeDependent && !state->gazeStill && s.eccentricRadius > 0.0f) {
+            radius = s.eccentricRadius * static_cast<float>(graph.outputWidth());
+            gaze = glm::max(state->gaze, glm::vec2(1.0f)); // no subnormal half pair below
+        }
+    }
+    // The gaze rides in the unused w of currentRight as two halves (taa.comp unpacks them).
+    const uint32_t packedGaze = glm::packHalf2x16(gaze);
+    float gazeBits = 0.0f;
+    std::memcpy(&gazeBits, &packedGaze, sizeof gazeBits);
+    const sh::TaaPush push{
+        cur.origin,
+        cur.forward,
+        glm::vec4(glm::vec3(cur.right), gazeBits),
+        prev.origin,
+        prev.forward,
+        glm::vec4(glm::vec3(prev.right), radius),
+        glm::vec4(alpha, gamma, reset || !history.valid ? -1.0f : exposure, depthTolerance),
+        glm::vec4(cur.right.w, cur.up.w, prev.right.w, prev.up.w)};
     struct Data {
         rg::TextureId current, history, output;
     };

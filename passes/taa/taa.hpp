@@ -4,6 +4,7 @@
 // (rg::HistoryPool): last frame's output in, this frame's output out.
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 #include <glm/glm.hpp>
 
@@ -18,11 +19,42 @@ class ComputePipeline;
 namespace gt::passes {
 
 struct TaaSettings {
-    float currentWeight = 0.1f;   // blend weight of the new frame
-    float clipGamma = 1.0f;       // variance-clipping box half-size in standard deviations
+    float currentWeight = 0.1f; // blend weight of the new frame
+    float clipGamma = 1.0f;     // variance-clipping box half-size in standard deviations
+    // The same with the camera still and the gaze moving (this frame's camera equal to the
+    // last one's): over a static scene the history is then exact, and what changes from frame
+    // to frame is the method's own sampling (a point set following the gaze). A wider box lets
+    // the history average that instead of flickering. With the gaze still too, nothing clips.
+    float stillClipGamma = 4.0f;
+    // With camera and gaze still, the history becomes the running mean of the frames (current
+    // weight 1 / (n + 1)) up to this many: a still view with rays that change every frame
+    // converges instead of flickering.
+    uint32_t maxStillFrames = 64;
+    // A foveated view with the camera still and the gaze moving (smooth pursuit): beyond this
+    // share of the image width from the gaze, the current weight falls and the clipping box
+    // grows with the distance d as r / d, so the sparse periphery sliding under a still scene
+    // is averaged instead of flickering while the fovea stays responsive. 0: off.
+    float eccentricRadius = 0.05f;
+    // Blend in display-referred space (taa.comp's toDisplay: Reinhard at the view's exposure
+    // e, c / (1 + e L), then a 1/2.2 power), so a frame moves a pixel by at most the blend
+    // weight of its displayed range; a linear blend of HDR radiance lets one lamp sample flash
+    // a dark pixel, where the display's encoding is steep.
+    bool displayReferred = true;
+    // false: the fixed blend of seed 000's TAA (currentWeight, clipGamma, depthTolerance, linear
+    // radiance, whatever moved), ignoring the frame state and the settings above.
+    bool adaptive = true;
     float depthTolerance = 0.05f; // relative distance change that counts as disocclusion
     // A gaze move larger than this share of the image width is a saccade: history is dropped.
     float saccadeFraction = 1.0f / 16.0f;
+};
+
+// What the renderer tracks of a view's frames that sets how much the history counts.
+struct TaaFrameState {
+    float exposure = 0.0f;      // display-referred blending at this exposure (0: linear)
+    glm::vec2 gaze{};           // pixels
+    bool gazeDependent = false; // the image's sampling follows the gaze (a foveated method)
+    bool gazeStill = false;     // the gaze has not moved since the last frame
+    uint32_t samples = 0;       // frames the history holds (0 after a reset)
 };
 
 // Whether a frame must start TAA afresh: no committed history yet, a saccade reported by the eye
@@ -38,11 +70,18 @@ public:
     // Adds "taa": reads `current` (rgb radiance, a = first-hit distance) and the history's
     // previous image, reprojected from `previousCamera` to `camera`, and writes the history's
     // next image, which it returns. The graph's HistoryPool commits it once the frame is
-    // submitted; with `reset` the history is not read.
+    // submitted; with `reset` the history is not read. With `state`, the blend follows the
+    // view's frames (TaaSettings); without, it is the fixed settings.currentWeight, linear.
     rg::TextureId add(rg::RenderGraph& graph, const rg::HistoryTextures& history,
                       rg::TextureId current, const shaders::trace::CameraPush& camera,
                       const shaders::trace::CameraPush& previousCamera, bool reset,
-                      const TaaSettings& settings = {}) const;
+                      const TaaSettings& settings = {},
+                      const std::optional<TaaFrameState>& state = std::nullopt) const;
+    // The history's frame count after this frame (TaaFrameState::samples of the next one).
+    [[nodiscard]] static uint32_t nextSamples(const shaders::trace::CameraPush& camera,
+                                              const shaders::trace::CameraPush& previousCamera,
+                                              bool reset, const TaaSettings& settings,
+                                              const TaaFrameState& state);
 
 private:
     vk::Context& mCtx;

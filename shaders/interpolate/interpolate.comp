@@ -7,6 +7,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "foveated_shared.h"
 #include "rbf.glsl"
+#include "site_jitter.glsl"
 
 layout(local_size_x = kInterpGroupX, local_size_y = kInterpGroupY) in;
 layout(set = 0, binding = kBindingInterpPoints) uniform samplerBuffer uPoints;
@@ -25,6 +26,40 @@ layout(push_constant) uniform Push { InterpolatePush pc; };
 // neighbour took 50 ms, a constant write 46 ms at 1280x1440); specialised, dead code goes.
 layout(constant_id = 0) const uint kMethod = kMethodNearest;
 layout(constant_id = 1) const bool kUseTable = false;
+
+// Display-referred interpolation (pc.rbf.y = exposure e > 0): samples are blended as
+// T(c) = c / (1 + e L(c)) and the blend is mapped back with T^-1(y) = y / (1 - e L(y)). A linear
+// blend of HDR radiance lets a few very bright samples dominate their dark neighbours (a lamp
+// bleeds into the dark pillar beside it); in T's space each sample counts about as much as it
+// shows on the display. For Modified Shepard this is Karis's luminance-normalised weighting:
+// sum w_i c_i / (1 + e L_i) / sum w_i / (1 + e L_i).
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+vec3 compress(vec3 c) { return pc.rbf.y > 0.0 ? c / (1.0 + pc.rbf.y * luminance(c)) : c; }
+vec3 expand(vec3 y) {
+    return pc.rbf.y > 0.0 ? y / max(1.0 - pc.rbf.y * luminance(y), 1e-3) : y;
+}
+
+// Geometry-aware weight (pc.rbf.z = tolerance t > 0, a joint-bilateral filter guided by the
+// first hit): a neighbour whose first-hit distance differs from the nearest sample's by dz
+// weighs exp(-(dz / (t z))^2) as much, so samples across a silhouette do not mix (no halos or
+// specks on edges, thin geometry stays whole); sky against geometry weighs 0.
+float edgeWeight(float nearestDepth, float depth) {
+    if (pc.rbf.z <= 0.0) return 1.0;
+    bool skyA = !(nearestDepth < 1e30), skyB = !(depth < 1e30);
+    if (skyA || skyB) return skyA == skyB ? 1.0 : 0.0;
+    float rel = (depth - nearestDepth) / (pc.rbf.z * max(min(depth, nearestDepth), 1e-6));
+    return exp(-rel * rel);
+}
+
+// Colour-guided weight (pc.rbf.w = sigma s > 0, a cross-bilateral filter guided by the nearest
+// sample): a neighbour whose display-referred luminance differs from the nearest sample's by
+// dL weighs exp(-(dL / s)^2) as much. At a bright/dark boundary a pixel keeps the side its
+// nearest sample lies on, as nearest neighbour does, while flat areas still blend k samples.
+float rangeWeight(vec3 nearest, vec3 other) {
+    if (pc.rbf.w <= 0.0) return 1.0;
+    float d = (luminance(other) - luminance(nearest)) / pc.rbf.w;
+    return exp(-d * d);
+}
 
 // RBF (seed 000, eq. 7): s(x) = sum lambda_i phi(|x - x_i|) over the neighbourhood of the
 // pixel's nearest point q, with the weights rbf_solve computed for q.
@@ -76,9 +111,9 @@ void main() {
                 float w = texelFetch(uRbfPixelWeights, wrow + int(j >> 2u))[j & 3u];
                 vec2 at = texelFetch(uPoints, int(i)).xy;
                 bool sampled = j == first || (j > first && isSampled(at, offset, vec2(size), margin));
-                sum += w * (sampled ? samples[i].rgb : nearest.rgb);
+                sum += w * compress(sampled ? samples[i].rgb : nearest.rgb);
             }
-            imageStore(uOutput, px, vec4(max(sum, vec3(0.0)), nearest.w));
+            imageStore(uOutput, px, vec4(max(expand(max(sum, vec3(0.0))), vec3(0.0)), nearest.w));
             return;
         }
         k = 1u; // no neighbour sampled: the nearest sampled point through the lists below
@@ -93,7 +128,8 @@ void main() {
         }
         k = 1u; // the nearest point was not sampled: nearest sampled neighbour instead
     }
-    if (kMethod == kMethodNearest) {
+    const uint siteFrame = pc.table.w; // sites moved this frame (site_jitter.glsl); 0: fixed
+    if (kMethod == kMethodNearest && siteFrame == 0u) {
         // The canvas pixel's nearest point is exact; only where it lies beyond the sampled
         // margin does the general search below look for the nearest sampled one.
         vec2 qpos = texelFetch(uPoints, int(q)).xy;
@@ -115,7 +151,8 @@ void main() {
     for (uint j = 0u; j < candidates; ++j) {
         uint i = table ? texelFetch(uKnnTable, row + int(j >> 2u))[j & 3u]
                        : (j == 0u ? q : texelFetch(uNeighbours, int(q * pc.canvas.z + j - 1u)).r);
-        vec2 s = texelFetch(uPoints, int(i)).xy + offset;
+        vec4 pt = texelFetch(uPoints, int(i));
+        vec2 s = pt.xy + offset + siteJitter(i, siteFrame, pt.z);
         if (any(lessThan(s, vec2(-margin))) || any(greaterThanEqual(s, vec2(size) + margin))) continue;
         vec2 d = s - pos;
         float dd = dot(d, d);
@@ -129,8 +166,9 @@ void main() {
         idx[m] = i;
         d2[m] = dd;
         n = min(n + 1u, k);
-        // The table is sorted, and the index's nearest point is exact: nothing closer follows.
-        if (n == k && (table || j == 0u)) break;
+        // The table is sorted, and the index's nearest point is exact: nothing closer follows
+        // (with the sites moved, the rest of the candidates may still hold a closer one).
+        if (siteFrame == 0u && n == k && (table || j == 0u)) break;
     }
     vec3 colour = vec3(0.0);
     float depth = 1.0 / 0.0; // first-hit distance of the nearest sample, for TAA
@@ -141,14 +179,17 @@ void main() {
             float r = sqrt(d2[n - 1u]);
             vec3 sum = vec3(0.0);
             float wsum = 0.0;
+            vec3 nearestT = compress(colour);
             for (uint j = 0u; j < n; ++j) {
                 float h = sqrt(d2[j]);
-                if (h < 1e-6) { sum = samples[idx[j]].rgb; wsum = 1.0; break; }
-                float w = pow(max(r - h, 0.0) / (r * h), pc.offset.w);
-                sum += w * samples[idx[j]].rgb;
+                if (h < 1e-6) { sum = compress(samples[idx[j]].rgb); wsum = 1.0; break; }
+                vec3 t = compress(samples[idx[j]].rgb);
+                float w = pow(max(r - h, 0.0) / (r * h), pc.offset.w)
+                          * edgeWeight(depth, samples[idx[j]].w) * rangeWeight(nearestT, t);
+                sum += w * t;
                 wsum += w;
             }
-            if (wsum > 0.0) colour = sum / wsum;
+            if (wsum > 0.0) colour = expand(sum / wsum);
         }
     }
     if (kMethod >= kViewPoints && kMethod <= kViewSpacing && n > 0u) {

@@ -1,8 +1,11 @@
 #version 460
 // Pass `point_sample` (seed 000, 4.2): the point set shifted to the gaze; every point on screen
 // or within the margin is traced with R rays through random positions inside its disc of radius
-// p. The positions come from the point's index and the ray's number alone, so they are the same
-// every frame and whichever thread traces them.
+// p. The positions come from the point's index and the ray's number, so they do not depend on
+// which thread traces them. In the thesis they are the same every frame, so TAA over a still
+// view adds nothing; here frame f > 0 rotates them (a Cranley-Patterson shift of the angle and
+// the squared radius by the R2 low-discrepancy sequence), so TAA gathers new rays each frame
+// and a still view converges to the disc's mean. Frame 0 is the thesis's.
 //
 // kLanes threads share a point and trace its rays side by side (lane l takes rays l, l + kLanes,
 // ...), summed in shared memory. On a GPU the lanes of a subgroup then follow nearly the same
@@ -13,6 +16,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "foveated_shared.h"
 #include "random.glsl"
+#include "site_jitter.glsl"
 #include "trace.glsl"
 
 layout(local_size_x = kSampleGroupSize) in;
@@ -42,9 +46,12 @@ void main() {
     vec4 p = vec4(0.0);
     vec2 s = vec2(0.0);
     bool onScreen = false;
+    // lensCoeffs.w: the frame (rays rotate in their discs), negative when the sites stay put.
+    const float frameField = pc.lensCoeffs.w;
+    const uint siteFrame = frameField > 0.0 ? uint(frameField) : 0u;
     if (i < pc.params.w) {
         p = texelFetch(uPoints, int(i));
-        s = p.xy + pc.offset.xy;
+        s = p.xy + pc.offset.xy + siteJitter(i, siteFrame, p.z);
         onScreen = all(greaterThanEqual(s, vec2(-margin))) && all(lessThan(s, size + margin));
     }
     if (kLanes == 1u && !onScreen) return; // a specialisation constant: no barrier follows
@@ -60,10 +67,11 @@ void main() {
     float firstDepth = 0.0; // first-hit distance of ray 0 (always lane 0's), for TAA
     for (uint r = lane; onScreen && r < rays; r += kLanes) {
         vec2 pos = s;
-        if (rays > 1u) {
+        float frame = abs(frameField);
+        if (rays > 1u || frame > 0.0) {
             uint h = pcgHash(i * 0x9E3779B9u ^ pcgHash(r + 0x51ED27u));
-            float angle = 6.28318531 * hashToFloat(h);
-            float radius = p.z * sqrt(hashToFloat(pcgHash(h)));
+            float angle = 6.28318531 * fract(hashToFloat(h) + frame * 0.7548776662);
+            float radius = p.z * sqrt(fract(hashToFloat(pcgHash(h)) + frame * 0.5698402910));
             pos += radius * vec2(cos(angle), sin(angle));
         }
         float depth;

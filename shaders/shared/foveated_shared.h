@@ -21,7 +21,8 @@ struct PointSamplePush {
     // The set laid on an HMD's panel (engine/display/display_space.hpp): each ray's panel
     // position goes through the lens model into the image before it is traced.
     vec4 lens;       // xy: lens centre (normalised), z: aspect, w: rMax (0: no warp)
-    vec4 lensCoeffs; // x = k1, y = k2, z = 1 / (1 + k1 + k2)
+    vec4 lensCoeffs; // x = k1, y = k2, z = 1 / (1 + k1 + k2), w = frame number: rays rotate in
+                     // their discs; > 0 also moves the sites (site_jitter.glsl), < 0 does not
 };
 
 // interpolate:
@@ -48,9 +49,13 @@ struct InterpolatePush {
     uvec4 params; // x = width, y = height, z = k, w = method
     uvec4 canvas; // x = canvas width, y = canvas height, z = neighbours stored per point,
                   // w = RBF kernel
-    vec4 rbf;     // x = shape c in units of the spacing p
+    vec4 rbf;     // x = shape c in units of the spacing p; y = exposure of display-referred
+                  // blending (0: linear radiance, the thesis); z = depth tolerance of the
+                  // geometry-aware weights (0: off); w = luminance sigma of the
+                  // colour-guided weights (0: off)
     uvec4 table;  // x = texels per canvas pixel in the k-NN table (0: neighbour index), y = its
-                  // k, z = texels per canvas pixel of the RBF pixel weights (RBF with the table)
+                  // k, z = texels per canvas pixel of the RBF pixel weights (RBF with the table),
+                  // w = the frame whose moved sites to blend from (site_jitter.glsl; 0: fixed)
 };
 
 // interpolate, RBF only: the weights rbf_solve wrote, one float per neighbour and channel.

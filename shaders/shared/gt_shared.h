@@ -5,7 +5,12 @@
 #ifdef __cplusplus
 #include <cstdint>
 #include <glm/glm.hpp>
-#define GT_NAMESPACE_BEGIN(name) namespace gt::shaders::name { using uint = uint32_t; using vec4 = glm::vec4; using uvec4 = glm::uvec4; using vec2 = glm::vec2;
+#define GT_NAMESPACE_BEGIN(name)                                                                   \
+    namespace gt::shaders::name {                                                                  \
+    using uint = uint32_t;                                                                         \
+    using vec4 = glm::vec4;                                                                        \
+    using uvec4 = glm::uvec4;                                                                      \
+    using vec2 = glm::vec2;
 #define GT_NAMESPACE_END }
 #define GT_CONST inline constexpr uint32_t
 #define GT_CONSTF inline constexpr float

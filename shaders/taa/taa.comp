@@ -27,6 +27,18 @@ vec3 clipToBox(vec3 h, vec3 m, vec3 e) {
     return f > 1.0 ? m + d / f : h;
 }
 
+// Radiance -> an approximation of the displayed value: Reinhard's c / (1 + e L) (which maps
+// every radiance below 1 in luminance at exposure e), then a 1 / 2.2 power as the display
+// encoding; and back.
+float luma(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+vec3 toDisplay(vec3 c, float e) {
+    return pow(max(c / (1.0 + e * luma(c)), vec3(0.0)), vec3(1.0 / 2.2));
+}
+vec3 fromDisplay(vec3 y, float e) {
+    vec3 t = pow(max(y, vec3(0.0)), vec3(2.2));
+    return t / max(1.0 - e * luma(t), 1e-3);
+}
+
 vec4 historyBilinear(vec2 p, ivec2 size) {
     vec2 q = p - 0.5;
     ivec2 i = ivec2(floor(q));
@@ -46,7 +58,7 @@ void main() {
     ivec2 size = imageSize(uOutput);
     if (any(greaterThanEqual(px, size))) return;
     vec4 current = imageLoad(uCurrent, px);
-    if (pc.params.z > 0.5) {
+    if (pc.params.z < 0.0) {
         imageStore(uOutput, px, current);
         return;
     }
@@ -87,9 +99,27 @@ void main() {
         valid = !(history.a < 1e30);
     }
     vec3 result = current.rgb;
+    float alpha = pc.params.x, gamma = pc.params.y;
+    if (pc.previousRight.w > 0.0) {
+        // Smooth pursuit over a still scene: the sparse periphery slides under the image, so
+        // away from the gaze the history counts more (the fovea stays responsive).
+        vec2 gaze = unpackHalf2x16(floatBitsToUint(pc.currentRight.w));
+        float f = max(1.0, length(vec2(px) + 0.5 - gaze) / pc.previousRight.w);
+        alpha /= f;
+        gamma *= f;
+    }
     if (valid) {
-        vec3 clipped = fromYCoCg(clipToBox(toYCoCg(history.rgb), m1, pc.params.y * sigma));
-        result = mix(clipped, current.rgb, pc.params.x);
+        // gamma >= 1e29: no clipping (a flat neighbourhood has sigma 0, and 0 * 1e30 would
+        // clip the history to the current mean).
+        vec3 clipped = gamma >= 1e29 ? history.rgb
+                                     : fromYCoCg(clipToBox(toYCoCg(history.rgb), m1, gamma * sigma));
+        // Display-referred blend (params.z = exposure e > 0): in the space of
+        // toDisplay, close to what the display shows, so a frame moves a pixel by at most
+        // alpha of its displayed range — a firefly or a dark pixel (where sRGB is steep) no
+        // longer jumps.
+        float e = pc.params.z;
+        result = e > 0.0 ? fromDisplay(mix(toDisplay(clipped, e), toDisplay(current.rgb, e), alpha), e)
+                         : mix(clipped, current.rgb, alpha);
     }
     imageStore(uOutput, px, vec4(result, current.a));
 }

@@ -310,3 +310,70 @@ TEST_F(FoveatedTest, MatchesReferenceAtTheGaze) {
 
 } // namespace
 } // namespace gt
+
+namespace gt {
+namespace {
+
+// A lamp beside a dark wall, away from the gaze where the points are sparse: samples left of
+// screen x = 136 are dark (0.01), right of it very
+// bright (50). Blending linear radiance lets the lamp's samples flood the dark pixels beside it;
+// display-referred blending and the colour-guided weights keep them dark. Then the same edge as
+// a depth step between two mid greys: the geometry-aware weights keep the two sides apart.
+TEST_F(FoveatedTest, GuidedWeightsKeepDarkPixelsBesideALampDark) {
+    PointSetParams p;
+    p.display = {"small", 160, 144, 0.85};
+    const PointSet set = PointSet::generate(p);
+    std::vector<glm::vec4> lamp, depthStep;
+    for (const Point& q : set.points()) {
+        const bool right = q.x - 80.0f >= 136.0f;
+        lamp.emplace_back(glm::vec3(right ? 50.0f : 0.01f), 5.0f);
+        depthStep.emplace_back(glm::vec3(right ? 0.8f : 0.2f), right ? 10.0f : 2.0f);
+    }
+    // Mean display value (Reinhard, c / (1 + c)) of the pixels 1-5 px left of the edge.
+    auto darkSide = [](const std::vector<glm::vec4>& out) {
+        double sum = 0.0;
+        int n = 0;
+        for (uint32_t y = 0; y < 144; ++y) {
+            for (uint32_t x = 131; x < 136; ++x) {
+                const float c = out[y * 160 + x].g;
+                sum += c / (1.0 + c);
+                ++n;
+            }
+        }
+        return sum / n;
+    };
+    passes::InterpolateSettings s{passes::Interpolation::Shepard, 10, 1.0f};
+    s.edgeTolerance = 0.0f; // the thesis's weights first
+    s.rangeSigma = 0.0f;
+    const double linear = darkSide(interpolate(set, lamp, s));
+    s.displayExposure = 1.0f;
+    const double display = darkSide(interpolate(set, lamp, s));
+    s.rangeSigma = 0.1f;
+    const double guided = darkSide(interpolate(set, lamp, s));
+    RecordProperty("dark_side_linear", std::to_string(linear));
+    RecordProperty("dark_side_display", std::to_string(display));
+    RecordProperty("dark_side_guided", std::to_string(guided));
+    EXPECT_GT(linear, 0.1); // the lamp floods them (measured 0.17)
+    EXPECT_LT(display, 0.75 * linear);
+    EXPECT_LT(guided, 0.35 * linear);
+
+    // A depth step: with the geometry-aware weights a pixel takes its nearest sample's side.
+    passes::InterpolateSettings d{passes::Interpolation::Shepard, 10, 1.0f};
+    d.edgeTolerance = 0.0f;
+    d.rangeSigma = 0.0f; // the two sides' greys are 0.6 apart: colour alone would separate them
+    auto mixed = [&](const std::vector<glm::vec4>& out) {
+        int n = 0;
+        for (const glm::vec4& c : out) {
+            n += c.r > 0.25f && c.r < 0.75f ? 1 : 0; // neither side
+        }
+        return n;
+    };
+    const int blended = mixed(interpolate(set, depthStep, d));
+    d.edgeTolerance = 0.1f;
+    const int edged = mixed(interpolate(set, depthStep, d));
+    EXPECT_GT(blended, 100); // a band along the edge (measured 176 pixels)
+    EXPECT_LT(edged, blended / 10);
+}
+
+} // namespace
+} // namespace gt

@@ -230,6 +230,45 @@ namespace {
 // The point set laid on the panel (display space): with a lens that does nothing it is the
 // image layout exactly; with the barrel lens it shows what the image layout shows after the
 // lens pass, traces the points display::compareLayouts counts, and is not the undistorted eye.
+// Rays rotated in their discs every frame, with TAA averaging a still view: consecutive frames
+// differ less and less (the history converges on the disc means); without the rotation every
+// frame traces the same rays and a still view does not change at all (the thesis).
+TEST_F(RendererTest, RotatedRaysConvergeOnAStillView) {
+    foveation::PointSetParams params;
+    params.display = {"small-still", 160, 120, 0.85};
+    render::PointSetMethod method(renderer().methodContext(), params,
+                                  test::tempDir("still_view_cache"));
+    method.settings.raysPerPoint = 2;
+    method.settings.interpolation.method = passes::Interpolation::Shepard;
+    render::View v = view("still", 160, 120, method);
+    v.post.taa = true;
+    std::vector<std::vector<uint8_t>> frames;
+    for (int i = 0; i < 40; ++i) {
+        frames.push_back(render(std::span(&v, 1))[0]);
+    }
+    // The share of channel values that moved by more than 2/255 (below that, 8-bit rounding).
+    auto moved = [](const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+        std::size_t n = 0;
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            n += std::abs(int(a[i]) - int(b[i])) > 2 ? 1 : 0;
+        }
+        return static_cast<double>(n) / static_cast<double>(a.size());
+    };
+    // Frame 10 blends the new frame at 1/10 (as a fixed TAA weight would), frame 39 at 1/39.
+    const double early = moved(frames[9], frames[10]);
+    const double late = moved(frames[38], frames[39]);
+    RecordProperty("early_change", std::to_string(early));
+    RecordProperty("late_change", std::to_string(late));
+    EXPECT_GT(early, 0.0); // the rays moved
+    EXPECT_LT(late, 0.5 * early);
+
+    method.settings.jitter = false;
+    v.name = "frozen";
+    const auto a = render(std::span(&v, 1))[0];
+    const auto b = render(std::span(&v, 1))[0];
+    EXPECT_EQ(moved(a, b), 0.0); // at most the display-space round trip's last bit
+}
+
 TEST_F(RendererTest, PanelLayoutShowsWhatTheLensPassShows) {
     foveation::PointSetParams params;
     params.display = {"small-eye", 160, 180, 0.85};
@@ -237,6 +276,7 @@ TEST_F(RendererTest, PanelLayoutShowsWhatTheLensPassShows) {
                                   test::tempDir("panel_layout_cache"));
     method.settings.raysPerPoint = 2;
     method.settings.interpolation.method = passes::Interpolation::Nearest;
+    method.settings.jitter = false; // every frame traces the same rays: layouts compare alone
     render::View v = view("eye", 160, 180, method);
     v.gaze = {70.0f, 100.0f};
     auto frame = [&](bool displaySpace, std::optional<display::LensModel> lens) {
