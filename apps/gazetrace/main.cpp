@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "demo_command.hpp"
+#include "eval_command.hpp"
 #include "eye_commands.hpp"
 #include "layers_command.hpp"
 #include "pointset_command.hpp"
@@ -135,6 +136,11 @@ int main(int argc, char** argv) {
                      "Foveated RBF shape c, in units of the point spacing")
         ->check(CLI::Range(0.001, 1000.0))
         ->capture_default_str();
+    renderCmd
+        ->add_option("--reconstruction", render.reconstruction,
+                     "Foveated: gazetrace | thesis (seed 000's interpolation and TAA as published)")
+        ->check(CLI::IsMember({"gazetrace", "thesis"}))
+        ->capture_default_str();
     renderCmd->add_option("--k", render.k, "Foveated: neighbours for msm and rbf (1-20)")
         ->check(CLI::Range(1u, 20u))
         ->capture_default_str();
@@ -228,6 +234,93 @@ int main(int argc, char** argv) {
     layersCmd->add_flag("--fov-table", layers.fovTable,
                         "Figure 12: speed-up for 20..120 degrees at foveal sharpness");
     layersCmd->add_flag("--json", layersJson, "Print JSON instead of a table");
+
+    gt::app::EvalOptions eval;
+    bool evalJson = false;
+    std::string evalTaa = "on";
+    CLI::App* evalCmd = app.add_subcommand(
+        "eval", "Picture quality: a foveated frame against a many-ray reference, per "
+                "eccentricity band (FLIP, PSNR, SSIM), beside the uniform baseline at equal rays");
+    evalCmd->add_option("--scene", eval.scene, "builtin:NAME | FILE.gltf | FILE.glb | cubemap:FILE")
+        ->capture_default_str();
+    evalCmd->add_option("--camera", eval.camera, "X,Y,Z,TX,TY,TZ[,FOV]");
+    evalCmd->add_option("--profile", eval.profile, "Display geometry: fove | vive | desktop")
+        ->capture_default_str();
+    evalCmd->add_option("--width", eval.width, "A window this wide on the profile's screen")
+        ->check(CLI::Range(16u, 16384u));
+    evalCmd->add_option("--height", eval.height, "A window this high on the profile's screen")
+        ->check(CLI::Range(16u, 16384u));
+    evalCmd->add_option("--gaze", eval.gaze, "X,Y in pixels (default: the centre)");
+    evalCmd->add_option("--interp", eval.interp, "Foveated: nn | msm | rbf")->capture_default_str();
+    evalCmd->add_option("--k", eval.k, "Foveated: neighbours for msm and rbf (1-20)")
+        ->capture_default_str();
+    evalCmd->add_option("--scale", eval.scale, "Foveated: point-set scaling value")
+        ->check(CLI::Range(0.25, 8.0))
+        ->capture_default_str();
+    evalCmd
+        ->add_option("--rays-per-point", eval.raysPerPoint,
+                     "Foveated: rays per point (the baseline: rays per pixel)")
+        ->check(CLI::Range(1u, 1024u))
+        ->capture_default_str();
+    evalCmd->add_option("--taa", evalTaa, "Foveated: on | off")
+        ->check(CLI::IsMember({"on", "off"}))
+        ->capture_default_str();
+    evalCmd
+        ->add_option("--reconstruction", eval.reconstruction,
+                     "Foveated: gazetrace (the options below) | thesis (seed 000 as published)")
+        ->capture_default_str();
+    evalCmd->add_option("--blend", eval.blend, "Foveated: interpolate display | linear radiance")
+        ->capture_default_str();
+    evalCmd
+        ->add_option("--edge-tolerance", eval.edgeTolerance,
+                     "Foveated msm: geometry-aware weights, relative depth tolerance (0: off)")
+        ->capture_default_str();
+    evalCmd
+        ->add_option("--range-sigma", eval.rangeSigma,
+                     "Foveated msm: colour-guided weights, display luminance sigma (0: off)")
+        ->check(CLI::Range(0.0, 100.0))
+        ->capture_default_str();
+    evalCmd->add_option("--shepard-power", eval.shepardPower, "Foveated msm: q of eq. (6)")
+        ->check(CLI::Range(0.5, 8.0))
+        ->capture_default_str();
+    evalCmd
+        ->add_option("--still-clip", eval.stillClipGamma,
+                     "TAA: clipping box in standard deviations with the camera still")
+        ->check(CLI::Range(0.1, 100.0))
+        ->capture_default_str();
+    evalCmd
+        ->add_option("--eccentric-radius", eval.eccentricRadius,
+                     "TAA: share of the width beyond which a moving gaze leans on the history")
+        ->check(CLI::Range(0.0, 10.0))
+        ->capture_default_str();
+    std::string evalJitter = "on";
+    evalCmd->add_option("--jitter", evalJitter, "Foveated: rotate ray positions every frame")
+        ->check(CLI::IsMember({"on", "off"}))
+        ->capture_default_str();
+    evalCmd->add_option("--frames", eval.frames, "Frames of the still view before the measured one")
+        ->check(CLI::Range(1u, 1000u))
+        ->capture_default_str();
+    evalCmd->add_option("--reference-spp", eval.referenceSpp, "Rays per pixel of the reference")
+        ->check(CLI::Range(1u, 4096u))
+        ->capture_default_str();
+    evalCmd->add_option("--reference", eval.reference,
+                        "A reference PNG of the same view rendered before (skips rendering it)");
+    evalCmd->add_option("--baseline", eval.baseline, "uniform | none")->capture_default_str();
+    evalCmd->add_flag("--temporal", eval.temporal,
+                      "Also the frame-to-frame change of a still view");
+    evalCmd->add_option("--camera-path", eval.cameraPath,
+                        "A moving camera (CSV t_ms,ex,ey,ez,tx,ty,tz): change after reprojection");
+    evalCmd->add_option("--pursuit", eval.pursuit,
+                        "A gaze trace in pixels (CSV t_ms,x,y) followed over the still scene");
+    evalCmd->add_option("--sequence-frames", eval.sequenceFrames, "Frames of each sequence")
+        ->check(CLI::Range(2u, 10000u))
+        ->capture_default_str();
+    evalCmd->add_flag("--sweep", eval.sweep, "Quality against rays: point-set scales 1, 1.5, 2, 3");
+    evalCmd->add_option("--out", eval.out, "Folder for eval.json and the PNGs")
+        ->capture_default_str();
+    evalCmd->add_option("--cache", eval.cacheDir, "Point-set cache folder");
+    evalCmd->add_flag("--validate", eval.validate, "Enable the Khronos validation layer");
+    evalCmd->add_flag("--json", evalJson, "Print the JSON summary instead of the table");
 
     gt::app::BenchOptions bench;
     CLI::App* benchCmd = app.add_subcommand(
@@ -500,6 +593,11 @@ int main(int argc, char** argv) {
             } else {
                 (void)gt::app::runBench(bench);
             }
+        } else if (evalCmd->parsed()) {
+            eval.taa = evalTaa == "on";
+            eval.jitter = evalJitter == "on";
+            const nlohmann::json result = gt::app::runEval(eval);
+            std::cout << (evalJson ? result.dump() : gt::app::evalText(result)) << std::flush;
         } else if (soakCmd->parsed()) {
             soak.quiet = quiet;
             const nlohmann::json result = gt::app::runSoak(soak);

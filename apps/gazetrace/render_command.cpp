@@ -301,6 +301,9 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
     const render::StereoRig rig(profile, o.distortion);
     render::PostSettings post;
     post.taa = foveated && o.taa && o.view.empty();
+    if (pointSet && render::parseReconstruction(o.reconstruction)) {
+        render::useThesisReconstruction(pointSet->settings, post.taaSettings);
+    }
     render::CompositeReadbackTarget composite(renderer.context(), 2 * w, h);
     composite.place("left", {{0, 0}, {w, h}});
     composite.place("right", {{static_cast<int32_t>(w), 0}, {w, h}});
@@ -533,6 +536,9 @@ nlohmann::json runRender(const RenderOptions& o) {
         view.method = &*pointSet;
         view.gaze = gaze;
         view.post.taa = o.taa && o.view.empty(); // debug views show one frame's data as is
+        if (render::parseReconstruction(o.reconstruction)) {
+            render::useThesisReconstruction(pointSet->settings, view.post.taaSettings);
+        }
     } else {
         reference.emplace(renderer.methodContext(), passes::ReferenceSettings{o.spp, o.seed});
         view.method = &*reference;

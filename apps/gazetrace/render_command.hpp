@@ -31,6 +31,9 @@ struct RenderOptions {
     std::string kernel = "multiquadric";
     std::string knn = "table";
     double rbfShape = 1.0;
+    // gazetrace: display-referred, guided interpolation, rays rotated every frame, adaptive TAA;
+    // thesis: seed 000 as published (render::useThesisReconstruction).
+    std::string reconstruction = "gazetrace";
     std::string gazeTrace;          // CSV t_ms,x,y; excludes --gaze
     std::string gazeSource;         // eye tracker frame source: live gaze; excludes --gaze
     std::string calibration;        // for gazeSource

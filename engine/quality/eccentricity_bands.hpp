@@ -1,8 +1,9 @@
 #pragma once
 // Picture quality per eccentricity band (0-5, 5-10, 10-20 and 20+ degrees from the gaze), from
-// a display profile's geometry (seed 000, eq. 1), and the pixels per degree the eye resolves
-// at an eccentricity: the display's scaled by the thesis's cut-off frequency falloff
-// fc(e) / fc(0) = e2 / (e + e2) (eq. 2), so detail the eye cannot resolve there is not counted.
+// a display profile's geometry (seed 000, eq. 1), and the thesis's falloff of the eye's cut-off
+// frequency fc(e) / fc(0) = e2 / (e + e2) (eq. 2): at eccentricity e a pixel spans that much
+// less of what the eye resolves, so FLIP there is taken at ppd * fc(0) / fc(e) pixels per degree
+// (`eval`'s flip_ecc) and detail the eye cannot resolve is not counted.
 #include <array>
 #include <cstdint>
 #include <string_view>

@@ -1,0 +1,689 @@
+#include "eval_command.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <sstream>
+#include <thread>
+
+#include "atomic_write.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "eval_plots.hpp"
+#include "foveation/contrast_sensitivity.hpp"
+#include "foveation/gaze_trace.hpp"
+#include "foveation/neighbour_index.hpp"
+#include "foveation/point_set_cache.hpp"
+#include "full_resolution.hpp"
+#include "output_target.hpp"
+#include "point_set_method.hpp"
+#include "quality/eccentricity_bands.hpp"
+#include "quality/flip.hpp"
+#include "quality/image_metrics.hpp"
+#include "quality/resample.hpp"
+#include "renderer.hpp"
+#include "scene/camera_path.hpp"
+#include "scene/image_io.hpp"
+#include "view_args.hpp"
+
+namespace gt::app {
+
+namespace {
+
+using quality::kBandNames;
+using quality::kBands;
+using quality::RgbaImage;
+using quality::ScalarMap;
+
+constexpr uint32_t kSeed = 7; // the reference's and the baselines' ray seed
+
+// Where the eye is and what it resolves: the display geometry every measure is taken in.
+struct Geometry {
+    foveation::DisplayProfile display; // the (window) profile: size and viewing distance
+    uint32_t width = 0, height = 0;
+    glm::vec2 gaze{};
+    double ppd = 0.0; // at the display's centre
+    std::vector<uint8_t> bands;
+};
+
+glm::vec2 parseGazeArg(const std::string& text, uint32_t w, uint32_t h) {
+    if (text.empty()) {
+        return {0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h)};
+    }
+    float x = 0, y = 0;
+    char extra = 0;
+    if (std::sscanf(text.c_str(), "%f,%f%c", &x, &y, &extra) != 2 || !std::isfinite(x) ||
+        !std::isfinite(y) || x < 0 || y < 0 || x >= static_cast<float>(w) ||
+        y >= static_cast<float>(h)) {
+        throw ArgumentError("--gaze: expected X,Y inside the " + std::to_string(w) + "x" +
+                            std::to_string(h) + " image, got '" + text + "'");
+    }
+    return {x, y};
+}
+
+// Renders views of one renderer, read back as pictures.
+class Shooter {
+public:
+    explicit Shooter(render::Renderer& r) : mRenderer(r), mReadback(r.context()) {}
+    RgbaImage shot(render::View v, render::FoveationMethod& m, uint64_t* rays = nullptr) {
+        v.method = &m;
+        v.exposure = mRenderer.scene().exposure;
+        render::OutputTarget* const target = &mReadback;
+        const render::FrameResult f =
+            mRenderer.renderFrame(std::span(&v, 1), std::span(&target, 1));
+        if (rays) {
+            *rays = f.views.front().rays;
+        }
+        return {v.width, v.height, mReadback.takePixels()};
+    }
+
+private:
+    render::Renderer& mRenderer;
+    render::ReadbackTarget mReadback;
+};
+
+nlohmann::json bandsJson(const std::array<double, kBands>& v) {
+    nlohmann::json j = nlohmann::json::object();
+    for (std::size_t b = 0; b < kBands; ++b) {
+        j[std::string(kBandNames[b])] = v[b];
+    }
+    return j;
+}
+
+// Every still-picture measure of `img` against `ref`, per band.
+struct Scores {
+    nlohmann::json json;
+    ScalarMap flip;
+    std::array<double, kBands> flipBands{}, flipEcc{};
+};
+
+Scores score(const RgbaImage& img, const RgbaImage& ref, const Geometry& g,
+             const std::vector<uint8_t>& bleedMask) {
+    Scores s;
+    s.flip = quality::flipErrorMap(ref, img, g.ppd);
+    s.flipBands = quality::meanPerBand(s.flip, g.bands);
+    // flip_ecc: band b as the eye resolves it at its inner eccentricity e. Its acuity there is
+    // fc(e) / fc(0) of the fovea's, so a pixel spans that much less of what it can resolve:
+    // FLIP's observer sees the display at ppd * fc(0) / fc(e) pixels per degree (as if from
+    // farther away), and detail finer than the eye resolves there is filtered out.
+    s.flipEcc[0] = s.flipBands[0];
+    for (std::size_t b = 1; b < kBands; ++b) {
+        const double ppd = g.ppd / quality::acuityFalloff(quality::kBandStartDeg[b]);
+        s.flipEcc[b] = quality::meanPerBand(quality::flipErrorMap(ref, img, ppd), g.bands)[b];
+    }
+    const auto mse = quality::meanPerBand(quality::squaredErrorMap(ref, img), g.bands);
+    const ScalarMap absErr = quality::absoluteErrorMap(ref, img);
+    const auto mad = quality::meanPerBand(absErr, g.bands);
+    const auto ssim = quality::meanPerBand(quality::ssimMap(ref, img), g.bands);
+    nlohmann::json bands = nlohmann::json::object();
+    for (std::size_t b = 0; b < kBands; ++b) {
+        bands[std::string(kBandNames[b])] = {{"flip", s.flipBands[b]},
+                                             {"flip_ecc", s.flipEcc[b]},
+                                             {"psnr_db", quality::psnrDb(mse[b])},
+                                             {"ssim", ssim[b]},
+                                             {"mad", mad[b]}};
+    }
+    double bleed = 0.0;
+    std::size_t n = 0;
+    for (std::size_t p = 0; p < bleedMask.size(); ++p) {
+        if (bleedMask[p]) {
+            bleed += absErr[p];
+            ++n;
+        }
+    }
+    double flipMean = 0.0;
+    for (const float v : s.flip) {
+        flipMean += v;
+    }
+    s.json = {{"bands", bands},
+              {"flip_mean", flipMean / static_cast<double>(s.flip.size())},
+              {"bleed_mad", n ? bleed / static_cast<double>(n) : 0.0},
+              {"bleed_pixels", n}};
+    return s;
+}
+
+// First-hit distance per pixel centre (infinity for the sky), on the CPU from the renderer's
+// BVH: what a moving camera's frames are reprojected with.
+std::vector<float> depthMap(const render::Renderer& r, const scene::Camera& cam, uint32_t w,
+                            uint32_t h) {
+    const auto c = trace::cameraPush(cam, static_cast<float>(w) / static_cast<float>(h));
+    std::vector<float> depth(static_cast<std::size_t>(w) * h);
+    auto rows = [&](uint32_t y0, uint32_t y1) {
+        for (uint32_t y = y0; y < y1; ++y) {
+            for (uint32_t x = 0; x < w; ++x) {
+                const float sx =
+                    (2.0f * (static_cast<float>(x) + 0.5f) / static_cast<float>(w) - 1.0f) *
+                    c.origin.w * c.forward.w;
+                const float sy =
+                    (1.0f - 2.0f * (static_cast<float>(y) + 0.5f) / static_cast<float>(h)) *
+                    c.origin.w;
+                const glm::vec3 dir = glm::normalize(
+                    glm::vec3(c.forward) + sx * glm::vec3(c.right) + sy * glm::vec3(c.up));
+                depth[static_cast<std::size_t>(y) * w + x] =
+                    r.bvh().intersect({glm::vec3(c.origin), dir}).t;
+            }
+        }
+    };
+    const uint32_t threads = std::max(1u, std::min(4u, std::thread::hardware_concurrency()));
+    std::vector<std::jthread> pool;
+    for (uint32_t t = 0; t < threads; ++t) {
+        pool.emplace_back(rows, h * t / threads, h * (t + 1) / threads);
+    }
+    return depth;
+}
+
+// Per band, the share (%) of pixels of `cur` that differ by more than 10/255 in some channel
+// from `prev` reprojected into `cur`'s camera (pixels seen in both frames only), and the mean
+// absolute change.
+struct Change {
+    std::array<double, kBands> share{}, mean{};
+};
+
+Change reprojectedChange(const RgbaImage& prev, const RgbaImage& cur, const scene::Camera& pc,
+                         const scene::Camera& cc, const std::vector<float>& prevDepth,
+                         const std::vector<float>& curDepth, const std::vector<uint8_t>& bands) {
+    const uint32_t w = cur.width, h = cur.height;
+    const float aspect = static_cast<float>(w) / static_cast<float>(h);
+    const auto c = trace::cameraPush(cc, aspect), p = trace::cameraPush(pc, aspect);
+    std::array<uint64_t, kBands> changed{}, n{};
+    std::array<double, kBands> sum{};
+    for (uint32_t y = 0; y < h; ++y) {
+        for (uint32_t x = 0; x < w; ++x) {
+            const std::size_t i = static_cast<std::size_t>(y) * w + x;
+            const float sx =
+                (2.0f * (static_cast<float>(x) + 0.5f) / static_cast<float>(w) - 1.0f) *
+                c.origin.w * c.forward.w;
+            const float sy =
+                (1.0f - 2.0f * (static_cast<float>(y) + 0.5f) / static_cast<float>(h)) * c.origin.w;
+            const glm::vec3 dir = glm::normalize(glm::vec3(c.forward) + sx * glm::vec3(c.right) +
+                                                 sy * glm::vec3(c.up));
+            const bool sky = !(curDepth[i] < 1e30f);
+            const glm::vec3 d =
+                sky ? dir : glm::vec3(c.origin) + curDepth[i] * dir - glm::vec3(p.origin);
+            const float z = glm::dot(d, glm::vec3(p.forward));
+            if (z <= 1e-6f) {
+                continue;
+            }
+            const float u = glm::dot(d, glm::vec3(p.right)) / z / (p.origin.w * p.forward.w);
+            const float v = glm::dot(d, glm::vec3(p.up)) / z / p.origin.w;
+            const float fx = (u + 1.0f) * 0.5f * static_cast<float>(w) - 0.5f;
+            const float fy = (1.0f - v) * 0.5f * static_cast<float>(h) - 0.5f;
+            const auto x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
+            if (x0 < 0 || y0 < 0 || x0 + 1 >= static_cast<int>(w) ||
+                y0 + 1 >= static_cast<int>(h)) {
+                continue;
+            }
+            // Seen in both frames: the previous frame's surface at the expected distance.
+            const auto nearest = static_cast<std::size_t>(std::lround(fy)) * w +
+                                 static_cast<std::size_t>(std::lround(fx));
+            const float expected = sky ? 1e31f : glm::length(d);
+            const bool prevSky = !(prevDepth[nearest] < 1e30f);
+            if (sky != prevSky ||
+                (!sky && std::abs(prevDepth[nearest] - expected) > 0.02f * expected)) {
+                continue;
+            }
+            const float tx = fx - static_cast<float>(x0), ty = fy - static_cast<float>(y0);
+            bool big = false;
+            double total = 0.0;
+            for (int ch = 0; ch < 3; ++ch) {
+                auto at = [&](int xx, int yy) {
+                    return static_cast<float>(prev.at(
+                        static_cast<std::size_t>(yy) * w + static_cast<std::size_t>(xx), ch));
+                };
+                const float pv = (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x0 + 1, y0)) +
+                                 ty * ((1 - tx) * at(x0, y0 + 1) + tx * at(x0 + 1, y0 + 1));
+                const float diff = std::abs(pv - static_cast<float>(cur.at(i, ch)));
+                big = big || diff > 10.0f;
+                total += diff / 3.0;
+            }
+            changed[bands[i]] += big ? 1 : 0;
+            sum[bands[i]] += total;
+            ++n[bands[i]];
+        }
+    }
+    Change out;
+    for (std::size_t b = 0; b < kBands; ++b) {
+        out.share[b] =
+            n[b] ? 100.0 * static_cast<double>(changed[b]) / static_cast<double>(n[b]) : 0.0;
+        out.mean[b] = n[b] ? sum[b] / static_cast<double>(n[b]) : 0.0;
+    }
+    return out;
+}
+
+// The same for a still camera (no reprojection).
+Change stillChange(const RgbaImage& prev, const RgbaImage& cur, const std::vector<uint8_t>& bands) {
+    std::array<uint64_t, kBands> changed{}, n{};
+    std::array<double, kBands> sum{};
+    for (std::size_t i = 0; i < cur.count(); ++i) {
+        bool big = false;
+        double total = 0.0;
+        for (int ch = 0; ch < 3; ++ch) {
+            const int diff = std::abs(int(prev.at(i, ch)) - int(cur.at(i, ch)));
+            big = big || diff > 10;
+            total += diff / 3.0;
+        }
+        changed[bands[i]] += big ? 1 : 0;
+        sum[bands[i]] += total;
+        ++n[bands[i]];
+    }
+    Change out;
+    for (std::size_t b = 0; b < kBands; ++b) {
+        out.share[b] =
+            n[b] ? 100.0 * static_cast<double>(changed[b]) / static_cast<double>(n[b]) : 0.0;
+        out.mean[b] = n[b] ? sum[b] / static_cast<double>(n[b]) : 0.0;
+    }
+    return out;
+}
+
+nlohmann::json changeJson(const std::vector<Change>& steps) {
+    std::array<double, kBands> share{}, mean{};
+    for (const Change& c : steps) {
+        for (std::size_t b = 0; b < kBands; ++b) {
+            share[b] += c.share[b] / static_cast<double>(steps.size());
+            mean[b] += c.mean[b] / static_cast<double>(steps.size());
+        }
+    }
+    return {{"changed_percent", bandsJson(share)}, {"mean_abs_change", bandsJson(mean)}};
+}
+
+void writePng(const std::filesystem::path& path, const RgbaImage& img) {
+    image::writePngAtomic(path, img.width, img.height, img.pixels);
+}
+
+// The uniform render at the resolution that spends `rays` with `rpp` rays per pixel, at the
+// display's aspect.
+std::pair<uint32_t, uint32_t> uniformSize(uint64_t rays, uint32_t rpp, uint32_t w, uint32_t h) {
+    const double pixels = static_cast<double>(rays) / rpp;
+    const double uw = std::sqrt(pixels * w / h);
+    return {std::max(1u, static_cast<uint32_t>(std::lround(uw))),
+            std::max(1u, static_cast<uint32_t>(std::lround(uw * h / w)))};
+}
+
+} // namespace
+
+nlohmann::json runEval(const EvalOptions& o) {
+    const std::vector<std::string> profiles = foveation::displayProfileNames();
+    if (std::find(profiles.begin(), profiles.end(), o.profile) == profiles.end()) {
+        throw ArgumentError("--profile: unknown display profile '" + o.profile + "'");
+    }
+    if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
+        throw ArgumentError("--k must be 1..20");
+    }
+    if (o.blend != "display" && o.blend != "linear") {
+        throw ArgumentError("--blend: expected display or linear, got '" + o.blend + "'");
+    }
+    if (!(o.edgeTolerance >= 0.0) || o.edgeTolerance > 100.0) {
+        throw ArgumentError("--edge-tolerance: expected 0 (off) .. 100");
+    }
+    if (o.baseline != "uniform" && o.baseline != "none") {
+        throw ArgumentError("--baseline: expected uniform or none, got '" + o.baseline + "'");
+    }
+    const bool thesis = render::parseReconstruction(o.reconstruction);
+    const foveation::DisplayProfile screen = foveation::displayProfile(o.profile);
+    Geometry g;
+    g.display = (o.width || o.height)
+                    ? foveation::windowProfile(screen, o.width ? o.width : screen.width,
+                                               o.height ? o.height : screen.height)
+                    : screen;
+    g.width = g.display.width;
+    g.height = g.display.height;
+    g.gaze = parseGazeArg(o.gaze, g.width, g.height);
+    g.ppd = quality::pixelsPerDegree(g.display.width, g.display.viewingDistance);
+    g.bands = quality::bandMap(g.display, g.width, g.height, g.gaze);
+
+    // Checked before any rendering: the inputs that can be wrong.
+    std::optional<scene::CameraPath> path;
+    if (!o.cameraPath.empty()) {
+        path = scene::CameraPath::load(o.cameraPath);
+    }
+    std::optional<foveation::GazeTrace> pursuit;
+    if (!o.pursuit.empty()) {
+        pursuit = foveation::GazeTrace::load(o.pursuit);
+        if (pursuit->units() != foveation::GazeUnits::Pixels) {
+            throw LoadError(o.pursuit + ": eval needs a gaze trace in pixels");
+        }
+    }
+    std::optional<RgbaImage> givenRef;
+    if (!o.reference.empty()) {
+        const image::DecodedImage d = image::readPng(o.reference);
+        if (d.width != g.width || d.height != g.height) {
+            throw LoadError(o.reference + ": the reference is " + std::to_string(d.width) + "x" +
+                            std::to_string(d.height) + ", the view " + std::to_string(g.width) +
+                            "x" + std::to_string(g.height));
+        }
+        givenRef = RgbaImage{d.width, d.height, d.rgba};
+    }
+    const std::filesystem::path out(o.out);
+    std::filesystem::create_directories(out);
+
+    const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
+    const char* device = std::getenv("GAZETRACE_DEVICE");
+    render::Renderer renderer({.scene = o.scene,
+                               .validate = o.validate,
+                               .framesInFlight = 1,
+                               .deviceOverride = device ? device : ""});
+    Shooter shooter(renderer);
+    scene::Camera camera = renderer.scene().camera;
+    if (cameraArg) {
+        camera = cameraArg->camera(camera.yfov);
+    }
+    render::View base;
+    base.camera = camera;
+    base.width = g.width;
+    base.height = g.height;
+    base.gaze = g.gaze;
+    base.post.taa = false;
+    base.post.taaSettings.stillClipGamma = static_cast<float>(o.stillClipGamma);
+    base.post.taaSettings.eccentricRadius = static_cast<float>(o.eccentricRadius);
+    if (thesis) {
+        render::PointSetSettings unused;
+        render::useThesisReconstruction(unused, base.post.taaSettings);
+    }
+
+    // The reference: many stratified rays per pixel, no TAA.
+    RgbaImage ref;
+    if (givenRef) {
+        ref = std::move(*givenRef);
+    } else {
+        render::FullResolution reference(renderer.methodContext(), {o.referenceSpp, kSeed});
+        render::View v = base;
+        v.name = "reference";
+        ref = shooter.shot(v, reference);
+        writePng(out / "reference.png", ref);
+    }
+    const std::vector<uint8_t> bleedMask = quality::darkNearBrightMask(ref);
+
+    const std::filesystem::path cache =
+        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
+    auto makeFoveated = [&](double scale) {
+        foveation::PointSetParams params;
+        params.display = g.display;
+        params.scale = scale;
+        auto m = std::make_unique<render::PointSetMethod>(renderer.methodContext(), params, cache);
+        m->settings.raysPerPoint = o.raysPerPoint;
+        m->settings.interpolation.method = passes::parseInterpolation(o.interp);
+        m->settings.interpolation.k = o.k;
+        m->settings.lod = o.lod;
+        m->settings.displayReferred = o.blend == "display";
+        m->settings.interpolation.edgeTolerance = static_cast<float>(o.edgeTolerance);
+        m->settings.interpolation.rangeSigma = static_cast<float>(o.rangeSigma);
+        m->settings.interpolation.shepardPower = static_cast<float>(o.shepardPower);
+        m->settings.jitter = o.jitter;
+        if (thesis) {
+            passes::TaaSettings unused;
+            render::useThesisReconstruction(m->settings, unused);
+        }
+        return m;
+    };
+    // The foveated frame after `frames` frames of the same view (TAA settled).
+    auto foveatedFrame = [&](render::PointSetMethod& m, const std::string& name, uint64_t& rays) {
+        render::View v = base;
+        v.name = name;
+        v.post.taa = o.taa;
+        RgbaImage img;
+        for (uint32_t i = 0; i < std::max(1u, o.frames); ++i) {
+            img = shooter.shot(v, m, &rays);
+        }
+        return img;
+    };
+    // The uniform baselines at `rays`: the low-resolution render upscaled both ways, and the
+    // full-resolution frame with the same total rays.
+    struct Baselines {
+        RgbaImage bilinear, bicubic, fullRes;
+        uint32_t uw = 0, uh = 0, fullSpp = 0;
+    };
+    auto baselines = [&](uint64_t rays) {
+        Baselines b;
+        std::tie(b.uw, b.uh) = uniformSize(rays, o.raysPerPoint, g.width, g.height);
+        render::FullResolution uniform(renderer.methodContext(), {o.raysPerPoint, kSeed});
+        render::View v = base;
+        v.name = "uniform";
+        v.width = b.uw;
+        v.height = b.uh;
+        const RgbaImage low = shooter.shot(v, uniform);
+        b.bilinear = quality::upscale(low, g.width, g.height, quality::Upscale::Bilinear);
+        b.bicubic = quality::upscale(low, g.width, g.height, quality::Upscale::CatmullRom);
+        b.fullSpp = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(
+                                              static_cast<double>(rays) / (g.width * g.height))));
+        render::FullResolution full(renderer.methodContext(), {b.fullSpp, kSeed});
+        v = base;
+        v.name = "full";
+        b.fullRes = shooter.shot(v, full);
+        return b;
+    };
+
+    nlohmann::json summary;
+    summary["device"] = renderer.context().deviceName();
+    summary["scene"] = o.scene;
+    summary["profile"] = o.profile;
+    summary["width"] = g.width;
+    summary["height"] = g.height;
+    summary["gaze"] = {g.gaze.x, g.gaze.y};
+    summary["pixels_per_degree"] = g.ppd;
+    summary["reference_spp"] =
+        givenRef ? nlohmann::json(o.reference) : nlohmann::json(o.referenceSpp);
+    summary["bands_deg"] = {"0-5", "5-10", "10-20", "20+"};
+    summary["flip_ecc_ppd"] = nlohmann::json::array();
+    for (std::size_t b = 0; b < kBands; ++b) {
+        summary["flip_ecc_ppd"].push_back(g.ppd /
+                                          quality::acuityFalloff(quality::kBandStartDeg[b]));
+    }
+
+    // The still frame: foveated and the baselines.
+    auto foveated = makeFoveated(o.scale);
+    uint64_t rays = 0;
+    const RgbaImage fov = foveatedFrame(*foveated, "foveated", rays);
+    writePng(out / "foveated.png", fov);
+    nlohmann::json methods = nlohmann::json::object();
+    std::vector<std::array<double, kBands>> bars;
+    nlohmann::json plotSeries = nlohmann::json::array();
+    {
+        Scores s = score(fov, ref, g, bleedMask);
+        s.json["rays"] = rays;
+        s.json["settings"] = {{"reconstruction", o.reconstruction},
+                              {"interp", o.interp},
+                              {"k", o.k},
+                              {"rays_per_point", o.raysPerPoint},
+                              {"scale", o.scale},
+                              {"taa", o.taa},
+                              {"frames", o.frames},
+                              {"blend", o.blend},
+                              {"edge_tolerance", o.edgeTolerance},
+                              {"range_sigma", o.rangeSigma},
+                              {"shepard_power", o.shepardPower},
+                              {"still_clip", o.stillClipGamma},
+                              {"eccentric_radius", o.eccentricRadius},
+                              {"jitter", o.jitter}};
+        methods["foveated"] = s.json;
+        writePng(out / "flip_foveated.png", errorMapImage(s.flip, g.width, g.height));
+        bars.push_back(s.flipBands);
+        plotSeries.push_back({{"name", "foveated"}, {"colour", seriesColourHex(0)}});
+    }
+    if (o.baseline == "uniform") {
+        const Baselines b = baselines(rays);
+        const std::array<std::pair<const char*, const RgbaImage*>, 3> rows{
+            {{"uniform_bilinear", &b.bilinear},
+             {"uniform_catmull_rom", &b.bicubic},
+             {"full_resolution", &b.fullRes}}};
+        for (const auto& [name, img] : rows) {
+            Scores s = score(*img, ref, g, bleedMask);
+            const bool full = std::string(name) == "full_resolution";
+            s.json["rays"] = full ? static_cast<uint64_t>(b.fullSpp) * g.width * g.height
+                                  : static_cast<uint64_t>(b.uw) * b.uh * o.raysPerPoint;
+            s.json["size"] = full ? nlohmann::json{g.width, g.height} : nlohmann::json{b.uw, b.uh};
+            s.json["rays_per_pixel"] = full ? b.fullSpp : o.raysPerPoint;
+            methods[name] = s.json;
+            writePng(out / ("flip_" + std::string(name) + ".png"),
+                     errorMapImage(s.flip, g.width, g.height));
+            writePng(out / (std::string(name) + ".png"), *img);
+            plotSeries.push_back({{"name", name}, {"colour", seriesColourHex(bars.size())}});
+            bars.push_back(s.flipBands);
+        }
+    }
+    summary["methods"] = methods;
+    double maxBar = 0.0;
+    for (const auto& b : bars) {
+        maxBar = std::max(maxBar, *std::max_element(b.begin(), b.end()));
+    }
+    writePng(out / "bands.png", bandBars(bars, maxBar * 1.1));
+    summary["plots"] = {
+        {"bands.png", "FLIP per band (0-5, 5-10, 10-20, 20+ deg), one bar per method"},
+        {"series", plotSeries}};
+
+    // Temporal stability.
+    nlohmann::json temporal = nlohmann::json::object();
+    const uint32_t seqFrames = std::max(2u, o.sequenceFrames);
+    if (o.temporal) {
+        // A still view: whatever changes from frame to frame is the method's own flicker,
+        // measured after the `frames` the still frame settles for.
+        std::vector<Change> steps;
+        RgbaImage last;
+        render::View v = base;
+        v.name = "still";
+        v.post.taa = o.taa;
+        const uint32_t settle = std::max(1u, o.frames) - 1;
+        for (uint32_t i = 0; i < settle + seqFrames; ++i) {
+            RgbaImage img = shooter.shot(v, *foveated);
+            if (i > settle) {
+                steps.push_back(stillChange(last, img, g.bands));
+            }
+            last = std::move(img);
+        }
+        temporal["still"] = changeJson(steps);
+    }
+    if (path) {
+        // A moving camera: each frame against the previous one reprojected through the
+        // geometry; the reference at one ray per pixel with the same seed every frame.
+        render::FullResolution oneRay(renderer.methodContext(), {1, kSeed});
+        nlohmann::json moving = nlohmann::json::object();
+        std::vector<scene::Camera> cams;
+        std::vector<std::vector<float>> depths;
+        for (uint32_t i = 0; i < seqFrames; ++i) {
+            const double t =
+                path->startMs() + (path->endMs() - path->startMs()) * i / (seqFrames - 1);
+            cams.push_back(path->at(t, camera.yfov));
+            depths.push_back(depthMap(renderer, cams.back(), g.width, g.height));
+        }
+        for (const bool isRef : {false, true}) {
+            std::vector<Change> steps;
+            RgbaImage last;
+            for (uint32_t i = 0; i < seqFrames; ++i) {
+                render::View v = base;
+                v.camera = cams[i];
+                v.name = isRef ? "moving_reference" : "moving_foveated";
+                v.post.taa = !isRef && o.taa;
+                RgbaImage img = isRef ? shooter.shot(v, oneRay) : shooter.shot(v, *foveated);
+                if (i > 0) {
+                    steps.push_back(reprojectedChange(last, img, cams[i - 1], cams[i],
+                                                      depths[i - 1], depths[i], g.bands));
+                }
+                last = std::move(img);
+            }
+            moving[isRef ? "reference" : "foveated"] = changeJson(steps);
+        }
+        moving["camera_path"] = o.cameraPath;
+        moving["frames"] = seqFrames;
+        temporal["moving"] = moving;
+    }
+    if (pursuit) {
+        // Smooth pursuit over a still scene: the point set follows the gaze, the scene stays.
+        std::vector<Change> steps;
+        RgbaImage last;
+        const auto& samples = pursuit->samples();
+        const std::size_t n = std::min<std::size_t>(samples.size(), seqFrames);
+        const uint32_t settle = std::max(1u, o.frames) - 1; // at the first gaze, as a still view
+        double overall = 0.0;
+        for (std::size_t f = 0; f < settle + n; ++f) {
+            const std::size_t i = f < settle ? 0 : f - settle;
+            render::View v = base;
+            v.name = "pursuit";
+            v.post.taa = o.taa;
+            v.gaze = glm::clamp(
+                samples[i].position, glm::vec2(0.0f),
+                glm::vec2(static_cast<float>(g.width - 1), static_cast<float>(g.height - 1)));
+            RgbaImage img = shooter.shot(v, *foveated);
+            if (f > settle) {
+                const std::vector<uint8_t> one(img.count(), 0);
+                const Change all = stillChange(last, img, one);
+                overall += all.share[0] / static_cast<double>(n - 1);
+                steps.push_back(
+                    stillChange(last, img, quality::bandMap(g.display, g.width, g.height, v.gaze)));
+            }
+            last = std::move(img);
+        }
+        nlohmann::json pj = changeJson(steps);
+        pj["changed_percent_all"] = overall;
+        pj["frames"] = n;
+        pj["trace"] = o.pursuit;
+        temporal["pursuit"] = pj;
+    }
+    if (!temporal.empty()) {
+        summary["temporal"] = temporal;
+    }
+
+    // Quality against rays: the foveated method at sparser scales and the uniform baseline at
+    // the same rays, mean FLIP over the two foveal bands and over the image.
+    if (o.sweep) {
+        nlohmann::json sweep = nlohmann::json::array();
+        std::vector<std::vector<std::pair<double, double>>> curves(2);
+        for (const double scale : {1.0, 1.5, 2.0, 3.0}) {
+            auto m = scale == o.scale ? std::move(foveated) : makeFoveated(scale);
+            uint64_t r = 0;
+            const RgbaImage img = foveatedFrame(*m, "sweep_foveated", r);
+            const Scores fs = score(img, ref, g, bleedMask);
+            const Baselines b = baselines(r);
+            const Scores us = score(b.bilinear, ref, g, bleedMask);
+            sweep.push_back({{"scale", scale},
+                             {"rays", r},
+                             {"foveated", fs.json},
+                             {"uniform_bilinear", us.json},
+                             {"uniform_size", {b.uw, b.uh}}});
+            curves[0].emplace_back(static_cast<double>(r), fs.json["flip_mean"].get<double>());
+            curves[1].emplace_back(static_cast<double>(r), us.json["flip_mean"].get<double>());
+            foveated = std::move(m);
+        }
+        summary["sweep"] = sweep;
+        writePng(out / "curves.png", curvesImage(curves));
+        summary["plots"]["curves.png"] =
+            "mean FLIP against rays (log): foveated (series 0) and uniform bilinear (series 1)";
+    }
+    io::writeFileAtomic(out / "eval.json", summary.dump(2) + "\n");
+    return summary;
+}
+
+std::string evalText(const nlohmann::json& s) {
+    std::ostringstream t;
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%s, %s %ux%u, gaze (%.0f, %.0f), %.1f px/deg, reference %s\n",
+                  s["scene"].get<std::string>().c_str(), s["profile"].get<std::string>().c_str(),
+                  s["width"].get<uint32_t>(), s["height"].get<uint32_t>(),
+                  s["gaze"][0].get<double>(), s["gaze"][1].get<double>(),
+                  s["pixels_per_degree"].get<double>(), s["reference_spp"].dump().c_str());
+    t << buf;
+    t << "method                  rays      FLIP 0-5   5-10  10-20    20+ | flip_ecc 5-10 10-20  "
+         "20+ | PSNR 0-5  SSIM 0-5 | bleed\n";
+    for (const auto& [name, m] : s["methods"].items()) {
+        const auto& b = m["bands"];
+        std::snprintf(buf, sizeof buf,
+                      "%-20s %9llu   %6.4f %6.4f %6.4f %6.4f |        %6.4f %6.4f %6.4f | %7.2f  "
+                      "%7.4f | %5.2f\n",
+                      name.c_str(), static_cast<unsigned long long>(m["rays"].get<uint64_t>()),
+                      b["0-5"]["flip"].get<double>(), b["5-10"]["flip"].get<double>(),
+                      b["10-20"]["flip"].get<double>(), b["20+"]["flip"].get<double>(),
+                      b["5-10"]["flip_ecc"].get<double>(), b["10-20"]["flip_ecc"].get<double>(),
+                      b["20+"]["flip_ecc"].get<double>(), b["0-5"]["psnr_db"].get<double>(),
+                      b["0-5"]["ssim"].get<double>(), m["bleed_mad"].get<double>());
+        t << buf;
+    }
+    if (s.contains("temporal")) {
+        for (const auto& [name, v] : s["temporal"].items()) {
+            t << "temporal " << name << ": " << v.dump() << "\n";
+        }
+    }
+    return t.str();
+}
+
+} // namespace gt::app

@@ -1,0 +1,102 @@
+// `gazetrace eval` end to end on a small window: every measure per band, the uniform baselines
+// at equal rays, the temporal measures, the files it writes, and bad inputs as one line.
+#include <filesystem>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "scene/image_io.hpp"
+#include "support/cli_run.hpp"
+#include "support/gpu_test_context.hpp"
+
+namespace gt {
+namespace {
+
+using test::expectCleanFailure;
+using test::Result;
+using test::run;
+using test::slurp;
+
+const std::string kSource = GT_SOURCE_DIR;
+
+TEST(Eval, MeasuresPerBandBesideTheUniformBaseline) {
+    const auto dir = test::tempDir("cli_eval");
+    const std::string out = (dir / "e").string();
+    Result r = run("eval --scene builtin:market --profile fove --width 128 --height 144 "
+                   "--reference-spp 8 --frames 3 --temporal --camera-path " +
+                   kSource + "/content/camera/market_walk.csv --pursuit " + kSource +
+                   "/content/gaze/pursuit.csv --sequence-frames 3 --validate --json --cache " +
+                   (dir / "cache").string() + " --out " + out);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["width"], 128);
+    EXPECT_EQ(j["height"], 144);
+    const auto& m = j["methods"];
+    const uint64_t rays = m["foveated"]["rays"].get<uint64_t>();
+    EXPECT_GT(rays, 0u);
+    for (const char* name :
+         {"foveated", "uniform_bilinear", "uniform_catmull_rom", "full_resolution"}) {
+        ASSERT_TRUE(m.contains(name)) << name;
+        for (const char* band : {"0-5", "5-10", "10-20", "20+"}) {
+            const auto& b = m[name]["bands"][band];
+            EXPECT_GE(b["flip"].get<double>(), 0.0) << name << band;
+            EXPECT_LE(b["flip"].get<double>(), 1.0) << name << band;
+            EXPECT_GE(b["flip_ecc"].get<double>(), 0.0);
+            EXPECT_LE(b["ssim"].get<double>(), 1.0 + 1e-9);
+            EXPECT_GT(b["psnr_db"].get<double>(), 5.0);
+        }
+    }
+    // The baseline spends the foveated frame's rays: as many pixels as it has rays per point.
+    const auto& u = m["uniform_bilinear"];
+    EXPECT_NEAR(static_cast<double>(u["rays"].get<uint64_t>()), static_cast<double>(rays),
+                0.03 * static_cast<double>(rays));
+    EXPECT_EQ(u["rays_per_pixel"], 4);
+    EXPECT_NEAR(u["size"][0].get<double>() / u["size"][1].get<double>(), 128.0 / 144.0, 0.03);
+    // The temporal measures, each per band.
+    for (const char* seq : {"still", "pursuit"}) {
+        ASSERT_TRUE(j["temporal"].contains(seq)) << seq;
+        EXPECT_GE(j["temporal"][seq]["changed_percent"]["0-5"].get<double>(), 0.0);
+    }
+    EXPECT_TRUE(j["temporal"]["pursuit"].contains("changed_percent_all"));
+    for (const char* who : {"foveated", "reference"}) {
+        EXPECT_TRUE(j["temporal"]["moving"][who]["changed_percent"].contains("20+")) << who;
+    }
+    for (const char* f : {"eval.json", "reference.png", "foveated.png", "flip_foveated.png",
+                          "uniform_bilinear.png", "flip_uniform_bilinear.png", "bands.png"}) {
+        EXPECT_TRUE(std::filesystem::exists(dir / "e" / f)) << f;
+    }
+    EXPECT_EQ(nlohmann::json::parse(slurp(dir / "e" / "eval.json"))["methods"], m);
+    const auto map = image::readPng(dir / "e" / "flip_foveated.png");
+    EXPECT_EQ(map.width, 128u);
+
+    // The same view against the reference it wrote: the same foveated scores, no baseline.
+    r = run("eval --scene builtin:market --profile fove --width 128 --height 144 --frames 3 "
+            "--reference " +
+            out + "/reference.png --baseline none --json --cache " + (dir / "cache").string() +
+            " --out " + (dir / "again").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto again = nlohmann::json::parse(r.out);
+    EXPECT_FALSE(again["methods"].contains("uniform_bilinear"));
+    EXPECT_DOUBLE_EQ(again["methods"]["foveated"]["flip_mean"].get<double>(),
+                     m["foveated"]["flip_mean"].get<double>());
+}
+
+TEST(Eval, BadInputsAreOneLine) {
+    const auto dir = test::tempDir("cli_eval_bad");
+    const auto out = dir / "never";
+    const std::string base = "eval --width 64 --height 64 --out " + out.string() + " ";
+    expectCleanFailure(run(base + "--profile nonsense"), "--profile", out);
+    expectCleanFailure(run(base + "--blend sideways"), "--blend", out);
+    expectCleanFailure(run(base + "--baseline lanczos"), "--baseline", out);
+    expectCleanFailure(run(base + "--gaze 500,5"), "--gaze", out);
+    expectCleanFailure(run(base + "--camera-path " + (dir / "none.csv").string()), "none.csv", out);
+    expectCleanFailure(run(base + "--pursuit " + (dir / "none.csv").string()), "none.csv", out);
+    // A reference of another size.
+    const std::vector<uint8_t> px(32 * 32 * 4, 128);
+    image::writePngAtomic(dir / "small.png", 32, 32, px);
+    expectCleanFailure(run(base + "--reference " + (dir / "small.png").string()), "small.png", out);
+}
+
+} // namespace
+} // namespace gt
