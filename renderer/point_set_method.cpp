@@ -30,6 +30,7 @@ foveation::PointSet loadPointSet(const foveation::PointSetParams& params,
 void useThesisReconstruction(PointSetSettings& settings, passes::TaaSettings& taa) {
     settings.displayReferred = false;
     settings.jitter = false;
+    settings.pixelRays = false;
     settings.interpolation.shepardPower = 1.0f;
     settings.interpolation.edgeTolerance = 0.0f;
     settings.interpolation.rangeSigma = 0.0f;
@@ -37,8 +38,12 @@ void useThesisReconstruction(PointSetSettings& settings, passes::TaaSettings& ta
 }
 
 bool parseReconstruction(const std::string& name) {
-    if (name == "thesis") return true;
-    if (name == "gazetrace") return false;
+    if (name == "thesis") {
+        return true;
+    }
+    if (name == "gazetrace") {
+        return false;
+    }
     throw ArgumentError("--reconstruction: expected gazetrace or thesis, got '" + name + "'");
 }
 
@@ -147,9 +152,9 @@ rg::TextureId PointSetMethod::addImage(rg::RenderGraph& graph,
     const bool moveSites = frame > 0 && (s.method == passes::Interpolation::Nearest ||
                                          s.method == passes::Interpolation::Shepard);
     s.siteFrame = moveSites ? frame : 0u;
-    const rg::BufferId samples =
-        mPointSample.add(graph, mMc.scene, camera, mGpuPoints, gaze, rays, lanes,
-                         warp ? &*warp : nullptr, settings.lod, frame, moveSites);
+    const rg::BufferId samples = mPointSample.add(graph, mMc.scene, camera, mGpuPoints, gaze, rays,
+                                                  lanes, warp ? &*warp : nullptr, settings.lod,
+                                                  frame, moveSites, !settings.pixelRays);
     passes::InterpolateInputs in = prepared;
     if (passes::usesRbfSolve(s)) {
         in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), samples, gaze, s);

@@ -49,6 +49,9 @@ struct PointSetSettings {
     // (site_jitter.glsl), so TAA accumulates new rays and new cell boundaries on a still view;
     // false: the same rays at the same sites every frame, as the thesis.
     bool jitter = true;
+    // Rays within 0.6 px of each point's site (point_sample.comp, kRayDiscMaxPx); false:
+    // anywhere in the point's disc of radius p, as the thesis.
+    bool pixelRays = true;
 };
 
 // Seed 000's reconstruction exactly as the thesis did it, for comparison: linear radiance,

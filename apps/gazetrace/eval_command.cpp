@@ -94,7 +94,7 @@ nlohmann::json bandsJson(const std::array<double, kBands>& v) {
 }
 
 // Every still-picture measure of `img` against `ref`, per band.
-struct Scores {
+struct Scores { // NOLINT(bugprone-exception-escape): nlohmann::json's members may allocate
     nlohmann::json json;
     ScalarMap flip;
     std::array<double, kBands> flipBands{}, flipEcc{};

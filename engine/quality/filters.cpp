@@ -16,8 +16,8 @@ ScalarMap convolveSeparable(const ScalarMap& src, uint32_t width, uint32_t heigh
         float* out = rows.data() + static_cast<std::ptrdiff_t>(y) * w;
         for (int x = 0; x < w; ++x) {
             float sum = 0.0f;
-            for (int k = -rx; k <= rx; ++k) {
-                sum += kx[static_cast<std::size_t>(k + rx)] * in[std::clamp(x + k, 0, w - 1)];
+            for (std::size_t j = 0; j < kx.size(); ++j) {
+                sum += kx[j] * in[std::clamp(x + static_cast<int>(j) - rx, 0, w - 1)];
             }
             out[x] = sum;
         }
@@ -25,10 +25,10 @@ ScalarMap convolveSeparable(const ScalarMap& src, uint32_t width, uint32_t heigh
     ScalarMap out(src.size());
     for (int y = 0; y < h; ++y) {
         float* o = out.data() + static_cast<std::ptrdiff_t>(y) * w;
-        for (int k = -ry; k <= ry; ++k) {
-            const float c = ky[static_cast<std::size_t>(k + ry)];
-            const float* in =
-                rows.data() + static_cast<std::ptrdiff_t>(std::clamp(y + k, 0, h - 1)) * w;
+        for (std::size_t j = 0; j < ky.size(); ++j) {
+            const float c = ky[j];
+            const int from = std::clamp(y + static_cast<int>(j) - ry, 0, h - 1);
+            const float* in = rows.data() + static_cast<std::ptrdiff_t>(from) * w;
             for (int x = 0; x < w; ++x) {
                 o[x] += c * in[x];
             }
@@ -38,11 +38,12 @@ ScalarMap convolveSeparable(const ScalarMap& src, uint32_t width, uint32_t heigh
 }
 
 Kernel gaussianKernel(double sigma, int radius) {
-    Kernel k(static_cast<std::size_t>(2 * radius + 1));
+    Kernel k(2 * static_cast<std::size_t>(radius) + 1);
     double sum = 0.0;
-    for (int i = -radius; i <= radius; ++i) {
-        const double v = std::exp(-static_cast<double>(i * i) / (2.0 * sigma * sigma));
-        k[static_cast<std::size_t>(i + radius)] = static_cast<float>(v);
+    for (std::size_t j = 0; j < k.size(); ++j) {
+        const double i = static_cast<double>(j) - radius;
+        const double v = std::exp(-i * i / (2.0 * sigma * sigma));
+        k[j] = static_cast<float>(v);
         sum += v;
     }
     for (float& v : k) {

@@ -109,12 +109,12 @@ std::vector<glm::vec3> filteredLab(const std::array<ScalarMap, 3>& ycxcz, uint32
         const std::array<double, 2> b{s.b1, s.b2};
         double total = 0.0;
         for (std::size_t t = 0; t < 2; ++t) {
-            g[t].resize(static_cast<std::size_t>(2 * radius + 1));
+            g[t].resize(2 * static_cast<std::size_t>(radius) + 1);
             double sum = 0.0;
-            for (int i = -radius; i <= radius; ++i) {
-                const double x = i / ppd;
+            for (std::size_t j = 0; j < g[t].size(); ++j) {
+                const double x = (static_cast<double>(j) - radius) / ppd;
                 const double v = std::exp(-kPi * kPi * x * x / b[t]);
-                g[t][static_cast<std::size_t>(i + radius)] = static_cast<float>(v);
+                g[t][j] = static_cast<float>(v);
                 sum += v;
             }
             total += weight[t] * sum * sum;
@@ -151,12 +151,12 @@ FeatureKernels featureKernels(double ppd) {
     FeatureKernels k;
     k.across = gaussianKernel(sd, radius);
     auto normalised = [&](auto shape) {
-        Kernel v(static_cast<std::size_t>(2 * radius + 1));
+        Kernel v(2 * static_cast<std::size_t>(radius) + 1);
         double pos = 0.0, neg = 0.0;
-        for (int i = -radius; i <= radius; ++i) {
-            const double x = i;
+        for (std::size_t j = 0; j < v.size(); ++j) {
+            const double x = static_cast<double>(j) - radius;
             const double val = shape(x) * std::exp(-x * x / (2.0 * sd * sd));
-            v[static_cast<std::size_t>(i + radius)] = static_cast<float>(val);
+            v[j] = static_cast<float>(val);
             (val > 0.0 ? pos : neg) += val;
         }
         for (float& x : v) {

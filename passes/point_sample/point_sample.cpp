@@ -59,8 +59,8 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
                                   const shaders::trace::CameraPush& cam,
                                   const foveation::GpuPointSet& points, glm::vec2 gaze,
                                   uint32_t raysPerPoint, uint32_t lanesPerPoint,
-                                  const PanelWarp* warp, bool lod, uint32_t frame,
-                                  bool moveSites) const {
+                                  const PanelWarp* warp, bool lod, uint32_t frame, bool moveSites,
+                                  bool thesisDisc) const {
     if (raysPerPoint == 0) {
         throw ArgumentError("--rays-per-point must be at least 1");
     }
@@ -78,7 +78,10 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
         cam.forward,
         cam.right,
         cam.up,
-        glm::vec4(off, kSampleMargin, lod ? static_cast<float>(scene.lodLevels()) : 0.0f),
+        glm::vec4(off, kSampleMargin,
+                  // Never 0, so that the sign always tells the disc.
+                  (thesisDisc ? -1.0f : 1.0f) *
+                      std::max(lod ? static_cast<float>(scene.lodLevels()) : 0.0f, 0.5f)),
         glm::uvec4(w, h, raysPerPoint, points.count()),
         glm::vec4(0.0f),
         glm::vec4(0.0f, 0.0f, 0.0f,

@@ -16,7 +16,9 @@ struct PointSamplePush {
     vec4 right;
     vec4 up;
     vec4 offset;  // x, y: canvas -> screen offset (gaze - (W, H)); z: margin in pixels;
-                  // w: geometric LOD levels to choose from by the point's spacing (<= 1: off)
+                  // |w|: geometric LOD levels to choose from by the point's spacing (<= 1.5:
+                  // off); w < 0: rays anywhere in the point's disc (the thesis), else within
+                  // kRayDiscMaxPx of the site
     uvec4 params; // x = width, y = height, z = rays per point, w = point count
     // The set laid on an HMD's panel (engine/display/display_space.hpp): each ray's panel
     // position goes through the lens model into the image before it is traced.
