@@ -17,6 +17,7 @@
 #include "foveation/gaze_trace.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
+#include "frame_shots.hpp"
 #include "full_resolution.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
@@ -49,40 +50,16 @@ struct Geometry {
     std::vector<uint8_t> bands;
 };
 
-glm::vec2 parseGazeArg(const std::string& text, uint32_t w, uint32_t h) {
-    if (text.empty()) {
-        return {0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h)};
-    }
-    float x = 0, y = 0;
-    char extra = 0;
-    if (std::sscanf(text.c_str(), "%f,%f%c", &x, &y, &extra) != 2 || !std::isfinite(x) ||
-        !std::isfinite(y) || x < 0 || y < 0 || x >= static_cast<float>(w) ||
-        y >= static_cast<float>(h)) {
-        throw ArgumentError("--gaze: expected X,Y inside the " + std::to_string(w) + "x" +
-                            std::to_string(h) + " image, got '" + text + "'");
-    }
-    return {x, y};
-}
-
-// Renders views of one renderer, read back as pictures.
+// A view rendered and read back as a picture.
 class Shooter {
 public:
-    explicit Shooter(render::Renderer& r) : mRenderer(r), mReadback(r.context()) {}
-    RgbaImage shot(render::View v, render::FoveationMethod& m, uint64_t* rays = nullptr) {
-        v.method = &m;
-        v.exposure = mRenderer.scene().exposure;
-        render::OutputTarget* const target = &mReadback;
-        const render::FrameResult f =
-            mRenderer.renderFrame(std::span(&v, 1), std::span(&target, 1));
-        if (rays) {
-            *rays = f.views.front().rays;
-        }
-        return {v.width, v.height, mReadback.takePixels()};
+    explicit Shooter(render::Renderer& r) : mShots(r) {}
+    RgbaImage shot(const render::View& v, render::FoveationMethod& m, uint64_t* rays = nullptr) {
+        return {v.width, v.height, mShots.shot(v, m, rays)};
     }
 
 private:
-    render::Renderer& mRenderer;
-    render::ReadbackTarget mReadback;
+    FrameShots mShots;
 };
 
 nlohmann::json bandsJson(const std::array<double, kBands>& v) {
@@ -182,14 +159,38 @@ struct Change {
     std::array<double, kBands> share{}, mean{};
 };
 
+// Adds pixels' changes per band; change() gives the shares and means.
+class ChangeTally {
+public:
+    // `diff` per colour channel, in 1/255.
+    void add(uint8_t band, const std::array<float, 3>& diff) {
+        const float largest = std::max({diff[0], diff[1], diff[2]});
+        mChanged[band] += largest > 10.0f ? 1 : 0;
+        mSum[band] += (diff[0] + diff[1] + diff[2]) / 3.0;
+        ++mCount[band];
+    }
+    [[nodiscard]] Change change() const {
+        Change out;
+        for (std::size_t b = 0; b < kBands; ++b) {
+            const auto n = static_cast<double>(mCount[b]);
+            out.share[b] = mCount[b] ? 100.0 * static_cast<double>(mChanged[b]) / n : 0.0;
+            out.mean[b] = mCount[b] ? mSum[b] / n : 0.0;
+        }
+        return out;
+    }
+
+private:
+    std::array<uint64_t, kBands> mChanged{}, mCount{};
+    std::array<double, kBands> mSum{};
+};
+
 Change reprojectedChange(const RgbaImage& prev, const RgbaImage& cur, const scene::Camera& pc,
                          const scene::Camera& cc, const std::vector<float>& prevDepth,
                          const std::vector<float>& curDepth, const std::vector<uint8_t>& bands) {
     const uint32_t w = cur.width, h = cur.height;
     const float aspect = static_cast<float>(w) / static_cast<float>(h);
     const auto c = trace::cameraPush(cc, aspect), p = trace::cameraPush(pc, aspect);
-    std::array<uint64_t, kBands> changed{}, n{};
-    std::array<double, kBands> sum{};
+    ChangeTally tally;
     for (uint32_t y = 0; y < h; ++y) {
         for (uint32_t x = 0; x < w; ++x) {
             const std::size_t i = static_cast<std::size_t>(y) * w + x;
@@ -226,8 +227,7 @@ Change reprojectedChange(const RgbaImage& prev, const RgbaImage& cur, const scen
                 continue;
             }
             const float tx = fx - static_cast<float>(x0), ty = fy - static_cast<float>(y0);
-            bool big = false;
-            double total = 0.0;
+            std::array<float, 3> diff{};
             for (int ch = 0; ch < 3; ++ch) {
                 auto at = [&](int xx, int yy) {
                     return static_cast<float>(prev.at(
@@ -235,47 +235,27 @@ Change reprojectedChange(const RgbaImage& prev, const RgbaImage& cur, const scen
                 };
                 const float pv = (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x0 + 1, y0)) +
                                  ty * ((1 - tx) * at(x0, y0 + 1) + tx * at(x0 + 1, y0 + 1));
-                const float diff = std::abs(pv - static_cast<float>(cur.at(i, ch)));
-                big = big || diff > 10.0f;
-                total += diff / 3.0;
+                diff[static_cast<std::size_t>(ch)] =
+                    std::abs(pv - static_cast<float>(cur.at(i, ch)));
             }
-            changed[bands[i]] += big ? 1 : 0;
-            sum[bands[i]] += total;
-            ++n[bands[i]];
+            tally.add(bands[i], diff);
         }
     }
-    Change out;
-    for (std::size_t b = 0; b < kBands; ++b) {
-        out.share[b] =
-            n[b] ? 100.0 * static_cast<double>(changed[b]) / static_cast<double>(n[b]) : 0.0;
-        out.mean[b] = n[b] ? sum[b] / static_cast<double>(n[b]) : 0.0;
-    }
-    return out;
+    return tally.change();
 }
 
 // The same for a still camera (no reprojection).
 Change stillChange(const RgbaImage& prev, const RgbaImage& cur, const std::vector<uint8_t>& bands) {
-    std::array<uint64_t, kBands> changed{}, n{};
-    std::array<double, kBands> sum{};
+    ChangeTally tally;
     for (std::size_t i = 0; i < cur.count(); ++i) {
-        bool big = false;
-        double total = 0.0;
+        std::array<float, 3> diff{};
         for (int ch = 0; ch < 3; ++ch) {
-            const int diff = std::abs(int(prev.at(i, ch)) - int(cur.at(i, ch)));
-            big = big || diff > 10;
-            total += diff / 3.0;
+            diff[static_cast<std::size_t>(ch)] =
+                std::abs(static_cast<float>(prev.at(i, ch)) - static_cast<float>(cur.at(i, ch)));
         }
-        changed[bands[i]] += big ? 1 : 0;
-        sum[bands[i]] += total;
-        ++n[bands[i]];
+        tally.add(bands[i], diff);
     }
-    Change out;
-    for (std::size_t b = 0; b < kBands; ++b) {
-        out.share[b] =
-            n[b] ? 100.0 * static_cast<double>(changed[b]) / static_cast<double>(n[b]) : 0.0;
-        out.mean[b] = n[b] ? sum[b] / static_cast<double>(n[b]) : 0.0;
-    }
-    return out;
+    return tally.change();
 }
 
 nlohmann::json changeJson(const std::vector<Change>& steps) {
@@ -330,7 +310,7 @@ nlohmann::json runEval(const EvalOptions& o) {
                     : screen;
     g.width = g.display.width;
     g.height = g.display.height;
-    g.gaze = parseGazeArg(o.gaze, g.width, g.height);
+    g.gaze = parseGaze(o.gaze, g.width, g.height);
     g.ppd = quality::pixelsPerDegree(g.display.width, g.display.viewingDistance);
     g.bands = quality::bandMap(g.display, g.width, g.height, g.gaze);
 

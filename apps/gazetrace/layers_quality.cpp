@@ -13,9 +13,12 @@
 #include "foveation/contrast_sensitivity.hpp"
 #include "foveation/eccentricity_layers.hpp"
 #include "foveation/point_set_cache.hpp"
+#include "frame_shots.hpp"
 #include "full_resolution.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
+#include "quality/eccentricity_bands.hpp"
+#include "quality/resample.hpp"
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"
 
@@ -25,29 +28,8 @@ namespace {
 
 using Image = std::vector<uint8_t>; // RGBA8, rows top first
 
-// The eccentricity bands every picture-quality number is given in.
-constexpr std::array<double, 4> kBandStartDeg{0.0, 5.0, 10.0, 20.0};
-constexpr std::size_t kBands = kBandStartDeg.size();
-const char* const kBandNames[kBands] = {"0-5", "5-10", "10-20", "20+"};
-
-// The band of every pixel of the desktop screen for a gaze (thesis eq. 1: e = atan(d / (N v))).
-std::vector<uint8_t> bandMap(const foveation::DisplayProfile& d, glm::vec2 gaze) {
-    std::vector<uint8_t> band(static_cast<std::size_t>(d.width) * d.height);
-    for (uint32_t y = 0; y < d.height; ++y) {
-        for (uint32_t x = 0; x < d.width; ++x) {
-            const double dist =
-                glm::length(glm::vec2(static_cast<float>(x), static_cast<float>(y)) - gaze);
-            const double e =
-                foveation::ContrastSensitivity::eccentricityDeg(dist, d.width, d.viewingDistance);
-            std::size_t b = 0;
-            while (b + 1 < kBands && e >= kBandStartDeg[b + 1]) {
-                ++b;
-            }
-            band[static_cast<std::size_t>(y) * d.width + x] = static_cast<uint8_t>(b);
-        }
-    }
-    return band;
-}
+using quality::kBandNames; // the eccentricity bands every picture-quality number is given in
+using quality::kBands;
 
 // Mean absolute difference (0-255) and PSNR (dB) per band.
 nlohmann::json errorByBand(const Image& img, const Image& ref, const std::vector<uint8_t>& band) {
@@ -64,7 +46,7 @@ nlohmann::json errorByBand(const Image& img, const Image& ref, const std::vector
     nlohmann::json out = nlohmann::json::object();
     for (std::size_t b = 0; b < kBands; ++b) {
         const double mse = n[b] ? sq[b] / static_cast<double>(n[b]) : 0.0;
-        out[kBandNames[b]] = {
+        out[std::string(kBandNames[b])] = {
             {"mad", n[b] ? abs[b] / static_cast<double>(n[b]) : 0.0},
             {"psnr_db", mse > 0.0 ? 10.0 * std::log10(255.0 * 255.0 / mse) : 99.0}};
     }
@@ -90,79 +72,15 @@ std::array<double, kBands> changedShare(const Image& a, const Image& b,
     return out;
 }
 
-// Bilinear upscale of an RGBA8 image (the uniform baseline's "upscaled").
-// Where destination pixel `i` of `dst` samples a row or column of `src` pixels: the two source
-// pixels around its centre and the weight of the second.
-struct Tap {
-    uint32_t i0, i1;
-    float t;
-};
-Tap tap(uint32_t i, uint32_t src, uint32_t dst) {
-    const float f = std::clamp((static_cast<float>(i) + 0.5f) * src / dst - 0.5f, 0.0f,
-                               static_cast<float>(src - 1));
-    const auto i0 = static_cast<uint32_t>(f);
-    return {i0, std::min(i0 + 1, src - 1), f - static_cast<float>(i0)};
+// The uniform baseline's bilinear upscale.
+Image upscaled(Image src, uint32_t sw, uint32_t sh, uint32_t w, uint32_t h) {
+    return quality::upscale({sw, sh, std::move(src)}, w, h, quality::Upscale::Bilinear).pixels;
 }
-
-Image upscale(const Image& src, uint32_t sw, uint32_t sh, uint32_t w, uint32_t h) {
-    Image out(static_cast<std::size_t>(w) * h * 4);
-    for (uint32_t y = 0; y < h; ++y) {
-        const Tap ty = tap(y, sh, h);
-        for (uint32_t x = 0; x < w; ++x) {
-            const Tap tx = tap(x, sw, w);
-            for (int c = 0; c < 4; ++c) {
-                auto at = [&](uint32_t xx, uint32_t yy) {
-                    return static_cast<float>(
-                        src[(static_cast<std::size_t>(yy) * sw + xx) * 4 + c]);
-                };
-                const float v =
-                    (1 - ty.t) * ((1 - tx.t) * at(tx.i0, ty.i0) + tx.t * at(tx.i1, ty.i0)) +
-                    ty.t * ((1 - tx.t) * at(tx.i0, ty.i1) + tx.t * at(tx.i1, ty.i1));
-                out[(static_cast<std::size_t>(y) * w + x) * 4 + c] =
-                    static_cast<uint8_t>(std::lround(v));
-            }
-        }
-    }
-    return out;
-}
-
-// Renders views of one renderer, read back.
-class Shots {
-public:
-    explicit Shots(render::Renderer& r) : mRenderer(r), mReadback(r.context()) {}
-    Image shot(render::View v, render::FoveationMethod& m, uint64_t* rays = nullptr) {
-        v.method = &m;
-        v.exposure = mRenderer.scene().exposure;
-        render::OutputTarget* const target = &mReadback;
-        const render::FrameResult f =
-            mRenderer.renderFrame(std::span(&v, 1), std::span(&target, 1));
-        if (rays) {
-            *rays = f.views.front().rays;
-        }
-        mLast = f.timings.value_or(rg::FrameTimings{});
-        return mReadback.takePixels();
-    }
-    // GPU ms of the last frame's passes whose names contain `part` ("trace", "point_sample").
-    [[nodiscard]] double lastPassMs(const std::string& part) const {
-        double ms = 0.0;
-        for (const auto& p : mLast.passes) {
-            if (p.name.find(part) != std::string::npos) {
-                ms += p.gpuMs;
-            }
-        }
-        return ms;
-    }
-
-private:
-    rg::FrameTimings mLast;
-    render::Renderer& mRenderer;
-    render::ReadbackTarget mReadback;
-};
 
 nlohmann::json bandsJson(const std::array<double, kBands>& v) {
     nlohmann::json j = nlohmann::json::object();
     for (std::size_t b = 0; b < kBands; ++b) {
-        j[kBandNames[b]] = v[b];
+        j[std::string(kBandNames[b])] = v[b];
     }
     return j;
 }
@@ -173,7 +91,7 @@ nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
     const foveation::DisplayProfile desktop = foveation::displayProfile("desktop");
     const uint32_t w = desktop.width, h = desktop.height;
     const glm::vec2 centre(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h));
-    const std::vector<uint8_t> bands = bandMap(desktop, centre);
+    const std::vector<uint8_t> bands = quality::bandMap(desktop, w, h, centre);
     const std::filesystem::path cache =
         o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
     const int settle = o.quick ? 4 : 16; // frames for the histories to converge
@@ -181,7 +99,7 @@ nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
     nlohmann::json out;
 
     render::Renderer renderer({.scene = o.scene});
-    Shots shots(renderer);
+    FrameShots shots(renderer);
     render::View base;
     base.camera = renderer.scene().camera;
     base.width = w;
@@ -229,7 +147,7 @@ nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
     v.width = uw;
     v.height = uh;
     v.post.taa = false;
-    const Image uniformImg = upscale(shots.shot(v, uniform), uw, uh, w, h);
+    const Image uniformImg = upscaled(shots.shot(v, uniform), uw, uh, w, h);
     out["still"] = {
         {"scene", o.scene},
         {"reference_rays_per_pixel", refRays},
@@ -271,7 +189,7 @@ nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
                 mv.width = uw;
                 mv.height = uh;
                 mv.post.taa = false;
-                img = upscale(shots.shot(mv, uniform), uw, uh, w, h);
+                img = upscaled(shots.shot(mv, uniform), uw, uh, w, h);
             } else {
                 mv.post.taa = false;
                 img = shots.shot(mv, oneRay);
@@ -292,7 +210,7 @@ nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
     // the share of pixels changing by more than 10/255 from frame to frame (all bands).
     const int pursuitFrames = o.quick ? 6 : 24;
     render::Renderer lodRenderer({.scene = o.lodScene});
-    Shots lodShots(lodRenderer);
+    FrameShots lodShots(lodRenderer);
     nlohmann::json pursuit = nlohmann::json::object();
     nlohmann::json traceGpu = nlohmann::json::object(); // median GPU ms of the tracing passes
     for (const bool lod : {false, true}) {
@@ -351,8 +269,10 @@ void printLayerQuality(const nlohmann::json& q) {
     for (const char* m : {"layers", "points", "uniform"}) {
         std::printf("  %-8s %8llu rays:", m,
                     static_cast<unsigned long long>(s[m]["rays"].get<uint64_t>()));
-        for (const char* b : kBandNames) {
-            std::printf("  %s deg %5.2f (%4.1f dB)", b, s[m]["bands"][b]["mad"].get<double>(),
+        for (const std::string_view name : kBandNames) {
+            const std::string b(name);
+            std::printf("  %s deg %5.2f (%4.1f dB)", b.c_str(),
+                        s[m]["bands"][b]["mad"].get<double>(),
                         s[m]["bands"][b]["psnr_db"].get<double>());
         }
         std::printf("\n");
@@ -360,8 +280,10 @@ void printLayerQuality(const nlohmann::json& q) {
     std::printf("Moving camera, %% of pixels changing > 10/255 per frame, per band:\n");
     for (const char* m : {"layers", "points", "uniform", "reference"}) {
         std::printf("  %-9s", m);
-        for (const char* b : kBandNames) {
-            std::printf("  %s deg %5.2f", b, q["moving"]["changed_percent"][m][b].get<double>());
+        for (const std::string_view name : kBandNames) {
+            const std::string b(name);
+            std::printf("  %s deg %5.2f", b.c_str(),
+                        q["moving"]["changed_percent"][m][b].get<double>());
         }
         std::printf("\n");
     }

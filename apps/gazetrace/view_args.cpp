@@ -1,6 +1,7 @@
 #include "view_args.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <vector>
 
@@ -43,6 +44,23 @@ std::optional<CameraArg> parseCamera(const std::string& text) {
         c.yfovDeg = v[6];
     }
     return c;
+}
+
+glm::vec2 parseGaze(const std::string& text, uint32_t w, uint32_t h) {
+    if (text.empty()) {
+        return {0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h)};
+    }
+    float x = 0, y = 0;
+    char extra = 0;
+    if (std::sscanf(text.c_str(), "%f,%f%c", &x, &y, &extra) != 2 || !std::isfinite(x) ||
+        !std::isfinite(y)) {
+        throw ArgumentError("--gaze: expected X,Y in pixels, got '" + text + "'");
+    }
+    if (x < 0 || y < 0 || x >= static_cast<float>(w) || y >= static_cast<float>(h)) {
+        throw ArgumentError("--gaze: " + text + " is outside the " + std::to_string(w) + "x" +
+                            std::to_string(h) + " screen");
+    }
+    return {x, y};
 }
 
 } // namespace gt::app

@@ -1,5 +1,6 @@
 #pragma once
 // Command-line values that describe a view, shared by `render` and `demo`.
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -20,5 +21,9 @@ struct CameraArg {
 
 // Empty text: no --camera. Throws ArgumentError naming --camera for anything malformed.
 [[nodiscard]] std::optional<CameraArg> parseCamera(const std::string& text);
+
+// --gaze X,Y in pixels on a w x h image; empty text: its centre. Throws ArgumentError naming
+// --gaze for anything malformed or off the image.
+[[nodiscard]] glm::vec2 parseGaze(const std::string& text, uint32_t w, uint32_t h);
 
 } // namespace gt::app
