@@ -615,7 +615,8 @@ nlohmann::json runEval(const EvalOptions& o) {
             const RgbaImage img = foveatedFrame(*m, "sweep_foveated", r);
             const Scores fs = score(img, ref, g, bleedMask);
             const Baselines b = baselines(r);
-            const Scores us = score(b.bilinear, ref, g, bleedMask);
+            Scores us = score(b.bilinear, ref, g, bleedMask);
+            us.json["rays"] = static_cast<uint64_t>(b.uw) * b.uh * o.raysPerPoint;
             sweep.push_back({{"scale", scale},
                              {"rays", r},
                              {"foveated", fs.json},

@@ -82,6 +82,29 @@ TEST(Eval, MeasuresPerBandBesideTheUniformBaseline) {
                      m["foveated"]["flip_mean"].get<double>());
 }
 
+// Quality against rays: the point set at scales 1, 1.5, 2 and 3, each beside the uniform
+// baseline at its rays; sparser sets trace fewer rays. (The window must reach past 7 deg: inside
+// it the fove set is at full density, one point per pixel, whatever the scale.)
+TEST(Eval, SweepTracesFewerRaysAtSparserScales) {
+    const auto dir = test::tempDir("cli_eval_sweep");
+    const Result r = run("eval --scene builtin:cornell --profile fove --width 400 --height 450 "
+                         "--reference-spp 2 --frames 2 --sweep --json --cache " +
+                         (dir / "cache").string() + " --out " + (dir / "e").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["sweep"].size(), 4u);
+    uint64_t last = UINT64_MAX;
+    for (const auto& s : j["sweep"]) {
+        const uint64_t rays = s["rays"].get<uint64_t>();
+        EXPECT_LT(rays, last) << "scale " << s["scale"];
+        last = rays;
+        const auto& u = s["uniform_bilinear"];
+        EXPECT_NEAR(static_cast<double>(u["rays"].get<uint64_t>()), static_cast<double>(rays),
+                    0.05 * static_cast<double>(rays) + 8.0);
+    }
+    EXPECT_TRUE(std::filesystem::exists(dir / "e" / "curves.png"));
+}
+
 TEST(Eval, BadInputsAreOneLine) {
     const auto dir = test::tempDir("cli_eval_bad");
     const auto out = dir / "never";
