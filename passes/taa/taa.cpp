@@ -78,8 +78,10 @@ rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& hi
         }
         alpha = 1.0f / static_cast<float>(cappedSamples(still, s, *state) + 1);
         exposure = s.displayReferred ? state->exposure : 0.0f;
-        if (still && state->gazeDependent && !state->gazeStill && s.eccentricRadius > 0.0f) {
-            radius = s.eccentricRadius * static_cast<float>(graph.outputWidth());
+        if (state->gazeDependent && !(still && state->gazeStill) && s.eccentricRadius > 0.0f) {
+            // Negative: the camera moved, and the falloff is the gentler sqrt(d / r).
+            radius = (still ? 1.0f : -1.0f) * s.eccentricRadius *
+                     static_cast<float>(graph.outputWidth());
             gaze = glm::max(state->gaze, glm::vec2(1.0f)); // no subnormal half pair below
         }
     }

@@ -31,9 +31,10 @@ struct TaaSettings {
     // converges instead of flickering.
     uint32_t maxStillFrames = 64;
     // A foveated view with the camera still and the gaze moving (smooth pursuit): beyond this
-    // share of the image width from the gaze, the current weight falls and the clipping box
+    // share r of the image width from the gaze, the current weight falls and the clipping box
     // grows with the distance d as r / d, so the sparse periphery sliding under a still scene
-    // is averaged instead of flickering while the fovea stays responsive. 0: off.
+    // is averaged instead of flickering while the fovea stays responsive; with the camera
+    // moving, by the gentler sqrt(r / d), as the history is only reprojected. 0: off.
     float eccentricRadius = 0.05f;
     // Blend in display-referred space (taa.comp's toDisplay: Reinhard at the view's exposure
     // e, c / (1 + e L), then a 1/2.2 power), so a frame moves a pixel by at most the blend

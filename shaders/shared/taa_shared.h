@@ -19,8 +19,9 @@ struct TaaPush {
     vec4 currentRight;   // xyz, w = the gaze in pixels as two halves (packHalf2x16's bits)
     vec4 previousOrigin;
     vec4 previousForward;
-    vec4 previousRight; // xyz, w = eccentric radius r in pixels (0: off): beyond r from the
-                        // gaze the current weight is divided and the clip box multiplied by d / r
+    vec4 previousRight; // xyz, w = eccentric radius r in pixels (0: off): beyond |r| from the
+                        // gaze the current weight is divided and the clip box multiplied by
+                        // d / |r| (camera still), sqrt(d / |r|) (r < 0: the camera moved)
     vec4 params;  // x = blend weight of the current frame, y = clip gamma, z = -1: reset, else
                   // the exposure of display-referred blending (0: linear), w = depth tolerance
     vec4 centres; // off-axis frustum centres as tangents: xy current, zw previous (0: symmetric)

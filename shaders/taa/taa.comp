@@ -100,11 +100,16 @@ void main() {
     }
     vec3 result = current.rgb;
     float alpha = pc.params.x, gamma = pc.params.y;
-    if (pc.previousRight.w > 0.0) {
-        // Smooth pursuit over a still scene: the sparse periphery slides under the image, so
-        // away from the gaze the history counts more (the fovea stays responsive).
+    if (pc.previousRight.w != 0.0) {
+        // A foveated image whose gaze or camera moved: away from the gaze its sparse sampling
+        // changes under the image from frame to frame (the set slides with a pursuing gaze,
+        // the scene moves over it with the camera), so the history counts more there while
+        // the fovea stays responsive: by d / r with the camera still (smooth pursuit over a
+        // still scene), by the gentler sqrt(d / r) with it moving (radius < 0), whose history
+        // is only reprojected.
         vec2 gaze = unpackHalf2x16(floatBitsToUint(pc.currentRight.w));
-        float f = max(1.0, length(vec2(px) + 0.5 - gaze) / pc.previousRight.w);
+        float f = max(1.0, length(vec2(px) + 0.5 - gaze) / abs(pc.previousRight.w));
+        if (pc.previousRight.w < 0.0) f = sqrt(f);
         alpha /= f;
         gamma *= f;
     }
