@@ -44,8 +44,8 @@ struct PointSetSettings {
     // Blend the interpolation in display-referred space at the view's exposure
     // (InterpolateSettings::displayExposure); false: linear radiance, as the thesis.
     bool displayReferred = true;
-    // Every frame, rotate each point's rays inside its disc (point_sample.comp) and, for nearest
-    // neighbour and Modified Shepard, move its site within half its spacing
+    // Every frame, rotate each point's rays inside its disc (point_sample.comp) and, for
+    // Modified Shepard, move its site within half its spacing
     // (site_jitter.glsl), so TAA accumulates new rays and new cell boundaries on a still view;
     // false: the same rays at the same sites every frame, as the thesis.
     bool jitter = true;

@@ -60,7 +60,8 @@ struct InterpolateSettings {
     // the nearest sample's by more than about this lose their weight. 0: off (the thesis).
     float rangeSigma = 0.1f;
     // The frame whose moved sites point_sample traced (site_jitter.glsl), set per frame by the
-    // method: nearest neighbour and Modified Shepard blend from them. 0: the fixed sites.
+    // method: Modified Shepard (and nearest neighbour, if given) blend from them. 0: the fixed
+    // sites.
     uint32_t siteFrame = 0;
 };
 
