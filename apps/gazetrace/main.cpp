@@ -523,6 +523,11 @@ int main(int argc, char** argv) {
     addLiveMethodOptions(xrCmd, xr.method, xr.interp, xr.k, xr.pointScale, xr.raysPerPoint, xr.spp,
                          xrTaa, xr.slope, xr.layers);
     xrCmd
+        ->add_option("--reconstruction", xr.reconstruction,
+                     "Foveated: gazetrace | thesis (seed 000's interpolation and TAA as published)")
+        ->check(CLI::IsMember({"gazetrace", "thesis"}))
+        ->capture_default_str();
+    xrCmd
         ->add_option("--gaze", xr.gaze,
                      "Gaze when the runtime gives none: ahead | fixed:X,Y (left eye pixels) | "
                      "trace:FILE.csv | track:SOURCE | udp:PORT")

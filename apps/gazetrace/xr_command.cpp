@@ -142,6 +142,10 @@ public:
             interp.method = passes::parseInterpolation(mOptions.interp);
             interp.k = mOptions.k;
             slot->settings = {mOptions.raysPerPoint, interp, false};
+            if (render::parseReconstruction(mOptions.reconstruction)) {
+                passes::TaaSettings unused; // the views' TAA follows in eyeViews
+                render::useThesisReconstruction(slot->settings, unused);
+            }
             log::info("xr: point set for " + std::to_string(size.width) + "x" +
                       std::to_string(size.height) + " eyes (v = " +
                       std::to_string(display.viewingDistance) + " widths) ready in " +
@@ -219,7 +223,7 @@ HeadGaze ownHeadGaze(GazeInput* input, double tMs, const xr::FrameInfo& frame, V
 std::array<render::View, 2> eyeViews(const xr::FrameInfo& frame, const HeadGaze& gaze,
                                      const xr::ScenePlacement& placement,
                                      const xr::Session& session, EyeMethods& methods, bool taa,
-                                     float exposure) {
+                                     float exposure, bool thesis) {
     std::array<render::View, 2> views;
     for (uint32_t e = 0; e < 2; ++e) {
         render::View& v = views[e];
@@ -238,6 +242,10 @@ std::array<render::View, 2> eyeViews(const xr::FrameInfo& frame, const HeadGaze&
         v.saccade = gaze.saccade;
         v.method = &methods.forEye(eye.fov, size);
         v.post.taa = taa;
+        if (thesis) {
+            render::PointSetSettings unused; // the method's part is set where it is built
+            render::useThesisReconstruction(unused, v.post.taaSettings);
+        }
         v.exposure = exposure;
     }
     return views;
@@ -461,7 +469,8 @@ nlohmann::json runXr(const XrOptions& o) {
                                                        frame, session->eyeExtent(0), o.vergenceM);
             runtimeGazeFrames += sample ? 1 : 0;
             const std::array<render::View, 2> views =
-                eyeViews(frame, gaze, placement, *session, methods, o.taa, sc.exposure);
+                eyeViews(frame, gaze, placement, *session, methods, o.taa, sc.exposure,
+                         render::parseReconstruction(o.reconstruction));
             const bool lastFrame = o.frames != 0 && rendered + 1 == o.frames;
             if (lastFrame && !o.screenshot.empty()) {
                 targets[shotEye].requestScreenshot();

@@ -24,6 +24,9 @@ struct XrOptions {
     std::string slope = "A";         // --method layers: MAR slope
     uint32_t layers = 3;             // --method layers: how many
     std::string interp = "nn";
+    // gazetrace | thesis: seed 000's interpolation and TAA as published
+    // (render::useThesisReconstruction).
+    std::string reconstruction = "gazetrace";
     uint32_t k = 10;
     double pointScale = 1.0;   // the point set's scaling value
     uint32_t raysPerPoint = 1; // as the demo: real time first (the thesis traced up to 32)

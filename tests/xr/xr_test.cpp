@@ -79,7 +79,8 @@ void rendersAndMatches(const std::string& eye) {
     const auto cache = dir / "cache";
     const auto shot = dir / (eye + ".png");
     const Result r = test::run("xr --frames 4 --validate --json --resolution-scale 0.5 --taa off "
-                               "--interp nn --rays-per-point 4 --gaze fixed:100,70 --cache " +
+                               "--interp nn --rays-per-point 4 --reconstruction thesis "
+                               "--gaze fixed:100,70 --cache " +
                                cache.string() + " --screenshot-eye " + eye + " " + shot.string());
     ASSERT_EQ(r.status, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
@@ -153,6 +154,8 @@ void rendersAndMatches(const std::string& eye) {
     render::PointSetMethod method(renderer.methodContext(), params, cache);
     method.settings.raysPerPoint = 4;
     method.settings.interpolation.method = passes::Interpolation::Nearest;
+    // The same rays every frame (the thesis's): the xr run's last frame is not its first.
+    render::useThesisReconstruction(method.settings, v.post.taaSettings);
     v.method = &method;
     v.exposure = renderer.scene().exposure;
     render::ReadbackTarget target(renderer.context());
