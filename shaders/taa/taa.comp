@@ -91,11 +91,15 @@ void main() {
     vec2 prevPixel = vec2((ps.x + 1.0) * 0.5, (1.0 - ps.y) * 0.5) * vec2(size);
     valid = valid && all(greaterThanEqual(prevPixel, vec2(0.0))) && all(lessThan(prevPixel, vec2(size)));
     vec4 history = valid ? historyBilinear(prevPixel, size) : current;
-    if (valid && !sky) {
-        // Disocclusion: the surface seen last frame must be at the distance we expect.
+    // Disocclusion: the surface seen last frame must be at the distance we expect. A tolerance
+    // of 1e29 or more means nothing moved (taa.cpp): then neither distances nor sky against
+    // geometry are tested, as the rays moving in their discs change which one a pixel's
+    // nearest sample saw, not what the pixel shows.
+    bool testDepth = pc.params.w < 1e29;
+    if (valid && !sky && testDepth) {
         float expected = length(d);
         valid = abs(history.a - expected) <= pc.params.w * expected;
-    } else if (valid && sky) {
+    } else if (valid && sky && testDepth) {
         valid = !(history.a < 1e30);
     }
     vec3 result = current.rgb;
