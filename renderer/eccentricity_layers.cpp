@@ -116,9 +116,7 @@ rg::TextureId EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View
             const rg::HistoryTextures history = graph.importHistory(
                 mMc.history, kLayerHistory, kLayerFormat, grid.width, grid.height);
             const bool fresh = reset || !mSettings.temporal || !kept;
-            const bool still = !fresh && camera.origin == last.camera.origin &&
-                               camera.forward == last.camera.forward &&
-                               camera.right == last.camera.right && camera.up == last.camera.up;
+            const bool still = !fresh && passes::sameCamera(camera, last.camera);
             passes::TaaSettings blend = mSettings.taa;
             const auto movingCap = static_cast<uint32_t>(std::lround(1.0f / blend.currentWeight));
             uint32_t samples = fresh ? 0 : last.samples;

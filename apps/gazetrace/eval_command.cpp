@@ -122,6 +122,17 @@ Scores score(const RgbaImage& img, const RgbaImage& ref, const Geometry& g,
     return s;
 }
 
+// The direction of the ray through the centre of pixel (x, y) of a w x h image (trace.glsl's
+// cameraRay for a symmetric frustum).
+glm::vec3 pixelRay(const shaders::trace::CameraPush& c, uint32_t x, uint32_t y, uint32_t w,
+                   uint32_t h) {
+    const float sx = (2.0f * (static_cast<float>(x) + 0.5f) / static_cast<float>(w) - 1.0f) *
+                     c.origin.w * c.forward.w;
+    const float sy =
+        (1.0f - 2.0f * (static_cast<float>(y) + 0.5f) / static_cast<float>(h)) * c.origin.w;
+    return glm::normalize(glm::vec3(c.forward) + sx * glm::vec3(c.right) + sy * glm::vec3(c.up));
+}
+
 // First-hit distance per pixel centre (infinity for the sky), on the CPU from the renderer's
 // BVH: what a moving camera's frames are reprojected with.
 std::vector<float> depthMap(const render::Renderer& r, const scene::Camera& cam, uint32_t w,
@@ -131,16 +142,8 @@ std::vector<float> depthMap(const render::Renderer& r, const scene::Camera& cam,
     auto rows = [&](uint32_t y0, uint32_t y1) {
         for (uint32_t y = y0; y < y1; ++y) {
             for (uint32_t x = 0; x < w; ++x) {
-                const float sx =
-                    (2.0f * (static_cast<float>(x) + 0.5f) / static_cast<float>(w) - 1.0f) *
-                    c.origin.w * c.forward.w;
-                const float sy =
-                    (1.0f - 2.0f * (static_cast<float>(y) + 0.5f) / static_cast<float>(h)) *
-                    c.origin.w;
-                const glm::vec3 dir = glm::normalize(
-                    glm::vec3(c.forward) + sx * glm::vec3(c.right) + sy * glm::vec3(c.up));
                 depth[static_cast<std::size_t>(y) * w + x] =
-                    r.bvh().intersect({glm::vec3(c.origin), dir}).t;
+                    r.bvh().intersect({glm::vec3(c.origin), pixelRay(c, x, y, w, h)}).t;
             }
         }
     };
@@ -194,13 +197,7 @@ Change reprojectedChange(const RgbaImage& prev, const RgbaImage& cur, const scen
     for (uint32_t y = 0; y < h; ++y) {
         for (uint32_t x = 0; x < w; ++x) {
             const std::size_t i = static_cast<std::size_t>(y) * w + x;
-            const float sx =
-                (2.0f * (static_cast<float>(x) + 0.5f) / static_cast<float>(w) - 1.0f) *
-                c.origin.w * c.forward.w;
-            const float sy =
-                (1.0f - 2.0f * (static_cast<float>(y) + 0.5f) / static_cast<float>(h)) * c.origin.w;
-            const glm::vec3 dir = glm::normalize(glm::vec3(c.forward) + sx * glm::vec3(c.right) +
-                                                 sy * glm::vec3(c.up));
+            const glm::vec3 dir = pixelRay(c, x, y, w, h);
             const bool sky = !(curDepth[i] < 1e30f);
             const glm::vec3 d =
                 sky ? dir : glm::vec3(c.origin) + curDepth[i] * dir - glm::vec3(p.origin);

@@ -27,31 +27,29 @@ ScalarMap luma(const RgbaImage& img) {
 }
 } // namespace
 
-ScalarMap squaredErrorMap(const RgbaImage& reference, const RgbaImage& test) {
+namespace {
+// Per pixel, the mean over the colour channels of `f` applied to test - reference.
+template <typename F>
+ScalarMap channelMeanMap(const RgbaImage& reference, const RgbaImage& test, F f) {
     checkSameSize(reference, test);
     ScalarMap out(reference.count());
     for (std::size_t p = 0; p < out.size(); ++p) {
         float s = 0.0f;
         for (int c = 0; c < 3; ++c) {
-            const float d = static_cast<float>(reference.at(p, c)) - test.at(p, c);
-            s += d * d;
+            s += f(static_cast<float>(test.at(p, c)) - static_cast<float>(reference.at(p, c)));
         }
         out[p] = s / 3.0f;
     }
     return out;
 }
+} // namespace
+
+ScalarMap squaredErrorMap(const RgbaImage& reference, const RgbaImage& test) {
+    return channelMeanMap(reference, test, [](float d) { return d * d; });
+}
 
 ScalarMap absoluteErrorMap(const RgbaImage& reference, const RgbaImage& test) {
-    checkSameSize(reference, test);
-    ScalarMap out(reference.count());
-    for (std::size_t p = 0; p < out.size(); ++p) {
-        float s = 0.0f;
-        for (int c = 0; c < 3; ++c) {
-            s += std::abs(static_cast<float>(reference.at(p, c)) - test.at(p, c));
-        }
-        out[p] = s / 3.0f;
-    }
-    return out;
+    return channelMeanMap(reference, test, [](float d) { return std::abs(d); });
 }
 
 double psnrDb(double mse) {

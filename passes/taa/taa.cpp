@@ -34,10 +34,11 @@ TaaPass::TaaPass(vk::Context& ctx) : mCtx(ctx) {
 
 TaaPass::~TaaPass() = default;
 
-namespace {
 bool sameCamera(const shaders::trace::CameraPush& a, const shaders::trace::CameraPush& b) {
     return a.origin == b.origin && a.forward == b.forward && a.right == b.right && a.up == b.up;
 }
+
+namespace {
 
 // The frames the history may stand for: the running mean of a still view, else the window
 // the fixed current weight averages over.
@@ -68,11 +69,10 @@ rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& hi
     float depthTolerance = s.depthTolerance;
     glm::vec2 gaze{1.0f};
     if (state && s.adaptive) {
-        // Over a static scene a still camera's history is exact: clip loosely, and average
-        // (the method's own sampling is what changes).
         if (still) {
-            // Nothing moved: the history is exact, and the current frame's 3x3 box says little
-            // of an interpolated image, whose noise is correlated over a point's neighbourhood.
+            // Over a static scene a still camera's history is exact, and the current frame's
+            // 3x3 box says little of an interpolated image, whose noise is correlated over a
+            // point's neighbourhood: clip loosely (not at all with the gaze still too).
             gamma = state->gazeStill ? 1e30f : s.stillClipGamma;
             depthTolerance = 1e30f; // rays moved in their discs: distances change, not surfaces
         }

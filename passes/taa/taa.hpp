@@ -49,6 +49,10 @@ struct TaaSettings {
     float saccadeFraction = 1.0f / 16.0f;
 };
 
+// The same pinhole (position, orientation, frustum): nothing in a static scene moved.
+[[nodiscard]] bool sameCamera(const shaders::trace::CameraPush& a,
+                              const shaders::trace::CameraPush& b);
+
 // What the renderer tracks of a view's frames that sets how much the history counts.
 struct TaaFrameState {
     float exposure = 0.0f;      // display-referred blending at this exposure (0: linear)
