@@ -33,6 +33,18 @@ struct TrackOptions {
     int maxFrames = 0; // 0: all
 };
 
+struct EyescoreOptions {
+    std::string preset = "wild";
+    std::string seeds = "1-20";
+    int frames = 300;
+    int skip = 1560; // frames before the scored ones: past calibration and validation (13 s)
+    double radiusPx = 5.0;
+    double threshold = -1.0; // < 0: the gaze filter's default gate
+    std::string misses;      // CSV of the visible frames not found within the radius
+    std::string missesSheet; // contact sheet (PNG) of every sheetEvery-th of those frames
+    int sheetEvery = 20;
+};
+
 struct CalibrateOptions {
     std::string source;
     std::string targets;
@@ -45,5 +57,6 @@ nlohmann::json runEyesim(const EyesimOptions& options);
 nlohmann::json runTrack(const TrackOptions& options);
 nlohmann::json runCalibrate(const CalibrateOptions& options);
 nlohmann::json runEyeBench();
+nlohmann::json runEyescore(const EyescoreOptions& options);
 
 } // namespace gt::app

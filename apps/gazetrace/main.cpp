@@ -411,6 +411,31 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 100000000));
     trackCmd->add_flag("--json", trackJson, "Print a JSON summary on stdout");
 
+    gt::app::EyescoreOptions eyescore;
+    bool eyescoreJson = false;
+    CLI::App* eyescoreCmd = app.add_subcommand(
+        "eyescore", "Score the pupil detector on synthetic clips (detection, ROC area, speed)");
+    eyescoreCmd->add_option("--preset", eyescore.preset, "eyesim preset: clean, hard or wild")
+        ->capture_default_str();
+    eyescoreCmd->add_option("--seeds", eyescore.seeds, "Seed N or range A-B, one clip each")
+        ->capture_default_str();
+    eyescoreCmd->add_option("--frames", eyescore.frames, "Frames per clip")->capture_default_str();
+    eyescoreCmd
+        ->add_option("--skip", eyescore.skip,
+                     "Frames to skip first (default: into free viewing, with blinks and pursuit)")
+        ->capture_default_str();
+    eyescoreCmd->add_option("--radius", eyescore.radiusPx, "Right answers: within this many pixels")
+        ->capture_default_str();
+    eyescoreCmd->add_option("--threshold", eyescore.threshold,
+                            "Confidence gate to report (default: the gaze filter's)");
+    eyescoreCmd->add_option("--misses", eyescore.misses, "CSV of the visible frames missed");
+    eyescoreCmd->add_option(
+        "--misses-sheet", eyescore.missesSheet,
+        "PNG contact sheet of the missed frames (tile label: seed*100000+frame)");
+    eyescoreCmd->add_option("--sheet-every", eyescore.sheetEvery, "Misses between sheet tiles")
+        ->capture_default_str();
+    eyescoreCmd->add_flag("--json", eyescoreJson, "Print JSON on one line");
+
     gt::app::CalibrateOptions calibrate;
     bool calibrateJson = false;
     std::string screen = "1920x1080";
@@ -613,6 +638,9 @@ int main(int argc, char** argv) {
         } else if (trackCmd->parsed()) {
             const nlohmann::json result = gt::app::runTrack(track);
             std::cout << (trackJson ? result.dump() : result.dump(2)) << std::endl;
+        } else if (eyescoreCmd->parsed()) {
+            const nlohmann::json result = gt::app::runEyescore(eyescore);
+            std::cout << (eyescoreJson ? result.dump() : result.dump(2)) << std::endl;
         } else if (calibrateCmd->parsed()) {
             // Range checks let NaN through (every comparison with it is false), and %d wrapped
             // 99999999999 to 1215752191 (issue 20): both are refused here.

@@ -22,6 +22,8 @@
 //     candidate with the best confidence wins, with a preference for last frame's pupil.
 // Output: sub-pixel centre, ellipse and confidence. Pixel centres are at integer coordinates.
 #include <cstdint>
+#include <optional>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -32,7 +34,7 @@ struct PupilDetectorConfig {
     double minRadius = 0.0;
     double maxRadius = 0.0;
     int rays = 64;
-    int candidates = 3;
+    int candidates = 5;
     int ransacIterations = 150;
     double inlierDistance = 1.0; // pixels
     double minContrast = 12.0;   // grey levels between pupil and surround
@@ -74,6 +76,9 @@ private:
     };
 
     void findCandidates(const cv::Mat& grey, double minR, double maxR);
+    // The strongest smaller dark blob inside `outer` (coarse image; after findCandidates).
+    [[nodiscard]] std::optional<Candidate> innerCandidate(const PupilResult& outer,
+                                                          double outerInterior, double minR);
     [[nodiscard]] bool measureLevels(const cv::Mat& grey, const Candidate& c, Levels& levels) const;
     void castRays(const cv::Mat& grey, cv::Point2d from, double maxDistance, const Levels& levels);
     // Share of the fitted outline with a dark inside and a brighter outside: `all` counts every
@@ -83,16 +88,29 @@ private:
     // edge otherwise outscores the true, partly covered pupil.
     struct Support {
         double all = 0.0, visible = 0.0;
+        double sharpness = 0.0; // median edge step ratio, 1 = a crisp edge
     };
     struct Refined {
         PupilResult result;
         double visibleSupport = 0.0;
+        double quality = 0.0;      // sharpness x filled interior: how much it looks like a pupil
+        double interior = 0.0;     // median grey level inside
+        double interiorHigh = 0.0; // its upper quartile (the iris, when a pupil sits inside)
     };
-    [[nodiscard]] Refined refine(const cv::Mat& grey, const Candidate& c, double minR, double maxR);
+    struct Interior {
+        double fill = 0.0, median = 255.0, upperQuartile = 255.0;
+    };
+    // surroundHint > 0: the grey level known to surround the pupil (the iris it sits in).
+    [[nodiscard]] Refined refine(const cv::Mat& grey, const Candidate& c, double minR, double maxR,
+                                 double surroundHint = 0.0);
     [[nodiscard]] bool isGlint(const cv::Mat& grey, cv::Point2d p, const Levels& levels) const;
     [[nodiscard]] double outsideLevel(const cv::Mat& grey, const cv::RotatedRect& e,
                                       const Levels& levels) const;
     [[nodiscard]] double sizeConsistency(double semiMajor) const;
+    // Share of the ellipse's inner area darker than the threshold (glints aside), its median
+    // and upper quartile.
+    [[nodiscard]] Interior interiorFill(const cv::Mat& grey, const cv::RotatedRect& e,
+                                        const Levels& levels) const;
     [[nodiscard]] Support outlineSupport(const cv::Mat& grey, const cv::RotatedRect& e,
                                          const Levels& levels) const;
 
@@ -102,7 +120,9 @@ private:
     double mRecentRadius = 0.0; // running pupil size from confident frames, 0 = unknown
     int mFramesSinceSize = 0;
     // Scratch buffers reused between frames (no per-frame allocation in steady state).
-    cv::Mat mSmall, mIntegral, mFullIntegral;
+    cv::Mat mSmall, mIntegral, mFullIntegral, mSmooth;
+    int mCoarseFactor = 1; // full-resolution pixels per coarse pixel
+    cv::Mat mInnerClipped, mInnerIntegral;
     std::vector<Candidate> mCandidates, mHeap;
     std::vector<cv::Point2d> mEdgePoints;
     std::vector<cv::Point2d> mEdgeGradients; // unit, dark -> bright; zero when flat

@@ -1,0 +1,61 @@
+#include "model/camera_intrinsics.hpp"
+
+#include <fstream>
+
+#include "error.hpp"
+#include "io/atomic_file.hpp"
+
+namespace gt::eyetrack {
+
+namespace {
+
+constexpr double kPxPerMmAt240 = 9.1; // the synthetic eye's scale (sim/synthetic_eye.hpp)
+constexpr double kEyeDistanceMm = 35.0;
+
+} // namespace
+
+CameraIntrinsics CameraIntrinsics::eyesimDefault(cv::Size size) {
+    const double f = kPxPerMmAt240 * (size.height / 240.0) * kEyeDistanceMm;
+    return {f, f, 0.5 * (size.width - 1), 0.5 * (size.height - 1)};
+}
+
+nlohmann::json CameraIntrinsics::toJson() const {
+    return {{"fx", fx}, {"fy", fy}, {"cx", cx}, {"cy", cy}};
+}
+
+CameraIntrinsics CameraIntrinsics::fromJson(const nlohmann::json& j, const std::string& what) {
+    if (!j.is_object()) throw FormatError("intrinsics " + what + ": expected a JSON object");
+    CameraIntrinsics k;
+    for (auto [key, field] :
+         {std::pair{"fx", &k.fx}, {"fy", &k.fy}, {"cx", &k.cx}, {"cy", &k.cy}}) {
+        if (!j.contains(key) || !j[key].is_number())
+            throw FormatError("intrinsics " + what + ": '" + key + "' missing or not a number");
+        *field = j[key].get<double>();
+    }
+    if (!k.valid())
+        throw FormatError("intrinsics " + what + ": focal lengths must be positive and finite");
+    return k;
+}
+
+CameraIntrinsics CameraIntrinsics::load(const std::filesystem::path& file) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(file, ec))
+        throw FormatError("intrinsics " + file.string() + ": is a folder");
+    std::ifstream in(file);
+    if (!in) throw FormatError("intrinsics " + file.string() + ": cannot be opened");
+    nlohmann::json j;
+    try {
+        in >> j;
+    } catch (const nlohmann::json::exception&) {
+        throw FormatError("intrinsics " + file.string() + ": not valid JSON");
+    }
+    return fromJson(j, file.string());
+}
+
+void CameraIntrinsics::save(const std::filesystem::path& file) const {
+    AtomicFile out(file);
+    out.stream() << toJson().dump(2) << "\n";
+    out.commit();
+}
+
+} // namespace gt::eyetrack
