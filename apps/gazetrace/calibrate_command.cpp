@@ -3,6 +3,7 @@
 #include "capture/frame_source.hpp"
 #include "eye_commands.hpp"
 #include "gaze/recording_calibration.hpp"
+#include "pupil/pupil_detector.hpp"
 
 namespace gt::app {
 
@@ -10,9 +11,9 @@ nlohmann::json runCalibrate(const CalibrateOptions& o) {
     cv::setNumThreads(1);
     const auto schedule = eyetrack::TargetSchedule::load(o.targets);
     auto source = eyetrack::openFrameSource(o.source);
-    eyetrack::PupilDetector detector;
+    const auto detector = eyetrack::makePupilDetector(o.detector);
     const auto r =
-        eyetrack::calibrateFromRecording(*source, schedule, o.display, o.settleMs, detector);
+        eyetrack::calibrateFromRecording(*source, schedule, o.display, o.settleMs, *detector);
     r.calibration.save(o.out);
     return {{"frames", r.frames},
             {"calibration_targets", r.calibrationTargets},

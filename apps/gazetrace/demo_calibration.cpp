@@ -5,7 +5,7 @@
 #include "capture/file_sources.hpp"
 #include "capture/frame_source.hpp"
 #include "core/error.hpp"
-#include "pupil/pupil_detector.hpp"
+#include "pupil/starburst_detector.hpp"
 #include "sim/synthetic_eye.hpp"
 
 namespace gt::app {
@@ -66,7 +66,7 @@ CalibrationSession::CalibrationSession(const std::string& gazeSpec, std::string 
     }
     mWorker = std::jthread([this, src = std::move(source)]() mutable {
         try {
-            eyetrack::PupilDetector detector;
+            eyetrack::StarburstDetector detector;
             mResult = eyetrack::calibrateFromRecording(*src, *mSchedule, mConfig.display, kSettleMs,
                                                        detector);
         } catch (const std::exception& e) {

@@ -6,7 +6,7 @@
 #include <opencv2/core/utility.hpp>
 
 #include "eye_commands.hpp"
-#include "pupil/pupil_detector.hpp"
+#include "pupil/starburst_detector.hpp"
 #include "sim/synthetic_eye.hpp"
 
 namespace gt::app {
@@ -25,7 +25,7 @@ nlohmann::json runEyeBench() {
             frames.push_back(eye.render(f)); // all phases, blinks included
         const std::string name = std::string("pupil_detect/320x240/") + preset;
         benchmark::RegisterBenchmark(name.c_str(), [frames](benchmark::State& st) {
-            eyetrack::PupilDetector detector;
+            eyetrack::StarburstDetector detector;
             std::size_t i = 0;
             for (auto _ : st) {
                 benchmark::DoNotOptimize(detector.detect(frames[i]));

@@ -23,6 +23,7 @@ struct EyesimOptions {
 
 struct TrackOptions {
     std::string source;
+    std::string detector = "starburst";
     std::string calibration;
     std::string truth;
     std::string out;          // gaze CSV (t_ms,x,y)
@@ -35,6 +36,7 @@ struct TrackOptions {
 
 struct EyescoreOptions {
     std::string preset = "wild";
+    std::string detector = "starburst";
     std::string seeds = "1-20";
     int frames = 300;
     int skip = 1560; // frames before the scored ones: past calibration and validation (13 s)
@@ -47,6 +49,7 @@ struct EyescoreOptions {
 
 struct CalibrateOptions {
     std::string source;
+    std::string detector = "starburst";
     std::string targets;
     std::string out;
     double settleMs = 300.0; // ignore the start of each target (saccade latency + flight)

@@ -72,13 +72,13 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
         for (int f = 0; f < o.frames; ++f)
             images[f] = eye.render(o.skip + f, &truths[f]);
 
-        eyetrack::PupilDetector detector;
+        const auto detector = eyetrack::makePupilDetector(o.detector);
         std::vector<eyetrack::DetectionRecord> records;
         const auto begin = std::chrono::steady_clock::now();
         std::vector<eyetrack::PupilResult> results;
         results.reserve(images.size());
         for (const cv::Mat& img : images)
-            results.push_back(detector.detect(img));
+            results.push_back(detector->detect(img));
         const double ms =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin)
                 .count();
@@ -124,6 +124,7 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
                          {"right_kept", t.rightKept}});
     }
     return {{"preset", o.preset},
+            {"detector", o.detector},
             {"seeds", o.seeds},
             {"frames", s.frames},
             {"visible_frames", s.visible},

@@ -395,6 +395,8 @@ int main(int argc, char** argv) {
         ->add_option("--source", track.source,
                      "v4l2:/dev/videoN[?...] | video:FILE | images:DIR | synthetic:SEED[?...]")
         ->required();
+    trackCmd->add_option("--detector", track.detector, "Pupil detector: starburst or blob")
+        ->capture_default_str();
     trackCmd->add_option("--calibration", track.calibration,
                          "Calibration JSON (gazetrace calibrate)");
     trackCmd->add_option("--truth", track.truth,
@@ -416,6 +418,8 @@ int main(int argc, char** argv) {
     CLI::App* eyescoreCmd = app.add_subcommand(
         "eyescore", "Score the pupil detector on synthetic clips (detection, ROC area, speed)");
     eyescoreCmd->add_option("--preset", eyescore.preset, "eyesim preset: clean, hard or wild")
+        ->capture_default_str();
+    eyescoreCmd->add_option("--detector", eyescore.detector, "Pupil detector: starburst or blob")
         ->capture_default_str();
     eyescoreCmd->add_option("--seeds", eyescore.seeds, "Seed N or range A-B, one clip each")
         ->capture_default_str();
@@ -443,6 +447,8 @@ int main(int argc, char** argv) {
         "calibrate", "Fit pupil-to-screen calibration from a recording with known targets");
     calibrateCmd->add_option("--source", calibrate.source, "Frame source of the recording")
         ->required();
+    calibrateCmd->add_option("--detector", calibrate.detector, "Pupil detector: starburst or blob")
+        ->capture_default_str();
     calibrateCmd
         ->add_option("--targets", calibrate.targets,
                      "Target schedule CSV (t_ms,target_x,target_y[,phase,target_index])")

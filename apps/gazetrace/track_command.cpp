@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "eye_commands.hpp"
 #include "gaze/calibration.hpp"
+#include "gaze/eye_pipeline.hpp"
 #include "gaze/gaze_filter.hpp"
 #include "gaze/gaze_mailbox.hpp"
 #include "io/atomic_file.hpp"
@@ -26,6 +27,10 @@ namespace {
 
 // A truth row counts as "visible pupil" when at least half the pupil shows between the lids.
 constexpr double kVisibleShare = 0.5;
+
+std::unique_ptr<eyetrack::GazeMapper> openGazeMapper(const TrackOptions& o) {
+    return std::make_unique<eyetrack::PolynomialMapper>(eyetrack::Calibration::load(o.calibration));
+}
 
 } // namespace
 
@@ -43,14 +48,14 @@ nlohmann::json runTrack(const TrackOptions& o) {
             throw ArgumentError("--contact-sheet " + o.contactSheet + ": must end in .png");
         sheet.emplace(o.contactSheet, o.sheetEvery);
     }
-    std::optional<eyetrack::Calibration> calibration;
-    if (!o.calibration.empty()) calibration = eyetrack::Calibration::load(o.calibration);
+    std::unique_ptr<eyetrack::GazeMapper> mapper;
+    if (!o.calibration.empty()) mapper = openGazeMapper(o);
     std::optional<eyetrack::CsvTable> truth;
     if (!o.truth.empty())
         truth = eyetrack::CsvTable::load(o.truth, {"frame", "cx", "cy", "visibility"});
     std::unique_ptr<eyetrack::UdpEmitter> emitter;
     if (!o.emit.empty()) {
-        emitter = std::make_unique<eyetrack::UdpEmitter>(o.emit, calibration->display());
+        emitter = std::make_unique<eyetrack::UdpEmitter>(o.emit, mapper->display());
     }
 
     std::unique_ptr<eyetrack::AtomicFile> gazeCsv, pupilCsv;
@@ -63,14 +68,10 @@ nlohmann::json runTrack(const TrackOptions& o) {
         pupilCsv->stream() << "frame,t_ms,cx,cy,axis_a,axis_b,angle_deg,confidence\n";
     }
 
-    auto source = eyetrack::openFrameSource(o.source);
-    eyetrack::PupilDetector detector;
-    std::optional<eyetrack::GazeFilter> filter;
-    if (calibration) {
-        eyetrack::GazeFilterConfig fc;
-        fc.display = calibration->display();
-        filter.emplace(fc);
-    }
+    const bool mapped = mapper != nullptr;
+    eyetrack::EyePipeline pipeline(eyetrack::openFrameSource(o.source),
+                                   eyetrack::makePupilDetector(o.detector), std::move(mapper));
+    eyetrack::FrameSource* source = &pipeline.source();
     eyetrack::GazeMailbox mailbox;
 
     int frames = 0, detected = 0, visible = 0, within5 = 0, saccades = 0;
@@ -79,10 +80,11 @@ nlohmann::json runTrack(const TrackOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     double busyMs = 0.0;
     while (o.maxFrames <= 0 || frames < o.maxFrames) {
-        auto frame = source->next();
+        auto frame = pipeline.grab();
         if (!frame) break;
         const auto begin = std::chrono::steady_clock::now();
-        const eyetrack::PupilResult p = detector.detect(frame->grey);
+        const eyetrack::EyeStep step = pipeline.process(*frame);
+        const eyetrack::PupilResult& p = step.pupil;
         ++frames;
         if (p.found) ++detected;
         if (sheet) sheet->add(frame->grey, p, frame->sequence);
@@ -96,10 +98,8 @@ nlohmann::json runTrack(const TrackOptions& o) {
                 s << cv::format(",,,,,%.3f", p.confidence);
             s << '\n';
         }
-        if (filter) {
-            const std::optional<cv::Point2d> g =
-                p.found ? std::optional(calibration->map(p.centre())) : std::nullopt;
-            const eyetrack::GazeSample sample = filter->process(frame->tMs, g, p.confidence);
+        if (step.sample) {
+            const eyetrack::GazeSample& sample = *step.sample;
             mailbox.publish(sample);
             if (sample.saccade) ++saccades;
             if (gazeCsv && sample.tMs > lastGazeT) {
@@ -152,7 +152,8 @@ nlohmann::json runTrack(const TrackOptions& o) {
         j["detection_rate_5px"] = visible ? static_cast<double>(within5) / visible : 0.0;
         j["median_error_px"] = eyetrack::median(errors);
     }
-    if (filter) j["saccades"] = saccades;
+    if (mapped) j["saccades"] = saccades;
+    j["detector"] = pipeline.detector().name();
     if (sheet) j["contact_sheet_tiles"] = sheet->tiles();
     if (const auto last = mailbox.latest()) j["last_gaze"] = {last->x, last->y};
     return j;

@@ -3,14 +3,30 @@
 #include <chrono>
 #include <exception>
 
-#include "pupil/pupil_detector.hpp"
+#include "error.hpp"
+#include "pupil/starburst_detector.hpp"
 
 namespace gt::eyetrack {
 
+namespace {
+
+std::unique_ptr<EyePipeline> checked(std::unique_ptr<EyePipeline> p) {
+    if (!p || !p->mapper()) throw EyetrackError("gaze tracker: the pipeline needs a calibration");
+    return p;
+}
+
+} // namespace
+
+GazeTracker::GazeTracker(std::unique_ptr<EyePipeline> pipeline, GazeTrackerOptions options)
+    : mPipeline(checked(std::move(pipeline))), mDisplay(mPipeline->mapper()->display()),
+      mOptions(std::move(options)), mThread([this](const std::stop_token& st) { run(st); }) {}
+
 GazeTracker::GazeTracker(std::unique_ptr<FrameSource> source, Calibration calibration,
                          GazeTrackerOptions options)
-    : mSource(std::move(source)), mCalibration(std::move(calibration)),
-      mOptions(std::move(options)), mThread([this](const std::stop_token& st) { run(st); }) {}
+    : GazeTracker(std::make_unique<EyePipeline>(
+                      std::move(source), std::make_unique<StarburstDetector>(),
+                      std::make_unique<PolynomialMapper>(std::move(calibration)), options.filter),
+                  options) {}
 
 GazeTracker::~GazeTracker() {
     mThread.request_stop();
@@ -35,15 +51,11 @@ bool GazeTracker::waitForFirstSample(double timeoutMs) const {
 
 void GazeTracker::run(const std::stop_token& stop) {
     try {
-        PupilDetector detector;
-        GazeFilterConfig fc = mOptions.filter;
-        fc.display = mCalibration.display();
-        GazeFilter filter(fc);
-        const bool pace = mOptions.paceRecordings && !mSource->liveClock();
+        const bool pace = mOptions.paceRecordings && !mPipeline->source().liveClock();
         std::optional<double> firstMs;
         const auto start = std::chrono::steady_clock::now();
         while (!stop.stop_requested()) {
-            auto frame = mSource->next();
+            auto frame = mPipeline->grab();
             if (!frame) break;
             if (pace) {
                 if (!firstMs) firstMs = frame->tMs;
@@ -55,10 +67,7 @@ void GazeTracker::run(const std::stop_token& stop) {
                     std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(
                         due - std::chrono::steady_clock::now(), std::chrono::milliseconds(5)));
             }
-            const PupilResult p = detector.detect(frame->grey);
-            const std::optional<cv::Point2d> g =
-                p.found ? std::optional(mCalibration.map(p.centre())) : std::nullopt;
-            const GazeSample s = filter.process(frame->tMs, g, p.confidence);
+            const GazeSample s = *mPipeline->process(*frame).sample;
             if (s.saccade) ++mSaccades;
             mMailbox.publish(s);
             ++mFrames;

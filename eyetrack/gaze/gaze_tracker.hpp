@@ -1,10 +1,10 @@
 #pragma once
 // The eye tracker as a component for another program's frame loop (the renderer): a thread
-// runs frame source -> PupilDetector -> Calibration -> GazeFilter and publishes every sample to
-// a GazeMailbox; the reader takes the newest sample when it starts a frame and never waits.
-// Saccade onsets are also counted, so a reader that samples less often than the tracker (a
-// renderer at 90 Hz, a tracker at 120+ Hz) still sees every saccade and can drop its temporal
-// history (seed 000, 3.1).
+// runs an EyePipeline (frame source -> PupilDetector -> GazeMapper -> GazeFilter, the same object
+// `gazetrace track` drives) and publishes every sample to a GazeMailbox; the reader takes the
+// newest sample when it starts a frame and never waits. Saccade onsets are also counted, so a
+// reader that samples less often than the tracker (a renderer at 90 Hz, a tracker at 120+ Hz) still
+// sees every saccade and can drop its temporal history (seed 000, 3.1).
 //
 // Recordings are played at their own pace by default (a frame is processed at its timestamp
 // relative to the first), so a video behaves like the camera it was recorded with.
@@ -18,6 +18,7 @@
 
 #include "capture/frame_source.hpp"
 #include "gaze/calibration.hpp"
+#include "gaze/eye_pipeline.hpp"
 #include "gaze/gaze_filter.hpp"
 #include "gaze/gaze_mailbox.hpp"
 
@@ -30,7 +31,10 @@ struct GazeTrackerOptions {
 
 class GazeTracker {
 public:
-    // Starts the thread at once. The source is owned by the tracker from here on.
+    // Starts the thread at once. The pipeline (which must have a mapper) is owned by the
+    // tracker from here on.
+    explicit GazeTracker(std::unique_ptr<EyePipeline> pipeline, GazeTrackerOptions options = {});
+    // The default pipeline: the starburst detector and the 2D polynomial calibration.
     GazeTracker(std::unique_ptr<FrameSource> source, Calibration calibration,
                 GazeTrackerOptions options = {});
     ~GazeTracker(); // stops and joins the thread
@@ -38,7 +42,7 @@ public:
     GazeTracker& operator=(const GazeTracker&) = delete;
 
     [[nodiscard]] const GazeMailbox& mailbox() const noexcept { return mMailbox; }
-    [[nodiscard]] const DisplayGeometry& display() const noexcept { return mCalibration.display(); }
+    [[nodiscard]] const DisplayGeometry& display() const noexcept { return mDisplay; }
     [[nodiscard]] std::uint64_t saccades() const noexcept { return mSaccades.load(); }
     [[nodiscard]] std::uint64_t frames() const noexcept { return mFrames.load(); }
     // The source ran out (end of a recording) or failed; error() says why when it failed.
@@ -53,8 +57,8 @@ public:
 private:
     void run(const std::stop_token& stop);
 
-    std::unique_ptr<FrameSource> mSource;
-    Calibration mCalibration;
+    std::unique_ptr<EyePipeline> mPipeline;
+    DisplayGeometry mDisplay;
     GazeTrackerOptions mOptions;
     GazeMailbox mMailbox;
     std::atomic<std::uint64_t> mSaccades{0}, mFrames{0};

@@ -1,45 +1,20 @@
 #pragma once
-// Pupil detection in near-infrared eye images.
-//
-// Method (our own code; the ideas are from the published detectors):
-//  1. Coarse search (Świrski, Bulling & Dodgson 2012): on a downscaled image's integral image, a
-//     centre-surround box feature (mean of a surrounding ring minus mean of an inner box) over a
-//     range of radii finds dark compact regions; the best few, after non-maximum suppression, are
-//     candidates. Cost O(1) per position and radius.
-//  2. Edge points (Starburst, Li, Winfield & Parkhurst 2005): from each candidate, rays are cast
-//     outwards; on each, the first dark-to-bright crossing of a threshold halfway between the
-//     pupil's and the iris's grey levels gives a sub-pixel boundary point (at the half-way level,
-//     a symmetric blur leaves the edge position unbiased). A ray whose crossing touches a
-//     saturated glint is dropped (glint suppression), so glints on the boundary do not bend it.
-//  3. Ellipse: RANSAC over 5-point conics, refit on the inliers (pupil/ellipse_fit.hpp), then the
-//     rays are recast from the fitted centre and the fit repeated, which evens out the points
-//     when the candidate was off-centre.
-//  4. Confidence (after PuRe's outline contrast, Santini, Fuhl & Kasneci 2018): the share of
-//     points along the fitted ellipse where the image is clearly darker just inside than just
-//     outside. An eyelid or lashes covering part of the outline lower it in proportion; a blink
-//     (no dark outline at all) drives it to ~0. It is scaled by size consistency with the recent
-//     pupil (PuReST, Santini, Fuhl & Kasneci 2018), so a lash gap in a blink scores low. The
-//     candidate with the best confidence wins, with a preference for last frame's pupil.
-// Output: sub-pixel centre, ellipse and confidence. Pixel centres are at integer coordinates.
-#include <cstdint>
-#include <optional>
-#include <vector>
+// What every pupil detector is to the rest of the tracker: a grey frame and its time in, the pupil
+// (sub-pixel centre, ellipse, confidence) out. The eye pipeline (gaze/eye_pipeline.hpp), the
+// calibration, `track`, `calibrate` and `eyescore` all work through this interface, so a detector
+// is chosen by name (`--detector`) and compared on the same clips.
+//  - starburst (default; pupil/starburst_detector.hpp): centre-surround candidates, rays to the
+//    boundary, RANSAC ellipse, a confidence from outline, edge sharpness and a filled interior;
+//  - blob (pupil/blob_detector.hpp): threshold at the darkest percentile and take the largest
+//    blob — the naive baseline the issue measured against, kept to measure against.
+// Confidence is in [0, 1]; `found` is the detector's own cut. Detectors keep state between frames
+// (a temporal prior), so frames are given in order; reset() forgets it (a new recording).
+#include <memory>
+#include <string>
 
 #include <opencv2/core.hpp>
 
 namespace gt::eyetrack {
-
-struct PupilDetectorConfig {
-    // Pupil radius bounds in pixels; 0 = from the image's shorter side (3 % .. 25 %).
-    double minRadius = 0.0;
-    double maxRadius = 0.0;
-    int rays = 64;
-    int candidates = 5;
-    int ransacIterations = 150;
-    double inlierDistance = 1.0; // pixels
-    double minContrast = 12.0;   // grey levels between pupil and surround
-    double minConfidence = 0.35; // below: no pupil reported
-};
 
 struct PupilResult {
     bool found = false;
@@ -53,79 +28,23 @@ struct PupilResult {
 
 class PupilDetector {
 public:
-    explicit PupilDetector(PupilDetectorConfig config = {});
+    virtual ~PupilDetector() = default;
+    PupilDetector() = default;
+    PupilDetector(const PupilDetector&) = delete;
+    PupilDetector& operator=(const PupilDetector&) = delete;
 
-    // grey: CV_8UC1 (any size; throws EyetrackError otherwise). Frames are expected in order:
-    // the last result is a prior for the next (reset() forgets it, e.g. between videos).
-    [[nodiscard]] PupilResult detect(const cv::Mat& grey);
-
-    void reset() {
-        mLast = {};
-        mRecentRadius = 0.0;
-    }
-    [[nodiscard]] const PupilDetectorConfig& config() const noexcept { return mConfig; }
+    // grey: CV_8UC1 (throws EyetrackError otherwise); tMs: the frame's time stamp.
+    [[nodiscard]] virtual PupilResult detect(const cv::Mat& grey, double tMs) = 0;
+    // For still images and tests: frames one 120 Hz period apart.
+    [[nodiscard]] PupilResult detect(const cv::Mat& grey) { return detect(grey, mNextMs += 8.3); }
+    virtual void reset() = 0;
+    [[nodiscard]] virtual std::string name() const = 0;
 
 private:
-    struct Candidate {
-        cv::Point2d centre;
-        double radius = 0.0;
-        double response = 0.0;
-    };
-    struct Levels {
-        double pupil = 0.0, surround = 0.0, threshold = 0.0, glint = 255.0;
-    };
-
-    void findCandidates(const cv::Mat& grey, double minR, double maxR);
-    // The strongest smaller dark blob inside `outer` (coarse image; after findCandidates).
-    [[nodiscard]] std::optional<Candidate> innerCandidate(const PupilResult& outer,
-                                                          double outerInterior, double minR);
-    [[nodiscard]] bool measureLevels(const cv::Mat& grey, const Candidate& c, Levels& levels) const;
-    void castRays(const cv::Mat& grey, cv::Point2d from, double maxDistance, const Levels& levels);
-    // Share of the fitted outline with a dark inside and a brighter outside: `all` counts every
-    // sample (the reported confidence, which falls under occlusion); `visible` leaves out the
-    // samples where the outline runs through something bright on both sides (an eyelid over the
-    // pupil), so candidates are compared on what can be seen: an ellipse shrunk to hug the lid's
-    // edge otherwise outscores the true, partly covered pupil.
-    struct Support {
-        double all = 0.0, visible = 0.0;
-        double sharpness = 0.0; // median edge step ratio, 1 = a crisp edge
-    };
-    struct Refined {
-        PupilResult result;
-        double visibleSupport = 0.0;
-        double quality = 0.0;      // sharpness x filled interior: how much it looks like a pupil
-        double interior = 0.0;     // median grey level inside
-        double interiorHigh = 0.0; // its upper quartile (the iris, when a pupil sits inside)
-    };
-    struct Interior {
-        double fill = 0.0, median = 255.0, upperQuartile = 255.0;
-    };
-    // surroundHint > 0: the grey level known to surround the pupil (the iris it sits in).
-    [[nodiscard]] Refined refine(const cv::Mat& grey, const Candidate& c, double minR, double maxR,
-                                 double surroundHint = 0.0);
-    [[nodiscard]] bool isGlint(const cv::Mat& grey, cv::Point2d p, const Levels& levels) const;
-    [[nodiscard]] double outsideLevel(const cv::Mat& grey, const cv::RotatedRect& e,
-                                      const Levels& levels) const;
-    [[nodiscard]] double sizeConsistency(double semiMajor) const;
-    // Share of the ellipse's inner area darker than the threshold (glints aside), its median
-    // and upper quartile.
-    [[nodiscard]] Interior interiorFill(const cv::Mat& grey, const cv::RotatedRect& e,
-                                        const Levels& levels) const;
-    [[nodiscard]] Support outlineSupport(const cv::Mat& grey, const cv::RotatedRect& e,
-                                         const Levels& levels) const;
-
-    PupilDetectorConfig mConfig;
-    std::uint64_t mFrame = 0;
-    PupilResult mLast;
-    double mRecentRadius = 0.0; // running pupil size from confident frames, 0 = unknown
-    int mFramesSinceSize = 0;
-    // Scratch buffers reused between frames (no per-frame allocation in steady state).
-    cv::Mat mSmall, mIntegral, mFullIntegral, mSmooth;
-    int mCoarseFactor = 1; // full-resolution pixels per coarse pixel
-    cv::Mat mInnerClipped, mInnerIntegral;
-    std::vector<Candidate> mCandidates, mHeap;
-    std::vector<cv::Point2d> mEdgePoints;
-    std::vector<cv::Point2d> mEdgeGradients; // unit, dark -> bright; zero when flat
+    double mNextMs = 0.0;
 };
+
+// "starburst" | "blob"; throws EyetrackError naming the known ones otherwise.
+[[nodiscard]] std::unique_ptr<PupilDetector> makePupilDetector(const std::string& name);
 
 } // namespace gt::eyetrack

@@ -26,7 +26,7 @@
 #include "gaze/recording_calibration.hpp"
 #include "io/udp_emitter.hpp"
 #include "pupil/ellipse_fit.hpp"
-#include "pupil/pupil_detector.hpp"
+#include "pupil/starburst_detector.hpp"
 #include "sim/synthetic_eye.hpp"
 
 namespace fs = std::filesystem;
@@ -49,7 +49,7 @@ struct DetectionScore {
 
 DetectionScore score(EyeSimConfig c, int firstFrame, int count) {
     SyntheticEye eye(c);
-    PupilDetector det;
+    StarburstDetector det;
     int visible = 0, ok = 0;
     DetectionScore s;
     std::vector<double> errors;
@@ -130,7 +130,7 @@ TEST(PupilDetector, SubPixelOnAnAntiAliasedEllipseOnNoise) {
     // Drawn at 16x sub-pixel precision: centre (161.37, 118.81).
     cv::ellipse(img, cv::Point(cvRound(161.37 * 16), cvRound(118.81 * 16)),
                 cv::Size(22 * 16, 17 * 16), 30, 0, 360, cv::Scalar(30), cv::FILLED, cv::LINE_AA, 4);
-    PupilDetector det;
+    StarburstDetector det;
     const PupilResult r = det.detect(img);
     ASSERT_TRUE(r.found);
     EXPECT_LT(cv::norm(r.centre() - cv::Point2d(161.37, 118.81)), 0.5);
@@ -315,7 +315,7 @@ TEST(Calibration, FromASyntheticRecording) {
         const GazeState g = source.eye().schedule().at(source.eye().frameTimeMs(f));
         rows.push_back({source.eye().frameTimeMs(f), g.target, g.phase, g.targetIndex});
     }
-    PupilDetector det;
+    StarburstDetector det;
     const auto r = calibrateFromRecording(source, TargetSchedule::fromRows(rows),
                                           c.schedule.display, 300.0, det);
     EXPECT_EQ(r.calibrationTargets, 9);

@@ -1,0 +1,568 @@
+#include "pupil/starburst_detector.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <numbers>
+#include <optional>
+
+#include <opencv2/imgproc.hpp>
+
+#include "error.hpp"
+#include "pupil/ellipse_fit.hpp"
+
+namespace gt::eyetrack {
+
+namespace {
+
+// Bilinear sample with pixel centres at integer coordinates; -1 outside the image.
+inline double sample(const cv::Mat& img, double x, double y) {
+    if (x < 0.0 || y < 0.0 || x > img.cols - 1.0 || y > img.rows - 1.0) return -1.0;
+    const int x0 = std::min(static_cast<int>(x), img.cols - 2 < 0 ? 0 : img.cols - 2);
+    const int y0 = std::min(static_cast<int>(y), img.rows - 2 < 0 ? 0 : img.rows - 2);
+    const double fx = x - x0, fy = y - y0;
+    const uchar* r0 = img.ptr<uchar>(y0);
+    const uchar* r1 = img.ptr<uchar>(std::min(y0 + 1, img.rows - 1));
+    const int x1 = std::min(x0 + 1, img.cols - 1);
+    const double top = r0[x0] + fx * (r0[x1] - r0[x0]);
+    const double bottom = r1[x0] + fx * (r1[x1] - r1[x0]);
+    return top + fy * (bottom - top);
+}
+
+// Sum over [x0, x1) x [y0, y1) from a CV_32S integral image.
+inline long long boxSum(const cv::Mat& ii, int x0, int y0, int x1, int y1) {
+    const int* a = ii.ptr<int>(y0);
+    const int* b = ii.ptr<int>(y1);
+    return static_cast<long long>(b[x1]) - b[x0] - a[x1] + a[x0];
+}
+
+// Percentile of the grey levels in a rectangle (sparse sampling for large ones), optionally
+// excluding an inner rectangle.
+double percentile(const cv::Mat& img, cv::Rect outer, cv::Rect hole, double q) {
+    outer &= cv::Rect(0, 0, img.cols, img.rows);
+    std::array<int, 256> hist{};
+    int count = 0;
+    const int step = std::max(1, static_cast<int>(std::sqrt(outer.area() / 1500.0)));
+    for (int y = outer.y; y < outer.y + outer.height; y += step) {
+        const uchar* row = img.ptr<uchar>(y);
+        for (int x = outer.x; x < outer.x + outer.width; x += step) {
+            if (hole.contains({x, y})) continue;
+            ++hist[row[x]];
+            ++count;
+        }
+    }
+    if (count == 0) return -1.0;
+    const int target = static_cast<int>(q * (count - 1));
+    int acc = 0;
+    for (int v = 0; v < 256; ++v) {
+        acc += hist[static_cast<std::size_t>(v)];
+        if (acc > target) return v;
+    }
+    return 255.0;
+}
+
+// Calls fn(point, unit outward normal) at `count` evenly spaced parameter angles on an ellipse.
+template <typename Fn> void forEachOutlinePoint(const cv::RotatedRect& e, int count, Fn&& fn) {
+    const double th = e.angle * std::numbers::pi / 180.0;
+    const cv::Point2d u(std::cos(th), std::sin(th)), v(-std::sin(th), std::cos(th));
+    const double a = 0.5 * e.size.width, b = 0.5 * e.size.height;
+    const cv::Point2d c(e.center.x, e.center.y);
+    for (int k = 0; k < count; ++k) {
+        const double phi = (k + 0.5) * 2.0 * std::numbers::pi / count;
+        const cv::Point2d n = u * (std::cos(phi) / a) + v * (std::sin(phi) / b);
+        fn(c + u * (a * std::cos(phi)) + v * (b * std::sin(phi)), n * (1.0 / cv::norm(n)));
+    }
+}
+
+// Direction of the image gradient at p by central differences (zero when flat or at the border).
+cv::Point2d unitGradient(const cv::Mat& img, cv::Point2d p) {
+    const double l = sample(img, p.x - 1.0, p.y), r = sample(img, p.x + 1.0, p.y);
+    const double u = sample(img, p.x, p.y - 1.0), d = sample(img, p.x, p.y + 1.0);
+    if (l < 0.0 || r < 0.0 || u < 0.0 || d < 0.0) return {0.0, 0.0};
+    const cv::Point2d g(r - l, d - u);
+    const double len = std::hypot(g.x, g.y);
+    return len > 1.0 ? g * (1.0 / len) : cv::Point2d(0.0, 0.0);
+}
+
+double smoothstep(double lo, double hi, double x) {
+    const double t = std::clamp((x - lo) / (hi - lo), 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+cv::Rect boxAround(cv::Point2d c, double half) {
+    const int h = std::max(1, static_cast<int>(std::lround(half)));
+    return {static_cast<int>(std::lround(c.x)) - h, static_cast<int>(std::lround(c.y)) - h,
+            2 * h + 1, 2 * h + 1};
+}
+
+} // namespace
+
+StarburstDetector::StarburstDetector(StarburstConfig config) : mConfig(config) {
+    if (mConfig.rays < 8) throw EyetrackError("pupil detector: at least 8 rays are needed");
+}
+
+void StarburstDetector::findCandidates(const cv::Mat& grey, double minR, double maxR) {
+    mCandidates.clear();
+    // Downscale so the coarse image is ~60 rows: the search only needs a seed inside the pupil.
+    const int f = std::max(1, std::min(grey.rows, grey.cols) / 60);
+    mCoarseFactor = f;
+    cv::resize(grey, mSmall, cv::Size(grey.cols / f, grey.rows / f), 0, 0, cv::INTER_AREA);
+    cv::integral(mSmall, mIntegral, CV_32S);
+    const int w = mSmall.cols, h = mSmall.rows;
+    // The strongest responses, kept in a bounded min-heap (sorting every position would cost
+    // more than the rest of the detector).
+    constexpr std::size_t kKeep = 48;
+    std::vector<Candidate>& all = mHeap;
+    all.clear();
+    const auto weaker = [](const Candidate& a, const Candidate& b) {
+        return a.response > b.response;
+    };
+    for (double r = std::max(1.5, minR / f); r <= maxR / f + 1e-9; r *= 1.3) {
+        const int hi = std::max(1, static_cast<int>(std::lround(0.75 * r)));
+        const int ho = std::max(hi + 1, static_cast<int>(std::lround(1.8 * r)));
+        const int step = std::max(1, static_cast<int>(r / 2.0));
+        for (int y = 0; y < h; y += step) {
+            for (int x = 0; x < w; x += step) {
+                const int ix0 = std::max(0, x - hi), ix1 = std::min(w, x + hi + 1);
+                const int iy0 = std::max(0, y - hi), iy1 = std::min(h, y + hi + 1);
+                const int ox0 = std::max(0, x - ho), ox1 = std::min(w, x + ho + 1);
+                const int oy0 = std::max(0, y - ho), oy1 = std::min(h, y + ho + 1);
+                const long long inner = boxSum(mIntegral, ix0, iy0, ix1, iy1);
+                const long long outer = boxSum(mIntegral, ox0, oy0, ox1, oy1);
+                const int innerArea = (ix1 - ix0) * (iy1 - iy0);
+                const int ringArea = (ox1 - ox0) * (oy1 - oy0) - innerArea;
+                if (ringArea <= innerArea) continue; // clipped too much by the border
+                const double response = static_cast<double>(outer - inner) / ringArea -
+                                        static_cast<double>(inner) / innerArea;
+                if (response < 0.5 * mConfig.minContrast) continue;
+                if (all.size() == kKeep) {
+                    if (response <= all.front().response) continue;
+                    std::pop_heap(all.begin(), all.end(), weaker);
+                    all.pop_back();
+                }
+                all.push_back({{(x + 0.5) * f - 0.5, (y + 0.5) * f - 0.5}, r * f, response});
+                std::push_heap(all.begin(), all.end(), weaker);
+            }
+        }
+    }
+    std::sort_heap(all.begin(), all.end(), weaker); // strongest first
+    for (const Candidate& c : all) {
+        // Suppress only the same blob at a similar scale: a pupil inside a dark iris (low
+        // pupil/iris contrast) is a smaller blob within a larger one and must stay a candidate.
+        const bool near =
+            std::any_of(mCandidates.begin(), mCandidates.end(), [&](const Candidate& k) {
+                const double ratio = std::max(k.radius, c.radius) / std::min(k.radius, c.radius);
+                return cv::norm(k.centre - c.centre) < std::max(k.radius, c.radius) && ratio < 1.8;
+            });
+        if (near) continue;
+        mCandidates.push_back(c);
+        if (static_cast<int>(mCandidates.size()) >= mConfig.candidates) break;
+    }
+}
+
+bool StarburstDetector::measureLevels(const cv::Mat& grey, const Candidate& c,
+                                      Levels& levels) const {
+    const cv::Rect none(0, 0, 0, 0);
+    // The 30th percentile of the inner box: robust to glints and to a box that overlaps the iris.
+    levels.pupil = percentile(grey, boxAround(c.centre, 0.6 * c.radius), none, 0.3);
+    levels.surround = percentile(grey, boxAround(c.centre, 2.0 * c.radius),
+                                 boxAround(c.centre, 1.3 * c.radius), 0.5);
+    if (levels.pupil < 0.0 || levels.surround < 0.0) return false;
+    if (levels.surround - levels.pupil < mConfig.minContrast) return false;
+    // The ring may reach past the iris onto the sclera, so the first threshold sits low in the
+    // range; refine() re-measures the level just outside the fitted ellipse and recasts.
+    levels.threshold =
+        levels.pupil + std::max(0.5 * mConfig.minContrast, 0.25 * (levels.surround - levels.pupil));
+    levels.glint =
+        std::max(levels.surround + 30.0, levels.surround + 0.5 * (255.0 - levels.surround));
+    return true;
+}
+
+void StarburstDetector::castRays(const cv::Mat& grey, cv::Point2d from, double maxDistance,
+                                 const Levels& lv) {
+    mEdgePoints.clear();
+    mEdgeGradients.clear();
+    constexpr double kStep = 0.5;
+    const int n = mConfig.rays;
+    for (int i = 0; i < n; ++i) {
+        const double a = (i + 0.5) * 2.0 * std::numbers::pi / n;
+        const cv::Point2d dir(std::cos(a), std::sin(a));
+        bool inside = false;
+        double prev = -1.0;
+        for (double t = 0.0; t <= maxDistance; t += kStep) {
+            const cv::Point2d p = from + dir * t;
+            const double v = sample(grey, p.x, p.y);
+            if (v < 0.0) break; // left the image
+            if (!inside) {
+                // Start counting once in the dark (the seed may sit on a glint).
+                if (v < lv.threshold)
+                    inside = true;
+                else if (t > 0.5 * maxDistance)
+                    break;
+                prev = v;
+                continue;
+            }
+            if (v >= lv.threshold) {
+                // A bright island that ends within a few pixels is a glint or noise inside the
+                // pupil: step over it and keep looking for the real boundary.
+                const double island = std::max(4.0, 0.25 * maxDistance);
+                // Only a glint (a spot brighter than its neighbourhood) counts as an island: dark
+                // lashes just outside the pupil must not make the real boundary look like one.
+                double back = -1.0, peak = v, peakAt = 0.0;
+                for (double s = 1.0; s <= island; s += kStep) {
+                    const double w = sample(grey, p.x + dir.x * s, p.y + dir.y * s);
+                    if (w < 0.0) break;
+                    if (w > peak) {
+                        peak = w;
+                        peakAt = s;
+                    }
+                    if (w < lv.threshold) {
+                        back = s;
+                        break;
+                    }
+                }
+                if (back > 0.0 && isGlint(grey, p + dir * peakAt, lv)) {
+                    t += back - kStep;
+                    prev = lv.threshold - 1.0;
+                    continue;
+                }
+                const double u = (lv.threshold - prev) / std::max(1e-6, v - prev);
+                const double tEdge = t - kStep + kStep * std::clamp(u, 0.0, 1.0);
+                // Glint suppression: a glint at the crossing means the edge is (partly) the
+                // glint's, so the point is dropped rather than trusted.
+                bool glint = false;
+                for (double s = -1.0; s <= 3.0 && !glint; s += 1.0)
+                    glint = isGlint(grey, from + dir * (tEdge + s), lv);
+                // A pupil is ringed by its iris: an edge that opens onto something much brighter
+                // than the iris (skin beyond lashes or a lid margin over the pupil, sclera beyond
+                // a dark iris) is not the pupil's.
+                const cv::Point2d beyond = from + dir * (tEdge + 3.0);
+                const double outside = sample(grey, beyond.x, beyond.y);
+                const bool tooBright =
+                    outside > lv.pupil + 1.8 * (lv.surround - lv.pupil) && outside < lv.glint;
+                if (!glint && !tooBright) {
+                    const cv::Point2d e = from + dir * tEdge;
+                    mEdgePoints.push_back(e);
+                    mEdgeGradients.push_back(unitGradient(grey, e));
+                }
+                break;
+            }
+            prev = v;
+        }
+    }
+}
+
+bool StarburstDetector::isGlint(const cv::Mat& grey, cv::Point2d p, const Levels& lv) const {
+    // A glint is a small spot much brighter than its 9x9 neighbourhood (a top-hat test on the
+    // integral image), or anything saturated; a plain pupil-iris edge is never more than a few
+    // grey levels above its box mean.
+    const int x = static_cast<int>(std::lround(p.x)), y = static_cast<int>(std::lround(p.y));
+    if (x < 0 || y < 0 || x >= grey.cols || y >= grey.rows) return false;
+    const double v = grey.at<uchar>(y, x);
+    if (v >= lv.glint) return true;
+    const int x0 = std::max(0, x - 4), x1 = std::min(grey.cols, x + 5);
+    const int y0 = std::max(0, y - 4), y1 = std::min(grey.rows, y + 5);
+    const double mean =
+        static_cast<double>(boxSum(mFullIntegral, x0, y0, x1, y1)) / ((x1 - x0) * (y1 - y0));
+    return v - mean > std::max(25.0, 0.3 * (lv.surround - lv.pupil));
+}
+
+double StarburstDetector::outsideLevel(const cv::Mat& grey, const cv::RotatedRect& e,
+                                       const Levels& lv) const {
+    // Median grey level a few pixels outside the ellipse, glints excluded: the iris next to the
+    // pupil, whatever lies further out.
+    constexpr int kSamples = 48;
+    const double d = std::max(2.5, 0.1 * std::min(e.size.width, e.size.height));
+    std::vector<double> values;
+    values.reserve(kSamples);
+    forEachOutlinePoint(e, kSamples, [&](cv::Point2d p, cv::Point2d n) {
+        const double out = sample(grey, p.x + d * n.x, p.y + d * n.y);
+        if (out >= 0.0 && out < lv.glint) values.push_back(out);
+    });
+    if (values.size() < kSamples / 4) return -1.0;
+    std::nth_element(values.begin(),
+                     values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
+    return values[values.size() / 2];
+}
+
+StarburstDetector::Support StarburstDetector::outlineSupport(const cv::Mat& grey,
+                                                             const cv::RotatedRect& e,
+                                                             const Levels& lv) const {
+    constexpr int kSamples = 48;
+    const double minor = std::min(e.size.width, e.size.height);
+    const double d = std::max(1.5, 0.06 * minor);
+    // Sharpness: the step across d against the step across a wider band. A pupil's edge is a
+    // step blurred by the optics (~0.6 or more of the wide step within 1.5 px); a shadow on the
+    // skin or a make-up smudge is blurred over many pixels (~0.3).
+    const double wide = std::max(d + 2.5, 0.3 * minor);
+    const double need = 0.3 * (lv.surround - lv.pupil);
+    int supported = 0, counted = 0, covered = 0;
+    std::array<double, kSamples> ratios{};
+    int nRatios = 0;
+    forEachOutlinePoint(e, kSamples, [&](cv::Point2d p, cv::Point2d n) {
+        const double in = sample(grey, p.x - d * n.x, p.y - d * n.y);
+        const double out = sample(grey, p.x + d * n.x, p.y + d * n.y);
+        if (in < 0.0 || out < 0.0) {
+            ++counted; // outside the image: unsupported
+            return;
+        }
+        if (out >= lv.glint) return; // a glint on the boundary: neither for nor against
+        ++counted;
+        if (out - in > need && in < lv.threshold) {
+            ++supported;
+            const double wideIn = sample(grey, p.x - wide * n.x, p.y - wide * n.y);
+            const double wideOut = sample(grey, p.x + wide * n.x, p.y + wide * n.y);
+            if (wideIn >= 0.0 && wideOut >= 0.0 && wideOut < lv.glint)
+                ratios[static_cast<std::size_t>(nRatios++)] =
+                    (out - in) / std::max(out - in, wideOut - wideIn);
+        } else if (in >= lv.threshold && out >= lv.threshold) {
+            ++covered;
+        }
+    });
+    Support s;
+    if (nRatios > 0) {
+        auto mid = ratios.begin() + nRatios / 2;
+        std::nth_element(ratios.begin(), mid, ratios.begin() + nRatios);
+        s.sharpness = *mid;
+    }
+    if (counted > 0) s.all = static_cast<double>(supported) / counted;
+    // At least half the outline must be in view to be judged on the visible part alone.
+    const int visible = counted - covered;
+    s.visible =
+        2 * visible >= counted && visible > 0 ? static_cast<double>(supported) / visible : s.all;
+    return s;
+}
+
+StarburstDetector::Refined StarburstDetector::refine(const cv::Mat& grey, const Candidate& c,
+                                                     double minR, double maxR,
+                                                     double surroundHint) {
+    Refined refined;
+    PupilResult& result = refined.result;
+    Levels lv;
+    if (!measureLevels(grey, c, lv)) return refined;
+    if (surroundHint > 0.0 && surroundHint < lv.surround) {
+        // A pupil inside a dark iris: the ring around the seed reaches the sclera, but what
+        // borders the pupil is the iris.
+        lv.surround = surroundHint;
+        if (lv.surround - lv.pupil < 0.5 * mConfig.minContrast) return refined;
+        lv.threshold = 0.5 * (lv.pupil + lv.surround);
+    }
+    RansacEllipseParams rp;
+    rp.iterations = mConfig.ransacIterations;
+    rp.inlierDistance = mConfig.inlierDistance;
+    rp.minAxis = 2.0 * minR * 0.7;
+    rp.maxAxis = 2.0 * maxR * 1.3;
+    rp.seed = mFrame * 7919u + 1u;
+
+    castRays(mSmooth, c.centre, 2.5 * c.radius, lv);
+    auto fit = fitEllipseRansac(mEdgePoints, rp, mEdgeGradients);
+    if (!fit) return refined;
+    // Second pass from the fitted centre: rays now meet the boundary at even spacing.
+    const cv::Point2d centre(fit->ellipse.center.x, fit->ellipse.center.y);
+    const double major = 0.5 * std::max(fit->ellipse.size.width, fit->ellipse.size.height);
+    if (const double outside = outsideLevel(grey, fit->ellipse, lv);
+        outside > lv.pupil + mConfig.minContrast) {
+        lv.surround = outside;
+        lv.threshold = 0.5 * (lv.pupil + outside);
+    }
+    castRays(mSmooth, centre, 1.6 * major + 3.0, lv);
+    rp.seed += 1;
+    if (auto second = fitEllipseRansac(mEdgePoints, rp, mEdgeGradients)) fit = second;
+
+    result.ellipse = fit->ellipse;
+    const Support support = outlineSupport(grey, fit->ellipse, lv);
+    const auto [fill, interior, interiorHigh] = interiorFill(grey, fit->ellipse, lv);
+    // What makes a dark ellipse a pupil besides its outline: a crisp edge (not a shadow or a
+    // smudge of make-up) and a filled dark inside (not a cluster of lashes with bright gaps).
+    const double sharp = smoothstep(0.3, 0.55, support.sharpness);
+    refined.quality = sharp * smoothstep(0.35, 0.75, fill);
+    refined.interior = interior;
+    refined.interiorHigh = interiorHigh;
+    result.confidence =
+        std::sqrt(support.all * support.visible) * sharp * smoothstep(0.5, 0.85, fill);
+    refined.visibleSupport = support.visible;
+    return refined;
+}
+
+StarburstDetector::Interior StarburstDetector::interiorFill(const cv::Mat& grey,
+                                                            const cv::RotatedRect& e,
+                                                            const Levels& lv) const {
+    const double th = e.angle * std::numbers::pi / 180.0;
+    const cv::Point2d u(std::cos(th), std::sin(th)), v(-std::sin(th), std::cos(th));
+    const double a = 0.5 * e.size.width, b = 0.5 * e.size.height;
+    const cv::Point2d c(e.center.x, e.center.y);
+    std::array<double, 49> values{};
+    int n = 0, dark = 0;
+    auto add = [&](cv::Point2d p) {
+        const double g = sample(grey, p.x, p.y);
+        if (g < 0.0 || g >= lv.glint) return; // off the image, or a glint
+        values[static_cast<std::size_t>(n++)] = g;
+        if (g < lv.threshold) ++dark;
+    };
+    add(c);
+    for (const double r : {0.3, 0.55, 0.8}) {
+        for (int k = 0; k < 16; ++k) {
+            const double phi = (k + 0.5 * r) * 2.0 * std::numbers::pi / 16.0;
+            add(c + u * (r * a * std::cos(phi)) + v * (r * b * std::sin(phi)));
+        }
+    }
+    if (n == 0) return {0.0, 255.0, 255.0};
+    std::sort(values.begin(), values.begin() + n);
+    return {static_cast<double>(dark) / n, values[static_cast<std::size_t>(n / 2)],
+            values[static_cast<std::size_t>(3 * n / 4)]};
+}
+
+double StarburstDetector::sizeConsistency(double semiMajor) const {
+    if (mRecentRadius <= 0.0) return 1.0;
+    const double l = std::log(semiMajor / mRecentRadius);
+    constexpr double kSigma = 0.35; // a 1.4x size change keeps 60 % of the confidence
+    return std::exp(-0.5 * l * l / (kSigma * kSigma));
+}
+
+std::optional<StarburstDetector::Candidate>
+StarburstDetector::innerCandidate(const PupilResult& outer, double outerInterior, double minR) {
+    // The same centre-surround feature as findCandidates, on the coarse image around the outer
+    // ellipse, restricted to centres inside it and radii below 0.7 of its minor semi-axis. The
+    // coarse image is clipped at the outer blob's upper-quartile level (its iris) first, so the
+    // sclera beyond it and glints on it cannot pull the ring's mean up and the seed off the
+    // pupil, and the ring may reach past the outer blob's edge.
+    const int f = mCoarseFactor;
+    const double maxR = 0.7 * outer.semiMinor() / f;
+    const double lo = std::max(1.5, minR / f);
+    if (maxR < lo) return std::nullopt;
+    const double reach = 0.6 * outer.semiMinor() / f;
+    const double ox = (outer.centre().x + 0.5) / f - 0.5, oy = (outer.centre().y + 0.5) / f - 0.5;
+    const int margin = static_cast<int>(std::ceil(reach + 1.8 * maxR)) + 2;
+    const cv::Rect roi = cv::Rect(static_cast<int>(ox) - margin, static_cast<int>(oy) - margin,
+                                  2 * margin + 1, 2 * margin + 1) &
+                         cv::Rect(0, 0, mSmall.cols, mSmall.rows);
+    if (roi.width < 3 || roi.height < 3) return std::nullopt;
+    cv::min(mSmall(roi), cv::Scalar(std::clamp(outerInterior, 0.0, 255.0)), mInnerClipped);
+    cv::integral(mInnerClipped, mInnerIntegral, CV_32S);
+    const int w = roi.width, h = roi.height;
+    const double cx = ox - roi.x, cy = oy - roi.y;
+    std::optional<Candidate> best;
+    for (double r = lo; r <= maxR + 1e-9; r *= 1.25) {
+        const int hi = std::max(1, static_cast<int>(std::lround(0.75 * r)));
+        const int ho = std::max(hi + 1, static_cast<int>(std::lround(1.8 * r)));
+        for (int y = std::max(0, static_cast<int>(cy - reach));
+             y <= std::min(h - 1, static_cast<int>(cy + reach) + 1); ++y) {
+            for (int x = std::max(0, static_cast<int>(cx - reach));
+                 x <= std::min(w - 1, static_cast<int>(cx + reach) + 1); ++x) {
+                if ((x - cx) * (x - cx) + (y - cy) * (y - cy) > reach * reach) continue;
+                const int ix0 = std::max(0, x - hi), ix1 = std::min(w, x + hi + 1);
+                const int iy0 = std::max(0, y - hi), iy1 = std::min(h, y + hi + 1);
+                const int ox0 = std::max(0, x - ho), ox1 = std::min(w, x + ho + 1);
+                const int oy0 = std::max(0, y - ho), oy1 = std::min(h, y + ho + 1);
+                const long long inner = boxSum(mInnerIntegral, ix0, iy0, ix1, iy1);
+                const long long all = boxSum(mInnerIntegral, ox0, oy0, ox1, oy1);
+                const int innerArea = (ix1 - ix0) * (iy1 - iy0);
+                const int ringArea = (ox1 - ox0) * (oy1 - oy0) - innerArea;
+                if (ringArea <= innerArea) continue;
+                const double response = static_cast<double>(all - inner) / ringArea -
+                                        static_cast<double>(inner) / innerArea;
+                if (response < 0.5 * mConfig.minContrast) continue;
+                if (!best || response > best->response)
+                    best = Candidate{{(x + roi.x + 0.5) * f - 0.5, (y + roi.y + 0.5) * f - 0.5},
+                                     r * f,
+                                     response};
+            }
+        }
+    }
+    return best;
+}
+
+PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
+    if (grey.empty() || grey.type() != CV_8UC1)
+        throw EyetrackError("pupil detector: expected an 8-bit greyscale image");
+    ++mFrame;
+    const double side = std::min(grey.rows, grey.cols);
+    const double minR = mConfig.minRadius > 0.0 ? mConfig.minRadius : 0.03 * side;
+    const double maxR = mConfig.maxRadius > 0.0 ? mConfig.maxRadius : 0.25 * side;
+    findCandidates(grey, minR, maxR);
+    cv::integral(grey, mFullIntegral, CV_32S);
+    // Rays walk a 3x3 box-filtered copy: sensor noise would otherwise end a ray at the first
+    // noisy pixel above the threshold when the pupil is only a little darker than its iris. The
+    // filter is symmetric, so the half-way crossing of an edge stays where it was.
+    cv::blur(grey, mSmooth, cv::Size(3, 3), cv::Point(-1, -1), cv::BORDER_REPLICATE);
+    // Temporal prior (after PuReST, Santini et al. 2018): last frame's pupil is also a candidate,
+    // and a result close to it is preferred. Pupils move little between frames except in
+    // saccades, where the coarse search still finds them.
+    const bool haveLast = mLast.found && mLast.confidence >= 0.6;
+    if (haveLast) mCandidates.insert(mCandidates.begin(), {mLast.centre(), mLast.semiMajor(), 0.0});
+    struct Scored {
+        PupilResult result;
+        double score = 0.0, interior = 0.0, interiorHigh = 0.0, visibleSupport = 0.0;
+    };
+    std::vector<Scored> scored;
+    auto consider = [&](const Candidate& c, double surroundHint) {
+        auto refined = refine(grey, c, minR, maxR, surroundHint);
+        PupilResult& r = refined.result;
+        if (r.confidence <= 0.0 && refined.visibleSupport <= 0.0) return;
+        // Size consistency (PuReST): the pupil's size changes slowly, so an ellipse far from the
+        // recent pupil size (a gap between lashes during a blink) loses confidence.
+        const double consistency = sizeConsistency(r.semiMajor());
+        r.confidence *= consistency;
+        // Selection score: support of the visible outline and how pupil-like the ellipse is,
+        // weighed towards pupil-sized ellipses (dark gaps between lashes make small,
+        // high-contrast ellipses) and towards last frame's pupil.
+        double score = refined.visibleSupport * refined.quality * consistency *
+                       (0.6 + 0.4 * std::min(1.0, r.semiMinor() / (0.06 * side)));
+        if (haveLast &&
+            cv::norm(r.centre() - mLast.centre()) < std::max(5.0, 0.5 * mLast.semiMajor()))
+            score *= 1.2;
+        if (score > 0.0)
+            scored.push_back(
+                {r, score, refined.interior, refined.interiorHigh, refined.visibleSupport});
+    };
+    for (const Candidate& c : mCandidates)
+        consider(c, 0.0);
+    const auto byScore = [](const Scored& a, const Scored& b) { return a.score > b.score; };
+    std::sort(scored.begin(), scored.end(), byScore);
+    // The search keeps the strongest blobs, and a dark iris's contrast with the sclera can crowd
+    // the pupil inside it out: look for the darkest blob inside the winner too, with the
+    // winner's inside as the level around it.
+    if (!scored.empty()) {
+        const Scored top = scored.front();
+        if (const auto inner = innerCandidate(top.result, top.interiorHigh, minR)) {
+            consider(*inner, top.interiorHigh);
+            std::sort(scored.begin(), scored.end(), byScore);
+        }
+    }
+    PupilResult best;
+    if (!scored.empty()) {
+        const Scored* pick = &scored.front();
+        // The pupil is the darkest blob: a clearly darker, well-outlined ellipse inside the
+        // winner (a pupil only slightly darker than its dark iris, which outscores it on
+        // contrast with the sclera) takes its place.
+        const Conic outer = Conic::fromEllipse(pick->result.ellipse);
+        const double outerSign = outer.value(pick->result.centre());
+        for (const Scored& s : scored) {
+            if (&s == pick) continue;
+            const bool inside = outer.value(s.result.centre()) * outerSign > 0.0;
+            const bool smaller = s.result.semiMajor() < 0.75 * pick->result.semiMajor();
+            if (inside && smaller && s.interior < pick->interiorHigh - 0.5 * mConfig.minContrast &&
+                s.visibleSupport >= 0.5 && s.result.confidence >= 0.5 &&
+                s.score >= 0.5 * pick->score) {
+                pick = &s;
+                break;
+            }
+        }
+        best = pick->result;
+    }
+    best.found = best.confidence >= mConfig.minConfidence;
+    mLast = best;
+    ++mFramesSinceSize;
+    if (best.confidence >= 0.75) {
+        mRecentRadius =
+            mRecentRadius > 0.0 ? 0.9 * mRecentRadius + 0.1 * best.semiMajor() : best.semiMajor();
+        mFramesSinceSize = 0;
+    } else if (mFramesSinceSize > 300) {
+        mRecentRadius = 0.0; // lost for long: forget the size
+    }
+    return best;
+}
+
+} // namespace gt::eyetrack
