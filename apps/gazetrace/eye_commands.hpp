@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "eye_camera_args.hpp"
 #include "gaze/display_geometry.hpp"
 
 namespace gt::app {
@@ -19,6 +20,11 @@ struct EyesimOptions {
     double targetMs = 1000.0;
     std::string out;   // video (.mkv / .avi, lossless FFV1)
     std::string truth; // CSV
+    bool perspective = false;
+    std::string intrinsicsOut; // the camera's intrinsics (JSON), for track/calibrate --model 3d
+    std::string slipMm;        // X,Y,Z: headset slippage (camera frame, mm)
+    double slipDeg = 0.0;
+    double slipAtMs = -1.0;
 };
 
 struct TrackOptions {
@@ -31,7 +37,10 @@ struct TrackOptions {
     std::string emit;         // udp://host:port
     std::string contactSheet; // PNG of every sheetEvery-th frame with its fitted pupil
     int sheetEvery = 25;
-    int maxFrames = 0; // 0: all
+    int maxFrames = 0;        // 0: all
+    std::string model = "2d"; // 2d | 3d
+    std::string eye = "both"; // which eye of the calibration file
+    EyeCameraArgs camera;     // --model 3d: replaces the calibration's intrinsics
 };
 
 struct EyescoreOptions {
@@ -54,6 +63,15 @@ struct CalibrateOptions {
     std::string out;
     double settleMs = 300.0; // ignore the start of each target (saccade latency + flight)
     eyetrack::DisplayGeometry display;
+    EyeCameraArgs camera; // given: the 3D eye model is calibrated too
+};
+
+struct SlippageOptions {
+    std::string seeds = "1-8";
+    std::string preset = "clean";
+    std::string slipsMm = "1,2,3"; // slippage magnitudes
+    double slipDeg = 2.0;
+    std::string detector = "starburst";
 };
 
 nlohmann::json runEyesim(const EyesimOptions& options);
@@ -61,5 +79,6 @@ nlohmann::json runTrack(const TrackOptions& options);
 nlohmann::json runCalibrate(const CalibrateOptions& options);
 nlohmann::json runEyeBench();
 nlohmann::json runEyescore(const EyescoreOptions& options);
+nlohmann::json runSlippage(const SlippageOptions& options);
 
 } // namespace gt::app

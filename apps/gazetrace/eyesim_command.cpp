@@ -1,3 +1,4 @@
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -33,6 +34,21 @@ nlohmann::json runEyesim(const EyesimOptions& o) {
     c.schedule.calibrationPoints = o.grid;
     c.schedule.targetMs = o.targetMs;
     eyetrack::applyPreset(c, o.preset);
+    if (o.perspective) c.perspective = true;
+    if (!o.slipMm.empty()) {
+        double x = 0, y = 0, z = 0;
+        char extra = 0;
+        if (std::sscanf(o.slipMm.c_str(), "%lf,%lf,%lf%c", &x, &y, &z, &extra) != 3 ||
+            !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || std::abs(x) > 20 ||
+            std::abs(y) > 20 || std::abs(z) > 20)
+            throw ArgumentError("--slip-mm " + o.slipMm + ": expected X,Y,Z in mm, each within 20");
+        c.slipMm = {x, y, z};
+        c.slipAtMs = std::max(0.0, o.slipAtMs);
+    }
+    if (!std::isfinite(o.slipDeg) || std::abs(o.slipDeg) > 20.0)
+        throw ArgumentError("--slip-deg: expected a turn within 20 degrees");
+    c.slipDeg = o.slipDeg;
+    if (o.slipAtMs >= 0.0) c.slipAtMs = o.slipAtMs;
     const eyetrack::SyntheticEye eye(c);
 
     const std::filesystem::path video(o.out);
@@ -66,6 +82,7 @@ nlohmann::json runEyesim(const EyesimOptions& o) {
         throw ArgumentError("--out " + o.out + ": cannot be written");
     }
     truth.commit();
+    if (!o.intrinsicsOut.empty()) eye.intrinsics().save(o.intrinsicsOut);
     return {{"frames", c.frames}, {"width", c.size.width}, {"height", c.size.height},
             {"fps", c.fps},       {"preset", o.preset},    {"seed", o.seed},
             {"video", o.out},     {"truth", o.truth}};

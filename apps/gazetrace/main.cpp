@@ -384,6 +384,14 @@ int main(int argc, char** argv) {
     eyesimCmd->add_option("--out", eyesim.out, "Video file (.mkv or .avi, lossless FFV1)")
         ->required();
     eyesimCmd->add_option("--truth", eyesim.truth, "Per-frame truth CSV")->required();
+    eyesimCmd->add_flag("--perspective", eyesim.perspective,
+                        "Pinhole camera (the wild preset always has one)");
+    eyesimCmd->add_option("--intrinsics-out", eyesim.intrinsicsOut,
+                          "Write the eye camera's intrinsics (JSON) for --model 3d");
+    eyesimCmd->add_option("--slip-mm", eyesim.slipMm,
+                          "Headset slippage X,Y,Z in mm (camera frame), from --slip-at-ms on");
+    eyesimCmd->add_option("--slip-deg", eyesim.slipDeg, "Headset turn with the slippage (degrees)");
+    eyesimCmd->add_option("--slip-at-ms", eyesim.slipAtMs, "When the headset slips (default 0)");
     bool eyesimJson = false;
     eyesimCmd->add_flag("--json", eyesimJson, "Print a JSON summary on stdout");
 
@@ -411,6 +419,14 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 1000000));
     trackCmd->add_option("--max-frames", track.maxFrames, "Stop after this many frames")
         ->check(CLI::Range(0, 100000000));
+    trackCmd->add_option("--model", track.model, "Gaze model: 2d (polynomial) or 3d (eye model)")
+        ->capture_default_str();
+    trackCmd->add_option("--eye", track.eye, "Eye of the calibration file: both, left or right")
+        ->capture_default_str();
+    trackCmd->add_option("--intrinsics", track.camera.intrinsics,
+                         "Eye camera intrinsics JSON for --model 3d (default: the calibration's)");
+    trackCmd->add_option("--focal", track.camera.focal, "Eye camera focal length, pixels");
+    trackCmd->add_option("--principal", track.camera.principal, "Eye camera principal point X,Y");
     trackCmd->add_flag("--json", trackJson, "Print a JSON summary on stdout");
 
     gt::app::EyescoreOptions eyescore;
@@ -440,6 +456,21 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     eyescoreCmd->add_flag("--json", eyescoreJson, "Print JSON on one line");
 
+    gt::app::SlippageOptions slippage;
+    bool slippageJson = false;
+    CLI::App* slippageCmd = app.add_subcommand(
+        "slippage", "Accuracy of the 2D and 3D gaze models before and after the headset slips");
+    slippageCmd->add_option("--seeds", slippage.seeds, "eyesim seeds N or A-B")
+        ->capture_default_str();
+    slippageCmd->add_option("--preset", slippage.preset, "eyesim preset")->capture_default_str();
+    slippageCmd->add_option("--slips-mm", slippage.slipsMm, "Slippage magnitudes in mm, A,B,..")
+        ->capture_default_str();
+    slippageCmd->add_option("--slip-deg", slippage.slipDeg, "Headset turn with each slip")
+        ->capture_default_str();
+    slippageCmd->add_option("--detector", slippage.detector, "Pupil detector")
+        ->capture_default_str();
+    slippageCmd->add_flag("--json", slippageJson, "Print JSON on one line");
+
     gt::app::CalibrateOptions calibrate;
     bool calibrateJson = false;
     std::string screen = "1920x1080";
@@ -454,6 +485,11 @@ int main(int argc, char** argv) {
                      "Target schedule CSV (t_ms,target_x,target_y[,phase,target_index])")
         ->required();
     calibrateCmd->add_option("--out", calibrate.out, "Calibration JSON to write")->required();
+    calibrateCmd->add_option("--intrinsics", calibrate.camera.intrinsics,
+                             "Eye camera intrinsics JSON: also calibrate the 3D eye model");
+    calibrateCmd->add_option("--focal", calibrate.camera.focal, "Eye camera focal length, pixels");
+    calibrateCmd->add_option("--principal", calibrate.camera.principal,
+                             "Eye camera principal point X,Y");
     calibrateCmd
         ->add_option("--settle-ms", calibrate.settleMs,
                      "Ignore this long after each target appears")
@@ -644,6 +680,9 @@ int main(int argc, char** argv) {
         } else if (trackCmd->parsed()) {
             const nlohmann::json result = gt::app::runTrack(track);
             std::cout << (trackJson ? result.dump() : result.dump(2)) << std::endl;
+        } else if (slippageCmd->parsed()) {
+            const nlohmann::json result = gt::app::runSlippage(slippage);
+            std::cout << (slippageJson ? result.dump() : result.dump(2)) << std::endl;
         } else if (eyescoreCmd->parsed()) {
             const nlohmann::json result = gt::app::runEyescore(eyescore);
             std::cout << (eyescoreJson ? result.dump() : result.dump(2)) << std::endl;

@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "eye_commands.hpp"
 #include "gaze/calibration.hpp"
+#include "gaze/calibration_set.hpp"
 #include "gaze/eye_pipeline.hpp"
 #include "gaze/gaze_filter.hpp"
 #include "gaze/gaze_mailbox.hpp"
@@ -29,7 +30,8 @@ namespace {
 constexpr double kVisibleShare = 0.5;
 
 std::unique_ptr<eyetrack::GazeMapper> openGazeMapper(const TrackOptions& o) {
-    return std::make_unique<eyetrack::PolynomialMapper>(eyetrack::Calibration::load(o.calibration));
+    const auto set = eyetrack::CalibrationSet::load(o.calibration);
+    return eyetrack::makeGazeMapper(set.eye(o.eye), o.model, eyeCamera(o.camera));
 }
 
 } // namespace
@@ -48,6 +50,10 @@ nlohmann::json runTrack(const TrackOptions& o) {
             throw ArgumentError("--contact-sheet " + o.contactSheet + ": must end in .png");
         sheet.emplace(o.contactSheet, o.sheetEvery);
     }
+    if (o.model != "2d" && o.model != "3d")
+        throw ArgumentError("--model " + o.model + ": expected 2d or 3d");
+    if (o.model == "3d" && o.calibration.empty())
+        throw ArgumentError("--model 3d maps to the screen and needs --calibration");
     std::unique_ptr<eyetrack::GazeMapper> mapper;
     if (!o.calibration.empty()) mapper = openGazeMapper(o);
     std::optional<eyetrack::CsvTable> truth;
@@ -152,7 +158,10 @@ nlohmann::json runTrack(const TrackOptions& o) {
         j["detection_rate_5px"] = visible ? static_cast<double>(within5) / visible : 0.0;
         j["median_error_px"] = eyetrack::median(errors);
     }
-    if (mapped) j["saccades"] = saccades;
+    if (mapped) {
+        j["saccades"] = saccades;
+        j["model"] = o.model;
+    }
     j["detector"] = pipeline.detector().name();
     if (sheet) j["contact_sheet_tiles"] = sheet->tiles();
     if (const auto last = mailbox.latest()) j["last_gaze"] = {last->x, last->y};

@@ -267,6 +267,11 @@ Calibration Calibration::load(const std::filesystem::path& file) {
     } catch (const nlohmann::json::exception&) {
         throw FormatError("calibration " + file.string() + ": not valid JSON");
     }
+    // A version-3 file (gaze/calibration_set.hpp) with one eye: its polynomial.
+    if (j.is_object() && j.contains("version") && j["version"].is_number_integer() &&
+        j["version"].get<long long>() == 3 && j.contains("eyes") && j["eyes"].is_array() &&
+        j["eyes"].size() == 1 && j["eyes"][0].is_object() && j["eyes"][0].contains("poly"))
+        return fromJson(j["eyes"][0]["poly"], file.string());
     return fromJson(j, file.string());
 }
 

@@ -6,6 +6,8 @@
 
 #include "error.hpp"
 #include "io/csv_tables.hpp"
+#include "model/eye_model.hpp"
+#include "model/eye_model_mapper.hpp"
 #include "stats.hpp"
 
 namespace gt::eyetrack {
@@ -13,6 +15,69 @@ namespace gt::eyetrack {
 namespace {
 
 constexpr double kMinConfidence = 0.6;
+
+// The component-wise median of unit vectors, normalised: a robust mean direction.
+cv::Vec3d medianDirection(const std::vector<cv::Vec3d>& v) {
+    std::vector<double> x, y, z;
+    for (const cv::Vec3d& a : v) {
+        x.push_back(a[0]);
+        y.push_back(a[1]);
+        z.push_back(a[2]);
+    }
+    return cv::normalize(cv::Vec3d(median(x), median(y), median(z)));
+}
+
+template <typename Observations>
+void fit3d(EyeModel& model, const Observations& observations, const DisplayGeometry& display,
+           CalibrationResult& result) {
+    if (!model.fit())
+        throw CalibrationError("3D calibration: the eye model could not be fitted (too few "
+                               "confident pupils, or too little eye movement)");
+    std::map<int, std::vector<cv::Vec3d>> perTarget;
+    std::map<int, cv::Point2d> targetPos;
+    for (const auto& o : observations) {
+        if (o.target.phase != GazePhase::Calibration) continue;
+        if (const auto axis = model.gaze(o.ellipse)) {
+            perTarget[o.target.targetIndex].push_back(*axis);
+            targetPos[o.target.targetIndex] = o.target.target;
+        }
+    }
+    std::vector<cv::Vec3d> axes;
+    std::vector<cv::Point2d> targets;
+    for (const auto& [index, list] : perTarget) {
+        axes.push_back(medianDirection(list));
+        targets.push_back(targetPos[index]);
+    }
+    Model3dCalibration m;
+    m.display = display;
+    m.camera = model.camera();
+    m.pupilRadiusMm = model.config().pupilRadiusMm;
+    m.eyeCentreMm = model.centre();
+    m.eyeRadiusMm = model.radius();
+    m.fitRotation(axes, targets);
+    // Validation, as for the polynomial.
+    double errorSum = 0.0, precisionSum = 0.0;
+    int samples = 0, precisionCount = 0, previousIndex = -1;
+    cv::Point2d previousGaze;
+    for (const auto& o : observations) {
+        if (o.target.phase != GazePhase::Validation) continue;
+        const auto axis = model.gaze(o.ellipse);
+        const auto gaze = axis ? m.map(*axis) : std::nullopt;
+        if (!gaze) continue;
+        errorSum += display.angularDistanceDeg(*gaze, o.target.target);
+        ++samples;
+        if (previousIndex == o.target.targetIndex) {
+            const double d = display.angularDistanceDeg(*gaze, previousGaze);
+            precisionSum += d * d;
+            ++precisionCount;
+        }
+        previousIndex = o.target.targetIndex;
+        previousGaze = *gaze;
+    }
+    if (samples > 0) result.accuracy3dDeg = errorSum / samples;
+    if (precisionCount > 0) result.precision3dDeg = std::sqrt(precisionSum / precisionCount);
+    result.model3d = m;
+}
 
 } // namespace
 
@@ -72,21 +137,36 @@ std::optional<std::pair<ScheduledTarget, double>> TargetSchedule::at(double tMs)
 
 CalibrationResult calibrateFromRecording(FrameSource& source, const TargetSchedule& schedule,
                                          const DisplayGeometry& display, double settleMs,
-                                         PupilDetector& detector) {
+                                         PupilDetector& detector,
+                                         const std::optional<CameraIntrinsics>& camera) {
     struct Observation {
         cv::Point2d pupil;
         ScheduledTarget target;
+        cv::RotatedRect ellipse;
     };
     std::vector<Observation> observations;
-    CalibrationResult result{Calibration{}, 0, 0, 0, 0.0, 0.0, 0};
+    CalibrationResult result{};
+    // The eye model sees every confident ellipse of the calibration phase, fixations and the
+    // saccades between them alike (the more directions, the better the lines meet).
+    std::optional<EyeModel> model;
+    if (camera) {
+        EyeModelConfig mc;
+        mc.window = 1 << 20;
+        mc.refitEvery = 1 << 30;
+        model.emplace(*camera, mc);
+    }
     while (auto frame = source.next()) {
         ++result.frames;
-        const PupilResult pupil = detector.detect(frame->grey);
+        const PupilResult pupil = detector.detect(frame->grey, frame->tMs);
+        const auto now = schedule.at(frame->tMs);
+        if (model && now && now->first.phase == GazePhase::Calibration && pupil.found &&
+            pupil.confidence >= EyeModelMapper::kFitConfidence)
+            model->add(pupil.ellipse);
         const auto target = schedule.at(frame->tMs);
         if (!target || target->first.phase == GazePhase::Free) continue;
         if (frame->tMs - target->second < settleMs) continue; // the eye is still on its way
         if (!pupil.found || pupil.confidence < kMinConfidence) continue;
-        observations.push_back({pupil.centre(), target->first});
+        observations.push_back({pupil.centre(), target->first, pupil.ellipse});
     }
 
     // Median pupil centre per calibration target.
@@ -127,6 +207,7 @@ CalibrationResult calibrateFromRecording(FrameSource& source, const TargetSchedu
     result.validationTargets = static_cast<int>(seen.size());
     if (result.validationSamples > 0) result.accuracyDeg = errorSum / result.validationSamples;
     if (precisionCount > 0) result.precisionDeg = std::sqrt(precisionSum / precisionCount);
+    if (model) fit3d(*model, observations, display, result);
     return result;
 }
 

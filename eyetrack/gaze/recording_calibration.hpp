@@ -11,6 +11,7 @@
 
 #include "capture/frame_source.hpp"
 #include "gaze/calibration.hpp"
+#include "model/model3d_calibration.hpp"
 #include "pupil/pupil_detector.hpp"
 #include "sim/gaze_schedule.hpp"
 
@@ -40,6 +41,10 @@ private:
 
 struct CalibrationResult {
     Calibration calibration;
+    // With camera intrinsics: the 3D eye model's calibration and its validation accuracy.
+    std::optional<Model3dCalibration> model3d;
+    double accuracy3dDeg = 0.0;
+    double precision3dDeg = 0.0;
     int calibrationTargets = 0;
     int validationTargets = 0;
     int validationSamples = 0;
@@ -48,9 +53,11 @@ struct CalibrationResult {
     int frames = 0;
 };
 
-[[nodiscard]] CalibrationResult calibrateFromRecording(FrameSource& source,
-                                                       const TargetSchedule& schedule,
-                                                       const DisplayGeometry& display,
-                                                       double settleMs, PupilDetector& detector);
+// `camera`: the eye camera's intrinsics, to fit the 3D eye model too (model/eye_model.hpp): the
+// eyeball from the calibration phase's ellipses, then the rotation onto the display.
+[[nodiscard]] CalibrationResult
+calibrateFromRecording(FrameSource& source, const TargetSchedule& schedule,
+                       const DisplayGeometry& display, double settleMs, PupilDetector& detector,
+                       const std::optional<CameraIntrinsics>& camera = std::nullopt);
 
 } // namespace gt::eyetrack
