@@ -25,6 +25,10 @@ struct EyesimOptions {
     std::string slipMm;        // X,Y,Z: headset slippage (camera frame, mm)
     double slipDeg = 0.0;
     double slipAtMs = -1.0;
+    std::string eye = "cyclops"; // left | right | both (side by side); cyclops: one eye between
+    double ipdMm = 63.0;
+    double depthCm = 0.0;   // free viewing converges at this distance; 0: the screen
+    std::string truthRight; // --eye both: the right eye's truth
 };
 
 struct TrackOptions {
@@ -41,6 +45,10 @@ struct TrackOptions {
     std::string model = "2d"; // 2d | 3d
     std::string eye = "both"; // which eye of the calibration file
     EyeCameraArgs camera;     // --model 3d: replaces the calibration's intrinsics
+    // Two eyes: a camera each, or one camera with two regions (--source and --regions).
+    std::string sourceLeft, sourceRight, regions;
+    std::string truthRight; // the right eye's truth (--truth is the left's)
+    double ipdMm = 63.0;
 };
 
 struct EyescoreOptions {
@@ -63,7 +71,8 @@ struct CalibrateOptions {
     std::string out;
     double settleMs = 300.0; // ignore the start of each target (saccade latency + flight)
     eyetrack::DisplayGeometry display;
-    EyeCameraArgs camera; // given: the 3D eye model is calibrated too
+    EyeCameraArgs camera;                         // given: the 3D eye model is calibrated too
+    std::string sourceLeft, sourceRight, regions; // two eyes, as for track
 };
 
 struct SlippageOptions {
@@ -76,6 +85,7 @@ struct SlippageOptions {
 
 nlohmann::json runEyesim(const EyesimOptions& options);
 nlohmann::json runTrack(const TrackOptions& options);
+nlohmann::json runTrackBinocular(const TrackOptions& options);
 nlohmann::json runCalibrate(const CalibrateOptions& options);
 nlohmann::json runEyeBench();
 nlohmann::json runEyescore(const EyescoreOptions& options);

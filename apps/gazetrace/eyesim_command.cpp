@@ -1,6 +1,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include <opencv2/videoio.hpp>
 
@@ -49,7 +50,28 @@ nlohmann::json runEyesim(const EyesimOptions& o) {
         throw ArgumentError("--slip-deg: expected a turn within 20 degrees");
     c.slipDeg = o.slipDeg;
     if (o.slipAtMs >= 0.0) c.slipAtMs = o.slipAtMs;
-    const eyetrack::SyntheticEye eye(c);
+    if (o.eye != "cyclops" && o.eye != "left" && o.eye != "right" && o.eye != "both")
+        throw ArgumentError("--eye " + o.eye + ": expected left, right or both");
+    if (!(o.ipdMm >= 40.0 && o.ipdMm <= 80.0)) throw ArgumentError("--ipd-mm: expected 40..80 mm");
+    if (!(o.depthCm == 0.0 || (o.depthCm >= 10.0 && o.depthCm <= 10000.0)))
+        throw ArgumentError("--depth-cm: expected 10..10000 cm (0: on the screen)");
+    c.fixationDepthCm = o.depthCm;
+    const bool both = o.eye == "both";
+    if (both && o.truthRight.empty())
+        throw ArgumentError("--eye both writes one frame with both eyes side by side and needs "
+                            "--truth-right for the right eye's truth");
+    // The left eye's look comes from the seed; the right eye's from a second seed, so the two
+    // eyes of one clip differ as a person's do.
+    eyetrack::EyeSimConfig left = c, right = c;
+    left.eyeOffsetMm = -0.5 * o.ipdMm;
+    right.eyeOffsetMm = 0.5 * o.ipdMm;
+    right.appearanceSeed = o.seed * 7919 + 17;
+    if (o.eye == "left") c = left;
+    if (o.eye == "right") c = right;
+    const eyetrack::SyntheticEye eye(both ? left : c);
+    std::optional<eyetrack::SyntheticEye> second;
+    if (both) second.emplace(right);
+    const cv::Size frameSize(both ? 2 * c.size.width : c.size.width, c.size.height);
 
     const std::filesystem::path video(o.out);
     std::string ext = video.extension().string();
@@ -64,16 +86,28 @@ nlohmann::json runEyesim(const EyesimOptions& o) {
         video.parent_path() / (video.stem().string() + ".partial" + ext);
     eyetrack::AtomicFile truth(o.truth);
     truth.stream() << eyetrack::truthHeader() << "\n";
+    std::optional<eyetrack::AtomicFile> truthRight;
+    if (both) {
+        truthRight.emplace(o.truthRight);
+        truthRight->stream() << eyetrack::truthHeader() << "\n";
+    }
     {
         cv::VideoWriter writer(temp.string(), cv::CAP_FFMPEG,
-                               cv::VideoWriter::fourcc('F', 'F', 'V', '1'), c.fps, c.size, false);
+                               cv::VideoWriter::fourcc('F', 'F', 'V', '1'), c.fps, frameSize,
+                               false);
         if (!writer.isOpened())
             throw ArgumentError("--out " + o.out + ": cannot open a lossless FFV1 writer");
         for (int f = 0; f < c.frames; ++f) {
             eyetrack::EyeTruth t;
-            const cv::Mat image = eye.render(f, &t);
-            writer.write(image);
+            cv::Mat image = eye.render(f, &t);
             truth.stream() << eyetrack::truthRow(t) << "\n";
+            if (second) {
+                eyetrack::EyeTruth tr;
+                const cv::Mat other = second->render(f, &tr);
+                truthRight->stream() << eyetrack::truthRow(tr) << "\n";
+                cv::hconcat(image, other, image);
+            }
+            writer.write(image);
         }
     }
     std::filesystem::rename(temp, video, ec);
@@ -82,10 +116,21 @@ nlohmann::json runEyesim(const EyesimOptions& o) {
         throw ArgumentError("--out " + o.out + ": cannot be written");
     }
     truth.commit();
+    if (truthRight) truthRight->commit();
     if (!o.intrinsicsOut.empty()) eye.intrinsics().save(o.intrinsicsOut);
-    return {{"frames", c.frames}, {"width", c.size.width}, {"height", c.size.height},
-            {"fps", c.fps},       {"preset", o.preset},    {"seed", o.seed},
-            {"video", o.out},     {"truth", o.truth}};
+    nlohmann::json j{{"frames", c.frames}, {"width", frameSize.width}, {"height", frameSize.height},
+                     {"fps", c.fps},       {"preset", o.preset},       {"seed", o.seed},
+                     {"video", o.out},     {"truth", o.truth}};
+    if (o.eye != "cyclops") {
+        j["eye"] = o.eye;
+        j["ipd_mm"] = o.ipdMm;
+    }
+    if (both) {
+        j["truth_right"] = o.truthRight;
+        j["regions"] = cv::format("0,0,%d,%d;%d,0,%d,%d", c.size.width, c.size.height, c.size.width,
+                                  c.size.width, c.size.height);
+    }
+    return j;
 }
 
 } // namespace gt::app

@@ -392,6 +392,14 @@ int main(int argc, char** argv) {
                           "Headset slippage X,Y,Z in mm (camera frame), from --slip-at-ms on");
     eyesimCmd->add_option("--slip-deg", eyesim.slipDeg, "Headset turn with the slippage (degrees)");
     eyesimCmd->add_option("--slip-at-ms", eyesim.slipAtMs, "When the headset slips (default 0)");
+    eyesimCmd->add_option("--eye", eyesim.eye,
+                          "left or right (binocular clips, one camera per eye), or both (one "
+                          "frame with both eyes side by side; --truth-right for the right's)");
+    eyesimCmd->add_option("--ipd-mm", eyesim.ipdMm, "Interpupillary distance")
+        ->capture_default_str();
+    eyesimCmd->add_option("--depth-cm", eyesim.depthCm,
+                          "Free viewing converges at this distance (0: on the screen)");
+    eyesimCmd->add_option("--truth-right", eyesim.truthRight, "--eye both: the right eye's truth");
     bool eyesimJson = false;
     eyesimCmd->add_flag("--json", eyesimJson, "Print a JSON summary on stdout");
 
@@ -399,10 +407,16 @@ int main(int argc, char** argv) {
     bool trackJson = false;
     CLI::App* trackCmd = app.add_subcommand(
         "track", "Track the pupil (and gaze, when calibrated) from a frame source");
-    trackCmd
-        ->add_option("--source", track.source,
-                     "v4l2:/dev/videoN[?...] | video:FILE | images:DIR | synthetic:SEED[?...]")
-        ->required();
+    trackCmd->add_option("--source", track.source,
+                         "v4l2:/dev/videoN[?...] | video:FILE | images:DIR | synthetic:SEED[?...]");
+    trackCmd->add_option("--source-left", track.sourceLeft, "Two eyes: the left eye's camera");
+    trackCmd->add_option("--source-right", track.sourceRight, "Two eyes: the right eye's camera");
+    trackCmd->add_option("--regions", track.regions,
+                         "Two eyes in one --source: X,Y,W,H;X,Y,W,H (left eye; right eye)");
+    trackCmd->add_option("--truth-right", track.truthRight,
+                         "Two eyes: the right eye's truth (--truth: the left's)");
+    trackCmd->add_option("--ipd-mm", track.ipdMm, "Two eyes: interpupillary distance")
+        ->capture_default_str();
     trackCmd->add_option("--detector", track.detector, "Pupil detector: starburst or blob")
         ->capture_default_str();
     trackCmd->add_option("--calibration", track.calibration,
@@ -476,8 +490,13 @@ int main(int argc, char** argv) {
     std::string screen = "1920x1080";
     CLI::App* calibrateCmd = app.add_subcommand(
         "calibrate", "Fit pupil-to-screen calibration from a recording with known targets");
-    calibrateCmd->add_option("--source", calibrate.source, "Frame source of the recording")
-        ->required();
+    calibrateCmd->add_option("--source-left", calibrate.sourceLeft,
+                             "Two eyes: the left eye's recording");
+    calibrateCmd->add_option("--source-right", calibrate.sourceRight,
+                             "Two eyes: the right eye's recording");
+    calibrateCmd->add_option("--regions", calibrate.regions,
+                             "Two eyes in one --source: X,Y,W,H;X,Y,W,H (left eye; right eye)");
+    calibrateCmd->add_option("--source", calibrate.source, "Frame source of the recording");
     calibrateCmd->add_option("--detector", calibrate.detector, "Pupil detector: starburst or blob")
         ->capture_default_str();
     calibrateCmd
@@ -678,6 +697,8 @@ int main(int argc, char** argv) {
             const nlohmann::json result = gt::app::runEyesim(eyesim);
             if (eyesimJson) std::cout << result.dump() << std::endl;
         } else if (trackCmd->parsed()) {
+            if (track.source.empty() && track.sourceLeft.empty() && track.sourceRight.empty())
+                throw gt::ArgumentError("track: --source (or --source-left and --source-right)");
             const nlohmann::json result = gt::app::runTrack(track);
             std::cout << (trackJson ? result.dump() : result.dump(2)) << std::endl;
         } else if (slippageCmd->parsed()) {

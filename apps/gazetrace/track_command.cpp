@@ -37,6 +37,9 @@ std::unique_ptr<eyetrack::GazeMapper> openGazeMapper(const TrackOptions& o) {
 } // namespace
 
 nlohmann::json runTrack(const TrackOptions& o) {
+    if (!o.sourceLeft.empty() || !o.sourceRight.empty() || !o.regions.empty())
+        return runTrackBinocular(o);
+    if (!o.truthRight.empty()) throw ArgumentError("--truth-right is for two eyes");
     cv::setNumThreads(1); // the detector's budget is one core
     if (!o.out.empty() && o.calibration.empty())
         throw ArgumentError(

@@ -8,7 +8,7 @@ EyePipeline::EyePipeline(std::unique_ptr<FrameSource> source,
                          std::unique_ptr<PupilDetector> detector,
                          std::unique_ptr<GazeMapper> mapper, GazeFilterConfig filter)
     : mSource(std::move(source)), mDetector(std::move(detector)), mMapper(std::move(mapper)) {
-    if (!mSource || !mDetector) throw EyetrackError("eye pipeline: a source and a detector needed");
+    if (!mDetector) throw EyetrackError("eye pipeline: a detector is needed");
     if (mMapper) {
         filter.display = mMapper->display();
         mFilter.emplace(filter);

@@ -21,14 +21,17 @@ struct EyeStep {
 
 class EyePipeline {
 public:
-    // mapper may be null. The filter's display is the mapper's.
+    // source may be null (frames are then pushed to process() by the caller: one camera that
+    // sees both eyes feeds two pipelines); mapper may be null. The filter's display is the
+    // mapper's.
     EyePipeline(std::unique_ptr<FrameSource> source, std::unique_ptr<PupilDetector> detector,
                 std::unique_ptr<GazeMapper> mapper, GazeFilterConfig filter = {});
 
     // The next frame, nullopt at the end (throws CaptureError as the source does).
-    [[nodiscard]] std::optional<Frame> grab() { return mSource->next(); }
+    [[nodiscard]] std::optional<Frame> grab() { return mSource ? mSource->next() : std::nullopt; }
     [[nodiscard]] EyeStep process(const Frame& frame);
 
+    // Only with a source.
     [[nodiscard]] FrameSource& source() noexcept { return *mSource; }
     [[nodiscard]] const FrameSource& source() const noexcept { return *mSource; }
     [[nodiscard]] PupilDetector& detector() noexcept { return *mDetector; }

@@ -15,18 +15,18 @@ std::string truthHeader() {
     return "frame,t_ms,cx,cy,axis_a,axis_b,angle_deg,visibility,yaw_deg,pitch_deg,target_x,target_"
            "y,gaze_x,gaze_y,"
            "phase,target_index,lid_open,eye_x_mm,eye_y_mm,eye_z_mm,gaze_dx,gaze_dy,gaze_dz,"
-           "pupil_radius_mm";
+           "pupil_radius_mm,fix_x_mm,fix_y_mm,fix_z_mm";
 }
 
 std::string truthRow(const EyeTruth& t) {
     return cv::format(
         "%d,%.3f,%.4f,%.4f,%.4f,%.4f,%.3f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.2f,%s,%d,%.3f,%.4f,%.4f,"
-        "%.4f,%.6f,%.6f,%.6f,%.4f",
+        "%.4f,%.6f,%.6f,%.6f,%.4f,%.2f,%.2f,%.2f",
         t.frame, t.tMs, t.centre.x, t.centre.y, t.axisA, t.axisB, t.angleDeg, t.visibility,
         t.yawDeg, t.pitchDeg, t.gaze.target.x, t.gaze.target.y, t.gaze.gaze.x, t.gaze.gaze.y,
         toString(t.gaze.phase), t.gaze.targetIndex, t.gaze.lidOpen, t.eyeCentreMm[0],
         t.eyeCentreMm[1], t.eyeCentreMm[2], t.gazeDirection[0], t.gazeDirection[1],
-        t.gazeDirection[2], t.pupilRadiusMm);
+        t.gazeDirection[2], t.pupilRadiusMm, t.fixationMm[0], t.fixationMm[1], t.fixationMm[2]);
 }
 
 namespace {

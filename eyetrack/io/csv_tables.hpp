@@ -2,7 +2,8 @@
 // The tracker's CSV files.
 //  truth (eyesim): frame,t_ms,cx,cy,axis_a,axis_b,angle_deg,visibility,yaw_deg,pitch_deg,
 //                  target_x,target_y,gaze_x,gaze_y,phase,target_index,lid_open,
-//                  eye_x_mm,eye_y_mm,eye_z_mm,gaze_dx,gaze_dy,gaze_dz,pupil_radius_mm (camera frame)
+//                  eye_x_mm,eye_y_mm,eye_z_mm,gaze_dx,gaze_dy,gaze_dz,pupil_radius_mm (camera
+//                  frame), fix_x_mm,fix_y_mm,fix_z_mm (the fixated point, display frame)
 //  pupils (track --pupils): frame,t_ms,cx,cy,axis_a,axis_b,angle_deg,confidence
 //  gaze (track --out): t_ms,x,y — the renderer's gaze-trace format, so it replays there.
 // Readers go by the header's column names and name file and line in every error.

@@ -1,5 +1,7 @@
 #include "io/udp_emitter.hpp"
 
+#include <cmath>
+
 #include <arpa/inet.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -56,10 +58,28 @@ std::string UdpEmitter::toJson(const GazeSample& s, const DisplayGeometry& d, co
         .dump();
 }
 
-bool UdpEmitter::send(const GazeSample& s) {
-    const std::string text = toJson(s, mDisplay);
+bool UdpEmitter::sendText(const std::string& text) {
     return ::sendto(mSocket, text.data(), text.size(), 0, reinterpret_cast<const sockaddr*>(&mTo),
                     sizeof(mTo)) == static_cast<ssize_t>(text.size());
+}
+
+bool UdpEmitter::send(const GazeSample& s) {
+    return sendText(toJson(s, mDisplay));
+}
+
+bool UdpEmitter::sendEye(const GazeSample& s, const char* eye, cv::Point2d anglesDeg) {
+    auto j = nlohmann::json::parse(toJson(s, mDisplay, eye));
+    j["yaw_deg"] = anglesDeg.x;
+    j["pitch_deg"] = anglesDeg.y;
+    return sendText(j.dump());
+}
+
+bool UdpEmitter::sendCombined(const GazeSample& s, std::optional<double> vergenceDeg,
+                              std::optional<double> fixationCm) {
+    auto j = nlohmann::json::parse(toJson(s, mDisplay, "both"));
+    if (vergenceDeg) j["vergence_deg"] = *vergenceDeg;
+    if (fixationCm && std::isfinite(*fixationCm)) j["fixation_cm"] = *fixationCm;
+    return sendText(j.dump());
 }
 
 } // namespace gt::eyetrack

@@ -3,8 +3,10 @@
 // `gazetrace demo --gaze udp:PORT`):
 // {"t_ms":..,"eye":"both|left|right","yaw_deg":..,"pitch_deg":..,"x":..,"y":..,
 //  "screen":[W,H],"confidence":..,"event":"fixation|saccade|blink","saccade_onset":..}
+// plus, on binocular "both" datagrams, "vergence_deg" and "fixation_cm" when known.
 // Angles are degrees from the eye's straight-ahead (yaw right, pitch up); x, y are pixels of
 // the calibration's screen, given where one is known.
+#include <optional>
 #include <string>
 
 #include <netinet/in.h>
@@ -27,8 +29,14 @@ public:
     bool send(const GazeSample& s);
     [[nodiscard]] static std::string toJson(const GazeSample& s, const DisplayGeometry& display,
                                             const char* eye = "both");
+    // Binocular tracking: each eye's sample ("left" / "right", with that eye's own angles),
+    // then the combined one ("both") with the vergence when both eyes fixate.
+    bool sendEye(const GazeSample& s, const char* eye, cv::Point2d anglesDeg);
+    bool sendCombined(const GazeSample& s, std::optional<double> vergenceDeg,
+                      std::optional<double> fixationCm);
 
 private:
+    bool sendText(const std::string& text);
     DisplayGeometry mDisplay;
     int mSocket = -1;
     sockaddr_in mTo{};

@@ -132,7 +132,8 @@ SyntheticEye::SyntheticEye(EyeSimConfig config)
         throw EyetrackError("eyesim: image size must be at least 32x24");
     if (mConfig.pupilMinPx <= 0.0 || mConfig.pupilMaxPx < mConfig.pupilMinPx)
         throw EyetrackError("eyesim: pupil radius range must be positive and ordered");
-    std::mt19937_64 rng(mConfig.seed * 0xD1B54A32D192ED03ull + 5);
+    const std::uint64_t look = mConfig.appearanceSeed != 0 ? mConfig.appearanceSeed : mConfig.seed;
+    std::mt19937_64 rng(look * 0xD1B54A32D192ED03ull + 5);
     std::uniform_real_distribution<double> uni(0.0, 1.0);
     auto range = [&](double a, double b) { return a + (b - a) * uni(rng); };
 
@@ -231,9 +232,13 @@ cv::Mat SyntheticEye::render(int frame, EyeTruth* truth) const {
         return cv::Vec3d(-u[0], u[1], -u[2]);
     };
     const cv::Vec3d slipDisplay = cameraToDisplay(slip);
-    const cv::Vec3d target((g.gaze.x - 0.5 * d.widthPx) * mmPerPx,
-                           (g.gaze.y - 0.5 * d.heightPx) * mmPerPx, 10.0 * d.distanceCm);
-    const cv::Vec3d gaze = cv::normalize(displayToCamera(cv::normalize(target - slipDisplay)));
+    const cv::Vec3d onScreen((g.gaze.x - 0.5 * d.widthPx) * mmPerPx,
+                             (g.gaze.y - 0.5 * d.heightPx) * mmPerPx, 10.0 * d.distanceCm);
+    const cv::Vec3d fixation = g.phase == GazePhase::Free && mConfig.fixationDepthCm > 0.0
+                                   ? onScreen * (mConfig.fixationDepthCm / d.distanceCm)
+                                   : onScreen;
+    const cv::Vec3d eyeInDisplay = cv::Vec3d(mConfig.eyeOffsetMm, 0.0, 0.0) + slipDisplay;
+    const cv::Vec3d gaze = cv::normalize(displayToCamera(cv::normalize(fixation - eyeInDisplay)));
     const cv::Vec3d eyeMm = mEyeMm + slip;
     const cv::Point2d ang = d.anglesDeg(g.gaze);
 
@@ -398,6 +403,7 @@ cv::Mat SyntheticEye::render(int frame, EyeTruth* truth) const {
         truth->eyeCentreMm = eyeMm;
         truth->gazeDirection = gaze;
         truth->pupilRadiusMm = rp;
+        truth->fixationMm = fixation;
     }
     return image;
 }

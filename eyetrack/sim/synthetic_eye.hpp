@@ -69,6 +69,15 @@ struct EyeSimConfig {
     cv::Vec3d slipMm{0.0, 0.0, 0.0};
     double slipDeg = 0.0;
     double slipAtMs = -1.0; // < 0: no slippage
+
+    // Binocular clips: the two eyes share seed and schedule and differ in eyeOffsetMm (the eye's
+    // x in the display's frame: -IPD/2 left, +IPD/2 right) and appearanceSeed (0: seed).
+    double eyeOffsetMm = 0.0;
+    std::uint64_t appearanceSeed = 0;
+    // In free viewing the eyes converge at this distance (cm) along the line of sight from
+    // between the eyes through the gaze point, as on 3D content; 0: on the screen. Calibration
+    // and validation targets are always on the screen.
+    double fixationDepthCm = 0.0;
 };
 
 // "clean": wide-open lids, one glint, little blur and noise, no blinks.
@@ -95,6 +104,7 @@ struct EyeTruth {
     cv::Vec3d eyeCentreMm;
     cv::Vec3d gazeDirection;
     double pupilRadiusMm = 0.0;
+    cv::Vec3d fixationMm; // the fixated point, display frame (origin between the eyes)
 };
 
 class SyntheticEye {
