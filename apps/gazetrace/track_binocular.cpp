@@ -56,16 +56,14 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
                             "calibrate --source-left/--source-right)");
     if (o.model != "2d" && o.model != "3d")
         throw ArgumentError("--model " + o.model + ": expected 2d or 3d");
+    std::pair<cv::Rect, cv::Rect> regions;
+    if (split) regions = eyetrack::parseEyeRegions(o.regions);
     const auto set = eyetrack::CalibrationSet::load(o.calibration);
     const auto camera = eyeCamera(o.camera);
     std::unique_ptr<eyetrack::FrameSource> shared;
-    std::pair<cv::Rect, cv::Rect> regions;
     std::unique_ptr<eyetrack::EyePipeline> pipes[2];
     const char* names[2] = {"left", "right"};
-    if (split) {
-        regions = eyetrack::parseEyeRegions(o.regions);
-        shared = eyetrack::openFrameSource(o.source);
-    }
+    if (split) shared = eyetrack::openFrameSource(o.source);
     for (int e = 0; e < 2; ++e) {
         auto source =
             split ? nullptr : eyetrack::openFrameSource(e == 0 ? o.sourceLeft : o.sourceRight);

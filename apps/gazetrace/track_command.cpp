@@ -28,6 +28,7 @@ namespace {
 
 // A truth row counts as "visible pupil" when at least half the pupil shows between the lids.
 constexpr double kVisibleShare = 0.5;
+constexpr double kSettleMs = 300.0; // validation samples count once the eye is on the target
 
 std::unique_ptr<eyetrack::GazeMapper> openGazeMapper(const TrackOptions& o) {
     const auto set = eyetrack::CalibrationSet::load(o.calibration);
@@ -84,6 +85,9 @@ nlohmann::json runTrack(const TrackOptions& o) {
     eyetrack::GazeMailbox mailbox;
 
     int frames = 0, detected = 0, visible = 0, within5 = 0, saccades = 0;
+    cv::Point2d lastTarget(-1e30, -1e30);
+    double targetOnsetMs = 0.0;
+    std::vector<double> gazeErrors;
     double lastGazeT = -1e300;
     std::vector<double> errors, latencies;
     const auto start = std::chrono::steady_clock::now();
@@ -129,6 +133,21 @@ nlohmann::json runTrack(const TrackOptions& o) {
             latencies.push_back(
                 std::chrono::duration<double, std::milli>(done - frame->arrival).count());
 
+        if (truth && step.screen && truth->has("phase") && truth->has("target_x")) {
+            // Gaze accuracy on the settled validation targets, as calibrate measures it.
+            const auto row = static_cast<std::size_t>(frame->sequence);
+            if (row < truth->rows() && truth->text(row, "phase") == "validation") {
+                const cv::Point2d target(truth->number(row, "target_x"),
+                                         truth->number(row, "target_y"));
+                if (target != lastTarget) {
+                    lastTarget = target;
+                    targetOnsetMs = frame->tMs;
+                }
+                if (frame->tMs - targetOnsetMs >= kSettleMs && p.confidence >= 0.6)
+                    gazeErrors.push_back(
+                        pipeline.mapper()->display().angularDistanceDeg(*step.screen, target));
+            }
+        }
         if (truth) {
             const auto row = static_cast<std::size_t>(frame->sequence);
             if (row < truth->rows() && truth->number(row, "visibility") >= kVisibleShare) {
@@ -160,6 +179,13 @@ nlohmann::json runTrack(const TrackOptions& o) {
         j["visible_frames"] = visible;
         j["detection_rate_5px"] = visible ? static_cast<double>(within5) / visible : 0.0;
         j["median_error_px"] = eyetrack::median(errors);
+        if (!gazeErrors.empty()) {
+            double sum = 0.0;
+            for (const double e : gazeErrors)
+                sum += e;
+            j["gaze_accuracy_deg"] = sum / static_cast<double>(gazeErrors.size());
+            j["gaze_accuracy_samples"] = gazeErrors.size();
+        }
     }
     if (mapped) {
         j["saccades"] = saccades;

@@ -9,7 +9,7 @@
 namespace gt::eyetrack {
 
 const EyeCalibration& CalibrationSet::eye(const std::string& name) const {
-    if (eyes.size() == 1 && (name == "both" || eyes.front().eye == "both")) return eyes.front();
+    if (eyes.size() == 1 && name == "both") return eyes.front();
     for (const EyeCalibration& e : eyes)
         if (e.eye == name) return e;
     std::string have;

@@ -31,8 +31,8 @@ public:
 
     std::vector<EyeCalibration> eyes;
 
-    // The entry for `eye`; "both" or a single-entry file gives the only entry. Throws
-    // CalibrationError naming the eyes the file has.
+    // The entry for `eye`; "both" on a one-eye file gives its entry (whichever eye it is). Throws
+    // CalibrationError naming the eyes the file has (a one-eye file cannot drive two eyes).
     [[nodiscard]] const EyeCalibration& eye(const std::string& name) const;
 
     [[nodiscard]] nlohmann::json toJson() const;

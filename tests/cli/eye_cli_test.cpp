@@ -1,0 +1,202 @@
+// The eye tracker's newer commands end to end: two eyes (binocular clips, per-eye calibration in
+// one session, vergence, per-eye UDP datagrams), the 3D eye model against the 2D polynomial after
+// the headset slips, eyescore, and their bad inputs.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <set>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "support/cli_run.hpp"
+
+namespace gt {
+namespace {
+
+using test::expectCleanFailure;
+using test::Result;
+using test::run;
+using test::slurp;
+
+std::filesystem::path freshDir(const std::string& name) {
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("gazetrace_" + name + "_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+TEST(EyeCli, TwoEyesInOneCameraVergenceAndUdp) {
+    const auto dir = freshDir("bino");
+    const std::string clip = (dir / "both.mkv").string();
+    const std::string left = (dir / "l.csv").string(), right = (dir / "r.csv").string();
+    // Targets of 400 ms, then free viewing converged at 40 cm (the screen is at 59 cm).
+    const Result sim =
+        run("eyesim --seed 4 --frames 1100 --target-ms 400 --size 160x120 --eye both "
+            "--depth-cm 40 --out " +
+            clip + " --truth " + left + " --truth-right " + right + " --json");
+    ASSERT_EQ(sim.status, 0) << sim.err;
+    const auto s = nlohmann::json::parse(sim.out);
+    EXPECT_EQ(s.at("width"), 320);
+    const std::string regions = s.at("regions").get<std::string>();
+    EXPECT_EQ(regions, "0,0,160,120;160,0,160,120");
+
+    const std::string calib = (dir / "cal.json").string();
+    const Result cal = run("calibrate --source video:" + clip + " --regions '" + regions +
+                           "' --targets " + left + " --settle-ms 250 --out " + calib + " --json");
+    ASSERT_EQ(cal.status, 0) << cal.err;
+    const auto c = nlohmann::json::parse(cal.out);
+    for (const char* eye : {"left", "right"}) {
+        EXPECT_LT(c.at("eyes").at(eye).at("accuracy_deg").get<double>(), 1.0) << eye;
+    }
+    const auto file = nlohmann::json::parse(slurp(calib));
+    EXPECT_EQ(file.at("version"), 3);
+    EXPECT_EQ(file.at("eyes").size(), 2u);
+
+    // Listen for the datagrams.
+    const int sock = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK, 0);
+    ASSERT_GE(sock, 0);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ASSERT_EQ(::bind(sock, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)), 0);
+    socklen_t len = sizeof(addr);
+    ASSERT_EQ(::getsockname(sock, reinterpret_cast<sockaddr*>(&addr), &len), 0);
+    const int port = ntohs(addr.sin_port);
+    int rcvbuf = 8 << 20;
+    (void)::setsockopt(sock, SOL_SOCKET, SO_RCVBUF, &rcvbuf, sizeof(rcvbuf));
+
+    const Result track =
+        run("track --source video:" + clip + " --regions '" + regions + "' --calibration " + calib +
+            " --truth " + left + " --truth-right " + right +
+            " --max-frames 400 --emit udp://127.0.0.1:" + std::to_string(port) + " --out " +
+            (dir / "gaze.csv").string() + " --json");
+    ASSERT_EQ(track.status, 0) << track.err;
+    const auto t = nlohmann::json::parse(track.out);
+    EXPECT_EQ(t.at("frames_left"), 400);
+    EXPECT_EQ(t.at("frames_right"), 400);
+    EXPECT_GE(t.at("detection_rate_5px_left").get<double>(), 0.95);
+    EXPECT_GE(t.at("detection_rate_5px_right").get<double>(), 0.95);
+    EXPECT_GT(t.at("samples_with_vergence").get<int>(), 100);
+    // The truth vergence at 40 cm is 9.0 deg, on the screen 6.1 deg: a wrong model misses by
+    // degrees.
+    EXPECT_LT(t.at("vergence_error_deg_median").get<double>(), 0.5);
+    EXPECT_EQ(slurp(dir / "gaze.csv").rfind("t_ms,x,y,left_x,left_y,right_x,right_y,", 0), 0u);
+
+    std::set<std::string> eyes;
+    bool vergence = false;
+    char buffer[2048];
+    for (;;) {
+        const ssize_t n = ::recv(sock, buffer, sizeof(buffer), 0);
+        if (n <= 0) break;
+        const auto j = nlohmann::json::parse(buffer, buffer + n);
+        eyes.insert(j.at("eye").get<std::string>());
+        if (j.contains("vergence_deg")) {
+            vergence = true;
+            EXPECT_EQ(j.at("eye"), "both");
+        }
+    }
+    ::close(sock);
+    EXPECT_EQ(eyes, (std::set<std::string>{"both", "left", "right"}));
+    EXPECT_TRUE(vergence);
+}
+
+TEST(EyeCli, TheEyeModelStaysAccurateWhenTheHeadsetSlips) {
+    const auto dir = freshDir("model3d");
+    const std::string a = (dir / "a.mkv").string(), at = (dir / "a.csv").string();
+    const std::string b = (dir / "b.mkv").string(), bt = (dir / "b.csv").string();
+    const std::string cam = (dir / "cam.json").string(), calib = (dir / "cal.json").string();
+    ASSERT_EQ(run("eyesim --seed 5 --frames 1600 --perspective --out " + a + " --truth " + at +
+                  " --intrinsics-out " + cam)
+                  .status,
+              0);
+    ASSERT_EQ(run("eyesim --seed 5 --frames 1600 --perspective --slip-mm 2,1,0.5 --slip-deg 2 "
+                  "--out " +
+                  b + " --truth " + bt)
+                  .status,
+              0);
+    const Result cal = run("calibrate --source video:" + a + " --targets " + at + " --intrinsics " +
+                           cam + " --out " + calib + " --json");
+    ASSERT_EQ(cal.status, 0) << cal.err;
+    const auto c = nlohmann::json::parse(cal.out);
+    EXPECT_LT(c.at("accuracy_deg").get<double>(), 1.0);
+    EXPECT_LT(c.at("model3d").at("accuracy_deg").get<double>(), 1.0);
+    auto accuracy = [&](const std::string& clip, const std::string& truth, const char* model) {
+        const Result r = run("track --source video:" + clip + " --calibration " + calib +
+                             " --truth " + truth + " --model " + model + " --json");
+        EXPECT_EQ(r.status, 0) << r.err;
+        return nlohmann::json::parse(r.out).at("gaze_accuracy_deg").get<double>();
+    };
+    EXPECT_GT(accuracy(b, bt, "2d"), 5.0); // the polynomial cannot follow the moved eye
+    EXPECT_LT(accuracy(b, bt, "3d"), 1.0);
+    // Flags instead of the file: the same camera.
+    const Result flags =
+        run("track --source video:" + b + " --calibration " + calib + " --truth " + bt +
+            " --model 3d --focal 318.5 --principal 159.5,119.5"
+            " --json");
+    ASSERT_EQ(flags.status, 0) << flags.err;
+    EXPECT_LT(nlohmann::json::parse(flags.out).at("gaze_accuracy_deg").get<double>(), 1.0);
+}
+
+TEST(EyeCli, EyescoreReportsTheIssuesNumbers) {
+    const Result r = run("eyescore --preset hard --seeds 3-4 --frames 60 --json");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    for (const char* key : {"detection_rate", "roc_auc", "wrong_rejected", "right_kept",
+                            "median_fps", "threshold_sweep", "per_seed"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    EXPECT_EQ(j.at("frames"), 120);
+    EXPECT_EQ(j.at("per_seed").size(), 2u);
+    EXPECT_GE(j.at("detection_rate").get<double>(), 0.9);
+    const Result blob = run("eyescore --preset wild --detector blob --seeds 3 --frames 60 --json");
+    ASSERT_EQ(blob.status, 0) << blob.err;
+    EXPECT_EQ(nlohmann::json::parse(blob.out).at("detector"), "blob");
+}
+
+TEST(EyeCli, BadInputsAreOneLine) {
+    const auto dir = freshDir("eye_bad");
+    const auto none = dir / "none.json";
+    expectCleanFailure(run("eyescore --seeds 9-3 --frames 10"), "--seeds", none);
+    expectCleanFailure(run("eyescore --detector magic --seeds 1 --frames 10"), "magic", none);
+    expectCleanFailure(run("slippage --slips-mm 1,x"), "--slips-mm", none);
+    expectCleanFailure(run("track --source synthetic:1 --model 4d --calibration " + none.string()),
+                       "--model", none);
+    expectCleanFailure(
+        run("track --source synthetic:1 --regions 0,0,10 --calibration " + none.string()),
+        "--regions", none);
+    expectCleanFailure(run("track --source-left synthetic:1"), "--source-right", none);
+    expectCleanFailure(run("eyesim --eye both --out " + (dir / "x.mkv").string() + " --truth " +
+                           (dir / "x.csv").string()),
+                       "--truth-right", dir / "x.mkv");
+    // A one-eye calibration cannot drive two eyes; a broken intrinsics file is named.
+    const std::string clip = (dir / "c.mkv").string(), truth = (dir / "c.csv").string();
+    ASSERT_EQ(run("eyesim --seed 2 --frames 650 --target-ms 400 --size 160x120 --out " + clip +
+                  " --truth " + truth)
+                  .status,
+              0);
+    const std::string calib = (dir / "cal.json").string();
+    ASSERT_EQ(run("calibrate --source video:" + clip + " --targets " + truth +
+                  " --settle-ms 250 "
+                  "--out " +
+                  calib)
+                  .status,
+              0);
+    expectCleanFailure(run("track --source-left video:" + clip + " --source-right video:" + clip +
+                           " --calibration " + calib),
+                       "left", none);
+    expectCleanFailure(
+        run("track --source video:" + clip + " --calibration " + calib + " --model 3d"), "3D model",
+        none);
+    { std::ofstream(dir / "cam.json") << "{\"fx\": -1, \"fy\": 2, \"cx\": 1, \"cy\": 1}"; }
+    expectCleanFailure(run("calibrate --source video:" + clip + " --targets " + truth +
+                           " --intrinsics " + (dir / "cam.json").string() + " --out " +
+                           (dir / "cal2.json").string()),
+                       "cam.json", dir / "cal2.json");
+}
+
+} // namespace
+} // namespace gt
