@@ -2,6 +2,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 
@@ -61,8 +62,20 @@ nlohmann::json runTrack(const TrackOptions& o) {
     std::unique_ptr<eyetrack::GazeMapper> mapper;
     if (!o.calibration.empty()) mapper = openGazeMapper(o);
     std::optional<eyetrack::CsvTable> truth;
-    if (!o.truth.empty())
+    // Truth rows by frame number: eyesim writes every frame, hand labels only some.
+    std::map<std::uint64_t, std::size_t> truthRow;
+    if (!o.truth.empty()) {
         truth = eyetrack::CsvTable::load(o.truth, {"frame", "cx", "cy", "visibility"});
+        for (std::size_t i = 0; i < truth->rows(); ++i) {
+            const double f = truth->number(i, "frame");
+            if (!(f >= 0.0) || f != std::floor(f))
+                throw ArgumentError("--truth " + o.truth + ": row " + std::to_string(i + 2) +
+                                    " has no whole frame number");
+            truthRow[static_cast<std::uint64_t>(f)] = i;
+        }
+    }
+    const bool hasDoubtful = truth && truth->has("doubtful");
+    int certainVisible = 0, certainWithin5 = 0;
     std::unique_ptr<eyetrack::UdpEmitter> emitter;
     if (!o.emit.empty()) {
         emitter = std::make_unique<eyetrack::UdpEmitter>(o.emit, mapper->display());
@@ -133,10 +146,12 @@ nlohmann::json runTrack(const TrackOptions& o) {
             latencies.push_back(
                 std::chrono::duration<double, std::milli>(done - frame->arrival).count());
 
-        if (truth && step.screen && truth->has("phase") && truth->has("target_x")) {
+        const auto found = truth ? truthRow.find(frame->sequence) : truthRow.end();
+        const bool labelled = found != truthRow.end();
+        const std::size_t row = labelled ? found->second : 0;
+        if (labelled && step.screen && truth->has("phase") && truth->has("target_x")) {
             // Gaze accuracy on the settled validation targets, as calibrate measures it.
-            const auto row = static_cast<std::size_t>(frame->sequence);
-            if (row < truth->rows() && truth->text(row, "phase") == "validation") {
+            if (truth->text(row, "phase") == "validation") {
                 const cv::Point2d target(truth->number(row, "target_x"),
                                          truth->number(row, "target_y"));
                 if (target != lastTarget) {
@@ -148,15 +163,17 @@ nlohmann::json runTrack(const TrackOptions& o) {
                         pipeline.mapper()->display().angularDistanceDeg(*step.screen, target));
             }
         }
-        if (truth) {
-            const auto row = static_cast<std::size_t>(frame->sequence);
-            if (row < truth->rows() && truth->number(row, "visibility") >= kVisibleShare) {
-                ++visible;
-                if (p.found) {
-                    const double e = std::hypot(p.centre().x - truth->number(row, "cx"),
-                                                p.centre().y - truth->number(row, "cy"));
-                    errors.push_back(e);
-                    if (e <= 5.0) ++within5;
+        if (labelled && truth->number(row, "visibility") >= kVisibleShare) {
+            ++visible;
+            const bool certain = !hasDoubtful || truth->number(row, "doubtful") == 0.0;
+            if (certain) ++certainVisible;
+            if (p.found) {
+                const double e = std::hypot(p.centre().x - truth->number(row, "cx"),
+                                            p.centre().y - truth->number(row, "cy"));
+                errors.push_back(e);
+                if (e <= 5.0) {
+                    ++within5;
+                    if (certain) ++certainWithin5;
                 }
             }
         }
@@ -179,6 +196,11 @@ nlohmann::json runTrack(const TrackOptions& o) {
         j["visible_frames"] = visible;
         j["detection_rate_5px"] = visible ? static_cast<double>(within5) / visible : 0.0;
         j["median_error_px"] = eyetrack::median(errors);
+        if (hasDoubtful) {
+            j["certain_visible_frames"] = certainVisible;
+            j["detection_rate_5px_certain"] =
+                certainVisible ? static_cast<double>(certainWithin5) / certainVisible : 0.0;
+        }
         if (!gazeErrors.empty()) {
             double sum = 0.0;
             for (const double e : gazeErrors)
