@@ -59,7 +59,7 @@ struct EyescoreOptions {
     int skip = 1560; // frames before the scored ones: past calibration and validation (13 s)
     double radiusPx = 5.0;
     double threshold = -1.0; // < 0: the gaze filter's default gate
-    std::string misses;      // CSV of the visible frames not found within the radius
+    std::string misses;      // CSV of the wrong answers and the visible frames missed
     std::string missesSheet; // contact sheet (PNG) of every sheetEvery-th of those frames
     int sheetEvery = 20;
 };

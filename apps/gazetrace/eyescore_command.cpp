@@ -93,7 +93,8 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
             records.push_back(r);
             if (sheet && r.visible && !eyetrack::isRight(r, o.radiusPx))
                 sheet->add(images[f], p, seed * 100000 + o.skip + f);
-            if (misses && r.visible && !eyetrack::isRight(r, o.radiusPx)) {
+            // Every visible frame not found within the radius, and every answer on a hidden pupil.
+            if (misses && !eyetrack::isRight(r, o.radiusPx) && (r.visible || r.answered)) {
                 misses->stream() << cv::format("%llu,%zu,%.3f,%.2f,%.2f,%.2f,%.2f,%.2f,%.3f\n",
                                                static_cast<unsigned long long>(seed), o.skip + f,
                                                truths[f].visibility, truths[f].centre.x,

@@ -372,7 +372,7 @@ int main(int argc, char** argv) {
     eyesimCmd
         ->add_option("--preset", eyesim.preset,
                      "clean | hard (lid occlusion, 4 glints, blur, noise, blinks)")
-        ->check(CLI::IsMember({"clean", "hard"}))
+        ->check(CLI::IsMember({"clean", "hard", "wild"}))
         ->capture_default_str();
     eyesimCmd->add_option("--grid", eyesim.grid, "Calibration targets: 5, 9 or 13")
         ->check(CLI::IsMember({5, 9, 13}))
@@ -462,7 +462,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     eyescoreCmd->add_option("--threshold", eyescore.threshold,
                             "Confidence gate to report (default: the gaze filter's)");
-    eyescoreCmd->add_option("--misses", eyescore.misses, "CSV of the visible frames missed");
+    eyescoreCmd->add_option("--misses", eyescore.misses,
+                            "CSV of the wrong answers and missed visible frames");
     eyescoreCmd->add_option(
         "--misses-sheet", eyescore.missesSheet,
         "PNG contact sheet of the missed frames (tile label: seed*100000+frame)");

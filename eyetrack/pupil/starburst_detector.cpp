@@ -537,11 +537,17 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
         // The pupil is the darkest blob: a clearly darker, well-outlined ellipse inside the
         // winner (a pupil only slightly darker than its dark iris, which outscores it on
         // contrast with the sclera) takes its place.
-        const Conic outer = Conic::fromEllipse(pick->result.ellipse);
-        const double outerSign = outer.value(pick->result.centre());
+        // Inside: within 0.7 of the way from the outer ellipse's centre to its outline (a lash
+        // cluster on the rim of a dark iris is not a pupil in it).
+        const cv::RotatedRect& oe = pick->result.ellipse;
+        const double th = oe.angle * std::numbers::pi / 180.0;
+        const double ca = std::cos(th), sa = std::sin(th);
+        const double oa = 0.5 * oe.size.width, ob = 0.5 * oe.size.height;
         for (const Scored& s : scored) {
             if (&s == pick) continue;
-            const bool inside = outer.value(s.result.centre()) * outerSign > 0.0;
+            const cv::Point2d d = s.result.centre() - pick->result.centre();
+            const double u = (d.x * ca + d.y * sa) / oa, v = (-d.x * sa + d.y * ca) / ob;
+            const bool inside = u * u + v * v < 0.49;
             const bool smaller = s.result.semiMajor() < 0.75 * pick->result.semiMajor();
             if (inside && smaller && s.interior < pick->interiorHigh - 0.5 * mConfig.minContrast &&
                 s.visibleSupport >= 0.5 && s.result.confidence >= 0.5 &&
