@@ -28,10 +28,13 @@ std::pair<std::uint64_t, std::uint64_t> parseSeeds(const std::string& s) {
     unsigned long long a = 0, b = 0;
     char dash = 0, extra = 0;
     const int n = std::sscanf(s.c_str(), "%llu%c%llu%c", &a, &dash, &b, &extra);
-    if (n == 1 && s.find_first_not_of("0123456789") == std::string::npos) return {a, a};
+    if (n == 1 && s.find_first_not_of("0123456789") == std::string::npos) {
+        return {a, a};
+    }
     if (n != 3 || dash != '-' || b < a || b - a > 10000 ||
-        s.find_first_of("+ ") != std::string::npos)
+        s.find_first_of("+ ") != std::string::npos) {
         throw ArgumentError("--seeds " + s + ": expected N or A-B (A <= B, at most 10001 seeds)");
+    }
     return {a, b};
 }
 
@@ -39,16 +42,21 @@ std::pair<std::uint64_t, std::uint64_t> parseSeeds(const std::string& s) {
 
 nlohmann::json runEyescore(const EyescoreOptions& o) {
     cv::setNumThreads(1); // the detector's budget is one core
-    if (o.frames < 1 || o.frames > 100000)
+    if (o.frames < 1 || o.frames > 100000) {
         throw ArgumentError("--frames " + std::to_string(o.frames) + ": expected 1..100000");
-    if (o.skip < 0 || o.skip > 1000000)
+    }
+    if (o.skip < 0 || o.skip > 1000000) {
         throw ArgumentError("--skip " + std::to_string(o.skip) + ": expected 0..1000000");
-    if (!(o.radiusPx > 0.0) || o.radiusPx > 1000.0)
+    }
+    if (!(o.radiusPx > 0.0) || o.radiusPx > 1000.0) {
         throw ArgumentError("--radius: expected a positive number of pixels");
+    }
     const auto [first, last] = parseSeeds(o.seeds);
     const double threshold =
         o.threshold >= 0.0 ? o.threshold : eyetrack::GazeFilterConfig{}.minConfidence;
-    if (threshold > 1.0) throw ArgumentError("--threshold: expected 0..1");
+    if (threshold > 1.0) {
+        throw ArgumentError("--threshold: expected 0..1");
+    }
 
     std::unique_ptr<eyetrack::AtomicFile> misses;
     if (!o.misses.empty()) {
@@ -57,7 +65,9 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
                             "confidence\n";
     }
     std::optional<eyetrack::ContactSheet> sheet;
-    if (!o.missesSheet.empty()) sheet.emplace(o.missesSheet, o.sheetEvery);
+    if (!o.missesSheet.empty()) {
+        sheet.emplace(o.missesSheet, o.sheetEvery);
+    }
     std::vector<eyetrack::DetectionRecord> all;
     std::vector<double> fps;
     nlohmann::json perSeed = nlohmann::json::array();
@@ -69,16 +79,18 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
         const eyetrack::SyntheticEye eye(c);
         std::vector<cv::Mat> images(static_cast<std::size_t>(o.frames));
         std::vector<eyetrack::EyeTruth> truths(images.size());
-        for (int f = 0; f < o.frames; ++f)
+        for (int f = 0; f < o.frames; ++f) {
             images[f] = eye.render(o.skip + f, &truths[f]);
+        }
 
         const auto detector = eyetrack::makePupilDetector(o.detector);
         std::vector<eyetrack::DetectionRecord> records;
         const auto begin = std::chrono::steady_clock::now();
         std::vector<eyetrack::PupilResult> results;
         results.reserve(images.size());
-        for (const cv::Mat& img : images)
+        for (const cv::Mat& img : images) {
             results.push_back(detector->detect(img));
+        }
         const double ms =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin)
                 .count();
@@ -91,8 +103,9 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
             r.errorPx = cv::norm(p.centre() - truths[f].centre);
             r.confidence = p.confidence;
             records.push_back(r);
-            if (sheet && r.visible && !eyetrack::isRight(r, o.radiusPx))
+            if (sheet && r.visible && !eyetrack::isRight(r, o.radiusPx)) {
                 sheet->add(images[f], p, seed * 100000 + o.skip + f);
+            }
             // Every visible frame not found within the radius, and every answer on a hidden pupil.
             if (misses && !eyetrack::isRight(r, o.radiusPx) && (r.visible || r.answered)) {
                 misses->stream() << cv::format("%llu,%zu,%.3f,%.2f,%.2f,%.2f,%.2f,%.2f,%.3f\n",
@@ -113,8 +126,12 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
                            {"right_kept", g.rightKept}});
         all.insert(all.end(), records.begin(), records.end());
     }
-    if (misses) misses->commit();
-    if (sheet && sheet->tiles() > 0) sheet->write();
+    if (misses) {
+        misses->commit();
+    }
+    if (sheet && sheet->tiles() > 0) {
+        sheet->write();
+    }
     const eyetrack::DetectionScore s = eyetrack::scoreDetections(all, o.radiusPx);
     const eyetrack::ThresholdRates gate = eyetrack::ratesAt(all, threshold, o.radiusPx);
     nlohmann::json sweep = nlohmann::json::array();

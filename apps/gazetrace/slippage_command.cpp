@@ -35,12 +35,15 @@ std::vector<double> parseList(const std::string& s, const char* flag) {
     while (std::getline(in, item, ',')) {
         char* end = nullptr;
         const double x = std::strtod(item.c_str(), &end);
-        if (item.empty() || *end != '\0' || !std::isfinite(x) || x < 0.0 || x > 20.0)
+        if (item.empty() || *end != '\0' || !std::isfinite(x) || x < 0.0 || x > 20.0) {
             throw ArgumentError(std::string(flag) + " " + s +
                                 ": expected numbers 0..20, comma-separated");
+        }
         v.push_back(x);
     }
-    if (v.empty()) throw ArgumentError(std::string(flag) + ": nothing given");
+    if (v.empty()) {
+        throw ArgumentError(std::string(flag) + ": nothing given");
+    }
     return v;
 }
 
@@ -68,12 +71,18 @@ double validate(const eyetrack::EyeSimConfig& c, eyetrack::GazeMapper& mapper,
         // Every confident pupil goes through the mapper (the 3D model learns from it).
         const auto gaze = p.found ? mapper.map(p, frame->tMs) : std::nullopt;
         const auto target = schedule.at(frame->tMs);
-        if (!target || target->first.phase != eyetrack::GazePhase::Validation) continue;
-        if (frame->tMs - target->second < kSettleMs || !gaze || p.confidence < 0.6) continue;
+        if (!target || target->first.phase != eyetrack::GazePhase::Validation) {
+            continue;
+        }
+        if (frame->tMs - target->second < kSettleMs || !gaze || p.confidence < 0.6) {
+            continue;
+        }
         sum += d.angularDistanceDeg(*gaze, target->first.target);
         ++n;
     }
-    if (n == 0) throw Error("slippage: no validation samples (is the eye visible?)");
+    if (n == 0) {
+        throw Error("slippage: no validation samples (is the eye visible?)");
+    }
     return sum / n;
 }
 
@@ -84,12 +93,16 @@ nlohmann::json runSlippage(const SlippageOptions& o) {
     unsigned long long first = 0, last = 0;
     char dash = 0, extra = 0;
     const int got = std::sscanf(o.seeds.c_str(), "%llu%c%llu%c", &first, &dash, &last, &extra);
-    if (got == 1) last = first;
-    if ((got != 1 && (got != 3 || dash != '-')) || last < first || last - first > 1000)
+    if (got == 1) {
+        last = first;
+    }
+    if ((got != 1 && (got != 3 || dash != '-')) || last < first || last - first > 1000) {
         throw ArgumentError("--seeds " + o.seeds + ": expected N or A-B");
+    }
     const std::vector<double> slips = parseList(o.slipsMm, "--slips-mm");
-    if (!std::isfinite(o.slipDeg) || std::abs(o.slipDeg) > 20.0)
+    if (!std::isfinite(o.slipDeg) || std::abs(o.slipDeg) > 20.0) {
         throw ArgumentError("--slip-deg: expected a turn within 20 degrees");
+    }
     (void)eyetrack::makePupilDetector(o.detector); // a bad name fails before any work
 
     std::vector<double> before2d, before3d;
@@ -123,8 +136,9 @@ nlohmann::json runSlippage(const SlippageOptions& o) {
     }
     auto mean = [](const std::vector<double>& v) {
         double s = 0.0;
-        for (const double x : v)
+        for (const double x : v) {
             s += x;
+        }
         return v.empty() ? 0.0 : s / static_cast<double>(v.size());
     };
     auto worst = [](const std::vector<double>& v) {

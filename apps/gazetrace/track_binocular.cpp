@@ -47,23 +47,31 @@ double truthVergenceDeg(const eyetrack::CsvTable& t, std::size_t row, double ipd
 nlohmann::json runTrackBinocular(const TrackOptions& o) {
     cv::setNumThreads(1);
     const bool split = !o.regions.empty();
-    if (split && (o.source.empty() || !o.sourceLeft.empty() || !o.sourceRight.empty()))
+    if (split && (o.source.empty() || !o.sourceLeft.empty() || !o.sourceRight.empty())) {
         throw ArgumentError("--regions splits the one --source; without --source-left/-right");
-    if (!split && (o.sourceLeft.empty() || o.sourceRight.empty()))
+    }
+    if (!split && (o.sourceLeft.empty() || o.sourceRight.empty())) {
         throw ArgumentError("two eyes need both --source-left and --source-right");
-    if (o.calibration.empty())
+    }
+    if (o.calibration.empty()) {
         throw ArgumentError("two eyes need --calibration with a left and a right eye (gazetrace "
                             "calibrate --source-left/--source-right)");
-    if (o.model != "2d" && o.model != "3d")
+    }
+    if (o.model != "2d" && o.model != "3d") {
         throw ArgumentError("--model " + o.model + ": expected 2d or 3d");
+    }
     std::pair<cv::Rect, cv::Rect> regions;
-    if (split) regions = eyetrack::parseEyeRegions(o.regions);
+    if (split) {
+        regions = eyetrack::parseEyeRegions(o.regions);
+    }
     const auto set = eyetrack::CalibrationSet::load(o.calibration);
     const auto camera = eyeCamera(o.camera);
     std::unique_ptr<eyetrack::FrameSource> shared;
     std::unique_ptr<eyetrack::EyePipeline> pipes[2];
     const char* names[2] = {"left", "right"};
-    if (split) shared = eyetrack::openFrameSource(o.source);
+    if (split) {
+        shared = eyetrack::openFrameSource(o.source);
+    }
     for (int e = 0; e < 2; ++e) {
         auto source =
             split ? nullptr : eyetrack::openFrameSource(e == 0 ? o.sourceLeft : o.sourceRight);
@@ -74,7 +82,9 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
     const eyetrack::DisplayGeometry display = pipes[0]->mapper()->display();
     eyetrack::BinocularCombiner combiner(display, o.ipdMm);
     std::unique_ptr<eyetrack::UdpEmitter> emitter;
-    if (!o.emit.empty()) emitter = std::make_unique<eyetrack::UdpEmitter>(o.emit, display);
+    if (!o.emit.empty()) {
+        emitter = std::make_unique<eyetrack::UdpEmitter>(o.emit, display);
+    }
     std::unique_ptr<eyetrack::AtomicFile> gazeCsv;
     if (!o.out.empty()) {
         gazeCsv = std::make_unique<eyetrack::AtomicFile>(o.out);
@@ -83,8 +93,12 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
     EyeTruthTable truth[2];
     const std::vector<std::string> columns{"frame", "cx",       "cy",       "visibility",
                                            "phase", "fix_x_mm", "fix_y_mm", "fix_z_mm"};
-    if (!o.truth.empty()) truth[0].table = eyetrack::CsvTable::load(o.truth, columns);
-    if (!o.truthRight.empty()) truth[1].table = eyetrack::CsvTable::load(o.truthRight, columns);
+    if (!o.truth.empty()) {
+        truth[0].table = eyetrack::CsvTable::load(o.truth, columns);
+    }
+    if (!o.truthRight.empty()) {
+        truth[1].table = eyetrack::CsvTable::load(o.truthRight, columns);
+    }
 
     int frames[2] = {0, 0}, pairs = 0, withVergence = 0;
     double maxSkew = 0.0, lastT[2] = {-1e300, -1e300};
@@ -104,8 +118,9 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
                 ++t.visible;
                 if (step.pupil.found &&
                     std::hypot(step.pupil.centre().x - t.table->number(row, "cx"),
-                               step.pupil.centre().y - t.table->number(row, "cy")) <= 5.0)
+                               step.pupil.centre().y - t.table->number(row, "cy")) <= 5.0) {
                     ++t.within5;
+                }
             }
         }
         const eyetrack::BinocularSample b =
@@ -121,7 +136,9 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
                 const double err = std::abs(b.vergence->angleDeg -
                                             truthVergenceDeg(*truth[0].table, row, o.ipdMm));
                 vergenceErrors.push_back(err);
-                if (truth[0].table->text(row, "phase") == "free") vergenceErrorsFree.push_back(err);
+                if (truth[0].table->text(row, "phase") == "free") {
+                    vergenceErrorsFree.push_back(err);
+                }
             }
         }
         if (emitter) {
@@ -138,30 +155,41 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
         if (gazeCsv) {
             auto& s = gazeCsv->stream();
             s << cv::format("%.3f,%.2f,%.2f,", b.combined.tMs, b.combined.x, b.combined.y);
-            if (b.left && b.right)
+            if (b.left && b.right) {
                 s << cv::format("%.2f,%.2f,%.2f,%.2f,", b.left->x, b.left->y, b.right->x,
                                 b.right->y);
-            else
+            } else {
                 s << ",,,,";
-            if (b.vergence)
+            }
+            if (b.vergence) {
                 s << cv::format("%.3f,%.2f", b.vergence->angleDeg, b.vergence->distanceCm);
-            else
+            } else {
                 s << ',';
+            }
             s << '\n';
         }
     };
     for (;;) {
-        if (o.maxFrames > 0 && frames[0] + frames[1] >= 2 * o.maxFrames) break;
+        if (o.maxFrames > 0 && frames[0] + frames[1] >= 2 * o.maxFrames) {
+            break;
+        }
         if (split) {
             auto f = shared->next();
-            if (!f) break;
+            if (!f) {
+                break;
+            }
             process(0, eyetrack::cropFrame(*f, regions.first));
             process(1, eyetrack::cropFrame(*f, regions.second));
             continue;
         }
-        for (int e = 0; e < 2; ++e)
-            if (!pending[e]) pending[e] = pipes[e]->grab();
-        if (!pending[0] && !pending[1]) break;
+        for (int e = 0; e < 2; ++e) {
+            if (!pending[e]) {
+                pending[e] = pipes[e]->grab();
+            }
+        }
+        if (!pending[0] && !pending[1]) {
+            break;
+        }
         const int e = !pending[1]                          ? 0
                       : !pending[0]                        ? 1
                       : pending[0]->tMs <= pending[1]->tMs ? 0
@@ -169,10 +197,13 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
         process(e, *pending[e]);
         pending[e].reset();
     }
-    if (frames[0] == 0 || frames[1] == 0)
+    if (frames[0] == 0 || frames[1] == 0) {
         throw ArgumentError(std::string("the ") + (frames[0] == 0 ? "left" : "right") +
                             " eye's source gave no frames");
-    if (gazeCsv) gazeCsv->commit();
+    }
+    if (gazeCsv) {
+        gazeCsv->commit();
+    }
     nlohmann::json j{{"eyes", 2},
                      {"frames_left", frames[0]},
                      {"frames_right", frames[1]},
@@ -183,7 +214,9 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
                      {"detector", o.detector},
                      {"fps_per_eye", busyMs.empty() ? 0.0 : 1000.0 / eyetrack::median(busyMs)}};
     for (int e = 0; e < 2; ++e) {
-        if (!truth[e].table) continue;
+        if (!truth[e].table) {
+            continue;
+        }
         j[std::string("detection_rate_5px_") + names[e]] =
             truth[e].visible ? static_cast<double>(truth[e].within5) / truth[e].visible : 0.0;
     }

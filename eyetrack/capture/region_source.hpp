@@ -24,7 +24,9 @@ public:
         : mSource(std::move(source)), mRegion(region), mName(std::move(name)) {}
     std::optional<Frame> next() override {
         auto f = mSource->next();
-        if (!f) return std::nullopt;
+        if (!f) {
+            return std::nullopt;
+        }
         return cropFrame(*f, mRegion);
     }
     std::string describe() const override { return mSource->describe() + " (" + mName + ")"; }

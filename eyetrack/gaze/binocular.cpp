@@ -26,7 +26,9 @@ std::optional<Vergence> vergenceOf(const DisplayGeometry& d, double ipdMm, cv::P
     Vergence v;
     v.angleDeg = std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180.0 / std::numbers::pi;
     const double denominator = ipd + l[0] - r[0];
-    if (denominator < -1e-9) return std::nullopt; // diverging lines of sight
+    if (denominator < -1e-9) {
+        return std::nullopt; // diverging lines of sight
+    }
     v.distanceCm = denominator <= 1e-9 ? std::numeric_limits<double>::infinity()
                                        : d.distanceCm * ipd / denominator;
     return v;
@@ -42,9 +44,12 @@ cv::Point2d eyeAnglesDeg(const DisplayGeometry& d, double ipdMm, Eye eye, cv::Po
 
 BinocularCombiner::BinocularCombiner(DisplayGeometry display, double ipdMm, double maxSkewMs)
     : mDisplay(display), mIpdMm(ipdMm), mMaxSkewMs(maxSkewMs) {
-    if (!(ipdMm > 30.0 && ipdMm < 90.0))
+    if (!(ipdMm > 30.0 && ipdMm < 90.0)) {
         throw EyetrackError("binocular: the interpupillary distance must be 30-90 mm");
-    if (!(maxSkewMs > 0.0)) throw EyetrackError("binocular: the pairing window must be positive");
+    }
+    if (!(maxSkewMs > 0.0)) {
+        throw EyetrackError("binocular: the pairing window must be positive");
+    }
 }
 
 BinocularSample BinocularCombiner::push(Eye eye, const GazeSample& s) {
@@ -54,13 +59,17 @@ BinocularSample BinocularCombiner::push(Eye eye, const GazeSample& s) {
     out.combined = s;
     (eye == Eye::Left ? out.left : out.right) = s;
     const auto& partner = mLatest[other];
-    if (!partner || std::abs(partner->tMs - s.tMs) > mMaxSkewMs) return out;
+    if (!partner || std::abs(partner->tMs - s.tMs) > mMaxSkewMs) {
+        return out;
+    }
     (eye == Eye::Left ? out.right : out.left) = *partner;
     const bool bothValid = isValid(s) && isValid(*partner) && s.event != GazeEvent::Blink &&
                            partner->event != GazeEvent::Blink;
     if (!bothValid) {
         // One eye lost or blinking: the other's gaze alone.
-        if (!isValid(s) || s.event == GazeEvent::Blink) out.combined = *partner;
+        if (!isValid(s) || s.event == GazeEvent::Blink) {
+            out.combined = *partner;
+        }
         out.combined.tMs = s.tMs;
         return out;
     }

@@ -9,12 +9,18 @@
 namespace gt::eyetrack {
 
 const EyeCalibration& CalibrationSet::eye(const std::string& name) const {
-    if (eyes.size() == 1 && name == "both") return eyes.front();
-    for (const EyeCalibration& e : eyes)
-        if (e.eye == name) return e;
+    if (eyes.size() == 1 && name == "both") {
+        return eyes.front();
+    }
+    for (const EyeCalibration& e : eyes) {
+        if (e.eye == name) {
+            return e;
+        }
+    }
     std::string have;
-    for (const EyeCalibration& e : eyes)
+    for (const EyeCalibration& e : eyes) {
         have += (have.empty() ? "" : ", ") + e.eye;
+    }
     throw CalibrationError("calibration has no '" + name + "' eye (it has: " + have + ")");
 }
 
@@ -22,7 +28,9 @@ nlohmann::json CalibrationSet::toJson() const {
     nlohmann::json list = nlohmann::json::array();
     for (const EyeCalibration& e : eyes) {
         nlohmann::json j{{"eye", e.eye}, {"poly", e.poly.toJson()}};
-        if (e.model3d) j["model3d"] = e.model3d->toJson();
+        if (e.model3d) {
+            j["model3d"] = e.model3d->toJson();
+        }
         list.push_back(j);
     }
     return {{"format", "gazetrace-calibration"}, {"version", kVersion}, {"eyes", list}};
@@ -32,7 +40,9 @@ CalibrationSet CalibrationSet::fromJson(const nlohmann::json& j, const std::stri
     auto bad = [&](const std::string& why) {
         return FormatError("calibration " + what + ": " + why);
     };
-    if (!j.is_object()) throw bad("not a JSON object");
+    if (!j.is_object()) {
+        throw bad("not a JSON object");
+    }
     CalibrationSet set;
     // Version 2: the bare polynomial (Calibration::fromJson checks everything else).
     if (j.contains("version") && j["version"].is_number_integer() &&
@@ -41,27 +51,37 @@ CalibrationSet CalibrationSet::fromJson(const nlohmann::json& j, const std::stri
         return set;
     }
     if (!j.contains("format") || !j["format"].is_string() ||
-        j["format"].get<std::string>() != "gazetrace-calibration")
+        j["format"].get<std::string>() != "gazetrace-calibration") {
         throw bad("not a gazetrace calibration (\"format\" is missing or wrong)");
-    if (!j.contains("version") || !j["version"].is_number_integer())
+    }
+    if (!j.contains("version") || !j["version"].is_number_integer()) {
         throw bad("\"version\" is missing");
-    if (j["version"].get<long long>() != kVersion)
+    }
+    if (j["version"].get<long long>() != kVersion) {
         throw bad("version " + std::to_string(j["version"].get<long long>()) +
                   " is not supported (expected 2 or 3; run gazetrace calibrate again)");
-    if (!j.contains("eyes") || !j["eyes"].is_array() || j["eyes"].empty() || j["eyes"].size() > 2)
+    }
+    if (!j.contains("eyes") || !j["eyes"].is_array() || j["eyes"].empty() || j["eyes"].size() > 2) {
         throw bad("\"eyes\" must list one or two eyes");
+    }
     for (const auto& e : j["eyes"]) {
-        if (!e.is_object() || !e.contains("eye") || !e["eye"].is_string() || !e.contains("poly"))
+        if (!e.is_object() || !e.contains("eye") || !e["eye"].is_string() || !e.contains("poly")) {
             throw bad("each eye needs \"eye\" and \"poly\"");
+        }
         EyeCalibration c;
         c.eye = e["eye"].get<std::string>();
-        if (c.eye != "both" && c.eye != "left" && c.eye != "right")
+        if (c.eye != "both" && c.eye != "left" && c.eye != "right") {
             throw bad("eye '" + c.eye + "' is not both, left or right");
-        for (const EyeCalibration& other : set.eyes)
-            if (other.eye == c.eye) throw bad("eye '" + c.eye + "' is listed twice");
+        }
+        for (const EyeCalibration& other : set.eyes) {
+            if (other.eye == c.eye) {
+                throw bad("eye '" + c.eye + "' is listed twice");
+            }
+        }
         c.poly = Calibration::fromJson(e["poly"], what);
-        if (e.contains("model3d"))
+        if (e.contains("model3d")) {
             c.model3d = Model3dCalibration::fromJson(e["model3d"], c.poly.display(), what);
+        }
         set.eyes.push_back(std::move(c));
     }
     return set;
@@ -75,10 +95,13 @@ void CalibrationSet::save(const std::filesystem::path& file) const {
 
 CalibrationSet CalibrationSet::load(const std::filesystem::path& file) {
     std::error_code ec;
-    if (std::filesystem::is_directory(file, ec))
+    if (std::filesystem::is_directory(file, ec)) {
         throw FormatError("calibration " + file.string() + ": is a folder, not a calibration file");
+    }
     std::ifstream in(file);
-    if (!in) throw FormatError("calibration " + file.string() + ": cannot be opened");
+    if (!in) {
+        throw FormatError("calibration " + file.string() + ": cannot be opened");
+    }
     nlohmann::json j;
     try {
         in >> j;
@@ -90,14 +113,21 @@ CalibrationSet CalibrationSet::load(const std::filesystem::path& file) {
 
 std::unique_ptr<GazeMapper> makeGazeMapper(const EyeCalibration& eye, const std::string& model,
                                            const std::optional<CameraIntrinsics>& intrinsics) {
-    if (model == "2d") return std::make_unique<PolynomialMapper>(eye.poly);
-    if (model != "3d") throw CalibrationError("unknown gaze model '" + model + "' (2d | 3d)");
-    if (!eye.model3d)
+    if (model == "2d") {
+        return std::make_unique<PolynomialMapper>(eye.poly);
+    }
+    if (model != "3d") {
+        throw CalibrationError("unknown gaze model '" + model + "' (2d | 3d)");
+    }
+    if (!eye.model3d) {
         throw CalibrationError("the calibration of eye '" + eye.eye +
                                "' has no 3D model: run gazetrace calibrate with --intrinsics "
                                "or --focal");
+    }
     Model3dCalibration m = *eye.model3d;
-    if (intrinsics) m.camera = *intrinsics;
+    if (intrinsics) {
+        m.camera = *intrinsics;
+    }
     return std::make_unique<EyeModelMapper>(m);
 }
 

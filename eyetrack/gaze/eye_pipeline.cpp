@@ -8,7 +8,9 @@ EyePipeline::EyePipeline(std::unique_ptr<FrameSource> source,
                          std::unique_ptr<PupilDetector> detector,
                          std::unique_ptr<GazeMapper> mapper, GazeFilterConfig filter)
     : mSource(std::move(source)), mDetector(std::move(detector)), mMapper(std::move(mapper)) {
-    if (!mDetector) throw EyetrackError("eye pipeline: a detector is needed");
+    if (!mDetector) {
+        throw EyetrackError("eye pipeline: a detector is needed");
+    }
     if (mMapper) {
         filter.display = mMapper->display();
         mFilter.emplace(filter);
@@ -18,8 +20,12 @@ EyePipeline::EyePipeline(std::unique_ptr<FrameSource> source,
 EyeStep EyePipeline::process(const Frame& frame) {
     EyeStep step;
     step.pupil = mDetector->detect(frame.grey, frame.tMs);
-    if (!mMapper) return step;
-    if (step.pupil.found) step.screen = mMapper->map(step.pupil, frame.tMs);
+    if (!mMapper) {
+        return step;
+    }
+    if (step.pupil.found) {
+        step.screen = mMapper->map(step.pupil, frame.tMs);
+    }
     step.sample = mFilter->process(frame.tMs, step.screen, step.pupil.confidence);
     return step;
 }

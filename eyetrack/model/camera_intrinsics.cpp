@@ -24,25 +24,32 @@ nlohmann::json CameraIntrinsics::toJson() const {
 }
 
 CameraIntrinsics CameraIntrinsics::fromJson(const nlohmann::json& j, const std::string& what) {
-    if (!j.is_object()) throw FormatError("intrinsics " + what + ": expected a JSON object");
+    if (!j.is_object()) {
+        throw FormatError("intrinsics " + what + ": expected a JSON object");
+    }
     CameraIntrinsics k;
     for (auto [key, field] :
          {std::pair{"fx", &k.fx}, {"fy", &k.fy}, {"cx", &k.cx}, {"cy", &k.cy}}) {
-        if (!j.contains(key) || !j[key].is_number())
+        if (!j.contains(key) || !j[key].is_number()) {
             throw FormatError("intrinsics " + what + ": '" + key + "' missing or not a number");
+        }
         *field = j[key].get<double>();
     }
-    if (!k.valid())
+    if (!k.valid()) {
         throw FormatError("intrinsics " + what + ": focal lengths must be positive and finite");
+    }
     return k;
 }
 
 CameraIntrinsics CameraIntrinsics::load(const std::filesystem::path& file) {
     std::error_code ec;
-    if (std::filesystem::is_directory(file, ec))
+    if (std::filesystem::is_directory(file, ec)) {
         throw FormatError("intrinsics " + file.string() + ": is a folder");
+    }
     std::ifstream in(file);
-    if (!in) throw FormatError("intrinsics " + file.string() + ": cannot be opened");
+    if (!in) {
+        throw FormatError("intrinsics " + file.string() + ": cannot be opened");
+    }
     nlohmann::json j;
     try {
         in >> j;

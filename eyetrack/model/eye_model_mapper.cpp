@@ -11,9 +11,13 @@ EyeModelMapper::EyeModelMapper(Model3dCalibration calibration, EyeModelConfig co
 }
 
 std::optional<cv::Point2d> EyeModelMapper::map(const PupilResult& pupil, double /*tMs*/) {
-    if (pupil.confidence >= kFitConfidence) mModel.add(pupil.ellipse);
+    if (pupil.confidence >= kFitConfidence) {
+        mModel.add(pupil.ellipse);
+    }
     const auto axis = mModel.gaze(pupil.ellipse);
-    if (!axis) return std::nullopt;
+    if (!axis) {
+        return std::nullopt;
+    }
     return mCalibration.map(*axis);
 }
 

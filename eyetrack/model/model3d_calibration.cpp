@@ -13,21 +13,27 @@ cv::Vec3d directionToScreen(const DisplayGeometry& d, cv::Point2d px) {
 }
 
 std::optional<cv::Point2d> screenOfDirection(const DisplayGeometry& d, const cv::Vec3d& dir) {
-    if (!(dir[2] > 1e-6)) return std::nullopt;
+    if (!(dir[2] > 1e-6)) {
+        return std::nullopt;
+    }
     const double k = d.cmPerPixel();
     const cv::Point2d p(0.5 * d.widthPx + d.distanceCm * dir[0] / dir[2] / k,
                         0.5 * d.heightPx + d.distanceCm * dir[1] / dir[2] / k);
-    if (!std::isfinite(p.x) || !std::isfinite(p.y)) return std::nullopt;
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+        return std::nullopt;
+    }
     return p;
 }
 
 void Model3dCalibration::fitRotation(const std::vector<cv::Vec3d>& axes,
                                      const std::vector<cv::Point2d>& targets) {
-    if (axes.size() != targets.size() || axes.size() < 3)
+    if (axes.size() != targets.size() || axes.size() < 3) {
         throw CalibrationError("3D calibration: at least 3 targets with an eye model are needed");
+    }
     cv::Matx33d h = cv::Matx33d::zeros();
-    for (std::size_t i = 0; i < axes.size(); ++i)
+    for (std::size_t i = 0; i < axes.size(); ++i) {
         h += axes[i] * directionToScreen(display, targets[i]).t();
+    }
     cv::Mat w, u, vt;
     cv::SVD::compute(cv::Mat(h), w, u, vt);
     const cv::Matx33d U(u), Vt(vt);
@@ -65,19 +71,27 @@ Model3dCalibration Model3dCalibration::fromJson(const nlohmann::json& j,
     auto bad = [&](const std::string& why) {
         return FormatError("calibration " + what + ": 3D model: " + why);
     };
-    if (!j.is_object()) throw bad("not a JSON object");
+    if (!j.is_object()) {
+        throw bad("not a JSON object");
+    }
     Model3dCalibration m;
     m.display = display;
     try {
         m.camera = CameraIntrinsics::fromJson(j.at("intrinsics"), what);
         const auto& r = j.at("rotation");
-        if (!r.is_array() || r.size() != 9) throw bad("\"rotation\" must hold 9 numbers");
-        for (int i = 0; i < 9; ++i)
+        if (!r.is_array() || r.size() != 9) {
+            throw bad("\"rotation\" must hold 9 numbers");
+        }
+        for (int i = 0; i < 9; ++i) {
             m.rotation.val[i] = r.at(static_cast<std::size_t>(i)).get<double>();
+        }
         const auto& c = j.at("eye_centre_mm");
-        if (!c.is_array() || c.size() != 3) throw bad("\"eye_centre_mm\" must hold 3 numbers");
-        for (int i = 0; i < 3; ++i)
+        if (!c.is_array() || c.size() != 3) {
+            throw bad("\"eye_centre_mm\" must hold 3 numbers");
+        }
+        for (int i = 0; i < 3; ++i) {
             m.eyeCentreMm[i] = c.at(static_cast<std::size_t>(i)).get<double>();
+        }
         m.eyeRadiusMm = j.at("eye_radius_mm").get<double>();
         m.pupilRadiusMm = j.at("pupil_radius_mm").get<double>();
         m.fitErrorDeg = j.value("fit_error_deg", 0.0);
@@ -87,13 +101,16 @@ Model3dCalibration Model3dCalibration::fromJson(const nlohmann::json& j,
     // A rotation: orthonormal with determinant 1.
     const cv::Matx33d e = m.rotation * m.rotation.t() - cv::Matx33d::eye();
     double off = 0.0;
-    for (int i = 0; i < 9; ++i)
+    for (int i = 0; i < 9; ++i) {
         off = std::max(off, std::abs(e.val[i]));
-    if (!(off < 1e-3) || !(cv::determinant(m.rotation) > 0.0))
+    }
+    if (!(off < 1e-3) || !(cv::determinant(m.rotation) > 0.0)) {
         throw bad("\"rotation\" is not a rotation");
+    }
     if (!(m.eyeRadiusMm > 0.0) || !(m.pupilRadiusMm > 0.0) || !(m.eyeCentreMm[2] > 0.0) ||
-        !std::isfinite(m.eyeCentreMm[0]) || !std::isfinite(m.eyeCentreMm[1]))
+        !std::isfinite(m.eyeCentreMm[0]) || !std::isfinite(m.eyeCentreMm[1])) {
         throw bad("the eye sphere must be in front of the camera with positive radii");
+    }
     return m;
 }
 

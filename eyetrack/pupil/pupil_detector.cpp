@@ -22,8 +22,12 @@ double PupilResult::majorAngleDeg() const {
 }
 
 std::unique_ptr<PupilDetector> makePupilDetector(const std::string& name) {
-    if (name == "starburst") return std::make_unique<StarburstDetector>();
-    if (name == "blob") return std::make_unique<BlobDetector>();
+    if (name == "starburst") {
+        return std::make_unique<StarburstDetector>();
+    }
+    if (name == "blob") {
+        return std::make_unique<BlobDetector>();
+    }
     throw EyetrackError("unknown pupil detector '" + name + "' (starburst | blob)");
 }
 

@@ -17,12 +17,20 @@ DetectionScore scoreDetections(const std::vector<DetectionRecord>& records, doub
     for (const DetectionRecord& r : records) {
         if (r.visible) {
             ++s.visible;
-            if (r.answered) errors.push_back(r.errorPx);
-            if (isRight(r, radiusPx)) ++s.withinRadius;
+            if (r.answered) {
+                errors.push_back(r.errorPx);
+            }
+            if (isRight(r, radiusPx)) {
+                ++s.withinRadius;
+            }
         }
-        if (!r.answered) continue;
+        if (!r.answered) {
+            continue;
+        }
         (isRight(r, radiusPx) ? right : wrong).push_back(r.confidence);
-        if (!r.visible) ++s.wrongHidden;
+        if (!r.visible) {
+            ++s.wrongHidden;
+        }
     }
     s.detectionRate = s.visible > 0 ? static_cast<double>(s.withinRadius) / s.visible : 0.0;
     s.medianErrorPx = median(errors);
@@ -48,13 +56,19 @@ ThresholdRates ratesAt(const std::vector<DetectionRecord>& records, double thres
     t.threshold = threshold;
     int right = 0, kept = 0, wrong = 0, rejected = 0;
     for (const DetectionRecord& r : records) {
-        if (!r.answered) continue;
+        if (!r.answered) {
+            continue;
+        }
         if (isRight(r, radiusPx)) {
             ++right;
-            if (r.confidence >= threshold) ++kept;
+            if (r.confidence >= threshold) {
+                ++kept;
+            }
         } else {
             ++wrong;
-            if (r.confidence < threshold) ++rejected;
+            if (r.confidence < threshold) {
+                ++rejected;
+            }
         }
     }
     t.rightKept = right > 0 ? static_cast<double>(kept) / right : 1.0;
