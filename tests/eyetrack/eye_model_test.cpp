@@ -6,7 +6,11 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include <filesystem>
+#include <unistd.h>
+
 #include "error.hpp"
+#include "gaze/calibration_set.hpp"
 #include "model/ellipse_unprojection.hpp"
 #include "model/eye_model.hpp"
 #include "sim/synthetic_eye.hpp"
@@ -108,4 +112,51 @@ TEST(EyeModel, FitsTheSyntheticEyeAndFollowsASlip) {
     model.clearWindow();
     feed(moved, 0, 1200);
     EXPECT_LT(meanError(moved, 1200, 2400), 0.4);
+}
+
+TEST(CalibrationSet, VersionThreeRoundTripAndVersionTwoStillLoads) {
+    const DisplayGeometry d;
+    std::vector<CalibrationPoint> pts;
+    for (int i = 0; i < 9; ++i) {
+        const double gx = (i % 3) - 1.0, gy = (i / 3) - 1.0;
+        pts.push_back({{160 + 30 * gx, 120 + 25 * gy}, d.pixelAtDeg({14 * gx, -8 * gy})});
+    }
+    const Calibration poly = Calibration::fit(pts, d);
+    Model3dCalibration m;
+    m.display = d;
+    m.camera = {318.5, 318.5, 159.5, 119.5};
+    m.eyeCentreMm = {1.0, -0.5, 30.0};
+    m.eyeRadiusMm = 9.0;
+    m.fitRotation({{0, 0, -1}, {0.2, 0, -0.98}, {0, 0.2, -0.98}},
+                  {{960, 540}, {1300, 540}, {960, 800}});
+    CalibrationSet set;
+    set.eyes.push_back({"left", poly, m});
+    set.eyes.push_back({"right", poly, std::nullopt});
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("gazetrace_calset_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    set.save(dir / "v3.json");
+    const CalibrationSet back = CalibrationSet::load(dir / "v3.json");
+    ASSERT_EQ(back.eyes.size(), 2u);
+    ASSERT_TRUE(back.eye("left").model3d);
+    EXPECT_FALSE(back.eye("right").model3d);
+    EXPECT_NEAR(cv::norm(back.eye("left").model3d->rotation - m.rotation), 0.0, 1e-9);
+    EXPECT_NEAR(cv::norm(back.eye("left").poly.map({170, 130}) - poly.map({170, 130})), 0.0, 1e-6);
+    EXPECT_NO_THROW((void)makeGazeMapper(back.eye("left"), "3d"));
+    EXPECT_THROW((void)makeGazeMapper(back.eye("right"), "3d"), CalibrationError);
+    EXPECT_THROW((void)back.eye("both"), CalibrationError); // two eyes: say which
+    // Version 2 (a bare polynomial) loads as the one eye "both", and also through
+    // Calibration::load; a version-3 file with one eye loads through both too.
+    poly.save(dir / "v2.json");
+    EXPECT_EQ(CalibrationSet::load(dir / "v2.json").eye("both").eye, "both");
+    CalibrationSet one;
+    one.eyes.push_back({"both", poly, m});
+    one.save(dir / "one.json");
+    EXPECT_NO_THROW((void)Calibration::load(dir / "one.json"));
+    EXPECT_THROW((void)CalibrationSet::load(dir / "one.json").eye("left"), CalibrationError);
+    // Not a rotation.
+    auto j = set.toJson();
+    j["eyes"][0]["model3d"]["rotation"][0] = 2.0;
+    EXPECT_THROW((void)CalibrationSet::fromJson(j, "x"), FormatError);
+    std::filesystem::remove_all(dir);
 }

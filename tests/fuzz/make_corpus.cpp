@@ -23,6 +23,7 @@
 
 #include "foveation/point_set_cache.hpp"
 #include "gaze/calibration.hpp"
+#include <nlohmann/json.hpp>
 
 namespace {
 
@@ -442,6 +443,28 @@ void calibration() {
     variant("width_px_1.3e123.json", [](nlohmann::json& v) { v["display"]["width_px"] = 1.3e123; });
     variant("points_used_2pow40.json", [](nlohmann::json& v) { v["points_used"] = 1LL << 40; });
     put(t, "regressions", "deep_20000.json", std::string(20000, '[') + std::string(20000, ']'));
+    // Version 3: two eyes, one with the 3D model.
+    {
+        nlohmann::json model3d{
+            {"intrinsics", {{"fx", 318.5}, {"fy", 318.5}, {"cx", 159.5}, {"cy", 119.5}}},
+            {"rotation", {-1, 0, 0, 0, 1, 0, 0, 0, -1}},
+            {"eye_centre_mm", {1.0, -0.5, 30.0}},
+            {"eye_radius_mm", 9.0},
+            {"pupil_radius_mm", 2.0},
+            {"fit_error_deg", 0.5}};
+        nlohmann::json v3{{"format", "gazetrace-calibration"},
+                          {"version", 3},
+                          {"eyes",
+                           {{{"eye", "left"}, {"poly", j}, {"model3d", model3d}},
+                            {{"eye", "right"}, {"poly", j}}}}};
+        put(t, "seeds", "v3_two_eyes.json", v3.dump(2));
+        nlohmann::json bad = v3;
+        bad["eyes"][0]["model3d"]["rotation"] = {2, 0, 0, 0, 1, 0, 0, 0, 1};
+        put(t, "regressions", "v3_not_a_rotation.json", bad.dump());
+        bad = v3;
+        bad["eyes"][1]["eye"] = "left";
+        put(t, "regressions", "v3_same_eye_twice.json", bad.dump());
+    }
     put(t, "regressions", "number_1e999.json",
         replaced(poly7, R"("fit_error_deg": )", R"("fit_error_deg": 1e999, "x": )"));
 }
