@@ -532,6 +532,7 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
         }
     }
     PupilResult best;
+    double bestInterior = 0.0, bestInteriorHigh = 0.0;
     if (!scored.empty()) {
         const Scored* pick = &scored.front();
         // The pupil is the darkest blob: a clearly darker, well-outlined ellipse inside the
@@ -557,11 +558,17 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
             }
         }
         best = pick->result;
+        bestInterior = pick->interior;
+        bestInteriorHigh = pick->interiorHigh;
     }
     best.found = best.confidence >= mConfig.minConfidence;
     mLast = best;
     ++mFramesSinceSize;
-    if (best.confidence >= 0.75) {
+    // The size prior learns only from a uniformly dark inside: an iris with its pupil in it
+    // (picked while the pupil was hard to see) must not teach it the iris's size, or the pupil
+    // would be held too small to be the pupil from then on.
+    const bool uniform = bestInteriorHigh - bestInterior < 0.5 * mConfig.minContrast;
+    if (best.confidence >= 0.75 && uniform) {
         mRecentRadius =
             mRecentRadius > 0.0 ? 0.9 * mRecentRadius + 0.1 * best.semiMajor() : best.semiMajor();
         mFramesSinceSize = 0;
