@@ -1,16 +1,22 @@
 #!/usr/bin/env bash
 # The eye tracker's held-out numbers (issue 17's closing note): detection, confidence and speed on
-# eyesim seeds 9000-9049 — never used while developing the detector (seeds 1-60 were) — then the
+# eyesim seeds 9000-9049 (set A) and 8000-8049 (set B) — never used while developing the detector
+# (seeds 1-100 were; A was first scored before the last two changes, B only after them) — then the
 # 2D and 3D gaze models before and after headset slippage on seeds 9000-9007, and binocular
 # vergence on seeds 9000-9003. Writes JSON into OUT (default out/eye_heldout).
+# DETECTOR_ONLY=1 skips slippage and vergence.
 set -euo pipefail
 G=${GAZETRACE:-build/gazetrace}
 OUT=${1:-out/eye_heldout}
 mkdir -p "$OUT"
-for preset in clean hard wild; do
-    "$G" eyescore --preset "$preset" --seeds 9000-9049 --frames 300 --json > "$OUT/eyescore_$preset.json"
+for set in 9000-9049 8000-8049; do
+    for preset in clean hard wild; do
+        "$G" eyescore --preset "$preset" --seeds "$set" --frames 300 --json \
+            > "$OUT/eyescore_${preset}_$set.json"
+    done
 done
 "$G" bench --suite eye > "$OUT/bench_eye.txt" 2>&1
+[ "${DETECTOR_ONLY:-0}" = 1 ] && exit 0
 "$G" slippage --seeds 9000-9007 --slips-mm 1,2,3 --slip-deg 2 --json > "$OUT/slippage.json"
 for seed in 9000 9001 9002 9003; do
     depth=$(( 30 + (seed - 9000) * 40 ))   # 30, 70, 110, 150 cm
