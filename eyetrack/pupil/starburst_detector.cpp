@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <numbers>
 #include <optional>
 
@@ -36,6 +37,23 @@ inline long long boxSum(const cv::Mat& ii, int x0, int y0, int x1, int y1) {
     const int* a = ii.ptr<int>(y0);
     const int* b = ii.ptr<int>(y1);
     return static_cast<long long>(b[x1]) - b[x0] - a[x1] + a[x0];
+}
+
+// Centre-surround response at (x, y) of the image behind a CV_32S integral image: mean of the ring
+// between the (2 ho + 1)^2 and (2 hi + 1)^2 boxes minus the inner box's mean (dark centre:
+// positive). -inf when the border clips the ring to no more than the inner box.
+double centreSurround(const cv::Mat& ii, int x, int y, int hi, int ho) {
+    const int w = ii.cols - 1, h = ii.rows - 1;
+    const int ix0 = std::max(0, x - hi), ix1 = std::min(w, x + hi + 1);
+    const int iy0 = std::max(0, y - hi), iy1 = std::min(h, y + hi + 1);
+    const int ox0 = std::max(0, x - ho), ox1 = std::min(w, x + ho + 1);
+    const int oy0 = std::max(0, y - ho), oy1 = std::min(h, y + ho + 1);
+    const long long inner = boxSum(ii, ix0, iy0, ix1, iy1);
+    const long long outer = boxSum(ii, ox0, oy0, ox1, oy1);
+    const int innerArea = (ix1 - ix0) * (iy1 - iy0);
+    const int ringArea = (ox1 - ox0) * (oy1 - oy0) - innerArea;
+    if (ringArea <= innerArea) return -std::numeric_limits<double>::infinity();
+    return static_cast<double>(outer - inner) / ringArea - static_cast<double>(inner) / innerArea;
 }
 
 // Percentile of the grey levels in a rectangle (sparse sampling for large ones), optionally
@@ -125,17 +143,7 @@ void StarburstDetector::findCandidates(const cv::Mat& grey, double minR, double 
         const int step = std::max(1, static_cast<int>(r / 2.0));
         for (int y = 0; y < h; y += step) {
             for (int x = 0; x < w; x += step) {
-                const int ix0 = std::max(0, x - hi), ix1 = std::min(w, x + hi + 1);
-                const int iy0 = std::max(0, y - hi), iy1 = std::min(h, y + hi + 1);
-                const int ox0 = std::max(0, x - ho), ox1 = std::min(w, x + ho + 1);
-                const int oy0 = std::max(0, y - ho), oy1 = std::min(h, y + ho + 1);
-                const long long inner = boxSum(mIntegral, ix0, iy0, ix1, iy1);
-                const long long outer = boxSum(mIntegral, ox0, oy0, ox1, oy1);
-                const int innerArea = (ix1 - ix0) * (iy1 - iy0);
-                const int ringArea = (ox1 - ox0) * (oy1 - oy0) - innerArea;
-                if (ringArea <= innerArea) continue; // clipped too much by the border
-                const double response = static_cast<double>(outer - inner) / ringArea -
-                                        static_cast<double>(inner) / innerArea;
+                const double response = centreSurround(mIntegral, x, y, hi, ho);
                 if (response < 0.5 * mConfig.minContrast) continue;
                 if (all.size() == kKeep) {
                     if (response <= all.front().response) continue;
@@ -452,17 +460,7 @@ StarburstDetector::innerCandidate(const PupilResult& outer, double outerInterior
             for (int x = std::max(0, static_cast<int>(cx - reach));
                  x <= std::min(w - 1, static_cast<int>(cx + reach) + 1); ++x) {
                 if ((x - cx) * (x - cx) + (y - cy) * (y - cy) > reach * reach) continue;
-                const int ix0 = std::max(0, x - hi), ix1 = std::min(w, x + hi + 1);
-                const int iy0 = std::max(0, y - hi), iy1 = std::min(h, y + hi + 1);
-                const int ox0 = std::max(0, x - ho), ox1 = std::min(w, x + ho + 1);
-                const int oy0 = std::max(0, y - ho), oy1 = std::min(h, y + ho + 1);
-                const long long inner = boxSum(mInnerIntegral, ix0, iy0, ix1, iy1);
-                const long long all = boxSum(mInnerIntegral, ox0, oy0, ox1, oy1);
-                const int innerArea = (ix1 - ix0) * (iy1 - iy0);
-                const int ringArea = (ox1 - ox0) * (oy1 - oy0) - innerArea;
-                if (ringArea <= innerArea) continue;
-                const double response = static_cast<double>(all - inner) / ringArea -
-                                        static_cast<double>(inner) / innerArea;
+                const double response = centreSurround(mInnerIntegral, x, y, hi, ho);
                 if (response < 0.5 * mConfig.minContrast) continue;
                 if (!best || response > best->response)
                     best = Candidate{{(x + roi.x + 0.5) * f - 0.5, (y + roi.y + 0.5) * f - 0.5},
