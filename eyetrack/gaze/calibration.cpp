@@ -269,9 +269,14 @@ Calibration Calibration::load(const std::filesystem::path& file) {
     }
     // A version-3 file (gaze/calibration_set.hpp) with one eye: its polynomial.
     if (j.is_object() && j.contains("version") && j["version"].is_number_integer() &&
-        j["version"].get<long long>() == 3 && j.contains("eyes") && j["eyes"].is_array() &&
-        j["eyes"].size() == 1 && j["eyes"][0].is_object() && j["eyes"][0].contains("poly"))
-        return fromJson(j["eyes"][0]["poly"], file.string());
+        j["version"].get<long long>() == 3 && j.contains("eyes") && j["eyes"].is_array()) {
+        if (j["eyes"].size() == 1 && j["eyes"][0].is_object() && j["eyes"][0].contains("poly"))
+            return fromJson(j["eyes"][0]["poly"], file.string());
+        if (j["eyes"].size() == 2)
+            throw FormatError("calibration " + file.string() +
+                              ": holds two eyes, and this reads one (use gazetrace track with "
+                              "--source-left/--source-right and --emit, and --gaze udp:PORT)");
+    }
     return fromJson(j, file.string());
 }
 

@@ -154,6 +154,13 @@ TEST(CalibrationSet, VersionThreeRoundTripAndVersionTwoStillLoads) {
     one.save(dir / "one.json");
     EXPECT_NO_THROW((void)Calibration::load(dir / "one.json"));
     EXPECT_THROW((void)CalibrationSet::load(dir / "one.json").eye("left"), CalibrationError);
+    // A two-eye file read for one eye (the renderer's --gaze track:) says so.
+    try {
+        (void)Calibration::load(dir / "v3.json");
+        ADD_FAILURE() << "a two-eye file loaded as one";
+    } catch (const FormatError& e) {
+        EXPECT_NE(std::string(e.what()).find("two eyes"), std::string::npos) << e.what();
+    }
     // Not a rotation.
     auto j = set.toJson();
     j["eyes"][0]["model3d"]["rotation"][0] = 2.0;
