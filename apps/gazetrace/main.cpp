@@ -371,7 +371,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     eyesimCmd
         ->add_option("--preset", eyesim.preset,
-                     "clean | hard (lid occlusion, 4 glints, blur, noise, blinks)")
+                     "clean | hard (lid occlusion, 4 glints, blur, noise, blinks) | wild "
+                     "(perspective camera, mascara, shadows, low contrast... drawn per seed)")
         ->check(CLI::IsMember({"clean", "hard", "wild"}))
         ->capture_default_str();
     eyesimCmd->add_option("--grid", eyesim.grid, "Calibration targets: 5, 9 or 13")
