@@ -248,7 +248,8 @@ cv::Mat SyntheticEye::render(int frame, EyeTruth* truth) const {
         (1.0 + mConfig.pupilDilation * std::sin(2 * std::numbers::pi * tMs / 4000.0 + mPupilPhase));
     const double rp = rpPx / (kPxPerMm * s);
     const cv::Vec3d pupilCentre = eyeMm + gaze * kPupilPlaneMm;
-    const auto [bu, bv] = planeBasis(gaze);
+    const std::pair<cv::Vec3d, cv::Vec3d> basis = planeBasis(gaze);
+    const cv::Vec3d bu = basis.first, bv = basis.second; // captured below (no structured binding)
     auto onDisc = [&](double r, double a) {
         return project(pupilCentre + (bu * std::cos(a) + bv * std::sin(a)) * r);
     };
