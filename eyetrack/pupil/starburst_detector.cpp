@@ -189,7 +189,7 @@ bool StarburstDetector::measureLevels(const cv::Mat& grey, const Candidate& c,
 }
 
 void StarburstDetector::castRays(const cv::Mat& grey, cv::Point2d from, double maxDistance,
-                                 const Levels& lv) {
+                                 const Levels& lv, bool irisOnly) {
     mEdgePoints.clear();
     mEdgeGradients.clear();
     constexpr double kStep = 0.5;
@@ -248,9 +248,16 @@ void StarburstDetector::castRays(const cv::Mat& grey, cv::Point2d from, double m
                 // a dark iris) is not the pupil's.
                 const cv::Point2d beyond = from + dir * (tEdge + 3.0);
                 const double outside = sample(grey, beyond.x, beyond.y);
-                const bool tooBright =
-                    outside > lv.pupil + 1.8 * (lv.surround - lv.pupil) && outside < lv.glint;
-                if (!glint && !tooBright) {
+                const double range = lv.surround - lv.pupil;
+                const bool tooBright = outside > lv.pupil + 1.8 * range && outside < lv.glint;
+                // Second pass (the iris level is measured around the first fit): the iris must
+                // be what lies beyond, not a lid margin or lashes darker than it, nor skin — an
+                // edge along the lid over the pupil would make the fit hug the lid and put the
+                // centre below the pupil's.
+                const bool notIris =
+                    irisOnly && outside < lv.glint &&
+                    (outside < lv.surround - 0.45 * range || outside > lv.surround + 0.7 * range);
+                if (!glint && !tooBright && !notIris) {
                     const cv::Point2d e = from + dir * tEdge;
                     mEdgePoints.push_back(e);
                     mEdgeGradients.push_back(unitGradient(grey, e));
@@ -370,12 +377,14 @@ StarburstDetector::Refined StarburstDetector::refine(const cv::Mat& grey, const 
     // Second pass from the fitted centre: rays now meet the boundary at even spacing.
     const cv::Point2d centre(fit->ellipse.center.x, fit->ellipse.center.y);
     const double major = 0.5 * std::max(fit->ellipse.size.width, fit->ellipse.size.height);
+    bool irisMeasured = false;
     if (const double outside = outsideLevel(grey, fit->ellipse, lv);
         outside > lv.pupil + mConfig.minContrast) {
         lv.surround = outside;
         lv.threshold = 0.5 * (lv.pupil + outside);
+        irisMeasured = true;
     }
-    castRays(mSmooth, centre, 1.6 * major + 3.0, lv);
+    castRays(mSmooth, centre, 1.6 * major + 3.0, lv, irisMeasured);
     rp.seed += 1;
     if (auto second = fitEllipseRansac(mEdgePoints, rp, mEdgeGradients)) fit = second;
 

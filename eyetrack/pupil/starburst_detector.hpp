@@ -74,7 +74,8 @@ private:
     [[nodiscard]] std::optional<Candidate> innerCandidate(const PupilResult& outer,
                                                           double outerInterior, double minR);
     [[nodiscard]] bool measureLevels(const cv::Mat& grey, const Candidate& c, Levels& levels) const;
-    void castRays(const cv::Mat& grey, cv::Point2d from, double maxDistance, const Levels& levels);
+    void castRays(const cv::Mat& grey, cv::Point2d from, double maxDistance, const Levels& levels,
+                  bool irisOnly = false);
     // Share of the fitted outline with a dark inside and a brighter outside: `all` counts every
     // sample (the reported confidence, which falls under occlusion); `visible` leaves out the
     // samples where the outline runs through something bright on both sides (an eyelid over the
