@@ -11,6 +11,7 @@
 
 #include "error.hpp"
 #include "io/atomic_file.hpp"
+#include "io/json_file.hpp"
 #include "stats.hpp"
 
 namespace gt::eyetrack {
@@ -255,18 +256,7 @@ void Calibration::save(const std::filesystem::path& file) const {
 }
 
 Calibration Calibration::load(const std::filesystem::path& file) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(file, ec)) {
-        throw FormatError("calibration " + file.string() + ": is a folder, not a calibration file");
-    }
-    std::ifstream in(file);
-    if (!in) throw FormatError("calibration " + file.string() + ": cannot be opened");
-    nlohmann::json j;
-    try {
-        in >> j;
-    } catch (const nlohmann::json::exception&) {
-        throw FormatError("calibration " + file.string() + ": not valid JSON");
-    }
+    const nlohmann::json j = readJsonFile(file, "calibration");
     // A version-3 file (gaze/calibration_set.hpp) with one eye: its polynomial.
     if (j.is_object() && j.contains("version") && j["version"].is_number_integer() &&
         j["version"].get<long long>() == 3 && j.contains("eyes") && j["eyes"].is_array()) {

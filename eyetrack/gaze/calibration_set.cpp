@@ -1,9 +1,8 @@
 #include "gaze/calibration_set.hpp"
 
-#include <fstream>
-
 #include "error.hpp"
 #include "io/atomic_file.hpp"
+#include "io/json_file.hpp"
 #include "model/eye_model_mapper.hpp"
 
 namespace gt::eyetrack {
@@ -94,21 +93,7 @@ void CalibrationSet::save(const std::filesystem::path& file) const {
 }
 
 CalibrationSet CalibrationSet::load(const std::filesystem::path& file) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(file, ec)) {
-        throw FormatError("calibration " + file.string() + ": is a folder, not a calibration file");
-    }
-    std::ifstream in(file);
-    if (!in) {
-        throw FormatError("calibration " + file.string() + ": cannot be opened");
-    }
-    nlohmann::json j;
-    try {
-        in >> j;
-    } catch (const nlohmann::json::exception&) {
-        throw FormatError("calibration " + file.string() + ": not valid JSON");
-    }
-    return fromJson(j, file.string());
+    return fromJson(readJsonFile(file, "calibration"), file.string());
 }
 
 std::unique_ptr<GazeMapper> makeGazeMapper(const EyeCalibration& eye, const std::string& model,

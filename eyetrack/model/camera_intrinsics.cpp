@@ -1,9 +1,8 @@
 #include "model/camera_intrinsics.hpp"
 
-#include <fstream>
-
 #include "error.hpp"
 #include "io/atomic_file.hpp"
+#include "io/json_file.hpp"
 
 namespace gt::eyetrack {
 
@@ -42,21 +41,7 @@ CameraIntrinsics CameraIntrinsics::fromJson(const nlohmann::json& j, const std::
 }
 
 CameraIntrinsics CameraIntrinsics::load(const std::filesystem::path& file) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(file, ec)) {
-        throw FormatError("intrinsics " + file.string() + ": is a folder");
-    }
-    std::ifstream in(file);
-    if (!in) {
-        throw FormatError("intrinsics " + file.string() + ": cannot be opened");
-    }
-    nlohmann::json j;
-    try {
-        in >> j;
-    } catch (const nlohmann::json::exception&) {
-        throw FormatError("intrinsics " + file.string() + ": not valid JSON");
-    }
-    return fromJson(j, file.string());
+    return fromJson(readJsonFile(file, "camera intrinsics"), file.string());
 }
 
 void CameraIntrinsics::save(const std::filesystem::path& file) const {
