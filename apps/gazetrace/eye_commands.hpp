@@ -89,6 +89,8 @@ nlohmann::json runTrackBinocular(const TrackOptions& options);
 nlohmann::json runCalibrate(const CalibrateOptions& options);
 nlohmann::json runEyeBench();
 nlohmann::json runEyescore(const EyescoreOptions& options);
+// --seeds N or A-B (A <= B, at most 10001 seeds); throws ArgumentError.
+std::pair<std::uint64_t, std::uint64_t> parseSeedRange(const std::string& seeds);
 nlohmann::json runSlippage(const SlippageOptions& options);
 
 } // namespace gt::app

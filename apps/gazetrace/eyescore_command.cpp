@@ -20,11 +20,9 @@
 
 namespace gt::app {
 
-namespace {
+namespace {} // namespace
 
-constexpr double kVisibleShare = 0.5; // as `track --truth`
-
-std::pair<std::uint64_t, std::uint64_t> parseSeeds(const std::string& s) {
+std::pair<std::uint64_t, std::uint64_t> parseSeedRange(const std::string& s) {
     unsigned long long a = 0, b = 0;
     char dash = 0, extra = 0;
     const int n = std::sscanf(s.c_str(), "%llu%c%llu%c", &a, &dash, &b, &extra);
@@ -38,8 +36,6 @@ std::pair<std::uint64_t, std::uint64_t> parseSeeds(const std::string& s) {
     return {a, b};
 }
 
-} // namespace
-
 nlohmann::json runEyescore(const EyescoreOptions& o) {
     cv::setNumThreads(1); // the detector's budget is one core
     if (o.frames < 1 || o.frames > 100000) {
@@ -51,7 +47,7 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
     if (!(o.radiusPx > 0.0) || o.radiusPx > 1000.0) {
         throw ArgumentError("--radius: expected a positive number of pixels");
     }
-    const auto [first, last] = parseSeeds(o.seeds);
+    const auto [first, last] = parseSeedRange(o.seeds);
     const double threshold =
         o.threshold >= 0.0 ? o.threshold : eyetrack::GazeFilterConfig{}.minConfidence;
     if (threshold > 1.0) {
@@ -98,7 +94,7 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
         for (std::size_t f = 0; f < images.size(); ++f) {
             const eyetrack::PupilResult& p = results[f];
             eyetrack::DetectionRecord r;
-            r.visible = truths[f].visibility >= kVisibleShare;
+            r.visible = truths[f].visibility >= eyetrack::kVisibleShare;
             r.answered = p.confidence > 0.0;
             r.errorPx = cv::norm(p.centre() - truths[f].centre);
             r.confidence = p.confidence;

@@ -90,15 +90,7 @@ double validate(const eyetrack::EyeSimConfig& c, eyetrack::GazeMapper& mapper,
 
 nlohmann::json runSlippage(const SlippageOptions& o) {
     cv::setNumThreads(1);
-    unsigned long long first = 0, last = 0;
-    char dash = 0, extra = 0;
-    const int got = std::sscanf(o.seeds.c_str(), "%llu%c%llu%c", &first, &dash, &last, &extra);
-    if (got == 1) {
-        last = first;
-    }
-    if ((got != 1 && (got != 3 || dash != '-')) || last < first || last - first > 1000) {
-        throw ArgumentError("--seeds " + o.seeds + ": expected N or A-B");
-    }
+    const auto [first, last] = parseSeedRange(o.seeds);
     const std::vector<double> slips = parseList(o.slipsMm, "--slips-mm");
     if (!std::isfinite(o.slipDeg) || std::abs(o.slipDeg) > 20.0) {
         throw ArgumentError("--slip-deg: expected a turn within 20 degrees");
@@ -107,7 +99,7 @@ nlohmann::json runSlippage(const SlippageOptions& o) {
 
     std::vector<double> before2d, before3d;
     std::vector<std::vector<double>> after2d(slips.size()), after3d(slips.size());
-    for (unsigned long long seed = first; seed <= last; ++seed) {
+    for (std::uint64_t seed = first; seed <= last; ++seed) {
         eyetrack::EyeSimConfig c;
         c.seed = seed;
         c.frames = kFrames;

@@ -20,13 +20,12 @@
 #include "io/atomic_file.hpp"
 #include "io/csv_tables.hpp"
 #include "io/udp_emitter.hpp"
+#include "score/detection_score.hpp"
 #include "stats.hpp"
 
 namespace gt::app {
 
 namespace {
-
-constexpr double kVisibleShare = 0.5;
 
 struct EyeTruthTable {
     std::optional<eyetrack::CsvTable> table;
@@ -101,7 +100,7 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
     }
 
     int frames[2] = {0, 0}, pairs = 0, withVergence = 0;
-    double maxSkew = 0.0, lastT[2] = {-1e300, -1e300};
+    double maxSkew = 0.0;
     std::vector<double> vergenceErrors, vergenceErrorsFree, busyMs;
     std::optional<eyetrack::Frame> pending[2];
     auto process = [&](int e, const eyetrack::Frame& frame) {
@@ -111,10 +110,10 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin)
                 .count());
         ++frames[e];
-        lastT[e] = frame.tMs;
         if (auto& t = truth[e]; t.table) {
             const auto row = static_cast<std::size_t>(frame.sequence);
-            if (row < t.table->rows() && t.table->number(row, "visibility") >= kVisibleShare) {
+            if (row < t.table->rows() &&
+                t.table->number(row, "visibility") >= eyetrack::kVisibleShare) {
                 ++t.visible;
                 if (step.pupil.found &&
                     std::hypot(step.pupil.centre().x - t.table->number(row, "cx"),
@@ -224,7 +223,6 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
         j["vergence_error_deg_median"] = eyetrack::median(vergenceErrors);
         j["vergence_error_deg_median_free_viewing"] = eyetrack::median(vergenceErrorsFree);
     }
-    (void)lastT;
     return j;
 }
 

@@ -21,14 +21,13 @@
 #include "io/csv_tables.hpp"
 #include "io/udp_emitter.hpp"
 #include "pupil/pupil_detector.hpp"
+#include "score/detection_score.hpp"
 #include "stats.hpp"
 
 namespace gt::app {
 
 namespace {
 
-// A truth row counts as "visible pupil" when at least half the pupil shows between the lids.
-constexpr double kVisibleShare = 0.5;
 constexpr double kSettleMs = 300.0; // validation samples count once the eye is on the target
 
 std::unique_ptr<eyetrack::GazeMapper> openGazeMapper(const TrackOptions& o) {
@@ -163,7 +162,7 @@ nlohmann::json runTrack(const TrackOptions& o) {
                         pipeline.mapper()->display().angularDistanceDeg(*step.screen, target));
             }
         }
-        if (labelled && truth->number(row, "visibility") >= kVisibleShare) {
+        if (labelled && truth->number(row, "visibility") >= eyetrack::kVisibleShare) {
             ++visible;
             const bool certain = !hasDoubtful || truth->number(row, "doubtful") == 0.0;
             if (certain) ++certainVisible;

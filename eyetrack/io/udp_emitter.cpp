@@ -43,19 +43,26 @@ UdpEmitter::~UdpEmitter() {
     if (mSocket >= 0) ::close(mSocket);
 }
 
-std::string UdpEmitter::toJson(const GazeSample& s, const DisplayGeometry& d, const char* eye) {
+namespace {
+
+nlohmann::json datagram(const GazeSample& s, const DisplayGeometry& d, const char* eye) {
     const cv::Point2d a = d.anglesDeg({s.x, s.y});
-    return nlohmann::json{{"t_ms", s.tMs},
-                          {"eye", eye},
-                          {"yaw_deg", a.x},
-                          {"pitch_deg", a.y},
-                          {"x", s.x},
-                          {"y", s.y},
-                          {"screen", {d.widthPx, d.heightPx}},
-                          {"confidence", s.confidence},
-                          {"event", toString(s.event)},
-                          {"saccade_onset", s.saccade}}
-        .dump();
+    return {{"t_ms", s.tMs},
+            {"eye", eye},
+            {"yaw_deg", a.x},
+            {"pitch_deg", a.y},
+            {"x", s.x},
+            {"y", s.y},
+            {"screen", {d.widthPx, d.heightPx}},
+            {"confidence", s.confidence},
+            {"event", toString(s.event)},
+            {"saccade_onset", s.saccade}};
+}
+
+} // namespace
+
+std::string UdpEmitter::toJson(const GazeSample& s, const DisplayGeometry& d, const char* eye) {
+    return datagram(s, d, eye).dump();
 }
 
 bool UdpEmitter::sendText(const std::string& text) {
@@ -68,7 +75,7 @@ bool UdpEmitter::send(const GazeSample& s) {
 }
 
 bool UdpEmitter::sendEye(const GazeSample& s, const char* eye, cv::Point2d anglesDeg) {
-    auto j = nlohmann::json::parse(toJson(s, mDisplay, eye));
+    nlohmann::json j = datagram(s, mDisplay, eye);
     j["yaw_deg"] = anglesDeg.x;
     j["pitch_deg"] = anglesDeg.y;
     return sendText(j.dump());
@@ -76,7 +83,7 @@ bool UdpEmitter::sendEye(const GazeSample& s, const char* eye, cv::Point2d angle
 
 bool UdpEmitter::sendCombined(const GazeSample& s, std::optional<double> vergenceDeg,
                               std::optional<double> fixationCm) {
-    auto j = nlohmann::json::parse(toJson(s, mDisplay, "both"));
+    nlohmann::json j = datagram(s, mDisplay, "both");
     if (vergenceDeg) j["vergence_deg"] = *vergenceDeg;
     if (fixationCm && std::isfinite(*fixationCm)) j["fixation_cm"] = *fixationCm;
     return sendText(j.dump());

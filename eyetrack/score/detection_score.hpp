@@ -13,6 +13,9 @@
 
 namespace gt::eyetrack {
 
+// A frame "shows the pupil" when at least this share of it is outside the lids (every score).
+inline constexpr double kVisibleShare = 0.5;
+
 struct DetectionRecord {
     bool visible = false;  // at least half the pupil shows
     bool answered = false; // the detector returned an ellipse (any confidence > 0)
