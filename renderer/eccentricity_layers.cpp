@@ -58,7 +58,7 @@ const LayerLayout& EccentricityLayers::layout(const View& view) {
     return it->second;
 }
 
-rg::TextureId EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View& view) {
+MethodImage EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View& view) {
     const LayerLayout& lay = layout(view);
     const std::size_t n = lay.grids.size();
     const shaders::trace::CameraPush viewCamera = view.cameraPush();

@@ -53,7 +53,7 @@ class EccentricityLayers final : public FoveationMethod {
 public:
     explicit EccentricityLayers(const MethodContext& mc, EccentricityLayerSettings settings = {});
     [[nodiscard]] std::string_view name() const override { return "layers"; }
-    [[nodiscard]] rg::TextureId addRadiance(rg::RenderGraph& graph, const View& view) override;
+    [[nodiscard]] MethodImage addRadiance(rg::RenderGraph& graph, const View& view) override;
     [[nodiscard]] uint64_t rays(const View& view) const override;
     [[nodiscard]] std::optional<WarmUp> warmUp(const View& view) override;
     [[nodiscard]] bool accumulates() const override { return true; }

@@ -36,13 +36,24 @@ struct WarmUp {
     std::function<rg::TextureId(rg::RenderGraph&)> addRadiance;
 };
 
+// A method's frame: the linear radiance (rgb; a = first-hit distance, which TAA reprojects
+// with) and, from a method that rebuilds the image from sparse samples, per pixel the distance
+// to the sample it took most from in units of the sample spacing (passes::InterpolatedImage):
+// on a still view TAA then counts each frame most where that frame's samples fell.
+struct MethodImage {
+    MethodImage(rg::TextureId r, std::optional<rg::TextureId> s = std::nullopt) // NOLINT
+        : radiance(r), support(s) {}
+    rg::TextureId radiance;
+    std::optional<rg::TextureId> support;
+};
+
 class FoveationMethod {
 public:
     virtual ~FoveationMethod() = default;
     [[nodiscard]] virtual std::string_view name() const = 0;
-    // Adds the passes that make the view's linear radiance (rgb; a = first-hit distance, which
-    // TAA reprojects with) at the view's size, and returns it.
-    [[nodiscard]] virtual rg::TextureId addRadiance(rg::RenderGraph& graph, const View& view) = 0;
+    // Adds the passes that make the view's image (MethodImage) at the view's size, and returns
+    // it.
+    [[nodiscard]] virtual MethodImage addRadiance(rg::RenderGraph& graph, const View& view) = 0;
     // Primary rays traced for the view this frame.
     [[nodiscard]] virtual uint64_t rays(const View& view) const = 0;
     // Once per pipeline variant: the frame that compiles it. Empty when this view's variant has

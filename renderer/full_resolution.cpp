@@ -7,7 +7,7 @@ namespace gt::render {
 FullResolution::FullResolution(const MethodContext& mc, passes::ReferenceSettings s)
     : settings(s), mMc(mc), mPass(mc.ctx) {}
 
-rg::TextureId FullResolution::addRadiance(rg::RenderGraph& graph, const View& view) {
+MethodImage FullResolution::addRadiance(rg::RenderGraph& graph, const View& view) {
     return mPass.add(graph, mMc.scene, view.cameraPush(), settings);
 }
 

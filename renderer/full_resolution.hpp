@@ -10,7 +10,7 @@ class FullResolution final : public FoveationMethod {
 public:
     explicit FullResolution(const MethodContext& mc, passes::ReferenceSettings settings = {});
     [[nodiscard]] std::string_view name() const override { return "reference"; }
-    [[nodiscard]] rg::TextureId addRadiance(rg::RenderGraph& graph, const View& view) override;
+    [[nodiscard]] MethodImage addRadiance(rg::RenderGraph& graph, const View& view) override;
     [[nodiscard]] uint64_t rays(const View& view) const override;
     [[nodiscard]] std::optional<WarmUp> warmUp(const View& view) override;
 

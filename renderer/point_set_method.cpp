@@ -141,21 +141,23 @@ const foveation::GpuRbfInverse& PointSetMethod::inverseFor(const passes::Interpo
 }
 
 // point_sample -> (rbf_solve) -> interpolate, with `rays` per point traced by `lanes` threads.
-rg::TextureId PointSetMethod::addImage(rg::RenderGraph& graph,
-                                       const shaders::trace::CameraPush& camera, glm::vec2 gaze,
-                                       uint32_t rays, uint32_t lanes,
-                                       const passes::InterpolateInputs& prepared,
-                                       const std::optional<passes::PanelWarp>& warp,
-                                       passes::InterpolateSettings s, uint32_t frame) {
+passes::InterpolatedImage PointSetMethod::addImage(rg::RenderGraph& graph,
+                                                   const shaders::trace::CameraPush& camera,
+                                                   glm::vec2 gaze, uint32_t rays, uint32_t lanes,
+                                                   const passes::InterpolateInputs& prepared,
+                                                   const std::optional<passes::PanelWarp>& warp,
+                                                   passes::InterpolateSettings s, uint32_t frame,
+                                                   float siteJitter) {
     // Modified Shepard blends from the sites of this frame. RBF's weights were solved for the
     // fixed ones; nearest neighbour keeps them too, since its exact per-pixel nearest point is
     // what makes it the cheap real-time choice (moving them cost 7x: 239 ms against 34 ms at
     // 1280x1440 on lavapipe).
     const bool moveSites = frame > 0 && s.method == passes::Interpolation::Shepard;
     s.siteFrame = moveSites ? frame : 0u;
+    s.siteJitter = moveSites ? siteJitter : 0.0f;
     const rg::BufferId samples = mPointSample.add(graph, mMc.scene, camera, mGpuPoints, gaze, rays,
                                                   lanes, warp ? &*warp : nullptr, settings.lod,
-                                                  frame, moveSites, !settings.pixelRays);
+                                                  frame, s.siteJitter, !settings.pixelRays);
     passes::InterpolateInputs in = prepared;
     if (passes::usesRbfSolve(s)) {
         in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), samples, gaze, s);
@@ -163,7 +165,7 @@ rg::TextureId PointSetMethod::addImage(rg::RenderGraph& graph,
     return mInterpolate.add(graph, mGpuPoints, samples, gaze, s, in);
 }
 
-rg::TextureId PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view) {
+MethodImage PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view) {
     const auto& d = mPoints.params().display;
     if (view.width != d.width || view.height != d.height) {
         throw Error("view '" + view.name + "' is " + std::to_string(view.width) + "x" +
@@ -174,8 +176,23 @@ rg::TextureId PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& vi
     const uint32_t lanes = passes::pointSampleLanes(mMc.ctx, settings.raysPerPoint);
     passes::InterpolateSettings s = settings.interpolation;
     s.displayExposure = settings.displayReferred ? view.exposure : 0.0f;
-    return addImage(graph, view.cameraPush(), sampledGaze(view), settings.raysPerPoint, lanes,
-                    prepared, warpFor(view), s, settings.jitter ? mFrame : 0u);
+    // A still camera whose frames TAA pools by their support (taa.glsl) gains from sites that
+    // roam their whole neighbourhood; a moving one, whose history is only reprojected, from
+    // smaller moves that flicker less.
+    const shaders::trace::CameraPush camera = view.cameraPush();
+    const auto last = mLastCamera.find(view.name);
+    const bool pooled = view.post.taa && view.post.taaSettings.adaptive &&
+                        view.post.taaSettings.supportWeighted && last != mLastCamera.end() &&
+                        passes::sameCamera(last->second, camera);
+    mLastCamera.insert_or_assign(view.name, camera);
+    const passes::InterpolatedImage image = addImage(
+        graph, camera, sampledGaze(view), settings.raysPerPoint, lanes, prepared, warpFor(view), s,
+        settings.jitter ? mFrame : 0u, pooled ? kSiteJitterStill : kSiteJitterMoving);
+    // The support says something only where the sites move from frame to frame.
+    if (settings.jitter && s.method == passes::Interpolation::Shepard) {
+        return {image.radiance, image.support};
+    }
+    return image.radiance;
 }
 
 std::optional<WarmUp> PointSetMethod::warmUp(const View& view) {
@@ -194,7 +211,7 @@ std::optional<WarmUp> PointSetMethod::warmUp(const View& view) {
     const std::optional<passes::PanelWarp> warp = warpFor(view);
     return WarmUp{view.width, view.height,
                   [this, cam, gaze, lanes, prepared, warp, s](rg::RenderGraph& g) {
-                      return addImage(g, cam, gaze, 1, lanes, prepared, warp, s, 0u);
+                      return addImage(g, cam, gaze, 1, lanes, prepared, warp, s, 0u, 0.0f).radiance;
                   }};
 }
 

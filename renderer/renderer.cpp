@@ -21,6 +21,7 @@ double msSince(Clock::time_point t) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 constexpr const char* kTaaHistory = "taa";
+constexpr const char* kTaaWeightHistory = "taa.weight";
 } // namespace
 
 Renderer::Renderer(const RendererOptions& o) {
@@ -174,7 +175,8 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
     for (std::size_t i = 0; i < views.size(); ++i) {
         const View& v = views[i];
         auto add = [&] {
-            rg::TextureId image = v.method->addRadiance(graph, v);
+            const MethodImage made = v.method->addRadiance(graph, v);
+            rg::TextureId image = made.radiance;
             const shaders::trace::CameraPush camera = v.cameraPush();
             const bool panel = v.method->rendersPanel(v);
             if (v.post.taa && !panel && !v.method->accumulates()) {
@@ -189,8 +191,16 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
                 const passes::TaaFrameState state{v.exposure, v.gaze, v.method->gazeDependent(),
                                                   known && it->second.gaze == v.gaze,
                                                   known ? it->second.samples : 0u};
+                std::optional<passes::TaaSupport> support;
+                if (made.support && v.post.taaSettings.supportWeighted &&
+                    v.post.taaSettings.adaptive) {
+                    support = passes::TaaSupport{*made.support,
+                                                 graph.importHistory(*mHistory, kTaaWeightHistory,
+                                                                     VK_FORMAT_R32_SFLOAT, v.width,
+                                                                     v.height)};
+                }
                 image = mTaa->add(graph, history, image, camera, previous, reset,
-                                  v.post.taaSettings, state);
+                                  v.post.taaSettings, state, support);
                 nextHistory.emplace_back(
                     v.name, ViewHistory{camera, v.gaze, true,
                                         passes::TaaPass::nextSamples(camera, previous, reset,

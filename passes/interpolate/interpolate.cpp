@@ -55,7 +55,8 @@ InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
         VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER};
+        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+        VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
     const std::pair<uint32_t, bool> variants[] = {
         {sh::kMethodNearest, false}, {sh::kMethodShepard, false}, {sh::kMethodShepard, true},
         {sh::kMethodRbf, false},     {sh::kMethodRbf, true},      {sh::kViewPoints, false},
@@ -72,10 +73,10 @@ InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
 
 InterpolatePass::~InterpolatePass() = default;
 
-rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
-                                   rg::BufferId samples, glm::vec2 gaze,
-                                   const InterpolateSettings& s,
-                                   const InterpolateInputs& in) const {
+InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
+                                       rg::BufferId samples, glm::vec2 gaze,
+                                       const InterpolateSettings& s,
+                                       const InterpolateInputs& in) const {
     if (usesRbfSolve(s) && !in.lambdas) {
         throw ArgumentError("RBF over the neighbour lists needs the rbf_solve pass's weights");
     }
@@ -127,10 +128,11 @@ rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuP
                    s.kernel == RbfKernel::Gaussian ? sh::kKernelGaussian : sh::kKernelMultiquadric),
         glm::vec4(s.rbfShape, s.displayExposure, s.edgeTolerance, s.rangeSigma),
         useTable ? glm::uvec4(table->texelsPerPixel(), table->k(), (s.k + 3) / 4, s.siteFrame)
-                 : glm::uvec4(0u, 0u, 0u, s.siteFrame)};
+                 : glm::uvec4(0u, 0u, 0u, s.siteFrame),
+        glm::vec4(s.siteJitter, 0.0f, 0.0f, 0.0f)};
     struct Data {
         rg::BufferId samples;
-        rg::TextureId output;
+        rg::TextureId output, support;
         std::optional<RbfWeights> weights;
     };
     const auto& data = graph.addPass<Data>(
@@ -145,6 +147,8 @@ rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuP
             d.output =
                 b.write(b.createTexture("interpolate.radiance", {VK_FORMAT_R32G32B32A32_SFLOAT}),
                         rg::Access::StorageWrite);
+            d.support = b.write(b.createTexture("interpolate.support", {VK_FORMAT_R32_SFLOAT}),
+                                rg::Access::StorageWrite);
         },
         [ctx = &mCtx, pipeline = mPipelines.at({method, useTable}).get(), pts = &points,
          knn = table, rbfWeights,
@@ -159,7 +163,8 @@ rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuP
                 .texelBuffer(sh::kBindingKnnTable, knn ? knn->view() : pts->neighbours())
                 .texelBuffer(sh::kBindingRbfPixelWeights,
                              rbfWeights ? rbfWeights->view() : pts->points())
-                .storageImage(sh::kBindingInterpOutput, r.texture(d.output).view);
+                .storageImage(sh::kBindingInterpOutput, r.texture(d.output).view)
+                .storageImage(sh::kBindingInterpSupport, r.texture(d.support).view);
             // Without rbf_solve the lambda bindings are never read; any valid buffer will do.
             const VkBuffer samplesBuffer = r.buffer(d.samples);
             writer
@@ -174,7 +179,7 @@ rg::TextureId InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuP
                          (push.params.x + sh::kInterpGroupX - 1) / sh::kInterpGroupX,
                          (push.params.y + sh::kInterpGroupY - 1) / sh::kInterpGroupY);
         });
-    return data.output;
+    return {data.output, data.support};
 }
 
 } // namespace gt::passes

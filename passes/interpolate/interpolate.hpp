@@ -63,6 +63,7 @@ struct InterpolateSettings {
     // method: Modified Shepard (and nearest neighbour, if given) blend from them. 0: the fixed
     // sites.
     uint32_t siteFrame = 0;
+    float siteJitter = 0.0f; // how far they moved, as a share of their spacing
 };
 
 // The RBF weights rbf_solve wrote (one buffer per colour channel).
@@ -86,15 +87,22 @@ struct InterpolateInputs {
 [[nodiscard]] bool usesRbfSolve(const InterpolateSettings& s);           // rbf with NeighbourLists
 [[nodiscard]] Interpolation parseView(const std::string& name); // points | cells | eccentricity
 
+// What interpolate writes: the radiance (rgb; a = the nearest sample's first-hit distance) and
+// per pixel the distance to the sample it took most from, in units of that point's spacing p —
+// how directly this frame saw the pixel, which TAA weighs the frame by on a still view.
+struct InterpolatedImage {
+    rg::TextureId radiance, support;
+};
+
 class InterpolatePass {
 public:
     explicit InterpolatePass(vk::Context& ctx);
     ~InterpolatePass();
-    // Adds "interpolate" reading the samples, writing a new texture "interpolate.radiance".
-    // `in` must hold what the settings need (see InterpolateInputs).
-    rg::TextureId add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
-                      rg::BufferId samples, glm::vec2 gaze, const InterpolateSettings& s,
-                      const InterpolateInputs& in = {}) const;
+    // Adds "interpolate" reading the samples, writing new textures "interpolate.radiance" and
+    // "interpolate.support". `in` must hold what the settings need (see InterpolateInputs).
+    InterpolatedImage add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
+                          rg::BufferId samples, glm::vec2 gaze, const InterpolateSettings& s,
+                          const InterpolateInputs& in = {}) const;
 
 private:
     vk::Context& mCtx;

@@ -59,7 +59,7 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
                                   const shaders::trace::CameraPush& cam,
                                   const foveation::GpuPointSet& points, glm::vec2 gaze,
                                   uint32_t raysPerPoint, uint32_t lanesPerPoint,
-                                  const PanelWarp* warp, bool lod, uint32_t frame, bool moveSites,
+                                  const PanelWarp* warp, bool lod, uint32_t frame, float siteJitter,
                                   bool thesisDisc) const {
     if (raysPerPoint == 0) {
         throw ArgumentError("--rays-per-point must be at least 1");
@@ -85,7 +85,8 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
         glm::uvec4(w, h, raysPerPoint, points.count()),
         glm::vec4(0.0f),
         glm::vec4(0.0f, 0.0f, 0.0f,
-                  (moveSites ? 1.0f : -1.0f) * static_cast<float>(frame % (1u << 20)))};
+                  static_cast<float>(frame % (1u << 16)) +
+                      0.5f * std::clamp(siteJitter, 0.0f, 1.9f))};
     if (warp) {
         const float aspect = static_cast<float>(w) / static_cast<float>(h);
         const glm::vec2 c = warp->centre;

@@ -50,13 +50,14 @@ public:
     // lanesPerPoint 0 picks pointSampleLanes(); otherwise a power of two from 1 to 32. With
     // `lod`, points whose spacing is large trace the scene's coarser geometric LOD levels.
     // `frame` rotates the rays' positions inside each disc (frame 0: the thesis's fixed ones);
-    // with `moveSites` the disc centres move too (site_jitter.glsl). `thesisDisc`: rays anywhere
+    // with `siteJitter` > 0 the disc centres move too, by up to that share of their spacing
+    // (site_jitter.glsl; below 1.9). `thesisDisc`: rays anywhere
     // in the point's disc of radius p, as the thesis; else within 0.6 px of the site.
     rg::BufferId add(rg::RenderGraph& graph, const trace::GpuScene& scene,
                      const shaders::trace::CameraPush& camera, const foveation::GpuPointSet& points,
                      glm::vec2 gaze, uint32_t raysPerPoint, uint32_t lanesPerPoint = 0,
                      const PanelWarp* warp = nullptr, bool lod = false, uint32_t frame = 0,
-                     bool moveSites = false, bool thesisDisc = false) const;
+                     float siteJitter = 0.0f, bool thesisDisc = false) const;
 
 private:
     const vk::ComputePipeline& pipeline(uint32_t lanes, bool alphaMask) const;

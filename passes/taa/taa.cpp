@@ -8,6 +8,7 @@
 
 #include "taa_comp.h"
 #include "taa_shared.h"
+#include "taa_support_comp.h"
 #include "vk/context.hpp"
 #include "vk/pipeline.hpp"
 
@@ -30,6 +31,14 @@ TaaPass::TaaPass(vk::Context& ctx) : mCtx(ctx) {
                                 {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                                  VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
                                 sizeof(sh::TaaPush)});
+    mSupportPipeline = std::make_unique<vk::ComputePipeline>(
+        ctx, vk::ComputePipelineDesc{
+                 "taa_support",
+                 gt_spv_taa_support_comp,
+                 {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                  VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                  VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                 sizeof(sh::TaaPush)});
 }
 
 TaaPass::~TaaPass() = default;
@@ -63,7 +72,8 @@ uint32_t TaaPass::nextSamples(const shaders::trace::CameraPush& cur,
 rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& history,
                            rg::TextureId current, const shaders::trace::CameraPush& cur,
                            const shaders::trace::CameraPush& prev, bool reset, const TaaSettings& s,
-                           const std::optional<TaaFrameState>& state) const {
+                           const std::optional<TaaFrameState>& state,
+                           const std::optional<TaaSupport>& support) const {
     const bool still = sameCamera(cur, prev);
     float alpha = s.currentWeight, gamma = s.clipGamma, exposure = 0.0f, radius = 0.0f;
     float depthTolerance = s.depthTolerance;
@@ -89,17 +99,21 @@ rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& hi
     const uint32_t packedGaze = glm::packHalf2x16(gaze);
     float gazeBits = 0.0f;
     std::memcpy(&gazeBits, &packedGaze, sizeof gazeBits);
-    const sh::TaaPush push{
-        cur.origin,
-        cur.forward,
-        glm::vec4(glm::vec3(cur.right), gazeBits),
-        prev.origin,
-        prev.forward,
-        glm::vec4(glm::vec3(prev.right), radius),
-        glm::vec4(alpha, gamma, reset || !history.valid ? -1.0f : exposure, depthTolerance),
-        glm::vec4(cur.right.w, cur.up.w, prev.right.w, prev.up.w)};
+    const sh::TaaPush push{cur.origin,
+                           cur.forward,
+                           glm::vec4(glm::vec3(cur.right), gazeBits),
+                           prev.origin,
+                           prev.forward,
+                           glm::vec4(glm::vec3(prev.right), radius),
+                           glm::vec4(alpha, gamma,
+                                     reset || !history.valid || (support && !support->weights.valid)
+                                         ? -1.0f
+                                         : exposure,
+                                     depthTolerance),
+                           glm::vec4(cur.right.w, cur.up.w, prev.right.w, prev.up.w)};
     struct Data {
         rg::TextureId current, history, output;
+        std::optional<rg::TextureId> support, weightsPrevious, weightsNext;
     };
     const auto& data = graph.addPass<Data>(
         "taa",
@@ -107,14 +121,24 @@ rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& hi
             d.current = b.read(current, rg::Access::StorageRead, VK_FORMAT_R32G32B32A32_SFLOAT);
             d.history = b.read(history.previous, rg::Access::StorageRead);
             d.output = b.write(history.next, rg::Access::StorageWrite);
+            if (support) {
+                d.support = b.read(support->support, rg::Access::StorageRead, VK_FORMAT_R32_SFLOAT);
+                d.weightsPrevious = b.read(support->weights.previous, rg::Access::StorageRead);
+                d.weightsNext = b.write(support->weights.next, rg::Access::StorageWrite);
+            }
         },
-        [ctx = &mCtx, pipeline = mPipeline.get(), push](const rg::PassResources& r, const Data& d,
-                                                        VkCommandBuffer cmd) {
+        [ctx = &mCtx, pipeline = support ? mSupportPipeline.get() : mPipeline.get(),
+         push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             const rg::ResolvedTexture& out = r.texture(d.output);
             vk::DescriptorWriter writer;
             writer.storageImage(sh::kBindingCurrent, r.texture(d.current).view)
                 .storageImage(sh::kBindingHistory, r.texture(d.history).view)
                 .storageImage(sh::kBindingOutput, out.view);
+            if (d.support) {
+                writer.storageImage(sh::kBindingSupport, r.texture(*d.support).view)
+                    .storageImage(sh::kBindingWeightHistory, r.texture(*d.weightsPrevious).view)
+                    .storageImage(sh::kBindingWeightOutput, r.texture(*d.weightsNext).view);
+            }
             writer.push(*ctx, cmd, *pipeline);
             vk::dispatch(cmd, *pipeline, &push, sizeof(push),
                          (out.width + sh::kGroupX - 1) / sh::kGroupX,

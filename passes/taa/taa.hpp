@@ -44,6 +44,9 @@ struct TaaSettings {
     // false: the fixed blend of seed 000's TAA (currentWeight, clipGamma, depthTolerance, linear
     // radiance, whatever moved), ignoring the frame state and the settings above.
     bool adaptive = true;
+    // With camera and gaze still and a method that reports per pixel how near this frame's
+    // samples fell (TaaPass::add's support), each frame counts by that nearness.
+    bool supportWeighted = true;
     float depthTolerance = 0.05f; // relative distance change that counts as disocclusion
     // A gaze move larger than this share of the image width is a saccade: history is dropped.
     float saccadeFraction = 1.0f / 16.0f;
@@ -68,6 +71,14 @@ struct TaaFrameState {
 [[nodiscard]] bool taaMustReset(bool historyValid, bool saccade, glm::vec2 gaze,
                                 glm::vec2 previousGaze, uint32_t width, const TaaSettings& s);
 
+// For a method that reports how directly each pixel was sampled (render::MethodImage::support):
+// that image, and the history of the per-pixel weight sums the still view's weighted running
+// mean keeps (taa.glsl).
+struct TaaSupport {
+    rg::TextureId support;
+    rg::HistoryTextures weights; // R32_SFLOAT, the view's size
+};
+
 class TaaPass {
 public:
     explicit TaaPass(vk::Context& ctx);
@@ -81,7 +92,8 @@ public:
                       rg::TextureId current, const shaders::trace::CameraPush& camera,
                       const shaders::trace::CameraPush& previousCamera, bool reset,
                       const TaaSettings& settings = {},
-                      const std::optional<TaaFrameState>& state = std::nullopt) const;
+                      const std::optional<TaaFrameState>& state = std::nullopt,
+                      const std::optional<TaaSupport>& support = std::nullopt) const;
     // The history's frame count after this frame (TaaFrameState::samples of the next one).
     [[nodiscard]] static uint32_t nextSamples(const shaders::trace::CameraPush& camera,
                                               const shaders::trace::CameraPush& previousCamera,
@@ -90,7 +102,7 @@ public:
 
 private:
     vk::Context& mCtx;
-    std::unique_ptr<vk::ComputePipeline> mPipeline;
+    std::unique_ptr<vk::ComputePipeline> mPipeline, mSupportPipeline;
 };
 
 } // namespace gt::passes

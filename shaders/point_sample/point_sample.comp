@@ -56,12 +56,13 @@ void main() {
     vec4 p = vec4(0.0);
     vec2 s = vec2(0.0);
     bool onScreen = false;
-    // lensCoeffs.w: the frame (rays rotate in their discs), negative when the sites stay put.
-    const float frameField = pc.lensCoeffs.w;
-    const uint siteFrame = frameField > 0.0 ? uint(frameField) : 0u;
+    // lensCoeffs.w: the frame (rays rotate in their discs) plus half the sites' jitter scale.
+    const float frameField = floor(pc.lensCoeffs.w);
+    const uint siteFrame = uint(frameField);
+    const float siteScale = 2.0 * (pc.lensCoeffs.w - frameField);
     if (i < pc.params.w) {
         p = texelFetch(uPoints, int(i));
-        s = p.xy + pc.offset.xy + siteJitter(i, siteFrame, p.z);
+        s = p.xy + pc.offset.xy + siteJitter(i, siteFrame, p.z, siteScale);
         onScreen = all(greaterThanEqual(s, vec2(-margin))) && all(lessThan(s, size + margin));
     }
     if (kLanes == 1u && !onScreen) return; // a specialisation constant: no barrier follows
@@ -80,7 +81,7 @@ void main() {
     float firstDepth = 0.0; // first-hit distance of ray 0 (always lane 0's), for TAA
     for (uint r = lane; onScreen && r < rays; r += kLanes) {
         vec2 pos = s;
-        float frame = abs(frameField);
+        float frame = frameField;
         if (rays > 1u || frame > 0.0) {
             uint h = pcgHash(i * 0x9E3779B9u ^ pcgHash(r + 0x51ED27u));
             float angle = 6.28318531 * fract(hashToFloat(h) + frame * 0.7548776662);

@@ -23,8 +23,9 @@ struct PointSamplePush {
     // The set laid on an HMD's panel (engine/display/display_space.hpp): each ray's panel
     // position goes through the lens model into the image before it is traced.
     vec4 lens;       // xy: lens centre (normalised), z: aspect, w: rMax (0: no warp)
-    vec4 lensCoeffs; // x = k1, y = k2, z = 1 / (1 + k1 + k2), w = frame number: rays rotate in
-                     // their discs; > 0 also moves the sites (site_jitter.glsl), < 0 does not
+    vec4 lensCoeffs; // x = k1, y = k2, z = 1 / (1 + k1 + k2), w = frame number (mod 2^16):
+                     // rays rotate in their discs; plus half the scale s < 2 by which the sites
+                     // move (site_jitter.glsl; 0: they stay put)
 };
 
 // interpolate:
@@ -33,6 +34,9 @@ GT_CONST kBindingInterpSamples = 1; // buffer of vec4 (as kBindingSamples)
 GT_CONST kBindingNearest = 2;       // usamplerBuffer R32UI: nearest point per canvas pixel
 GT_CONST kBindingNeighbours = 3;    // usamplerBuffer R32UI: kMax neighbours per point
 GT_CONST kBindingInterpOutput = 4;  // image2D rgba32f
+// image2D r32f: per pixel, the distance to the sample it took most from (its nearest), in units
+// of that point's spacing p: how directly this frame saw the pixel (TAA weighs by it).
+GT_CONST kBindingInterpSupport = 10;
 GT_CONST kInterpGroupX = 8;
 GT_CONST kInterpGroupY = 8;
 GT_CONST kMaxK = 20;
@@ -58,6 +62,7 @@ struct InterpolatePush {
     uvec4 table;  // x = texels per canvas pixel in the k-NN table (0: neighbour index), y = its
                   // k, z = texels per canvas pixel of the RBF pixel weights (RBF with the table),
                   // w = the frame whose moved sites to blend from (site_jitter.glsl; 0: fixed)
+    vec4 site;    // x = the scale of the sites' moves (site_jitter.glsl), yzw unused
 };
 
 // interpolate, RBF only: the weights rbf_solve wrote, one float per neighbour and channel.

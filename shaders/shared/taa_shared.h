@@ -8,6 +8,11 @@ GT_NAMESPACE_BEGIN(taa)
 GT_CONST kBindingCurrent = 0; // image2D rgba32f: radiance, a = first-hit distance
 GT_CONST kBindingHistory = 1; // image2D rgba32f: last frame's output, same layout
 GT_CONST kBindingOutput = 2;  // image2D rgba32f
+// image2D r32f (taa_support.comp): per pixel the distance to the sample the frame took most
+// from, in units of the sample spacing (interpolate's kBindingInterpSupport)
+GT_CONST kBindingSupport = 3;
+GT_CONST kBindingWeightHistory = 4; // image2D r32f (taa_support.comp): last frame's weight sum
+GT_CONST kBindingWeightOutput = 5;  // image2D r32f: this frame's
 GT_CONST kGroupX = 8;
 GT_CONST kGroupY = 8;
 

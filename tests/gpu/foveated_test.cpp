@@ -98,7 +98,7 @@ protected:
                             foveation::buildRbfInverse(set, index, s.k, s.kernel, s.rbfShape));
             in.lambdas = solve.add(g, gpu, *inverse, sid, gaze, s);
         }
-        passes::addReadbackPass(g, "out", pass.add(g, gpu, sid, gaze, s, in), hid);
+        passes::addReadbackPass(g, "out", pass.add(g, gpu, sid, gaze, s, in).radiance, hid);
         return executeAndRead(g, host);
     }
 
@@ -234,10 +234,12 @@ TEST_F(FoveatedTest, RayLanesTraceTheSameRays) {
     const passes::InterpolatePass interp(ctx());
     auto run = [&](uint32_t lanes) {
         return render(96, 96, [&](rg::RenderGraph& g) {
-            return interp.add(g, c.points,
-                              sample.add(g, c.gpuScene, trace::cameraPush(c.scene.camera, 1.0f),
-                                         c.points, gaze, 12, lanes),
-                              gaze, {passes::Interpolation::Nearest, 1, 1.0f});
+            return interp
+                .add(g, c.points,
+                     sample.add(g, c.gpuScene, trace::cameraPush(c.scene.camera, 1.0f), c.points,
+                                gaze, 12, lanes),
+                     gaze, {passes::Interpolation::Nearest, 1, 1.0f})
+                .radiance;
         });
     };
     const auto one = run(1);
@@ -275,10 +277,12 @@ TEST_F(FoveatedTest, MatchesReferenceAtTheGaze) {
                 return reference.add(g, c.gpuScene, trace::cameraPush(c.scene.camera, 1.0f),
                                      {16, 3});
             }
-            return interp.add(g, c.points,
-                              sample.add(g, c.gpuScene, trace::cameraPush(c.scene.camera, 1.0f),
-                                         c.points, gaze, 16),
-                              gaze, {passes::Interpolation::Nearest, 1, 1.0f});
+            return interp
+                .add(g, c.points,
+                     sample.add(g, c.gpuScene, trace::cameraPush(c.scene.camera, 1.0f), c.points,
+                                gaze, 16),
+                     gaze, {passes::Interpolation::Nearest, 1, 1.0f})
+                .radiance;
         });
     };
     const auto ref = run(false), fov = run(true);

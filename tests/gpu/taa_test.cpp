@@ -91,5 +91,72 @@ TEST_F(TaaTest, ConvergesOnStaticSceneAndResetsOnGazeJump) {
     EXPECT_GT(meanDiff(small.output, small.current), 0.0);
 }
 
+// A still view with the support of a sparse method (taa.glsl): each frame counts by
+// w = 0.002 + exp(-(s / 0.2)^2) of how near its samples fell, in a running mean whose weight
+// sum is a history of its own. A frame whose samples fell far away barely moves the pixel;
+// the plain running mean would take it at 1 / (n + 1).
+TEST_F(TaaTest, SupportWeighsAStillViewsFrames) {
+    rg::HistoryPool history(ctx());
+    shaders::trace::CameraPush camera{};
+    camera.origin = glm::vec4(0.0f, 0.0f, 0.0f, 0.5f);
+    camera.forward = glm::vec4(0.0f, 0.0f, -1.0f, 1.0f);
+    camera.right = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+    camera.up = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
+    auto run = [&](float grey, float support, uint32_t samples, bool withSupport) {
+        rg::RenderGraph g(kW, kH);
+        auto fill = [&](const char* name, VkFormat format, glm::vec4 c) {
+            struct Data {
+                rg::TextureId t;
+            };
+            return g
+                .addPass<Data>(
+                    name,
+                    [&](rg::PassBuilder& b, Data& d) {
+                        d.t = b.write(b.createTexture(name, {format}), rg::Access::TransferDst);
+                    },
+                    [c](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+                        const VkClearColorValue v{{c.r, c.g, c.b, c.a}};
+                        const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+                        vkCmdClearColorImage(cmd, r.texture(d.t).image,
+                                             VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &v, 1, &range);
+                    })
+                .t;
+        };
+        const rg::TextureId current =
+            fill("current", VK_FORMAT_R32G32B32A32_SFLOAT, glm::vec4(glm::vec3(grey), 5.0f));
+        std::optional<passes::TaaSupport> sup;
+        if (withSupport) {
+            sup = passes::TaaSupport{
+                fill("support", VK_FORMAT_R32_SFLOAT, glm::vec4(support)),
+                g.importHistory(history, "taa.weight", VK_FORMAT_R32_SFLOAT, kW, kH)};
+        }
+        const rg::HistoryTextures h =
+            g.importHistory(history, "taa", VK_FORMAT_R32G32B32A32_SFLOAT, kW, kH);
+        const passes::TaaFrameState state{0.0f, glm::vec2(32.0f), true, true, samples};
+        const passes::TaaPass taa(ctx());
+        const rg::TextureId out =
+            taa.add(g, h, current, camera, camera, samples == 0, {}, state, sup);
+        vk::Buffer host(ctx(), {kW * kH * 16, 0, vk::MemoryUsage::Readback, "out"});
+        const auto hostId =
+            g.importBuffer("out", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
+        passes::addReadbackPass(g, "out", out, hostId);
+        rg::TransientPool pool(ctx());
+        g.executeAndWait(g.compile(), pool);
+        history.commit(g);
+        std::vector<glm::vec4> px(kW * kH);
+        host.download(std::as_writable_bytes(std::span(px)));
+        return px[static_cast<std::size_t>(kW) * 20 + 20].r;
+    };
+    const float w0 = 0.002f + 1.0f, w1 = 0.002f + std::exp(-25.0f);
+    EXPECT_FLOAT_EQ(run(0.2f, 0.0f, 0, true), 0.2f); // a reset: the frame itself
+    const float second = run(0.8f, 1.0f, 1, true);   // its samples fell a spacing away
+    EXPECT_NEAR(second, 0.2f + 0.6f * w1 / (w0 + w1), 1e-5f);
+    const float third = run(0.6f, 0.0f, 2, true); // on the pixel again
+    EXPECT_NEAR(third, second + (0.6f - second) * w0 / (w0 + w1 + w0), 1e-5f);
+    // Without a support: the plain running mean, 1 / (n + 1).
+    (void)run(0.2f, 0.0f, 0, false);
+    EXPECT_NEAR(run(0.8f, 1.0f, 1, false), 0.5f, 1e-5f);
+}
+
 } // namespace
 } // namespace gt

@@ -75,7 +75,9 @@ TEST(StereoRig, GazeReachesEachEyeThroughItsOwnFrustum) {
     // A placeholder method: the rig only stores the pointer.
     struct NoMethod final : render::FoveationMethod {
         std::string_view name() const override { return "none"; }
-        rg::TextureId addRadiance(rg::RenderGraph&, const render::View&) override { return {}; }
+        render::MethodImage addRadiance(rg::RenderGraph&, const render::View&) override {
+            return rg::TextureId{};
+        }
         uint64_t rays(const render::View&) const override { return 0; }
         std::optional<render::WarmUp> warmUp(const render::View&) override { return {}; }
     } method;

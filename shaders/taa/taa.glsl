@@ -1,0 +1,171 @@
+// Pass `taa`: the previous output reprojected through the first-hit distance and both cameras,
+// clipped to the current frame's 3x3 neighbourhood in YCoCg (variance clipping, Salvi 2016),
+// then blended. History is rejected where the reprojected distance disagrees (disocclusion),
+// off screen, and on reset — a saccade or gaze jump — so the fovea is sharp at once instead
+// of converging (Patney et al. 2016, as summarised in seed 000, section 3.1).
+#include "taa_shared.h"
+
+layout(local_size_x = kGroupX, local_size_y = kGroupY) in;
+layout(set = 0, binding = kBindingCurrent, rgba32f) uniform readonly image2D uCurrent;
+layout(set = 0, binding = kBindingHistory, rgba32f) uniform readonly image2D uHistory;
+layout(set = 0, binding = kBindingOutput, rgba32f) uniform writeonly image2D uOutput;
+layout(push_constant) uniform Push { TaaPush pc; };
+#ifdef TAA_SUPPORT
+// A method that rebuilds the image from sparse samples whose sites move every frame (the point
+// set, site_jitter.glsl) reports per pixel the distance s to the sample it took most from, in
+// units of the sample spacing. On a still view each frame then counts by how near its samples
+// fell, w = floor + exp(-(s / sigma)^2), in a weighted running mean whose weight sum W is a
+// history of its own: a pixel ends up built from the frames that sampled it closely, as if the
+// frames' samples were pooled (temporal supersampling), instead of the mean of interpolated
+// frames, which blurs by the sample spacing. The floor keeps the estimate moving where no site
+// ever comes close.
+layout(set = 0, binding = kBindingSupport, r32f) uniform readonly image2D uSupport;
+layout(set = 0, binding = kBindingWeightHistory, r32f) uniform readonly image2D uWeightHistory;
+layout(set = 0, binding = kBindingWeightOutput, r32f) uniform writeonly image2D uWeightOutput;
+// eval, builtin:market, fove, 4 rays per point, after 8 still frames: sigma 0.2 and floor 0.002
+// against the plain running mean take flip_ecc beyond 20 deg from 0.0060 to 0.0035 and the
+// bleeding from 4.5 to 1.7 /255 (sigma 0.35 / floor 0.05: 0.0046; 0.25 / 0.005: 0.0037).
+const float kSupportSigma = 0.2;
+const float kSupportFloor = 0.002;
+const float kMaxWeight = 64.0; // as TaaSettings::maxStillFrames caps the plain running mean
+#endif
+
+vec3 toYCoCg(vec3 c) {
+    return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b,
+                -0.25 * c.r + 0.5 * c.g - 0.25 * c.b);
+}
+vec3 fromYCoCg(vec3 c) { return vec3(c.x + c.y - c.z, c.x + c.z, c.x - c.y - c.z); }
+
+// Clips `h` towards the box centre `m` so it lies inside [m - e, m + e].
+vec3 clipToBox(vec3 h, vec3 m, vec3 e) {
+    vec3 d = h - m;
+    vec3 unit = abs(d / max(e, vec3(1e-6)));
+    float f = max(unit.x, max(unit.y, unit.z));
+    return f > 1.0 ? m + d / f : h;
+}
+
+// Radiance -> an approximation of the displayed value: Reinhard's c / (1 + e L) (which maps
+// every radiance below 1 in luminance at exposure e), then a 1 / 2.2 power as the display
+// encoding; and back.
+float luma(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+vec3 toDisplay(vec3 c, float e) {
+    return pow(max(c / (1.0 + e * luma(c)), vec3(0.0)), vec3(1.0 / 2.2));
+}
+vec3 fromDisplay(vec3 y, float e) {
+    vec3 t = pow(max(y, vec3(0.0)), vec3(2.2));
+    return t / max(1.0 - e * luma(t), 1e-3);
+}
+
+vec4 historyBilinear(vec2 p, ivec2 size) {
+    vec2 q = p - 0.5;
+    ivec2 i = ivec2(floor(q));
+    vec2 f = q - vec2(i);
+    vec4 a = imageLoad(uHistory, clamp(i, ivec2(0), size - 1));
+    vec4 b = imageLoad(uHistory, clamp(i + ivec2(1, 0), ivec2(0), size - 1));
+    vec4 c = imageLoad(uHistory, clamp(i + ivec2(0, 1), ivec2(0), size - 1));
+    vec4 d = imageLoad(uHistory, clamp(i + ivec2(1, 1), ivec2(0), size - 1));
+    // Distances do not blend across edges: take the nearest tap's.
+    vec4 colour = mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
+    vec4 nearest = f.y < 0.5 ? (f.x < 0.5 ? a : b) : (f.x < 0.5 ? c : d);
+    return vec4(colour.rgb, nearest.a);
+}
+
+void main() {
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = imageSize(uOutput);
+    if (any(greaterThanEqual(px, size))) return;
+    vec4 current = imageLoad(uCurrent, px);
+#ifdef TAA_SUPPORT
+    float support = imageLoad(uSupport, px).r;
+    float w = kSupportFloor + exp(-(support * support) / (kSupportSigma * kSupportSigma));
+#endif
+    if (pc.params.z < 0.0) {
+        imageStore(uOutput, px, current);
+#ifdef TAA_SUPPORT
+        imageStore(uWeightOutput, px, vec4(w));
+#endif
+        return;
+    }
+    // Neighbourhood statistics in YCoCg.
+    vec3 m1 = vec3(0.0), m2 = vec3(0.0);
+    for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+            vec3 c = toYCoCg(imageLoad(uCurrent, clamp(px + ivec2(dx, dy), ivec2(0), size - 1)).rgb);
+            m1 += c;
+            m2 += c * c;
+        }
+    }
+    m1 /= 9.0;
+    vec3 sigma = sqrt(max(m2 / 9.0 - m1 * m1, vec3(0.0)));
+
+    // Reproject: world point along this pixel's ray at the first-hit distance.
+    vec2 s = (vec2(px) + 0.5) / vec2(size) * 2.0 - 1.0;
+    vec3 up = cross(pc.currentRight.xyz, pc.currentForward.xyz);
+    vec3 dir = normalize(pc.currentForward.xyz
+                         + (s.x * pc.currentOrigin.w * pc.currentForward.w + pc.centres.x) * pc.currentRight.xyz
+                         + (pc.centres.y - s.y * pc.currentOrigin.w) * up);
+    float depth = current.a;
+    bool sky = !(depth < 1e30);
+    vec3 d = sky ? dir : pc.currentOrigin.xyz + depth * dir - pc.previousOrigin.xyz;
+    vec3 prevUp = cross(pc.previousRight.xyz, pc.previousForward.xyz);
+    float z = dot(d, pc.previousForward.xyz);
+    bool valid = z > 1e-6;
+    vec2 ps = vec2(dot(d, pc.previousRight.xyz), dot(d, prevUp)) / max(z, 1e-6);
+    ps = (ps - pc.centres.zw) / vec2(pc.previousOrigin.w * pc.previousForward.w, pc.previousOrigin.w);
+    vec2 prevPixel = vec2((ps.x + 1.0) * 0.5, (1.0 - ps.y) * 0.5) * vec2(size);
+    valid = valid && all(greaterThanEqual(prevPixel, vec2(0.0))) && all(lessThan(prevPixel, vec2(size)));
+    vec4 history = valid ? historyBilinear(prevPixel, size) : current;
+    // Disocclusion: the surface seen last frame must be at the distance we expect. A tolerance
+    // of 1e29 or more means nothing moved (taa.cpp): then neither distances nor sky against
+    // geometry are tested, as the rays moving in their discs change which one a pixel's
+    // nearest sample saw, not what the pixel shows.
+    bool testDepth = pc.params.w < 1e29;
+    if (valid && !sky && testDepth) {
+        float expected = length(d);
+        valid = abs(history.a - expected) <= pc.params.w * expected;
+    } else if (valid && sky && testDepth) {
+        valid = !(history.a < 1e30);
+    }
+    vec3 result = current.rgb;
+    float alpha = pc.params.x, gamma = pc.params.y;
+#ifdef TAA_SUPPORT
+    // Camera and gaze still (no clipping): the weighted running mean. Otherwise the history
+    // stands for 1 / alpha frames of this frame's weight when the view comes to rest.
+    bool weighted = valid && gamma >= 1e29;
+    float weightSum = weighted ? imageLoad(uWeightHistory, px).r : 0.0;
+#endif
+    if (pc.previousRight.w != 0.0) {
+        // A foveated image whose gaze or camera moved: away from the gaze its sparse sampling
+        // changes under the image from frame to frame (the set slides with a pursuing gaze,
+        // the scene moves over it with the camera), so the history counts more there while
+        // the fovea stays responsive: by d / r with the camera still (smooth pursuit over a
+        // still scene), by the gentler sqrt(d / r) with it moving (radius < 0), whose history
+        // is only reprojected.
+        vec2 gaze = unpackHalf2x16(floatBitsToUint(pc.currentRight.w));
+        float f = max(1.0, length(vec2(px) + 0.5 - gaze) / abs(pc.previousRight.w));
+        if (pc.previousRight.w < 0.0) f = sqrt(f);
+        alpha /= f;
+        gamma *= f;
+    }
+#ifdef TAA_SUPPORT
+    if (weighted) alpha = w / max(weightSum + w, 1e-6);
+#endif
+    if (valid) {
+        // gamma >= 1e29: no clipping (a flat neighbourhood has sigma 0, and 0 * 1e30 would
+        // clip the history to the current mean).
+        vec3 clipped = gamma >= 1e29 ? history.rgb
+                                     : fromYCoCg(clipToBox(toYCoCg(history.rgb), m1, gamma * sigma));
+        // Display-referred blend (params.z = exposure e > 0): in the space of
+        // toDisplay, close to what the display shows, so a frame moves a pixel by at most
+        // alpha of its displayed range — a firefly or a dark pixel (where sRGB is steep) no
+        // longer jumps.
+        float e = pc.params.z;
+        result = e > 0.0 ? fromDisplay(mix(toDisplay(clipped, e), toDisplay(current.rgb, e), alpha), e)
+                         : mix(clipped, current.rgb, alpha);
+    }
+    imageStore(uOutput, px, vec4(result, current.a));
+#ifdef TAA_SUPPORT
+    imageStore(uWeightOutput, px,
+               vec4(weighted ? min(weightSum + w, kMaxWeight) : w / max(valid ? alpha : 1.0, 1e-6)));
+#endif
+}
