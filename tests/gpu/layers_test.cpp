@@ -16,6 +16,7 @@
 #include "readback/readback.hpp"
 #include "renderer.hpp"
 #include "support/gpu_test_context.hpp"
+#include "support/graph_fill.hpp"
 #include "support/image_diff.hpp"
 #include "vk/resources.hpp"
 
@@ -35,25 +36,10 @@ protected:
         const passes::LayersPass pass(ctx());
         rg::RenderGraph g(kSize, kSize);
         auto fill = [&](const char* name, uint32_t w, glm::vec4 c) {
-            struct Data {
-                rg::TextureId t;
-            };
-            return g
-                .addPass<Data>(
-                    name,
-                    [&](rg::PassBuilder& b, Data& d) {
-                        d.t = b.write(b.createTexture(name, {VK_FORMAT_R32G32B32A32_SFLOAT,
-                                                             rg::SizeMode::Absolute,
-                                                             static_cast<float>(w), kSize}),
-                                      rg::Access::TransferDst);
-                    },
-                    [c](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
-                        const VkClearColorValue v{{c.r, c.g, c.b, c.a}};
-                        const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-                        vkCmdClearColorImage(cmd, r.texture(d.t).image,
-                                             VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &v, 1, &range);
-                    })
-                .t;
+            return test::addFilledTexture(g, name,
+                                          {VK_FORMAT_R32G32B32A32_SFLOAT, rg::SizeMode::Absolute,
+                                           static_cast<float>(w), kSize},
+                                          c);
         };
         const std::array<passes::ComposedLayer, 3> layers{
             passes::ComposedLayer{fill("inner", kSize, {1, 0, 0, 1}), {}, 1.0f, 16.0f},

@@ -9,6 +9,7 @@
 #include "scene/builtin_scenes.hpp"
 #include "scene/bvh.hpp"
 #include "support/gpu_test_context.hpp"
+#include "support/graph_fill.hpp"
 #include "taa/taa.hpp"
 #include "trace/gpu_scene.hpp"
 #include "vk/resources.hpp"
@@ -105,22 +106,7 @@ TEST_F(TaaTest, SupportWeighsAStillViewsFrames) {
     auto run = [&](float grey, float support, uint32_t samples, bool withSupport) {
         rg::RenderGraph g(kW, kH);
         auto fill = [&](const char* name, VkFormat format, glm::vec4 c) {
-            struct Data {
-                rg::TextureId t;
-            };
-            return g
-                .addPass<Data>(
-                    name,
-                    [&](rg::PassBuilder& b, Data& d) {
-                        d.t = b.write(b.createTexture(name, {format}), rg::Access::TransferDst);
-                    },
-                    [c](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
-                        const VkClearColorValue v{{c.r, c.g, c.b, c.a}};
-                        const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-                        vkCmdClearColorImage(cmd, r.texture(d.t).image,
-                                             VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &v, 1, &range);
-                    })
-                .t;
+            return test::addFilledTexture(g, name, {format}, c);
         };
         const rg::TextureId current =
             fill("current", VK_FORMAT_R32G32B32A32_SFLOAT, glm::vec4(glm::vec3(grey), 5.0f));
