@@ -184,13 +184,6 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
                     *mHistory, kTaaHistory, VK_FORMAT_R32G32B32A32_SFLOAT, v.width, v.height);
                 const auto it = mViewHistory.find(v.name);
                 const bool known = it != mViewHistory.end() && it->second.valid;
-                const bool reset = passes::taaMustReset(known && history.valid, v.saccade, v.gaze,
-                                                        known ? it->second.gaze : v.gaze, v.width,
-                                                        v.post.taaSettings);
-                const shaders::trace::CameraPush previous = known ? it->second.camera : camera;
-                const passes::TaaFrameState state{v.exposure, v.gaze, v.method->gazeDependent(),
-                                                  known && it->second.gaze == v.gaze,
-                                                  known ? it->second.samples : 0u};
                 std::optional<passes::TaaSupport> support;
                 if (made.support && v.post.taaSettings.supportWeighted &&
                     v.post.taaSettings.adaptive) {
@@ -199,12 +192,24 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
                                                                      VK_FORMAT_R32_SFLOAT, v.width,
                                                                      v.height)};
                 }
+                // The weight sums stand for the colour history only if last frame wrote both
+                // (a method or setting switched since leaves them stale): else start afresh.
+                const bool pooledBefore = known && it->second.pooled;
+                const bool reset = passes::taaMustReset(known && history.valid, v.saccade, v.gaze,
+                                                        known ? it->second.gaze : v.gaze, v.width,
+                                                        v.post.taaSettings) ||
+                                   (support && !pooledBefore);
+                const shaders::trace::CameraPush previous = known ? it->second.camera : camera;
+                const passes::TaaFrameState state{v.exposure, v.gaze, v.method->gazeDependent(),
+                                                  known && it->second.gaze == v.gaze,
+                                                  known ? it->second.samples : 0u};
                 image = mTaa->add(graph, history, image, camera, previous, reset,
                                   v.post.taaSettings, state, support);
                 nextHistory.emplace_back(
                     v.name, ViewHistory{camera, v.gaze, true,
                                         passes::TaaPass::nextSamples(camera, previous, reset,
-                                                                     v.post.taaSettings, state)});
+                                                                     v.post.taaSettings, state),
+                                        support.has_value()});
             }
             rg::TextureId ldr = mTonemap->add(graph, image, v.exposure);
             if (v.post.lens) {

@@ -100,6 +100,7 @@ private:
         glm::vec2 gaze{};
         bool valid = false;
         uint32_t samples = 0; // frames the TAA history holds
+        bool pooled = false;  // TAA wrote the weight sums of a support too (taa.glsl)
     };
     void runWarmUp(const WarmUp& warm);
 
