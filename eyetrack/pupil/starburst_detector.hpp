@@ -27,6 +27,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "pupil/ellipse_fit.hpp"
 #include "pupil/pupil_detector.hpp"
 
 namespace gt::eyetrack {
@@ -98,6 +99,11 @@ private:
     // surroundHint > 0: the grey level known to surround the pupil (the iris it sits in).
     [[nodiscard]] Refined refine(const cv::Mat& grey, const Candidate& c, double minR, double maxR,
                                  double surroundHint = 0.0);
+    // A refit without the edge points along a lid over the pupil (a long straight run across
+    // the image, off the centre), when the new ellipse reaches beyond the lid; nullopt if there
+    // is no lid or no better fit.
+    [[nodiscard]] std::optional<EllipseFit> fitBesideLid(const cv::RotatedRect& e,
+                                                         const RansacEllipseParams& rp);
     [[nodiscard]] bool isGlint(const cv::Mat& grey, cv::Point2d p, const Levels& levels) const;
     [[nodiscard]] double outsideLevel(const cv::Mat& grey, const cv::RotatedRect& e,
                                       const Levels& levels) const;
