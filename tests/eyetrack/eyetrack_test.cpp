@@ -47,6 +47,15 @@ struct DetectionScore {
     int blinkFrames = 0, blinkDetections = 0;
 };
 
+// An eyesim clip of `frames` frames from `seed` with a preset's look.
+EyeSimConfig presetClip(std::uint64_t seed, int frames, const std::string& preset) {
+    EyeSimConfig c;
+    c.seed = seed;
+    c.frames = frames;
+    applyPreset(c, preset);
+    return c;
+}
+
 DetectionScore score(EyeSimConfig c, int firstFrame, int count) {
     SyntheticEye eye(c);
     StarburstDetector det;
@@ -144,31 +153,19 @@ TEST(PupilDetector, SubPixelOnAnAntiAliasedEllipseOnNoise) {
 // 5-6 px low in 8 of these 60 frames (86.7 % within 5 px). The detector drops the long straight
 // run of edge points along the lid and fits the rest (98.3 %).
 TEST(PupilDetector, ALidOverThePupilsTopIsNotItsOutline) {
-    EyeSimConfig c;
-    c.seed = 48;
-    c.frames = 1660;
-    applyPreset(c, "hard");
-    const DetectionScore s = score(c, 1600, 60);
+    const DetectionScore s = score(presetClip(48, 1660, "hard"), 1600, 60);
     EXPECT_GE(s.rate5, 0.95);
 }
 
 TEST(PupilDetector, CleanSyntheticClip) {
-    EyeSimConfig c;
-    c.seed = 11;
-    c.frames = 240;
-    applyPreset(c, "clean");
-    const DetectionScore s = score(c, 0, 240);
+    const DetectionScore s = score(presetClip(11, 240, "clean"), 0, 240);
     EXPECT_GE(s.rate5, 0.99);
     EXPECT_LE(s.medianError, 0.5);
 }
 
 TEST(PupilDetector, HardSyntheticClipWithBlinks) {
-    EyeSimConfig c;
-    c.seed = 12;
-    c.frames = 2400;
-    applyPreset(c, "hard");
     // Free viewing (after the calibration and validation targets), where the blinks are.
-    const DetectionScore s = score(c, 1600, 800);
+    const DetectionScore s = score(presetClip(12, 2400, "hard"), 1600, 800);
     EXPECT_GE(s.rate5, 0.9);
     EXPECT_LE(s.medianError, 1.0);
     ASSERT_GT(s.blinkFrames, 10);
