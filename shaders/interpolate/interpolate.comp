@@ -62,15 +62,14 @@ float rangeWeight(vec3 nearest, vec3 other) {
     return exp(-d * d);
 }
 
-// The pixel's colour, and its distance to the sample `i` it took most from in units of that
-// point's spacing p, or of one pixel where the points lie closer (kBindingInterpSupport; 1e9
-// where no sample was near). Near the gaze, where points are denser than pixels, every frame
+// The pixel's colour, and its distance to the sample it took most from (at `site`, spacing
+// `p`; p < 0: none) in units of p, or of one pixel where the points lie closer
+// (kBindingInterpSupport; 1e9 where no sample was near). Near the gaze, where points are denser than pixels, every frame
 // then sees the pixel about as directly and TAA keeps its plain running mean there (FLIP 0-5
 // deg on builtin:market 0.0127 with p alone, 0.0111 with the pixel floor).
-void store(ivec2 px, vec4 colour, uint i, vec2 site, bool found) {
+void store(ivec2 px, vec4 colour, vec2 site, float p) {
     imageStore(uOutput, px, colour);
-    float p = found ? texelFetch(uPoints, int(i)).z : 1.0;
-    float s = found ? length(site - (vec2(px) + 0.5)) / max(p, 1.0) : 1e9;
+    float s = p >= 0.0 ? length(site - (vec2(px) + 0.5)) / max(p, 1.0) : 1e9;
     imageStore(uSupport, px, vec4(s));
 }
 
@@ -127,18 +126,19 @@ void main() {
                 bool sampled = j == first || (j > first && isSampled(at, offset, vec2(size), margin));
                 sum += w * compress(sampled ? samples[i].rgb : nearest.rgb);
             }
-            store(px, vec4(max(expand(max(sum, vec3(0.0))), vec3(0.0)), nearest.w), nearestIndex,
-                  texelFetch(uPoints, int(nearestIndex)).xy + offset, true);
+            vec4 nearestPoint = texelFetch(uPoints, int(nearestIndex));
+            store(px, vec4(max(expand(max(sum, vec3(0.0))), vec3(0.0)), nearest.w),
+                  nearestPoint.xy + offset, nearestPoint.z);
             return;
         }
         k = 1u; // no neighbour sampled: the nearest sampled point through the lists below
         fallBackToLists = true;
     }
     if (kMethod == kMethodRbf && !kUseTable) {
-        vec2 qpos = texelFetch(uPoints, int(q)).xy;
-        if (isSampled(qpos, offset, vec2(size), margin)) {
+        vec4 qpoint = texelFetch(uPoints, int(q));
+        if (isSampled(qpoint.xy, offset, vec2(size), margin)) {
             vec4 qs = samples[q];
-            store(px, vec4(max(evaluateRbf(q, pos), vec3(0.0)), qs.w), q, qpos + offset, true);
+            store(px, vec4(max(evaluateRbf(q, pos), vec3(0.0)), qs.w), qpoint.xy + offset, qpoint.z);
             return;
         }
         k = 1u; // the nearest point was not sampled: nearest sampled neighbour instead
@@ -147,9 +147,9 @@ void main() {
     if (kMethod == kMethodNearest && siteFrame == 0u) {
         // The canvas pixel's nearest point is exact; only where it lies beyond the sampled
         // margin does the general search below look for the nearest sampled one.
-        vec2 qpos = texelFetch(uPoints, int(q)).xy;
-        if (isSampled(qpos, offset, vec2(size), margin)) {
-            store(px, samples[q], q, qpos + offset, true);
+        vec4 qpoint = texelFetch(uPoints, int(q));
+        if (isSampled(qpoint.xy, offset, vec2(size), margin)) {
+            store(px, samples[q], qpoint.xy + offset, qpoint.z);
             return;
         }
     }
@@ -159,7 +159,8 @@ void main() {
     // the margin) are left out.
     uint idx[kMaxK + 1];
     float d2[kMaxK + 1];
-    vec2 site0 = vec2(0.0); // where the nearest one sits this frame
+    vec2 site0 = vec2(0.0); // where the nearest one sits this frame, and its spacing
+    float spacing0 = -1.0;
     uint n = 0u;
     const bool table = kUseTable && !fallBackToLists;
     int row = (c.y * int(pc.canvas.x) + c.x) * int(pc.table.x);
@@ -181,7 +182,10 @@ void main() {
         }
         idx[m] = i;
         d2[m] = dd;
-        if (m == 0u) site0 = s;
+        if (m == 0u) {
+            site0 = s;
+            spacing0 = pt.z;
+        }
         n = min(n + 1u, k);
         // The table is sorted, and the index's nearest point is exact: nothing closer follows
         // (with the sites moved, the rest of the candidates may still hold a closer one).
@@ -225,5 +229,5 @@ void main() {
         }
         colour *= 2.0; // before the tone mapper
     }
-    store(px, vec4(colour, depth), n > 0u ? idx[0] : 0u, site0, n > 0u);
+    store(px, vec4(colour, depth), site0, n > 0u ? spacing0 : -1.0);
 }
