@@ -162,7 +162,13 @@ std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
     if (!gradients.empty() && gradients.size() != n) gradients = {};
     std::uint64_t state = params.seed;
     std::vector<int> best, current;
-    for (int it = 0; it < params.iterations; ++it) {
+    // Draws needed for an all-inlier 5-point sample with probability stopConfidence when a share
+    // w of the points are inliers: log(1 - p) / log(1 - w^5).
+    const bool adaptive = params.stopConfidence > 0.0 && params.stopConfidence < 1.0;
+    const double logMiss = adaptive ? std::log(1.0 - params.stopConfidence) : 0.0;
+    int needed = params.iterations;
+    int it = 0;
+    for (; it < params.iterations && (it < params.minIterations || it < needed); ++it) {
         std::array<cv::Point2d, 5> sample;
         std::array<std::size_t, 5> idx{};
         for (std::size_t k = 0; k < 5; ++k) {
@@ -182,7 +188,15 @@ std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
         const InlierTest inlier{*conic, outwardSign(*conic, *el), params, gradients};
         for (std::size_t i = 0; i < n; ++i)
             if (inlier(points, i)) current.push_back(static_cast<int>(i));
-        if (current.size() > best.size()) best.swap(current);
+        if (current.size() > best.size()) {
+            best.swap(current);
+            const double w = static_cast<double>(best.size()) / static_cast<double>(n);
+            const double allInlier = w * w * w * w * w;
+            if (adaptive && allInlier > 0.0)
+                needed = allInlier >= 1.0
+                             ? 0
+                             : static_cast<int>(std::ceil(logMiss / std::log1p(-allInlier)));
+        }
     }
     if (best.size() < 6) return std::nullopt;
 
@@ -205,6 +219,7 @@ std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
         best.swap(again);
     }
     fit.inliers = std::move(best);
+    fit.draws = it;
     return fit;
 }
 

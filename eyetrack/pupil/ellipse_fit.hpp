@@ -41,7 +41,12 @@ struct Conic {
 [[nodiscard]] std::optional<Conic> conicThrough(std::span<const cv::Point2d, 5> p);
 
 struct RansacEllipseParams {
-    int iterations = 80;
+    int iterations = 80; // at most
+    // Adaptive stop (Fischler & Bolles 1981; Hartley & Zisserman §4.7): after at least
+    // minIterations, stop once an all-inlier sample would have been drawn with this probability
+    // had the inlier share been the best one found so far. 0 or 1 = always run `iterations`.
+    int minIterations = 30;
+    double stopConfidence = 0.9999;
     double inlierDistance = 1.0; // pixels
     double minAxis = 2.0;        // full axis length bounds, pixels
     double maxAxis = 1e9;
@@ -53,6 +58,7 @@ struct RansacEllipseParams {
 struct EllipseFit {
     cv::RotatedRect ellipse;
     std::vector<int> inliers; // indices into the points
+    int draws = 0;            // RANSAC samples drawn before it stopped
 };
 
 // `gradients`, when given, holds each point's unit image gradient (pointing from dark to bright;

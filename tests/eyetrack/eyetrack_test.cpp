@@ -108,6 +108,36 @@ TEST(EllipseFit, ConicRoundTripAndRansacIgnoresOutliers) {
     EXPECT_NEAR(std::max(e->size.width, e->size.height), 30.0, 1e-6);
 }
 
+TEST(EllipseFit, RansacStopsOnceTheConsensusIsSureAndNotBefore) {
+    // 48 points on an ellipse and 16 off it: with 3/4 inliers, an all-inlier 5-point sample is
+    // drawn with probability 0.9999 within log(1e-4) / log(1 - 0.75^5) = 36 draws.
+    std::vector<cv::Point2d> pts;
+    for (int i = 0; i < 48; ++i) {
+        const double a = i * 2 * CV_PI / 48;
+        pts.emplace_back(50.0 + 14.0 * std::cos(a), 40.0 + 10.0 * std::sin(a));
+    }
+    for (int i = 0; i < 16; ++i)
+        pts.emplace_back(20.0 + i * 4.0, 70.0 + (i % 3)); // a lid's edge
+    RansacEllipseParams p;
+    p.iterations = 500;
+    p.minIterations = 10;
+    const auto fit = fitEllipseRansac(pts, p);
+    ASSERT_TRUE(fit);
+    EXPECT_EQ(fit->inliers.size(), 48u);
+    EXPECT_NEAR(fit->ellipse.center.x, 50.0, 1e-3);
+    EXPECT_GE(fit->draws, 10);
+    EXPECT_LE(fit->draws, 37);
+    // A quarter inliers: the same confidence needs log(1e-4) / log(1 - 0.25^5) = 9,400 draws,
+    // so it runs to the cap.
+    std::vector<cv::Point2d> noisy(pts.begin(), pts.begin() + 12);
+    cv::RNG rng(5);
+    for (int i = 0; i < 36; ++i)
+        noisy.emplace_back(rng.uniform(0.0, 100.0), rng.uniform(0.0, 80.0));
+    const auto hard = fitEllipseRansac(noisy, p);
+    ASSERT_TRUE(hard);
+    EXPECT_EQ(hard->draws, p.iterations);
+}
+
 TEST(EllipseFit, GradientDirectionRejectsABrightBlobsOutline) {
     // A dark pupil (gradients point outwards) and, beside it, a bright blob with more edge points
     // whose gradients point inwards. By distance alone the blob wins; by direction the pupil.
