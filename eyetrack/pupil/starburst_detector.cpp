@@ -148,15 +148,39 @@ void StarburstDetector::findCandidates(const cv::Mat& grey, double minR, double 
         const int hi = std::max(1, static_cast<int>(std::lround(0.75 * r)));
         const int ho = std::max(hi + 1, static_cast<int>(std::lround(1.8 * r)));
         const int step = std::max(1, static_cast<int>(r / 2.0));
-        for (int y = 0; y < h; y += step) {
-            for (int x = 0; x < w; x += step) {
-                const double response = centreSurround(mIntegral, x, y, hi, ho);
+        const int gw = (w + step - 1) / step, gh = (h + step - 1) / step;
+        mResponses.resize(static_cast<std::size_t>(gw) * static_cast<std::size_t>(gh));
+        for (int gy = 0; gy < gh; ++gy)
+            for (int gx = 0; gx < gw; ++gx)
+                mResponses[static_cast<std::size_t>(gy * gw + gx)] =
+                    centreSurround(mIntegral, gx * step, gy * step, hi, ho);
+        // Only local maxima over the 3x3 neighbourhood at this scale compete: a large dark
+        // shadow responds strongly at every position around it and would otherwise fill the
+        // kept set with copies of itself, crowding a fainter pupil out before the suppression
+        // below could set them aside.
+        for (int gy = 0; gy < gh; ++gy) {
+            for (int gx = 0; gx < gw; ++gx) {
+                const double response = mResponses[static_cast<std::size_t>(gy * gw + gx)];
                 if (response < 0.5 * mConfig.minContrast) continue;
+                bool peak = true;
+                for (int dy = -1; dy <= 1 && peak; ++dy) {
+                    for (int dx = -1; dx <= 1 && peak; ++dx) {
+                        const int nx = gx + dx, ny = gy + dy;
+                        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= gw || ny >= gh)
+                            continue;
+                        const double other = mResponses[static_cast<std::size_t>(ny * gw + nx)];
+                        // Ties go to the first in scan order, so a flat top keeps one peak.
+                        peak = other < response ||
+                               (other == response && (dy > 0 || (dy == 0 && dx > 0)));
+                    }
+                }
+                if (!peak) continue;
                 if (all.size() == kKeep) {
                     if (response <= all.front().response) continue;
                     std::pop_heap(all.begin(), all.end(), weaker);
                     all.pop_back();
                 }
+                const int x = gx * step, y = gy * step;
                 all.push_back({{(x + 0.5) * f - 0.5, (y + 0.5) * f - 0.5}, r * f, response});
                 std::push_heap(all.begin(), all.end(), weaker);
             }
@@ -533,6 +557,7 @@ StarburstDetector::Refined StarburstDetector::refine(const cv::Mat& grey, const 
     refined.quality = sharp * smoothstep(0.35, 0.75, fill);
     refined.interior = interior;
     refined.interiorHigh = interiorHigh;
+    refined.outside = outsideLevel(grey, fit->ellipse, lv);
     result.confidence =
         std::sqrt(support.all * support.visible) * sharp * smoothstep(0.5, 0.85, fill);
     refined.visibleSupport = support.visible;
@@ -638,6 +663,8 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     struct Scored {
         PupilResult result;
         double score = 0.0, interior = 0.0, interiorHigh = 0.0, visibleSupport = 0.0;
+        double consistency = 1.0; // the size prior's factor in score and confidence
+        double outside = -1.0;
     };
     std::vector<Scored> scored;
     auto consider = [&](const Candidate& c, double surroundHint) {
@@ -657,8 +684,8 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
             cv::norm(r.centre() - mLast.centre()) < std::max(5.0, 0.5 * mLast.semiMajor()))
             score *= 1.2;
         if (score > 0.0)
-            scored.push_back(
-                {r, score, refined.interior, refined.interiorHigh, refined.visibleSupport});
+            scored.push_back({r, score, refined.interior, refined.interiorHigh,
+                              refined.visibleSupport, consistency, refined.outside});
     };
     for (const Candidate& c : mCandidates)
         consider(c, 0.0);
@@ -667,15 +694,30 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     // The search keeps the strongest blobs, and a dark iris's contrast with the sclera can crowd
     // the pupil inside it out: look for the darkest blob inside the winner too, with the
     // winner's inside as the level around it.
+    // The same for the best blob by its own evidence, without the size prior: an iris whose
+    // pupil was too faint to be a candidate loses to smaller blobs once the prior holds the
+    // pupil's size, and its pupil would not be looked for at all.
     if (!scored.empty()) {
         const Scored top = scored.front();
-        if (const auto inner = innerCandidate(top.result, top.interiorHigh, minR)) {
+        const auto unscaled =
+            std::max_element(scored.begin(), scored.end(), [](const Scored& a, const Scored& b) {
+                return a.score / a.consistency < b.score / b.consistency;
+            });
+        const std::optional<Scored> ownBest =
+            unscaled->consistency < 1.0 && unscaled != scored.begin()
+                ? std::optional<Scored>(*unscaled)
+                : std::nullopt;
+        if (const auto inner = innerCandidate(top.result, top.interiorHigh, minR))
             consider(*inner, top.interiorHigh);
-            std::sort(scored.begin(), scored.end(), byScore);
+        if (ownBest) {
+            if (const auto inner = innerCandidate(ownBest->result, ownBest->interiorHigh, minR))
+                consider(*inner, ownBest->interiorHigh);
         }
+        std::sort(scored.begin(), scored.end(), byScore);
     }
     PupilResult best;
     double bestInterior = 0.0, bestInteriorHigh = 0.0;
+    bool darkerInside = false; // a darker, outlined blob inside the pick that lost to it
     if (!scored.empty()) {
         const Scored* pick = &scored.front();
         // The pupil is the darkest blob: a clearly darker, well-outlined ellipse inside the
@@ -687,18 +729,26 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
         const double th = oe.angle * std::numbers::pi / 180.0;
         const double ca = std::cos(th), sa = std::sin(th);
         const double oa = 0.5 * oe.size.width, ob = 0.5 * oe.size.height;
+        // One that loses only on its score still shows the pick to be an iris around a pupil:
+        // the size prior must not learn the pick's size (below).
+        const Scored* outer = pick;
         for (const Scored& s : scored) {
-            if (&s == pick) continue;
-            const cv::Point2d d = s.result.centre() - pick->result.centre();
+            if (&s == outer) continue;
+            const cv::Point2d d = s.result.centre() - outer->result.centre();
             const double u = (d.x * ca + d.y * sa) / oa, v = (-d.x * sa + d.y * ca) / ob;
             const bool inside = u * u + v * v < 0.49;
-            const bool smaller = s.result.semiMajor() < 0.75 * pick->result.semiMajor();
-            if (inside && smaller && s.interior < pick->interiorHigh - 0.5 * mConfig.minContrast &&
-                s.visibleSupport >= 0.5 && s.result.confidence >= 0.5 &&
-                s.score >= 0.5 * pick->score) {
+            const bool smaller = s.result.semiMajor() < 0.75 * outer->result.semiMajor();
+            // Its outline must be a step of the full contrast, not a ripple inside a pupil
+            // (a glint's halo lifts the outer blob's brightest quarter).
+            if (!inside || !smaller ||
+                s.interior >= outer->interiorHigh - 0.5 * mConfig.minContrast ||
+                s.outside < s.interior + mConfig.minContrast || s.visibleSupport < 0.5)
+                continue;
+            if (s.result.confidence >= 0.5 && s.score >= 0.5 * outer->score) {
                 pick = &s;
                 break;
             }
+            darkerInside = true;
         }
         best = pick->result;
         bestInterior = pick->interior;
@@ -710,7 +760,8 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     // The size prior learns only from a uniformly dark inside: an iris with its pupil in it
     // (picked while the pupil was hard to see) must not teach it the iris's size, or the pupil
     // would be held too small to be the pupil from then on.
-    const bool uniform = bestInteriorHigh - bestInterior < 0.5 * mConfig.minContrast;
+    const bool uniform =
+        bestInteriorHigh - bestInterior < 0.5 * mConfig.minContrast && !darkerInside;
     if (best.confidence >= 0.75 && uniform) {
         mRecentRadius =
             mRecentRadius > 0.0 ? 0.9 * mRecentRadius + 0.1 * best.semiMajor() : best.semiMajor();

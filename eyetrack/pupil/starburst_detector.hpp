@@ -4,8 +4,9 @@
 // Method (our own code; the ideas are from the published detectors):
 //  1. Coarse search (Świrski, Bulling & Dodgson 2012): on a downscaled image's integral image, a
 //     centre-surround box feature (mean of a surrounding ring minus mean of an inner box) over a
-//     range of radii finds dark compact regions; the best few, after non-maximum suppression, are
-//     candidates. Cost O(1) per position and radius.
+//     range of radii finds dark compact regions; the strongest local maxima of each radius,
+//     after non-maximum suppression across radii, are candidates. Cost O(1) per position and
+//     radius.
 //  2. Edge points (Starburst, Li, Winfield & Parkhurst 2005): from each candidate, rays are cast
 //     outwards; on each, the first dark-to-bright crossing of a threshold halfway between the
 //     pupil's and the iris's grey levels gives a sub-pixel boundary point (at the half-way level,
@@ -92,6 +93,7 @@ private:
         double quality = 0.0;      // sharpness x filled interior: how much it looks like a pupil
         double interior = 0.0;     // median grey level inside
         double interiorHigh = 0.0; // its upper quartile (the iris, when a pupil sits inside)
+        double outside = -1.0;     // median grey level just outside the outline (-1: unknown)
     };
     struct Interior {
         double fill = 0.0, median = 255.0, upperQuartile = 255.0;
@@ -125,6 +127,7 @@ private:
     int mCoarseFactor = 1; // full-resolution pixels per coarse pixel
     cv::Mat mInnerClipped, mInnerIntegral;
     std::vector<Candidate> mCandidates, mHeap;
+    std::vector<double> mResponses; // one scale's centre-surround responses
     std::vector<cv::Point2d> mEdgePoints;
     std::vector<cv::Point2d> mEdgeGradients; // unit, dark -> bright; zero when flat
 };

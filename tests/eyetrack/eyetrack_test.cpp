@@ -187,6 +187,23 @@ TEST(PupilDetector, ALidOverThePupilsTopIsNotItsOutline) {
     EXPECT_GE(s.rate5, 0.95);
 }
 
+// Wild preset, seed 31, the start of free viewing: two large, blurred shadows darker than the
+// pupil sit beside the eye. They respond at every position and scale around them, and when the
+// search kept the strongest responses rather than the strongest local maxima they took every
+// place: the plainly visible pupil was never a candidate (no pupil in 37 of these 40 frames).
+TEST(PupilDetector, ShadowsBesideTheEyeDoNotCrowdThePupilOut) {
+    const DetectionScore s = score(presetClip(31, 1860, "wild"), 1560, 40);
+    EXPECT_GE(s.rate5, 0.95);
+}
+
+// Wild preset, seed 90: a pupil only a little darker than its dark iris. Once the size prior
+// holds the pupil's size, the iris (which outscores it on contrast with the sclera) loses to
+// smaller blobs elsewhere, and the pupil inside it was only looked for inside the winner.
+TEST(PupilDetector, APupilInADarkIrisIsFoundWhenTheIrisLosesOnSize) {
+    const DetectionScore s = score(presetClip(90, 1860, "wild"), 1660, 180);
+    EXPECT_GE(s.rate5, 0.95);
+}
+
 TEST(PupilDetector, CleanSyntheticClip) {
     const DetectionScore s = score(presetClip(11, 240, "clean"), 0, 240);
     EXPECT_GE(s.rate5, 0.99);
