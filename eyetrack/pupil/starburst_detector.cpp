@@ -223,16 +223,22 @@ void StarburstDetector::castRays(const cv::Mat& grey, cv::Point2d from, double m
                                  const Levels& lv, bool irisOnly) {
     mEdgePoints.clear();
     mEdgeGradients.clear();
+    // Rays walk in whole pixels and look back half a pixel at the crossing, so the edge is
+    // found at half-pixel resolution for half the samples (the walk is most of the detector's
+    // time). On the 3x3-smoothed image, a crossing that the whole-pixel walk steps over (one
+    // that crosses back within the same pixel) needs a feature barely above the threshold for
+    // less than a pixel: noise, which the island test below would skip anyway.
     constexpr double kStep = 0.5;
+    constexpr double kWalk = 1.0;
     const int n = mConfig.rays;
     for (int i = 0; i < n; ++i) {
         const double a = (i + 0.5) * 2.0 * std::numbers::pi / n;
         const cv::Point2d dir(std::cos(a), std::sin(a));
         bool inside = false;
         double prev = -1.0;
-        for (double t = 0.0; t <= maxDistance; t += kStep) {
-            const cv::Point2d p = from + dir * t;
-            const double v = sample(grey, p.x, p.y);
+        for (double t = 0.0; t <= maxDistance; t += kWalk) {
+            cv::Point2d p = from + dir * t;
+            double v = sample(grey, p.x, p.y);
             if (v < 0.0) break; // left the image
             if (!inside) {
                 // Start counting once in the dark (the seed may sit on a glint).
@@ -244,6 +250,15 @@ void StarburstDetector::castRays(const cv::Mat& grey, cv::Point2d from, double m
                 continue;
             }
             if (v >= lv.threshold) {
+                // Which half of the last step crossed the threshold.
+                const cv::Point2d half = from + dir * (t - kStep);
+                if (const double m = sample(grey, half.x, half.y); m >= lv.threshold) {
+                    t -= kStep;
+                    p = half;
+                    v = m;
+                } else {
+                    prev = m;
+                }
                 // A bright island that ends within a few pixels is a glint or noise inside the
                 // pupil: step over it and keep looking for the real boundary.
                 const double island = std::max(4.0, 0.25 * maxDistance);
@@ -263,7 +278,7 @@ void StarburstDetector::castRays(const cv::Mat& grey, cv::Point2d from, double m
                     }
                 }
                 if (back > 0.0 && isGlint(grey, p + dir * peakAt, lv)) {
-                    t += back - kStep;
+                    t += back - kWalk;
                     prev = lv.threshold - 1.0;
                     continue;
                 }
@@ -531,6 +546,16 @@ StarburstDetector::Refined StarburstDetector::refine(const cv::Mat& grey, const 
     castRays(mSmooth, c.centre, 2.5 * c.radius, lv);
     auto fit = fitEllipseRansac(mEdgePoints, rp, mEdgeGradients);
     if (!fit) return refined;
+    // Candidates on the same blob (the last frame's pupil and the search's, a blob found at
+    // two scales) reach the same first fit; what follows would only repeat that candidate's.
+    const cv::RotatedRect& first = fit->ellipse;
+    const bool seen = std::any_of(mFirstFits.begin(), mFirstFits.end(), [&](const auto& o) {
+        return std::hypot(o.center.x - first.center.x, o.center.y - first.center.y) < 1.0 &&
+               std::abs(o.size.width - first.size.width) < 1.0 &&
+               std::abs(o.size.height - first.size.height) < 1.0;
+    });
+    if (seen) return refined;
+    mFirstFits.push_back(first);
     // Second pass from the fitted centre: rays now meet the boundary at even spacing.
     const cv::Point2d centre(fit->ellipse.center.x, fit->ellipse.center.y);
     const double major = 0.5 * std::max(fit->ellipse.size.width, fit->ellipse.size.height);
@@ -650,6 +675,7 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     const double minR = mConfig.minRadius > 0.0 ? mConfig.minRadius : 0.03 * side;
     const double maxR = mConfig.maxRadius > 0.0 ? mConfig.maxRadius : 0.25 * side;
     findCandidates(grey, minR, maxR);
+    mFirstFits.clear();
     cv::integral(grey, mFullIntegral, CV_32S);
     // Rays walk a 3x3 box-filtered copy: sensor noise would otherwise end a ray at the first
     // noisy pixel above the threshold when the pupil is only a little darker than its iris. The

@@ -14,7 +14,8 @@
 //     saturated glint is dropped (glint suppression), so glints on the boundary do not bend it.
 //  3. Ellipse: RANSAC over 5-point conics, refit on the inliers (pupil/ellipse_fit.hpp), then the
 //     rays are recast from the fitted centre and the fit repeated, which evens out the points
-//     when the candidate was off-centre.
+//     when the candidate was off-centre. Candidates whose first fit repeats an earlier one's
+//     stop there.
 //  4. Confidence (after PuRe's outline contrast, Santini, Fuhl & Kasneci 2018): the share of
 //     points along the fitted ellipse where the image is clearly darker just inside than just
 //     outside. An eyelid or lashes covering part of the outline lower it in proportion; a blink
@@ -127,7 +128,8 @@ private:
     int mCoarseFactor = 1; // full-resolution pixels per coarse pixel
     cv::Mat mInnerClipped, mInnerIntegral;
     std::vector<Candidate> mCandidates, mHeap;
-    std::vector<double> mResponses; // one scale's centre-surround responses
+    std::vector<double> mResponses;          // one scale's centre-surround responses
+    std::vector<cv::RotatedRect> mFirstFits; // this frame's first-pass fits, to skip repeats
     std::vector<cv::Point2d> mEdgePoints;
     std::vector<cv::Point2d> mEdgeGradients; // unit, dark -> bright; zero when flat
 };
