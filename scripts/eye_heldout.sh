@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The eye tracker's held-out numbers (issue 17's closing note): detection, confidence and speed on
-# eyesim seeds 9000-9049 (set A), 8000-8049 (set B), 7000-7049 (set C), 6000-6049 (set D) and
-# 5000-5049 (set E) — never used while developing the detector (seeds 1-100 were; A and B were
-# scored along the way, C only after the changes of 2026-11-24, D and E only before and after
-# one change each on 2026-11-25) — then the
+# eyesim seeds 9000-9049 (set A), 8000-8049 (set B), 7000-7049 (set C), 6000-6049 (set D),
+# 5000-5049 (set E) and 4000-4049 (set F) — never used while developing the detector (seeds
+# 1-100 were; A and B were scored along the way, C only after the changes of 2026-11-24, D and
+# E only before and after one change each on 2026-11-25, F only after the changes of
+# 2026-11-25's second session) — then the
 # 2D and 3D gaze models before and after headset slippage on seeds 9000-9007, and binocular
 # vergence on seeds 9000-9003. Writes JSON into OUT (default out/eye_heldout).
 # DETECTOR_ONLY=1 skips slippage and vergence.
@@ -11,7 +12,7 @@ set -euo pipefail
 G=${GAZETRACE:-build/gazetrace}
 OUT=${1:-out/eye_heldout}
 mkdir -p "$OUT"
-for set in 9000-9049 8000-8049 7000-7049 6000-6049 5000-5049; do
+for set in 9000-9049 8000-8049 7000-7049 6000-6049 5000-5049 4000-4049; do
     for preset in clean hard wild; do
         "$G" eyescore --preset "$preset" --seeds "$set" --frames 300 --json \
             > "$OUT/eyescore_${preset}_$set.json"

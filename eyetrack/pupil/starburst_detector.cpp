@@ -765,10 +765,14 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
             const bool inside = u * u + v * v < 0.49;
             const bool smaller = s.result.semiMajor() < 0.75 * outer->result.semiMajor();
             // Its outline must be a step of the full contrast, not a ripple inside a pupil
-            // (a glint's halo lifts the outer blob's brightest quarter).
+            // (a glint's halo lifts the outer blob's brightest quarter), and mostly seen: a
+            // pupil in an iris is ringed by it, while a part of a pupil whose top is under the
+            // lid (lid skin lifts that pupil's upper quartile too) borders on more pupil.
+            // Visible support 0.5 -> 0.7, eyescore on the dev seeds 1-100: wild 94.9 -> 95.1 %
+            // within 5 px, hard 99.74 -> 99.76 %.
             if (!inside || !smaller ||
                 s.interior >= outer->interiorHigh - 0.5 * mConfig.minContrast ||
-                s.outside < s.interior + mConfig.minContrast || s.visibleSupport < 0.5)
+                s.outside < s.interior + mConfig.minContrast || s.visibleSupport < 0.7)
                 continue;
             if (s.result.confidence >= 0.5 && s.score >= 0.5 * outer->score) {
                 pick = &s;
