@@ -192,10 +192,11 @@ std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
             best.swap(current);
             const double w = static_cast<double>(best.size()) / static_cast<double>(n);
             const double allInlier = w * w * w * w * w;
-            if (adaptive && allInlier > 0.0)
+            if (adaptive && allInlier > 0.0) {
                 needed = allInlier >= 1.0
                              ? 0
                              : static_cast<int>(std::ceil(logMiss / std::log1p(-allInlier)));
+            }
         }
     }
     if (best.size() < 6) return std::nullopt;

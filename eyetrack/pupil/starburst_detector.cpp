@@ -149,32 +149,42 @@ void StarburstDetector::findCandidates(const cv::Mat& grey, double minR, double 
         const int ho = std::max(hi + 1, static_cast<int>(std::lround(1.8 * r)));
         const int step = std::max(1, static_cast<int>(r / 2.0));
         const int gw = (w + step - 1) / step, gh = (h + step - 1) / step;
-        mResponses.resize(static_cast<std::size_t>(gw) * static_cast<std::size_t>(gh));
-        for (int gy = 0; gy < gh; ++gy)
-            for (int gx = 0; gx < gw; ++gx)
-                mResponses[static_cast<std::size_t>(gy * gw + gx)] =
-                    centreSurround(mIntegral, gx * step, gy * step, hi, ho);
+        const auto cell = [gw](int x, int y) {
+            return static_cast<std::size_t>(y) * static_cast<std::size_t>(gw) +
+                   static_cast<std::size_t>(x);
+        };
+        mResponses.resize(cell(0, gh));
+        for (int gy = 0; gy < gh; ++gy) {
+            for (int gx = 0; gx < gw; ++gx) {
+                mResponses[cell(gx, gy)] = centreSurround(mIntegral, gx * step, gy * step, hi, ho);
+            }
+        }
         // Only local maxima over the 3x3 neighbourhood at this scale compete: a large dark
         // shadow responds strongly at every position around it and would otherwise fill the
         // kept set with copies of itself, crowding a fainter pupil out before the suppression
         // below could set them aside.
         for (int gy = 0; gy < gh; ++gy) {
             for (int gx = 0; gx < gw; ++gx) {
-                const double response = mResponses[static_cast<std::size_t>(gy * gw + gx)];
-                if (response < 0.5 * mConfig.minContrast) continue;
+                const double response = mResponses[cell(gx, gy)];
+                if (response < 0.5 * mConfig.minContrast) {
+                    continue;
+                }
                 bool peak = true;
                 for (int dy = -1; dy <= 1 && peak; ++dy) {
                     for (int dx = -1; dx <= 1 && peak; ++dx) {
                         const int nx = gx + dx, ny = gy + dy;
-                        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= gw || ny >= gh)
+                        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= gw || ny >= gh) {
                             continue;
-                        const double other = mResponses[static_cast<std::size_t>(ny * gw + nx)];
+                        }
+                        const double other = mResponses[cell(nx, ny)];
                         // Ties go to the first in scan order, so a flat top keeps one peak.
                         peak = other < response ||
                                (other == response && (dy > 0 || (dy == 0 && dx > 0)));
                     }
                 }
-                if (!peak) continue;
+                if (!peak) {
+                    continue;
+                }
                 if (all.size() == kKeep) {
                     if (response <= all.front().response) continue;
                     std::pop_heap(all.begin(), all.end(), weaker);
@@ -554,7 +564,9 @@ StarburstDetector::Refined StarburstDetector::refine(const cv::Mat& grey, const 
                std::abs(o.size.width - first.size.width) < 1.0 &&
                std::abs(o.size.height - first.size.height) < 1.0;
     });
-    if (seen) return refined;
+    if (seen) {
+        return refined;
+    }
     mFirstFits.push_back(first);
     // Second pass from the fitted centre: rays now meet the boundary at even spacing.
     const cv::Point2d centre(fit->ellipse.center.x, fit->ellipse.center.y);
@@ -733,11 +745,13 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
             unscaled->consistency < 1.0 && unscaled != scored.begin()
                 ? std::optional<Scored>(*unscaled)
                 : std::nullopt;
-        if (const auto inner = innerCandidate(top.result, top.interiorHigh, minR))
+        if (const auto inner = innerCandidate(top.result, top.interiorHigh, minR)) {
             consider(*inner, top.interiorHigh);
+        }
         if (ownBest) {
-            if (const auto inner = innerCandidate(ownBest->result, ownBest->interiorHigh, minR))
+            if (const auto inner = innerCandidate(ownBest->result, ownBest->interiorHigh, minR)) {
                 consider(*inner, ownBest->interiorHigh);
+            }
         }
         std::sort(scored.begin(), scored.end(), byScore);
     }
@@ -759,7 +773,9 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
         // the size prior must not learn the pick's size (below).
         const Scored* outer = pick;
         for (const Scored& s : scored) {
-            if (&s == outer) continue;
+            if (&s == outer) {
+                continue;
+            }
             const cv::Point2d d = s.result.centre() - outer->result.centre();
             const double u = (d.x * ca + d.y * sa) / oa, v = (-d.x * sa + d.y * ca) / ob;
             const bool inside = u * u + v * v < 0.49;
@@ -768,8 +784,9 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
             // (a glint's halo lifts the outer blob's brightest quarter).
             if (!inside || !smaller ||
                 s.interior >= outer->interiorHigh - 0.5 * mConfig.minContrast ||
-                s.outside < s.interior + mConfig.minContrast || s.visibleSupport < 0.5)
+                s.outside < s.interior + mConfig.minContrast || s.visibleSupport < 0.5) {
                 continue;
+            }
             // Lid skin inside a pupil whose top is under the lid lifts its upper quartile as an
             // iris would; a part of that pupil is no darker than most of it, though, while a
             // pupil in its iris is (it fills less than half the iris's inside) or, when it is
