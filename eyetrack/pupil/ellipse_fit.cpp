@@ -193,9 +193,11 @@ std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
             const double w = static_cast<double>(best.size()) / static_cast<double>(n);
             const double allInlier = w * w * w * w * w;
             if (adaptive && allInlier > 0.0) {
-                needed = allInlier >= 1.0
-                             ? 0
-                             : static_cast<int>(std::ceil(logMiss / std::log1p(-allInlier)));
+                // Clamped before the cast: a few inliers among many points need billions of
+                // draws, more than an int holds.
+                const double draws =
+                    allInlier >= 1.0 ? 0.0 : std::ceil(logMiss / std::log1p(-allInlier));
+                needed = static_cast<int>(std::min(draws, static_cast<double>(params.iterations)));
             }
         }
     }
