@@ -154,6 +154,16 @@ double outwardSign(const Conic& q, const cv::RotatedRect& e) {
 
 } // namespace
 
+int ransacDrawsNeeded(double inlierShare, double confidence, int cap) {
+    // log(1 - p) / log(1 - w^5), clamped to the cap before the cast: a few inliers among many
+    // points need billions of draws, more than an int holds.
+    const double allInlier = std::pow(std::clamp(inlierShare, 0.0, 1.0), 5.0);
+    if (allInlier >= 1.0) return 0;
+    if (allInlier <= 0.0) return cap;
+    const double draws = std::ceil(std::log(1.0 - confidence) / std::log1p(-allInlier));
+    return static_cast<int>(std::clamp(draws, 0.0, static_cast<double>(cap)));
+}
+
 std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
                                            const RansacEllipseParams& params,
                                            std::span<const cv::Point2d> gradients) {
@@ -162,10 +172,7 @@ std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
     if (!gradients.empty() && gradients.size() != n) gradients = {};
     std::uint64_t state = params.seed;
     std::vector<int> best, current;
-    // Draws needed for an all-inlier 5-point sample with probability stopConfidence when a share
-    // w of the points are inliers: log(1 - p) / log(1 - w^5).
     const bool adaptive = params.stopConfidence > 0.0 && params.stopConfidence < 1.0;
-    const double logMiss = adaptive ? std::log(1.0 - params.stopConfidence) : 0.0;
     int needed = params.iterations;
     int it = 0;
     for (; it < params.iterations && (it < params.minIterations || it < needed); ++it) {
@@ -190,14 +197,10 @@ std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
             if (inlier(points, i)) current.push_back(static_cast<int>(i));
         if (current.size() > best.size()) {
             best.swap(current);
-            const double w = static_cast<double>(best.size()) / static_cast<double>(n);
-            const double allInlier = w * w * w * w * w;
-            if (adaptive && allInlier > 0.0) {
-                // Clamped before the cast: a few inliers among many points need billions of
-                // draws, more than an int holds.
-                const double draws =
-                    allInlier >= 1.0 ? 0.0 : std::ceil(logMiss / std::log1p(-allInlier));
-                needed = static_cast<int>(std::min(draws, static_cast<double>(params.iterations)));
+            if (adaptive) {
+                needed =
+                    ransacDrawsNeeded(static_cast<double>(best.size()) / static_cast<double>(n),
+                                      params.stopConfidence, params.iterations);
             }
         }
     }

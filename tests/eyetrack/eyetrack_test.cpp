@@ -110,7 +110,7 @@ TEST(EllipseFit, ConicRoundTripAndRansacIgnoresOutliers) {
 
 TEST(EllipseFit, RansacStopsOnceTheConsensusIsSureAndNotBefore) {
     // 48 points on an ellipse and 16 off it: with 3/4 inliers, an all-inlier 5-point sample is
-    // drawn with probability 0.9999 within log(1e-4) / log(1 - 0.75^5) = 36 draws.
+    // drawn with probability 0.9999 within log(1e-4) / log(1 - 0.75^5) = 34 draws.
     std::vector<cv::Point2d> pts;
     for (int i = 0; i < 48; ++i) {
         const double a = i * 2 * CV_PI / 48;
@@ -136,6 +136,17 @@ TEST(EllipseFit, RansacStopsOnceTheConsensusIsSureAndNotBefore) {
     const auto hard = fitEllipseRansac(noisy, p);
     ASSERT_TRUE(hard);
     EXPECT_EQ(hard->draws, p.iterations);
+}
+
+TEST(EllipseFit, DrawsNeededFollowTheStopRuleAndStayWithinTheCap) {
+    EXPECT_EQ(ransacDrawsNeeded(1.0, 0.9999, 150), 0);
+    EXPECT_EQ(ransacDrawsNeeded(0.75, 0.9999, 150), 34); // log(1e-4) / log(1 - 0.75^5) = 33.998
+    EXPECT_EQ(ransacDrawsNeeded(0.5, 0.9999, 150), 150); // 291 asked
+    EXPECT_EQ(ransacDrawsNeeded(0.5, 0.9999, 1000), 291);
+    // A handful of inliers among hundreds of points asks for ~10^10 draws: the cap, not an
+    // overflowed int.
+    EXPECT_EQ(ransacDrawsNeeded(0.01, 0.9999, 150), 150);
+    EXPECT_EQ(ransacDrawsNeeded(0.0, 0.9999, 150), 150);
 }
 
 TEST(EllipseFit, GradientDirectionRejectsABrightBlobsOutline) {
