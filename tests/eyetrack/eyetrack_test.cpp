@@ -127,15 +127,23 @@ TEST(EllipseFit, RansacStopsOnceTheConsensusIsSureAndNotBefore) {
     EXPECT_NEAR(fit->ellipse.center.x, 50.0, 1e-3);
     EXPECT_GE(fit->draws, 10);
     EXPECT_LE(fit->draws, 37);
-    // A quarter inliers: the same confidence needs log(1e-4) / log(1 - 0.25^5) = 9,400 draws,
-    // so it runs to the cap.
-    std::vector<cv::Point2d> noisy(pts.begin(), pts.begin() + 12);
+    // Half inliers (the outline's every other point among as many stray ones): the same
+    // confidence needs log(1e-4) / log(1 - 0.5^5) = 291 draws. An all-inlier sample comes once
+    // in 32 draws, so the outline is found well within the cap of 1000 whatever the draws.
+    std::vector<cv::Point2d> noisy;
+    for (std::size_t i = 0; i < 48; i += 2)
+        noisy.push_back(pts[i]);
     cv::RNG rng(5);
-    for (int i = 0; i < 36; ++i)
+    for (int i = 0; i < 24; ++i)
         noisy.emplace_back(rng.uniform(0.0, 100.0), rng.uniform(0.0, 80.0));
-    const auto hard = fitEllipseRansac(noisy, p);
-    ASSERT_TRUE(hard);
-    EXPECT_EQ(hard->draws, p.iterations);
+    p.iterations = 1000;
+    const auto half = fitEllipseRansac(noisy, p);
+    ASSERT_TRUE(half);
+    EXPECT_NEAR(half->ellipse.center.x, 50.0, 0.2); // a stray point within 1 px joins the refit
+    // Stray points that happen to lie on it raise the share and shorten the run (132-291 draws
+    // over 1500 layouts and seeds); a rule that stopped by w^2 would stop after ~30.
+    EXPECT_GE(half->draws, 100);
+    EXPECT_LE(half->draws, 300);
 }
 
 TEST(EllipseFit, DrawsNeededFollowTheStopRuleAndStayWithinTheCap) {
