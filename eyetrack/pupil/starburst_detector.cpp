@@ -369,6 +369,32 @@ double StarburstDetector::outsideLevel(const cv::Mat& grey, const cv::RotatedRec
     return values[values.size() / 2];
 }
 
+// The far end of the sharpness test's wide band outside an outline point p (unit normal n): the
+// grey level `wide` px out, or the last level before the profile rises past 3x the edge's own
+// step (in -> out) — a second edge. A pupil whose iris is a thin ring (a large pupil, a dark
+// iris seen close) has the iris/sclera boundary within 0.3 of its minor axis; the wide step then
+// measured the sclera and called the crisp pupil edge a shadow's (wild seed 279: the right fit
+// scored sharpness 0 and the iris was picked in 42 % of its frames). A shadow's or a smudge's
+// ramp keeps rising about as fast as within the edge, so it reaches 3x only past the band.
+// -1 when the band leaves the image; a glint ends the band where it starts.
+double StarburstDetector::wideOutside(const cv::Mat& grey, cv::Point2d p, cv::Point2d n, double d,
+                                      double wide, double in, double out, const Levels& lv) {
+    const double far = sample(grey, p.x + wide * n.x, p.y + wide * n.y);
+    if (far < 0.0) {
+        return -1.0;
+    }
+    const double secondEdge = in + 3.0 * (out - in);
+    double last = out;
+    for (double t = d + 1.0; t <= wide; t += 1.0) {
+        const double w = sample(grey, p.x + t * n.x, p.y + t * n.y);
+        if (w < 0.0 || w >= lv.glint || w > secondEdge) {
+            break;
+        }
+        last = w;
+    }
+    return far >= lv.glint ? out : std::max(out, std::min(far, last));
+}
+
 StarburstDetector::Support StarburstDetector::outlineSupport(const cv::Mat& grey,
                                                              const cv::RotatedRect& e,
                                                              const Levels& lv) const {
@@ -395,8 +421,8 @@ StarburstDetector::Support StarburstDetector::outlineSupport(const cv::Mat& grey
         if (out - in > need && in < lv.threshold) {
             ++supported;
             const double wideIn = sample(grey, p.x - wide * n.x, p.y - wide * n.y);
-            const double wideOut = sample(grey, p.x + wide * n.x, p.y + wide * n.y);
-            if (wideIn >= 0.0 && wideOut >= 0.0 && wideOut < lv.glint)
+            const double wideOut = wideOutside(grey, p, n, d, wide, in, out, lv);
+            if (wideIn >= 0.0 && wideOut >= 0.0)
                 ratios[static_cast<std::size_t>(nRatios++)] =
                     (out - in) / std::max(out - in, wideOut - wideIn);
         } else if (in >= lv.threshold && out >= lv.threshold) {
@@ -735,8 +761,11 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     // The same for the best blob by its own evidence, without the size prior: an iris whose
     // pupil was too faint to be a candidate loses to smaller blobs once the prior holds the
     // pupil's size, and its pupil would not be looked for at all.
+    bool blobInsideTop = false; // the inner search found a clearly darker blob in the winner
+    cv::Point2d searchedTop;
     if (!scored.empty()) {
         const Scored top = scored.front();
+        searchedTop = top.result.centre();
         const auto unscaled =
             std::max_element(scored.begin(), scored.end(), [](const Scored& a, const Scored& b) {
                 return a.score / a.consistency < b.score / b.consistency;
@@ -746,6 +775,10 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
                 ? std::optional<Scored>(*unscaled)
                 : std::nullopt;
         if (const auto inner = innerCandidate(top.result, top.interiorHigh, minR)) {
+            // A blob clearly darker than what surrounds it inside the winner: the winner is not
+            // uniformly dark, whatever its inside's quartiles say (a small pupil covers too few
+            // of their samples to move them).
+            blobInsideTop = inner->response >= mConfig.minContrast;
             consider(*inner, top.interiorHigh);
         }
         if (ownBest) {
@@ -799,6 +832,13 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
                 pick = &s;
                 break;
             }
+            darkerInside = true;
+        }
+        // The winner kept with a clearly darker blob inside it may be an iris around a pupil the
+        // fits did not outline well enough to take its place: its size must not become the
+        // pupil's. Once learnt, the prior vetoes the pupil's own later, good fits as too small
+        // (wild seed 153: a pupil 15 grey levels darker than its iris, 21 % of frames right).
+        if (blobInsideTop && cv::norm(pick->result.centre() - searchedTop) < 0.5) {
             darkerInside = true;
         }
         best = pick->result;

@@ -115,6 +115,9 @@ private:
     // and upper quartile.
     [[nodiscard]] Interior interiorFill(const cv::Mat& grey, const cv::RotatedRect& e,
                                         const Levels& levels) const;
+    [[nodiscard]] static double wideOutside(const cv::Mat& grey, cv::Point2d p, cv::Point2d n,
+                                            double d, double wide, double in, double out,
+                                            const Levels& levels);
     [[nodiscard]] Support outlineSupport(const cv::Mat& grey, const cv::RotatedRect& e,
                                          const Levels& levels) const;
 

@@ -246,7 +246,18 @@ INSTANTIATE_TEST_SUITE_P(
         // darker blob inside the iris kept the iris from the first frame and the size prior
         // learnt its size (25 %); one darker than most of the iris's inside needs 0.5.
         HardCase{"ASmallPupilWithGlintsOnItsBorderIsNotTakenForItsIris", 7029, "hard", 1860, 1560,
-                 100, 0.95}),
+                 100, 0.95},
+        // A large pupil in a dark iris seen close: the iris is a ring thinner than 0.3 of the
+        // pupil's minor axis, so the sharpness test's wide band reached the sclera and scored
+        // the pupil's crisp edge as a shadow's (sharpness 0); the iris was picked (37 %; 84 %
+        // now). The band now ends at a second edge.
+        HardCase{"AThinIrisRingIsNotTakenForAShadowsRamp", 279, "wild", 1760, 1560, 200, 0.75},
+        // A pupil 15 grey levels darker than its iris: in the first frame only the iris was
+        // outlined, the size prior learnt the iris's size and vetoed the pupil's good fits from
+        // then on (29 %; 54.5 % now). A winner with a clearly darker blob inside is not uniformly
+        // dark, and its size is not learnt.
+        HardCase{"AnIrisWithADarkerBlobInsideDoesNotTeachThePupilsSize", 153, "wild", 1760, 1560,
+                 200, 0.45}),
     [](const ::testing::TestParamInfo<HardCase>& param) { return std::string(param.param.name); });
 
 TEST(PupilDetector, CleanSyntheticClip) {
