@@ -25,6 +25,11 @@ namespace {
 // 5 px, wrong answers rejected by the gate 93 -> 96 %; wild 91.6 -> 92.6 %.
 constexpr double kSkinAboveIris = 0.25;
 
+// A candidate at least this many times the smallest pupil radius is iris-sized: when it yields no
+// fit, the pupil is looked for inside it. eyescore, development seeds, wild 1-150 / 151-300:
+// 95.0 / 93.1 % -> 95.5 / 93.6 % within 5 px (2x: 95.4 / 93.3 %); hard unchanged.
+constexpr double kIrisSized = 3.0;
+
 // Bilinear sample with pixel centres at integer coordinates; -1 outside the image.
 inline double sample(const cv::Mat& img, double x, double y) {
     if (x < 0.0 || y < 0.0 || x > img.cols - 1.0 || y > img.rows - 1.0) return -1.0;
@@ -751,8 +756,31 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
             scored.push_back({r, score, refined.interior, refined.interiorHigh,
                               refined.visibleSupport, consistency, refined.outside});
     };
-    for (const Candidate& c : mCandidates)
+    // The strongest iris-sized candidate that yields no fit (a dark iris cut by the lid, its
+    // outline broken by glints and lashes): its pupil is a weak blob inside a dark surround
+    // that the search ranks below lash clusters, so it is looked for inside that candidate too.
+    std::optional<Candidate> unfitted;
+    for (const Candidate& c : mCandidates) {
+        const std::size_t before = scored.size();
         consider(c, 0.0);
+        if (scored.size() == before && !unfitted && c.radius >= kIrisSized * minR) {
+            unfitted = c;
+        }
+    }
+    if (unfitted) {
+        PupilResult outer;
+        outer.ellipse =
+            cv::RotatedRect(cv::Point2d(unfitted->centre),
+                            cv::Size2d(2.0 * unfitted->radius, 2.0 * unfitted->radius), 0.0F);
+        // The iris's level: the upper quartile of its inner box (the pupil and glints aside).
+        const double level =
+            percentile(grey, boxAround(unfitted->centre, 0.7 * unfitted->radius), cv::Rect(), 0.75);
+        if (level > 0.0) {
+            if (const auto inner = innerCandidate(outer, level, minR)) {
+                consider(*inner, level);
+            }
+        }
+    }
     const auto byScore = [](const Scored& a, const Scored& b) { return a.score > b.score; };
     std::sort(scored.begin(), scored.end(), byScore);
     // The search keeps the strongest blobs, and a dark iris's contrast with the sclera can crowd

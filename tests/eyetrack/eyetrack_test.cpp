@@ -257,7 +257,13 @@ INSTANTIATE_TEST_SUITE_P(
         // then on (29 %; 54.5 % now). A winner with a clearly darker blob inside is not uniformly
         // dark, and its size is not learnt.
         HardCase{"AnIrisWithADarkerBlobInsideDoesNotTeachThePupilsSize", 153, "wild", 1760, 1560,
-                 200, 0.45}),
+                 200, 0.45},
+        // A small pupil, 15-20 grey levels darker than its dark iris, among five glints, the
+        // iris cut by the lid: the iris yields no fit, and the pupil's weak blob ranks below
+        // lash clusters, so it was never a candidate. Looked for inside the iris-sized
+        // candidate that yields no fit (62 % -> 98 %).
+        HardCase{"APupilInAnIrisThatYieldsNoFitIsLookedForInsideIt", 24, "wild", 1660, 1560, 100,
+                 0.9}),
     [](const ::testing::TestParamInfo<HardCase>& param) { return std::string(param.param.name); });
 
 TEST(PupilDetector, CleanSyntheticClip) {
