@@ -626,8 +626,15 @@ StarburstDetector::Refined StarburstDetector::refine(const cv::Mat& grey, const 
     refined.interior = interior;
     refined.interiorHigh = interiorHigh;
     refined.outside = outsideLevel(grey, fit->ellipse, lv);
-    result.confidence =
-        std::sqrt(support.all * support.visible) * sharp * smoothstep(0.5, 0.85, fill);
+    // The visible outline's support weighs three quarters, the whole outline's one quarter: a
+    // lid over part of a well-fitted pupil still lowers the confidence, but less than the even
+    // geometric mean did, which put 48-91 % of the right answers on pupils 50-80 % visible below
+    // the gaze filter's gate. eyescore, development seeds, ROC area of the confidence: wild 1-150
+    // 0.965 -> 0.972, 151-300 0.962 -> 0.968, hard 1-100 0.9978 -> 0.9985, 101-200 0.9984 ->
+    // 0.9989 (the visible outline alone: 0.975 / 0.970 / 0.9987 / 0.9991, but the gate at 0.7
+    // then rejected only 85-86 % of the wrong answers on wild, 95-97 % on hard).
+    result.confidence = std::pow(support.all, 0.25) * std::pow(support.visible, 0.75) * sharp *
+                        smoothstep(0.5, 0.85, fill);
     refined.visibleSupport = support.visible;
     return refined;
 }
