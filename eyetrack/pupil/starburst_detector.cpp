@@ -427,9 +427,10 @@ StarburstDetector::Support StarburstDetector::outlineSupport(const cv::Mat& grey
             ++supported;
             const double wideIn = sample(grey, p.x - wide * n.x, p.y - wide * n.y);
             const double wideOut = wideOutside(grey, p, n, d, wide, in, out, lv);
-            if (wideIn >= 0.0 && wideOut >= 0.0)
+            if (wideIn >= 0.0 && wideOut >= 0.0) {
                 ratios[static_cast<std::size_t>(nRatios++)] =
                     (out - in) / std::max(out - in, wideOut - wideIn);
+            }
         } else if (in >= lv.threshold && out >= lv.threshold) {
             ++covered;
         }
