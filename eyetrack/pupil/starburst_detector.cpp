@@ -381,7 +381,7 @@ double StarburstDetector::outsideLevel(const cv::Mat& grey, const cv::RotatedRec
 // measured the sclera and called the crisp pupil edge a shadow's (wild seed 279: the right fit
 // scored sharpness 0 and the iris was picked in 42 % of its frames). A shadow's or a smudge's
 // ramp keeps rising about as fast as within the edge, so it reaches 3x only past the band.
-// -1 when the band leaves the image; a glint ends the band where it starts.
+// -1 when the band leaves the image; a glint at its far end: `out` (the band ends at the edge).
 double StarburstDetector::wideOutside(const cv::Mat& grey, cv::Point2d p, cv::Point2d n, double d,
                                       double wide, double in, double out, const Levels& lv) {
     const double far = sample(grey, p.x + wide * n.x, p.y + wide * n.y);

@@ -6,7 +6,8 @@
 //     centre-surround box feature (mean of a surrounding ring minus mean of an inner box) over a
 //     range of radii finds dark compact regions; the strongest local maxima of each radius,
 //     after non-maximum suppression across radii, are candidates. Cost O(1) per position and
-//     radius.
+//     radius. The same search runs inside the winner, inside the best blob by its own evidence
+//     and inside an iris-sized candidate that yields no fit, for a pupil in a dark iris.
 //  2. Edge points (Starburst, Li, Winfield & Parkhurst 2005): from each candidate, rays are cast
 //     outwards; on each, the first dark-to-bright crossing of a threshold halfway between the
 //     pupil's and the iris's grey levels gives a sub-pixel boundary point (at the half-way level,
@@ -18,10 +19,13 @@
 //     stop there.
 //  4. Confidence (after PuRe's outline contrast, Santini, Fuhl & Kasneci 2018): the share of
 //     points along the fitted ellipse where the image is clearly darker just inside than just
-//     outside. An eyelid or lashes covering part of the outline lower it in proportion; a blink
-//     (no dark outline at all) drives it to ~0. It is scaled by size consistency with the recent
-//     pupil (PuReST, Santini, Fuhl & Kasneci 2018), so a lash gap in a blink scores low. The
-//     candidate with the best confidence wins, with a preference for last frame's pupil.
+//     outside, on the whole outline (weight 1/4) and on its visible part (3/4). An eyelid or
+//     lashes covering part of the outline lower it, less than in proportion; a blink (no dark
+//     outline at all) drives it to ~0. Edge sharpness (a pupil's edge is optics-sharp, a
+//     shadow's ramp is not) and a filled dark inside scale it, and so does size consistency with
+//     the recent pupil (PuReST, Santini, Fuhl & Kasneci 2018), so a lash gap in a blink scores
+//     low. The candidate with the best confidence wins, with a preference for last frame's
+//     pupil.
 // Output: sub-pixel centre, ellipse and confidence. Pixel centres are at integer coordinates.
 #include <cstdint>
 #include <optional>
