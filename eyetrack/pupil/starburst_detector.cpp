@@ -676,18 +676,19 @@ double StarburstDetector::sizeConsistency(double semiMajor) const {
 }
 
 std::optional<StarburstDetector::Candidate>
-StarburstDetector::innerCandidate(const PupilResult& outer, double outerInterior, double minR) {
+StarburstDetector::innerCandidate(cv::Point2d outerCentre, double outerSemiMinor,
+                                  double outerInterior, double minR) {
     // The same centre-surround feature as findCandidates, on the coarse image around the outer
     // ellipse, restricted to centres inside it and radii below 0.7 of its minor semi-axis. The
     // coarse image is clipped at the outer blob's upper-quartile level (its iris) first, so the
     // sclera beyond it and glints on it cannot pull the ring's mean up and the seed off the
     // pupil, and the ring may reach past the outer blob's edge.
     const int f = mCoarseFactor;
-    const double maxR = 0.7 * outer.semiMinor() / f;
+    const double maxR = 0.7 * outerSemiMinor / f;
     const double lo = std::max(1.5, minR / f);
     if (maxR < lo) return std::nullopt;
-    const double reach = 0.6 * outer.semiMinor() / f;
-    const double ox = (outer.centre().x + 0.5) / f - 0.5, oy = (outer.centre().y + 0.5) / f - 0.5;
+    const double reach = 0.6 * outerSemiMinor / f;
+    const double ox = (outerCentre.x + 0.5) / f - 0.5, oy = (outerCentre.y + 0.5) / f - 0.5;
     const int margin = static_cast<int>(std::ceil(reach + 1.8 * maxR)) + 2;
     const cv::Rect roi = cv::Rect(static_cast<int>(ox) - margin, static_cast<int>(oy) - margin,
                                   2 * margin + 1, 2 * margin + 1) &
@@ -776,15 +777,12 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
         }
     }
     if (unfitted) {
-        PupilResult outer;
-        outer.ellipse =
-            cv::RotatedRect(cv::Point2d(unfitted->centre),
-                            cv::Size2d(2.0 * unfitted->radius, 2.0 * unfitted->radius), 0.0F);
         // The iris's level: the upper quartile of its inner box (the pupil and glints aside).
         const double level =
             percentile(grey, boxAround(unfitted->centre, 0.7 * unfitted->radius), cv::Rect(), 0.75);
         if (level > 0.0) {
-            if (const auto inner = innerCandidate(outer, level, minR)) {
+            if (const auto inner =
+                    innerCandidate(unfitted->centre, unfitted->radius, level, minR)) {
                 consider(*inner, level);
             }
         }
@@ -810,7 +808,8 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
             unscaled->consistency < 1.0 && unscaled != scored.begin()
                 ? std::optional<Scored>(*unscaled)
                 : std::nullopt;
-        if (const auto inner = innerCandidate(top.result, top.interiorHigh, minR)) {
+        if (const auto inner = innerCandidate(top.result.centre(), top.result.semiMinor(),
+                                              top.interiorHigh, minR)) {
             // A blob clearly darker than what surrounds it inside the winner: the winner is not
             // uniformly dark, whatever its inside's quartiles say (a small pupil covers too few
             // of their samples to move them).
@@ -818,7 +817,9 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
             consider(*inner, top.interiorHigh);
         }
         if (ownBest) {
-            if (const auto inner = innerCandidate(ownBest->result, ownBest->interiorHigh, minR)) {
+            if (const auto inner =
+                    innerCandidate(ownBest->result.centre(), ownBest->result.semiMinor(),
+                                   ownBest->interiorHigh, minR)) {
                 consider(*inner, ownBest->interiorHigh);
             }
         }

@@ -77,8 +77,10 @@ private:
     };
 
     void findCandidates(const cv::Mat& grey, double minR, double maxR);
-    // The strongest smaller dark blob inside `outer` (coarse image; after findCandidates).
-    [[nodiscard]] std::optional<Candidate> innerCandidate(const PupilResult& outer,
+    // The strongest smaller dark blob within an outer blob (its centre and minor semi-axis, and
+    // outerInterior: the level around a pupil in it); coarse image, after findCandidates.
+    [[nodiscard]] std::optional<Candidate> innerCandidate(cv::Point2d outerCentre,
+                                                          double outerSemiMinor,
                                                           double outerInterior, double minR);
     [[nodiscard]] bool measureLevels(const cv::Mat& grey, const Candidate& c, Levels& levels) const;
     void castRays(const cv::Mat& grey, cv::Point2d from, double maxDistance, const Levels& levels,
