@@ -138,7 +138,22 @@ void StarburstDetector::findCandidates(const cv::Mat& grey, double minR, double 
     // Downscale so the coarse image is ~60 rows: the search only needs a seed inside the pupil.
     const int f = std::max(1, std::min(grey.rows, grey.cols) / 60);
     mCoarseFactor = f;
-    cv::resize(grey, mSmall, cv::Size(grey.cols / f, grey.rows / f), 0, 0, cv::INTER_AREA);
+    // The coarse image: the means of f x f blocks, rounded, read off the full-resolution
+    // integral image (detect() builds it first, for the glint test) at a tenth of cv::resize's
+    // cost. The same pixels as INTER_AREA's when f divides the image's size (320 x 240 and
+    // 640 x 480 both); otherwise the right and bottom remainders are left out, and a coarse
+    // pixel's centre stays exactly where findCandidates maps it back to.
+    mSmall.create(grey.rows / f, grey.cols / f, CV_8UC1);
+    const double blockArea = static_cast<double>(f) * f;
+    for (int y = 0; y < mSmall.rows; ++y) {
+        const int* r0 = mFullIntegral.ptr<int>(y * f);
+        const int* r1 = mFullIntegral.ptr<int>(y * f + f);
+        auto* out = mSmall.ptr<uchar>(y);
+        for (int x = 0; x < mSmall.cols; ++x) {
+            const int sum = r1[x * f + f] - r1[x * f] - r0[x * f + f] + r0[x * f];
+            out[x] = cv::saturate_cast<uchar>(sum / blockArea);
+        }
+    }
     cv::integral(mSmall, mIntegral, CV_32S);
     const int w = mSmall.cols, h = mSmall.rows;
     // The strongest responses, kept in a bounded min-heap (sorting every position would cost
@@ -158,10 +173,35 @@ void StarburstDetector::findCandidates(const cv::Mat& grey, double minR, double 
             return static_cast<std::size_t>(y) * static_cast<std::size_t>(gw) +
                    static_cast<std::size_t>(x);
         };
-        mResponses.resize(cell(0, gh));
+        if (mResponses.size() < cell(0, gh)) {
+            mResponses.resize(cell(0, gh)); // every cell is written below
+        }
+        // centreSurround() with the rows' clipping and pointers hoisted out of the inner loop:
+        // the same sums, areas and divisions, so the same responses. With the coarse image read
+        // off the integral image above, `bench --suite eye` on the hard preset, three
+        // alternating runs on the 2-core machine: 714 / 841 / 801 -> 883 / 829 / 947 fps.
         for (int gy = 0; gy < gh; ++gy) {
+            const int y = gy * step;
+            const int iy0 = std::max(0, y - hi), iy1 = std::min(h, y + hi + 1);
+            const int oy0 = std::max(0, y - ho), oy1 = std::min(h, y + ho + 1);
+            const int* i0 = mIntegral.ptr<int>(iy0);
+            const int* i1 = mIntegral.ptr<int>(iy1);
+            const int* o0 = mIntegral.ptr<int>(oy0);
+            const int* o1 = mIntegral.ptr<int>(oy1);
             for (int gx = 0; gx < gw; ++gx) {
-                mResponses[cell(gx, gy)] = centreSurround(mIntegral, gx * step, gy * step, hi, ho);
+                const int x = gx * step;
+                const int ix0 = std::max(0, x - hi), ix1 = std::min(w, x + hi + 1);
+                const int ox0 = std::max(0, x - ho), ox1 = std::min(w, x + ho + 1);
+                const long long inner =
+                    static_cast<long long>(i1[ix1]) - i1[ix0] - i0[ix1] + i0[ix0];
+                const long long outer =
+                    static_cast<long long>(o1[ox1]) - o1[ox0] - o0[ox1] + o0[ox0];
+                const int innerArea = (ix1 - ix0) * (iy1 - iy0);
+                const int ringArea = (ox1 - ox0) * (oy1 - oy0) - innerArea;
+                mResponses[cell(gx, gy)] = ringArea <= innerArea
+                                               ? -std::numeric_limits<double>::infinity()
+                                               : static_cast<double>(outer - inner) / ringArea -
+                                                     static_cast<double>(inner) / innerArea;
             }
         }
         // Only local maxima over the 3x3 neighbourhood at this scale compete: a large dark
@@ -726,9 +766,9 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     const double side = std::min(grey.rows, grey.cols);
     const double minR = mConfig.minRadius > 0.0 ? mConfig.minRadius : 0.03 * side;
     const double maxR = mConfig.maxRadius > 0.0 ? mConfig.maxRadius : 0.25 * side;
+    cv::integral(grey, mFullIntegral, CV_32S);
     findCandidates(grey, minR, maxR);
     mFirstFits.clear();
-    cv::integral(grey, mFullIntegral, CV_32S);
     // Rays walk a 3x3 box-filtered copy: sensor noise would otherwise end a ray at the first
     // noisy pixel above the threshold when the pupil is only a little darker than its iris. The
     // filter is symmetric, so the half-way crossing of an edge stays where it was.
