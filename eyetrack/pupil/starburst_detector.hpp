@@ -19,7 +19,7 @@
 //     stop there.
 //  4. Confidence (after PuRe's outline contrast, Santini, Fuhl & Kasneci 2018): the share of
 //     points along the fitted ellipse where the image is clearly darker just inside than just
-//     outside, on the whole outline (weight 1/4) and on its visible part (3/4). An eyelid or
+//     outside, on its visible part times the whole outline's to the power 1/4. An eyelid or
 //     lashes covering part of the outline lower it, less than in proportion; a blink (no dark
 //     outline at all) drives it to ~0. Edge sharpness (a pupil's edge is optics-sharp, a
 //     shadow's ramp is not) and a filled dark inside scale it, and so does size consistency with
