@@ -149,8 +149,8 @@ void StarburstDetector::findCandidates(const cv::Mat& grey, double minR, double 
         const int* r0 = mFullIntegral.ptr<int>(y * f);
         const int* r1 = mFullIntegral.ptr<int>(y * f + f);
         auto* out = mSmall.ptr<uchar>(y);
-        for (int x = 0; x < mSmall.cols; ++x) {
-            const int sum = r1[x * f + f] - r1[x * f] - r0[x * f + f] + r0[x * f];
+        for (std::ptrdiff_t x0 = 0, x = 0; x < mSmall.cols; ++x, x0 += f) {
+            const int sum = r1[x0 + f] - r1[x0] - r0[x0 + f] + r0[x0];
             out[x] = cv::saturate_cast<uchar>(sum / blockArea);
         }
     }
@@ -388,6 +388,7 @@ bool StarburstDetector::isGlint(const cv::Mat& grey, cv::Point2d p, const Levels
     // Nearest pixel, halves away from zero as std::lround, which is a library call here and
     // this test runs five times at every ray's crossing (2 % of a frame's instructions).
     const auto nearest = [](double v) {
+        // NOLINTNEXTLINE(bugprone-incorrect-roundings): off only for the double just below 0.5
         return v >= 0.0 ? static_cast<int>(v + 0.5) : -static_cast<int>(0.5 - v);
     };
     const int x = nearest(p.x), y = nearest(p.y);
