@@ -193,8 +193,12 @@ std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
         if (!el || !plausible(*el, params)) continue;
         current.clear();
         const InlierTest inlier{*conic, outwardSign(*conic, *el), params, gradients};
-        for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t i = 0; i < n; ++i) {
+            // Stop counting once this draw can no longer beat the best: the usual draw is an
+            // outlier's, and only a larger consensus is ever kept.
+            if (current.size() + (n - i) <= best.size()) break;
             if (inlier(points, i)) current.push_back(static_cast<int>(i));
+        }
         if (current.size() > best.size()) {
             best.swap(current);
             if (adaptive) {

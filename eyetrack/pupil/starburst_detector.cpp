@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "error.hpp"
+#include "pupil/box_blur.hpp"
 #include "pupil/ellipse_fit.hpp"
 
 namespace gt::eyetrack {
@@ -149,6 +150,12 @@ cv::Rect boxAround(cv::Point2d c, double half) {
 
 StarburstDetector::StarburstDetector(StarburstConfig config) : mConfig(config) {
     if (mConfig.rays < 8) throw EyetrackError("pupil detector: at least 8 rays are needed");
+    const int n = mConfig.rays;
+    mRayDirections.reserve(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) {
+        const double a = (i + 0.5) * 2.0 * std::numbers::pi / n;
+        mRayDirections.emplace_back(std::cos(a), std::sin(a));
+    }
 }
 
 void StarburstDetector::findCandidates(const cv::Mat& grey, double minR, double maxR) {
@@ -279,10 +286,7 @@ void StarburstDetector::castRays(const cv::Mat& grey, cv::Point2d from, double m
     // less than a pixel: noise, which the island test below would skip anyway.
     constexpr double kStep = 0.5;
     constexpr double kWalk = 1.0;
-    const int n = mConfig.rays;
-    for (int i = 0; i < n; ++i) {
-        const double a = (i + 0.5) * 2.0 * std::numbers::pi / n;
-        const cv::Point2d dir(std::cos(a), std::sin(a));
+    for (const cv::Point2d dir : mRayDirections) {
         bool inside = false;
         double prev = -1.0;
         for (double t = 0.0; t <= maxDistance; t += kWalk) {
@@ -777,7 +781,7 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     // Rays walk a 3x3 box-filtered copy: sensor noise would otherwise end a ray at the first
     // noisy pixel above the threshold when the pupil is only a little darker than its iris. The
     // filter is symmetric, so the half-way crossing of an edge stays where it was.
-    cv::blur(grey, mSmooth, cv::Size(3, 3), cv::Point(-1, -1), cv::BORDER_REPLICATE);
+    boxBlur3x3(grey, mSmooth);
     // Temporal prior (after PuReST, Santini et al. 2018): last frame's pupil is also a candidate,
     // and a result close to it is preferred. Pupils move little between frames except in
     // saccades, where the coarse search still finds them.

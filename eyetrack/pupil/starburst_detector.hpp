@@ -128,6 +128,8 @@ private:
                                          const Levels& levels) const;
 
     StarburstConfig mConfig;
+    std::vector<cv::Point2d>
+        mRayDirections; // unit, one per ray, set once (sincos per ray cost 1 %)
     std::uint64_t mFrame = 0;
     PupilResult mLast;
     double mRecentRadius = 0.0; // running pupil size from confident frames, 0 = unknown
