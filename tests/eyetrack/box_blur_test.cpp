@@ -19,7 +19,7 @@ TEST(BoxBlur3x3, MatchesOpenCvOnEveryWindowSum) {
     cv::RNG rng(17);
     // Uniform noise reaches sums in the middle; narrow ranges at both ends reach the extremes,
     // so every sum 0..2295 (and its rounding) is met.
-    for (const auto [lo, hi] :
+    for (const auto& [lo, hi] :
          {std::pair{0, 256}, std::pair{0, 12}, std::pair{244, 256}, std::pair{100, 160}}) {
         cv::Mat src(241, 321, CV_8UC1);
         rng.fill(src, cv::RNG::UNIFORM, lo, hi);
