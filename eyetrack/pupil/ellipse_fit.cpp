@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 #include <opencv2/imgproc.hpp>
 
@@ -110,6 +112,76 @@ std::optional<Conic> conicThrough(std::span<const cv::Point2d, 5> p) {
 
 namespace {
 
+using Mat3 = std::array<std::array<double, 3>, 3>;
+
+// Inverse of a symmetric positive (semi)definite 3x3 matrix by cofactors; nullopt when singular
+// relative to its own scale.
+std::optional<Mat3> inverse3(const Mat3& m) {
+    Mat3 c{};
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            const auto& r1 = m[static_cast<std::size_t>((i + 1) % 3)];
+            const auto& r2 = m[static_cast<std::size_t>((i + 2) % 3)];
+            const auto j1 = static_cast<std::size_t>((j + 1) % 3);
+            const auto j2 = static_cast<std::size_t>((j + 2) % 3);
+            // Cofactor (i, j), stored transposed: the adjugate.
+            c[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)] =
+                r1[j1] * r2[j2] - r1[j2] * r2[j1];
+        }
+    }
+    const double det = m[0][0] * c[0][0] + m[0][1] * c[1][0] + m[0][2] * c[2][0];
+    double scale = 0.0;
+    for (const auto& row : m) {
+        for (const double v : row) {
+            scale = std::max(scale, std::abs(v));
+        }
+    }
+    if (!(std::abs(det) > 1e-12 * scale * scale * scale)) {
+        return std::nullopt;
+    }
+    for (auto& row : c) {
+        for (double& v : row) {
+            v /= det;
+        }
+    }
+    return c;
+}
+
+// The real roots of x^3 + c2 x^2 + c1 x + c0, each polished by Newton's method.
+std::vector<double> cubicRoots(double c2, double c1, double c0) {
+    // Depressed: x = t - c2 / 3, t^3 + p t + q = 0.
+    const double p = c1 - c2 * c2 / 3.0;
+    const double q = 2.0 * c2 * c2 * c2 / 27.0 - c2 * c1 / 3.0 + c0;
+    const double disc = q * q / 4.0 + p * p * p / 27.0;
+    std::vector<double> roots;
+    if (disc > 0.0) {
+        const double sq = std::sqrt(disc);
+        roots.push_back(std::cbrt(-q / 2.0 + sq) + std::cbrt(-q / 2.0 - sq));
+    } else if (p == 0.0) {
+        roots.push_back(0.0);
+    } else {
+        const double r = 2.0 * std::sqrt(-p / 3.0);
+        const double cosArg = std::clamp(3.0 * q / (p * r), -1.0, 1.0);
+        const double phi = std::acos(cosArg) / 3.0;
+        for (int k = 0; k < 3; ++k) {
+            roots.push_back(r * std::cos(phi - 2.0 * std::numbers::pi * k / 3.0));
+        }
+    }
+    for (double& t : roots) {
+        double x = t - c2 / 3.0;
+        for (int it = 0; it < 2; ++it) {
+            const double f = ((x + c2) * x + c1) * x + c0;
+            const double df = (3.0 * x + 2.0 * c2) * x + c1;
+            if (df == 0.0) {
+                break;
+            }
+            x -= f / df;
+        }
+        t = x;
+    }
+    return roots;
+}
+
 bool plausible(const cv::RotatedRect& e, const RansacEllipseParams& p) {
     const double major = std::max(e.size.width, e.size.height);
     const double minor = std::min(e.size.width, e.size.height);
@@ -153,6 +225,122 @@ double outwardSign(const Conic& q, const cv::RotatedRect& e) {
 }
 
 } // namespace
+
+std::optional<Conic> directEllipseFit(std::span<const cv::Point2d> points,
+                                      std::span<const int> subset) {
+    const std::size_t n = subset.empty() ? points.size() : subset.size();
+    if (n < 6) {
+        return std::nullopt;
+    }
+    const auto point = [&](std::size_t k) {
+        return subset.empty() ? points[k] : points[static_cast<std::size_t>(subset[k])];
+    };
+    // Centred and scaled to an RMS distance of sqrt(2): the fourth powers in the scatter matrix
+    // stay near 1 whatever the image size.
+    cv::Point2d mean(0.0, 0.0);
+    for (std::size_t k = 0; k < n; ++k) {
+        mean += point(k);
+    }
+    mean *= 1.0 / static_cast<double>(n);
+    double spread = 0.0;
+    for (std::size_t k = 0; k < n; ++k) {
+        const cv::Point2d d = point(k) - mean;
+        spread += d.x * d.x + d.y * d.y;
+    }
+    if (!(spread > 0.0)) {
+        return std::nullopt;
+    }
+    const double s = std::sqrt(2.0 * static_cast<double>(n) / spread);
+    // Halir & Flusser: the design matrix split into its quadratic part D1 = [x^2 xy y^2] and
+    // linear part D2 = [x y 1]; S1 = D1'D1, S2 = D1'D2, S3 = D2'D2.
+    Mat3 s1{}, s2{}, s3{};
+    for (std::size_t k = 0; k < n; ++k) {
+        const double x = (point(k).x - mean.x) * s, y = (point(k).y - mean.y) * s;
+        const std::array<double, 3> d1{x * x, x * y, y * y}, d2{x, y, 1.0};
+        for (std::size_t i = 0; i < 3; ++i) {
+            for (std::size_t j = 0; j < 3; ++j) {
+                s1[i][j] += d1[i] * d1[j];
+                s2[i][j] += d1[i] * d2[j];
+                s3[i][j] += d2[i] * d2[j];
+            }
+        }
+    }
+    const auto s3inv = inverse3(s3);
+    if (!s3inv) {
+        return std::nullopt; // the points are collinear
+    }
+    // The linear part that minimises the residual for given quadratic part a1: a2 = T a1,
+    // T = -S3^-1 S2'. The reduced scatter M = S1 + S2 T, premultiplied by the inverse of the
+    // constraint's 3x3 block C1 = [[0 0 2] [0 -1 0] [2 0 0]].
+    Mat3 t{}, m{};
+    for (std::size_t i = 0; i < 3; ++i) {
+        for (std::size_t j = 0; j < 3; ++j) {
+            for (std::size_t k = 0; k < 3; ++k) {
+                t[i][j] -= (*s3inv)[i][k] * s2[j][k];
+            }
+        }
+    }
+    for (std::size_t i = 0; i < 3; ++i) {
+        for (std::size_t j = 0; j < 3; ++j) {
+            m[i][j] = s1[i][j];
+            for (std::size_t k = 0; k < 3; ++k) {
+                m[i][j] += s2[i][k] * t[k][j];
+            }
+        }
+    }
+    const Mat3 r{{{0.5 * m[2][0], 0.5 * m[2][1], 0.5 * m[2][2]},
+                  {-m[1][0], -m[1][1], -m[1][2]},
+                  {0.5 * m[0][0], 0.5 * m[0][1], 0.5 * m[0][2]}}};
+    // Its eigenvector with 4ac - b^2 > 0 is the ellipse (Fitzgibbon et al.: exactly one).
+    const double trace = r[0][0] + r[1][1] + r[2][2];
+    const double minors = r[0][0] * r[1][1] - r[0][1] * r[1][0] + r[0][0] * r[2][2] -
+                          r[0][2] * r[2][0] + r[1][1] * r[2][2] - r[1][2] * r[2][1];
+    const double det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
+                       r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
+                       r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+    std::optional<std::array<double, 3>> a1;
+    for (const double lambda : cubicRoots(-trace, minors, -det)) {
+        // Eigenvector: the longest cross product of two rows of R - lambda I.
+        Mat3 shifted = r;
+        for (std::size_t i = 0; i < 3; ++i) {
+            shifted[i][i] -= lambda;
+        }
+        std::array<double, 3> best{};
+        double bestNorm = 0.0;
+        for (const auto& [i, j] : {std::pair{0, 1}, std::pair{0, 2}, std::pair{1, 2}}) {
+            const auto& u = shifted[static_cast<std::size_t>(i)];
+            const auto& w = shifted[static_cast<std::size_t>(j)];
+            const std::array<double, 3> c{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                                          u[0] * w[1] - u[1] * w[0]};
+            const double norm = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+            if (norm > bestNorm) {
+                bestNorm = norm;
+                best = c;
+            }
+        }
+        if (bestNorm > 0.0 && 4.0 * best[0] * best[2] - best[1] * best[1] > 0.0) {
+            a1 = best;
+            break;
+        }
+    }
+    if (!a1) {
+        return std::nullopt;
+    }
+    const double A = (*a1)[0], B = (*a1)[1], C = (*a1)[2];
+    const double D = t[0][0] * A + t[0][1] * B + t[0][2] * C;
+    const double E = t[1][0] * A + t[1][1] * B + t[1][2] * C;
+    const double F = t[2][0] * A + t[2][1] * B + t[2][2] * C;
+    // Undo the normalisation x' = (x - mx) s.
+    const double s2n = s * s, mx = mean.x, my = mean.y;
+    Conic q;
+    q.a = A * s2n;
+    q.b = B * s2n;
+    q.c = C * s2n;
+    q.d = -2.0 * A * s2n * mx - B * s2n * my + D * s;
+    q.e = -B * s2n * mx - 2.0 * C * s2n * my + E * s;
+    q.f = A * s2n * mx * mx + B * s2n * mx * my + C * s2n * my * my - D * s * mx - E * s * my + F;
+    return q;
+}
 
 int ransacDrawsNeeded(double inlierShare, double confidence, int cap) {
     // log(1 - p) / log(1 - w^5), clamped to the cap before the cast: a few inliers among many
@@ -213,15 +401,11 @@ std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
     // Least-squares refit on the consensus set, then one more round of inliers against it.
     EllipseFit fit;
     for (int round = 0; round < 2; ++round) {
-        std::vector<cv::Point2f> pts;
-        pts.reserve(best.size());
-        for (int i : best)
-            pts.emplace_back(static_cast<float>(points[static_cast<std::size_t>(i)].x),
-                             static_cast<float>(points[static_cast<std::size_t>(i)].y));
-        fit.ellipse = cv::fitEllipseDirect(pts);
-        if (!plausible(fit.ellipse, params)) return std::nullopt;
-        const Conic q = Conic::fromEllipse(fit.ellipse);
-        const InlierTest inlier{q, outwardSign(q, fit.ellipse), params, gradients};
+        const auto q = directEllipseFit(points, best);
+        const auto ellipse = q ? q->toEllipse() : std::nullopt;
+        if (!ellipse || !plausible(*ellipse, params)) return std::nullopt;
+        fit.ellipse = *ellipse;
+        const InlierTest inlier{*q, outwardSign(*q, fit.ellipse), params, gradients};
         std::vector<int> again;
         for (std::size_t i = 0; i < n; ++i)
             if (inlier(points, i)) again.push_back(static_cast<int>(i));

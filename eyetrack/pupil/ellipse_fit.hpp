@@ -3,8 +3,8 @@
 //
 // RANSAC (Fischler & Bolles 1981) over minimal 5-point conics, scored by inlier count under the
 // Sampson distance (first-order geometric distance |Q(p)| / |grad Q(p)|), then a least-squares
-// refit on the consensus set with OpenCV's direct ellipse fit (Fitzgibbon et al. 1999, which can
-// only return ellipses). Świrski et al. 2012 use the same idea for pupils; edges from eyelids,
+// refit on the consensus set with the direct ellipse fit (Fitzgibbon et al. 1999, which can only
+// return ellipses). Świrski et al. 2012 use the same idea for pupils; edges from eyelids,
 // lashes and glints are the outliers it removes. Like Świrski's, an inlier must also agree in
 // direction: its image gradient (dark pupil -> bright surround) must point along the ellipse's
 // outward normal, so edge points of an eyelid or lash that happen to lie near a candidate curve
@@ -39,6 +39,14 @@ struct Conic {
 
 // The conic through five points (nullopt when they are degenerate).
 [[nodiscard]] std::optional<Conic> conicThrough(std::span<const cv::Point2d, 5> p);
+
+// The least-squares ellipse through points[i] for i in `subset` (all points when empty): the
+// direct fit of Fitzgibbon, Pilu and Fisher 1999 (minimise the algebraic distance subject to
+// 4ac - b^2 = 1, so the answer is always an ellipse), solved in the numerically stable form of
+// Halir and Flusser 1998 (a 3x3 eigenproblem on centred, scaled coordinates). nullopt for fewer
+// than six points or a degenerate set (all on a line or a conic that is no ellipse).
+[[nodiscard]] std::optional<Conic> directEllipseFit(std::span<const cv::Point2d> points,
+                                                    std::span<const int> subset = {});
 
 struct RansacEllipseParams {
     int iterations = 80; // at most

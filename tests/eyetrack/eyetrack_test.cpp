@@ -108,6 +108,66 @@ TEST(EllipseFit, ConicRoundTripAndRansacIgnoresOutliers) {
     EXPECT_NEAR(std::max(e->size.width, e->size.height), 30.0, 1e-6);
 }
 
+TEST(EllipseFit, DirectFitRecoversEllipsesAndAgreesWithOpenCv) {
+    // Exact points anywhere in the image, at any tilt and elongation: the ellipse itself.
+    const auto onEllipse = [](cv::Point2d c, double a, double b, double deg, int count, double from,
+                              double to) {
+        std::vector<cv::Point2d> pts;
+        const double th = deg * CV_PI / 180.0;
+        for (int i = 0; i < count; ++i) {
+            const double t = from + (to - from) * i / count;
+            const cv::Point2d l(a * std::cos(t), b * std::sin(t));
+            pts.emplace_back(c.x + l.x * std::cos(th) - l.y * std::sin(th),
+                             c.y + l.x * std::sin(th) + l.y * std::cos(th));
+        }
+        return pts;
+    };
+    for (const double deg : {0.0, 25.0, 90.0, 133.0}) {
+        const auto pts = onEllipse({412.5, 301.25}, 21.0, 9.0, deg, 30, 0.0, 2 * CV_PI);
+        const auto q = directEllipseFit(pts);
+        ASSERT_TRUE(q) << deg;
+        const auto e = q->toEllipse();
+        ASSERT_TRUE(e) << deg;
+        EXPECT_NEAR(e->center.x, 412.5, 1e-3) << deg;
+        EXPECT_NEAR(e->center.y, 301.25, 1e-3) << deg;
+        EXPECT_NEAR(std::max(e->size.width, e->size.height), 42.0, 1e-3) << deg;
+        EXPECT_NEAR(std::min(e->size.width, e->size.height), 18.0, 1e-3) << deg;
+        for (const auto& p : pts)
+            EXPECT_LT(q->sampsonDistance(p), 1e-6);
+    }
+    // Noisy points on a third of an outline (a pupil under a lid), and a subset chosen by index:
+    // the same ellipse as OpenCV's implementation of the same method.
+    cv::RNG rng(11);
+    auto arc = onEllipse({160.0, 120.0}, 18.0, 14.0, 40.0, 40, -0.4, 2.0);
+    for (auto& p : arc)
+        p += cv::Point2d(rng.gaussian(0.3), rng.gaussian(0.3));
+    arc.emplace_back(0.0, 0.0); // not in the subset
+    std::vector<int> subset(40);
+    std::vector<cv::Point2f> asFloat;
+    for (int i = 0; i < 40; ++i) {
+        subset[static_cast<std::size_t>(i)] = i;
+        asFloat.emplace_back(static_cast<float>(arc[static_cast<std::size_t>(i)].x),
+                             static_cast<float>(arc[static_cast<std::size_t>(i)].y));
+    }
+    const auto ours = directEllipseFit(arc, subset);
+    ASSERT_TRUE(ours);
+    const auto e = ours->toEllipse();
+    ASSERT_TRUE(e);
+    const cv::RotatedRect cvFit = cv::fitEllipseDirect(asFloat);
+    EXPECT_NEAR(e->center.x, cvFit.center.x, 1e-2);
+    EXPECT_NEAR(e->center.y, cvFit.center.y, 1e-2);
+    EXPECT_NEAR(std::max(e->size.width, e->size.height),
+                std::max(cvFit.size.width, cvFit.size.height), 1e-2);
+    EXPECT_NEAR(std::min(e->size.width, e->size.height),
+                std::min(cvFit.size.width, cvFit.size.height), 1e-2);
+    // Too few points, or points on a line: no ellipse.
+    EXPECT_FALSE(directEllipseFit(std::span(arc).first(5)));
+    std::vector<cv::Point2d> line;
+    for (int i = 0; i < 10; ++i)
+        line.emplace_back(3.0 * i, 2.0 * i + 1.0);
+    EXPECT_FALSE(directEllipseFit(line));
+}
+
 TEST(EllipseFit, RansacStopsOnceTheConsensusIsSureAndNotBefore) {
     // 48 points on an ellipse and 16 off it: with 3/4 inliers, an all-inlier 5-point sample is
     // drawn with probability 0.9999 within log(1e-4) / log(1 - 0.75^5) = 34 draws.
