@@ -57,8 +57,10 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
     std::unique_ptr<eyetrack::AtomicFile> misses;
     if (!o.misses.empty()) {
         misses = std::make_unique<eyetrack::AtomicFile>(o.misses);
+        // Semi-axes beside the centres: a fit off by a few pixels is often one too large or too
+        // small for the arc it saw.
         misses->stream() << "seed,frame,visibility,truth_x,truth_y,found_x,found_y,error_px,"
-                            "confidence\n";
+                            "confidence,truth_major,truth_minor,found_major,found_minor\n";
     }
     std::optional<eyetrack::ContactSheet> sheet;
     if (!o.missesSheet.empty()) {
@@ -104,11 +106,12 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
             }
             // Every visible frame not found within the radius, and every answer on a hidden pupil.
             if (misses && !eyetrack::isRight(r, o.radiusPx) && (r.visible || r.answered)) {
-                misses->stream() << cv::format("%llu,%zu,%.3f,%.2f,%.2f,%.2f,%.2f,%.2f,%.3f\n",
-                                               static_cast<unsigned long long>(seed), o.skip + f,
-                                               truths[f].visibility, truths[f].centre.x,
-                                               truths[f].centre.y, p.centre().x, p.centre().y,
-                                               r.answered ? r.errorPx : -1.0, p.confidence);
+                misses->stream() << cv::format(
+                    "%llu,%zu,%.3f,%.2f,%.2f,%.2f,%.2f,%.2f,%.3f,%.2f,%.2f,%.2f,%.2f\n",
+                    static_cast<unsigned long long>(seed), o.skip + f, truths[f].visibility,
+                    truths[f].centre.x, truths[f].centre.y, p.centre().x, p.centre().y,
+                    r.answered ? r.errorPx : -1.0, p.confidence, truths[f].axisA, truths[f].axisB,
+                    p.semiMajor(), p.semiMinor());
             }
         }
         const eyetrack::DetectionScore s = eyetrack::scoreDetections(records, o.radiusPx);

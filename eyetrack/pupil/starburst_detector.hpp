@@ -97,10 +97,11 @@ private:
     struct Refined {
         PupilResult result;
         double visibleSupport = 0.0;
-        double quality = 0.0;      // sharpness x filled interior: how much it looks like a pupil
-        double interior = 0.0;     // median grey level inside
-        double interiorHigh = 0.0; // its upper quartile (the iris, when a pupil sits inside)
-        double outside = -1.0;     // median grey level just outside the outline (-1: unknown)
+        double quality = 0.0;         // sharpness x filled interior: how much it looks like a pupil
+        double interior = 0.0;        // median grey level inside
+        double interiorHigh = 0.0;    // its upper quartile (the iris, when a pupil sits inside)
+        double outside = -1.0;        // median grey level just outside the outline (-1: unknown)
+        double fittedSemiMajor = 0.0; // before fitAtRecentSize: the size the edges chose
     };
     struct Interior {
         double fill = 0.0, median = 255.0, upperQuartile = 255.0;
@@ -113,6 +114,12 @@ private:
     // is no lid or no better fit.
     [[nodiscard]] std::optional<EllipseFit> fitBesideLid(const cv::RotatedRect& e,
                                                          const RansacEllipseParams& rp);
+    // A refit of the edge points within the recent pupil size when `fit` is clearly larger and
+    // the smaller fit explains the points about as well; nullopt otherwise.
+    [[nodiscard]] std::optional<EllipseFit> fitAtRecentSize(const cv::Mat& grey,
+                                                            const EllipseFit& fit,
+                                                            const RansacEllipseParams& rp,
+                                                            const Levels& levels) const;
     [[nodiscard]] bool isGlint(const cv::Mat& grey, cv::Point2d p, const Levels& levels) const;
     [[nodiscard]] double outsideLevel(const cv::Mat& grey, const cv::RotatedRect& e,
                                       const Levels& levels) const;
