@@ -9,12 +9,17 @@
 namespace gt::eyetrack {
 
 void boxBlur3x3(const cv::Mat& src, cv::Mat& dst) {
-    if (src.type() != CV_8UC1) throw EyetrackError("3x3 blur: expected an 8-bit greyscale image");
-    if (src.data == dst.data && !src.empty())
+    if (src.type() != CV_8UC1) {
+        throw EyetrackError("3x3 blur: expected an 8-bit greyscale image");
+    }
+    if (src.data == dst.data && !src.empty()) {
         throw EyetrackError("3x3 blur: the output must not be the input");
+    }
     dst.create(src.size(), CV_8UC1);
     const int w = src.cols, h = src.rows;
-    if (w == 0 || h == 0) return;
+    if (w == 0 || h == 0) {
+        return;
+    }
     // Column sums of three rows, with one replicated column at each end so the horizontal pass
     // needs no edge cases.
     thread_local std::vector<std::uint16_t> column;
@@ -25,8 +30,9 @@ void boxBlur3x3(const cv::Mat& src, cv::Mat& dst) {
             const uchar* __restrict here = src.ptr<uchar>(y);
             const uchar* __restrict below = src.ptr<uchar>(std::min(h - 1, y + 1));
             std::uint16_t* __restrict c = column.data() + 1;
-            for (int x = 0; x < w; ++x)
+            for (int x = 0; x < w; ++x) {
                 c[x] = static_cast<std::uint16_t>(above[x] + here[x] + below[x]);
+            }
             c[-1] = c[0];
             c[w] = c[w - 1];
         }

@@ -384,8 +384,12 @@ std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
         for (std::size_t i = 0; i < n; ++i) {
             // Stop counting once this draw can no longer beat the best: the usual draw is an
             // outlier's, and only a larger consensus is ever kept.
-            if (current.size() + (n - i) <= best.size()) break;
-            if (inlier(points, i)) current.push_back(static_cast<int>(i));
+            if (current.size() + (n - i) <= best.size()) {
+                break;
+            }
+            if (inlier(points, i)) {
+                current.push_back(static_cast<int>(i));
+            }
         }
         if (current.size() > best.size()) {
             best.swap(current);
@@ -403,13 +407,20 @@ std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
     for (int round = 0; round < 2; ++round) {
         const auto q = directEllipseFit(points, best);
         const auto ellipse = q ? q->toEllipse() : std::nullopt;
-        if (!ellipse || !plausible(*ellipse, params)) return std::nullopt;
+        if (!ellipse || !plausible(*ellipse, params)) {
+            return std::nullopt;
+        }
         fit.ellipse = *ellipse;
         const InlierTest inlier{*q, outwardSign(*q, fit.ellipse), params, gradients};
         std::vector<int> again;
-        for (std::size_t i = 0; i < n; ++i)
-            if (inlier(points, i)) again.push_back(static_cast<int>(i));
-        if (again.size() < 6) break;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (inlier(points, i)) {
+                again.push_back(static_cast<int>(i));
+            }
+        }
+        if (again.size() < 6) {
+            break;
+        }
         best.swap(again);
     }
     fit.inliers = std::move(best);

@@ -43,7 +43,9 @@ public:
           mNextX(img.cols > 1 ? 1 : 0), mNextY(img.rows > 1 ? img.step[0] : 0) {}
 
     [[nodiscard]] double operator()(double x, double y) const {
-        if (x < 0.0 || y < 0.0 || x > mMaxX || y > mMaxY) return -1.0;
+        if (x < 0.0 || y < 0.0 || x > mMaxX || y > mMaxY) {
+            return -1.0;
+        }
         const int x0 = std::min(static_cast<int>(x), mLastX0);
         const int y0 = std::min(static_cast<int>(y), mLastY0);
         const double fx = x - x0, fy = y - y0;
@@ -766,7 +768,9 @@ StarburstDetector::Refined StarburstDetector::refine(const cv::Mat& grey, const 
     // What the edge points chose before any pull towards the recent size: the confidence is
     // judged on it (below), so a fit held to the prior is not made surer by the prior.
     refined.fittedSemiMajor = 0.5 * std::max(fit->ellipse.size.width, fit->ellipse.size.height);
-    if (auto sized = fitAtRecentSize(grey, *fit, rp, lv)) fit = sized;
+    if (auto sized = fitAtRecentSize(grey, *fit, rp, lv)) {
+        fit = sized;
+    }
 
     result.ellipse = fit->ellipse;
     const Support support = outlineSupport(grey, fit->ellipse, lv);
