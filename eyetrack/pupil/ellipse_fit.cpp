@@ -57,6 +57,25 @@ Conic Conic::fromEllipse(const cv::RotatedRect& el) {
     return q;
 }
 
+namespace {
+
+// The conic A x'^2 + B x'y' + C y'^2 + D x' + E y' + F = 0 (coefficients in that order) over the
+// normalised coordinates x' = (x - mean) s, in image coordinates.
+Conic fromNormalised(const std::array<double, 6>& n, cv::Point2d mean, double s) {
+    const double A = n[0], B = n[1], C = n[2], D = n[3], E = n[4], F = n[5];
+    const double s2 = s * s, mx = mean.x, my = mean.y;
+    Conic q;
+    q.a = A * s2;
+    q.b = B * s2;
+    q.c = C * s2;
+    q.d = -2.0 * A * s2 * mx - B * s2 * my + D * s;
+    q.e = -B * s2 * mx - 2.0 * C * s2 * my + E * s;
+    q.f = A * s2 * mx * mx + B * s2 * mx * my + C * s2 * my * my - D * s * mx - E * s * my + F;
+    return q;
+}
+
+} // namespace
+
 std::optional<Conic> conicThrough(std::span<const cv::Point2d, 5> p) {
     // Centred and scaled coordinates keep the system well conditioned. An ellipse through five
     // points never passes through their centroid (it lies inside), so f != 0 there and the conic
@@ -97,17 +116,7 @@ std::optional<Conic> conicThrough(std::span<const cv::Point2d, 5> p) {
         n[r] = v / m[r][r];
     }
     // Conic in normalised coordinates: A x'^2 + B x'y' + C y'^2 + D x' + E y' - 1 = 0.
-    // Undo the normalisation x' = (x - mx) s.
-    const double A = n[0], B = n[1], C = n[2], D = n[3], E = n[4], F = -1.0;
-    const double s = scale, s2 = s * s, mx = mean.x, my = mean.y;
-    Conic q;
-    q.a = A * s2;
-    q.b = B * s2;
-    q.c = C * s2;
-    q.d = -2.0 * A * s2 * mx - B * s2 * my + D * s;
-    q.e = -B * s2 * mx - 2.0 * C * s2 * my + E * s;
-    q.f = A * s2 * mx * mx + B * s2 * mx * my + C * s2 * my * my - D * s * mx - E * s * my + F;
-    return q;
+    return fromNormalised({n[0], n[1], n[2], n[3], n[4], -1.0}, mean, scale);
 }
 
 namespace {
@@ -327,19 +336,10 @@ std::optional<Conic> directEllipseFit(std::span<const cv::Point2d> points,
         return std::nullopt;
     }
     const double A = (*a1)[0], B = (*a1)[1], C = (*a1)[2];
-    const double D = t[0][0] * A + t[0][1] * B + t[0][2] * C;
-    const double E = t[1][0] * A + t[1][1] * B + t[1][2] * C;
-    const double F = t[2][0] * A + t[2][1] * B + t[2][2] * C;
-    // Undo the normalisation x' = (x - mx) s.
-    const double s2n = s * s, mx = mean.x, my = mean.y;
-    Conic q;
-    q.a = A * s2n;
-    q.b = B * s2n;
-    q.c = C * s2n;
-    q.d = -2.0 * A * s2n * mx - B * s2n * my + D * s;
-    q.e = -B * s2n * mx - 2.0 * C * s2n * my + E * s;
-    q.f = A * s2n * mx * mx + B * s2n * mx * my + C * s2n * my * my - D * s * mx - E * s * my + F;
-    return q;
+    return fromNormalised({A, B, C, t[0][0] * A + t[0][1] * B + t[0][2] * C,
+                           t[1][0] * A + t[1][1] * B + t[1][2] * C,
+                           t[2][0] * A + t[2][1] * B + t[2][2] * C},
+                          mean, s);
 }
 
 int ransacDrawsNeeded(double inlierShare, double confidence, int cap) {
