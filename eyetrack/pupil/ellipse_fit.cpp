@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include <opencv2/imgproc.hpp>
+#include <opencv2/core.hpp>
 
 namespace gt::eyetrack {
 
@@ -156,28 +156,35 @@ std::optional<Mat3> inverse3(const Mat3& m) {
     return c;
 }
 
-// The real roots of x^3 + c2 x^2 + c1 x + c0, each polished by Newton's method.
-std::vector<double> cubicRoots(double c2, double c1, double c0) {
+// The real roots of x^3 + c2 x^2 + c1 x + c0 (one or three), each polished by Newton's method.
+// A fixed array: the refit solves one cubic per call, twice per RANSAC fit.
+struct RealRoots {
+    std::array<double, 3> values{};
+    std::size_t count = 0;
+    [[nodiscard]] std::span<const double> all() const { return {values.data(), count}; }
+};
+
+RealRoots cubicRoots(double c2, double c1, double c0) {
     // Depressed: x = t - c2 / 3, t^3 + p t + q = 0.
     const double p = c1 - c2 * c2 / 3.0;
     const double q = 2.0 * c2 * c2 * c2 / 27.0 - c2 * c1 / 3.0 + c0;
     const double disc = q * q / 4.0 + p * p * p / 27.0;
-    std::vector<double> roots;
+    RealRoots roots;
     if (disc > 0.0) {
         const double sq = std::sqrt(disc);
-        roots.push_back(std::cbrt(-q / 2.0 + sq) + std::cbrt(-q / 2.0 - sq));
+        roots.values[roots.count++] = std::cbrt(-q / 2.0 + sq) + std::cbrt(-q / 2.0 - sq);
     } else if (p == 0.0) {
-        roots.push_back(0.0);
+        roots.values[roots.count++] = 0.0;
     } else {
         const double r = 2.0 * std::sqrt(-p / 3.0);
         const double cosArg = std::clamp(3.0 * q / (p * r), -1.0, 1.0);
         const double phi = std::acos(cosArg) / 3.0;
         for (int k = 0; k < 3; ++k) {
-            roots.push_back(r * std::cos(phi - 2.0 * std::numbers::pi * k / 3.0));
+            roots.values[roots.count++] = r * std::cos(phi - 2.0 * std::numbers::pi * k / 3.0);
         }
     }
-    for (double& t : roots) {
-        double x = t - c2 / 3.0;
+    for (std::size_t i = 0; i < roots.count; ++i) {
+        double x = roots.values[i] - c2 / 3.0;
         for (int it = 0; it < 2; ++it) {
             const double f = ((x + c2) * x + c1) * x + c0;
             const double df = (3.0 * x + 2.0 * c2) * x + c1;
@@ -186,7 +193,7 @@ std::vector<double> cubicRoots(double c2, double c1, double c0) {
             }
             x -= f / df;
         }
-        t = x;
+        roots.values[i] = x;
     }
     return roots;
 }
@@ -308,7 +315,7 @@ std::optional<Conic> directEllipseFit(std::span<const cv::Point2d> points,
                        r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
                        r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
     std::optional<std::array<double, 3>> a1;
-    for (const double lambda : cubicRoots(-trace, minors, -det)) {
+    for (const double lambda : cubicRoots(-trace, minors, -det).all()) {
         // Eigenvector: the longest cross product of two rows of R - lambda I.
         Mat3 shifted = r;
         for (std::size_t i = 0; i < 3; ++i) {
