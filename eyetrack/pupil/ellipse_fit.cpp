@@ -315,7 +315,8 @@ std::optional<Conic> directEllipseFit(std::span<const cv::Point2d> points,
                        r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
                        r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
     std::optional<std::array<double, 3>> a1;
-    for (const double lambda : cubicRoots(-trace, minors, -det).all()) {
+    const RealRoots roots = cubicRoots(-trace, minors, -det);
+    for (const double lambda : roots.all()) {
         // Eigenvector: the longest cross product of two rows of R - lambda I.
         Mat3 shifted = r;
         for (std::size_t i = 0; i < 3; ++i) {
