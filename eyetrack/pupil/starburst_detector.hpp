@@ -48,6 +48,14 @@ struct StarburstConfig {
     double inlierDistance = 1.0; // pixels
     double minContrast = 12.0;   // grey levels between pupil and surround
     double minConfidence = 0.35; // below: no pupil reported
+    // Plausible pupil shapes for the camera (the "plausible eccentricity"), as the ratio
+    // of the fitted ellipse's minor to major axis: the confidence is scaled by a smooth ramp
+    // from 0 at `flattestAxisRatio` to 1 at `roundAxisRatio`. A pupil seen within ~37 deg of
+    // the camera's axis (cos 37 deg = 0.8) keeps its confidence, at 45 deg 0.91 of it, at 50 deg
+    // 0.77, at 60 deg 0.35; the sliver of a pupil mostly under the lid is fitted at 0.4-0.6. Lower
+    // both for a camera set further off the eye's axis than a head-mounted one.
+    double flattestAxisRatio = 0.3;
+    double roundAxisRatio = 0.8;
 };
 
 class StarburstDetector final : public PupilDetector {
