@@ -70,6 +70,7 @@ public:
     void reset() override {
         mLast = {};
         mRecentRadius = 0.0;
+        mRecentMinor = 0.0;
     }
     [[nodiscard]] std::string name() const override { return "starburst"; }
     [[nodiscard]] const StarburstConfig& config() const noexcept { return mConfig; }
@@ -128,6 +129,12 @@ private:
                                                             const EllipseFit& fit,
                                                             const RansacEllipseParams& rp,
                                                             const Levels& levels) const;
+    // A refit of the edge points at least nearly as wide as the recent pupil when `fit` is much
+    // narrower (its outline hugging a lid over the pupil) and what the wider ellipse adds lies
+    // under something brighter than the iris; nullopt otherwise.
+    [[nodiscard]] std::optional<EllipseFit> fitUnderLid(const cv::Mat& grey, const EllipseFit& fit,
+                                                        const RansacEllipseParams& rp,
+                                                        const Levels& levels) const;
     [[nodiscard]] bool isGlint(const cv::Mat& grey, cv::Point2d p, const Levels& levels) const;
     [[nodiscard]] double outsideLevel(const cv::Mat& grey, const cv::RotatedRect& e,
                                       const Levels& levels) const;
@@ -148,6 +155,7 @@ private:
     std::uint64_t mFrame = 0;
     PupilResult mLast;
     double mRecentRadius = 0.0; // running pupil size from confident frames, 0 = unknown
+    double mRecentMinor = 0.0;  // its minor semi-axis, learnt alike
     int mFramesSinceSize = 0;
     // Scratch buffers reused between frames (no per-frame allocation in steady state).
     cv::Mat mSmall, mIntegral, mFullIntegral, mSmooth;
