@@ -27,6 +27,7 @@
 #include "io/udp_emitter.hpp"
 #include "pupil/ellipse_fit.hpp"
 #include "pupil/starburst_detector.hpp"
+#include "score/detection_score.hpp"
 #include "sim/synthetic_eye.hpp"
 
 namespace fs = std::filesystem;
@@ -42,7 +43,7 @@ fs::path tempDir(const std::string& name) {
     return d;
 }
 
-struct DetectionScore {
+struct ClipScore {
     double rate5 = 0.0, medianError = 0.0;
     int blinkFrames = 0, blinkDetections = 0;
     // Answers (any confidence above 0) as eyescore counts them: right ones (at least half the
@@ -61,11 +62,11 @@ EyeSimConfig presetClip(std::uint64_t seed, int frames, const std::string& prese
 }
 
 // Frames before `countFrom` are detected (the detector's priors learn from them) but not counted.
-DetectionScore score(EyeSimConfig c, int firstFrame, int count, int countFrom = 0) {
+ClipScore score(EyeSimConfig c, int firstFrame, int count, int countFrom = 0) {
     SyntheticEye eye(c);
     StarburstDetector det;
     int visible = 0, ok = 0;
-    DetectionScore s;
+    ClipScore s;
     std::vector<double> errors;
     for (int f = firstFrame; f < firstFrame + count; ++f) {
         EyeTruth t;
@@ -74,9 +75,11 @@ DetectionScore score(EyeSimConfig c, int firstFrame, int count, int countFrom = 
         if (f < countFrom) {
             continue;
         }
-        if (r.confidence > 0.0) {
+        const DetectionRecord record{t.visibility >= kVisibleShare, r.confidence > 0.0,
+                                     cv::norm(r.centre() - t.centre), r.confidence};
+        if (record.answered) {
             const bool passes = r.confidence >= GazeFilterConfig{}.minConfidence;
-            if (t.visibility >= 0.5 && cv::norm(r.centre() - t.centre) <= 5.0) {
+            if (isRight(record, 5.0)) {
                 ++s.right;
                 s.rightKept += passes ? 1 : 0;
             } else {
@@ -293,7 +296,7 @@ class PupilDetectorHardCase : public ::testing::TestWithParam<HardCase> {};
 
 TEST_P(PupilDetectorHardCase, StaysFound) {
     const HardCase& c = GetParam();
-    const DetectionScore s = score(presetClip(c.seed, c.clipFrames, c.preset), c.first, c.count);
+    const ClipScore s = score(presetClip(c.seed, c.clipFrames, c.preset), c.first, c.count);
     EXPECT_GE(s.rate5, c.minRate5);
 }
 
@@ -364,7 +367,7 @@ TEST(PupilDetector, ASliverOfAPupilUnderTheLidIsNotTrusted) {
     // A pupil three-fifths under the lower lid for most of the window: its visible part was
     // fitted as a flat ellipse (axis ratio 0.4-0.5), outlined all round and dark inside, and 68 %
     // of these wrong answers passed the gate; the pupil's shape now scales the confidence (2 %).
-    const DetectionScore s = score(presetClip(45, 1860, "wild"), 1560, 300);
+    const ClipScore s = score(presetClip(45, 1860, "wild"), 1560, 300);
     ASSERT_GT(s.wrong, 150);
     EXPECT_LE(s.wrongKept, s.wrong / 10);
 }
@@ -375,20 +378,20 @@ TEST(PupilDetector, TheSizePriorFollowsAPupilThatChangedSizeUnseen) {
     // later right answer down: in the window's last quarter none passed the gate. It learns from
     // the evidence without its own factor now: 57 of 59 pass (GCC's build; clang's sanitizer
     // build, whose answers differ a little, 29 of 60, and none without the change).
-    const DetectionScore s = score(presetClip(22, 1860, "wild"), 1560, 300, 1785);
+    const ClipScore s = score(presetClip(22, 1860, "wild"), 1560, 300, 1785);
     ASSERT_GT(s.right, 40);
     EXPECT_GE(s.rightKept, s.right / 3);
 }
 
 TEST(PupilDetector, CleanSyntheticClip) {
-    const DetectionScore s = score(presetClip(11, 240, "clean"), 0, 240);
+    const ClipScore s = score(presetClip(11, 240, "clean"), 0, 240);
     EXPECT_GE(s.rate5, 0.99);
     EXPECT_LE(s.medianError, 0.5);
 }
 
 TEST(PupilDetector, HardSyntheticClipWithBlinks) {
     // Free viewing (after the calibration and validation targets), where the blinks are.
-    const DetectionScore s = score(presetClip(12, 2400, "hard"), 1600, 800);
+    const ClipScore s = score(presetClip(12, 2400, "hard"), 1600, 800);
     EXPECT_GE(s.rate5, 0.9);
     EXPECT_LE(s.medianError, 1.0);
     ASSERT_GT(s.blinkFrames, 10);
