@@ -7,7 +7,8 @@
 //     range of radii finds dark compact regions; the strongest local maxima of each radius,
 //     after non-maximum suppression across radii, are candidates. Cost O(1) per position and
 //     radius. The same search runs inside the winner, inside the best blob by its own evidence
-//     and inside an iris-sized candidate that yields no fit, for a pupil in a dark iris.
+//     and inside an iris-sized candidate that yields no fit, for a pupil in a dark iris. When
+//     no candidate is confident, the next strongest blobs are tried as well.
 //  2. Edge points (Starburst, Li, Winfield & Parkhurst 2005): from each candidate, rays are cast
 //     outwards; on each, the first dark-to-bright crossing of a threshold halfway between the
 //     pupil's and the iris's grey levels gives a sub-pixel boundary point (at the half-way level,
@@ -44,6 +45,15 @@ struct StarburstConfig {
     double maxRadius = 0.0;
     int rays = 64;
     int candidates = 5;
+    // When no candidate of the first round reaches `fallbackBelow` confidence (the level at
+    // which a pupil is also next frame's prior), the next `fallbackCandidates` blobs of the
+    // search are refined too, their confidence scaled by `fallbackConfidence`: shadows and
+    // lash clusters darker than the pupil can fill the first round, and a pupil the search
+    // ranks below five other blobs is found in a lower share of the frames in which it is
+    // looked for, so its confidence is worth less.
+    int fallbackCandidates = 5;
+    double fallbackBelow = 0.6;
+    double fallbackConfidence = 0.8;
     int ransacIterations = 150;
     double inlierDistance = 1.0; // pixels
     double minContrast = 12.0;   // grey levels between pupil and surround
@@ -162,8 +172,15 @@ private:
     int mCoarseFactor = 1; // full-resolution pixels per coarse pixel
     cv::Mat mInnerClipped, mInnerIntegral;
     std::vector<Candidate> mCandidates, mHeap;
-    std::vector<double> mResponses;          // one scale's centre-surround responses
-    std::vector<cv::RotatedRect> mFirstFits; // this frame's first-pass fits, to skip repeats
+    std::vector<double> mResponses; // one scale's centre-surround responses
+    // This frame's first-pass fits, to skip repeats, and whether they were made with a known
+    // surround level (a candidate inside an iris): the same first fit with and without the
+    // level leads to different second passes.
+    struct FirstFit {
+        cv::RotatedRect ellipse;
+        bool hinted = false;
+    };
+    std::vector<FirstFit> mFirstFits;
     std::vector<cv::Point2d> mEdgePoints;
     std::vector<cv::Point2d> mEdgeGradients; // unit, dark -> bright; zero when flat
 };

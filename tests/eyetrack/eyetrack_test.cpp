@@ -262,6 +262,13 @@ TEST(EllipseFit, GradientDirectionRejectsABrightBlobsOutline) {
     EXPECT_EQ(byDirection->inliers.size(), 30u);
 }
 
+TEST(PupilDetector, ImpossibleSettingsAreRefused) {
+    EXPECT_THROW(StarburstDetector(StarburstConfig{.rays = 4}), EyetrackError);
+    EXPECT_THROW(StarburstDetector(StarburstConfig{.candidates = 0}), EyetrackError);
+    EXPECT_THROW(StarburstDetector(StarburstConfig{.fallbackCandidates = -1}), EyetrackError);
+    EXPECT_NO_THROW(StarburstDetector(StarburstConfig{.fallbackCandidates = 0}));
+}
+
 TEST(PupilDetector, SubPixelOnAnAntiAliasedEllipseOnNoise) {
     cv::Mat img(240, 320, CV_8U);
     cv::RNG rng(3);
@@ -358,7 +365,14 @@ INSTANTIATE_TEST_SUITE_P(
         // The same refit without the brightness test took a saccade to a pupil seen obliquely
         // (axis ratio 0.63, fully visible) for a lid-hugging fit and widened it into the iris
         // (91.5 %; 99.3 % with the test).
-        HardCase{"APupilSeenObliquelyIsNotWidened", 12, "wild", 1860, 1560, 300, 0.97}),
+        HardCase{"APupilSeenObliquelyIsNotWidened", 12, "wild", 1860, 1560, 300, 0.97},
+        // A low-contrast pupil, plainly visible, while two blurred shadows (three blobs at
+        // different scales) and two lash clusters took the search's five places: the pupil was
+        // the ninth blob and a lash cluster was answered (58 %). The next five blobs are tried
+        // when no candidate is confident.
+        HardCase{"APupilBelowFiveStrongerBlobsIsStillLookedAt", 178, "wild", 1860, 1560, 50, 0.95},
+        // The same with a shadow at the image's right edge answered in all 50 frames.
+        HardCase{"AShadowAtTheEdgeDoesNotHoldThePupilOff", 267, "wild", 1860, 1760, 50, 0.9}),
     [](const ::testing::TestParamInfo<HardCase>& param) { return std::string(param.param.name); });
 
 // The confidence against the gaze filter's gate, on wild clips from the start of free viewing
@@ -369,6 +383,16 @@ TEST(PupilDetector, ASliverOfAPupilUnderTheLidIsNotTrusted) {
     // of these wrong answers passed the gate; the pupil's shape now scales the confidence (2 %).
     const ClipScore s = score(presetClip(45, 1860, "wild"), 1560, 300);
     ASSERT_GT(s.wrong, 150);
+    EXPECT_LE(s.wrongKept, s.wrong / 10);
+}
+
+TEST(PupilDetector, BlobsFoundInTheFallbackRoundAreTrustedLess) {
+    // A pupil under the upper lid (less than half of it showing) for the whole window: the
+    // first round finds nothing confident, and the fallback round's further blobs include
+    // small dark specks among the lashes, outlined and dark inside. At full confidence 51 of
+    // these wrong answers passed the gate; scaled as the fallback's, 21.
+    const ClipScore s = score(presetClip(215, 1860, "wild"), 1560, 300);
+    ASSERT_GT(s.wrong, 250);
     EXPECT_LE(s.wrongKept, s.wrong / 10);
 }
 
