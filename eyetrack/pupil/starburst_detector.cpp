@@ -253,10 +253,12 @@ cv::Rect boxAround(cv::Point2d c, double half) {
 
 StarburstDetector::StarburstDetector(StarburstConfig config) : mConfig(config) {
     if (mConfig.rays < 8) throw EyetrackError("pupil detector: at least 8 rays are needed");
-    if (mConfig.candidates < 1)
+    if (mConfig.candidates < 1) {
         throw EyetrackError("pupil detector: at least 1 candidate is needed");
-    if (mConfig.fallbackCandidates < 0)
+    }
+    if (mConfig.fallbackCandidates < 0) {
         throw EyetrackError("pupil detector: fallback candidates cannot be negative");
+    }
     const int n = mConfig.rays;
     mRayDirections.reserve(static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i) {
@@ -358,8 +360,10 @@ void StarburstDetector::findCandidates(const cv::Mat& grey, double minR, double 
             });
         if (near) continue;
         mCandidates.push_back(c);
-        if (static_cast<int>(mCandidates.size()) >= mConfig.candidates + mConfig.fallbackCandidates)
+        if (static_cast<int>(mCandidates.size()) >=
+            mConfig.candidates + mConfig.fallbackCandidates) {
             break;
+        }
     }
 }
 
@@ -1036,7 +1040,9 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
         const double consistency = sizeConsistency(r.semiMajor());
         const double sizeFactor = sizeConsistency(refined.fittedSemiMajor);
         r.confidence *= sizeFactor;
-        if (fallbackRound) r.confidence *= mConfig.fallbackConfidence;
+        if (fallbackRound) {
+            r.confidence *= mConfig.fallbackConfidence;
+        }
         // Selection score: support of the visible outline and how pupil-like the ellipse is,
         // weighed towards pupil-sized ellipses (dark gaps between lashes make small,
         // high-contrast ellipses) and towards last frame's pupil.
@@ -1074,7 +1080,9 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
             const bool confident = std::any_of(scored.begin(), scored.end(), [&](const Scored& s) {
                 return s.result.confidence >= mConfig.fallbackBelow;
             });
-            if (confident) break;
+            if (confident) {
+                break;
+            }
             fallbackRound = true;
         }
         const Candidate& c = mCandidates[i];
