@@ -116,8 +116,13 @@ GazeSchedule::GazeSchedule(const ScheduleConfig& config, double durationMs) : mC
 
     cv::Point2d last = mSegments.empty() ? centre : mSegments.back().to;
     while (t < durationMs) {
-        const cv::Point2d p(d.widthPx * (0.05 + 0.9 * uni(rng)),
-                            d.heightPx * (0.05 + 0.9 * uni(rng)));
+        // One draw per statement: a constructor's arguments are evaluated in an unspecified
+        // order (GCC right to left, clang left to right), and two draws among them made the
+        // clips differ between compilers. y is drawn first, as GCC did, so the clips every
+        // reported number was measured on stay the same.
+        const double fy = 0.05 + 0.9 * uni(rng);
+        const double fx = 0.05 + 0.9 * uni(rng);
+        const cv::Point2d p(d.widthPx * fx, d.heightPx * fy);
         if (uni(rng) < 0.3) {
             // Smooth pursuit: the target glides from the current point towards p at 5-15 deg/s.
             const double speed = 5.0 + 10.0 * uni(rng);

@@ -171,8 +171,10 @@ SyntheticEye::SyntheticEye(EyeSimConfig config)
         // Mascara-thick lashes hang over the eye more often, and far enough to cross the pupil.
         const bool droops =
             uni(rng) < (mascara ? std::max(0.35, mConfig.droopingLashes) : mConfig.droopingLashes);
-        const double length =
-            range(9, 18) * (droops ? 1.3 : 1.0) * (mascara ? range(1.2, 1.9) : 1.0);
+        // One draw per statement, in GCC's order (gaze_schedule.cpp says why).
+        const double base = range(9, 18);
+        const double thick = mascara ? range(1.2, 1.9) : 1.0;
+        const double length = base * (droops ? 1.3 : 1.0) * thick;
         mLashes.push_back({range(-0.85, 0.85), length, range(-0.6, 0.6), droops, mascara});
     }
     const cv::Size big(mConfig.size.width * kSuper, mConfig.size.height * kSuper);
@@ -192,8 +194,9 @@ SyntheticEye::SyntheticEye(EyeSimConfig config)
         cv::Mat blob = cv::Mat::zeros(big, CV_32F);
         const double rx = range(14, 34) * s, ry = rx * range(0.5, 1.0);
         const double side = uni(rng) < 0.5 ? -1.0 : 1.0;
-        const cv::Point2d at(mEyeCentre.x + side * range(120, 170) * s,
-                             mEyeCentre.y + range(-110, 110) * s);
+        const double dy = range(-110, 110); // one draw per statement, in GCC's order
+        const double dx = range(120, 170);
+        const cv::Point2d at(mEyeCentre.x + side * dx * s, mEyeCentre.y + dy * s);
         cv::ellipse(blob, fixed(at), {fixedLength(rx), fixedLength(ry)}, range(0, 180), 0, 360,
                     cv::Scalar(1.0), cv::FILLED, cv::LINE_AA, kShift);
         cv::GaussianBlur(blob, blob, cv::Size(), 0.35 * rx * kSuper);

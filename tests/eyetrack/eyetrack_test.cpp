@@ -400,11 +400,10 @@ TEST(PupilDetector, TheSizePriorFollowsAPupilThatChangedSizeUnseen) {
     // The pupil constricts from 45 to 29 px while lashes and the lid keep its confidence under
     // the level the size prior learns from; the prior, held at the old size, then scaled every
     // later right answer down: in the window's last quarter none passed the gate. It learns from
-    // the evidence without its own factor now: 57 of 59 pass (GCC's build; clang's sanitizer
-    // build, whose answers differ a little, 29 of 60, and none without the change).
+    // the evidence without its own factor now: 57 of 59 pass, none without the change.
     const ClipScore s = score(presetClip(22, 1860, "wild"), 1560, 300, 1785);
     ASSERT_GT(s.right, 40);
-    EXPECT_GE(s.rightKept, s.right / 3);
+    EXPECT_GE(s.rightKept, s.right * 3 / 4);
 }
 
 TEST(PupilDetector, CleanSyntheticClip) {
@@ -420,6 +419,22 @@ TEST(PupilDetector, HardSyntheticClipWithBlinks) {
     EXPECT_LE(s.medianError, 1.0);
     ASSERT_GT(s.blinkFrames, 10);
     EXPECT_LE(s.blinkDetections, s.blinkFrames / 5); // confidence falls in blinks
+}
+
+TEST(SyntheticEye, TheSameSeedGivesTheSameClipWhateverTheCompiler) {
+    // Free-viewing targets were drawn as two arguments of one constructor, whose order of
+    // evaluation C++ leaves open: GCC's and clang's builds swapped x and y, so every clip
+    // differed from frame ~1560 on (and the sanitizer build's tests ran on other eyes). The
+    // draws are sequenced in GCC's order; these values are GCC's from before the change.
+    EyeSimConfig c = presetClip(45, 1860, "wild");
+    const SyntheticEye eye(c);
+    EyeTruth t;
+    (void)eye.render(1579, &t);
+    EXPECT_NEAR(t.centre.x, 175.2766, 1e-3);
+    EXPECT_NEAR(t.centre.y, 55.5447, 1e-3);
+    (void)eye.render(1850, &t);
+    EXPECT_NEAR(t.centre.x, 113.2570, 1e-3);
+    EXPECT_NEAR(t.centre.y, 45.4962, 1e-3);
 }
 
 TEST(FrameSources, VideoImagesAndSyntheticAgree) {
