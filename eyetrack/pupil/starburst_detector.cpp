@@ -1030,8 +1030,8 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
         double sizeFactor = 1.0; // the size prior's factor in the confidence alone
     };
     std::vector<Scored> scored;
-    bool fallbackRound = false;
-    auto consider = [&](const Candidate& c, double surroundHint) {
+    // confidenceScale: StarburstConfig::fallbackConfidence for the fallback round's blobs.
+    auto consider = [&](const Candidate& c, double surroundHint, double confidenceScale = 1.0) {
         auto refined = refine(grey, c, minR, maxR, surroundHint);
         PupilResult& r = refined.result;
         if (r.confidence <= 0.0 && refined.visibleSupport <= 0.0) return;
@@ -1040,9 +1040,7 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
         const double consistency = sizeConsistency(r.semiMajor());
         const double sizeFactor = sizeConsistency(refined.fittedSemiMajor);
         r.confidence *= sizeFactor;
-        if (fallbackRound) {
-            r.confidence *= mConfig.fallbackConfidence;
-        }
+        r.confidence *= confidenceScale;
         // Selection score: support of the visible outline and how pupil-like the ellipse is,
         // weighed towards pupil-sized ellipses (dark gaps between lashes make small,
         // high-contrast ellipses) and towards last frame's pupil.
@@ -1063,12 +1061,11 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     // 94.61 % within 5 px (seeds 178: 60 -> 73 %, 71: 78 -> 91 %, 267: 6 -> 75 %; 287: 90 ->
     // 73 %: a fallback blob outscored the first round's winner, inside which a faint pupil
     // had been found; searching inside both winners won that back but let 0.2 / 0.5 points
-    // more wrong answers through the gate);
-    // without the confidence scale (and a 0.5 trigger) the gate kept 1.4 points more wrong
-    // answers (specks and lash loops answered while the pupil was hidden), with it 90.8 / 92.3
-    // -> 90.9 / 92.4 % rejected; hard 1-100 / 101-200 99.79 / 99.81 -> 99.77 / 99.80 %. Ten
-    // more blobs instead of five: +0.13 / +0.29 points, but the hard preset 10 % slower (five:
-    // 3 %).
+    // more wrong answers through the gate). Without the confidence scale (and a 0.5 trigger)
+    // the gate kept 1.4 points more wrong answers (specks and lash loops answered while the
+    // pupil was hidden), with it 90.8 / 92.3 -> 90.9 / 92.4 % rejected; hard 1-100 / 101-200
+    // 99.79 / 99.81 -> 99.77 / 99.80 %. Ten more blobs instead of five: +0.13 / +0.29 points,
+    // but the hard preset 10 % slower (five: 3 %).
     // The strongest iris-sized candidate that yields no fit (a dark iris cut by the lid, its
     // outline broken by glints and lashes): its pupil is a weak blob inside a dark surround
     // that the search ranks below lash clusters, so it is looked for inside that candidate too.
@@ -1076,23 +1073,18 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     const std::size_t firstRound = std::min(
         mCandidates.size(), static_cast<std::size_t>(mConfig.candidates) + (haveLast ? 1U : 0U));
     for (std::size_t i = 0; i < mCandidates.size(); ++i) {
-        if (i == firstRound) {
-            const bool confident = std::any_of(scored.begin(), scored.end(), [&](const Scored& s) {
+        if (i == firstRound && std::any_of(scored.begin(), scored.end(), [&](const Scored& s) {
                 return s.result.confidence >= mConfig.fallbackBelow;
-            });
-            if (confident) {
-                break;
-            }
-            fallbackRound = true;
+            })) {
+            break;
         }
         const Candidate& c = mCandidates[i];
         const std::size_t before = scored.size();
-        consider(c, 0.0);
+        consider(c, 0.0, i < firstRound ? 1.0 : mConfig.fallbackConfidence);
         if (scored.size() == before && !unfitted && c.radius >= kIrisSized * minR) {
             unfitted = c;
         }
     }
-    fallbackRound = false;
     if (unfitted) {
         // The iris's level: the upper quartile of its inner box (the pupil and glints aside).
         const double level =
