@@ -67,6 +67,12 @@ struct StarburstConfig {
     // both for a camera set further off the eye's axis than a head-mounted one.
     double flattestAxisRatio = 0.3;
     double roundAxisRatio = 0.8;
+    // The ramp's round end follows the eye: it moves down to `eyeRatioMargin` below the axis
+    // ratio this eye's pupil has shown whole (learnt from confident fits whose outline is seen
+    // all round), so the pupils of an eye the camera sees from a steep angle, flat wherever they
+    // look, keep their confidence; slivers under the lid of an eye seen head-on do not gain any.
+    // 0 = the fixed ramp.
+    double eyeRatioMargin = 0.1;
 };
 
 class StarburstDetector final : public PupilDetector {
@@ -82,6 +88,7 @@ public:
         mLast = {};
         mRecentRadius = 0.0;
         mRecentMinor = 0.0;
+        mEyeRatio = 0.0;
     }
     [[nodiscard]] std::string name() const override { return "starburst"; }
     [[nodiscard]] const StarburstConfig& config() const noexcept { return mConfig; }
@@ -122,6 +129,8 @@ private:
         double interiorHigh = 0.0;    // its upper quartile (the iris, when a pupil sits inside)
         double outside = -1.0;        // median grey level just outside the outline (-1: unknown)
         double fittedSemiMajor = 0.0; // before fitAtRecentSize: the size the edges chose
+        double supportAll = 0.0;      // the whole outline's support (1: nothing covers it)
+        double shapeFactor = 1.0;     // the axis-ratio ramp's factor in the confidence
     };
     struct Interior {
         double fill = 0.0, median = 255.0, upperQuartile = 255.0;
@@ -168,6 +177,7 @@ private:
     double mRecentRadius = 0.0; // running pupil size from confident frames, 0 = unknown
     double mRecentMinor = 0.0;  // its minor semi-axis, learnt alike
     int mFramesSinceSize = 0;
+    double mEyeRatio = 0.0; // running axis ratio of the whole pupil (0 = unknown)
     // Scratch buffers reused between frames (no per-frame allocation in steady state).
     cv::Mat mSmall, mIntegral, mFullIntegral, mSmooth;
     int mCoarseFactor = 1; // full-resolution pixels per coarse pixel
