@@ -1154,9 +1154,10 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
         }
         std::sort(scored.begin(), scored.end(), byScore);
     }
-    PupilResult best;
-    double bestInterior = 0.0, bestInteriorHigh = 0.0, bestSizeFactor = 1.0;
-    double bestSupportAll = 0.0, bestShapeFactor = 1.0;
+    // The pick with what was measured on it; when nothing was scored, a default (no pupil, the
+    // priors learn nothing).
+    const Scored none{};
+    const Scored* picked = &none;
     bool darkerInside = false; // a darker, outlined blob inside the pick that lost to it
     if (!scored.empty()) {
         const Scored* pick = &scored.front();
@@ -1208,13 +1209,9 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
         if (blobInsideTop && cv::norm(pick->result.centre() - searchedTop) < 0.5) {
             darkerInside = true;
         }
-        best = pick->result;
-        bestInterior = pick->interior;
-        bestInteriorHigh = pick->interiorHigh;
-        bestSizeFactor = pick->sizeFactor;
-        bestSupportAll = pick->supportAll;
-        bestShapeFactor = pick->shapeFactor;
+        picked = pick;
     }
+    PupilResult best = picked->result;
     best.found = best.confidence >= mConfig.minConfidence;
     mLast = best;
     ++mFramesSinceSize;
@@ -1222,7 +1219,7 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     // (picked while the pupil was hard to see) must not teach it the iris's size, or the pupil
     // would be held too small to be the pupil from then on.
     const bool uniform =
-        bestInteriorHigh - bestInterior < 0.5 * mConfig.minContrast && !darkerInside;
+        picked->interiorHigh - picked->interior < 0.5 * mConfig.minContrast && !darkerInside;
     // It learns from the evidence, the size prior's own factor left out: with it, a pupil that
     // shrank or grew by a third while its confidence was low (a blink, a lid) was held at its
     // old size, its right answers scored under the gate, and the prior never caught up (wild
@@ -1231,7 +1228,7 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     // answers kept by a 0.7 gate 91.0 / 89.5 -> 92.0 / 90.6 %, wrong ones rejected within 0.1
     // point, detection +0.13 / +0.14 points. Without the shape factor, learning from slivers
     // cost 2.3-2.4 points of wrong answers rejected.
-    const double evidence = best.confidence / std::max(1e-6, bestSizeFactor);
+    const double evidence = best.confidence / std::max(1e-6, picked->sizeFactor);
     if (evidence >= 0.75 && uniform) {
         mRecentRadius =
             mRecentRadius > 0.0 ? 0.9 * mRecentRadius + 0.1 * best.semiMajor() : best.semiMajor();
@@ -1248,8 +1245,8 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     // (or a flat eye's pupils could never teach it). Whole-pupil fits are 0.02-0.1 off the
     // true ratio in a 300-frame window (the ratio also changes as the eye turns), which the
     // 0.1 margin absorbs.
-    if (mConfig.eyeRatioMargin > 0.0 && uniform && bestSupportAll >= 0.9 &&
-        evidence / std::max(1e-6, bestShapeFactor) >= 0.75) {
+    if (mConfig.eyeRatioMargin > 0.0 && uniform && picked->supportAll >= 0.9 &&
+        evidence / std::max(1e-6, picked->shapeFactor) >= 0.75) {
         const double ratio = best.semiMinor() / std::max(1e-6, best.semiMajor());
         mEyeRatio = mEyeRatio > 0.0 ? 0.9 * mEyeRatio + 0.1 * ratio : ratio;
     }
