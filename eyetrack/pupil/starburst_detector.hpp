@@ -55,6 +55,12 @@ struct StarburstConfig {
     int fallbackCandidates = 5;
     double fallbackBelow = 0.6;
     double fallbackConfidence = 0.8;
+    // The fallback round's blobs come from the image closed (a grey-level closing: dark
+    // structures narrower than the square removed) with a square of about `fallbackClosing`
+    // times the least pupil radius on a side (13 px at 320 x 240): lashes crossing or crowding
+    // a pupil merge with it into one irregular blob that ranks below lash clusters and shadows,
+    // and without them the pupil is a round blob again. 0 = the plain search's next blobs.
+    double fallbackClosing = 1.8;
     int ransacIterations = 150;
     double inlierDistance = 1.0; // pixels
     double minContrast = 12.0;   // grey levels between pupil and surround
@@ -103,7 +109,15 @@ private:
         double pupil = 0.0, surround = 0.0, threshold = 0.0, glint = 255.0;
     };
 
-    void findCandidates(const cv::Mat& grey, double minR, double maxR);
+    // The strongest dark blobs of the image behind `fullIntegral` (the size of `grey`), each
+    // unlike those already in `out`, appended until `out` holds `limit`; `small` and `integral`
+    // receive the coarse image searched and its integral.
+    void findCandidates(const cv::Mat& grey, const cv::Mat& fullIntegral, double minR, double maxR,
+                        cv::Mat& small, cv::Mat& integral, std::vector<Candidate>& out,
+                        std::size_t limit);
+    // The fallback round's blobs in place of mCandidates' after its first `firstRound`.
+    void findFallbackCandidates(const cv::Mat& grey, double minR, double maxR,
+                                std::size_t firstRound);
     // The strongest smaller dark blob within an outer blob (its centre and minor semi-axis, and
     // outerInterior: the level around a pupil in it); coarse image, after findCandidates.
     [[nodiscard]] std::optional<Candidate> innerCandidate(cv::Point2d outerCentre,
@@ -182,6 +196,7 @@ private:
     cv::Mat mSmall, mIntegral, mFullIntegral, mSmooth;
     int mCoarseFactor = 1; // full-resolution pixels per coarse pixel
     cv::Mat mInnerClipped, mInnerIntegral;
+    cv::Mat mClosed, mClosedIntegral, mClosedSmall, mClosedSmallIntegral; // the fallback's search
     std::vector<Candidate> mCandidates, mHeap;
     std::vector<double> mResponses; // one scale's centre-surround responses
     // This frame's first-pass fits, to skip repeats, and whether they were made with a known

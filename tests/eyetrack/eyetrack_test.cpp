@@ -267,6 +267,7 @@ TEST(PupilDetector, ImpossibleSettingsAreRefused) {
     EXPECT_THROW(StarburstDetector(StarburstConfig{.candidates = 0}), EyetrackError);
     EXPECT_THROW(StarburstDetector(StarburstConfig{.fallbackCandidates = -1}), EyetrackError);
     EXPECT_NO_THROW(StarburstDetector(StarburstConfig{.fallbackCandidates = 0}));
+    EXPECT_THROW(StarburstDetector(StarburstConfig{.fallbackClosing = -1.0}), EyetrackError);
     EXPECT_THROW(StarburstDetector(StarburstConfig{.eyeRatioMargin = -0.1}), EyetrackError);
 }
 
@@ -373,7 +374,16 @@ INSTANTIATE_TEST_SUITE_P(
         // when no candidate is confident.
         HardCase{"APupilBelowFiveStrongerBlobsIsStillLookedAt", 178, "wild", 1860, 1560, 50, 0.95},
         // The same with a shadow at the image's right edge answered in all 50 frames.
-        HardCase{"AShadowAtTheEdgeDoesNotHoldThePupilOff", 267, "wild", 1860, 1760, 50, 0.9}),
+        HardCase{"AShadowAtTheEdgeDoesNotHoldThePupilOff", 267, "wild", 1860, 1760, 50, 0.9},
+        // The same pupil later, thick lashes hanging across its top: pupil and lashes are one
+        // irregular blob, ranked below the 30th, and a lash cluster beside the eye was answered
+        // (39 %). The fallback round searches the image closed, lashes removed (80 %).
+        HardCase{"LashesOverThePupilAreClosedAwayForTheFallbackSearch", 178, "wild", 1860, 1700,
+                 100, 0.75},
+        // A pupil touching the upper lid's lashes, glints on its border, a dark iris, and a
+        // blurred shadow at the eye's corner darker than all of it: the shadow was answered for
+        // stretches of the window (73 %; 98.6 % with the closed image's blobs).
+        HardCase{"APupilAmongLashesIsFoundPastACornerShadow", 287, "wild", 1860, 1560, 300, 0.95}),
     [](const ::testing::TestParamInfo<HardCase>& param) { return std::string(param.param.name); });
 
 // The confidence against the gaze filter's gate, on wild clips from the start of free viewing
