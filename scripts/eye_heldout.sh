@@ -8,7 +8,9 @@
 # and wild once after the fourth's confidence change on 2026-11-26; all six twice in the fifth,
 # after its speed work and after its refit within the recent pupil size; all six twice in the
 # sixth, after its confidence change and after its lid-hugging refit; all six once in the
-# seventh, after its fallback round over the search's next blobs) — then the
+# seventh, after its fallback round over the search's next blobs; all six once in the eighth,
+# after its eye-specific shape ramp and gate of 0.6; all six once in the ninth, after its
+# fallback round over the closed image's blobs) — then the
 # 2D and 3D gaze models before and after headset slippage on seeds 9000-9007, and binocular
 # vergence on seeds 9000-9003. Writes JSON into OUT (default out/eye_heldout).
 # DETECTOR_ONLY=1 skips slippage and vergence.
