@@ -376,13 +376,15 @@ INSTANTIATE_TEST_SUITE_P(
         // The same with a shadow at the image's right edge answered in all 50 frames.
         HardCase{"AShadowAtTheEdgeDoesNotHoldThePupilOff", 267, "wild", 1860, 1760, 50, 0.9},
         // The same pupil later, thick lashes hanging across its top: pupil and lashes are one
-        // irregular blob, ranked below the 30th, and a lash cluster beside the eye was answered
-        // (39 %). The fallback round searches the image closed, lashes removed (80 %).
+        // irregular blob (20th of the search in frame 1773), and a lash cluster was answered (39 %;
+        // the plain search's next eight blobs 58 %). The fallback round searches the image closed,
+        // lashes removed (76 %).
         HardCase{"LashesOverThePupilAreClosedAwayForTheFallbackSearch", 178, "wild", 1860, 1700,
-                 100, 0.75},
+                 100, 0.7},
         // A pupil touching the upper lid's lashes, glints on its border, a dark iris, and a
         // blurred shadow at the eye's corner darker than all of it: the shadow was answered for
-        // stretches of the window (73 %; 98.6 % with the closed image's blobs).
+        // stretches of the window (73 %; the plain search's next eight blobs 70 %; 98.6 % with the
+        // closed image's blobs).
         HardCase{"APupilAmongLashesIsFoundPastACornerShadow", 287, "wild", 1860, 1560, 300, 0.95}),
     [](const ::testing::TestParamInfo<HardCase>& param) { return std::string(param.param.name); });
 
