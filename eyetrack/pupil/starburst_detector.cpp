@@ -374,7 +374,6 @@ void StarburstDetector::findCandidates(const cv::Mat& grey, const cv::Mat& fullI
 
 void StarburstDetector::findFallbackCandidates(const cv::Mat& grey, double minR, double maxR,
                                                std::size_t firstRound) {
-    const std::size_t limit = firstRound + static_cast<std::size_t>(mConfig.fallbackCandidates);
     if (mConfig.fallbackClosing <= 0.0) {
         return; // the plain search's next blobs are already there
     }
@@ -400,7 +399,7 @@ void StarburstDetector::findFallbackCandidates(const cv::Mat& grey, double minR,
     cv::integral(mClosed, mClosedIntegral, CV_32S);
     mCandidates.resize(firstRound);
     findCandidates(grey, mClosedIntegral, minR, maxR, mClosedSmall, mClosedSmallIntegral,
-                   mCandidates, limit);
+                   mCandidates, firstRound + static_cast<std::size_t>(mConfig.fallbackCandidates));
 }
 
 bool StarburstDetector::measureLevels(const cv::Mat& grey, const Candidate& c,
@@ -1078,13 +1077,12 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     // saccades, where the coarse search still finds them.
     const bool haveLast = mLast.found && mLast.confidence >= 0.6;
     if (haveLast) mCandidates.insert(mCandidates.begin(), {mLast.centre(), mLast.semiMajor(), 0.0});
-    struct Scored {
-        PupilResult result;
-        double score = 0.0, interior = 0.0, interiorHigh = 0.0, visibleSupport = 0.0;
+    // A refined candidate (its confidence with the size prior and the fallback scale applied)
+    // and how it was ranked.
+    struct Scored : Refined {
+        double score = 0.0;
         double consistency = 1.0; // the size prior's factor in score and confidence
-        double outside = -1.0;
-        double sizeFactor = 1.0; // the size prior's factor in the confidence alone
-        double supportAll = 0.0, shapeFactor = 1.0;
+        double sizeFactor = 1.0;  // the size prior's factor in the confidence alone
     };
     std::vector<Scored> scored;
     // confidenceScale: StarburstConfig::fallbackConfidence for the fallback round's blobs.
@@ -1106,19 +1104,19 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
         if (haveLast &&
             cv::norm(r.centre() - mLast.centre()) < std::max(5.0, 0.5 * mLast.semiMajor()))
             score *= 1.2;
-        if (score > 0.0)
-            scored.push_back({r, score, refined.interior, refined.interiorHigh,
-                              refined.visibleSupport, consistency, refined.outside, sizeFactor,
-                              refined.supportAll, refined.shapeFactor});
+        if (score > 0.0) {
+            scored.push_back({refined, score, consistency, sizeFactor});
+        }
     };
-    // The fallback round (StarburstConfig::fallbackCandidates): the search's next blobs when the
-    // first round found nothing as confident as a prior. In the wild preset, blurred shadows
-    // and lash clusters outside the eye (darker than the pupil, so stronger blobs) took all
-    // five places while a low-contrast pupil was plainly visible (wild seed 178, the pupil the
-    // ninth blob). eyescore, development seeds, wild 1-150 / 151-300: 95.89 / 94.05 -> 96.17 /
-    // 94.61 % within 5 px (seeds 178: 60 -> 73 %, 71: 78 -> 91 %, 267: 6 -> 75 %; 287: 90 ->
-    // 73 %: a fallback blob outscored the first round's winner, inside which a faint pupil
-    // had been found; searching inside both winners won that back but let 0.2 / 0.5 points
+    // The fallback round (StarburstConfig::fallbackCandidates): further blobs, from the image
+    // with lashes closed away (findFallbackCandidates), when the first round found nothing as
+    // confident as a prior. What follows measured it with the plain search's next five blobs. In
+    // the wild preset, blurred shadows and lash clusters outside the eye (darker than the pupil, so
+    // stronger blobs) took all five places while a low-contrast pupil was plainly visible (wild
+    // seed 178, the pupil the ninth blob). eyescore, development seeds, wild 1-150 / 151-300: 95.89
+    // / 94.05 -> 96.17 / 94.61 % within 5 px (seeds 178: 60 -> 73 %, 71: 78 -> 91 %, 267: 6 -> 75
+    // %; 287: 90 -> 73 %: a fallback blob outscored the first round's winner, inside which a faint
+    // pupil had been found; searching inside both winners won that back but let 0.2 / 0.5 points
     // more wrong answers through the gate). Without the confidence scale (and a 0.5 trigger)
     // the gate kept 1.4 points more wrong answers (specks and lash loops answered while the
     // pupil was hidden), with it 90.8 / 92.3 -> 90.9 / 92.4 % rejected; hard 1-100 / 101-200
