@@ -175,6 +175,14 @@ private:
     [[nodiscard]] std::optional<EllipseFit> fitUnderLid(const cv::Mat& grey, const EllipseFit& fit,
                                                         const RansacEllipseParams& rp,
                                                         const Levels& levels) const;
+    // Without a recent pupil to go by: a refit of the edge points that do not face up (a lid
+    // over the pupil's top gives edges facing up), at least as round as the pupils a head-mounted
+    // camera sees, when `fit` is flatter and what the rounder ellipse adds lies under something
+    // brighter than the iris; nullopt otherwise.
+    [[nodiscard]] std::optional<EllipseFit> fitRounderUnderLid(const cv::Mat& grey,
+                                                               const EllipseFit& fit,
+                                                               const RansacEllipseParams& rp,
+                                                               const Levels& levels) const;
     [[nodiscard]] bool isGlint(const cv::Mat& grey, cv::Point2d p, const Levels& levels) const;
     [[nodiscard]] double outsideLevel(const cv::Mat& grey, const cv::RotatedRect& e,
                                       const Levels& levels) const;
