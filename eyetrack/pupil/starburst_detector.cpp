@@ -898,6 +898,11 @@ std::optional<EllipseFit> StarburstDetector::fitRounderUnderLid(const cv::Mat& g
     rounder.minAxis = 2.0 * std::max(0.5 * semiMajor, 1.1 * semiMinor);
     rounder.maxAxis = 2.0 * kWider * semiMajor;
     rounder.seed += 13;
+    // Half the draws: the refit runs for every flat candidate, most of them no pupil under a lid,
+    // and fails after all its draws when no round ellipse explains them (the full 150 cost 5 %
+    // of the clean preset's instructions a frame, half 3 %; development seeds, wild 1-150 /
+    // 151-300: 96.55 / 95.59 -> 96.56 / 95.59 % within 5 px).
+    rounder.iterations = std::max(20, rp.iterations / 2);
     auto refit = fitEllipseRansac(points, rounder, gradients);
     if (!refit || static_cast<double>(refit->inliers.size()) <
                       kKeptInliers * static_cast<double>(fit.inliers.size())) {
