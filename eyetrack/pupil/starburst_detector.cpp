@@ -819,7 +819,6 @@ std::optional<EllipseFit> StarburstDetector::fitUnderLid(const cv::Mat& grey, co
     constexpr double kMinorFloor = 0.9;    // the refit's least minor semi-axis, over the recent
     constexpr double kLarger = 1.15;       // the refit's largest semi-axis, over the recent radius
     constexpr double kKeptInliers = 0.6;   // of the narrow fit's
-    constexpr double kSupportMargin = 0.1; // visible support it may lose
     if (mRecentRadius <= 0.0 || mRecentMinor <= 0.0) {
         return std::nullopt;
     }
@@ -834,19 +833,26 @@ std::optional<EllipseFit> StarburstDetector::fitUnderLid(const cv::Mat& grey, co
     wider.maxAxis = std::max(wider.minAxis + 1.0, 2.0 * kLarger * mRecentRadius);
     wider.seed += 11;
     auto fuller = fitEllipseRansac(mEdgePoints, wider, mEdgeGradients);
-    if (!fuller || static_cast<double>(fuller->inliers.size()) <
-                       kKeptInliers * static_cast<double>(fit.inliers.size())) {
-        return std::nullopt;
-    }
-    if (outlineSupport(grey, fuller->ellipse, lv).visible <
-        outlineSupport(grey, fit.ellipse, lv).visible - kSupportMargin) {
-        return std::nullopt;
-    }
-    const double added = medianBeyond(grey, fuller->ellipse, fit.ellipse, lv.glint);
-    if (added < lv.surround + kSkinAboveIris * (lv.surround - lv.pupil)) {
+    if (!fuller || !addsOnlyLid(grey, *fuller, fit, lv, kKeptInliers)) {
         return std::nullopt;
     }
     return fuller;
+}
+
+bool StarburstDetector::addsOnlyLid(const cv::Mat& grey, const EllipseFit& larger,
+                                    const EllipseFit& fit, const Levels& lv,
+                                    double keptInliers) const {
+    constexpr double kSupportMargin = 0.1; // visible support it may lose
+    if (static_cast<double>(larger.inliers.size()) <
+        keptInliers * static_cast<double>(fit.inliers.size())) {
+        return false;
+    }
+    if (outlineSupport(grey, larger.ellipse, lv).visible <
+        outlineSupport(grey, fit.ellipse, lv).visible - kSupportMargin) {
+        return false;
+    }
+    const double added = medianBeyond(grey, larger.ellipse, fit.ellipse, lv.glint);
+    return added >= lv.surround + kSkinAboveIris * (lv.surround - lv.pupil);
 }
 
 std::optional<EllipseFit> StarburstDetector::fitRounderUnderLid(const cv::Mat& grey,
@@ -876,7 +882,6 @@ std::optional<EllipseFit> StarburstDetector::fitRounderUnderLid(const cv::Mat& g
     constexpr double kFacingUp = -0.7;     // edge points whose gradient's y is below are left out
     constexpr double kWider = 1.25;        // the refit's largest semi-axis, over the fit's
     constexpr double kKeptInliers = 0.5;   // of the flat fit's
-    constexpr double kSupportMargin = 0.1; // visible support it may lose
     const double semiMajor = 0.5 * std::max(fit.ellipse.size.width, fit.ellipse.size.height);
     const double semiMinor = 0.5 * std::min(fit.ellipse.size.width, fit.ellipse.size.height);
     const double ratio = std::max(kRoundest, mEyeRatio > 0.0 ? mEyeRatio - kEyeMargin : 0.0);
@@ -904,19 +909,9 @@ std::optional<EllipseFit> StarburstDetector::fitRounderUnderLid(const cv::Mat& g
     // 151-300: 96.55 / 95.59 -> 96.56 / 95.59 % within 5 px).
     rounder.iterations = std::max(20, rp.iterations / 2);
     auto refit = fitEllipseRansac(points, rounder, gradients);
-    if (!refit || static_cast<double>(refit->inliers.size()) <
-                      kKeptInliers * static_cast<double>(fit.inliers.size())) {
-        return std::nullopt;
-    }
-    if (refit->ellipse.center.y >= fit.ellipse.center.y) {
-        return std::nullopt; // not towards the lid over the top
-    }
-    if (outlineSupport(grey, refit->ellipse, lv).visible <
-        outlineSupport(grey, fit.ellipse, lv).visible - kSupportMargin) {
-        return std::nullopt;
-    }
-    const double added = medianBeyond(grey, refit->ellipse, fit.ellipse, lv.glint);
-    if (added < lv.surround + kSkinAboveIris * (lv.surround - lv.pupil)) {
+    // It must move towards the lid over the top.
+    if (!refit || refit->ellipse.center.y >= fit.ellipse.center.y ||
+        !addsOnlyLid(grey, *refit, fit, lv, kKeptInliers)) {
         return std::nullopt;
     }
     return refit;

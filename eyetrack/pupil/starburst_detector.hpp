@@ -175,6 +175,12 @@ private:
     [[nodiscard]] std::optional<EllipseFit> fitUnderLid(const cv::Mat& grey, const EllipseFit& fit,
                                                         const RansacEllipseParams& rp,
                                                         const Levels& levels) const;
+    // Whether `larger`, a refit of `fit` reaching under a lid, is taken: it keeps `keptInliers`
+    // of fit's inliers, its visible outline is about as well supported, and what it adds to
+    // fit lies under something brighter than the iris (the lid).
+    [[nodiscard]] bool addsOnlyLid(const cv::Mat& grey, const EllipseFit& larger,
+                                   const EllipseFit& fit, const Levels& levels,
+                                   double keptInliers) const;
     // Without a recent pupil to go by: a refit of the edge points that do not face up (a lid
     // over the pupil's top gives edges facing up), at least as round as the pupils a head-mounted
     // camera sees, when `fit` is flatter and what the rounder ellipse adds lies under something
