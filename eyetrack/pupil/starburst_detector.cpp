@@ -814,11 +814,11 @@ std::optional<EllipseFit> StarburstDetector::fitUnderLid(const cv::Mat& grey, co
     // eyescore, development seeds, wild 1-150 / 151-300: 95.78 / 93.86 -> 95.89 / 94.05 % within
     // 5 px (seeds 287: 76.7 -> 89.9 %, 113: 82.7 -> 98.6 %); gate 0.58, wrong rejected 90.4 /
     // 92.3 -> 90.8 / 92.3 %, right kept 96.0 / 95.1 -> 96.0 / 95.2 %.
-    constexpr double kNarrow = 0.8;        // fit minor semi-axis over the recent one
-    constexpr double kSameSize = 1.2;      // fit semi-major within this factor of the recent
-    constexpr double kMinorFloor = 0.9;    // the refit's least minor semi-axis, over the recent
-    constexpr double kLarger = 1.15;       // the refit's largest semi-axis, over the recent radius
-    constexpr double kKeptInliers = 0.6;   // of the narrow fit's
+    constexpr double kNarrow = 0.8;      // fit minor semi-axis over the recent one
+    constexpr double kSameSize = 1.2;    // fit semi-major within this factor of the recent
+    constexpr double kMinorFloor = 0.9;  // the refit's least minor semi-axis, over the recent
+    constexpr double kLarger = 1.15;     // the refit's largest semi-axis, over the recent radius
+    constexpr double kKeptInliers = 0.6; // of the narrow fit's
     if (mRecentRadius <= 0.0 || mRecentMinor <= 0.0) {
         return std::nullopt;
     }
@@ -877,11 +877,11 @@ std::optional<EllipseFit> StarburstDetector::fitRounderUnderLid(const cv::Mat& g
     // y < -0.5 left out instead: bound 0.7 96.53 / 95.59 %, 0.65 96.54 / 95.46 %. On fourteen
     // of the seeds (164, 210, 298, ...; 75.3 % before), with y < -0.3: bounds 0.6 / 0.7 / 0.8
     // 75.7 / 76.1 / 75.4 %; with 0.7, every edge facing up at all (y < 0) left out: 75.9 %.
-    constexpr double kRoundest = 0.7;      // the refit's least axis ratio (minor over major)
-    constexpr double kEyeMargin = 0.1;     // or the eye's learnt ratio less this, if higher
-    constexpr double kFacingUp = -0.7;     // edge points whose gradient's y is below are left out
-    constexpr double kWider = 1.25;        // the refit's largest semi-axis, over the fit's
-    constexpr double kKeptInliers = 0.5;   // of the flat fit's
+    constexpr double kRoundest = 0.7;    // the refit's least axis ratio (minor over major)
+    constexpr double kEyeMargin = 0.1;   // or the eye's learnt ratio less this, if higher
+    constexpr double kFacingUp = -0.7;   // edge points whose gradient's y is below are left out
+    constexpr double kWider = 1.25;      // the refit's largest semi-axis, over the fit's
+    constexpr double kKeptInliers = 0.5; // of the flat fit's
     const double semiMajor = 0.5 * std::max(fit.ellipse.size.width, fit.ellipse.size.height);
     const double semiMinor = 0.5 * std::min(fit.ellipse.size.width, fit.ellipse.size.height);
     const double ratio = std::max(kRoundest, mEyeRatio > 0.0 ? mEyeRatio - kEyeMargin : 0.0);
