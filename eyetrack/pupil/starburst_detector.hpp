@@ -189,6 +189,12 @@ private:
                                                                const EllipseFit& fit,
                                                                const RansacEllipseParams& rp,
                                                                const Levels& levels) const;
+    // A pupil under the lid placed by its iris: the visible arc of a flat fit and the limbus
+    // below it fitted as two concentric ellipses of one shape (limbus_fit.hpp), when that makes
+    // the pupil clearly rounder and moves it up; nullopt otherwise. Its inliers hold only their
+    // count (the arc's points are not mEdgePoints' indices).
+    [[nodiscard]] std::optional<EllipseFit>
+    fitWithLimbus(const cv::Mat& grey, const EllipseFit& fit, const Levels& levels) const;
     [[nodiscard]] bool isGlint(const cv::Mat& grey, cv::Point2d p, const Levels& levels) const;
     [[nodiscard]] double outsideLevel(const cv::Mat& grey, const cv::RotatedRect& e,
                                       const Levels& levels) const;

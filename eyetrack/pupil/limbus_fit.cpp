@@ -1,0 +1,281 @@
+#include "pupil/limbus_fit.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include <opencv2/core.hpp>
+
+namespace gt::eyetrack {
+
+namespace {
+
+// Bilinear grey level at (x, y); -1 outside the image.
+double bilinear(const cv::Mat& img, double x, double y) {
+    if (x < 0.0 || y < 0.0 || x > img.cols - 1.0 || y > img.rows - 1.0) return -1.0;
+    const int x0 = std::min(static_cast<int>(x), img.cols - 2);
+    const int y0 = std::min(static_cast<int>(y), img.rows - 2);
+    const double fx = x - x0, fy = y - y0;
+    const uchar* r0 = img.ptr<uchar>(y0);
+    const uchar* r1 = img.ptr<uchar>(y0 + 1);
+    return (1.0 - fy) * ((1.0 - fx) * r0[x0] + fx * r0[x0 + 1]) +
+           fy * ((1.0 - fx) * r1[x0] + fx * r1[x0 + 1]);
+}
+
+struct Shape {
+    double cx, cy, a, ratio, angle, scale; // limbus = pupil x scale
+};
+
+// Signed distance from p to the ellipse along the ray from its centre (negative inside).
+double radialResidual(cv::Point2d p, double cx, double cy, double a, double b, double c, double s) {
+    const double dx = p.x - cx, dy = p.y - cy;
+    const double u = dx * c + dy * s, w = -dx * s + dy * c;
+    const double rho = std::hypot(u / a, w / b);
+    return rho > 1e-9 ? std::hypot(u, w) * (1.0 - 1.0 / rho) : -b;
+}
+
+} // namespace
+
+void findLimbusPoints(const cv::Mat& smooth, const cv::RotatedRect& pupil, const LimbusSearch& s,
+                      std::vector<cv::Point2d>& points) {
+    points.clear();
+    const cv::Point2d c(pupil.center.x, pupil.center.y);
+    const double a = 0.5 * pupil.size.width, b = 0.5 * pupil.size.height;
+    const double th = pupil.angle * std::numbers::pi / 180.0;
+    const cv::Point2d e1(std::cos(th), std::sin(th)), e2(-std::sin(th), std::cos(th));
+    const double major = std::max(a, b);
+    constexpr int kPlateau = 4; // px the sclera must stay bright (a glint or a lash gap does not)
+    std::vector<double> profile;
+    for (int i = 0; i < s.rays; ++i) {
+        // From 20 deg above the horizontal on one side, through straight down, to the other.
+        const double phi = (-20.0 + 220.0 * i / (s.rays - 1)) * std::numbers::pi / 180.0;
+        const cv::Point2d d(std::cos(phi), std::sin(phi));
+        const double edge = 1.0 / std::hypot(d.dot(e1) / a, d.dot(e2) / b);
+        const int t0 = static_cast<int>(std::ceil(edge + 2.0));
+        const int t1 = static_cast<int>(s.maxReach * major);
+        profile.clear();
+        for (int t = t0; t <= t1; ++t) {
+            const double v = bilinear(smooth, c.x + t * d.x, c.y + t * d.y);
+            if (v < 0.0) break;
+            profile.push_back(v);
+        }
+        const int n = static_cast<int>(profile.size());
+        if (n < 8) continue;
+        // The iris's own level on this ray, just outside the pupil (the level measured around the
+        // pupil can be the sclera's when the iris is a thin ring).
+        std::array<double, 3> first{profile[0], profile[1], profile[2]};
+        std::sort(first.begin(), first.end());
+        const double bright = std::min(first[1], s.irisLevel) + s.minStep;
+        for (int k = 1; k + kPlateau < n; ++k) {
+            if (profile[static_cast<std::size_t>(k)] < bright) continue;
+            bool plateau = true;
+            for (int j = k; j < k + kPlateau && plateau; ++j) {
+                const double v = profile[static_cast<std::size_t>(j)];
+                plateau = v >= bright && v < s.glintLevel;
+            }
+            if (!plateau) continue;
+            // Half-way between the darkest level just before (the limbus ring) and the plateau.
+            double low = profile[static_cast<std::size_t>(k)];
+            int lowAt = k;
+            for (int j = k - 1; j >= std::max(0, k - 6); --j) {
+                if (profile[static_cast<std::size_t>(j)] < low) {
+                    low = profile[static_cast<std::size_t>(j)];
+                    lowAt = j;
+                }
+            }
+            double high = 0.0;
+            for (int j = k; j < k + kPlateau; ++j)
+                high += profile[static_cast<std::size_t>(j)];
+            high /= kPlateau;
+            const double half = 0.5 * (low + high);
+            double at = k;
+            for (int j = lowAt; j < k + kPlateau - 1; ++j) {
+                const double v0 = profile[static_cast<std::size_t>(j)];
+                const double v1 = profile[static_cast<std::size_t>(j + 1)];
+                if (v0 < half && v1 >= half) {
+                    at = j + (half - v0) / (v1 - v0);
+                    break;
+                }
+            }
+            const double t = t0 + at;
+            points.emplace_back(c.x + t * d.x, c.y + t * d.y);
+            break;
+        }
+    }
+}
+
+std::optional<ConcentricFit> fitConcentric(std::span<const cv::Point2d> pupilPoints,
+                                           std::span<const cv::Point2d> limbusPoints,
+                                           const cv::RotatedRect& start, double minRatio) {
+    if (pupilPoints.size() < 6 || limbusPoints.size() < 6) return std::nullopt;
+    double a0 = 0.5 * start.size.width, b0 = 0.5 * start.size.height;
+    double th0 = start.angle * std::numbers::pi / 180.0;
+    if (b0 > a0) {
+        std::swap(a0, b0);
+        th0 += 0.5 * std::numbers::pi;
+    }
+    const cv::Point2d c0(start.center.x, start.center.y);
+    std::vector<double> dist;
+    for (const cv::Point2d& p : limbusPoints)
+        dist.push_back(cv::norm(p - c0));
+    std::nth_element(dist.begin(), dist.begin() + static_cast<std::ptrdiff_t>(dist.size() / 2),
+                     dist.end());
+    const double k0 = std::max(1.3, dist[dist.size() / 2] / a0);
+    constexpr double kSigma = 1.5;
+    constexpr int kIterations = 15;
+    constexpr double kConverged = 1e-4; // relative fall of the cost that ends the descent
+    const std::size_t np = pupilPoints.size(), nl = limbusPoints.size(), n = np + nl;
+    using Params = std::array<double, 6>;
+    const auto project = [&](Params& x) {
+        x[2] = std::max(2.0, x[2]);
+        x[3] = std::clamp(x[3], minRatio, 1.0);
+        x[5] = std::clamp(x[5], 1.2, 10.0);
+    };
+    const auto residuals = [&](const Params& x, std::vector<double>& r) {
+        r.resize(n);
+        const double c = std::cos(x[4]), s = std::sin(x[4]);
+        for (std::size_t i = 0; i < np; ++i)
+            r[i] = radialResidual(pupilPoints[i], x[0], x[1], x[2], x[2] * x[3], c, s);
+        for (std::size_t i = 0; i < nl; ++i)
+            r[np + i] =
+                radialResidual(limbusPoints[i], x[0], x[1], x[2] * x[5], x[2] * x[3] * x[5], c, s);
+    };
+    // d r / d (cx, cy, a, ratio, angle, scale) for r = L (1 - 1 / rho), L the distance from the
+    // centre and rho the ellipse's normalised radius there (A, B its semi-axes).
+    const auto jacobian = [&](const Params& x, std::vector<std::array<double, 6>>& jac) {
+        jac.resize(n);
+        const double c = std::cos(x[4]), s = std::sin(x[4]);
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool onLimbus = i >= np;
+            const cv::Point2d p = onLimbus ? limbusPoints[i - np] : pupilPoints[i];
+            const double ke = onLimbus ? x[5] : 1.0;
+            const double A = x[2] * ke, B = x[2] * x[3] * ke;
+            const double dx = p.x - x[0], dy = p.y - x[1];
+            const double u = dx * c + dy * s, w = -dx * s + dy * c;
+            const double L = std::max(1e-9, std::hypot(u, w));
+            const double rho = std::max(1e-9, std::hypot(u / A, w / B));
+            const double k = L / (rho * rho); // d r / d rho
+            const double drdu = u / L * (1.0 - 1.0 / rho) + k * u / (A * A * rho);
+            const double drdw = w / L * (1.0 - 1.0 / rho) + k * w / (B * B * rho);
+            const double drdA = -k * u * u / (A * A * A * rho);
+            const double drdB = -k * w * w / (B * B * B * rho);
+            std::array<double, 6>& j = jac[i];
+            j[0] = -drdu * c + drdw * s;
+            j[1] = -drdu * s - drdw * c;
+            j[2] = (drdA + drdB * x[3]) * ke;
+            j[3] = drdB * x[2] * ke;
+            j[4] = drdu * w - drdw * u;
+            j[5] = onLimbus ? (drdA + drdB * x[3]) * x[2] : 0.0;
+        }
+    };
+    const auto robustCost = [&](const std::vector<double>& r) {
+        double sum = 0.0;
+        for (const double v : r)
+            sum += std::log1p(v * v / (kSigma * kSigma));
+        return sum;
+    };
+    // The start: the ratio (0.7, 0.85 or 1, the centre raised so the lowest point stays) whose
+    // ellipses explain the points best; one descent from there (three cost 3x as much for the
+    // same fits on the development seeds).
+    std::optional<Params> best;
+    double bestCost = 0.0;
+    std::vector<double> r, rh;
+    for (const double ratio0 : {0.7, 0.85, 1.0}) {
+        if (ratio0 < minRatio) continue;
+        Params x{c0.x, c0.y, a0, ratio0, th0, k0};
+        x[1] -= std::max(0.0, ratio0 * a0 - b0) * std::abs(std::cos(th0));
+        project(x);
+        residuals(x, r);
+        const double cost = robustCost(r);
+        if (!best || cost < bestCost) {
+            best = x;
+            bestCost = cost;
+        }
+    }
+    if (!best) return std::nullopt;
+    {
+        Params x = *best;
+        residuals(x, r);
+        double current = bestCost, lambda = 1e-2;
+        std::vector<std::array<double, 6>> jac(n);
+        for (int it = 0; it < kIterations; ++it) {
+            jacobian(x, jac);
+            // Iteratively reweighted: Cauchy weights 1 / (1 + (r / sigma)^2).
+            cv::Matx<double, 6, 6> jtj = cv::Matx<double, 6, 6>::zeros();
+            cv::Vec<double, 6> jtr;
+            for (std::size_t i = 0; i < n; ++i) {
+                const double w = 1.0 / (1.0 + r[i] * r[i] / (kSigma * kSigma));
+                for (int p = 0; p < 6; ++p) {
+                    const double wj = w * jac[i][static_cast<std::size_t>(p)];
+                    jtr[p] += wj * r[i];
+                    for (int q = p; q < 6; ++q)
+                        jtj(p, q) += wj * jac[i][static_cast<std::size_t>(q)];
+                }
+            }
+            for (int p = 0; p < 6; ++p)
+                for (int q = 0; q < p; ++q)
+                    jtj(p, q) = jtj(q, p);
+            double gain = 0.0;
+            for (int tries = 0; tries < 4 && gain <= 0.0; ++tries) {
+                cv::Matx<double, 6, 6> m = jtj;
+                for (int p = 0; p < 6; ++p)
+                    m(p, p) += lambda * (jtj(p, p) + 1e-9);
+                cv::Vec<double, 6> step;
+                if (!cv::solve(m, -jtr, step, cv::DECOMP_CHOLESKY)) {
+                    lambda *= 10.0;
+                    continue;
+                }
+                Params xn = x;
+                for (int p = 0; p < 6; ++p)
+                    xn[static_cast<std::size_t>(p)] += step[p];
+                project(xn);
+                residuals(xn, rh);
+                const double cost = robustCost(rh);
+                if (cost < current) {
+                    gain = (current - cost) / std::max(1e-12, current);
+                    x = xn;
+                    r.swap(rh);
+                    current = cost;
+                    lambda = std::max(1e-7, 0.3 * lambda);
+                } else {
+                    lambda *= 10.0;
+                }
+            }
+            if (gain < kConverged) break;
+        }
+        best = x;
+    }
+    if (!best) return std::nullopt;
+    const Params& x = *best;
+    residuals(x, r);
+    ConcentricFit fit;
+    const float deg = static_cast<float>(x[4] * 180.0 / std::numbers::pi);
+    const cv::Point2f centre(static_cast<float>(x[0]), static_cast<float>(x[1]));
+    fit.pupil = cv::RotatedRect(
+        centre, cv::Size2f(static_cast<float>(2.0 * x[2]), static_cast<float>(2.0 * x[2] * x[3])),
+        deg);
+    fit.limbus = cv::RotatedRect(centre,
+                                 cv::Size2f(static_cast<float>(2.0 * x[2] * x[5]),
+                                            static_cast<float>(2.0 * x[2] * x[3] * x[5])),
+                                 deg);
+    double lo = 1e9, hi = -1e9;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (std::abs(r[i]) > kSigma) continue;
+        if (i < np) {
+            ++fit.pupilInliers;
+        } else {
+            ++fit.limbusInliers;
+            const cv::Point2d p = limbusPoints[i - np];
+            const double ang = std::atan2(p.y - x[1], p.x - x[0]) * 180.0 / std::numbers::pi;
+            // Rays run from -20 to 200 deg: unwrap the few above the horizontal on the left.
+            const double unwrapped = ang < -90.0 ? ang + 360.0 : ang;
+            lo = std::min(lo, unwrapped);
+            hi = std::max(hi, unwrapped);
+        }
+    }
+    fit.limbusSpreadDeg = hi > lo ? hi - lo : 0.0;
+    return fit;
+}
+
+} // namespace gt::eyetrack
