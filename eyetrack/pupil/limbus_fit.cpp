@@ -31,8 +31,8 @@ struct Shape {
 double radialResidual(cv::Point2d p, double cx, double cy, double a, double b, double c, double s) {
     const double dx = p.x - cx, dy = p.y - cy;
     const double u = dx * c + dy * s, w = -dx * s + dy * c;
-    const double rho = std::hypot(u / a, w / b);
-    return rho > 1e-9 ? std::hypot(u, w) * (1.0 - 1.0 / rho) : -b;
+    const double rho = std::sqrt(u * u / (a * a) + w * w / (b * b));
+    return rho > 1e-9 ? std::sqrt(u * u + w * w) * (1.0 - 1.0 / rho) : -b;
 }
 
 } // namespace
@@ -54,20 +54,28 @@ void findLimbusPoints(const cv::Mat& smooth, const cv::RotatedRect& pupil, const
         const double edge = 1.0 / std::hypot(d.dot(e1) / a, d.dot(e2) / b);
         const int t0 = static_cast<int>(std::ceil(edge + 2.0));
         const int t1 = static_cast<int>(s.maxReach * major);
+        // Sampled as far as the search needs it (most rays end at the first plateau).
         profile.clear();
-        for (int t = t0; t <= t1; ++t) {
-            const double v = bilinear(smooth, c.x + t * d.x, c.y + t * d.y);
-            if (v < 0.0) break;
-            profile.push_back(v);
-        }
-        const int n = static_cast<int>(profile.size());
-        if (n < 8) continue;
+        bool ended = false;
+        const auto reach = [&](int k) {
+            while (!ended && static_cast<int>(profile.size()) <= k) {
+                const int t = t0 + static_cast<int>(profile.size());
+                const double v = t <= t1 ? bilinear(smooth, c.x + t * d.x, c.y + t * d.y) : -1.0;
+                if (v < 0.0) {
+                    ended = true;
+                } else {
+                    profile.push_back(v);
+                }
+            }
+            return static_cast<int>(profile.size()) > k;
+        };
+        if (!reach(7)) continue;
         // The iris's own level on this ray, just outside the pupil (the level measured around the
         // pupil can be the sclera's when the iris is a thin ring).
         std::array<double, 3> first{profile[0], profile[1], profile[2]};
         std::sort(first.begin(), first.end());
         const double bright = std::min(first[1], s.irisLevel) + s.minStep;
-        for (int k = 1; k + kPlateau < n; ++k) {
+        for (int k = 1; reach(k + kPlateau); ++k) {
             if (profile[static_cast<std::size_t>(k)] < bright) continue;
             bool plateau = true;
             for (int j = k; j < k + kPlateau && plateau; ++j) {
@@ -153,8 +161,8 @@ std::optional<ConcentricFit> fitConcentric(std::span<const cv::Point2d> pupilPoi
             const double A = x[2] * ke, B = x[2] * x[3] * ke;
             const double dx = p.x - x[0], dy = p.y - x[1];
             const double u = dx * c + dy * s, w = -dx * s + dy * c;
-            const double L = std::max(1e-9, std::hypot(u, w));
-            const double rho = std::max(1e-9, std::hypot(u / A, w / B));
+            const double L = std::max(1e-9, std::sqrt(u * u + w * w));
+            const double rho = std::max(1e-9, std::sqrt(u * u / (A * A) + w * w / (B * B)));
             const double k = L / (rho * rho); // d r / d rho
             const double drdu = u / L * (1.0 - 1.0 / rho) + k * u / (A * A * rho);
             const double drdw = w / L * (1.0 - 1.0 / rho) + k * w / (B * B * rho);

@@ -969,9 +969,10 @@ std::optional<EllipseFit> StarburstDetector::fitWithLimbus(const cv::Mat& grey,
         if (g.y < kFacingUp) continue;
         const double dx = q.x - e.center.x, dy = q.y - e.center.y;
         const double u = dx * ct + dy * st, w = -dx * st + dy * ct;
-        const double rho = std::hypot(u / ea, w / eb);
-        if (rho <= 1e-9 || std::abs(std::hypot(u, w) * (1.0 - 1.0 / rho)) > kOnFit) continue;
-        if (g.x * dx + g.y * dy < 0.5 * std::hypot(dx, dy)) continue; // not pointing out
+        const double rho = std::sqrt(u * u / (ea * ea) + w * w / (eb * eb));
+        const double len = std::sqrt(u * u + w * w);
+        if (rho <= 1e-9 || std::abs(len * (1.0 - 1.0 / rho)) > kOnFit) continue;
+        if (g.x * dx + g.y * dy < 0.5 * len) continue; // not pointing out
         arc.push_back(q);
     }
     if (arc.size() < static_cast<std::size_t>(kLeastPoints)) {
