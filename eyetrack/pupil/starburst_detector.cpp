@@ -948,8 +948,9 @@ std::optional<EllipseFit> StarburstDetector::fitWithLimbus(const cv::Mat& grey,
     constexpr double kRounder = 0.1;       // the least gain in axis ratio
     constexpr double kLeastRatio = 0.6;    // the concentric fit's least axis ratio
     // Fits whose visible outline is less supported seldom win, and the search and the fit cost
-    // (the hard preset 1216 -> 1062 fps for every flat fit, 1067 from this support up; 0.7:
-    // 1108 fps but 30 frames fewer found on the twelve seeds that gain most).
+    // (bench, hard preset, before the search and fit were made cheaper: 1216 fps without the
+    // refit, 1062 refitting every flat fit, 1067 from this support up, 1108 from 0.7, which
+    // found 30 frames fewer on the twelve wild development seeds that gain most).
     constexpr double kLeastSupport = 0.6;
     const cv::RotatedRect& e = fit.ellipse;
     const double major = 0.5 * std::max(e.size.width, e.size.height);
