@@ -13,7 +13,9 @@ namespace {
 
 // Bilinear grey level at (x, y); -1 outside the image.
 double bilinear(const cv::Mat& img, double x, double y) {
-    if (x < 0.0 || y < 0.0 || x > img.cols - 1.0 || y > img.rows - 1.0) return -1.0;
+    if (x < 0.0 || y < 0.0 || x > img.cols - 1.0 || y > img.rows - 1.0) {
+        return -1.0;
+    }
     const int x0 = std::min(static_cast<int>(x), img.cols - 2);
     const int y0 = std::min(static_cast<int>(y), img.rows - 2);
     const double fx = x - x0, fy = y - y0;
@@ -69,20 +71,26 @@ void findLimbusPoints(const cv::Mat& smooth, const cv::RotatedRect& pupil, const
             }
             return static_cast<int>(profile.size()) > k;
         };
-        if (!reach(7)) continue;
+        if (!reach(7)) {
+            continue;
+        }
         // The iris's own level on this ray, just outside the pupil (the level measured around the
         // pupil can be the sclera's when the iris is a thin ring).
         std::array<double, 3> first{profile[0], profile[1], profile[2]};
         std::sort(first.begin(), first.end());
         const double bright = std::min(first[1], s.irisLevel) + s.minStep;
         for (int k = 1; reach(k + kPlateau); ++k) {
-            if (profile[static_cast<std::size_t>(k)] < bright) continue;
+            if (profile[static_cast<std::size_t>(k)] < bright) {
+                continue;
+            }
             bool plateau = true;
             for (int j = k; j < k + kPlateau && plateau; ++j) {
                 const double v = profile[static_cast<std::size_t>(j)];
                 plateau = v >= bright && v < s.glintLevel;
             }
-            if (!plateau) continue;
+            if (!plateau) {
+                continue;
+            }
             // Half-way between the darkest level just before (the limbus ring) and the plateau.
             double low = profile[static_cast<std::size_t>(k)];
             int lowAt = k;
@@ -93,14 +101,15 @@ void findLimbusPoints(const cv::Mat& smooth, const cv::RotatedRect& pupil, const
                 }
             }
             double high = 0.0;
-            for (int j = k; j < k + kPlateau; ++j)
+            for (int j = k; j < k + kPlateau; ++j) {
                 high += profile[static_cast<std::size_t>(j)];
+            }
             high /= kPlateau;
             const double half = 0.5 * (low + high);
             double at = k;
             for (int j = lowAt; j < k + kPlateau - 1; ++j) {
                 const double v0 = profile[static_cast<std::size_t>(j)];
-                const double v1 = profile[static_cast<std::size_t>(j + 1)];
+                const double v1 = profile[static_cast<std::size_t>(j) + 1];
                 if (v0 < half && v1 >= half) {
                     at = j + (half - v0) / (v1 - v0);
                     break;
@@ -116,7 +125,9 @@ void findLimbusPoints(const cv::Mat& smooth, const cv::RotatedRect& pupil, const
 std::optional<ConcentricFit> fitConcentric(std::span<const cv::Point2d> pupilPoints,
                                            std::span<const cv::Point2d> limbusPoints,
                                            const cv::RotatedRect& start, double minRatio) {
-    if (pupilPoints.size() < 6 || limbusPoints.size() < 6) return std::nullopt;
+    if (pupilPoints.size() < 6 || limbusPoints.size() < 6) {
+        return std::nullopt;
+    }
     double a0 = 0.5 * start.size.width, b0 = 0.5 * start.size.height;
     double th0 = start.angle * std::numbers::pi / 180.0;
     if (b0 > a0) {
@@ -125,8 +136,9 @@ std::optional<ConcentricFit> fitConcentric(std::span<const cv::Point2d> pupilPoi
     }
     const cv::Point2d c0(start.center.x, start.center.y);
     std::vector<double> dist;
-    for (const cv::Point2d& p : limbusPoints)
+    for (const cv::Point2d& p : limbusPoints) {
         dist.push_back(cv::norm(p - c0));
+    }
     std::nth_element(dist.begin(), dist.begin() + static_cast<std::ptrdiff_t>(dist.size() / 2),
                      dist.end());
     const double k0 = std::max(1.3, dist[dist.size() / 2] / a0);
@@ -143,11 +155,13 @@ std::optional<ConcentricFit> fitConcentric(std::span<const cv::Point2d> pupilPoi
     const auto residuals = [&](const Params& x, std::vector<double>& r) {
         r.resize(n);
         const double c = std::cos(x[4]), s = std::sin(x[4]);
-        for (std::size_t i = 0; i < np; ++i)
+        for (std::size_t i = 0; i < np; ++i) {
             r[i] = radialResidual(pupilPoints[i], x[0], x[1], x[2], x[2] * x[3], c, s);
-        for (std::size_t i = 0; i < nl; ++i)
+        }
+        for (std::size_t i = 0; i < nl; ++i) {
             r[np + i] =
                 radialResidual(limbusPoints[i], x[0], x[1], x[2] * x[5], x[2] * x[3] * x[5], c, s);
+        }
     };
     // d r / d (cx, cy, a, ratio, angle, scale) for r = L (1 - 1 / rho), L the distance from the
     // centre and rho the ellipse's normalised radius there (A, B its semi-axes).
@@ -179,8 +193,9 @@ std::optional<ConcentricFit> fitConcentric(std::span<const cv::Point2d> pupilPoi
     };
     const auto robustCost = [&](const std::vector<double>& r) {
         double sum = 0.0;
-        for (const double v : r)
+        for (const double v : r) {
             sum += std::log1p(v * v / (kSigma * kSigma));
+        }
         return sum;
     };
     // The start: the ratio (0.7, 0.85 or 1, the centre raised so the lowest point stays) whose
@@ -191,7 +206,9 @@ std::optional<ConcentricFit> fitConcentric(std::span<const cv::Point2d> pupilPoi
     double bestCost = 0.0;
     std::vector<double> r, rh;
     for (const double ratio0 : {0.7, 0.85, 1.0}) {
-        if (ratio0 < minRatio) continue;
+        if (ratio0 < minRatio) {
+            continue;
+        }
         Params x{c0.x, c0.y, a0, ratio0, th0, k0};
         x[1] -= std::max(0.0, ratio0 * a0 - b0) * std::abs(std::cos(th0));
         project(x);
@@ -202,7 +219,9 @@ std::optional<ConcentricFit> fitConcentric(std::span<const cv::Point2d> pupilPoi
             bestCost = cost;
         }
     }
-    if (!best) return std::nullopt;
+    if (!best) {
+        return std::nullopt;
+    }
     {
         Params x = *best;
         residuals(x, r);
@@ -218,26 +237,31 @@ std::optional<ConcentricFit> fitConcentric(std::span<const cv::Point2d> pupilPoi
                 for (int p = 0; p < 6; ++p) {
                     const double wj = w * jac[i][static_cast<std::size_t>(p)];
                     jtr[p] += wj * r[i];
-                    for (int q = p; q < 6; ++q)
+                    for (int q = p; q < 6; ++q) {
                         jtj(p, q) += wj * jac[i][static_cast<std::size_t>(q)];
+                    }
                 }
             }
-            for (int p = 0; p < 6; ++p)
-                for (int q = 0; q < p; ++q)
+            for (int p = 0; p < 6; ++p) {
+                for (int q = 0; q < p; ++q) {
                     jtj(p, q) = jtj(q, p);
+                }
+            }
             double gain = 0.0;
             for (int tries = 0; tries < 4 && gain <= 0.0; ++tries) {
                 cv::Matx<double, 6, 6> m = jtj;
-                for (int p = 0; p < 6; ++p)
+                for (int p = 0; p < 6; ++p) {
                     m(p, p) += lambda * (jtj(p, p) + 1e-9);
+                }
                 cv::Vec<double, 6> step;
                 if (!cv::solve(m, -jtr, step, cv::DECOMP_CHOLESKY)) {
                     lambda *= 10.0;
                     continue;
                 }
                 Params xn = x;
-                for (int p = 0; p < 6; ++p)
+                for (int p = 0; p < 6; ++p) {
                     xn[static_cast<std::size_t>(p)] += step[p];
+                }
                 project(xn);
                 residuals(xn, rh);
                 const double cost = robustCost(rh);
@@ -251,11 +275,15 @@ std::optional<ConcentricFit> fitConcentric(std::span<const cv::Point2d> pupilPoi
                     lambda *= 10.0;
                 }
             }
-            if (gain < kConverged) break;
+            if (gain < kConverged) {
+                break;
+            }
         }
         best = x;
     }
-    if (!best) return std::nullopt;
+    if (!best) {
+        return std::nullopt;
+    }
     const Params& x = *best;
     residuals(x, r);
     ConcentricFit fit;
@@ -270,7 +298,9 @@ std::optional<ConcentricFit> fitConcentric(std::span<const cv::Point2d> pupilPoi
                                  deg);
     double lo = 1e9, hi = -1e9;
     for (std::size_t i = 0; i < n; ++i) {
-        if (std::abs(r[i]) > kSigma) continue;
+        if (std::abs(r[i]) > kSigma) {
+            continue;
+        }
         if (i < np) {
             ++fit.pupilInliers;
         } else {

@@ -967,14 +967,18 @@ std::optional<EllipseFit> StarburstDetector::fitWithLimbus(const cv::Mat& grey,
     std::vector<cv::Point2d> arc;
     for (std::size_t i = 0; i < mEdgePoints.size(); ++i) {
         const cv::Point2d q = mEdgePoints[i], g = mEdgeGradients[i];
-        if (g.y < kFacingUp) continue;
+        if (g.y < kFacingUp) {
+            continue;
+        }
         const double dx = q.x - e.center.x, dy = q.y - e.center.y;
         const double u = dx * ct + dy * st, w = -dx * st + dy * ct;
         const double rho = std::sqrt(u * u / (ea * ea) + w * w / (eb * eb));
         const double len = std::sqrt(u * u + w * w);
-        if (rho <= 1e-9 || std::abs(len * (1.0 - 1.0 / rho)) > kOnFit) continue;
-        if (g.x * dx + g.y * dy < 0.5 * len) continue; // not pointing out
-        arc.push_back(q);
+        // On the fit, and its gradient pointing out of it.
+        if (rho > 1e-9 && std::abs(len * (1.0 - 1.0 / rho)) <= kOnFit &&
+            g.x * dx + g.y * dy >= 0.5 * len) {
+            arc.push_back(q);
+        }
     }
     if (arc.size() < static_cast<std::size_t>(kLeastPoints)) {
         return std::nullopt;

@@ -268,13 +268,16 @@ TEST(LimbusFit, TheIrisPlacesAPupilHalfUnderTheLid) {
                             centre.y + x * std::sin(th) + y * std::cos(th));
         // Edge points are found to about half a pixel.
         const double jitter = 0.5 * std::sin(i * 2.7);
-        if (p.y > lidY + 1.0) arc.push_back(p + (p - centre) * (jitter / cv::norm(p - centre)));
+        if (p.y > lidY + 1.0) {
+            arc.push_back(p + (p - centre) * (jitter / cv::norm(p - centre)));
+        }
     }
     ASSERT_GT(arc.size(), 20U);
     // The detector's fit hugs the lid: as wide as the pupil, from the lid down to its bottom.
     double bottom = 0.0;
-    for (const cv::Point2d& p : arc)
+    for (const cv::Point2d& p : arc) {
         bottom = std::max(bottom, p.y);
+    }
     const cv::RotatedRect flat(
         cv::Point2f(static_cast<float>(centre.x), static_cast<float>(0.5 * (lidY + bottom))),
         cv::Size2f(static_cast<float>(2 * a), static_cast<float>(bottom - lidY)),
@@ -288,8 +291,9 @@ TEST(LimbusFit, TheIrisPlacesAPupilHalfUnderTheLid) {
     const double edge = iris + 1.5 / a;
     int onLimbus = 0;
     const Conic truth = Conic::fromEllipse(ellipse(edge));
-    for (const cv::Point2d& p : limbus)
+    for (const cv::Point2d& p : limbus) {
         onLimbus += truth.sampsonDistance(p) < 1.5 ? 1 : 0;
+    }
     // Rays above the horizontal end on the lid's skin, which is brighter than the iris too.
     EXPECT_GE(onLimbus, static_cast<int>(limbus.size()) * 2 / 3);
     const auto placed = fitConcentric(arc, limbus, flat, 0.6);
