@@ -928,15 +928,15 @@ std::optional<EllipseFit> StarburstDetector::fitWithLimbus(const cv::Mat& grey,
     // on pupils 50-70 % visible (84 % of those frames found within 5 px, 99 % of the pupils seen
     // nine-tenths whole). A fit flatter than 0.85 is refitted; the concentric fit is taken when
     // most of the visible arc's points and half the limbus points lie on it, the limbus points
-    // span 100 deg or more (one side and the bottom are not enough), it moves the centre up
+    // span 100 deg or more (bunched on one side they leave the shape open), it moves the centre up
     // (towards the lid), makes the pupil rounder by 0.1 or more (a smaller change is within the
     // noise of the limbus's own shape: refitting every fit flatter than 0.85 moved right answers
     // on eyes seen from a steep angle, seed 296 95.5 -> 62.9 %) and adds nothing darker than the
     // iris (below). eyescore, development seeds, wild 1-150 / 151-300: 96.56 / 95.59 -> 96.84 /
-    // 95.75 % within 5 px (seeds 87: 52.6 -> 89.1 %, 123: 33.0 -> 48.5 %, 288: 94.0 -> 99.3 %,
+    // 95.76 % within 5 px (seeds 87: 52.6 -> 89.1 %, 123: 33.0 -> 48.5 %, 288: 94.0 -> 99.3 %,
     // 55: 90.0 -> 95.4 %; worst 152: -4 frames); gate 0.6 rejecting 90.9 / 92.4 -> 91.4 / 92.8 %
     // of wrong answers, keeping 96.4 / 95.0 -> 96.3 / 95.2 % of right ones; hard 1-100 / 101-200
-    // 99.77 / 99.81 -> 99.82 / 99.85 %. The limbus alone was not tried: its own arc is cut by the
+    // 99.77 / 99.81 -> 99.82 / 99.84 %. The limbus alone was not tried: its own arc is cut by the
     // same lid. Refitting only fits the refits above left alone lost seed 296 all the same.
     constexpr double kFlat = 0.85;         // fits flatter than this are refitted
     constexpr double kFacingUp = -0.7;     // pupil edge points with gradient y below: the lid's
