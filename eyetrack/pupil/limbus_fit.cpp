@@ -25,10 +25,6 @@ double bilinear(const cv::Mat& img, double x, double y) {
            fy * ((1.0 - fx) * r1[x0] + fx * r1[x0 + 1]);
 }
 
-struct Shape {
-    double cx, cy, a, ratio, angle, scale; // limbus = pupil x scale
-};
-
 // Signed distance from p to the ellipse along the ray from its centre (negative inside).
 double radialResidual(cv::Point2d p, double cx, double cy, double a, double b, double c, double s) {
     const double dx = p.x - cx, dy = p.y - cy;

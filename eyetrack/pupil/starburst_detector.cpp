@@ -1015,7 +1015,6 @@ std::optional<EllipseFit> StarburstDetector::fitWithLimbus(const cv::Mat& grey,
     }
     EllipseFit out;
     out.ellipse = p;
-    out.inliers.assign(static_cast<std::size_t>(placed->pupilInliers), 0);
     return out;
 }
 

@@ -191,8 +191,8 @@ private:
                                                                const Levels& levels) const;
     // A pupil under the lid placed by its iris: the visible arc of a flat fit and the limbus
     // below it fitted as two concentric ellipses of one shape (limbus_fit.hpp), when that makes
-    // the pupil clearly rounder and moves it up; nullopt otherwise. Its inliers hold only their
-    // count (the arc's points are not mEdgePoints' indices).
+    // the pupil clearly rounder and moves it up; nullopt otherwise. It has no inliers (the arc's
+    // points are not mEdgePoints'; nothing after it reads them).
     [[nodiscard]] std::optional<EllipseFit>
     fitWithLimbus(const cv::Mat& grey, const EllipseFit& fit, const Levels& levels) const;
     [[nodiscard]] bool isGlint(const cv::Mat& grey, cv::Point2d p, const Levels& levels) const;
