@@ -61,6 +61,7 @@ struct EyescoreOptions {
     double threshold = -1.0; // < 0: the gaze filter's default gate
     std::string misses;      // CSV of the wrong answers and the visible frames missed
     std::string missesSheet; // contact sheet (PNG) of every sheetEvery-th of those frames
+    std::string answers;     // CSV of every answer with the evidence its confidence came from
     int sheetEvery = 20;
 };
 

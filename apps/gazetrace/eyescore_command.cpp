@@ -14,6 +14,7 @@
 #include "io/atomic_file.hpp"
 #include "io/contact_sheet.hpp"
 #include "pupil/pupil_detector.hpp"
+#include "pupil/starburst_detector.hpp"
 #include "score/detection_score.hpp"
 #include "sim/synthetic_eye.hpp"
 #include "stats.hpp"
@@ -62,6 +63,13 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
         misses->stream() << "seed,frame,visibility,truth_x,truth_y,found_x,found_y,error_px,"
                             "confidence,truth_major,truth_minor,found_major,found_minor\n";
     }
+    std::unique_ptr<eyetrack::AtomicFile> answers;
+    if (!o.answers.empty()) {
+        answers = std::make_unique<eyetrack::AtomicFile>(o.answers);
+        answers->stream() << "seed,frame,visibility,error_px,right,confidence,product,"
+                             "visible_support,fill,axis_ratio,size_factor,size_known,score,"
+                             "rival_score,last_distance,semi_major\n";
+    }
     std::optional<eyetrack::ContactSheet> sheet;
     if (!o.missesSheet.empty()) {
         sheet.emplace(o.missesSheet, o.sheetEvery);
@@ -86,8 +94,15 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
         const auto begin = std::chrono::steady_clock::now();
         std::vector<eyetrack::PupilResult> results;
         results.reserve(images.size());
+        // The starburst detector's evidence for each answer, for --answers.
+        const auto* starburst =
+            answers ? dynamic_cast<const eyetrack::StarburstDetector*>(detector.get()) : nullptr;
+        std::vector<eyetrack::AnswerEvidence> evidence;
         for (const cv::Mat& img : images) {
             results.push_back(detector->detect(img));
+            if (starburst != nullptr) {
+                evidence.push_back(starburst->lastEvidence());
+            }
         }
         const double ms =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin)
@@ -103,6 +118,15 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
             records.push_back(r);
             if (sheet && r.visible && !eyetrack::isRight(r, o.radiusPx)) {
                 sheet->add(images[f], p, seed * 100000 + o.skip + f);
+            }
+            if (answers && r.answered && f < evidence.size()) {
+                const eyetrack::AnswerEvidence& e = evidence[f];
+                answers->stream() << cv::format(
+                    "%llu,%zu,%.3f,%.3f,%d,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%d,%.5f,%.5f,%.3f,%.3f\n",
+                    static_cast<unsigned long long>(seed), o.skip + f, truths[f].visibility,
+                    r.errorPx, eyetrack::isRight(r, o.radiusPx) ? 1 : 0, p.confidence, e.confidence,
+                    e.visibleSupport, e.fill, e.axisRatio, e.sizeFactor, e.sizeKnown ? 1 : 0,
+                    e.score, e.rivalScore, e.lastDistance, e.semiMajor);
             }
             // Every visible frame not found within the radius, and every answer on a hidden pupil.
             if (misses && !eyetrack::isRight(r, o.radiusPx) && (r.visible || r.answered)) {
@@ -127,6 +151,9 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
     }
     if (misses) {
         misses->commit();
+    }
+    if (answers) {
+        answers->commit();
     }
     if (sheet && sheet->tiles() > 0) {
         sheet->write();

@@ -468,6 +468,9 @@ int main(int argc, char** argv) {
     eyescoreCmd->add_option(
         "--misses-sheet", eyescore.missesSheet,
         "PNG contact sheet of the missed frames (tile label: seed*100000+frame)");
+    eyescoreCmd->add_option("--answers", eyescore.answers,
+                            "CSV of every answer, right or not, with what its confidence weighed "
+                            "(scripts/fit_answer_confidence.py)");
     eyescoreCmd->add_option("--sheet-every", eyescore.sheetEvery, "Misses between sheet tiles")
         ->capture_default_str();
     eyescoreCmd->add_flag("--json", eyescoreJson, "Print JSON on one line");

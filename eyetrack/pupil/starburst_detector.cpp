@@ -1144,6 +1144,8 @@ StarburstDetector::Refined StarburstDetector::refine(const cv::Mat& grey, const 
     result.confidence *= refined.shapeFactor;
     refined.supportAll = support.all;
     refined.visibleSupport = support.visible;
+    refined.fill = fill;
+    refined.axisRatio = axisRatio;
     return refined;
 }
 
@@ -1429,6 +1431,32 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     }
     PupilResult best = picked->result;
     best.found = best.confidence >= mConfig.minConfidence;
+    // What is reported is the probability that the answer is right (answer_confidence.hpp); the
+    // detector's own product of factors stays what its priors and the next frame's search go by
+    // (they were designed on its scale).
+    AnswerEvidence answer;
+    answer.confidence = best.confidence;
+    answer.visibleSupport = picked->visibleSupport;
+    answer.fill = picked->fill;
+    answer.axisRatio = picked->axisRatio;
+    answer.sizeFactor = picked->sizeFactor;
+    answer.sizeKnown = mRecentRadius > 0.0;
+    answer.score = picked->score;
+    answer.semiMajor = best.semiMajor();
+    // A rival: the best candidate at another place (not the same blob found twice).
+    for (const Scored& s : scored) {
+        if (&s != picked &&
+            cv::norm(s.result.centre() - best.centre()) >= std::max(5.0, 0.5 * best.semiMajor())) {
+            answer.rivalScore = std::max(answer.rivalScore, s.score);
+        }
+    }
+    if (mLast.found) {
+        answer.lastDistance = cv::norm(best.centre() - mLast.centre());
+    }
+    PupilResult reported = best;
+    reported.confidence = answerProbability(answer);
+    mEvidence = answer;
+    reported.found = reported.confidence >= mConfig.minConfidence;
     mLast = best;
     ++mFramesSinceSize;
     // The size prior learns only from a uniformly dark inside: an iris with its pupil in it
@@ -1466,7 +1494,7 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
         const double ratio = best.semiMinor() / std::max(1e-6, best.semiMajor());
         mEyeRatio = mEyeRatio > 0.0 ? 0.9 * mEyeRatio + 0.1 * ratio : ratio;
     }
-    return best;
+    return reported;
 }
 
 } // namespace gt::eyetrack

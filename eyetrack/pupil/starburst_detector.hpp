@@ -34,6 +34,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "pupil/answer_confidence.hpp"
 #include "pupil/ellipse_fit.hpp"
 #include "pupil/pupil_detector.hpp"
 
@@ -98,12 +99,16 @@ public:
 
     void reset() override {
         mLast = {};
+        mEvidence = {};
         mRecentRadius = 0.0;
         mRecentMinor = 0.0;
         mEyeRatio = 0.0;
     }
     [[nodiscard]] std::string name() const override { return "starburst"; }
     [[nodiscard]] const StarburstConfig& config() const noexcept { return mConfig; }
+    // What the last detect() measured on its answer, from which it reported the confidence
+    // (eyescore --answers writes it, to refit answerProbability).
+    [[nodiscard]] const AnswerEvidence& lastEvidence() const noexcept { return mEvidence; }
 
 private:
     struct Candidate {
@@ -151,6 +156,8 @@ private:
         double fittedSemiMajor = 0.0; // before fitAtRecentSize: the size the edges chose
         double supportAll = 0.0;      // the whole outline's support (1: nothing covers it)
         double shapeFactor = 1.0;     // the axis-ratio ramp's factor in the confidence
+        double fill = 0.0;            // share of dark samples inside (interiorFill)
+        double axisRatio = 0.0;       // minor over major axis of the fit
     };
     struct Interior {
         double fill = 0.0, median = 255.0, upperQuartile = 255.0;
@@ -214,6 +221,7 @@ private:
         mRayDirections; // unit, one per ray, set once (sincos per ray cost 1 %)
     std::uint64_t mFrame = 0;
     PupilResult mLast;
+    AnswerEvidence mEvidence;
     double mRecentRadius = 0.0; // running pupil size from confident frames, 0 = unknown
     double mRecentMinor = 0.0;  // its minor semi-axis, learnt alike
     int mFramesSinceSize = 0;

@@ -25,6 +25,7 @@
 #include "gaze/gaze_tracker.hpp"
 #include "gaze/recording_calibration.hpp"
 #include "io/udp_emitter.hpp"
+#include "pupil/answer_confidence.hpp"
 #include "pupil/ellipse_fit.hpp"
 #include "pupil/limbus_fit.hpp"
 #include "pupil/starburst_detector.hpp"
@@ -508,6 +509,59 @@ TEST(PupilDetector, AnEyeSeenFromASteepAngleKeepsItsConfidence) {
     ASSERT_GT(s.right, 250);
     EXPECT_GE(s.rightKept, s.right * 9 / 10);
     EXPECT_LE(s.wrongKept, s.wrong / 10);
+}
+
+TEST(PupilDetector, AnEyeWhosePupilStaysUnderTheLidHasItsLashesRejected) {
+    // The pupil never shows half of itself in these 300 frames (it looks up under a low lid):
+    // every answer is wrong, mostly lash loops and specks along the lid, round, sharp and dark
+    // inside, whose product of factors passed the gate in 52 % of frames (no size prior to
+    // doubt them). The reported probability also weighs that no answer continues the last
+    // one and the fits' shapes: 8 % pass.
+    const ClipScore s = score(presetClip(101, 1860, "wild"), 1560, 300);
+    ASSERT_GT(s.wrong, 250);
+    EXPECT_LE(s.wrongKept, s.wrong / 5);
+}
+
+TEST(AnswerConfidence, WeighsWhatTheProductLeavesOut) {
+    AnswerEvidence right;
+    right.confidence = 0.9;
+    right.visibleSupport = 0.95;
+    right.fill = 0.95;
+    right.axisRatio = 0.9;
+    right.sizeKnown = true;
+    right.score = 0.9;
+    right.lastDistance = 0.5;
+    right.semiMajor = 20.0;
+    const double p = answerProbability(right);
+    EXPECT_GT(p, 0.9);
+    EXPECT_LT(p, 1.0);
+    AnswerEvidence none = right;
+    none.confidence = 0.0;
+    EXPECT_EQ(answerProbability(none), 0.0);
+    // Each of these makes the answer less likely to be right.
+    AnswerEvidence rival = right;
+    rival.rivalScore = right.score;
+    EXPECT_LT(answerProbability(rival), p);
+    AnswerEvidence jumped = right;
+    jumped.lastDistance = 60.0;
+    EXPECT_LT(answerProbability(jumped), p);
+    AnswerEvidence flat = right;
+    flat.axisRatio = 0.5;
+    EXPECT_LT(answerProbability(flat), p);
+    AnswerEvidence covered = right;
+    covered.visibleSupport = 0.5;
+    EXPECT_LT(answerProbability(covered), p);
+    // A lash loop on the lid while the pupil hides (wild seed 17, frame 1581): the product
+    // passed the gate at 0.77; far from the last answer, flatter and less filled, it does not.
+    AnswerEvidence loop;
+    loop.confidence = 0.765;
+    loop.visibleSupport = 0.95;
+    loop.fill = 0.80;
+    loop.axisRatio = 0.69;
+    loop.score = 0.7;
+    loop.lastDistance = 100.0;
+    loop.semiMajor = 10.3;
+    EXPECT_LT(answerProbability(loop), GazeFilterConfig{}.minConfidence);
 }
 
 TEST(PupilDetector, CleanSyntheticClip) {
