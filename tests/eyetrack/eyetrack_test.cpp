@@ -523,15 +523,14 @@ TEST(PupilDetector, AnEyeWhosePupilStaysUnderTheLidHasItsLashesRejected) {
 }
 
 TEST(AnswerConfidence, WeighsWhatTheProductLeavesOut) {
-    AnswerEvidence right;
-    right.confidence = 0.9;
-    right.visibleSupport = 0.95;
-    right.fill = 0.95;
-    right.axisRatio = 0.9;
-    right.sizeKnown = true;
-    right.score = 0.9;
-    right.lastDistance = 0.5;
-    right.semiMajor = 20.0;
+    const AnswerEvidence right{.confidence = 0.9,
+                               .visibleSupport = 0.95,
+                               .fill = 0.95,
+                               .axisRatio = 0.9,
+                               .sizeKnown = true,
+                               .score = 0.9,
+                               .lastDistance = 0.5,
+                               .semiMajor = 20.0};
     const double p = answerProbability(right);
     EXPECT_GT(p, 0.9);
     EXPECT_LT(p, 1.0);
@@ -551,16 +550,17 @@ TEST(AnswerConfidence, WeighsWhatTheProductLeavesOut) {
     AnswerEvidence covered = right;
     covered.visibleSupport = 0.5;
     EXPECT_LT(answerProbability(covered), p);
-    // A lash loop on the lid while the pupil hides (wild seed 17, frame 1581): the product
-    // passed the gate at 0.77; far from the last answer, flatter and less filled, it does not.
-    AnswerEvidence loop;
-    loop.confidence = 0.765;
-    loop.visibleSupport = 0.95;
-    loop.fill = 0.80;
-    loop.axisRatio = 0.69;
-    loop.score = 0.7;
-    loop.lastDistance = 100.0;
-    loop.semiMajor = 10.3;
+    // A lash loop on the lid while the pupil hides (wild seed 17, frame 1581, as measured): the
+    // product passed the gate at 0.77; with no pupil size learnt, flatter and less filled than a
+    // pupil, it does not (0.56), although it continues the last frame's answer.
+    const AnswerEvidence loop{.confidence = 0.765,
+                              .visibleSupport = 0.947,
+                              .fill = 0.796,
+                              .axisRatio = 0.686,
+                              .score = 0.905,
+                              .rivalScore = 0.155,
+                              .lastDistance = 1.24,
+                              .semiMajor = 10.29};
     EXPECT_LT(answerProbability(loop), GazeFilterConfig{}.minConfidence);
 }
 
