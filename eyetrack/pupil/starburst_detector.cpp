@@ -1434,28 +1434,26 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     // What is reported is the probability that the answer is right (answer_confidence.hpp); the
     // detector's own product of factors stays what its priors and the next frame's search go by
     // (they were designed on its scale).
-    AnswerEvidence answer;
-    answer.confidence = best.confidence;
-    answer.visibleSupport = picked->visibleSupport;
-    answer.fill = picked->fill;
-    answer.axisRatio = picked->axisRatio;
-    answer.sizeFactor = picked->sizeFactor;
-    answer.sizeKnown = mRecentRadius > 0.0;
-    answer.score = picked->score;
-    answer.semiMajor = best.semiMajor();
+    mEvidence = AnswerEvidence{.confidence = best.confidence,
+                               .visibleSupport = picked->visibleSupport,
+                               .fill = picked->fill,
+                               .axisRatio = picked->axisRatio,
+                               .sizeFactor = picked->sizeFactor,
+                               .sizeKnown = mRecentRadius > 0.0,
+                               .score = picked->score,
+                               .semiMajor = best.semiMajor()};
     // A rival: the best candidate at another place (not the same blob found twice).
     for (const Scored& s : scored) {
         if (&s != picked &&
             cv::norm(s.result.centre() - best.centre()) >= std::max(5.0, 0.5 * best.semiMajor())) {
-            answer.rivalScore = std::max(answer.rivalScore, s.score);
+            mEvidence.rivalScore = std::max(mEvidence.rivalScore, s.score);
         }
     }
     if (mLast.found) {
-        answer.lastDistance = cv::norm(best.centre() - mLast.centre());
+        mEvidence.lastDistance = cv::norm(best.centre() - mLast.centre());
     }
     PupilResult reported = best;
-    reported.confidence = answerProbability(answer);
-    mEvidence = answer;
+    reported.confidence = answerProbability(mEvidence);
     reported.found = reported.confidence >= mConfig.minConfidence;
     mLast = best;
     ++mFramesSinceSize;
