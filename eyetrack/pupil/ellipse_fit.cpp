@@ -436,4 +436,178 @@ std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
     return fit;
 }
 
+namespace {
+
+// The frame in which an ellipse of the given shape is a circle, and back.
+struct ShapeFrame {
+    cv::Point2d major, minor; // unit axes in the image
+    double ratio = 1.0;
+
+    [[nodiscard]] cv::Point2d toCircle(cv::Point2d p) const {
+        return {p.dot(major), p.dot(minor) / ratio};
+    }
+    [[nodiscard]] cv::RotatedRect toImage(cv::Point2d centre, double radius,
+                                          double majorAngleDeg) const {
+        const cv::Point2d c = major * centre.x + minor * (centre.y * ratio);
+        return {
+            cv::Point2f(static_cast<float>(c.x), static_cast<float>(c.y)),
+            cv::Size2f(static_cast<float>(2.0 * radius), static_cast<float>(2.0 * radius * ratio)),
+            static_cast<float>(majorAngleDeg)};
+    }
+};
+
+struct Circle {
+    cv::Point2d centre;
+    double radius = 0.0;
+};
+
+std::optional<Circle> circleThrough(cv::Point2d a, cv::Point2d b, cv::Point2d c) {
+    const double d = 2.0 * (a.x * (b.y - c.y) + b.x * (c.y - a.y) + c.x * (a.y - b.y));
+    if (std::abs(d) < 1e-9) {
+        return std::nullopt;
+    }
+    const double a2 = a.dot(a), b2 = b.dot(b), c2 = c.dot(c);
+    const cv::Point2d o((a2 * (b.y - c.y) + b2 * (c.y - a.y) + c2 * (a.y - b.y)) / d,
+                        (a2 * (c.x - b.x) + b2 * (a.x - c.x) + c2 * (b.x - a.x)) / d);
+    return Circle{o, cv::norm(a - o)};
+}
+
+// Kåsa's fit: minimise sum (x^2 + y^2 + D x + E y + F)^2 over the subset, about its mean.
+std::optional<Circle> leastSquaresCircle(std::span<const cv::Point2d> q,
+                                         std::span<const int> subset) {
+    cv::Point2d mean;
+    for (const int i : subset) {
+        mean += q[static_cast<std::size_t>(i)];
+    }
+    mean *= 1.0 / static_cast<double>(subset.size());
+    Mat3 m{};
+    std::array<double, 3> r{};
+    for (const int i : subset) {
+        const cv::Point2d p = q[static_cast<std::size_t>(i)] - mean;
+        const std::array<double, 3> row{p.x, p.y, 1.0};
+        const double z = -(p.x * p.x + p.y * p.y);
+        for (std::size_t j = 0; j < 3; ++j) {
+            for (std::size_t k = 0; k < 3; ++k) {
+                m[j][k] += row[j] * row[k];
+            }
+            r[j] += row[j] * z;
+        }
+    }
+    const auto inv = inverse3(m);
+    if (!inv) {
+        return std::nullopt;
+    }
+    std::array<double, 3> x{};
+    for (std::size_t j = 0; j < 3; ++j) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            x[j] += (*inv)[j][k] * r[k];
+        }
+    }
+    const cv::Point2d o(-0.5 * x[0], -0.5 * x[1]);
+    const double rr = o.dot(o) - x[2];
+    if (!(rr > 0.0)) {
+        return std::nullopt;
+    }
+    return Circle{o + mean, std::sqrt(rr)};
+}
+
+} // namespace
+
+std::optional<EllipseFit> fitEllipseOfShapeRansac(std::span<const cv::Point2d> points,
+                                                  double axisRatio, double majorAngleDeg,
+                                                  const RansacEllipseParams& params,
+                                                  std::span<const cv::Point2d> gradients) {
+    const std::size_t n = points.size();
+    if (n < 6 || !(axisRatio > 0.0 && axisRatio <= 1.0)) {
+        return std::nullopt;
+    }
+    if (!gradients.empty() && gradients.size() != n) {
+        gradients = {};
+    }
+    const double th = majorAngleDeg * std::numbers::pi / 180.0;
+    const ShapeFrame frame{{std::cos(th), std::sin(th)}, {-std::sin(th), std::cos(th)}, axisRatio};
+    std::vector<cv::Point2d> q(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        q[i] = frame.toCircle(points[i]);
+    }
+    RansacEllipseParams shapeParams = params;
+    shapeParams.minAxisRatio = 0.0;
+    auto inliersOf = [&](const cv::RotatedRect& el, std::vector<int>& out, std::size_t beat) {
+        out.clear();
+        const Conic conic = Conic::fromEllipse(el);
+        const InlierTest inlier{conic, outwardSign(conic, el), shapeParams, gradients};
+        for (std::size_t i = 0; i < n; ++i) {
+            if (out.size() + (n - i) <= beat) {
+                break;
+            }
+            if (inlier(points, i)) {
+                out.push_back(static_cast<int>(i));
+            }
+        }
+    };
+    std::uint64_t state = params.seed;
+    std::vector<int> best, current;
+    const bool adaptive = params.stopConfidence > 0.0 && params.stopConfidence < 1.0;
+    int needed = params.iterations;
+    int it = 0;
+    for (; it < params.iterations && (it < params.minIterations || it < needed); ++it) {
+        std::array<std::size_t, 3> idx{};
+        for (std::size_t k = 0; k < 3; ++k) {
+            bool fresh = false;
+            while (!fresh) {
+                idx[k] = static_cast<std::size_t>(splitmix(state) % n);
+                fresh = std::find(idx.begin(), idx.begin() + static_cast<std::ptrdiff_t>(k),
+                                  idx[k]) == idx.begin() + static_cast<std::ptrdiff_t>(k);
+            }
+        }
+        const auto circle = circleThrough(q[idx[0]], q[idx[1]], q[idx[2]]);
+        if (!circle) {
+            continue;
+        }
+        const cv::RotatedRect el = frame.toImage(circle->centre, circle->radius, majorAngleDeg);
+        if (!plausible(el, shapeParams)) {
+            continue;
+        }
+        inliersOf(el, current, best.size());
+        if (current.size() > best.size()) {
+            best.swap(current);
+            if (adaptive) {
+                // Three points a draw: the chance of an all-inlier draw is w^3, not w^5.
+                const double w = static_cast<double>(best.size()) / static_cast<double>(n);
+                const double all = w * w * w;
+                needed =
+                    all >= 1.0
+                        ? 0
+                        : static_cast<int>(std::clamp(
+                              std::ceil(std::log(1.0 - params.stopConfidence) / std::log1p(-all)),
+                              0.0, static_cast<double>(params.iterations)));
+            }
+        }
+    }
+    if (best.size() < 6) {
+        return std::nullopt;
+    }
+    EllipseFit fit;
+    for (int round = 0; round < 2; ++round) {
+        const auto circle = leastSquaresCircle(q, best);
+        if (!circle) {
+            return std::nullopt;
+        }
+        const cv::RotatedRect el = frame.toImage(circle->centre, circle->radius, majorAngleDeg);
+        if (!plausible(el, shapeParams)) {
+            return std::nullopt;
+        }
+        fit.ellipse = el;
+        std::vector<int> again;
+        inliersOf(el, again, 0);
+        if (again.size() < 6) {
+            break;
+        }
+        best.swap(again);
+    }
+    fit.inliers = std::move(best);
+    fit.draws = it;
+    return fit;
+}
+
 } // namespace gt::eyetrack

@@ -79,4 +79,15 @@ struct EllipseFit {
 fitEllipseRansac(std::span<const cv::Point2d> points, const RansacEllipseParams& params,
                  std::span<const cv::Point2d> gradients = {});
 
+// The same RANSAC with the ellipse's shape given (axis ratio minor / major and the major axis's
+// direction, degrees): only its centre and size are free, so three points fix it. In the frame
+// where that shape is a circle (rotated onto the major axis, the minor direction stretched by
+// 1 / ratio) each draw is the circle through three points and the refit a least-squares circle
+// (Kåsa 1976) on the inliers, two rounds as above; inliers are judged in the image as above.
+// An arc too short to fix five parameters — a pupil half under the lid — fixes three.
+[[nodiscard]] std::optional<EllipseFit>
+fitEllipseOfShapeRansac(std::span<const cv::Point2d> points, double axisRatio, double majorAngleDeg,
+                        const RansacEllipseParams& params,
+                        std::span<const cv::Point2d> gradients = {});
+
 } // namespace gt::eyetrack

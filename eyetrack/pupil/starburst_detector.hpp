@@ -17,7 +17,9 @@
 //  3. Ellipse: RANSAC over 5-point conics, refit on the inliers (pupil/ellipse_fit.hpp), then the
 //     rays are recast from the fitted centre and the fit repeated, which evens out the points
 //     when the candidate was off-centre. Candidates whose first fit repeats an earlier one's
-//     stop there.
+//     stop there. A fit the lid or lashes left open is refitted with what else is known: a lid
+//     line, the recent size, the limbus, and the shape the eye's whole pupils have shown at that
+//     place (pupil_shape_model.hpp, after Świrski & Dodgson 2013).
 //  4. Confidence (after PuRe's outline contrast, Santini, Fuhl & Kasneci 2018): the share of
 //     points along the fitted ellipse where the image is clearly darker just inside than just
 //     outside, on its visible part times the whole outline's to the power 1/4. An eyelid or
@@ -37,6 +39,7 @@
 #include "pupil/answer_confidence.hpp"
 #include "pupil/ellipse_fit.hpp"
 #include "pupil/pupil_detector.hpp"
+#include "pupil/pupil_shape_model.hpp"
 
 namespace gt::eyetrack {
 
@@ -103,6 +106,7 @@ public:
         mRecentRadius = 0.0;
         mRecentMinor = 0.0;
         mEyeRatio = 0.0;
+        mShape.reset();
     }
     [[nodiscard]] std::string name() const override { return "starburst"; }
     [[nodiscard]] const StarburstConfig& config() const noexcept { return mConfig; }
@@ -202,6 +206,14 @@ private:
     // points are not mEdgePoints'; nothing after it reads them).
     [[nodiscard]] std::optional<EllipseFit>
     fitWithLimbus(const cv::Mat& grey, const EllipseFit& fit, const Levels& levels) const;
+    // A refit of the edge points held to the shape the eye's pupils have at that place
+    // (pupil_shape_model.hpp) when `fit`'s shape is well off it, the refit keeps most of its
+    // inliers and its visible outline is about as well supported; nullopt otherwise or while the
+    // model is not learnt.
+    [[nodiscard]] std::optional<EllipseFit> fitToEyeShape(const cv::Mat& grey,
+                                                          const EllipseFit& fit,
+                                                          const RansacEllipseParams& rp,
+                                                          const Levels& levels) const;
     [[nodiscard]] bool isGlint(const cv::Mat& grey, cv::Point2d p, const Levels& levels) const;
     [[nodiscard]] double outsideLevel(const cv::Mat& grey, const cv::RotatedRect& e,
                                       const Levels& levels) const;
@@ -226,6 +238,7 @@ private:
     double mRecentMinor = 0.0;  // its minor semi-axis, learnt alike
     int mFramesSinceSize = 0;
     double mEyeRatio = 0.0; // running axis ratio of the whole pupil (0 = unknown)
+    PupilShapeModel mShape;
     // Scratch buffers reused between frames (no per-frame allocation in steady state).
     cv::Mat mSmall, mIntegral, mFullIntegral, mSmooth;
     int mCoarseFactor = 1; // full-resolution pixels per coarse pixel
