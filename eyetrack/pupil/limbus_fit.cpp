@@ -7,23 +7,11 @@
 
 #include <opencv2/core.hpp>
 
+#include "pupil/bilinear.hpp"
+
 namespace gt::eyetrack {
 
 namespace {
-
-// Bilinear grey level at (x, y); -1 outside the image.
-double bilinear(const cv::Mat& img, double x, double y) {
-    if (x < 0.0 || y < 0.0 || x > img.cols - 1.0 || y > img.rows - 1.0) {
-        return -1.0;
-    }
-    const int x0 = std::min(static_cast<int>(x), img.cols - 2);
-    const int y0 = std::min(static_cast<int>(y), img.rows - 2);
-    const double fx = x - x0, fy = y - y0;
-    const uchar* r0 = img.ptr<uchar>(y0);
-    const uchar* r1 = img.ptr<uchar>(y0 + 1);
-    return (1.0 - fy) * ((1.0 - fx) * r0[x0] + fx * r0[x0 + 1]) +
-           fy * ((1.0 - fx) * r1[x0] + fx * r1[x0 + 1]);
-}
 
 // Signed distance from p to the ellipse along the ray from its centre (negative inside).
 double radialResidual(cv::Point2d p, double cx, double cy, double a, double b, double c, double s) {
@@ -45,6 +33,7 @@ void findLimbusPoints(const cv::Mat& smooth, const cv::RotatedRect& pupil, const
     const double major = std::max(a, b);
     constexpr int kPlateau = 4; // px the sclera must stay bright (a glint or a lash gap does not)
     std::vector<double> profile;
+    const Bilinear bilinear(smooth);
     for (int i = 0; i < s.rays; ++i) {
         // From 20 deg above the horizontal on one side, through straight down, to the other.
         const double phi = (-20.0 + 220.0 * i / (s.rays - 1)) * std::numbers::pi / 180.0;
@@ -58,7 +47,7 @@ void findLimbusPoints(const cv::Mat& smooth, const cv::RotatedRect& pupil, const
         const auto reach = [&](int k) {
             while (!ended && static_cast<int>(profile.size()) <= k) {
                 const int t = t0 + static_cast<int>(profile.size());
-                const double v = t <= t1 ? bilinear(smooth, c.x + t * d.x, c.y + t * d.y) : -1.0;
+                const double v = t <= t1 ? bilinear(c.x + t * d.x, c.y + t * d.y) : -1.0;
                 if (v < 0.0) {
                     ended = true;
                 } else {

@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "error.hpp"
+#include "pupil/bilinear.hpp"
 #include "pupil/box_blur.hpp"
 #include "pupil/ellipse_fit.hpp"
 #include "pupil/limbus_fit.hpp"
@@ -31,40 +32,6 @@ constexpr double kSkinAboveIris = 0.25;
 // fit, the pupil is looked for inside it. eyescore, development seeds, wild 1-150 / 151-300:
 // 95.0 / 93.1 % -> 95.5 / 93.6 % within 5 px (2x: 95.4 / 93.3 %); hard unchanged.
 constexpr double kIrisSized = 3.0;
-
-// Bilinear samples of an 8-bit image with pixel centres at integer coordinates; -1 outside the
-// image. The image's bounds are read once: the ray walk samples tens of thousands of times a
-// frame, a quarter of the detector's instructions, and reloading and converting them each time
-// was a third of that.
-class Bilinear {
-public:
-    explicit Bilinear(const cv::Mat& img)
-        : mData(img.data), mStep(img.step[0]), mMaxX(img.cols - 1.0), mMaxY(img.rows - 1.0),
-          mLastX0(std::max(0, img.cols - 2)), mLastY0(std::max(0, img.rows - 2)),
-          mNextX(img.cols > 1 ? 1 : 0), mNextY(img.rows > 1 ? img.step[0] : 0) {}
-
-    [[nodiscard]] double operator()(double x, double y) const {
-        if (x < 0.0 || y < 0.0 || x > mMaxX || y > mMaxY) {
-            return -1.0;
-        }
-        const int x0 = std::min(static_cast<int>(x), mLastX0);
-        const int y0 = std::min(static_cast<int>(y), mLastY0);
-        const double fx = x - x0, fy = y - y0;
-        const uchar* r0 = mData + static_cast<std::size_t>(y0) * mStep + x0;
-        const uchar* r1 = r0 + mNextY;
-        const double top = r0[0] + fx * (r0[mNextX] - r0[0]);
-        const double bottom = r1[0] + fx * (r1[mNextX] - r1[0]);
-        return top + fy * (bottom - top);
-    }
-
-private:
-    const uchar* mData;
-    std::size_t mStep;
-    double mMaxX, mMaxY;
-    int mLastX0, mLastY0;
-    std::ptrdiff_t mNextX;
-    std::size_t mNextY;
-};
 
 inline double sample(const cv::Mat& img, double x, double y) {
     return Bilinear(img)(x, y);
