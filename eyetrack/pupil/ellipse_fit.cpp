@@ -446,6 +446,19 @@ struct ShapeFrame {
     [[nodiscard]] cv::Point2d toCircle(cv::Point2d p) const {
         return {p.dot(major), p.dot(minor) / ratio};
     }
+    // The image conic of the circle |q - centre| = radius in this frame: with q = (u, v),
+    // u = major . p and v = minor . p / ratio, the quadratic part is the same for every circle.
+    [[nodiscard]] Conic conicOf(cv::Point2d centre, double radius) const {
+        const cv::Point2d v = minor * (1.0 / ratio);
+        Conic q;
+        q.a = major.x * major.x + v.x * v.x;
+        q.b = 2.0 * (major.x * major.y + v.x * v.y);
+        q.c = major.y * major.y + v.y * v.y;
+        q.d = -2.0 * (centre.x * major.x + centre.y * v.x);
+        q.e = -2.0 * (centre.x * major.y + centre.y * v.y);
+        q.f = centre.dot(centre) - radius * radius;
+        return q;
+    }
     [[nodiscard]] cv::RotatedRect toImage(cv::Point2d centre, double radius,
                                           double majorAngleDeg) const {
         const cv::Point2d c = major * centre.x + minor * (centre.y * ratio);
@@ -532,10 +545,15 @@ std::optional<EllipseFit> fitEllipseOfShapeRansac(std::span<const cv::Point2d> p
     }
     RansacEllipseParams shapeParams = params;
     shapeParams.minAxisRatio = 0.0;
-    auto inliersOf = [&](const cv::RotatedRect& el, std::vector<int>& out, std::size_t beat) {
+    auto sizeIsPlausible = [&](const Circle& c) {
+        return std::isfinite(c.radius) && 2.0 * c.radius * axisRatio >= params.minAxis &&
+               2.0 * c.radius <= params.maxAxis;
+    };
+    // The conic's value is negative inside the circle, so its gradient points outwards.
+    auto inliersOf = [&](const Circle& circle, std::vector<int>& out, std::size_t beat) {
         out.clear();
-        const Conic conic = Conic::fromEllipse(el);
-        const InlierTest inlier{conic, outwardSign(conic, el), shapeParams, gradients};
+        const Conic conic = frame.conicOf(circle.centre, circle.radius);
+        const InlierTest inlier{conic, 1.0, shapeParams, gradients};
         for (std::size_t i = 0; i < n; ++i) {
             if (out.size() + (n - i) <= beat) {
                 break;
@@ -564,11 +582,10 @@ std::optional<EllipseFit> fitEllipseOfShapeRansac(std::span<const cv::Point2d> p
         if (!circle) {
             continue;
         }
-        const cv::RotatedRect el = frame.toImage(circle->centre, circle->radius, majorAngleDeg);
-        if (!plausible(el, shapeParams)) {
+        if (!sizeIsPlausible(*circle)) {
             continue;
         }
-        inliersOf(el, current, best.size());
+        inliersOf(*circle, current, best.size());
         if (current.size() > best.size()) {
             best.swap(current);
             if (adaptive) {
@@ -599,7 +616,7 @@ std::optional<EllipseFit> fitEllipseOfShapeRansac(std::span<const cv::Point2d> p
         }
         fit.ellipse = el;
         std::vector<int> again;
-        inliersOf(el, again, 0);
+        inliersOf(*circle, again, 0);
         if (again.size() < 6) {
             break;
         }

@@ -1005,6 +1005,8 @@ std::optional<EllipseFit> StarburstDetector::fitToEyeShape(const cv::Mat& grey,
     constexpr double kKeptInliers = 0.6; // of the fit's
     constexpr double kSupportMargin = 0.1;
     constexpr int kDraws = 60;
+    constexpr double kSameRatio = 0.01; // a shape this close to the first needs no second refit
+    constexpr double kSameAngle = 2.0;  // deg
     const cv::RotatedRect& e = fit.ellipse;
     const auto shape = mShape.predict({e.center.x, e.center.y});
     if (!shape) {
@@ -1030,8 +1032,11 @@ std::optional<EllipseFit> StarburstDetector::fitToEyeShape(const cv::Mat& grey,
     if (!refit) {
         return std::nullopt;
     }
-    // The shape where the refit is, once more.
-    if (const auto there = mShape.predict({refit->ellipse.center.x, refit->ellipse.center.y})) {
+    // The shape where the refit is, once more, when it differs there.
+    const auto there = mShape.predict({refit->ellipse.center.x, refit->ellipse.center.y});
+    if (there && (std::abs(there->axisRatio - shape->axisRatio) > kSameRatio ||
+                  std::abs(std::remainder(there->majorAngleDeg - shape->majorAngleDeg, 180.0)) >
+                      kSameAngle)) {
         if (auto again = fitEllipseOfShapeRansac(mEdgePoints, there->axisRatio,
                                                  there->majorAngleDeg, shaped, mEdgeGradients)) {
             refit = again;
