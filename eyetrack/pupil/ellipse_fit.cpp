@@ -213,6 +213,21 @@ std::uint64_t splitmix(std::uint64_t& s) {
     return z ^ (z >> 31);
 }
 
+// K distinct indices below n, drawn in order (n >= K).
+template <std::size_t K>
+std::array<std::size_t, K> drawDistinct(std::uint64_t& state, std::size_t n) {
+    std::array<std::size_t, K> idx{};
+    for (std::size_t k = 0; k < K; ++k) {
+        bool fresh = false;
+        while (!fresh) {
+            idx[k] = static_cast<std::size_t>(splitmix(state) % n);
+            fresh = std::find(idx.begin(), idx.begin() + static_cast<std::ptrdiff_t>(k), idx[k]) ==
+                    idx.begin() + static_cast<std::ptrdiff_t>(k);
+        }
+    }
+    return idx;
+}
+
 // Inlier test: near the curve and, where the gradient is known, facing the same way as the
 // outward normal. Inside an ellipse the conic has the sign of its value at the centre.
 struct InlierTest {
@@ -350,10 +365,11 @@ std::optional<Conic> directEllipseFit(std::span<const cv::Point2d> points,
                           mean, s);
 }
 
-int ransacDrawsNeeded(double inlierShare, double confidence, int cap) {
-    // log(1 - p) / log(1 - w^5), clamped to the cap before the cast: a few inliers among many
+int ransacDrawsNeeded(double inlierShare, double confidence, int cap, int sampleSize) {
+    // log(1 - p) / log(1 - w^k), clamped to the cap before the cast: a few inliers among many
     // points need billions of draws, more than an int holds.
-    const double allInlier = std::pow(std::clamp(inlierShare, 0.0, 1.0), 5.0);
+    const double allInlier =
+        std::pow(std::clamp(inlierShare, 0.0, 1.0), static_cast<double>(sampleSize));
     if (allInlier >= 1.0) return 0;
     if (allInlier <= 0.0) return cap;
     const double draws = std::ceil(std::log(1.0 - confidence) / std::log1p(-allInlier));
@@ -372,15 +388,9 @@ std::optional<EllipseFit> fitEllipseRansac(std::span<const cv::Point2d> points,
     int needed = params.iterations;
     int it = 0;
     for (; it < params.iterations && (it < params.minIterations || it < needed); ++it) {
+        const auto idx = drawDistinct<5>(state, n);
         std::array<cv::Point2d, 5> sample;
-        std::array<std::size_t, 5> idx{};
         for (std::size_t k = 0; k < 5; ++k) {
-            bool fresh = false;
-            while (!fresh) {
-                idx[k] = static_cast<std::size_t>(splitmix(state) % n);
-                fresh = std::find(idx.begin(), idx.begin() + static_cast<std::ptrdiff_t>(k),
-                                  idx[k]) == idx.begin() + static_cast<std::ptrdiff_t>(k);
-            }
             sample[k] = points[idx[k]];
         }
         const auto conic = conicThrough(std::span<const cv::Point2d, 5>(sample));
@@ -569,15 +579,7 @@ std::optional<EllipseFit> fitEllipseOfShapeRansac(std::span<const cv::Point2d> p
     int needed = params.iterations;
     int it = 0;
     for (; it < params.iterations && (it < params.minIterations || it < needed); ++it) {
-        std::array<std::size_t, 3> idx{};
-        for (std::size_t k = 0; k < 3; ++k) {
-            bool fresh = false;
-            while (!fresh) {
-                idx[k] = static_cast<std::size_t>(splitmix(state) % n);
-                fresh = std::find(idx.begin(), idx.begin() + static_cast<std::ptrdiff_t>(k),
-                                  idx[k]) == idx.begin() + static_cast<std::ptrdiff_t>(k);
-            }
-        }
+        const auto idx = drawDistinct<3>(state, n);
         const auto circle = circleThrough(q[idx[0]], q[idx[1]], q[idx[2]]);
         if (!circle) {
             continue;
@@ -590,14 +592,9 @@ std::optional<EllipseFit> fitEllipseOfShapeRansac(std::span<const cv::Point2d> p
             best.swap(current);
             if (adaptive) {
                 // Three points a draw: the chance of an all-inlier draw is w^3, not w^5.
-                const double w = static_cast<double>(best.size()) / static_cast<double>(n);
-                const double all = w * w * w;
                 needed =
-                    all >= 1.0
-                        ? 0
-                        : static_cast<int>(std::clamp(
-                              std::ceil(std::log(1.0 - params.stopConfidence) / std::log1p(-all)),
-                              0.0, static_cast<double>(params.iterations)));
+                    ransacDrawsNeeded(static_cast<double>(best.size()) / static_cast<double>(n),
+                                      params.stopConfidence, params.iterations, 3);
             }
         }
     }

@@ -69,9 +69,11 @@ struct EllipseFit {
     int draws = 0;            // RANSAC samples drawn before it stopped
 };
 
-// Draws after which an all-inlier 5-point sample has been made with probability `confidence`
-// when a share `inlierShare` of the points are inliers (0 when all are), at most `cap`.
-[[nodiscard]] int ransacDrawsNeeded(double inlierShare, double confidence, int cap);
+// Draws after which an all-inlier sample of `sampleSize` points (5 for a conic, 3 for a circle)
+// has been made with probability `confidence` when a share `inlierShare` of the points are
+// inliers (0 when all are), at most `cap`.
+[[nodiscard]] int ransacDrawsNeeded(double inlierShare, double confidence, int cap,
+                                    int sampleSize = 5);
 
 // `gradients`, when given, holds each point's unit image gradient (pointing from dark to bright;
 // a zero vector when unknown), and inliers must agree with the ellipse's outward normal.
