@@ -30,18 +30,22 @@ void PupilShapeModel::reset() {
     mRadius = 0.0;
 }
 
-void PupilShapeModel::add(const cv::RotatedRect& e) {
+PupilShape shapeOf(const cv::RotatedRect& e) {
     const double w = e.size.width, h = e.size.height;
-    if (!(w > 0.0 && h > 0.0)) {
+    return {std::min(w, h) / std::max(1e-6, std::max(w, h)), h > w ? e.angle + 90.0 : e.angle};
+}
+
+double axisTurnDeg(double aDeg, double bDeg) {
+    return std::abs(std::remainder(aDeg - bDeg, 180.0));
+}
+
+void PupilShapeModel::add(const cv::RotatedRect& e) {
+    if (!(e.size.width > 0.0F && e.size.height > 0.0F)) {
         return;
     }
-    double angle = e.angle * std::numbers::pi / 180.0;
-    if (h > w) {
-        angle += 0.5 * std::numbers::pi;
-    }
-    const Sample s{{e.center.x, e.center.y},
-                   std::min(w, h) / std::max(w, h),
-                   {std::cos(angle), std::sin(angle)}};
+    const PupilShape shape = shapeOf(e);
+    const double angle = shape.majorAngleDeg * std::numbers::pi / 180.0;
+    const Sample s{{e.center.x, e.center.y}, shape.axisRatio, {std::cos(angle), std::sin(angle)}};
     if (mSamples.size() < kWindow) {
         mSamples.push_back(s);
     } else {

@@ -29,6 +29,11 @@ struct PupilShape {
     double majorAngleDeg = 0.; // direction of the major axis in the image, degrees (mod 180)
 };
 
+// An ellipse's shape (OpenCV's RotatedRect: full axes, angle of `width`, either axis first).
+[[nodiscard]] PupilShape shapeOf(const cv::RotatedRect& ellipse);
+// How far apart two major axes' directions are, degrees in [0, 90].
+[[nodiscard]] double axisTurnDeg(double aDeg, double bDeg);
+
 class PupilShapeModel {
 public:
     // A whole pupil's ellipse (OpenCV's RotatedRect: full axes, angle of `width`).
