@@ -290,25 +290,28 @@ void StarburstDetector::findCandidates(const cv::Mat& grey, const cv::Mat& fullI
         // shadow responds strongly at every position around it and would otherwise fill the
         // kept set with copies of itself, crowding a fainter pupil out before the suppression
         // below could set them aside.
+        const double minResponse = 0.5 * mConfig.minContrast;
         for (int gy = 0; gy < gh; ++gy) {
+            const double* row = &mResponses[cell(0, gy)];
+            const double* above = gy > 0 ? row - gw : nullptr;
+            const double* below = gy + 1 < gh ? row + gw : nullptr;
             for (int gx = 0; gx < gw; ++gx) {
-                const double response = mResponses[cell(gx, gy)];
-                if (response < 0.5 * mConfig.minContrast) {
+                const double response = row[gx];
+                if (response < minResponse) {
                     continue;
                 }
-                bool peak = true;
-                for (int dy = -1; dy <= 1 && peak; ++dy) {
-                    for (int dx = -1; dx <= 1 && peak; ++dx) {
-                        const int nx = gx + dx, ny = gy + dy;
-                        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= gw || ny >= gh) {
-                            continue;
-                        }
-                        const double other = mResponses[cell(nx, ny)];
-                        // Ties go to the first in scan order, so a flat top keeps one peak.
-                        peak = other < response ||
-                               (other == response && (dy > 0 || (dy == 0 && dx > 0)));
-                    }
-                }
+                // Ties go to the first in scan order, so a flat top keeps one peak: a neighbour
+                // later in the scan may equal the response, an earlier one may not.
+                const auto under = [response](double other, bool later) {
+                    return other < response || (later && other == response);
+                };
+                const bool left = gx > 0, right = gx + 1 < gw;
+                const bool peak =
+                    (!above || ((!left || under(above[gx - 1], false)) && under(above[gx], false) &&
+                                (!right || under(above[gx + 1], false)))) &&
+                    (!left || under(row[gx - 1], false)) && (!right || under(row[gx + 1], true)) &&
+                    (!below || ((!left || under(below[gx - 1], true)) && under(below[gx], true) &&
+                                (!right || under(below[gx + 1], true))));
                 if (!peak) {
                     continue;
                 }
@@ -388,8 +391,8 @@ bool StarburstDetector::measureLevels(const cv::Mat& grey, const Candidate& c,
     return true;
 }
 
-void StarburstDetector::castRays(const cv::Mat& grey, cv::Point2d from, double maxDistance,
-                                 const Levels& lv, bool irisOnly) {
+void StarburstDetector::castRays(const cv::Mat& grey, const BilinearRange& cells, cv::Point2d from,
+                                 double maxDistance, const Levels& lv, bool irisOnly) {
     mEdgePoints.clear();
     mEdgeGradients.clear();
     // Rays walk in whole pixels and look back half a pixel at the crossing, so the edge is
@@ -400,11 +403,30 @@ void StarburstDetector::castRays(const cv::Mat& grey, cv::Point2d from, double m
     constexpr double kStep = 0.5;
     constexpr double kWalk = 1.0;
     const Bilinear sampleAt(grey);
+    using Side = BilinearRange::Side;
+    const BilinearRange::Level threshold = BilinearRange::level(lv.threshold);
     for (const cv::Point2d dir : mRayDirections) {
         bool inside = false;
+        // The last step's grey level; after a step that its cell decided, it is sampled only
+        // if the crossing needs it (prevKnown false). Steps are multiples of half a pixel, so
+        // t - kWalk is that step's t exactly.
         double prev = -1.0;
+        bool prevKnown = true;
         for (double t = 0.0; t <= maxDistance; t += kWalk) {
             cv::Point2d p = from + dir * t;
+            // Most steps lie plainly on one side of the threshold (inside the pupil; before
+            // reaching the dark): the cell answers and the sample is skipped. The result is the
+            // same as sampling every step.
+            const Side side = cells.side(p.x, p.y, threshold);
+            if (side == Side::Below || (side == Side::AtOrAbove && !inside)) {
+                if (side == Side::Below) {
+                    inside = true;
+                } else if (t > 0.5 * maxDistance) {
+                    break;
+                }
+                prevKnown = false;
+                continue;
+            }
             double v = sampleAt(p.x, p.y);
             if (v < 0.0) break; // left the image
             if (!inside) {
@@ -414,12 +436,17 @@ void StarburstDetector::castRays(const cv::Mat& grey, cv::Point2d from, double m
                 else if (t > 0.5 * maxDistance)
                     break;
                 prev = v;
+                prevKnown = true;
                 continue;
             }
             if (v >= lv.threshold) {
                 // Which half of the last step crossed the threshold.
                 const cv::Point2d half = from + dir * (t - kStep);
                 if (const double m = sampleAt(half.x, half.y); m >= lv.threshold) {
+                    if (!prevKnown) {
+                        const cv::Point2d last = from + dir * (t - kWalk);
+                        prev = sampleAt(last.x, last.y);
+                    }
                     t -= kStep;
                     p = half;
                     v = m;
@@ -432,7 +459,19 @@ void StarburstDetector::castRays(const cv::Mat& grey, cv::Point2d from, double m
                 // Only a glint (a spot brighter than its neighbourhood) counts as an island: dark
                 // lashes just outside the pupil must not make the real boundary look like one.
                 double back = -1.0, peak = v, peakAt = 0.0;
+                // Past a pupil's real edge nothing is dark again within the island's reach, and
+                // the cells show it: the samples (and the peak, used only for an island) are
+                // needed only when some cell reaches below the threshold.
+                bool darkAgain = false;
                 for (double s = 1.0; s <= island; s += kStep) {
+                    const Side ahead = cells.side(p.x + dir.x * s, p.y + dir.y * s, threshold);
+                    if (ahead == Side::Outside) break;
+                    if (ahead != Side::AtOrAbove) {
+                        darkAgain = true;
+                        break;
+                    }
+                }
+                for (double s = 1.0; darkAgain && s <= island; s += kStep) {
                     const double w = sampleAt(p.x + dir.x * s, p.y + dir.y * s);
                     if (w < 0.0) break;
                     if (w > peak) {
@@ -447,6 +486,7 @@ void StarburstDetector::castRays(const cv::Mat& grey, cv::Point2d from, double m
                 if (back > 0.0 && isGlint(grey, p + dir * peakAt, lv)) {
                     t += back - kWalk;
                     prev = lv.threshold - 1.0;
+                    prevKnown = true;
                     continue;
                 }
                 const double u = (lv.threshold - prev) / std::max(1e-6, v - prev);
@@ -489,6 +529,7 @@ void StarburstDetector::castRays(const cv::Mat& grey, cv::Point2d from, double m
                 break;
             }
             prev = v;
+            prevKnown = true;
         }
     }
 }
@@ -1069,7 +1110,7 @@ StarburstDetector::Refined StarburstDetector::refine(const cv::Mat& grey, const 
     rp.maxAxis = 2.0 * maxR * 1.3;
     rp.seed = mFrame * 7919u + 1u;
 
-    castRays(mSmooth, c.centre, 2.5 * c.radius, lv);
+    castRays(mSmooth, mSmoothRange, c.centre, 2.5 * c.radius, lv);
     auto fit = fitEllipseRansac(mEdgePoints, rp, mEdgeGradients);
     if (!fit) return refined;
     // Candidates on the same blob (the last frame's pupil and the search's, a blob found at
@@ -1103,7 +1144,7 @@ StarburstDetector::Refined StarburstDetector::refine(const cv::Mat& grey, const 
         lv.threshold = 0.5 * (lv.pupil + outside);
         irisMeasured = true;
     }
-    castRays(mSmooth, centre, 1.6 * major + 3.0, lv, irisMeasured);
+    castRays(mSmooth, mSmoothRange, centre, 1.6 * major + 3.0, lv, irisMeasured);
     rp.seed += 1;
     if (auto second = fitEllipseRansac(mEdgePoints, rp, mEdgeGradients)) fit = second;
     // A lid over the pupil's top whose margin is lined with lashes as dark as the iris passes
@@ -1282,6 +1323,7 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     // noisy pixel above the threshold when the pupil is only a little darker than its iris. The
     // filter is symmetric, so the half-way crossing of an edge stays where it was.
     boxBlur3x3(grey, mSmooth);
+    mSmoothRange.build(mSmooth);
     // Temporal prior (after PuReST, Santini et al. 2018): last frame's pupil is also a candidate,
     // and a result close to it is preferred. Pupils move little between frames except in
     // saccades, where the coarse search still finds them.

@@ -37,6 +37,7 @@
 #include <opencv2/core.hpp>
 
 #include "pupil/answer_confidence.hpp"
+#include "pupil/bilinear.hpp"
 #include "pupil/ellipse_fit.hpp"
 #include "pupil/pupil_detector.hpp"
 #include "pupil/pupil_shape_model.hpp"
@@ -139,8 +140,9 @@ private:
                                                           double outerSemiMinor,
                                                           double outerInterior, double minR);
     [[nodiscard]] bool measureLevels(const cv::Mat& grey, const Candidate& c, Levels& levels) const;
-    void castRays(const cv::Mat& grey, cv::Point2d from, double maxDistance, const Levels& levels,
-                  bool irisOnly = false);
+    // `cells`: grey's BilinearRange, which answers most of the walk's threshold tests.
+    void castRays(const cv::Mat& grey, const BilinearRange& cells, cv::Point2d from,
+                  double maxDistance, const Levels& levels, bool irisOnly = false);
     // Share of the fitted outline with a dark inside and a brighter outside: `all` counts every
     // sample (the reported confidence, which falls under occlusion); `visible` leaves out the
     // samples where the outline runs through something bright on both sides (an eyelid over the
@@ -241,7 +243,8 @@ private:
     PupilShapeModel mShape;
     // Scratch buffers reused between frames (no per-frame allocation in steady state).
     cv::Mat mSmall, mIntegral, mFullIntegral, mSmooth;
-    int mCoarseFactor = 1; // full-resolution pixels per coarse pixel
+    BilinearRange mSmoothRange; // mSmooth's, for the ray walk
+    int mCoarseFactor = 1;      // full-resolution pixels per coarse pixel
     cv::Mat mInnerClipped, mInnerIntegral;
     cv::Mat mClosed, mClosedIntegral, mClosedSmall, mClosedSmallIntegral; // the fallback's search
     std::vector<Candidate> mCandidates, mHeap;
