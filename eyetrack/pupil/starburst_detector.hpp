@@ -90,6 +90,19 @@ struct StarburstConfig {
     // look, keep their confidence; slivers under the lid of an eye seen head-on do not gain any.
     // 0 = the fixed ramp.
     double eyeRatioMargin = 0.1;
+    // Tracking: when last frame's pupil, refined first, is found again within half its
+    // semi-major axis (5 px at least) with at least `trackingConfidence` (the detector's own,
+    // the size prior applied), `trackingSupport` of its visible outline supported and a
+    // uniformly dark inside, the frame's other blobs are not refined. eyescore, development
+    // seeds, against refining every blob: wild 1-150 / 151-300 97.17 / 96.04 -> 97.19 / 96.03 %
+    // within 5 px, ROC area 0.9932 / 0.9923 -> 0.9933 / 0.9923, gate 0.7 rejecting 94.56 / 94.86
+    // -> 94.61 / 94.81 % of wrong answers and keeping 97.55 / 96.71 -> 97.55 / 96.69 % of right
+    // ones; hard 1-100 / 101-200 99.84 / 99.88 -> 99.84 / 99.88 % (rejecting 98.49 / 98.26 ->
+    // 98.38 / 98.20 %, keeping 99.92 / 99.90 -> 99.92 / 99.89 %); callgrind, hard seed 5, 300
+    // frames: 6.89 M -> 4.23 M instructions a frame. At 0.8: wild 97.18 / 95.95 %, the gate
+    // rejecting 94.55 / 94.47 %. 0 = always search.
+    double trackingConfidence = 0.9;
+    double trackingSupport = 0.9;
 };
 
 class StarburstDetector final : public PupilDetector {
