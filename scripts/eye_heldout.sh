@@ -12,7 +12,8 @@
 # after its eye-specific shape ramp and gate of 0.6; all six once in the ninth, after its
 # fallback round over the closed image's blobs; all six once in the tenth, three times in the
 # eleventh, once in the twelfth, after its reported confidence, once in the thirteenth, after
-# its eye-shape refit; once in the fourteenth, after its shape-weighted pick and 0.7 gate) — then the
+# its eye-shape refit; once in the fourteenth, after its shape-weighted pick and 0.7 gate; once in
+# the fifteenth, after its tracking of last frame's pupil) — then the
 # 2D and 3D gaze models before and after headset slippage on seeds 9000-9007, and binocular
 # vergence on seeds 9000-9003. Writes JSON into OUT (default out/eye_heldout).
 # DETECTOR_ONLY=1 skips slippage and vergence.

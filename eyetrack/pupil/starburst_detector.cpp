@@ -465,7 +465,9 @@ void StarburstDetector::castRays(const cv::Mat& grey, const BilinearRange& cells
                 bool darkAgain = false;
                 for (double s = 1.0; s <= island; s += kStep) {
                     const Side ahead = cells.side(p.x + dir.x * s, p.y + dir.y * s, threshold);
-                    if (ahead == Side::Outside) break;
+                    if (ahead == Side::Outside) {
+                        break;
+                    }
                     if (ahead != Side::AtOrAbove) {
                         darkAgain = true;
                         break;
@@ -1308,6 +1310,7 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     if (grey.empty() || grey.type() != CV_8UC1)
         throw EyetrackError("pupil detector: expected an 8-bit greyscale image");
     ++mFrame;
+    mBlobsRefined = 0;
     const double side = std::min(grey.rows, grey.cols);
     const double minR = mConfig.minRadius > 0.0 ? mConfig.minRadius : 0.03 * side;
     const double maxR = mConfig.maxRadius > 0.0 ? mConfig.maxRadius : 0.25 * side;
@@ -1339,6 +1342,7 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     std::vector<Scored> scored;
     // confidenceScale: StarburstConfig::fallbackConfidence for the fallback round's blobs.
     auto consider = [&](const Candidate& c, double surroundHint, double confidenceScale = 1.0) {
+        ++mBlobsRefined;
         auto refined = refine(grey, c, minR, maxR, surroundHint);
         PupilResult& r = refined.result;
         if (r.confidence <= 0.0 && refined.visibleSupport <= 0.0) return;

@@ -123,6 +123,9 @@ public:
         mShape.reset();
     }
     [[nodiscard]] std::string name() const override { return "starburst"; }
+    // How many blobs the last detect() refined (cast rays from and fitted): 1 in a frame where
+    // tracking last frame's pupil sufficed, the work a frame took otherwise.
+    [[nodiscard]] int blobsRefined() const { return mBlobsRefined; }
     [[nodiscard]] const StarburstConfig& config() const noexcept { return mConfig; }
     // What the last detect() measured on its answer, from which it reported the confidence
     // (eyescore --answers writes it, to refit answerProbability).
@@ -247,6 +250,7 @@ private:
     std::vector<cv::Point2d>
         mRayDirections; // unit, one per ray, set once (sincos per ray cost 1 %)
     std::uint64_t mFrame = 0;
+    int mBlobsRefined = 0;
     PupilResult mLast;
     AnswerEvidence mEvidence;
     double mRecentRadius = 0.0; // running pupil size from confident frames, 0 = unknown

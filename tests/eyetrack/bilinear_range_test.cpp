@@ -59,7 +59,9 @@ TEST(BilinearRange, NeverContradictsTheSample) {
     for (const bool smooth : {true, false}) {
         cv::Mat img(240, 320, CV_8UC1);
         rng.fill(img, cv::RNG::UNIFORM, 0, 256);
-        if (smooth) cv::GaussianBlur(img, img, cv::Size(0, 0), 6.0);
+        if (smooth) {
+            cv::GaussianBlur(img, img, cv::Size(0, 0), 6.0);
+        }
         const int n = 200000;
         const int decided = checkAgainstSamples(img, rng, n);
         // The point of the range: on a smooth image most tests need no sample (on noise, with

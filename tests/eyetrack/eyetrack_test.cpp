@@ -723,6 +723,49 @@ TEST(PupilDetector, HardSyntheticClipWithBlinks) {
     EXPECT_LE(s.blinkDetections, s.blinkFrames / 5); // confidence falls in blinks
 }
 
+TEST(PupilDetector, TrackingAnswersAsTheFullSearchWouldForLessWork) {
+    // eyescore's window (300 free-viewing frames after 1,560). Tracking must find the pupil
+    // within 5 px as often as refining every blob does (development seeds: within 0.1 point
+    // either way) — here on the hard and the wild development seed that tracking without its
+    // guards (any fit of last frame's pupil taken) cost most, 11 and 28 frames — and where the
+    // pupil is plainly seen (hard 21, wild 5) refine one blob in most frames.
+    struct Case {
+        int seed;
+        const char* preset;
+        bool plain;
+    };
+    for (const auto& [seed, preset, plain] :
+         {Case{21, "hard", true}, Case{5, "wild", true}, Case{60, "wild", false}}) {
+        const SyntheticEye eye(presetClip(static_cast<std::uint64_t>(seed), 1860, preset));
+        StarburstDetector tracking;
+        StarburstConfig always;
+        always.trackingConfidence = 0.0;
+        StarburstDetector searching(always);
+        int frames = 0, tracked = 0, refinedTracking = 0, refinedSearching = 0;
+        int visible = 0, rightTracking = 0, rightSearching = 0;
+        for (int f = 1560; f < 1860; ++f) {
+            EyeTruth t;
+            const cv::Mat img = eye.render(f, &t);
+            const PupilResult a = tracking.detect(img), b = searching.detect(img);
+            ++frames;
+            tracked += tracking.blobsRefined() == 1 ? 1 : 0;
+            refinedTracking += tracking.blobsRefined();
+            refinedSearching += searching.blobsRefined();
+            if (t.visibility >= kVisibleShare) {
+                ++visible;
+                rightTracking += a.found && cv::norm(a.centre() - t.centre) <= 5.0 ? 1 : 0;
+                rightSearching += b.found && cv::norm(b.centre() - t.centre) <= 5.0 ? 1 : 0;
+            }
+        }
+        if (plain) {
+            EXPECT_GT(tracked, frames / 2) << preset << " " << seed;
+            EXPECT_LT(2 * refinedTracking, refinedSearching) << preset << " " << seed;
+        }
+        ASSERT_GT(visible, frames / 2) << preset << " " << seed;
+        EXPECT_GE(rightTracking, rightSearching - 3) << preset << " " << seed;
+    }
+}
+
 TEST(SyntheticEye, TheSameSeedGivesTheSameClipWhateverTheCompiler) {
     // Free-viewing targets were drawn as two arguments of one constructor, whose order of
     // evaluation C++ leaves open: GCC's and clang's builds swapped x and y, so every clip
