@@ -11,6 +11,31 @@
 
 namespace gt::eyetrack {
 
+// Which cell a bilinear sample at (x, y) reads: (x0, y0), the top left of the four pixels it
+// blends (the last row and column fall in the cell before them); none outside the image. Shared
+// by Bilinear and BilinearRange so that both put a sample in the same cell.
+class BilinearCells {
+public:
+    BilinearCells() = default;
+    explicit BilinearCells(const cv::Mat& img)
+        : mMaxX(img.cols - 1.0), mMaxY(img.rows - 1.0), mLastX0(std::max(0, img.cols - 2)),
+          mLastY0(std::max(0, img.rows - 2)) {}
+
+    [[nodiscard]] bool cell(double x, double y, int& x0, int& y0) const {
+        if (x < 0.0 || y < 0.0 || x > mMaxX || y > mMaxY) {
+            return false;
+        }
+        x0 = std::min(static_cast<int>(x), mLastX0);
+        y0 = std::min(static_cast<int>(y), mLastY0);
+        return true;
+    }
+    [[nodiscard]] int lastY0() const { return mLastY0; }
+
+private:
+    double mMaxX = -1.0, mMaxY = -1.0;
+    int mLastX0 = 0, mLastY0 = 0;
+};
+
 // Bilinear samples of an 8-bit image with pixel centres at integer coordinates; -1 outside the
 // image. The image's bounds are read once: the ray walk samples tens of thousands of times a
 // frame, a quarter of the detector's instructions, and reloading and converting them each time
@@ -18,16 +43,14 @@ namespace gt::eyetrack {
 class Bilinear {
 public:
     explicit Bilinear(const cv::Mat& img)
-        : mData(img.data), mStep(img.step[0]), mMaxX(img.cols - 1.0), mMaxY(img.rows - 1.0),
-          mLastX0(std::max(0, img.cols - 2)), mLastY0(std::max(0, img.rows - 2)),
-          mNextX(img.cols > 1 ? 1 : 0), mNextY(img.rows > 1 ? img.step[0] : 0) {}
+        : mCells(img), mData(img.data), mStep(img.step[0]), mNextX(img.cols > 1 ? 1 : 0),
+          mNextY(img.rows > 1 ? img.step[0] : 0) {}
 
     [[nodiscard]] double operator()(double x, double y) const {
-        if (x < 0.0 || y < 0.0 || x > mMaxX || y > mMaxY) {
+        int x0 = 0, y0 = 0;
+        if (!mCells.cell(x, y, x0, y0)) {
             return -1.0;
         }
-        const int x0 = std::min(static_cast<int>(x), mLastX0);
-        const int y0 = std::min(static_cast<int>(y), mLastY0);
         const double fx = x - x0, fy = y - y0;
         const uchar* r0 = mData + static_cast<std::size_t>(y0) * mStep + x0;
         const uchar* r1 = r0 + mNextY;
@@ -37,10 +60,9 @@ public:
     }
 
 private:
+    BilinearCells mCells;
     const uchar* mData;
     std::size_t mStep;
-    double mMaxX, mMaxY;
-    int mLastX0, mLastY0;
     std::ptrdiff_t mNextX;
     std::size_t mNextY;
 };
@@ -67,12 +89,9 @@ public:
         if (img.empty() || img.type() != CV_8UC1) {
             throw EyetrackError("bilinear range: expected a non-empty 8-bit greyscale image");
         }
-        mMaxX = img.cols - 1.0;
-        mMaxY = img.rows - 1.0;
-        mLastX0 = std::max(0, img.cols - 2);
-        mLastY0 = std::max(0, img.rows - 2);
+        mCells = BilinearCells(img);
         mCols = static_cast<std::size_t>(img.cols);
-        const int cellRows = mLastY0 + 1, nextY = img.rows > 1 ? 1 : 0;
+        const int cellRows = mCells.lastY0() + 1, nextY = img.rows > 1 ? 1 : 0;
         const int n = cellRows * img.cols;
         mColumnLo.create(1, n + 1, CV_8UC1);
         mColumnHi.create(1, n + 1, CV_8UC1);
@@ -105,11 +124,10 @@ public:
     // Where Bilinear's sample at (x, y) lies against `level`, as far as its cell tells:
     // Outside where Bilinear returns -1, Straddles where only the sample can tell.
     [[nodiscard]] Side side(double x, double y, Level level) const {
-        if (x < 0.0 || y < 0.0 || x > mMaxX || y > mMaxY) {
+        int x0 = 0, y0 = 0;
+        if (!mCells.cell(x, y, x0, y0)) {
             return Side::Outside;
         }
-        const int x0 = std::min(static_cast<int>(x), mLastX0);
-        const int y0 = std::min(static_cast<int>(y), mLastY0);
         const std::size_t i = static_cast<std::size_t>(y0) * mCols + static_cast<std::size_t>(x0);
         if (mHi.data[i] < level.atOrAbove) {
             return Side::Below;
@@ -118,8 +136,7 @@ public:
     }
 
 private:
-    double mMaxX = -1.0, mMaxY = -1.0;
-    int mLastX0 = 0, mLastY0 = 0;
+    BilinearCells mCells;
     std::size_t mCols = 0;
     cv::Mat mLo, mHi, mColumnLo, mColumnHi;
 };
