@@ -121,6 +121,21 @@ nlohmann::json runEyesim(const EyesimOptions& o) {
     nlohmann::json j{{"frames", c.frames}, {"width", frameSize.width}, {"height", frameSize.height},
                      {"fps", c.fps},       {"preset", o.preset},       {"seed", o.seed},
                      {"video", o.out},     {"truth", o.truth}};
+    // What the preset drew for this seed (wild draws its variations per seed), so a clip that
+    // scores badly can be told apart by what it shows.
+    j["appearance"] = {{"glints", c.glints},
+                       {"blur_sigma", c.blurSigma},
+                       {"noise_sigma", c.noiseSigma},
+                       {"upper_lid_height", c.upperLidHeight},
+                       {"drooping_lashes", c.droopingLashes},
+                       {"mascara", c.mascara},
+                       {"shadows", c.shadows},
+                       {"eyeliner", c.eyeliner},
+                       {"iris_contrast", c.irisContrast},
+                       {"border_glints", c.borderGlints},
+                       {"camera_tilt_deg", c.cameraTiltDeg},
+                       {"lower_lid_raise", c.lowerLidRaise},
+                       {"pupil_dilation", c.pupilDilation}};
     if (o.eye != "cyclops") {
         j["eye"] = o.eye;
         j["ipd_mm"] = o.ipdMm;
