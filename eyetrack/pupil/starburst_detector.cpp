@@ -221,9 +221,6 @@ cv::Rect boxAround(cv::Point2d c, double half) {
 
 StarburstDetector::StarburstDetector(StarburstConfig config) : mConfig(config) {
     if (mConfig.rays < 8) throw EyetrackError("pupil detector: at least 8 rays are needed");
-    if (mConfig.seedRays < 8 || mConfig.rays % mConfig.seedRays != 0) {
-        throw EyetrackError("pupil detector: seedRays must be at least 8 and divide rays");
-    }
     if (mConfig.candidates < 1) {
         throw EyetrackError("pupil detector: at least 1 candidate is needed");
     }
@@ -395,7 +392,7 @@ bool StarburstDetector::measureLevels(const cv::Mat& grey, const Candidate& c,
 }
 
 void StarburstDetector::castRays(const cv::Mat& grey, const BilinearRange& cells, cv::Point2d from,
-                                 double maxDistance, const Levels& lv, bool irisOnly, int stride) {
+                                 double maxDistance, const Levels& lv, bool irisOnly) {
     mEdgePoints.clear();
     mEdgeGradients.clear();
     // Rays walk in whole pixels and look back half a pixel at the crossing, so the edge is
@@ -408,9 +405,7 @@ void StarburstDetector::castRays(const cv::Mat& grey, const BilinearRange& cells
     const Bilinear sampleAt(grey);
     using Side = BilinearRange::Side;
     const BilinearRange::Level threshold = BilinearRange::level(lv.threshold);
-    for (std::size_t ray = 0; ray < mRayDirections.size();
-         ray += static_cast<std::size_t>(stride)) {
-        const cv::Point2d dir = mRayDirections[ray];
+    for (const cv::Point2d dir : mRayDirections) {
         bool inside = false;
         // The last step's grey level; after a step that its cell decided, it is sampled only
         // if the crossing needs it (prevKnown false). Steps are multiples of half a pixel, so
@@ -1117,8 +1112,7 @@ StarburstDetector::Refined StarburstDetector::refine(const cv::Mat& grey, const 
     rp.maxAxis = 2.0 * maxR * 1.3;
     rp.seed = mFrame * 7919u + 1u;
 
-    castRays(mSmooth, mSmoothRange, c.centre, 2.5 * c.radius, lv, false,
-             mConfig.rays / mConfig.seedRays);
+    castRays(mSmooth, mSmoothRange, c.centre, 2.5 * c.radius, lv);
     auto fit = fitEllipseRansac(mEdgePoints, rp, mEdgeGradients);
     if (!fit) return refined;
     // Candidates on the same blob (the last frame's pupil and the search's, a blob found at

@@ -157,6 +157,33 @@ TEST(EyeCli, EyescoreReportsTheIssuesNumbers) {
     EXPECT_EQ(nlohmann::json::parse(blob.out).at("detector"), "blob");
 }
 
+TEST(EyeCli, EyesimReportsWhatTheSeedDrew) {
+    // The wild preset draws its variations per seed; the JSON summary says which, so a clip that
+    // scores badly can be told apart by what it shows.
+    const auto dir = freshDir("appearance");
+    auto appearance = [&](const std::string& preset, int seed) {
+        const Result r = run("eyesim --preset " + preset + " --seed " + std::to_string(seed) +
+                             " --frames 1 --json --out " + (dir / "a.mkv").string() + " --truth " +
+                             (dir / "a.csv").string());
+        EXPECT_EQ(r.status, 0) << r.err;
+        return nlohmann::json::parse(r.out).at("appearance");
+    };
+    const nlohmann::json clean = appearance("clean", 1);
+    EXPECT_EQ(clean.at("glints"), 1);
+    EXPECT_EQ(clean.at("camera_tilt_deg"), 0.0);
+    EXPECT_EQ(clean.at("iris_contrast"), 0.0);
+    // Wild seeds differ, and the same seed draws the same eye.
+    std::set<std::string> drawn;
+    for (int seed = 1; seed <= 4; ++seed) {
+        const nlohmann::json a = appearance("wild", seed);
+        EXPECT_GE(a.at("blur_sigma").get<double>(), 0.6);
+        EXPECT_LE(a.at("blur_sigma").get<double>(), 2.0);
+        drawn.insert(a.dump());
+    }
+    EXPECT_EQ(drawn.size(), 4U);
+    EXPECT_EQ(appearance("wild", 3), appearance("wild", 3));
+}
+
 TEST(EyeCli, BadInputsAreOneLine) {
     const auto dir = freshDir("eye_bad");
     const auto none = dir / "none.json";
