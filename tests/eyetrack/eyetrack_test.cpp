@@ -469,6 +469,11 @@ TEST(EllipseFit, GradientDirectionRejectsABrightBlobsOutline) {
 
 TEST(PupilDetector, ImpossibleSettingsAreRefused) {
     EXPECT_THROW(StarburstDetector(StarburstConfig{.rays = 4}), EyetrackError);
+    // The first pass casts every (rays / seedRays)-th ray: seedRays must divide rays.
+    EXPECT_THROW(StarburstDetector(StarburstConfig{.rays = 96}), EyetrackError);
+    EXPECT_THROW(StarburstDetector(StarburstConfig{.rays = 128, .seedRays = 4}), EyetrackError);
+    EXPECT_NO_THROW(StarburstDetector(StarburstConfig{.rays = 96, .seedRays = 32}));
+    EXPECT_NO_THROW(StarburstDetector(StarburstConfig{.rays = 64, .seedRays = 64}));
     EXPECT_THROW(StarburstDetector(StarburstConfig{.candidates = 0}), EyetrackError);
     EXPECT_THROW(StarburstDetector(StarburstConfig{.fallbackCandidates = -1}), EyetrackError);
     EXPECT_NO_THROW(StarburstDetector(StarburstConfig{.fallbackCandidates = 0}));
