@@ -16,7 +16,7 @@ import csv
 import math
 
 NAMES = ["bias", "log_product", "visible_support", "fill", "axis_ratio", "log_size_factor",
-         "score", "rival_ratio", "last_distance", "no_last", "size_known"]
+         "score", "rival_ratio", "last_distance", "no_last", "size_known", "level_excess"]
 
 
 def features(row):
@@ -29,7 +29,8 @@ def features(row):
     last_n = 0.0 if no_last else min(3.0, last / max(1.0, float(row["semi_major"])))
     return [1.0, math.log(max(1e-3, product)), float(row["visible_support"]), float(row["fill"]),
             float(row["axis_ratio"]), math.log(max(1e-3, float(row["size_factor"]))), score,
-            rival, last_n, 1.0 if no_last else 0.0, float(row["size_known"])]
+            rival, last_n, 1.0 if no_last else 0.0, float(row["size_known"]),
+            float(row.get("level_excess", 0.0))]
 
 
 def load(paths):

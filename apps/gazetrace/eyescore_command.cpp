@@ -68,7 +68,7 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
         answers = std::make_unique<eyetrack::AtomicFile>(o.answers);
         answers->stream() << "seed,frame,visibility,error_px,right,confidence,product,"
                              "visible_support,fill,axis_ratio,size_factor,size_known,score,"
-                             "rival_score,last_distance,semi_major\n";
+                             "rival_score,last_distance,semi_major,level_excess\n";
     }
     std::optional<eyetrack::ContactSheet> sheet;
     if (!o.missesSheet.empty()) {
@@ -122,11 +122,12 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
             if (answers && r.answered && f < evidence.size()) {
                 const eyetrack::AnswerEvidence& e = evidence[f];
                 answers->stream() << cv::format(
-                    "%llu,%zu,%.3f,%.3f,%d,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%d,%.5f,%.5f,%.3f,%.3f\n",
+                    "%llu,%zu,%.3f,%.3f,%d,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%d,%.5f,%.5f,%.3f,%.3f,%."
+                    "4f\n",
                     static_cast<unsigned long long>(seed), o.skip + f, truths[f].visibility,
                     r.errorPx, eyetrack::isRight(r, o.radiusPx) ? 1 : 0, p.confidence, e.confidence,
                     e.visibleSupport, e.fill, e.axisRatio, e.sizeFactor, e.sizeKnown ? 1 : 0,
-                    e.score, e.rivalScore, e.lastDistance, e.semiMajor);
+                    e.score, e.rivalScore, e.lastDistance, e.semiMajor, e.levelExcess);
             }
             // Every visible frame not found within the radius, and every answer on a hidden pupil.
             if (misses && !eyetrack::isRight(r, o.radiusPx) && (r.visible || r.answered)) {

@@ -135,6 +135,8 @@ public:
         mEvidence = {};
         mRecentRadius = 0.0;
         mRecentMinor = 0.0;
+        mRecentLevel = -1.0;
+        mRecentContrast = 0.0;
         mEyeRatio = 0.0;
         mShape.reset();
     }
@@ -270,14 +272,17 @@ private:
     int mBlobsRefined = 0;
     PupilResult mLast;
     AnswerEvidence mEvidence;
-    double mRecentRadius = 0.0; // running pupil size from confident frames, 0 = unknown
-    double mRecentMinor = 0.0;  // its minor semi-axis, learnt alike
+    double mRecentRadius = 0.0;   // running pupil size from confident frames, 0 = unknown
+    double mRecentMinor = 0.0;    // its minor semi-axis, learnt alike
+    double mRecentLevel = -1.0;   // the pupil's inside grey level, learnt alike (-1 = unknown)
+    double mRecentContrast = 0.0; // and the step from it to just outside its outline
     int mFramesSinceSize = 0;
     double mEyeRatio = 0.0; // running axis ratio of the whole pupil (0 = unknown)
     PupilShapeModel mShape;
     // Scratch buffers reused between frames (no per-frame allocation in steady state).
     cv::Mat mSmall, mIntegral, mFullIntegral, mSmooth;
     BilinearRange mSmoothRange; // mSmooth's, for the ray walk
+    double mNoise = 0.0;        // this frame's sensor noise (grey levels, sigma)
     int mCoarseFactor = 1;      // full-resolution pixels per coarse pixel
     cv::Mat mInnerClipped, mInnerIntegral;
     cv::Mat mClosed, mClosedIntegral, mClosedSmall, mClosedSmallIntegral; // the fallback's search
