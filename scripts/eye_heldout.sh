@@ -14,7 +14,9 @@
 # eleventh, once in the twelfth, after its reported confidence, once in the thirteenth, after
 # its eye-shape refit; once in the fourteenth, after its shape-weighted pick and 0.7 gate; once in
 # the fifteenth, after its tracking of last frame's pupil; twice in the sixteenth, after its 128
-# rays, and after a fix for the one seed that run lost (hard 4027, looked at in between)) — then the
+# rays, and after a fix for the one seed that run lost (hard 4027, looked at in between); once in
+# the seventeenth, after its first threshold that clears the noise and its refitted confidence)
+# — then the
 # 2D and 3D gaze models before and after headset slippage on seeds 9000-9007, and binocular
 # vergence on seeds 9000-9003. Writes JSON into OUT (default out/eye_heldout).
 # DETECTOR_ONLY=1 skips slippage and vergence.
