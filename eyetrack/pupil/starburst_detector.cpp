@@ -236,6 +236,12 @@ double noiseSigma(const cv::Mat& grey, const cv::Mat& smooth) {
     return 0.0;
 }
 
+// The running means of the detector's priors: a tenth of each new value, or the value itself when
+// nothing was known (`known` false).
+void learn(double& mean, double value, bool known) {
+    mean = known ? 0.9 * mean + 0.1 * value : value;
+}
+
 cv::Rect boxAround(cv::Point2d c, double half) {
     const int h = std::max(1, static_cast<int>(std::lround(half)));
     return {static_cast<int>(std::lround(c.x)) - h, static_cast<int>(std::lround(c.y)) - h,
@@ -1636,15 +1642,11 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     // cost 2.3-2.4 points of wrong answers rejected.
     const double evidence = best.confidence / std::max(1e-6, picked->sizeFactor);
     if (evidence >= 0.75 && uniform) {
-        mRecentRadius =
-            mRecentRadius > 0.0 ? 0.9 * mRecentRadius + 0.1 * best.semiMajor() : best.semiMajor();
-        mRecentMinor =
-            mRecentMinor > 0.0 ? 0.9 * mRecentMinor + 0.1 * best.semiMinor() : best.semiMinor();
+        learn(mRecentRadius, best.semiMajor(), mRecentRadius > 0.0);
+        learn(mRecentMinor, best.semiMinor(), mRecentMinor > 0.0);
         if (picked->outside >= 0.0) {
-            const double step = picked->outside - picked->interior;
-            mRecentLevel = mRecentLevel >= 0.0 ? 0.9 * mRecentLevel + 0.1 * picked->interior
-                                               : picked->interior;
-            mRecentContrast = mRecentContrast > 0.0 ? 0.9 * mRecentContrast + 0.1 * step : step;
+            learn(mRecentContrast, picked->outside - picked->interior, mRecentContrast > 0.0);
+            learn(mRecentLevel, picked->interior, mRecentLevel >= 0.0);
         }
         mFramesSinceSize = 0;
     } else if (mFramesSinceSize > 300) {
@@ -1662,7 +1664,7 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     if (mConfig.eyeRatioMargin > 0.0 && uniform && picked->supportAll >= 0.9 &&
         evidence / std::max(1e-6, picked->shapeFactor) >= 0.75) {
         const double ratio = best.semiMinor() / std::max(1e-6, best.semiMajor());
-        mEyeRatio = mEyeRatio > 0.0 ? 0.9 * mEyeRatio + 0.1 * ratio : ratio;
+        learn(mEyeRatio, ratio, mEyeRatio > 0.0);
         mShape.add(best.ellipse);
     }
     return reported;
