@@ -22,7 +22,7 @@ build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
 # The thesis's main job: a short foveated sequence on the built-in market following a recorded
-# saccade, the same with eccentricity layers (seed 002), the full-resolution reference beside
+# saccade, the same with eccentricity layers (Guenter et al. 2012), the full-resolution reference beside
 # them, and the debug views, all in out/.
 run: build
 	@mkdir -p out

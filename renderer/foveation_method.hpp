@@ -1,6 +1,6 @@
 #pragma once
 // How a view's radiance is made: every pixel traced (full resolution), a perceptual point set
-// traced and interpolated (seed 000), or nested eccentricity layers (seed 002). The
+// traced and interpolated (the thesis), or nested eccentricity layers (Guenter et al. 2012). The
 // renderer adds a method's passes per view and runs the post chain on what it returns.
 #include <cstdint>
 #include <functional>

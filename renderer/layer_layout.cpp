@@ -21,7 +21,7 @@ foveation::LayerDisplay viewDisplay(uint32_t width, uint32_t height,
     if (width == 0 || height == 0 || !t.valid()) {
         throw ArgumentError("eccentricity layers: a view without size or frustum");
     }
-    // Portrait views take the long vertical axis (seed 002, footnote 8).
+    // Portrait views take the long vertical axis (Guenter et al. 2012, footnote 8).
     const bool portrait = height > width;
     return foveation::LayerDisplay::fromTangents(portrait ? height : width,
                                                  portrait ? width : height,

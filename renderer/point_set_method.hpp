@@ -1,5 +1,5 @@
 #pragma once
-// The thesis's method (seed 000, sections 4.1-4.3): a perceptual point set, built once per display
+// The thesis's method (thesis, sections 4.1-4.3): a perceptual point set, built once per display
 // (size and pixels per degree) and cached on disk, shifted to the view's gaze; `point_sample`
 // traces R rays in every point's disc, `interpolate` rebuilds every pixel from the k nearest
 // points (nearest neighbour, Modified Shepard, radial basis functions). What the interpolation
@@ -49,7 +49,7 @@ struct PointSetSettings {
     // that shows the gaze, and trace each ray where the lens sends its panel position
     // (engine/display/display_space.hpp); the result is the panel's image.
     bool displaySpace = false;
-    // Geometric LOD (seed 002, 6): points whose spacing is large trace coarser refinements of
+    // Geometric LOD (Guenter et al. 2012, 6): points whose spacing is large trace coarser refinements of
     // the scene's subdivision cages (point_sample.comp); a scene without cages is unaffected.
     bool lod = true;
     // Blend the interpolation in display-referred space at the view's exposure
@@ -65,7 +65,7 @@ struct PointSetSettings {
     bool pixelRays = true;
 };
 
-// Seed 000's reconstruction exactly as the thesis did it, for comparison: linear radiance,
+// The thesis's reconstruction exactly as the thesis did it, for comparison: linear radiance,
 // Modified Shepard with q = 1 and no guidance, the same rays every frame, and a fixed TAA blend.
 // The defaults instead blend display-referred, weigh neighbours by depth and colour, use q = 2,
 // rotate the rays every frame and let TAA average a still view (README, "Reconstruction").

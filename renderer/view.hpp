@@ -25,7 +25,7 @@ struct LensSettings {
 
 // The chain after the method: taa -> tonemap -> (lens) -> the view's output target.
 struct PostSettings {
-    bool taa = true; // temporal anti-aliasing (seed 000, 4.3: the thesis used it throughout)
+    bool taa = true; // temporal anti-aliasing (thesis, 4.3: the thesis used it throughout)
     passes::TaaSettings taaSettings;
     std::optional<LensSettings> lens;
 };

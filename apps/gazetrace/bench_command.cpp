@@ -136,7 +136,7 @@ double frameMs(const Frame& f) {
     return f.timings.gpuMs;
 }
 
-// Seed 002's predictions (Figure 12's model, section 4.3) for the desktop and fove profiles at
+// Guenter et al. 2012's predictions (Figure 12's model, section 4.3) for the desktop and fove profiles at
 // slopes A and B: unit weights, as the paper predicts, and half-rate weights, as it measures.
 nlohmann::json layerPredictions() {
     nlohmann::json out = nlohmann::json::array();
@@ -246,7 +246,7 @@ nlohmann::json measureLayers(render::Renderer& renderer, int pairs) {
 }
 
 void printLayers(const nlohmann::json& predicted, const nlohmann::json& measured) {
-    std::printf("Eccentricity layers (seed 002), predicted P*/P with 3 layers (unit weights; "
+    std::printf("Eccentricity layers (Guenter et al. 2012), predicted P*/P with 3 layers (unit weights; "
                 "half-rate weights):\n");
     for (const auto& p : predicted) {
         std::printf("  %-7s slope %s: %5.2f; %5.2f\n", p["profile"].get<std::string>().c_str(),

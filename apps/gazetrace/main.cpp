@@ -138,7 +138,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     renderCmd
         ->add_option("--reconstruction", render.reconstruction,
-                     "Foveated: gazetrace | thesis (seed 000's interpolation and TAA as published)")
+                     "Foveated: gazetrace | thesis (the thesis's interpolation and TAA as published)")
         ->check(CLI::IsMember({"gazetrace", "thesis"}))
         ->capture_default_str();
     renderCmd->add_option("--k", render.k, "Foveated: neighbours for msm and rbf (1-20)")
@@ -267,7 +267,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     evalCmd
         ->add_option("--reconstruction", eval.reconstruction,
-                     "Foveated: gazetrace (the options below) | thesis (seed 000 as published)")
+                     "Foveated: gazetrace (the options below) | thesis (the thesis as published)")
         ->capture_default_str();
     evalCmd->add_option("--blend", eval.blend, "Foveated: interpolate display | linear radiance")
         ->capture_default_str();
@@ -334,7 +334,7 @@ int main(int argc, char** argv) {
     benchCmd
         ->add_option("--suite", benchSuite,
                      "render (thesis tables, headline, layers) | eye (pupil detection speed) | "
-                     "stereo | layers (seed 002 only)")
+                     "stereo | layers (Guenter et al. 2012 only)")
         ->check(CLI::IsMember({"render", "eye", "stereo", "layers"}))
         ->capture_default_str();
 
@@ -615,7 +615,7 @@ int main(int argc, char** argv) {
                          xrTaa, xr.slope, xr.layers);
     xrCmd
         ->add_option("--reconstruction", xr.reconstruction,
-                     "Foveated: gazetrace | thesis (seed 000's interpolation and TAA as published)")
+                     "Foveated: gazetrace | thesis (the thesis's interpolation and TAA as published)")
         ->check(CLI::IsMember({"gazetrace", "thesis"}))
         ->capture_default_str();
     xrCmd
@@ -714,7 +714,7 @@ int main(int argc, char** argv) {
             std::cout << (eyescoreJson ? result.dump() : result.dump(2)) << std::endl;
         } else if (calibrateCmd->parsed()) {
             // Range checks let NaN through (every comparison with it is false), and %d wrapped
-            // 99999999999 to 1215752191 (issue 20): both are refused here.
+            // 99999999999 to 1215752191: both are refused here.
             unsigned long w = 0, h = 0;
             char x = 0, extra = 0;
             if (std::sscanf(screen.c_str(), "%lu%c%lu%c", &w, &x, &h, &extra) != 3 || x != 'x' ||

@@ -571,7 +571,7 @@ nlohmann::json runRender(const RenderOptions& o) {
                     gazePixelOfAngles(glm::vec2(static_cast<float>(a.x), static_cast<float>(a.y))),
                     glm::vec2(0.0f), lastPixel);
             }
-            // A saccade since the last frame: the TAA history is dropped (seed 000, 3.1).
+            // A saccade since the last frame: the TAA history is dropped (thesis, 3.1).
             const std::uint64_t saccades = tracker->saccades();
             view.saccade = saccades != saccadesSeen;
             saccadesSeen = saccades;

@@ -19,7 +19,7 @@ struct RenderOptions {
     std::string camera;     // "X,Y,Z,TX,TY,TZ[,FOV_DEG]"; empty = the scene's own camera
     std::string cameraPath; // CSV t_ms,ex,ey,ez,tx,ty,tz: one frame every frameMs along it
     bool validate = false;  // Khronos validation layer
-    // --method foveated (seed 000):
+    // --method foveated (the thesis):
     std::string profile = "fove";
     std::string interp = "nn";
     uint32_t k = 10;
@@ -32,7 +32,7 @@ struct RenderOptions {
     std::string knn = "table";
     double rbfShape = 1.0;
     // gazetrace: display-referred, guided interpolation, rays rotated every frame, adaptive TAA;
-    // thesis: seed 000 as published (render::useThesisReconstruction).
+    // thesis: the thesis as published (render::useThesisReconstruction).
     std::string reconstruction = "gazetrace";
     std::string gazeTrace;          // CSV t_ms,x,y; excludes --gaze
     std::string gazeSource;         // eye tracker frame source: live gaze; excludes --gaze
@@ -47,7 +47,7 @@ struct RenderOptions {
     bool distortion = true;    // --no-distortion: the eyes' images as rendered
     double vergenceM = 0.0;    // distance the eyes converge at; 0: infinity (parallel)
     bool displaySpace = false; // foveated --hmd: the point set laid on the panel after the lens
-    // --method layers (seed 002): MAR slope, layer count, half-rate outer layers, grid jitter.
+    // --method layers (Guenter et al. 2012): MAR slope, layer count, half-rate outer layers, grid jitter.
     // --spp is the rays per layer pixel, --taa the per-layer history.
     std::string slope = "A";
     uint32_t layers = 3;

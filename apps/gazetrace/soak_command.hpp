@@ -1,7 +1,7 @@
 #pragma once
 // `gazetrace soak`: many frames of the renderer with the gaze and the settings changing all the
 // time, Khronos validation and synchronisation validation on, resident memory sampled as it
-// goes (issue 20). It fails (exit 1, one line) on any validation error or when resident memory
+// goes. It fails (exit 1, one line) on any validation error or when resident memory
 // grows by more than --max-growth percent from the end of the warm-up to the last frame.
 #include <cstdint>
 #include <string>

@@ -24,7 +24,7 @@ struct XrOptions {
     std::string slope = "A";         // --method layers: MAR slope
     uint32_t layers = 3;             // --method layers: how many
     std::string interp = "nn";
-    // gazetrace | thesis: seed 000's interpolation and TAA as published
+    // gazetrace | thesis: the thesis's interpolation and TAA as published
     // (render::useThesisReconstruction).
     std::string reconstruction = "gazetrace";
     uint32_t k = 10;

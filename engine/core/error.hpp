@@ -1,5 +1,5 @@
 #pragma once
-// Error policy (docs/STYLE.md 3.4): unrecoverable failures and contract violations at API
+// Error policy: unrecoverable failures and contract violations at API
 // boundaries throw a gt::Error subclass carrying context; the app boundary catches and prints
 // one line. Vulkan calls are checked in every build type through GT_VK_CHECK.
 #include <stdexcept>

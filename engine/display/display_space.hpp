@@ -1,5 +1,5 @@
 #pragma once
-// Sample density on the HMD's panel, after the lens. The perceptual point set (seed 000, 4.1) is
+// Sample density on the HMD's panel, after the lens. The perceptual point set (thesis, 4.1) is
 // designed for a display's pixels; in an HMD the pixels are the panel's, and the eye's rendered
 // image is an intermediate that the lens pass resamples (hmd_profile.hpp: a panel point q shows
 // the image at src(q) = c + (q - c) f(r)). Laying the set in the image puts its density where the

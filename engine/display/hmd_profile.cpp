@@ -69,7 +69,7 @@ HmdProfile hmdProfile(const std::string& name) {
     p.lens = kPublishedLens;
     if (name == "fove") {
         // FOVE 0: one 2560x1440 panel, 1280x1440 per eye (vendor specification); about 100
-        // degrees horizontally (vendor); 70 Hz panel (vendor), run at 90 Hz in seed 000's
+        // degrees horizontally (vendor); 70 Hz panel (vendor), run at 90 Hz in the thesis's
         // experiments. The tangents split 100 degrees 52/48 temporal/nasal (fitted: the lens
         // centre sits 2 % towards the nose, as in the other two).
         p.eyeWidth = 1280;
@@ -79,7 +79,7 @@ HmdProfile hmdProfile(const std::string& name) {
         p.ipdM = 0.064f;
         p.pointSetProfile = "fove";
         p.sources = {"resolution, FOV: FOVE 0 specification (vendor)",
-                     "refresh: 90 Hz as in seed 000's experiments",
+                     "refresh: 90 Hz as in the thesis's experiments",
                      "IPD: 64 mm, the adult mean (Dodgson 2004)",
                      "lens: Oculus SDK 0.2 DK1 coefficients (no vendor publishes FOVE's); "
                      "approximate"};

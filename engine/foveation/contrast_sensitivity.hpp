@@ -1,5 +1,5 @@
 #pragma once
-// The perception model of seed 000 (thesis section 4.1), after Wang et al. 2001 with the
+// The perception model of the foveated ray-tracing thesis (section 4.1), after Wang et al. 2001 with the
 // parameters Geisler & Perry 1998 fitted:
 //   eccentricity      e  = atan(d / (N v))               [deg]        thesis eq. (1)
 //   cut-off frequency fc = e2 ln(1/CT0) / ((e + e2) a)   [cycles/deg] thesis eq. (2)
@@ -23,7 +23,7 @@ struct DisplayProfile {
 
 // fove: 1280x1440 per eye (the thesis's FOVE HMD), v chosen to reproduce Table 1 (see the
 // README, "Point set"); vive: 1080x1200 per eye; desktop: 1920x1080, 51 cm wide seen from
-// 59 cm (seed 002's setup), v = 59 / 51.
+// 59 cm (Guenter et al. 2012's setup), v = 59 / 51.
 [[nodiscard]] DisplayProfile displayProfile(const std::string& name);
 [[nodiscard]] std::vector<std::string> displayProfileNames();
 // A window of `width` x `height` pixels on the screen of `screen` (same pixel pitch, same viewing

@@ -1,5 +1,5 @@
 #pragma once
-// Eccentricity layers (seed 002, Guenter et al. 2012, section 4.3): a few nested layers around
+// Eccentricity layers (Guenter et al. 2012, section 4.3): a few nested layers around
 // the gaze, each sampled at the coarsest pitch the eye still resolves at its inner edge, chosen
 // to minimise the pixels rendered.
 //   MAR model           omega = m e + omega0                         [deg/cycle]  eq. (1)

@@ -2,7 +2,7 @@
 // k-nearest-neighbour lookup for scattered interpolation (thesis 4.1/4.3). The thesis stores,
 // for every canvas pixel, the indices of its 20 nearest points: 2W x 2H x 20 x 4 B = 590 MB
 // for the fove profile, more than a quarter of lavapipe's heap and beyond one storage buffer
-// (docs/LAVAPIPE.md). gazetrace stores instead
+// (docs/lavapipe.md). gazetrace stores instead
 //   - nearest: for every canvas pixel, its nearest point (2W x 2H x 4 B = 29.5 MB), and
 //   - neighbours: for every point, its kMax nearest other points (N x kMax x 4 B, 46 MB),
 // and a pixel takes its k nearest among {nearest point} + that point's neighbour list. Because

@@ -1,5 +1,5 @@
 #pragma once
-// The thesis's k-nearest-neighbour table (seed 000, 4.1 and 4.3): for every pixel of the
+// The thesis's k-nearest-neighbour table (thesis, 4.1 and 4.3): for every pixel of the
 // 2W x 2H canvas, the indices of its k nearest points, nearest first. Shifting the lookup by the
 // gaze gives every screen pixel its neighbours with one fetch per neighbour and no search.
 // It is exact (ties on distance go to the lower point index) and large: 2W x 2H x k x 4 B,

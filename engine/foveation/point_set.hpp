@@ -1,5 +1,5 @@
 #pragma once
-// The thesis's precomputed perceptual point set (seed 000, section 4.1): adaptive Poisson-disc
+// The thesis's precomputed perceptual point set (thesis, section 4.1): adaptive Poisson-disc
 // dart throwing over a canvas of 2W x 2H with the centre of interest at (W, H), the disc spacing
 // at each dart given by the contrast-sensitivity model (ContrastSensitivity::spacing, eq. 4).
 //

@@ -117,7 +117,7 @@ CacheLoad loadPointSet(const std::filesystem::path& file, const PointSetParams& 
         return {std::nullopt, file.string() + " has the wrong size"};
     }
     // A valid checksum says the bytes are what was written, not that they make sense: a
-    // NaN or far-away point sent the neighbour search into an unbounded loop (issue 20).
+    // NaN or far-away point sent the neighbour search into an unbounded loop.
     // Every consumer asks for up to kMaxNeighbours neighbours of a point (the fuzz target's
     // 2-point seed loaded, then failed in the neighbour index, as it would have every run).
     if (count <= NeighbourIndex::kMaxNeighbours) {

@@ -1,5 +1,5 @@
 #pragma once
-// Precomputed RBF systems (seed 000, eq. 8). The neighbourhood of every point q — q and its
+// Precomputed RBF systems (thesis, eq. 8). The neighbourhood of every point q — q and its
 // k-1 nearest neighbours — depends on the point set alone, so the inverse of its k x k kernel
 // matrix phi(|x_a - x_b|) is computed once per (k, kernel, c). Each frame then only needs
 // lambda = inverse * f (k^2 multiply-adds per point) instead of a k x k solve per pixel.

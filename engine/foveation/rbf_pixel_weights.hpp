@@ -1,5 +1,5 @@
 #pragma once
-// RBF interpolation solved per pixel, as the thesis does (seed 000, eqs. 7-8), but once instead
+// RBF interpolation solved per pixel, as the thesis does (thesis, eqs. 7-8), but once instead
 // of every frame. For a canvas pixel x with its k nearest points x_1..x_k (a PixelKnnTable row)
 // the interpolant is s(x) = sum_j lambda_j phi(|x - x_j|) with A lambda = f (eq. 8), so
 // s(x) = phi(x)^T A^-1 f = sum_j w_j f_j with w = A^-1 phi(x) (A is symmetric). The weights w

@@ -1,5 +1,5 @@
 #pragma once
-// The k x k system of radial basis function interpolation (seed 000, eq. 8):
+// The k x k system of radial basis function interpolation (thesis, eq. 8):
 // A_ab = phi(|x_a - x_b|) over k points, with the Gaussian (eq. 9) or multiquadric (eq. 10)
 // kernel. It is factored once (LU with partial pivoting, in double: multiquadric matrices with
 // c near the point spacing are badly conditioned) and then solved for any number of right-hand

@@ -1,6 +1,6 @@
 #pragma once
 // Picture quality per eccentricity band (0-5, 5-10, 10-20 and 20+ degrees from the gaze), from
-// a display profile's geometry (seed 000, eq. 1), and the thesis's falloff of the eye's cut-off
+// a display profile's geometry (thesis, eq. 1), and the thesis's falloff of the eye's cut-off
 // frequency fc(e) / fc(0) = e2 / (e + e2) (eq. 2): at eccentricity e a pixel spans that much
 // less of what the eye resolves, so FLIP there is taken at ppd * fc(0) / fc(e) pixels per degree
 // (`eval`'s flip_ecc) and detail the eye cannot resolve is not counted.
@@ -30,7 +30,7 @@ inline constexpr std::array<std::string_view, kBands> kBandNames{"0-5", "5-10", 
                                                      const std::vector<uint8_t>& bands);
 [[nodiscard]] std::array<std::size_t, kBands> pixelsPerBand(const std::vector<uint8_t>& bands);
 
-// fc(e) / fc(0) of seed 000, eq. (2).
+// fc(e) / fc(0) of the thesis, eq. (2).
 [[nodiscard]] double acuityFalloff(double eccentricityDeg);
 
 } // namespace gt::quality

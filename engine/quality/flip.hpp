@@ -24,7 +24,7 @@ namespace gt::quality {
                                      double pixelsPerDegree);
 
 // Pixels per degree of a viewer `distance` display widths from a display `widthPx` pixels wide,
-// at the display's centre: N v pi / 180 (twice the display Nyquist of seed 000, eq. 3).
+// at the display's centre: N v pi / 180 (twice the display Nyquist of the thesis, eq. 3).
 [[nodiscard]] double pixelsPerDegree(double widthPx, double viewingDistance);
 
 } // namespace gt::quality

@@ -144,7 +144,7 @@ Scene makeMarket() {
                   awningMats[(i + (side > 0 ? 1 : 0)) % 3]);
         }
     }
-    // The tree: a trunk and a crown of many small leaves (seed 000 6.3: flickering leaves).
+    // The tree: a trunk and a crown of many small leaves (thesis, 6.3: flickering leaves).
     const glm::vec3 treeBase(2.2f, 0.0f, -9.0f);
     b.cylinder(trs(treeBase, {0.35f, 3.2f, 0.35f}), barkMat, 12);
     b.box(trs(treeBase + glm::vec3(0, 0.25f, 0), {1.8f, 0.5f, 1.8f}), wallMat); // planter
@@ -226,7 +226,7 @@ Scene makeCornell() {
     return scene;
 }
 
-// A sculpture gallery made of Catmull-Clark cages (the geometric LOD's test content, seed 002
+// A sculpture gallery made of Catmull-Clark cages (the geometric LOD's test content, Guenter et al. 2012
 // section 6): rounded blocks, slabs, pillars and rings on plinths along a hall, lit by a sun
 // through the open side and lamps; only the room itself is plain triangles.
 Scene makeGallery() {

@@ -8,7 +8,7 @@
 namespace gt::scene {
 
 // "builtin:market": a market hall built around the cases the thesis's user study found hardest
-// (seed 000, section 6.3): dark pillars against bright walls, bright ceiling lights, shadows cast
+// (thesis, section 6.3): dark pillars against bright walls, bright ceiling lights, shadows cast
 // on a lit floor, a tree with many small leaves, and human-sized figures. Plus a mirror sphere
 // and glass shopfronts for the metallic bounce, and an open far end showing the sky.
 [[nodiscard]] Scene makeMarket();

@@ -1,6 +1,6 @@
 #pragma once
 // Environment images (HDR skies) for `--scene cubemap:FILE`, the thesis's experiment setup
-// (seed 000, 6.1): rays that miss everything sample the environment instead of the sky
+// (thesis, 6.1): rays that miss everything sample the environment instead of the sky
 // gradient. Stored as a linear RGB equirectangular image; six cube faces are resampled into
 // one on load.
 #include <cstdint>
@@ -23,7 +23,7 @@ struct Environment {
 // folder holding px/nx/py/ny/pz/nz faces): a cube map. Throws gt::LoadError naming the file.
 // Skies are kept to at most kMaxEnvironmentWidth x kMaxEnvironmentWidth / 2 texels (32 M; 512 MB
 // as the tracer holds them): a larger one is box-filtered down by halves, a cube map resampled
-// at that size, and a line saying so goes to `warnings` (issue 20: 16384 x 8192 did not finish;
+// at that size, and a line saying so goes to `warnings` (16384 x 8192 did not finish;
 // it also exceeds lavapipe's 128 M-element texel buffers).
 inline constexpr uint32_t kMaxEnvironmentWidth = 8192;
 [[nodiscard]] Environment loadEnvironment(const std::filesystem::path& path,

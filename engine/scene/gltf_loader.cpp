@@ -428,7 +428,7 @@ private:
         const std::size_t size = elementSize(a, index);
         // Nothing bounds a count that no bufferView backs: refuse what no real mesh needs
         // rather than fail to allocate it. Three vertices per triangle of the limit is all a
-        // scene can use (issue 20: 178,956,969 zeros took 4.2 GB before "no triangles").
+        // scene can use (178,956,969 zeros took 4.2 GB before "no triangles").
         constexpr std::size_t kMaxDenseBytes = std::size_t{1} << 31;
         const double limit = triangleLimit();
         if (a.count > kMaxDenseBytes / size || static_cast<double>(a.count) > 3.0 * limit) {
@@ -959,7 +959,7 @@ std::string jsonText(const std::filesystem::path& path, bool glb) {
 namespace {
 
 // tinygltf reads a model's external files (buffers, images) through these: a URI may only name
-// a file inside the model's folder (a `uri` of ../../../../etc/shadow was read; issue 20),
+// a file inside the model's folder (a `uri` of ../../../../etc/shadow was read),
 // unless GAZETRACE_GLTF_ANY_PATH=1 allows it. `~` and variables are not expanded.
 struct UriGuard {
     std::filesystem::path root; // weakly canonical
@@ -1069,7 +1069,7 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
         return Loader(model, file, rep).load();
     } catch (const std::length_error& e) {
         // An accessor count of 2^62, say: "cannot create std::vector larger than max_size()"
-        // alone did not say which file (issue 20).
+        // alone did not say which file.
         throw LoadError(file + ": a size in the file is too large to hold (" + e.what() + ")");
     } catch (const std::bad_alloc&) {
         throw LoadError(file + ": out of memory while loading (a size in the file too large?)");

@@ -22,7 +22,7 @@ void writePngAtomic(const std::filesystem::path& path, uint32_t width, uint32_t 
     }
     // Encoded in memory, then written through io::writeFileAtomic, which checks that every byte
     // reached the disk: stbi_write_png to a file cannot see a failing fwrite or fclose, and on a
-    // full disk render printed "wrote" and left a 0-byte PNG in place of the old one (issue 20).
+    // full disk render printed "wrote" and left a 0-byte PNG in place of the old one.
     std::vector<std::byte> png;
     const auto append = [](void* context, void* data, int size) {
         auto* out = static_cast<std::vector<std::byte>*>(context);
@@ -46,7 +46,7 @@ DecodedImage decode(std::span<const uint8_t> bytes, const std::string& what) {
     }
     int w = 0, h = 0, n = 0;
     // The header first: stb allocates the whole picture before it reads the pixels, so a
-    // 100-byte PNG claiming 23000 x 23000 makes it ask for 2 GB (issue 20: limits up front).
+    // 100-byte PNG claiming 23000 x 23000 makes it ask for 2 GB (limits up front).
     // Textures are box-filtered to 2048 anyway; 16384 a side is past any real one.
     constexpr int kMaxSide = 16384;
     if (stbi_info_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &n) &&

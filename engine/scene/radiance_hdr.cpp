@@ -190,7 +190,7 @@ RgbImage decodeRadianceHdr(std::span<const std::uint8_t> bytes, const std::strin
     RgbImage img;
     parseResolution(in, in.line(), img.width, img.height);
     // Two passes: the first only checks that every scanline is there and well formed, so a
-    // header that promises a large picture in a few bytes (issue 20: 12 GB asked for by a
+    // header that promises a large picture in a few bytes (12 GB asked for by a
     // 30-byte file) fails before the picture's memory is taken; the second decodes.
     const std::size_t scanlines = in.at();
     std::vector<std::uint8_t> rgbe(static_cast<std::size_t>(img.width) * 4);

@@ -72,7 +72,7 @@ struct Vertex {
     glm::vec2 uv;
 };
 
-// A Catmull-Clark control cage (the geometric LOD of seed 002, section 6): polygons over shared
+// A Catmull-Clark control cage (the geometric LOD of Guenter et al. 2012, section 6): polygons over shared
 // control points in world space, refined by OpenSubdiv to as many levels as the renderer's LOD
 // needs (scene/subdivision.hpp). Its triangles are not in Scene::vertices.
 struct SubdivisionCage {

@@ -1,7 +1,7 @@
 #pragma once
 // The scene packed for the compute-shader tracer: BVH nodes, triangles, shading data,
 // materials, lights and textures in uniform texel buffers (texel buffers beat storage buffers
-// by 1.6x for BVH nodes on lavapipe, docs/LAVAPIPE.md), plus a small uniform block.
+// by 1.6x for BVH nodes on lavapipe, docs/lavapipe.md), plus a small uniform block.
 #include <cstdint>
 #include <initializer_list>
 #include <memory>

@@ -199,7 +199,7 @@ void Context::createInstance(const ContextOptions& options) {
 
     if (options.validation) {
         // A messenger passed only through VkInstanceCreateInfo::pNext covers instance creation
-        // alone; this one sees everything after it (docs/STYLE.md 3.7).
+        // alone; this one sees everything after it.
         auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
             vkGetInstanceProcAddr(mInstance, "vkCreateDebugUtilsMessengerEXT"));
         VkDebugUtilsMessengerCreateInfoEXT m{

@@ -83,7 +83,7 @@ private:
 };
 
 // A typed view of a buffer for samplerBuffer / imageBuffer access: texel buffers were 1.6x
-// faster than storage buffers for BVH nodes on lavapipe (docs/LAVAPIPE.md).
+// faster than storage buffers for BVH nodes on lavapipe (docs/lavapipe.md).
 class BufferView {
 public:
     BufferView() = default;

@@ -17,7 +17,7 @@ VideoFileSource::VideoFileSource(const std::filesystem::path& file) : mFile(file
     if (!std::filesystem::exists(file, ec))
         throw CaptureError("video " + file.string() + ": no such file");
     if (!std::filesystem::is_regular_file(file, ec)) {
-        // /dev/null, a folder, a pipe: there, but not a video file (issue 20: "no such file").
+        // /dev/null, a folder, a pipe: there, but not a video file ("no such file").
         throw CaptureError("video " + file.string() + ": not a regular file");
     }
     if (std::filesystem::file_size(file, ec) == 0)
@@ -27,7 +27,7 @@ VideoFileSource::VideoFileSource(const std::filesystem::path& file) : mFile(file
     ::setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
     // Only FFmpeg, probed first: letting OpenCV fall back to any backend made GStreamer and the
     // image-sequence reader try an unreadable file and print four lines of their own before
-    // ours (issue 20). OpenCV's own log is quiet while it opens.
+    // ours. OpenCV's own log is quiet while it opens.
     if (!cv::videoio_registry::hasBackend(cv::CAP_FFMPEG)) {
         throw CaptureError("video " + file.string() +
                            ": this OpenCV has no FFmpeg video backend (install libopencv-dev "

@@ -189,7 +189,7 @@ Calibration Calibration::fromJson(const nlohmann::json& j, const std::string& wh
         throw bad("not a gazetrace calibration (\"format\" is missing or wrong)");
     if (!j.contains("version") || !j["version"].is_number_integer())
         throw bad("\"version\" is missing");
-    // As the number it is (2^40 read through int was reported as "version 0"; issue 20).
+    // As the number it is (2^40 read through int was reported as "version 0").
     if (j["version"].get<long long>() != kVersion)
         throw bad("version " + std::to_string(j["version"].get<long long>()) +
                   " is not supported (expected " + std::to_string(kVersion) +

@@ -4,7 +4,7 @@
 // `gazetrace track` drives) and publishes every sample to a GazeMailbox; the reader takes the
 // newest sample when it starts a frame and never waits. Saccade onsets are also counted, so a
 // reader that samples less often than the tracker (a renderer at 90 Hz, a tracker at 120+ Hz) still
-// sees every saccade and can drop its temporal history (seed 000, 3.1).
+// sees every saccade and can drop its temporal history (thesis, 3.1).
 //
 // Recordings are played at their own pace by default (a frame is processed at its timestamp
 // relative to the first), so a video behaves like the camera it was recorded with.

@@ -1,5 +1,5 @@
 #pragma once
-// Pass `interpolate` (seed 000, 4.3): rebuilds the full image from the sampled points with
+// Pass `interpolate` (thesis, 4.3): rebuilds the full image from the sampled points with
 // nearest neighbour, the Modified Shepard method over the k nearest points, or radial basis
 // functions from the weights pass `rbf_solve` wrote.
 #include <array>

@@ -1,5 +1,5 @@
 #pragma once
-// Pass `layers`: eccentricity layers (seed 002, Guenter et al. 2012). "layers.trace" ray traces one
+// Pass `layers`: eccentricity layers (Guenter et al. 2012). "layers.trace" ray traces one
 // layer as a grid over its sub-frustum of the view (run once per layer, each in its own graph
 // scope); "layers.compose" resamples every layer bilinearly to the display grid and blends them
 // with smoothstep masks around the gaze (Figures 3 and 6). Where the layers go, how they are

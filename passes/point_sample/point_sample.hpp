@@ -1,5 +1,5 @@
 #pragma once
-// Pass `point_sample` (seed 000, 4.2): traces R rays inside the disc of every point of the set
+// Pass `point_sample` (thesis, 4.2): traces R rays inside the disc of every point of the set
 // that lands on screen (plus a 10-pixel margin) once shifted to the gaze point.
 #include <cstdint>
 #include <map>

@@ -1,5 +1,5 @@
 #pragma once
-// Pass `rbf_solve` (seed 000, eqs. 7-8): the RBF weights lambda of every sampled point's
+// Pass `rbf_solve` (thesis, eqs. 7-8): the RBF weights lambda of every sampled point's
 // neighbourhood, from the inverses precomputed once per point set (foveation/rbf_inverse.hpp),
 // so `interpolate` evaluates eq. (7) per pixel in O(k) instead of solving eq. (8) there.
 #include <memory>

@@ -41,7 +41,7 @@ struct TaaSettings {
     // weight of its displayed range; a linear blend of HDR radiance lets one lamp sample flash
     // a dark pixel, where the display's encoding is steep.
     bool displayReferred = true;
-    // false: the fixed blend of seed 000's TAA (currentWeight, clipGamma, depthTolerance, linear
+    // false: the fixed blend of the thesis's TAA (currentWeight, clipGamma, depthTolerance, linear
     // radiance, whatever moved), ignoring the frame state and the settings above.
     bool adaptive = true;
     // With camera and gaze still and a method that reports per pixel how near this frame's
@@ -67,7 +67,7 @@ struct TaaFrameState {
 
 // Whether a frame must start TAA afresh: no committed history yet, a saccade reported by the eye
 // tracker, or a gaze jump larger than `saccadeFraction` of the width since the last frame — so
-// the new fovea is sharp at once instead of converging (seed 000, section 3.1).
+// the new fovea is sharp at once instead of converging (thesis, section 3.1).
 [[nodiscard]] bool taaMustReset(bool historyValid, bool saccade, glm::vec2 gaze,
                                 glm::vec2 previousGaze, uint32_t width, const TaaSettings& s);
 

@@ -1,4 +1,4 @@
-// RBF kernels (seed 000, eqs. 9-10) and the neighbourhood both rbf_solve and interpolate use:
+// RBF kernels (thesis, eqs. 9-10) and the neighbourhood both rbf_solve and interpolate use:
 // a point q and the first k-1 of its stored neighbours that point_sample sampled.
 #ifndef RBF_GLSL
 #define RBF_GLSL

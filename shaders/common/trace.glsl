@@ -16,7 +16,7 @@ layout(set = 0, binding = kBindingEnvironment) uniform samplerBuffer uEnvironmen
 // A read-only storage buffer, not a uniform block: Mesa 22.3's lavapipe inlines the values of
 // the first uniform block wherever they decide a branch or a loop, and redoes that on every
 // dispatch, keeping ~0.35 MB per traced pass per frame until the pipeline is destroyed (the
-// soak, issue 20: +0.69 MB a frame, flat once these reads left the uniform block). The block
+// soak: +0.69 MB a frame, flat once these reads left the uniform block). The block
 // is four vec4s read a few times per ray; as a storage buffer it costs nothing measurable.
 layout(std430, set = 0, binding = kBindingSceneUniforms) readonly buffer SceneBlock {
     SceneUniforms uScene;

@@ -1,5 +1,5 @@
 #version 460
-// Pass `interpolate` (seed 000, 4.3): every screen pixel from the k nearest sampled points.
+// Pass `interpolate` (thesis, 4.3): every screen pixel from the k nearest sampled points.
 // Nearest neighbour takes the nearest point's colour; the Modified Shepard method weighs the k
 // neighbours by w_i = ((R - h_i) / (R h_i))^q with R the distance to the farthest of them
 // (thesis eqs. 5-6, q = 1; Renka 1988 uses q = 2); RBF (eqs. 7-10) sums the k neighbours with
@@ -73,7 +73,7 @@ void store(ivec2 px, vec4 colour, vec2 site, float p) {
     imageStore(uSupport, px, vec4(s));
 }
 
-// RBF (seed 000, eq. 7): s(x) = sum lambda_i phi(|x - x_i|) over the neighbourhood of the
+// RBF (thesis, eq. 7): s(x) = sum lambda_i phi(|x - x_i|) over the neighbourhood of the
 // pixel's nearest point q, with the weights rbf_solve computed for q.
 vec3 evaluateRbf(uint q, vec2 pos) {
     uint k = min(pc.params.z, kMaxK);

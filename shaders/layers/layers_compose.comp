@@ -1,5 +1,5 @@
 #version 460
-// Pass `layers`, compose: every layer resampled bilinearly to the display grid (seed 002,
+// Pass `layers`, compose: every layer resampled bilinearly to the display grid (Guenter et al. 2012,
 // Figure 6) and blended outer to inner with circular smoothstep masks around the gaze: a layer
 // weighs 1 inside (1 - t) r and 0 beyond r, its radius, with the transition t = 40 % of the
 // radius (Figure 3).

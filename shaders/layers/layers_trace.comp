@@ -1,6 +1,6 @@
 #version 460
 // Pass `layers`, trace: one eccentricity layer as a pinhole grid over its sub-frustum. The grid
-// as a whole is jittered every frame by moving the frustum (seed 002, 4.2, "whole frame jitter");
+// as a whole is jittered every frame by moving the frustum (Guenter et al. 2012, 4.2, "whole frame jitter");
 // several rays per layer pixel take fixed stratified positions inside it, the ray-tracing
 // counterpart of the paper's MSAA.
 #extension GL_GOOGLE_include_directive : require
@@ -16,7 +16,7 @@ void main() {
     uint width = pc.params.x, height = pc.params.y, rays = pc.params.z;
     if (pixel.x >= width || pixel.y >= height) return;
     CameraPush cam = CameraPush(pc.origin, pc.forward, pc.right, pc.up);
-    selectLod(pc.params.w); // coarser layers traverse coarser refinements (seed 002, 6)
+    selectLod(pc.params.w); // coarser layers traverse coarser refinements (Guenter et al. 2012, 6)
     uint nx = 1u;
     while (nx * nx < rays) nx++;
     uint ny = (rays + nx - 1u) / nx;

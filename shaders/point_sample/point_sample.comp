@@ -1,5 +1,5 @@
 #version 460
-// Pass `point_sample` (seed 000, 4.2): the point set shifted to the gaze; every point on screen
+// Pass `point_sample` (thesis, 4.2): the point set shifted to the gaze; every point on screen
 // or within the margin is traced with R rays through random positions inside its disc (radius
 // p in the thesis; by default here at most 0.6 px, kRayDiscMaxPx below). The positions come
 // from the point's index and the ray's number, so they do not depend on which thread traces
@@ -75,7 +75,7 @@ void main() {
     }
     if (kLanes == 1u && !onScreen) return; // a specialisation constant: no barrier follows
     const CameraPush cam = CameraPush(pc.origin, pc.forward, pc.right, pc.up);
-    // Geometric LOD (seed 002, 6, here for the point set): a point whose neighbours lie p pixels
+    // Geometric LOD (Guenter et al. 2012, 6, here for the point set): a point whose neighbours lie p pixels
     // apart resolves no detail finer than that, so it traces the scene's subdivision cages
     // one level coarser per doubling past 4 px (scene::lodForPitch). Each point keeps its level
     // as the set follows the gaze.

@@ -1,5 +1,5 @@
 #version 460
-// Pass `rbf_solve` (seed 000, eqs. 7-8): lambda = inverse(phi(|x_a - x_b|)) f for every sampled
+// Pass `rbf_solve` (thesis, eqs. 7-8): lambda = inverse(phi(|x_a - x_b|)) f for every sampled
 // point q, over q and its k-1 nearest neighbours, with the inverse precomputed once per point
 // set (engine/foveation/rbf_inverse.cpp): k^2 multiply-adds per point and frame. Neighbours
 // that point_sample skipped (beyond the screen margin) take q's colour. The interpolate pass

@@ -1,6 +1,6 @@
 #version 460
 // Pass `reference`: every pixel ray traced with N stratified jittered rays; the baseline every
-// foveated method is measured against (seed 000, section 5: "ground truth").
+// foveated method is measured against (thesis, section 5: "ground truth").
 #extension GL_GOOGLE_include_directive : require
 #include "reference_shared.h"
 #include "random.glsl"

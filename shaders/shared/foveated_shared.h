@@ -1,4 +1,4 @@
-// Passes `point_sample` and `interpolate` (seed 000, sections 4.2 and 4.3).
+// Passes `point_sample` and `interpolate` (thesis, sections 4.2 and 4.3).
 #ifndef FOVEATED_SHARED_H
 #define FOVEATED_SHARED_H
 #include "trace_shared.h"
@@ -76,7 +76,7 @@ GT_CONST kBindingKnnTable = 8;
 // its k table neighbours (engine/foveation/rbf_pixel_weights.hpp), four to a texel.
 GT_CONST kBindingRbfPixelWeights = 9;
 
-// rbf_solve (seed 000, eqs. 7-10): for every sampled point q, the weights of the RBF
+// rbf_solve (thesis, eqs. 7-10): for every sampled point q, the weights of the RBF
 // interpolant through q and its k-1 nearest neighbours, from the precomputed inverse.
 GT_CONST kBindingSolvePoints = 0;     // samplerBuffer RGBA32F
 GT_CONST kBindingSolveSamples = 1;    // buffer of vec4

@@ -1,4 +1,4 @@
-// Pass `layers`: eccentricity layers (seed 002, Guenter et al. 2012, section 4): each layer traced
+// Pass `layers`: eccentricity layers (Guenter et al. 2012, section 4): each layer traced
 // as a pinhole grid over its own sub-frustum, then all resampled and blended on the display grid.
 #ifndef LAYERS_SHARED_H
 #define LAYERS_SHARED_H

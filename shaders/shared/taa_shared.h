@@ -1,4 +1,4 @@
-// Pass `taa`: temporal anti-aliasing of the rebuilt image (seed 000, 4.3 and 3.1).
+// Pass `taa`: temporal anti-aliasing of the rebuilt image (thesis, 4.3 and 3.1).
 #ifndef TAA_SHARED_H
 #define TAA_SHARED_H
 #include "gt_shared.h"

@@ -2,7 +2,7 @@
 // clipped to the current frame's 3x3 neighbourhood in YCoCg (variance clipping, Salvi 2016),
 // then blended. History is rejected where the reprojected distance disagrees (disocclusion),
 // off screen, and on reset — a saccade or gaze jump — so the fovea is sharp at once instead
-// of converging (Patney et al. 2016, as summarised in seed 000, section 3.1).
+// of converging (Patney et al. 2016, as summarised in the thesis, section 3.1).
 #include "taa_shared.h"
 
 layout(local_size_x = kGroupX, local_size_y = kGroupY) in;

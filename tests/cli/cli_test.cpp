@@ -290,7 +290,7 @@ TEST(Cli, EyesimTrackCalibrateEndToEnd) {
     ASSERT_EQ(l.at("gaze_per_frame").size(), 2u);
     // Each frame's gaze is one of the tracker's own samples (gaze.csv, the same clip and
     // calibration) placed on the desktop screen: the render is the whole 1920 x 1080 screen, so
-    // the angles land on the same pixel. Range checks alone could not fail here (issue 20): the
+    // the angles land on the same pixel. Range checks alone could not fail here: the
     // render clamps the gaze to the screen first.
     std::vector<std::pair<double, double>> samples;
     {
@@ -313,7 +313,7 @@ TEST(Cli, EyesimTrackCalibrateEndToEnd) {
         EXPECT_LT(nearest, 1.0) << g;
     }
     EXPECT_TRUE(std::filesystem::exists(dir / "live" / "frame_0001.png"));
-    // Issue 20: a multi-frame render following a clip that turns out truncated kept the frames
+    // A multi-frame render following a clip that turns out truncated kept the frames
     // written before the tracker failed. The failure is one line and leaves no frame behind.
     {
         const std::string whole = slurp(clip);
@@ -430,7 +430,7 @@ TEST(Cli, HmdWritesBothEyesSideBySide) {
                        "broken.json", bad);
 }
 
-// Issue 18: `layers` prints the paper's optimisation; `render --method layers` traces the layers
+// `layers` prints the paper's optimisation; `render --method layers` traces the layers
 // (alone and per HMD eye) and reports what it traced; bad values are one line.
 TEST(Cli, LayersPlanAndRender) {
     const auto dir = test::tempDir("cli_layers");
@@ -497,7 +497,7 @@ TEST(Cli, LayersPlanAndRender) {
 namespace gt {
 namespace {
 
-// Issue 20: --json to a full disk exited 0 with the JSON lost, and `devices` printed nothing
+// --json to a full disk exited 0 with the JSON lost, and `devices` printed nothing
 // and exited 0 without a Vulkan driver. Both are failures with one line now.
 TEST(Cli, LostStandardOutputAndNoDriverAreErrors) {
     const auto dir = test::tempDir("cli_stdout");
@@ -524,7 +524,7 @@ TEST(Cli, LostStandardOutputAndNoDriverAreErrors) {
 namespace gt {
 namespace {
 
-// Issue 20: on a full disk render printed "wrote", exited 0 and replaced an existing PNG with a
+// On a full disk render printed "wrote", exited 0 and replaced an existing PNG with a
 // 0-byte file. Through the write-fault seam (GAZETRACE_WRITE_FAULT=enospc): one line, exit 1,
 // the old file as it was.
 TEST(Cli, FullDiskFailsAndKeepsTheOldFile) {
@@ -555,7 +555,7 @@ TEST(Cli, FullDiskFailsAndKeepsTheOldFile) {
 namespace gt {
 namespace {
 
-// Issue 20: --out naming a folder (with --graph) exited 1 "cannot write ...: Success" and left
+// --out naming a folder (with --graph) exited 1 "cannot write ...: Success" and left
 // the graph behind; --out r.PNG was taken for a folder; a run that failed at a later frame kept
 // its earlier frames. A failed run now leaves none of its outputs.
 TEST(Cli, FailedRunLeavesNoneOfItsOutputs) {
@@ -584,7 +584,7 @@ TEST(Cli, FailedRunLeavesNoneOfItsOutputs) {
 namespace gt {
 namespace {
 
-// Issue 20: calibrate --distance-cm nan / --screen-width-cm nan exited 0 and wrote nulls, and
+// Calibrate --distance-cm nan / --screen-width-cm nan exited 0 and wrote nulls, and
 // --screen 99999999999x1 wrapped to 1215752191. Refused before any work now.
 TEST(Cli, CalibrateRefusesNanAndOverflowingScreens) {
     const auto dir = test::tempDir("cli_calib_values");
@@ -605,7 +605,7 @@ TEST(Cli, CalibrateRefusesNanAndOverflowingScreens) {
 namespace gt {
 namespace {
 
-// Issue 20: an unreadable video printed four OpenCV/GStreamer lines before gazetrace's own.
+// An unreadable video printed four OpenCV/GStreamer lines before gazetrace's own.
 TEST(Cli, UnreadableVideoIsOneLine) {
     const auto dir = test::tempDir("cli_badvideo");
     const auto video = dir / "noise.mkv";
@@ -627,7 +627,7 @@ TEST(Cli, UnreadableVideoIsOneLine) {
 namespace gt {
 namespace {
 
-// The soak (issue 20) in small: 100 frames through all six phases of settings, two saccades,
+// The soak in small: 100 frames through all six phases of settings, two saccades,
 // readback, validation and synchronisation validation on. The 1,000-frame run at 1920 x 1080
 // is for the closing note; this one keeps the command and its bookkeeping honest.
 TEST(Cli, SoakRunsEveryPhaseWithoutValidationErrors) {

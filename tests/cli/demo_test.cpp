@@ -86,7 +86,7 @@ TEST(Demo, WindowMatchesHeadlessRenderInTheFovea) {
     EXPECT_LE(diff / static_cast<double>(n), 2.0);
 }
 
-// Issue 18: the demo shows layered foveation, the same as `render --method layers` where the eye
+// The demo shows layered foveation, the same as `render --method layers` where the eye
 // looks, and both eyes of the HMD path take their own layers.
 TEST(Demo, LayersInTheWindowMatchHeadless) {
     if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";

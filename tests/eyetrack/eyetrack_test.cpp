@@ -974,7 +974,7 @@ TEST(Calibration, FromASyntheticRecording) {
     EyeSimConfig upToLastTarget = c;
     upToLastTarget.frames = 930; // ends fixating the 13th target (free viewing follows)
     GazeTracker tracker(std::make_unique<SyntheticSource>(upToLastTarget), r.calibration, options);
-    // No deadline: under ASan the 930 frames take several times longer (issue 20); CTest's
+    // No deadline: under ASan the 930 frames take several times longer; CTest's
     // timeout is the only limit.
     tracker.waitUntilFinished();
     ASSERT_TRUE(tracker.finished());
@@ -1082,7 +1082,7 @@ TEST(UdpEmitter, SendsOneJsonObjectPerSample) {
 namespace gt::eyetrack {
 namespace {
 
-// Issue 20: a folder given as a calibration file ended in "basic_filebuf::underflow ... Is a
+// A folder given as a calibration file ended in "basic_filebuf::underflow ... Is a
 // directory" with no file name; version 2^40 was reported as "version 0"; video:/dev/null said
 // "no such file". Each message now names the file and what is wrong.
 TEST(BadInput, FolderHugeVersionAndNonRegularVideoAreNamed) {

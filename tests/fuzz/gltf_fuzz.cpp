@@ -69,7 +69,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         gt::scene::GltfLoadReport report;
         const gt::scene::Scene scene = gt::scene::loadGltf(file, &report);
         checkScene(scene);
-        const gt::scene::Bvh bvh(scene); // a node at 3.4e38 crashed here (issue 20)
+        const gt::scene::Bvh bvh(scene); // a node at 3.4e38 crashed here
         (void)bvh.intersect({scene.camera.position, scene.camera.forward});
     } catch (const gt::LoadError& e) {
         if (std::string(e.what()).find(file.string()) == std::string::npos) {

@@ -1,7 +1,7 @@
 // Writes the fuzz targets' seed corpora and regression cases:
 //   gazetrace_fuzz_corpus OUT
 // makes OUT/<target>/seeds (small valid files that reach deep into each reader) and
-// OUT/<target>/regressions (every hostile input of issue 20 that touches a fuzzed reader, rebuilt
+// OUT/<target>/regressions (every hostile input found so far that touches a fuzzed reader, rebuilt
 // here from its description, plus what fuzzing found since). Nothing is copied from ../shared:
 // every byte is made by this program, so the corpus is the same on every machine.
 #include <array>

@@ -1,6 +1,6 @@
 // Fuzz target: the point-set cache reader, then the neighbour search every loaded set feeds.
 // The input is a cache file without its trailing checksum; the harness appends the right one,
-// so mutations get past the checksum to the content checks (issue 20: a file with a valid
+// so mutations get past the checksum to the content checks (a file with a valid
 // checksum and NaN or 1e30 points sent the neighbour search into an unbounded loop).
 // Contract (point_set_cache.hpp): a file that cannot be used is reported, never thrown, and
 // never crashes; a set that loads has its points on the canvas, and every query answers.

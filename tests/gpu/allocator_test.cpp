@@ -11,7 +11,7 @@ namespace {
 class AllocatorTest : public test::GpuTest {};
 
 // No two live buffers share a byte of the same memory block (an allocator handing out offset 0
-// every time passed the counts this test checked before; issue 20).
+// every time passed the counts this test checked before).
 void expectDisjoint(const std::vector<vk::Buffer>& buffers) {
     std::vector<const vk::Allocation*> live;
     for (const vk::Buffer& b : buffers) {

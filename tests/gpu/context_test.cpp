@@ -25,7 +25,7 @@ TEST_F(ContextTest, HasDeviceAndValidation) {
     EXPECT_GE(other.validationErrors(), 1u); // (the shared context's TearDown checks its own)
 }
 
-// The messenger must see errors raised after instance creation (docs/STYLE.md 3.7): make one
+// The messenger must see errors raised after instance creation: make one
 // on purpose on a separate context, and check it is counted.
 TEST(ContextValidation, CountsDeliberateError) {
     vk::Context c({.validation = true, .synchronizationValidation = true, .announceDevice = false});

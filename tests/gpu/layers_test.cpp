@@ -1,4 +1,4 @@
-// Eccentricity layers (seed 002) on lavapipe with validation on: the blend masks of Figure 3, the
+// Eccentricity layers (Guenter et al. 2012) on lavapipe with validation on: the blend masks of Figure 3, the
 // half-rate schedule, a static scene converging without seams at the layer borders, resets.
 #include <algorithm>
 #include <array>

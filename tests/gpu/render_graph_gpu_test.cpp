@@ -135,7 +135,7 @@ double residentMiB() {
            (1024.0 * 1024.0);
 }
 
-// The soak (issue 20) found resident memory growing 0.69 MB a frame on lavapipe, whatever the
+// The soak found resident memory growing 0.69 MB a frame on lavapipe, whatever the
 // image size: Mesa 22.3 re-inlines the first uniform block's values into every dispatch of a
 // shader that branches on them and keeps each copy until the pipeline goes. The scene's
 // uniforms now live in a storage buffer. The same traced frame 150 times must leave resident

@@ -195,7 +195,7 @@ TEST(Environment, RejectsWrongAspectAndMissingFiles) {
 }
 
 TEST_F(TracerTest, MarketHasDarkAndBrightRegions) {
-    // The market exists to be high-contrast (seed 000, 6.3): both near-black pillars and
+    // The market exists to be high-contrast (thesis, 6.3): both near-black pillars and
     // near-white walls and lights must be on screen, and the image must not be flat.
     const scene::Scene s = scene::makeMarket();
     const scene::Bvh bvh(s);

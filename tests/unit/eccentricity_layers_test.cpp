@@ -1,4 +1,4 @@
-// Seed 002's layer model (Guenter et al. 2012, section 4.3) against the paper's own numbers and
+// The layer model of Guenter et al. 2012 (section 4.3) against the paper's own numbers and
 // values worked by hand.
 #include <gtest/gtest.h>
 

@@ -274,7 +274,7 @@ TEST(BuiltinScenes, MarketHasTheStudysHardCases) {
 namespace gt::scene {
 namespace {
 
-// A node translated near the float limit (issue 20: it crashed the BVH build) is refused with a
+// A node translated near the float limit (it crashed the BVH build) is refused with a
 // line naming the node; so is one whose scale overflows, and one past the stated limit.
 TEST(GltfLoader, RefusesWorldCoordinatesBeyondTheLimitNamingTheNode) {
     const auto dir = test::tempDir("far_node");
@@ -300,7 +300,7 @@ TEST(GltfLoader, RefusesWorldCoordinatesBeyondTheLimitNamingTheNode) {
 namespace gt::scene {
 namespace {
 
-// JSON nested 20,000 deep overflowed the stack inside tinygltf's parser (issue 20); now it is
+// JSON nested 20,000 deep overflowed the stack inside tinygltf's parser; now it is
 // refused before parsing, in .gltf and in .glb. Brackets inside strings do not count.
 TEST(GltfLoader, RefusesJsonNestedTooDeep) {
     const auto dir = test::tempDir("deep_json");
@@ -333,7 +333,7 @@ TEST(GltfLoader, RefusesJsonNestedTooDeep) {
 namespace gt::scene {
 namespace {
 
-// Issue 20: an accessor count of 2^62 said "cannot create std::vector larger than max_size()"
+// An accessor count of 2^62 said "cannot create std::vector larger than max_size()"
 // without the file's name; an empty --scene said ": no such file".
 TEST(GltfLoader, HugeCountsAndEmptySpecsNameWhatIsWrong) {
     const auto dir = test::tempDir("huge_count");
@@ -351,7 +351,7 @@ TEST(GltfLoader, HugeCountsAndEmptySpecsNameWhatIsWrong) {
 namespace gt::scene {
 namespace {
 
-// Issue 20: 25 nodes, each level referencing the next twice, expand to 2^24 quads (33.6 M
+// 25 nodes, each level referencing the next twice, expand to 2^24 quads (33.6 M
 // triangles): it ran out of memory after 135 s. The expansion is counted first and refused with
 // the limit and how to raise it; GAZETRACE_MAX_TRIANGLES moves the limit either way.
 TEST(GltfLoader, RefusesNodeGraphsThatExpandPastTheTriangleLimit) {
@@ -395,7 +395,7 @@ TEST(GltfLoader, RefusesNodeGraphsThatExpandPastTheTriangleLimit) {
 namespace gt::scene {
 namespace {
 
-// Issue 20: an image `uri` of ../../../../etc/shadow was read. URIs resolve under the model's
+// An image `uri` of ../../../../etc/shadow was read. URIs resolve under the model's
 // folder: an image outside it is refused with a warning (the material keeps its factor), a
 // buffer outside it is an error; GAZETRACE_GLTF_ANY_PATH=1 allows both.
 TEST(GltfLoader, UrisStayInsideTheModelsFolder) {
@@ -456,7 +456,7 @@ TEST(GltfLoader, FactorsBeyondAFloatAreRefused) {
     }
 }
 
-// Issue 20: a POSITION accessor without a bufferView and a count of 178,956,969 took 122 s and
+// A POSITION accessor without a bufferView and a count of 178,956,969 took 122 s and
 // 4.3 GB before an error; the first fix (a 2 GiB cap on such accessors) still let it take
 // 4.2 GB, which the fuzz replay showed. Now three vertices per triangle of the limit is the
 // most an accessor of zeros may hold; peak memory tells whether it was allocated.

@@ -87,7 +87,7 @@ TEST(PointSetCache, TruncatedWrongMagicAndStaleFilesAreRejected) {
     EXPECT_FALSE(other.set.points().empty());
 }
 
-// Issue 20: a cache whose checksum is right but whose points are NaN, far away, or too few
+// A cache whose checksum is right but whose points are NaN, far away, or too few
 // was trusted (the neighbour search then ran unbounded; 0 or 1 points failed every later run).
 // Its contents are checked now: loadOrGenerate warns, regenerates and rewrites it.
 TEST(PointSetCache, ChecksItsContentsNotOnlyItsChecksum) {

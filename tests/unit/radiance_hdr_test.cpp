@@ -162,7 +162,7 @@ TEST(RadianceHdr, SharedSkiesMatchStbAndTruncatedOnesFail) {
 namespace gt::scene {
 namespace {
 
-// Issue 20: a 16384 x 8192 sky never finished loading. Skies past the limit are box-filtered
+// A 16384 x 8192 sky never finished loading. Skies past the limit are box-filtered
 // down by halves with a warning (here with a small limit, to stay quick).
 TEST(Environment, LargerThanTheLimitIsDownsampledWithAWarning) {
     const auto dir = test::tempDir("env_limit");
@@ -198,7 +198,7 @@ TEST(Environment, LargerThanTheLimitIsDownsampledWithAWarning) {
 namespace gt::scene {
 namespace {
 
-// Found while writing the Radiance fuzz target (issue 20): a 40-byte file whose header says 16384 x
+// Found while writing the Radiance fuzz target: a 40-byte file whose header says 16384 x
 // 8192 had the reader take and zero 1.5 GiB before finding the data missing; 32768 x 32768 asked
 // for 12 GiB. The picture is only allocated once every scanline proved to be there, and past 16384
 // x 8192 it is refused. Peak resident memory, not time, tells whether the memory was taken.

@@ -117,7 +117,7 @@ TEST(RenderGraph, PlacesReadAfterWriteBarrierWithLayout) {
 }
 
 // Two compute dispatches writing the same buffer back to back: the validation layer misses
-// this hazard (docs/LAVAPIPE.md), so the plan itself must hold the barrier.
+// this hazard (docs/lavapipe.md), so the plan itself must hold the barrier.
 TEST(RenderGraph, PlacesWriteAfterWriteAndWriteAfterReadBarriersOnBuffers) {
     RenderGraph g(8, 8);
     const BufferId host = g.importBuffer("host", hostBuffer());

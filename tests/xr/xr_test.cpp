@@ -186,7 +186,7 @@ TEST(Xr, RendersBothEyesAndEachMatchesAHeadlessRenderOfItsPose) {
     rendersAndMatches("right");
 }
 
-// Issue 18: eccentricity layers through OpenXR: each eye traces its own layers (from its XrFovf)
+// Eccentricity layers through OpenXR: each eye traces its own layers (from its XrFovf)
 // into the runtime's swapchain, validation clean, the session ended cleanly.
 TEST(Xr, LayersRenderBothEyes) {
     REQUIRE_MONADO();
