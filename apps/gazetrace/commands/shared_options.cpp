@@ -1,0 +1,41 @@
+#include "shared_options.hpp"
+
+#include <CLI/CLI.hpp>
+
+namespace gt::app {
+
+void addSizeOptions(CLI::App* cmd, uint32_t& width, uint32_t& height, uint32_t min,
+                    const std::string& what) {
+    cmd->add_option("--width", width, what + " width in pixels")
+        ->check(CLI::Range(min, 16384u))
+        ->capture_default_str();
+    cmd->add_option("--height", height, what + " height in pixels")
+        ->check(CLI::Range(min, 16384u))
+        ->capture_default_str();
+}
+
+void addLiveMethodOptions(CLI::App* cmd, std::string& method, std::string& interp, uint32_t& k,
+                          double& scale, uint32_t& raysPerPoint, uint32_t& spp, std::string& taa,
+                          std::string& slope, uint32_t& layers) {
+    cmd->add_option("--method", method, "foveated | layers | reference")->capture_default_str();
+    cmd->add_option("--slope", slope, "Layers: MAR slope A | B | VALUE")->capture_default_str();
+    cmd->add_option("--layers", layers, "Layers: number of eccentricity layers")
+        ->check(CLI::Range(1u, 4u))
+        ->capture_default_str();
+    cmd->add_option("--interp", interp, "nn | msm | rbf")->capture_default_str();
+    cmd->add_option("--k", k, "Neighbours for msm / rbf")->capture_default_str();
+    cmd->add_option("--scale", scale, "Point-set scaling value (sparser above 1)")
+        ->check(CLI::Range(0.25, 8.0))
+        ->capture_default_str();
+    cmd->add_option("--rays-per-point", raysPerPoint, "Rays traced per point")
+        ->check(CLI::Range(1u, 1024u))
+        ->capture_default_str();
+    cmd->add_option("--spp", spp, "Rays per pixel (reference) or per layer pixel (layers)")
+        ->check(CLI::Range(1u, 1024u))
+        ->capture_default_str();
+    cmd->add_option("--taa", taa, "on | off")
+        ->check(CLI::IsMember({"on", "off"}))
+        ->capture_default_str();
+}
+
+} // namespace gt::app
