@@ -18,8 +18,10 @@
 #include "eccentricity_layers.hpp"
 #include "foveation/eccentricity_layers.hpp"
 #include "foveation/point_set_cache.hpp"
+#include "frame_loop.hpp"
 #include "full_resolution.hpp"
 #include "layers_quality.hpp"
+#include "method_choice.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
@@ -115,8 +117,7 @@ private:
         return v;
     }
     Frame run(const render::View& v) {
-        render::OutputTarget* const target = &mDiscard;
-        const render::FrameResult f = renderer.renderFrame(std::span(&v, 1), std::span(&target, 1));
+        const render::FrameResult f = renderOneFrame(renderer, v, mDiscard);
         return {f.timings.value_or(rg::FrameTimings{}), f.wallMs};
     }
     render::DiscardTarget mDiscard;
@@ -136,8 +137,9 @@ double frameMs(const Frame& f) {
     return f.timings.gpuMs;
 }
 
-// Guenter et al. 2012's predictions (Figure 12's model, section 4.3) for the desktop and fove profiles at
-// slopes A and B: unit weights, as the paper predicts, and half-rate weights, as it measures.
+// Guenter et al. 2012's predictions (Figure 12's model, section 4.3) for the desktop and fove
+// profiles at slopes A and B: unit weights, as the paper predicts, and half-rate weights, as it
+// measures.
 nlohmann::json layerPredictions() {
     nlohmann::json out = nlohmann::json::array();
     for (const char* profile : {"desktop", "fove"}) {
@@ -186,9 +188,7 @@ nlohmann::json measureLayers(render::Renderer& renderer, int pairs) {
         render::View view = v;
         view.method = &method;
         view.name = std::string(method.name());
-        render::OutputTarget* const target = &discard;
-        const render::FrameResult f =
-            renderer.renderFrame(std::span(&view, 1), std::span(&target, 1));
+        const render::FrameResult f = renderOneFrame(renderer, view, discard);
         if (rays) *rays = f.views.front().rays;
         return Frame{f.timings.value_or(rg::FrameTimings{}), f.wallMs};
     };
@@ -246,8 +246,9 @@ nlohmann::json measureLayers(render::Renderer& renderer, int pairs) {
 }
 
 void printLayers(const nlohmann::json& predicted, const nlohmann::json& measured) {
-    std::printf("Eccentricity layers (Guenter et al. 2012), predicted P*/P with 3 layers (unit weights; "
-                "half-rate weights):\n");
+    std::printf(
+        "Eccentricity layers (Guenter et al. 2012), predicted P*/P with 3 layers (unit weights; "
+        "half-rate weights):\n");
     for (const auto& p : predicted) {
         std::printf("  %-7s slope %s: %5.2f; %5.2f\n", p["profile"].get<std::string>().c_str(),
                     p["slope"].get<std::string>().c_str(), p["speedup"].get<double>(),
@@ -265,48 +266,33 @@ void printLayers(const nlohmann::json& predicted, const nlohmann::json& measured
     }
 }
 
-} // namespace
-
-nlohmann::json runBench(const BenchOptions& o) {
-    if (!o.json.empty()) {
-        const auto parent = std::filesystem::path(o.json).parent_path();
-        std::error_code ec;
-        if (!parent.empty() && !std::filesystem::is_directory(parent, ec)) {
-            throw ArgumentError("--json: folder " + parent.string() + " does not exist");
-        }
+// Foveated settings as Table 2's rows interpolate: as the thesis did
+// (render::useThesisReconstruction), or with gazetrace's reconstruction (display-referred
+// blending, depth- and colour-guided weights, q = 2, rays rotated per frame, adaptive TAA), with
+// the TAA pass's time, so its cost stands beside the thesis's.
+FoveatedSettings foveatedSettings(glm::vec2 gaze, passes::Interpolation m, uint32_t k,
+                                  uint32_t rays,
+                                  passes::KnnIndex knn = passes::KnnIndex::PixelTable,
+                                  bool thesis = true) {
+    FoveatedSettings s;
+    s.gaze = gaze;
+    s.method.raysPerPoint = rays;
+    s.method.interpolation.method = m;
+    s.method.interpolation.k = k;
+    s.method.interpolation.knn = knn;
+    if (thesis) {
+        render::useThesisReconstruction(s.method, s.taaSettings);
     }
-    const int frames = o.quick ? 2 : 5; // median of >= 5 frames for Table 2 (issue)
-    foveation::PointSetParams params;
-    params.display = foveation::displayProfile("fove");
-    const std::filesystem::path cache =
-        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
+    s.taa = true; // every pass of the thesis's pipeline is counted
+    return s;
+}
 
-    BenchFrames session(o.scene, params, cache);
-    const uint32_t w = params.display.width, h = params.display.height;
-    const glm::vec2 centre(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h));
-    const foveation::PointSetStats t1 = session.pointSet.pointSet().stats(10.0f);
-
-    std::map<std::string, std::vector<double>> samples; // benchmark name -> GPU ms per frame
-    std::map<std::string, std::vector<double>> walls;
-    // Table 2's rows interpolate as the thesis did (render::useThesisReconstruction); the
-    // `gazetrace` rows beside them add what the picture-quality issue added (display-referred
-    // blending, depth- and colour-guided weights, q = 2, rays rotated per frame, adaptive TAA),
-    // with the TAA pass's time, so its cost stands beside the thesis's.
+// Table 2: interpolation time per method and k (GPU timestamps of the interpolate pass).
+std::vector<std::pair<std::string, FoveatedSettings>> table2Rows(glm::vec2 centre) {
     auto fov = [&](passes::Interpolation m, uint32_t k, uint32_t rays,
                    passes::KnnIndex knn = passes::KnnIndex::PixelTable, bool thesis = true) {
-        FoveatedSettings s;
-        s.gaze = centre;
-        s.method.raysPerPoint = rays;
-        s.method.interpolation.method = m;
-        s.method.interpolation.k = k;
-        s.method.interpolation.knn = knn;
-        if (thesis) {
-            render::useThesisReconstruction(s.method, s.taaSettings);
-        }
-        s.taa = true; // every pass of the thesis's pipeline is counted
-        return s;
+        return foveatedSettings(centre, m, k, rays, knn, thesis);
     };
-    // Table 2: interpolation time per method and k (GPU timestamps of the interpolate pass).
     std::vector<std::pair<std::string, FoveatedSettings>> table2 = {
         {"table2/nn", fov(passes::Interpolation::Nearest, 1, 1)}};
     for (uint32_t k : {5u, 10u, 15u, 20u}) {
@@ -337,10 +323,45 @@ nlohmann::json runBench(const BenchOptions& o) {
     }
     table2.push_back({"table2/nn_gazetrace", fov(passes::Interpolation::Nearest, 1, 1,
                                                  passes::KnnIndex::PixelTable, false)});
+    return table2;
+}
+
+// The render suite: Table 1, Table 2, the headline comparison, the cost of a ray by gaze and the
+// layers, measured on one renderer, with every frame's samples kept by name.
+class BenchRun {
+public:
+    BenchRun(const BenchOptions& o, const foveation::PointSetParams& params,
+             const std::filesystem::path& cache)
+        : mOptions(o), mFrames(o.quick ? 2 : 5), // median of >= 5 frames for Table 2
+          session(o.scene, params, cache), w(params.display.width), h(params.display.height),
+          centre(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h)),
+          table2(table2Rows(centre)),
+          rayCounts(o.quick ? std::vector<uint32_t>{1, 4} : std::vector<uint32_t>{1, 32}) {}
+
+    void registerTable2();
+    void addHeadline(uint32_t rays, int pairs, bool warm);
+    void runBenchmarks();
+    [[nodiscard]] nlohmann::json rayCostByGaze();
+    [[nodiscard]] nlohmann::json table2Json();
+    [[nodiscard]] nlohmann::json headlineJson();
+
+    const BenchOptions& mOptions;
+    const int mFrames;
+    BenchFrames session;
+    const uint32_t w, h;
+    const glm::vec2 centre;
+    const std::vector<std::pair<std::string, FoveatedSettings>> table2;
+    const std::vector<uint32_t> rayCounts;
+    std::map<std::string, std::vector<double>> samples; // benchmark name -> GPU ms per frame
+    std::map<std::string, std::vector<double>> walls;
+    std::map<std::string, std::map<std::string, std::vector<double>>> passSamples;
     struct Built {
         std::optional<render::Prepared> table, rbf; // the k-NN table; RBF's weights or inverses
     };
     std::map<std::string, Built> prepared;
+};
+
+void BenchRun::registerTable2() {
     for (const auto& [name, settings] : table2) {
         benchmark::RegisterBenchmark(
             name.c_str(),
@@ -363,47 +384,49 @@ nlohmann::json runBench(const BenchOptions& o) {
                 }
             })
             ->UseManualTime()
-            ->Iterations(frames)
+            ->Iterations(mFrames)
             ->Unit(benchmark::kMillisecond);
     }
-    // Headline: foveated (nn, scale 1.0, centred gaze) against the reference, equal rays per
-    // point and per pixel, whole frames (every pass) measured in this run.
-    const std::vector<uint32_t> rayCounts =
-        o.quick ? std::vector<uint32_t>{1, 4} : std::vector<uint32_t>{1, 32};
-    std::map<std::string, std::map<std::string, std::vector<double>>> passSamples;
-    auto addHeadline = [&](uint32_t rays, int pairs, bool warm) {
-        const std::string ref = "headline/reference/rays:" + std::to_string(rays);
-        const std::string fv = "headline/foveated/rays:" + std::to_string(rays);
-        // The reference and the foveated frame alternate within one benchmark, so that drift
-        // in the machine's speed (±10 % between 32-ray frames on lavapipe) hits both alike.
-        benchmark::RegisterBenchmark(
-            ("headline/reference+foveated/rays:" + std::to_string(rays)).c_str(),
-            [&, rays, ref, fv, warm](benchmark::State& st) {
-                const FoveatedSettings fs = fov(passes::Interpolation::Nearest, 1, rays);
-                if (warm) {
-                    warmUp([&] {
-                        return session.referenceFrame(w, h, rays).wallMs +
-                               session.foveated(fs).wallMs;
-                    });
-                }
-                for (auto _ : st) {
-                    const Frame r = session.referenceFrame(w, h, rays);
-                    const Frame f = session.foveated(fs);
-                    for (const auto& [name, frame] : {std::pair{ref, &r}, std::pair{fv, &f}}) {
-                        samples[name].push_back(frameMs(*frame));
-                        walls[name].push_back(frame->wallMs);
-                        for (const auto& p : frame->timings.passes) {
-                            passSamples[name][p.name].push_back(p.gpuMs);
-                        }
+}
+
+// Headline: foveated (nn, scale 1.0, centred gaze) against the reference, equal rays per point
+// and per pixel, whole frames (every pass) measured in this run.
+void BenchRun::addHeadline(uint32_t rays, int pairs, bool warm) {
+    const std::string ref = "headline/reference/rays:" + std::to_string(rays);
+    const std::string fv = "headline/foveated/rays:" + std::to_string(rays);
+    // The reference and the foveated frame alternate within one benchmark, so that drift in the
+    // machine's speed (±10 % between 32-ray frames on lavapipe) hits both alike.
+    benchmark::RegisterBenchmark(
+        ("headline/reference+foveated/rays:" + std::to_string(rays)).c_str(),
+        [this, rays, ref, fv, warm](benchmark::State& st) {
+            const FoveatedSettings fs =
+                foveatedSettings(centre, passes::Interpolation::Nearest, 1, rays);
+            if (warm) {
+                warmUp([&] {
+                    return session.referenceFrame(w, h, rays).wallMs + session.foveated(fs).wallMs;
+                });
+            }
+            for (auto _ : st) {
+                const Frame r = session.referenceFrame(w, h, rays);
+                const Frame f = session.foveated(fs);
+                for (const auto& [name, frame] : {std::pair{ref, &r}, std::pair{fv, &f}}) {
+                    samples[name].push_back(frameMs(*frame));
+                    walls[name].push_back(frame->wallMs);
+                    for (const auto& p : frame->timings.passes) {
+                        passSamples[name][p.name].push_back(p.gpuMs);
                     }
-                    st.SetIterationTime((frameMs(r) + frameMs(f)) * 1e-3);
                 }
-            })
-            ->UseManualTime()
-            ->Iterations(pairs)
-            ->Unit(benchmark::kMillisecond);
-    };
-    addHeadline(rayCounts.front(), frames, true);
+                st.SetIterationTime((frameMs(r) + frameMs(f)) * 1e-3);
+            }
+        })
+        ->UseManualTime()
+        ->Iterations(pairs)
+        ->Unit(benchmark::kMillisecond);
+}
+
+void BenchRun::runBenchmarks() {
+    registerTable2();
+    addHeadline(rayCounts.front(), mFrames, true);
     std::printf("gazetrace bench on %s (%s)\n", session.renderer.context().deviceName().c_str(),
                 session.renderer.context().deviceDescription().c_str());
     std::fflush(stdout);
@@ -427,27 +450,29 @@ nlohmann::json runBench(const BenchOptions& o) {
     };
     const double pairEstimateS =
         1e-3 * (wallMs("reference") + wallMs("foveated")) * static_cast<double>(rayCounts.back());
-    const int minPairs = o.quick ? 1 : 2;
+    const int minPairs = mOptions.quick ? 1 : 2;
     const int pairs =
         std::clamp(static_cast<int>(kHeadlinePairBudgetS / std::max(pairEstimateS, 1e-6)), minPairs,
-                   o.quick ? minPairs : kHeadlineMaxPairs);
+                   mOptions.quick ? minPairs : kHeadlineMaxPairs);
     // A device slow enough to get the fewest pairs gets no warm-up pair either: one 32-ray pair
     // on lavapipe takes 40 s, far beyond any start-up effect.
     addHeadline(rayCounts.back(), pairs, pairs > minPairs);
     benchmark::RunSpecifiedBenchmarks(&reporter);
     benchmark::ClearRegisteredBenchmarks();
+}
 
-    // Why time_ratio trails ray_ratio: a ray's cost depends on what it meets, and the foveated
-    // rays crowd around the gaze. point_sample's GPU time per ray (1 ray per point) with the
-    // gaze at the centre and halfway to two opposite corners, beside the reference's average.
+// Why time_ratio trails ray_ratio: a ray's cost depends on what it meets, and the foveated rays
+// crowd around the gaze. point_sample's GPU time per ray (1 ray per point) with the gaze at the
+// centre and halfway to two opposite corners, beside the reference's average.
+nlohmann::json BenchRun::rayCostByGaze() {
     nlohmann::json perRay = nlohmann::json::array();
     for (const glm::vec2 g : {centre, 0.5f * centre, 1.5f * centre}) {
-        FoveatedSettings s = fov(passes::Interpolation::Nearest, 1, 1);
+        FoveatedSettings s = foveatedSettings(centre, passes::Interpolation::Nearest, 1, 1);
         s.gaze = g;
         s.taa = false;
         warmUp([&] { return session.foveated(s).wallMs; });
         std::vector<double> ms;
-        for (int i = 0; i < frames; ++i) {
+        for (int i = 0; i < mFrames; ++i) {
             ms.push_back(passMs(session.foveated(s), "point_sample"));
         }
         const auto points = static_cast<double>(session.pointSet.pointsSampled(g));
@@ -455,12 +480,10 @@ nlohmann::json runBench(const BenchOptions& o) {
                           {"points_sampled", points},
                           {"point_sample_us_per_ray", 1e3 * median(ms) / points}});
     }
+    return perRay;
+}
 
-    const nlohmann::json layerPredicted = layerPredictions();
-    const nlohmann::json layerMeasured = measureLayers(session.renderer, frames);
-    const nlohmann::json layerQuality =
-        measureLayerQuality({.quick = o.quick, .scene = o.scene, .cacheDir = o.cacheDir});
-
+nlohmann::json BenchRun::table2Json() {
     nlohmann::json table2json = nlohmann::json::array();
     for (const auto& [name, settings] : table2) {
         table2json.push_back(
@@ -497,6 +520,10 @@ nlohmann::json runBench(const BenchOptions& o) {
             table2json.back()["rbf_mb"] = it->second.rbf->mb;
         }
     }
+    return table2json;
+}
+
+nlohmann::json BenchRun::headlineJson() {
     nlohmann::json headline = nlohmann::json::array();
     const double pixels = static_cast<double>(w) * h;
     const auto sampled = static_cast<double>(session.pointSet.pointsSampled(centre));
@@ -527,40 +554,16 @@ nlohmann::json runBench(const BenchOptions& o) {
             headline.back()[key] = p;
         }
     }
-    const double total = static_cast<double>(t1.total);
-    nlohmann::json result = {
-        {"device", session.renderer.context().deviceName()},
-        {"device_type", session.renderer.context().deviceDescription()},
-        {"scene", o.scene},
-        {"width", w},
-        {"height", h},
-        {"quick", o.quick},
-        {"table1",
-         {{"profile", "fove"},
-          {"scale", 1.0},
-          {"viewing_distance", params.display.viewingDistance},
-          {"total", t1.total},
-          {"centred", t1.onScreenCentre},
-          {"corner", t1.onScreenCorner},
-          {"centred_percent", 100.0 * static_cast<double>(t1.onScreenCentre) / total},
-          {"corner_percent", 100.0 * static_cast<double>(t1.onScreenCorner) / total},
-          {"thesis", {{"total", 576775}, {"centred_percent", 72.86}, {"corner_percent", 26.68}}}}},
-        {"table2", table2json},
-        {"headline", headline},
-        {"ray_cost_by_gaze", perRay},
-        {"layers",
-         {{"predicted", layerPredicted}, {"measured", layerMeasured}, {"quality", layerQuality}}},
-        {"neighbour_index",
-         {{"build_ms", session.pointSet.neighbourIndexMs()},
-          {"mb", session.pointSet.neighbourIndexMb()},
-          {"per_pixel_table_mb_k20", static_cast<double>(w) * 2 * h * 2 * 20 * 4 / 1e6}}}};
+    return headline;
+}
 
+void printTables(const nlohmann::json& result, std::size_t t1Total, uint32_t w, uint32_t h) {
     std::printf("\nTable 1 (fove, scale 1.0): total %zu, centred %.2f %%, corner %.2f %% "
                 "(thesis 576,775; 72.86 %%; 26.68 %%)\n",
-                t1.total, result["table1"]["centred_percent"].get<double>(),
+                t1Total, result["table1"]["centred_percent"].get<double>(),
                 result["table1"]["corner_percent"].get<double>());
     std::printf("Table 2 (interpolation, %ux%u, median GPU ms):\n", w, h);
-    for (const auto& r : table2json) {
+    for (const auto& r : result["table2"]) {
         const std::string label = r["method"].get<std::string>() +
                                   (r.contains("knn") ? "/" + r["knn"].get<std::string>() : "") +
                                   (r["reconstruction"] == "gazetrace" ? " gazetrace" : "");
@@ -577,6 +580,9 @@ nlohmann::json runBench(const BenchOptions& o) {
         }
         std::printf("\n");
     }
+}
+
+void printHeadline(const nlohmann::json& headline, const nlohmann::json& perRay) {
     std::printf("Headline (builtin market, centred gaze, scale 1.0, nn):\n");
     for (const auto& r : headline) {
         std::printf("  %3u ray(s): reference %9.1f ms, foveated %8.1f ms, ray_ratio %.2f, "
@@ -607,6 +613,60 @@ nlohmann::json runBench(const BenchOptions& o) {
         }
         std::printf("\n");
     }
+}
+
+} // namespace
+
+nlohmann::json runBench(const BenchOptions& o) {
+    if (!o.json.empty()) {
+        const auto parent = std::filesystem::path(o.json).parent_path();
+        std::error_code ec;
+        if (!parent.empty() && !std::filesystem::is_directory(parent, ec)) {
+            throw ArgumentError("--json: folder " + parent.string() + " does not exist");
+        }
+    }
+    foveation::PointSetParams params;
+    params.display = foveation::displayProfile("fove");
+    BenchRun b(o, params, cacheFolder(o.cacheDir));
+    BenchFrames& session = b.session;
+    const foveation::PointSetStats t1 = session.pointSet.pointSet().stats(10.0f);
+    b.runBenchmarks();
+    const nlohmann::json perRay = b.rayCostByGaze();
+    const nlohmann::json layerPredicted = layerPredictions();
+    const nlohmann::json layerMeasured = measureLayers(session.renderer, b.mFrames);
+    const nlohmann::json layerQuality =
+        measureLayerQuality({.quick = o.quick, .scene = o.scene, .cacheDir = o.cacheDir});
+    const nlohmann::json table2json = b.table2Json();
+    const nlohmann::json headline = b.headlineJson();
+    const double total = static_cast<double>(t1.total);
+    nlohmann::json result = {
+        {"device", session.renderer.context().deviceName()},
+        {"device_type", session.renderer.context().deviceDescription()},
+        {"scene", o.scene},
+        {"width", b.w},
+        {"height", b.h},
+        {"quick", o.quick},
+        {"table1",
+         {{"profile", "fove"},
+          {"scale", 1.0},
+          {"viewing_distance", params.display.viewingDistance},
+          {"total", t1.total},
+          {"centred", t1.onScreenCentre},
+          {"corner", t1.onScreenCorner},
+          {"centred_percent", 100.0 * static_cast<double>(t1.onScreenCentre) / total},
+          {"corner_percent", 100.0 * static_cast<double>(t1.onScreenCorner) / total},
+          {"thesis", {{"total", 576775}, {"centred_percent", 72.86}, {"corner_percent", 26.68}}}}},
+        {"table2", table2json},
+        {"headline", headline},
+        {"ray_cost_by_gaze", perRay},
+        {"layers",
+         {{"predicted", layerPredicted}, {"measured", layerMeasured}, {"quality", layerQuality}}},
+        {"neighbour_index",
+         {{"build_ms", session.pointSet.neighbourIndexMs()},
+          {"mb", session.pointSet.neighbourIndexMb()},
+          {"per_pixel_table_mb_k20", static_cast<double>(b.w) * 2 * b.h * 2 * 20 * 4 / 1e6}}}};
+    printTables(result, t1.total, b.w, b.h);
+    printHeadline(headline, perRay);
     printLayers(layerPredicted, layerMeasured);
     printLayerQuality(layerQuality);
     if (!o.json.empty()) {

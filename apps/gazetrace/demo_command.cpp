@@ -1,6 +1,7 @@
 #include "demo_command.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -26,10 +27,13 @@
 #include "foveation/contrast_sensitivity.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
+#include "frame_loop.hpp"
 #include "full_resolution.hpp"
 #include "gaze_input.hpp"
 #include "gaze_mapping.hpp"
+#include "gaze_view.hpp"
 #include "layers_command.hpp"
+#include "method_choice.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"
@@ -111,85 +115,135 @@ private:
     bool mMoved = false;
 };
 
+// The demo's method settings as the renderer takes them. Keys and the overlay switch methods by
+// changing this struct; the overlay's words (DemoSettings) are read back only when the overlay
+// changed one, never while frames simply run.
+struct LiveSettings {
+    MethodKind method = MethodKind::Foveated;
+    passes::Interpolation interp = passes::Interpolation::Nearest;
+    std::optional<passes::Interpolation> view; // a debug view in the interpolation's place
+    uint32_t k = 5;
+    uint32_t raysPerPoint = 1; // the reference's and the layers' rays per pixel
+    double scale = 2.0;
+    bool taa = true;
+};
+
+constexpr std::array<std::pair<MethodKind, const char*>, 3> kMethodWords{
+    {{MethodKind::Foveated, "foveated"},
+     {MethodKind::Layers, "layers"},
+     {MethodKind::Reference, "reference"}}};
+constexpr std::array<std::pair<passes::Interpolation, const char*>, 3> kInterpWords{
+    {{passes::Interpolation::Nearest, "nn"},
+     {passes::Interpolation::Shepard, "msm"},
+     {passes::Interpolation::Rbf, "rbf"}}};
+constexpr std::array<std::pair<passes::Interpolation, const char*>, 3> kViewWords{
+    {{passes::Interpolation::ViewPoints, "points"},
+     {passes::Interpolation::ViewCells, "cells"},
+     {passes::Interpolation::ViewSpacing, "eccentricity"}}};
+
+template <typename T, std::size_t N>
+const char* wordOf(const std::array<std::pair<T, const char*>, N>& words, T value) {
+    for (const auto& [v, w] : words)
+        if (v == value) return w;
+    return "";
+}
+
+// The next value in the order the words are listed, wrapping round (the M, I and V keys).
+template <typename T, std::size_t N>
+T nextOf(const std::array<std::pair<T, const char*>, N>& words, T value) {
+    for (std::size_t i = 0; i < N; ++i)
+        if (words[i].first == value) return words[(i + 1) % N].first;
+    return words[0].first;
+}
+
+LiveSettings liveSettingsOf(const DemoSettings& words) {
+    LiveSettings s;
+    s.method = methodKindOf(words.method).value_or(MethodKind::Foveated);
+    s.interp = passes::parseInterpolation(words.interp);
+    if (!words.view.empty()) s.view = passes::parseView(words.view);
+    s.k = words.k;
+    s.raysPerPoint = words.raysPerPoint;
+    s.scale = words.scale;
+    s.taa = words.taa;
+    return s;
+}
+
+DemoSettings wordsOf(const LiveSettings& s) {
+    return {wordOf(kMethodWords, s.method),
+            wordOf(kInterpWords, s.interp),
+            s.k,
+            s.raysPerPoint,
+            s.scale,
+            s.taa,
+            s.view ? wordOf(kViewWords, *s.view) : ""};
+}
+
 // The foveation method for the current window size: a point set per size, built on first use
 // and cached on disk like the command line's (desktop screen, same pixels per degree); with an
 // HMD, the point set of its eyes' display, shared by both eyes.
-class Methods {
+class DemoMethods {
 public:
-    Methods(render::Renderer& r, const DemoSettings& s, std::string cacheDir, bool displaySpace,
-            render::EccentricityLayerSettings layers)
-        : mRenderer(r), mSettings(s), mCacheDir(std::move(cacheDir)), mDisplaySpace(displaySpace),
-          mLayerSettings(std::move(layers)) {}
-    render::FoveationMethod& forHmd(const display::HmdProfile& hmd) {
-        // Layers: each eye's frustum is its field of view.
-        if (mSettings.method == "layers") return layers(mHmdLayers, std::nullopt);
-        return forDisplay(foveation::displayProfile(hmd.pointSetProfile));
-    }
-    render::FoveationMethod& forSize(uint32_t w, uint32_t h) {
-        // Layers: the window on the desktop screen (the method sizes them per window).
-        if (mSettings.method == "layers") {
-            return layers(mWindowLayers, foveation::displayProfile("desktop"));
+    DemoMethods(render::Renderer& r, const std::string& cacheDir, bool displaySpace,
+                render::EccentricityLayerSettings layers, const std::string& hmd)
+        : mChoice(r, cacheDir), mDisplaySpace(displaySpace), mLayerSettings(std::move(layers)),
+          mDesktop(foveation::displayProfile("desktop")) {
+        if (!hmd.empty()) {
+            mHmdDisplay = foveation::displayProfile(display::hmdProfile(hmd).pointSetProfile);
         }
-        return forDisplay(foveation::windowProfile(foveation::displayProfile("desktop"), w, h));
+    }
+    render::FoveationMethod& forHmd(const LiveSettings& s) {
+        // Layers: each eye's frustum is its field of view.
+        if (s.method == MethodKind::Layers) return layers(std::nullopt);
+        return forDisplay(s, *mHmdDisplay);
+    }
+    render::FoveationMethod& forSize(const LiveSettings& s, uint32_t w, uint32_t h) {
+        // Layers: the window on the desktop screen (the method sizes them per window).
+        if (s.method == MethodKind::Layers) return layers(mDesktop);
+        return forDisplay(s, foveation::windowProfile(mDesktop, w, h));
     }
     [[nodiscard]] double lastBuildMs() const noexcept { return mBuildMs; }
     // The point-set method last handed out (for the overlay's counts), or null.
     [[nodiscard]] const render::PointSetMethod* current() const noexcept { return mCurrent; }
 
 private:
-    render::FoveationMethod& layers(std::optional<render::EccentricityLayers>& slot,
-                                    std::optional<foveation::DisplayProfile> display) {
-        if (!slot) {
-            render::EccentricityLayerSettings s = mLayerSettings;
-            s.display = std::move(display);
-            slot.emplace(mRenderer.methodContext(), s);
-        }
+    render::FoveationMethod& layers(std::optional<foveation::DisplayProfile> display) {
+        render::EccentricityLayerSettings s = mLayerSettings;
+        s.display = std::move(display);
         mCurrent = nullptr;
-        return *slot;
+        return mChoice.layers(s);
     }
-    render::FoveationMethod& forDisplay(const foveation::DisplayProfile& display) {
-        if (mSettings.method == "reference") {
-            if (!mReference) mReference.emplace(mRenderer.methodContext());
-            mReference->settings = {mSettings.raysPerPoint, 0};
+    render::FoveationMethod& forDisplay(const LiveSettings& s,
+                                        const foveation::DisplayProfile& display) {
+        if (s.method == MethodKind::Reference) {
             mCurrent = nullptr;
-            return *mReference;
+            return mChoice.reference({s.raysPerPoint, 0});
         }
-        auto& slot = mPointSets[{display.width, display.height, mSettings.scale}];
-        if (!slot) build(slot, display);
+        foveation::PointSetParams params;
+        params.display = display;
+        params.scale = s.scale;
+        render::PointSetMethod& pointSet =
+            mChoice.pointSet(params, [this, &params](render::PointSetMethod&, double ms) {
+                mBuildMs = ms;
+                log::info("point set for " + std::to_string(params.display.width) + "x" +
+                          std::to_string(params.display.height) + " at scale " +
+                          std::to_string(params.scale) + " ready in " +
+                          std::to_string(static_cast<int>(mBuildMs)) + " ms");
+            });
         // The interpolation and rays follow the settings every frame (nothing to rebuild
         // except the k-NN table, which the method builds when k changes).
         passes::InterpolateSettings interp;
-        interp.method = mSettings.view.empty() ? passes::parseInterpolation(mSettings.interp)
-                                               : passes::parseView(mSettings.view);
-        interp.k = mSettings.k;
-        slot->settings = {mSettings.raysPerPoint, interp, mDisplaySpace};
-        mCurrent = slot.get();
-        return *slot;
-    }
-    void build(std::unique_ptr<render::PointSetMethod>& slot,
-               const foveation::DisplayProfile& display) {
-        const auto t = SteadyClock::now();
-        foveation::PointSetParams params;
-        params.display = display;
-        params.scale = mSettings.scale;
-        slot = std::make_unique<render::PointSetMethod>(
-            mRenderer.methodContext(), params,
-            mCacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(mCacheDir));
-        mBuildMs = msBetween(t, SteadyClock::now());
-        log::info("point set for " + std::to_string(display.width) + "x" +
-                  std::to_string(display.height) + " at scale " + std::to_string(params.scale) +
-                  " ready in " + std::to_string(static_cast<int>(mBuildMs)) + " ms");
+        interp.method = s.view.value_or(s.interp);
+        interp.k = s.k;
+        pointSet.settings = {s.raysPerPoint, interp, mDisplaySpace};
+        mCurrent = &pointSet;
+        return pointSet;
     }
 
-    render::Renderer& mRenderer;
-    const DemoSettings& mSettings;
-    std::string mCacheDir;
+    MethodChoice mChoice;
     bool mDisplaySpace;
     render::EccentricityLayerSettings mLayerSettings;
-    std::optional<render::FullResolution> mReference;
-    std::optional<render::EccentricityLayers> mWindowLayers, mHmdLayers;
-    std::map<std::tuple<uint32_t, uint32_t, double>, std::unique_ptr<render::PointSetMethod>>
-        mPointSets;
+    foveation::DisplayProfile mDesktop;
+    std::optional<foveation::DisplayProfile> mHmdDisplay;
     const render::PointSetMethod* mCurrent = nullptr;
     double mBuildMs = 0.0;
 };
@@ -217,51 +271,112 @@ void checkOptions(const DemoOptions& o) {
     }
 }
 
-} // namespace
+// --resize FRAME:WxH: resize the window after that many frames (tests).
+struct ResizeAt {
+    bool pending = false;
+    uint32_t frame = 0;
+    VkExtent2D size{};
+};
 
-nlohmann::json runDemo(const DemoOptions& o) {
-    checkOptions(o);
-    // --resize FRAME:WxH (GCC warned about an optional<pair> here: plain values instead).
-    bool resizePending = false;
-    uint32_t resizeFrame = 0;
-    VkExtent2D resizeTo{};
-    if (!o.resize.empty()) {
-        unsigned f = 0, w = 0, h = 0;
-        char extra = 0;
-        if (std::sscanf(o.resize.c_str(), "%u:%ux%u%c", &f, &w, &h, &extra) != 3 || w < 16 ||
-            h < 16 || w > 8192 || h > 8192) {
-            throw ArgumentError("--resize: expected FRAME:WxH (16..8192), got '" + o.resize + "'");
-        }
-        resizePending = true;
-        resizeFrame = f;
-        resizeTo = {w, h};
+ResizeAt parseResize(const std::string& text) {
+    ResizeAt r;
+    if (text.empty()) return r;
+    unsigned f = 0, w = 0, h = 0;
+    char extra = 0;
+    if (std::sscanf(text.c_str(), "%u:%ux%u%c", &f, &w, &h, &extra) != 3 || w < 16 || h < 16 ||
+        w > 8192 || h > 8192) {
+        throw ArgumentError("--resize: expected FRAME:WxH (16..8192), got '" + text + "'");
     }
-    const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
-    std::optional<scene::CameraPath> path;
-    if (!o.cameraPath.empty()) path = scene::CameraPath::load(o.cameraPath);
-    std::optional<io::AtomicFile> logFile;
-    std::ostream* log = nullptr;
+    return {true, f, {w, h}};
+}
+
+// The window, its swapchain and overlay, the camera and the gaze of one demo run, and the frame
+// loop's stages over them: begin (input, camera, swapchain image), gaze, views, targets and
+// done (present, timings, log).
+class DemoSession {
+public:
+    explicit DemoSession(const DemoOptions& o);
+    nlohmann::json run();
+
+private:
+    FrameStart begin(const FrameTick& t);
+    void handleKey(int key);
+    std::optional<GazeReading> readGaze(const FrameTick& t);
+    std::vector<render::View> views(const std::optional<GazeReading>& reading);
+    std::vector<render::View> hmdViews(const std::optional<GazeReading>& reading, VkExtent2D ext);
+    std::vector<render::OutputTarget*> targets(std::span<const render::View> views,
+                                               const FrameTick& t);
+    bool done(const FrameTick& t, const std::optional<GazeReading>& reading,
+              std::span<const render::View> views, const render::FrameResult& result);
+    void recordCompleted(const FrameTick& t, std::span<const render::View> views,
+                         const render::FrameResult& result);
+    nlohmann::json summary(uint32_t frames);
+    void recreate(VkExtent2D size) {
+        mSwapchain->recreate(size);
+        if (mOverlay) mOverlay->swapchainRecreated(mSwapchain->imageCount());
+    }
+    [[nodiscard]] bool lastFrame(const FrameTick& t) const {
+        return mOptions.frames != 0 && t.index + 1 == mOptions.frames;
+    }
+
+    struct FrameGaze {
+        SteadyClock::time_point sampled;
+        uint64_t sequence;
+        double sourceMs;
+        glm::vec2 pixel;
+    };
+
+    const DemoOptions& mOptions;
+    ResizeAt mResize;
+    std::optional<CameraArg> mCameraArg;
+    std::optional<scene::CameraPath> mPath;
+    std::optional<io::AtomicFile> mLogFile;
+    std::ostream* mLog = nullptr;
+    std::optional<Window> mWindow;
+    std::optional<CalibrationSession> mCalibration;
+    std::unique_ptr<GazeInput> mGaze;
+    std::optional<render::Renderer> mRenderer;
+    std::optional<vk::Swapchain> mSwapchain;
+    std::optional<render::SwapchainTarget> mTarget;
+    LiveSettings mSettings;
+    std::optional<DemoMethods> mMethods;
+    std::optional<DemoOverlay> mOverlay;
+    DemoStats mStats;
+    std::optional<render::StereoRig> mRig;
+    std::optional<FlyCamera> mFly;
+    std::optional<std::vector<scene::CameraKey>> mRecording;
+    SteadyClock::time_point mLast;
+    SteadyClock::time_point mFrameStart;
+    std::vector<double> mFrameTimes, mLatencies;
+    std::map<uint64_t, FrameGaze> mInFlight; // the gaze each frame in flight used
+    std::optional<glm::vec2> mGazePx;
+    std::optional<GazeReading> mLastReading;
+    std::optional<glm::vec2> mCalibrationTarget;
+    std::optional<vk::Swapchain::Image> mImage;
+    VkExtent2D mExtent{};
+    int mScreenshotsTaken = 0;
+};
+
+DemoSession::DemoSession(const DemoOptions& o)
+    : mOptions(o), mResize(parseResize(o.resize)), mCameraArg(parseCamera(o.camera)) {
+    if (!o.cameraPath.empty()) mPath = scene::CameraPath::load(o.cameraPath);
     if (!o.log.empty()) {
-        logFile.emplace(o.log); // a missing folder fails now, not after the run
-        log = &logFile->stream();
-        *log << "frame,t_ms,frame_ms,gpu_ms,gaze_x,gaze_y,gaze_sequence,gaze_t_ms,latency_ms\n";
+        mLogFile.emplace(o.log); // a missing folder fails now, not after the run
+        mLog = &mLogFile->stream();
+        *mLog << "frame,t_ms,frame_ms,gpu_ms,gaze_x,gaze_y,gaze_sequence,gaze_t_ms,latency_ms\n";
     }
-
     // The gaze source first: a bad one fails before a window opens. The mouse reads the window
     // once it exists.
-    std::optional<Window> window;
     GazeInputContext gazeContext;
     gazeContext.calibration = o.calibration;
-    gazeContext.cursor = [&window] { return window ? window->cursor() : glm::vec2(0.0f); };
-    std::optional<CalibrationSession> calibration;
-    std::unique_ptr<GazeInput> gaze;
+    gazeContext.cursor = [this] { return mWindow ? mWindow->cursor() : glm::vec2(0.0f); };
     if (o.calibrate) {
-        calibration.emplace(o.gaze, o.calibration);
-        gaze = openGazeInput("fixed:0,0", gazeContext); // the fovea follows the target instead
+        mCalibration.emplace(o.gaze, o.calibration);
+        mGaze = openGazeInput("fixed:0,0", gazeContext); // the fovea follows the target instead
     } else {
-        gaze = openGazeInput(o.gaze, gazeContext);
+        mGaze = openGazeInput(o.gaze, gazeContext);
     }
-    window.emplace("gazetrace", o.width, o.height);
+    mWindow.emplace("gazetrace", o.width, o.height);
 
     render::RendererOptions ro;
     ro.scene = o.scene;
@@ -269,305 +384,319 @@ nlohmann::json runDemo(const DemoOptions& o) {
     ro.framesInFlight = o.framesInFlight;
     const char* device = std::getenv("GAZETRACE_DEVICE");
     ro.deviceOverride = device ? device : "";
-    ro.display.instanceExtensions = window->requiredInstanceExtensions();
+    ro.display.instanceExtensions = mWindow->requiredInstanceExtensions();
     ro.display.deviceExtensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
-    ro.display.createSurface = [&window](VkInstance i) { return window->createSurface(i); };
-    render::Renderer renderer(ro);
-    vk::Context& ctx = renderer.context();
-    vk::Swapchain swapchain(ctx, window->framebufferSize(), vk::parsePresentMode(o.present));
-    render::SwapchainTarget target(ctx);
-    render::OutputTarget* const targetPtr = &target;
-    DemoSettings settings{
-        o.method, o.interp, o.k,   o.method == "foveated" ? o.raysPerPoint : o.spp,
-        o.scale,  o.taa,    o.view};
-    Methods methods(renderer, settings, o.cacheDir,
-                    o.displaySpace && !o.hmd.empty() && o.distortion,
-                    layerSettings(o.slope, o.layers, o.spp));
-    std::optional<DemoOverlay> overlay;
-    if (o.overlay || calibration) {
-        overlay.emplace(*window, ctx, swapchain.format(), swapchain.imageCount());
-        if (calibration) overlay->toggle(); // the targets only: the panel would hide some
+    ro.display.createSurface = [this](VkInstance i) { return mWindow->createSurface(i); };
+    mRenderer.emplace(ro);
+    vk::Context& ctx = mRenderer->context();
+    mSwapchain.emplace(ctx, mWindow->framebufferSize(), vk::parsePresentMode(o.present));
+    mTarget.emplace(ctx);
+    mSettings =
+        liveSettingsOf({o.method, o.interp, o.k, o.method == "foveated" ? o.raysPerPoint : o.spp,
+                        o.scale, o.taa, o.view});
+    mMethods.emplace(*mRenderer, o.cacheDir, o.displaySpace && !o.hmd.empty() && o.distortion,
+                     layerSettings(o.slope, o.layers, o.spp), o.hmd);
+    if (o.overlay || mCalibration) {
+        mOverlay.emplace(*mWindow, ctx, mSwapchain->format(), mSwapchain->imageCount());
+        if (mCalibration) mOverlay->toggle(); // the targets only: the panel would hide some
     }
-    DemoStats stats;
-    stats.gazeSource = gaze->describe();
-    stats.device = ctx.deviceName();
-    std::optional<render::StereoRig> rig;
-    if (!o.hmd.empty()) rig.emplace(display::hmdProfile(o.hmd), o.distortion);
+    mStats.gazeSource = mGaze->describe();
+    mStats.device = ctx.deviceName();
+    if (!o.hmd.empty()) mRig.emplace(display::hmdProfile(o.hmd), o.distortion);
 
-    const scene::Scene& sc = renderer.scene();
+    const scene::Scene& sc = mRenderer->scene();
     const float sceneSize = glm::length(sc.boundsMax() - sc.boundsMin());
     scene::Camera start = sc.camera;
-    if (cameraArg) {
-        start = cameraArg->camera(sc.camera.yfov);
+    if (mCameraArg) {
+        start = mCameraArg->camera(sc.camera.yfov);
     } else if (sc.cameraFramed) {
         // No camera in the file: inside an enclosed scene, start inside rather than outside.
-        if (const auto inside = scene::insideStartView(sc, renderer.bvh())) start = *inside;
+        if (const auto inside = scene::insideStartView(sc, mRenderer->bvh())) start = *inside;
     }
-    FlyCamera fly(start, std::max(0.25f * sceneSize, 0.1f));
-    std::optional<std::vector<scene::CameraKey>> recording;
+    mFly.emplace(start, std::max(0.25f * sceneSize, 0.1f));
+}
 
-    auto recreate = [&](VkExtent2D size) {
-        swapchain.recreate(size);
-        if (overlay) overlay->swapchainRecreated(swapchain.imageCount());
-    };
-    const auto t0 = SteadyClock::now();
-    auto last = t0;
-    std::vector<double> frameTimes, latencies;
-    struct FrameGaze {
-        SteadyClock::time_point sampled;
-        uint64_t sequence;
-        double sourceMs;
-        glm::vec2 pixel;
-    };
-    std::map<uint64_t, FrameGaze> inFlight; // the gaze each frame in flight used
-    std::optional<glm::vec2> gazePx;
-    std::optional<GazeReading> lastReading;
-    const render::ScreenGeometry screen; // the desktop profile's screen
-    uint32_t frame = 0;
-    int screenshotsTaken = 0;
-    double fpsShown = 0.0;
-    while (!window->shouldClose() && (o.frames == 0 || frame < o.frames)) {
-        if (resizePending && frame == resizeFrame) {
-            window->setSize(resizeTo.width, resizeTo.height);
-            resizePending = false;
-        }
-        window->poll();
-        VkExtent2D fb = window->framebufferSize();
-        if (fb.width == 0 || fb.height == 0) {
-            window->waitEvents(); // minimised: nothing to draw
-            continue;
-        }
-        if (window->takeResized() || fb.width != swapchain.extent().width ||
-            fb.height != swapchain.extent().height) {
-            recreate(fb);
-        }
-        for (const int key : window->takePressedKeys()) {
-            if (key == GLFW_KEY_ESCAPE) window->requestClose();
-            if (key == GLFW_KEY_T) settings.taa = !settings.taa;
-            if (key == GLFW_KEY_TAB && overlay) overlay->toggle();
-            if (key == GLFW_KEY_M) {
-                settings.method = settings.method == "foveated" ? "layers"
-                                  : settings.method == "layers" ? "reference"
-                                                                : "foveated";
-            }
-            if (key == GLFW_KEY_I) {
-                settings.interp = settings.interp == "nn"    ? "msm"
-                                  : settings.interp == "msm" ? "rbf"
-                                                             : "nn";
-            }
-            if (key == GLFW_KEY_V) {
-                settings.view = settings.view.empty()       ? "points"
-                                : settings.view == "points" ? "cells"
-                                : settings.view == "cells"  ? "eccentricity"
-                                                            : "";
-            }
-            if (key == GLFW_KEY_LEFT_BRACKET && settings.raysPerPoint > 1) --settings.raysPerPoint;
-            if (key == GLFW_KEY_RIGHT_BRACKET && settings.raysPerPoint < 64)
-                ++settings.raysPerPoint;
-            if (key == GLFW_KEY_P) target.requestScreenshot();
-            if (key == GLFW_KEY_R) {
-                if (recording) {
-                    const std::string file = "camera_path.csv";
-                    scene::CameraPath::fromKeys(std::move(*recording)).save(file);
-                    log::info("recorded camera path written to " + file);
-                    recording.reset();
-                } else {
-                    recording.emplace();
-                    log::info("recording the camera path (R again to stop)");
-                }
-            }
-        }
-        const auto now = SteadyClock::now();
-        const double dtS = std::min(msBetween(last, now) * 1e-3, 0.25);
-        last = now;
-        const double tMs = o.frameMs > 0.0 ? frame * o.frameMs : msBetween(t0, now);
-        // Calibration: the target of this moment, from the desktop screen into the window (which
-        // stands for the whole screen during a calibration: run it full screen).
-        std::optional<glm::vec2> calibrationTarget;
-        if (calibration) {
-            const auto t = calibration->target(tMs);
-            if (!t) break; // every target shown
-            const eyetrack::DisplayGeometry& d = calibration->display();
-            const VkExtent2D fbNow = window->framebufferSize();
-            calibrationTarget =
-                *t * glm::vec2(static_cast<float>(fbNow.width) / static_cast<float>(d.widthPx),
-                               static_cast<float>(fbNow.height) / static_cast<float>(d.heightPx));
-        }
-        fly.update(*window, dtS);
-        if (path) fly.set(path->at(path->startMs() + tMs, fly.camera().yfov));
-        if (recording) {
-            const scene::Camera& c = fly.camera();
-            recording->push_back({tMs, c.position, c.position + glm::normalize(c.forward)});
-        }
-
-        const std::optional<vk::Swapchain::Image> image = swapchain.acquire();
-        if (!image) {
-            recreate(window->framebufferSize());
-            continue;
-        }
-        const VkExtent2D ext = swapchain.extent();
-        const std::optional<GazeReading> reading = gaze->read(tMs);
-        if (reading) {
-            lastReading = reading;
-            // Desktop: angles land on the desktop profile's physical screen, screen pixels are
-            // moved into the window; window pixels (mouse, pixel traces) are used as they are.
-            const glm::vec2 origin(window->position());
-            gazePx = reading->anglesDeg      ? screen.pixelOfAngles(*reading->anglesDeg) - origin
-                     : reading->windowPixels ? reading->screenPx
-                                             : reading->screenPx - origin;
-        }
-        std::vector<render::View> views;
-        if (rig) {
-            // Each eye in its half of the window; the gaze is a pixel of the left eye's image
-            // (the mouse over either half counts as that point of the left eye).
-            const display::HmdProfile& p = rig->profile();
-            glm::vec2 g = gazePx.value_or(
-                display::lensCentre(display::eyeTangents(p, 0)) *
-                glm::vec2(static_cast<float>(p.eyeWidth), static_cast<float>(p.eyeHeight)));
-            if (o.gaze == "mouse") {
-                const float half = 0.5f * static_cast<float>(ext.width);
-                const float x = std::fmod(g.x, half);
-                g = glm::vec2(x / half * static_cast<float>(p.eyeWidth),
-                              g.y / static_cast<float>(ext.height) *
-                                  static_cast<float>(p.eyeHeight));
-            }
-            render::StereoGaze sg;
-            sg.direction = rig->directionOfLeftPixel(g);
-            if (lastReading && lastReading->anglesDeg) {
-                sg.direction = render::directionOfAngles(*lastReading->anglesDeg);
-            }
-            for (int e = 0; e < 2 && lastReading; ++e) {
-                if (lastReading->eyeAnglesDeg[e]) {
-                    sg.eyeDirection[e] = render::directionOfAngles(*lastReading->eyeAnglesDeg[e]);
-                }
-            }
-            if (o.vergenceM > 0.0) sg.vergenceM = static_cast<float>(o.vergenceM);
-            sg.saccade = reading && reading->saccade;
-            render::PostSettings post;
-            post.taa = settings.taa && settings.view.empty();
-            const auto eyes = rig->views(fly.camera(), sg, methods.forHmd(p), post, sc.exposure);
-            views.assign(eyes.begin(), eyes.end());
-            const uint32_t half = ext.width / 2;
-            target.place("left", {{0, 0}, {half, ext.height}});
-            target.place("right",
-                         {{static_cast<int32_t>(half), 0}, {ext.width - half, ext.height}});
+void DemoSession::handleKey(int key) {
+    if (key == GLFW_KEY_ESCAPE) mWindow->requestClose();
+    if (key == GLFW_KEY_T) mSettings.taa = !mSettings.taa;
+    if (key == GLFW_KEY_TAB && mOverlay) mOverlay->toggle();
+    if (key == GLFW_KEY_M) mSettings.method = nextOf(kMethodWords, mSettings.method);
+    if (key == GLFW_KEY_I) mSettings.interp = nextOf(kInterpWords, mSettings.interp);
+    if (key == GLFW_KEY_V) {
+        // No view, then each debug view, then none again.
+        mSettings.view = !mSettings.view ? std::optional(kViewWords[0].first)
+                         : *mSettings.view == kViewWords.back().first
+                             ? std::nullopt
+                             : std::optional(nextOf(kViewWords, *mSettings.view));
+    }
+    if (key == GLFW_KEY_LEFT_BRACKET && mSettings.raysPerPoint > 1) --mSettings.raysPerPoint;
+    if (key == GLFW_KEY_RIGHT_BRACKET && mSettings.raysPerPoint < 64) ++mSettings.raysPerPoint;
+    if (key == GLFW_KEY_P) mTarget->requestScreenshot();
+    if (key == GLFW_KEY_R) {
+        if (mRecording) {
+            const std::string file = "camera_path.csv";
+            scene::CameraPath::fromKeys(std::move(*mRecording)).save(file);
+            log::info("recorded camera path written to " + file);
+            mRecording.reset();
         } else {
-            render::View view;
-            view.camera = fly.camera();
-            view.width = ext.width;
-            view.height = ext.height;
-            view.exposure = sc.exposure;
-            view.method = &methods.forSize(ext.width, ext.height);
-            view.post.taa = settings.taa && settings.view.empty();
-            if (reading) view.saccade = reading->saccade;
-            const glm::vec2 lastPixel(static_cast<float>(ext.width) - 1.0f,
-                                      static_cast<float>(ext.height) - 1.0f);
-            view.gaze = glm::clamp(calibrationTarget
-                                       ? *calibrationTarget
-                                       : gazePx.value_or(0.5f * glm::vec2(ext.width, ext.height)),
-                                   glm::vec2(0.0f), lastPixel);
-            views.push_back(view);
-        }
-        const std::vector<render::OutputTarget*> targets(views.size(), targetPtr);
-        target.setImage(*image, swapchain.format(), ext);
-        if (overlay) {
-            stats.frameMs = frameTimes.empty()
-                                ? 0.0
-                                : median(std::vector<double>(
-                                      frameTimes.end() -
-                                          std::min<std::ptrdiff_t>(
-                                              30, static_cast<std::ptrdiff_t>(frameTimes.size())),
-                                      frameTimes.end()));
-            stats.latencyMs = latencies.empty() ? 0.0 : latencies.back();
-            stats.pointsSampled =
-                methods.current() ? methods.current()->pointsSampled(views[0].gaze) : 0;
-            (void)overlay->build(settings, stats, calibrationTarget);
-            target.setOverlay(
-                [&overlay](rg::RenderGraph& g, rg::TextureId img) { return overlay->add(g, img); });
-        }
-        const bool lastFrame = o.frames != 0 && frame + 1 == o.frames;
-        if (lastFrame && !o.screenshot.empty()) target.requestScreenshot();
-        const render::FrameResult result = renderer.renderFrame(views, targets);
-        stats.rays = 0;
-        for (const auto& v : result.views)
-            stats.rays += v.rays;
-        if (reading) {
-            inFlight[result.number] = {reading->sampled, reading->sequence, reading->sourceMs,
-                                       views[0].gaze};
-        }
-        if (!swapchain.present(*image)) recreate(window->framebufferSize());
-
-        // Frames the GPU finished: their GPU time and the latency from their gaze sample to
-        // the moment the frame was known finished (the driver offers no present timing here).
-        std::vector<rg::CompletedFrame> done = renderer.takeCompleted();
-        if (result.timings) done.push_back({result.number, *result.timings});
-        const auto finishedAt = SteadyClock::now();
-        for (const rg::CompletedFrame& c : done) {
-            if (overlay) overlay->addTimings(c.timings);
-            double latency = -1.0;
-            FrameGaze used{{}, 0, 0.0, views[0].gaze};
-            if (const auto it = inFlight.find(c.number); it != inFlight.end()) {
-                used = it->second;
-                latency = msBetween(used.sampled, finishedAt);
-                latencies.push_back(latency);
-                inFlight.erase(it);
-            }
-            if (log) {
-                *log << c.number << "," << tMs << ","
-                     << (frameTimes.empty() ? 0.0 : frameTimes.back()) << "," << c.timings.gpuMs
-                     << "," << used.pixel.x << "," << used.pixel.y << "," << used.sequence << ","
-                     << used.sourceMs << "," << latency << "\n";
-            }
-        }
-        frameTimes.push_back(msBetween(now, SteadyClock::now()));
-        ++frame;
-        if (frame % 10 == 0) {
-            fpsShown = 1000.0 / std::max(median(frameTimes), 1e-3);
-            char title[160];
-            std::snprintf(title, sizeof(title), "gazetrace - %.1f fps - %s - gaze %s", fpsShown,
-                          views[0].method->name().data(), gaze->describe().c_str());
-            glfwSetWindowTitle(window->handle(), title);
-        }
-        if (target.screenshot() && !lastFrame && o.screenshot.empty()) {
-            const std::string file =
-                "gazetrace_screenshot_" + std::to_string(++screenshotsTaken) + ".png";
-            image::writePngAtomic(file, ext.width, ext.height, *target.screenshot());
-            log::info("screenshot written to " + file);
+            mRecording.emplace();
+            log::info("recording the camera path (R again to stop)");
         }
     }
-    renderer.waitIdle();
-    if (!o.screenshot.empty()) {
-        if (!target.screenshot()) {
+}
+
+FrameStart DemoSession::begin(const FrameTick& t) {
+    if (mWindow->shouldClose()) return FrameStart::Stop;
+    if (mResize.pending && t.index == mResize.frame) {
+        mWindow->setSize(mResize.size.width, mResize.size.height);
+        mResize.pending = false;
+    }
+    mWindow->poll();
+    const VkExtent2D fb = mWindow->framebufferSize();
+    if (fb.width == 0 || fb.height == 0) {
+        mWindow->waitEvents(); // minimised: nothing to draw
+        return FrameStart::Skip;
+    }
+    if (mWindow->takeResized() || fb.width != mSwapchain->extent().width ||
+        fb.height != mSwapchain->extent().height) {
+        recreate(fb);
+    }
+    for (const int key : mWindow->takePressedKeys())
+        handleKey(key);
+    mFrameStart = SteadyClock::now();
+    const double dtS = std::min(msBetween(mLast, mFrameStart) * 1e-3, 0.25);
+    mLast = mFrameStart;
+    // Calibration: the target of this moment, from the desktop screen into the window (which
+    // stands for the whole screen during a calibration: run it full screen).
+    mCalibrationTarget.reset();
+    if (mCalibration) {
+        const auto target = mCalibration->target(t.timeMs);
+        if (!target) return FrameStart::Stop; // every target shown
+        const eyetrack::DisplayGeometry& d = mCalibration->display();
+        const VkExtent2D fbNow = mWindow->framebufferSize();
+        mCalibrationTarget =
+            *target * glm::vec2(static_cast<float>(fbNow.width) / static_cast<float>(d.widthPx),
+                                static_cast<float>(fbNow.height) / static_cast<float>(d.heightPx));
+    }
+    mFly->update(*mWindow, dtS);
+    if (mPath) mFly->set(mPath->at(mPath->startMs() + t.timeMs, mFly->camera().yfov));
+    if (mRecording) {
+        const scene::Camera& c = mFly->camera();
+        mRecording->push_back({t.timeMs, c.position, c.position + glm::normalize(c.forward)});
+    }
+    mImage = mSwapchain->acquire();
+    if (!mImage) {
+        recreate(mWindow->framebufferSize());
+        return FrameStart::Skip;
+    }
+    return FrameStart::Render;
+}
+
+std::optional<GazeReading> DemoSession::readGaze(const FrameTick& t) {
+    std::optional<GazeReading> reading = mGaze->read(t.timeMs);
+    if (reading) {
+        mLastReading = reading;
+        mGazePx = windowPixelOf(*reading, glm::vec2(mWindow->position()));
+    }
+    return reading;
+}
+
+std::vector<render::View> DemoSession::hmdViews(const std::optional<GazeReading>& reading,
+                                                VkExtent2D ext) {
+    // Each eye in its half of the window; the gaze is a pixel of the left eye's image (the
+    // mouse over either half counts as that point of the left eye).
+    const display::HmdProfile& p = mRig->profile();
+    glm::vec2 g = mGazePx.value_or(
+        display::lensCentre(display::eyeTangents(p, 0)) *
+        glm::vec2(static_cast<float>(p.eyeWidth), static_cast<float>(p.eyeHeight)));
+    if (mOptions.gaze == "mouse") {
+        const float half = 0.5f * static_cast<float>(ext.width);
+        const float x = std::fmod(g.x, half);
+        g = glm::vec2(x / half * static_cast<float>(p.eyeWidth),
+                      g.y / static_cast<float>(ext.height) * static_cast<float>(p.eyeHeight));
+    }
+    render::StereoGaze sg;
+    sg.direction = mRig->directionOfLeftPixel(g);
+    if (mLastReading && mLastReading->anglesDeg) {
+        sg.direction = render::directionOfAngles(*mLastReading->anglesDeg);
+    }
+    for (int e = 0; e < 2 && mLastReading; ++e) {
+        if (mLastReading->eyeAnglesDeg[e]) {
+            sg.eyeDirection[e] = render::directionOfAngles(*mLastReading->eyeAnglesDeg[e]);
+        }
+    }
+    if (mOptions.vergenceM > 0.0) sg.vergenceM = static_cast<float>(mOptions.vergenceM);
+    sg.saccade = reading && reading->saccade;
+    render::PostSettings post;
+    post.taa = mSettings.taa && !mSettings.view;
+    const auto eyes = mRig->views(mFly->camera(), sg, mMethods->forHmd(mSettings), post,
+                                  mRenderer->scene().exposure);
+    const uint32_t half = ext.width / 2;
+    mTarget->place("left", {{0, 0}, {half, ext.height}});
+    mTarget->place("right", {{static_cast<int32_t>(half), 0}, {ext.width - half, ext.height}});
+    return {eyes.begin(), eyes.end()};
+}
+
+std::vector<render::View> DemoSession::views(const std::optional<GazeReading>& reading) {
+    const VkExtent2D ext = mSwapchain->extent();
+    mExtent = ext; // the frame's size, though presenting it may recreate the swapchain
+    if (mRig) return hmdViews(reading, ext);
+    render::View view;
+    view.camera = mFly->camera();
+    view.width = ext.width;
+    view.height = ext.height;
+    view.exposure = mRenderer->scene().exposure;
+    view.method = &mMethods->forSize(mSettings, ext.width, ext.height);
+    view.post.taa = mSettings.taa && !mSettings.view;
+    if (reading) view.saccade = reading->saccade;
+    view.gaze =
+        clampToImage(mCalibrationTarget ? *mCalibrationTarget
+                                        : mGazePx.value_or(0.5f * glm::vec2(ext.width, ext.height)),
+                     ext.width, ext.height);
+    return {view};
+}
+
+std::vector<render::OutputTarget*> DemoSession::targets(std::span<const render::View> views,
+                                                        const FrameTick& t) {
+    mTarget->setImage(*mImage, mSwapchain->format(), mExtent);
+    if (mOverlay) {
+        const std::size_t recent = std::min<std::size_t>(30, mFrameTimes.size());
+        mStats.frameMs =
+            mFrameTimes.empty()
+                ? 0.0
+                : median(std::vector<double>(
+                      mFrameTimes.end() - static_cast<std::ptrdiff_t>(recent), mFrameTimes.end()));
+        mStats.latencyMs = mLatencies.empty() ? 0.0 : mLatencies.back();
+        mStats.pointsSampled =
+            mMethods->current() ? mMethods->current()->pointsSampled(views[0].gaze) : 0;
+        // The overlay shows and edits the settings as words; they are read back only when it
+        // changed one.
+        DemoSettings words = wordsOf(mSettings);
+        if (mOverlay->build(words, mStats, mCalibrationTarget)) mSettings = liveSettingsOf(words);
+        mTarget->setOverlay(
+            [this](rg::RenderGraph& g, rg::TextureId img) { return mOverlay->add(g, img); });
+    }
+    if (lastFrame(t) && !mOptions.screenshot.empty()) mTarget->requestScreenshot();
+    return std::vector<render::OutputTarget*>(views.size(), &*mTarget);
+}
+
+// Frames the GPU finished: their GPU time and the latency from their gaze sample to the moment
+// the frame was known finished (the driver offers no present timing here).
+void DemoSession::recordCompleted(const FrameTick& t, std::span<const render::View> views,
+                                  const render::FrameResult& result) {
+    std::vector<rg::CompletedFrame> done = mRenderer->takeCompleted();
+    if (result.timings) done.push_back({result.number, *result.timings});
+    const auto finishedAt = SteadyClock::now();
+    for (const rg::CompletedFrame& c : done) {
+        if (mOverlay) mOverlay->addTimings(c.timings);
+        double latency = -1.0;
+        FrameGaze used{{}, 0, 0.0, views[0].gaze};
+        if (const auto it = mInFlight.find(c.number); it != mInFlight.end()) {
+            used = it->second;
+            latency = msBetween(used.sampled, finishedAt);
+            mLatencies.push_back(latency);
+            mInFlight.erase(it);
+        }
+        if (mLog) {
+            *mLog << c.number << "," << t.timeMs << ","
+                  << (mFrameTimes.empty() ? 0.0 : mFrameTimes.back()) << "," << c.timings.gpuMs
+                  << "," << used.pixel.x << "," << used.pixel.y << "," << used.sequence << ","
+                  << used.sourceMs << "," << latency << "\n";
+        }
+    }
+}
+
+bool DemoSession::done(const FrameTick& t, const std::optional<GazeReading>& reading,
+                       std::span<const render::View> views, const render::FrameResult& result) {
+    mStats.rays = 0;
+    for (const auto& v : result.views)
+        mStats.rays += v.rays;
+    if (reading) {
+        mInFlight[result.number] = {reading->sampled, reading->sequence, reading->sourceMs,
+                                    views[0].gaze};
+    }
+    if (!mSwapchain->present(*mImage)) recreate(mWindow->framebufferSize());
+    recordCompleted(t, views, result);
+    mFrameTimes.push_back(msBetween(mFrameStart, SteadyClock::now()));
+    const uint32_t frame = t.index + 1;
+    if (frame % 10 == 0) {
+        const double fps = 1000.0 / std::max(median(mFrameTimes), 1e-3);
+        char title[160];
+        std::snprintf(title, sizeof(title), "gazetrace - %.1f fps - %s - gaze %s", fps,
+                      views[0].method->name().data(), mGaze->describe().c_str());
+        glfwSetWindowTitle(mWindow->handle(), title);
+    }
+    if (mTarget->screenshot() && !lastFrame(t) && mOptions.screenshot.empty()) {
+        const std::string file =
+            "gazetrace_screenshot_" + std::to_string(++mScreenshotsTaken) + ".png";
+        image::writePngAtomic(file, mExtent.width, mExtent.height, *mTarget->screenshot());
+        log::info("screenshot written to " + file);
+    }
+    return true;
+}
+
+nlohmann::json DemoSession::run() {
+    FrameStages<std::optional<GazeReading>> stages;
+    stages.begin = [this](const FrameTick& t) { return begin(t); };
+    stages.gaze = [this](const FrameTick& t) { return readGaze(t); };
+    stages.views = [this](const FrameTick&, const std::optional<GazeReading>& r) {
+        return views(r);
+    };
+    stages.targets = [this](const FrameTick& t, std::span<const render::View> v) {
+        return targets(v, t);
+    };
+    stages.done = [this](const FrameTick& t, const std::optional<GazeReading>& r,
+                         std::span<const render::View> v,
+                         const render::FrameResult& result) { return done(t, r, v, result); };
+    const FrameClock clock(mOptions.frameMs);
+    mLast = clock.start();
+    const uint32_t frames = runFrameLoop(*mRenderer, clock, mOptions.frames, stages);
+    return summary(frames);
+}
+
+nlohmann::json DemoSession::summary(uint32_t frames) {
+    mRenderer->waitIdle();
+    if (!mOptions.screenshot.empty()) {
+        if (!mTarget->screenshot()) {
             throw Error("--screenshot: the window closed before the last frame was shown");
         }
-        image::writePngAtomic(o.screenshot, target.extent().width, target.extent().height,
-                              *target.screenshot());
+        image::writePngAtomic(mOptions.screenshot, mTarget->extent().width,
+                              mTarget->extent().height, *mTarget->screenshot());
     }
+    vk::Context& ctx = mRenderer->context();
     if (ctx.validationErrors() > 0) {
         throw Error(std::to_string(ctx.validationErrors()) + " Vulkan validation error(s)");
     }
-    if (logFile) logFile->commit();
+    if (mLogFile) mLogFile->commit();
     nlohmann::json calibrationSummary;
-    if (calibration) calibrationSummary = calibration->finish();
+    if (mCalibration) calibrationSummary = mCalibration->finish();
     // Steady state: leave out the first frames (pipelines warming, point set building).
     const std::vector<double> steady =
-        frameTimes.size() > 4 ? std::vector<double>(frameTimes.begin() + 2, frameTimes.end())
-                              : frameTimes;
+        mFrameTimes.size() > 4 ? std::vector<double>(mFrameTimes.begin() + 2, mFrameTimes.end())
+                               : mFrameTimes;
     const double frameMedian = median(steady);
     return {{"device", ctx.deviceName()},
-            {"present_mode", vk::toString(swapchain.presentMode())},
-            {"window", {swapchain.extent().width, swapchain.extent().height}},
-            {"method", o.method},
-            {"hmd", o.hmd},
-            {"gaze_source", calibration ? o.gaze : gaze->describe()},
-            {"frames", frame},
-            {"frames_in_flight", renderer.framesInFlight()},
+            {"present_mode", vk::toString(mSwapchain->presentMode())},
+            {"window", {mSwapchain->extent().width, mSwapchain->extent().height}},
+            {"method", mOptions.method},
+            {"hmd", mOptions.hmd},
+            {"gaze_source", mCalibration ? mOptions.gaze : mGaze->describe()},
+            {"frames", frames},
+            {"frames_in_flight", mRenderer->framesInFlight()},
             {"frame_ms_median", frameMedian},
             {"fps", frameMedian > 0.0 ? 1000.0 / frameMedian : 0.0},
-            {"latency_ms_median", median(latencies)},
-            {"point_set_build_ms", methods.lastBuildMs()},
-            {"screenshot", o.screenshot},
+            {"latency_ms_median", median(mLatencies)},
+            {"point_set_build_ms", mMethods->lastBuildMs()},
+            {"screenshot", mOptions.screenshot},
             {"calibration", calibrationSummary}};
+}
+
+} // namespace
+
+nlohmann::json runDemo(const DemoOptions& o) {
+    checkOptions(o);
+    DemoSession session(o);
+    return session.run();
 }
 
 } // namespace gt::app

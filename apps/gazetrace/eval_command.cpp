@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <span>
 #include <sstream>
@@ -17,8 +18,10 @@
 #include "foveation/gaze_trace.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
-#include "frame_shots.hpp"
+#include "frame_loop.hpp"
 #include "full_resolution.hpp"
+#include "gaze_view.hpp"
+#include "method_choice.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "quality/eccentricity_bands.hpp"
@@ -50,16 +53,52 @@ struct Geometry {
     std::vector<uint8_t> bands;
 };
 
-// A view rendered and read back as a picture.
+// Views rendered and read back as pictures, one frame or a sequence through the frame loop.
 class Shooter {
 public:
-    explicit Shooter(render::Renderer& r) : mShots(r) {}
+    explicit Shooter(render::Renderer& r) : mRenderer(r), mReadback(r.context()) {}
     RgbaImage shot(const render::View& v, render::FoveationMethod& m, uint64_t* rays = nullptr) {
-        return {v.width, v.height, mShots.shot(v, m, rays)};
+        RgbaImage img;
+        sequence(
+            1, [&](const FrameTick&) { return v; }, m,
+            [&](const FrameTick&, RgbaImage shot, uint64_t r) {
+                img = std::move(shot);
+                if (rays) *rays = r;
+            });
+        return img;
+    }
+    // `frames` frames, frame t of the view `view(t)` through `m` (at the scene's exposure),
+    // each handed to `frame` as a picture with the primary rays it traced.
+    void sequence(uint32_t frames, const std::function<render::View(const FrameTick&)>& view,
+                  render::FoveationMethod& m,
+                  const std::function<void(const FrameTick&, RgbaImage, uint64_t)>& frame) {
+        // The gaze source is the view's own gaze (a fixed point, or a pursuit trace's sample).
+        render::View current;
+        FrameStages<glm::vec2> stages;
+        stages.gaze = [&](const FrameTick& t) {
+            current = view(t);
+            return current.gaze;
+        };
+        stages.views = [&](const FrameTick&, const glm::vec2&) {
+            current.method = &m;
+            current.exposure = mRenderer.scene().exposure;
+            return std::vector<render::View>{current};
+        };
+        stages.targets = [&](const FrameTick&, std::span<const render::View>) {
+            return std::vector<render::OutputTarget*>{&mReadback};
+        };
+        stages.done = [&](const FrameTick& t, const glm::vec2&, std::span<const render::View> v,
+                          const render::FrameResult& f) {
+            frame(t, RgbaImage{v[0].width, v[0].height, mReadback.takePixels()},
+                  f.views.front().rays);
+            return true;
+        };
+        (void)runFrameLoop(mRenderer, FrameClock(), frames, stages);
     }
 
 private:
-    FrameShots mShots;
+    render::Renderer& mRenderer;
+    render::ReadbackTarget mReadback;
 };
 
 nlohmann::json bandsJson(const std::array<double, kBands>& v) {
@@ -279,9 +318,7 @@ std::pair<uint32_t, uint32_t> uniformSize(uint64_t rays, uint32_t rpp, uint32_t 
             std::max(1u, static_cast<uint32_t>(std::lround(uw * h / w)))};
 }
 
-} // namespace
-
-nlohmann::json runEval(const EvalOptions& o) {
+void checkEvalOptions(const EvalOptions& o) {
     const std::vector<std::string> profiles = foveation::displayProfileNames();
     if (std::find(profiles.begin(), profiles.end(), o.profile) == profiles.end()) {
         throw ArgumentError("--profile: unknown display profile '" + o.profile + "'");
@@ -298,7 +335,15 @@ nlohmann::json runEval(const EvalOptions& o) {
     if (o.baseline != "uniform" && o.baseline != "none") {
         throw ArgumentError("--baseline: expected uniform or none, got '" + o.baseline + "'");
     }
-    const bool thesis = render::parseReconstruction(o.reconstruction);
+}
+
+// The options checked; whether --reconstruction is the thesis's.
+bool checkedThesis(const EvalOptions& o) {
+    checkEvalOptions(o);
+    return render::parseReconstruction(o.reconstruction);
+}
+
+Geometry evalGeometry(const EvalOptions& o) {
     const foveation::DisplayProfile screen = foveation::displayProfile(o.profile);
     Geometry g;
     g.display = (o.width || o.height)
@@ -310,20 +355,27 @@ nlohmann::json runEval(const EvalOptions& o) {
     g.gaze = parseGaze(o.gaze, g.width, g.height);
     g.ppd = quality::pixelsPerDegree(g.display.width, g.display.viewingDistance);
     g.bands = quality::bandMap(g.display, g.width, g.height, g.gaze);
+    return g;
+}
 
-    // Checked before any rendering: the inputs that can be wrong.
+// The inputs that can be wrong, loaded and checked before any rendering.
+struct EvalInputs {
     std::optional<scene::CameraPath> path;
-    if (!o.cameraPath.empty()) {
-        path = scene::CameraPath::load(o.cameraPath);
-    }
     std::optional<foveation::GazeTrace> pursuit;
+    std::optional<RgbaImage> reference;
+};
+
+EvalInputs evalInputs(const EvalOptions& o, const Geometry& g) {
+    EvalInputs in;
+    if (!o.cameraPath.empty()) {
+        in.path = scene::CameraPath::load(o.cameraPath);
+    }
     if (!o.pursuit.empty()) {
-        pursuit = foveation::GazeTrace::load(o.pursuit);
-        if (pursuit->units() != foveation::GazeUnits::Pixels) {
+        in.pursuit = foveation::GazeTrace::load(o.pursuit);
+        if (in.pursuit->units() != foveation::GazeUnits::Pixels) {
             throw LoadError(o.pursuit + ": eval needs a gaze trace in pixels");
         }
     }
-    std::optional<RgbaImage> givenRef;
     if (!o.reference.empty()) {
         const image::DecodedImage d = image::readPng(o.reference);
         if (d.width != g.width || d.height != g.height) {
@@ -331,134 +383,184 @@ nlohmann::json runEval(const EvalOptions& o) {
                             std::to_string(d.height) + ", the view " + std::to_string(g.width) +
                             "x" + std::to_string(g.height));
         }
-        givenRef = RgbaImage{d.width, d.height, d.rgba};
+        in.reference = RgbaImage{d.width, d.height, d.rgba};
     }
-    const std::filesystem::path out(o.out);
-    std::filesystem::create_directories(out);
+    return in;
+}
 
+// The uniform baselines at some rays: the low-resolution render upscaled both ways, and the
+// full-resolution frame with the same total rays.
+struct Baselines {
+    RgbaImage bilinear, bicubic, fullRes;
+    uint32_t uw = 0, uh = 0, fullSpp = 0;
+};
+
+// One eval run: the renderer, the view every measure shares, the reference, and the frames
+// and sequences of each method against it.
+class EvalRun {
+public:
+    explicit EvalRun(const EvalOptions& o);
+    nlohmann::json run();
+
+private:
+    std::unique_ptr<render::PointSetMethod> makeFoveated(double scale);
+    RgbaImage foveatedFrame(render::PointSetMethod& m, const std::string& name, uint64_t& rays);
+    Baselines baselines(uint64_t rays);
+    nlohmann::json summaryHead();
+    void stillFrame(nlohmann::json& summary);
+    nlohmann::json stillSequence();
+    nlohmann::json movingSequence();
+    nlohmann::json pursuitSequence();
+    void sweep(nlohmann::json& summary);
+    // Scores of a frame against the reference.
+    Scores scored(const RgbaImage& img) const { return score(img, mRef, mGeometry, mBleedMask); }
+
+    const EvalOptions& mOptions;
+    bool mThesis; // --reconstruction thesis
+    Geometry mGeometry;
+    EvalInputs mInputs;
+    std::filesystem::path mOut;
+    std::optional<render::Renderer> mRenderer;
+    std::optional<Shooter> mShooter;
+    scene::Camera mCamera;
+    render::View mBase;
+    RgbaImage mRef;
+    std::vector<uint8_t> mBleedMask;
+    std::unique_ptr<render::PointSetMethod> mFoveated;
+};
+
+EvalRun::EvalRun(const EvalOptions& o)
+    : mOptions(o), mThesis(checkedThesis(o)), mGeometry(evalGeometry(o)),
+      mInputs(evalInputs(o, mGeometry)), mOut(o.out) {
+    std::filesystem::create_directories(mOut);
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
     const char* device = std::getenv("GAZETRACE_DEVICE");
-    render::Renderer renderer({.scene = o.scene,
-                               .validate = o.validate,
-                               .framesInFlight = 1,
-                               .deviceOverride = device ? device : ""});
-    Shooter shooter(renderer);
-    scene::Camera camera = renderer.scene().camera;
+    mRenderer.emplace(render::RendererOptions{.scene = o.scene,
+                                              .validate = o.validate,
+                                              .framesInFlight = 1,
+                                              .deviceOverride = device ? device : ""});
+    mShooter.emplace(*mRenderer);
+    mCamera = mRenderer->scene().camera;
     if (cameraArg) {
-        camera = cameraArg->camera(camera.yfov);
+        mCamera = cameraArg->camera(mCamera.yfov);
     }
-    render::View base;
-    base.camera = camera;
-    base.width = g.width;
-    base.height = g.height;
-    base.gaze = g.gaze;
-    base.post.taa = false;
-    base.post.taaSettings.stillClipGamma = static_cast<float>(o.stillClipGamma);
-    base.post.taaSettings.eccentricRadius = static_cast<float>(o.eccentricRadius);
-    if (thesis) {
+    mBase.camera = mCamera;
+    mBase.width = mGeometry.width;
+    mBase.height = mGeometry.height;
+    mBase.gaze = mGeometry.gaze;
+    mBase.post.taa = false;
+    mBase.post.taaSettings.stillClipGamma = static_cast<float>(o.stillClipGamma);
+    mBase.post.taaSettings.eccentricRadius = static_cast<float>(o.eccentricRadius);
+    if (mThesis) {
         render::PointSetSettings unused;
-        render::useThesisReconstruction(unused, base.post.taaSettings);
+        render::useThesisReconstruction(unused, mBase.post.taaSettings);
     }
-
     // The reference: many stratified rays per pixel, no TAA.
-    RgbaImage ref;
-    if (givenRef) {
-        ref = std::move(*givenRef);
+    if (mInputs.reference) {
+        mRef = std::move(*mInputs.reference);
     } else {
-        render::FullResolution reference(renderer.methodContext(), {o.referenceSpp, kSeed});
-        render::View v = base;
+        render::FullResolution reference(mRenderer->methodContext(), {o.referenceSpp, kSeed});
+        render::View v = mBase;
         v.name = "reference";
-        ref = shooter.shot(v, reference);
-        writePng(out / "reference.png", ref);
+        mRef = mShooter->shot(v, reference);
+        writePng(mOut / "reference.png", mRef);
     }
-    const std::vector<uint8_t> bleedMask = quality::darkNearBrightMask(ref);
+    mBleedMask = quality::darkNearBrightMask(mRef);
+}
 
-    const std::filesystem::path cache =
-        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
-    auto makeFoveated = [&](double scale) {
-        foveation::PointSetParams params;
-        params.display = g.display;
-        params.scale = scale;
-        auto m = std::make_unique<render::PointSetMethod>(renderer.methodContext(), params, cache);
-        m->settings.raysPerPoint = o.raysPerPoint;
-        m->settings.interpolation.method = passes::parseInterpolation(o.interp);
-        m->settings.interpolation.k = o.k;
-        m->settings.lod = o.lod;
-        m->settings.displayReferred = o.blend == "display";
-        m->settings.interpolation.edgeTolerance = static_cast<float>(o.edgeTolerance);
-        m->settings.interpolation.rangeSigma = static_cast<float>(o.rangeSigma);
-        m->settings.interpolation.shepardPower = static_cast<float>(o.shepardPower);
-        m->settings.jitter = o.jitter;
-        if (thesis) {
-            passes::TaaSettings unused;
-            render::useThesisReconstruction(m->settings, unused);
-        }
-        return m;
-    };
-    // The foveated frame after `frames` frames of the same view (TAA settled).
-    auto foveatedFrame = [&](render::PointSetMethod& m, const std::string& name, uint64_t& rays) {
-        render::View v = base;
-        v.name = name;
-        v.post.taa = o.taa;
-        RgbaImage img;
-        for (uint32_t i = 0; i < std::max(1u, o.frames); ++i) {
-            img = shooter.shot(v, m, &rays);
-        }
-        return img;
-    };
-    // The uniform baselines at `rays`: the low-resolution render upscaled both ways, and the
-    // full-resolution frame with the same total rays.
-    struct Baselines {
-        RgbaImage bilinear, bicubic, fullRes;
-        uint32_t uw = 0, uh = 0, fullSpp = 0;
-    };
-    auto baselines = [&](uint64_t rays) {
-        Baselines b;
-        std::tie(b.uw, b.uh) = uniformSize(rays, o.raysPerPoint, g.width, g.height);
-        render::FullResolution uniform(renderer.methodContext(), {o.raysPerPoint, kSeed});
-        render::View v = base;
-        v.name = "uniform";
-        v.width = b.uw;
-        v.height = b.uh;
-        const RgbaImage low = shooter.shot(v, uniform);
-        b.bilinear = quality::upscale(low, g.width, g.height, quality::Upscale::Bilinear);
-        b.bicubic = quality::upscale(low, g.width, g.height, quality::Upscale::CatmullRom);
-        b.fullSpp = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(
-                                              static_cast<double>(rays) / (g.width * g.height))));
-        render::FullResolution full(renderer.methodContext(), {b.fullSpp, kSeed});
-        v = base;
-        v.name = "full";
-        b.fullRes = shooter.shot(v, full);
-        return b;
-    };
+std::unique_ptr<render::PointSetMethod> EvalRun::makeFoveated(double scale) {
+    const EvalOptions& o = mOptions;
+    foveation::PointSetParams params;
+    params.display = mGeometry.display;
+    params.scale = scale;
+    auto m = makePointSetMethod(*mRenderer, params, o.cacheDir);
+    m->settings.raysPerPoint = o.raysPerPoint;
+    m->settings.interpolation.method = interpolationOf(o.interp, o.k, "").method;
+    m->settings.interpolation.k = o.k;
+    m->settings.lod = o.lod;
+    m->settings.displayReferred = o.blend == "display";
+    m->settings.interpolation.edgeTolerance = static_cast<float>(o.edgeTolerance);
+    m->settings.interpolation.rangeSigma = static_cast<float>(o.rangeSigma);
+    m->settings.interpolation.shepardPower = static_cast<float>(o.shepardPower);
+    m->settings.jitter = o.jitter;
+    if (mThesis) {
+        passes::TaaSettings unused;
+        render::useThesisReconstruction(m->settings, unused);
+    }
+    return m;
+}
 
+// The foveated frame after `frames` frames of the same view (TAA settled).
+RgbaImage EvalRun::foveatedFrame(render::PointSetMethod& m, const std::string& name,
+                                 uint64_t& rays) {
+    render::View v = mBase;
+    v.name = name;
+    v.post.taa = mOptions.taa;
+    RgbaImage img;
+    mShooter->sequence(
+        std::max(1u, mOptions.frames), [&](const FrameTick&) { return v; }, m,
+        [&](const FrameTick&, RgbaImage shot, uint64_t r) {
+            img = std::move(shot);
+            rays = r;
+        });
+    return img;
+}
+
+Baselines EvalRun::baselines(uint64_t rays) {
+    const Geometry& g = mGeometry;
+    Baselines b;
+    std::tie(b.uw, b.uh) = uniformSize(rays, mOptions.raysPerPoint, g.width, g.height);
+    render::FullResolution uniform(mRenderer->methodContext(), {mOptions.raysPerPoint, kSeed});
+    render::View v = mBase;
+    v.name = "uniform";
+    v.width = b.uw;
+    v.height = b.uh;
+    const RgbaImage low = mShooter->shot(v, uniform);
+    b.bilinear = quality::upscale(low, g.width, g.height, quality::Upscale::Bilinear);
+    b.bicubic = quality::upscale(low, g.width, g.height, quality::Upscale::CatmullRom);
+    b.fullSpp = std::max<uint32_t>(
+        1, static_cast<uint32_t>(std::lround(static_cast<double>(rays) / (g.width * g.height))));
+    render::FullResolution full(mRenderer->methodContext(), {b.fullSpp, kSeed});
+    v = mBase;
+    v.name = "full";
+    b.fullRes = mShooter->shot(v, full);
+    return b;
+}
+
+nlohmann::json EvalRun::summaryHead() {
+    const Geometry& g = mGeometry;
     nlohmann::json summary;
-    summary["device"] = renderer.context().deviceName();
-    summary["scene"] = o.scene;
-    summary["profile"] = o.profile;
+    summary["device"] = mRenderer->context().deviceName();
+    summary["scene"] = mOptions.scene;
+    summary["profile"] = mOptions.profile;
     summary["width"] = g.width;
     summary["height"] = g.height;
     summary["gaze"] = {g.gaze.x, g.gaze.y};
     summary["pixels_per_degree"] = g.ppd;
-    summary["reference_spp"] =
-        givenRef ? nlohmann::json(o.reference) : nlohmann::json(o.referenceSpp);
+    summary["reference_spp"] = !mOptions.reference.empty() ? nlohmann::json(mOptions.reference)
+                                                           : nlohmann::json(mOptions.referenceSpp);
     summary["bands_deg"] = {"0-5", "5-10", "10-20", "20+"};
     summary["flip_ecc_ppd"] = nlohmann::json::array();
     for (std::size_t b = 0; b < kBands; ++b) {
         summary["flip_ecc_ppd"].push_back(g.ppd /
                                           quality::acuityFalloff(quality::kBandStartDeg[b]));
     }
+    return summary;
+}
 
-    // The still frame: foveated and the baselines.
-    auto foveated = makeFoveated(o.scale);
+// The still frame: foveated and the baselines, scored, with their error maps and the bars.
+void EvalRun::stillFrame(nlohmann::json& summary) {
+    const EvalOptions& o = mOptions;
+    const Geometry& g = mGeometry;
+    mFoveated = makeFoveated(o.scale);
     uint64_t rays = 0;
-    const RgbaImage fov = foveatedFrame(*foveated, "foveated", rays);
-    writePng(out / "foveated.png", fov);
+    const RgbaImage fov = foveatedFrame(*mFoveated, "foveated", rays);
+    writePng(mOut / "foveated.png", fov);
     nlohmann::json methods = nlohmann::json::object();
     std::vector<std::array<double, kBands>> bars;
     nlohmann::json plotSeries = nlohmann::json::array();
     {
-        Scores s = score(fov, ref, g, bleedMask);
+        Scores s = scored(fov);
         s.json["rays"] = rays;
         s.json["settings"] = {{"reconstruction", o.reconstruction},
                               {"interp", o.interp},
@@ -475,7 +577,7 @@ nlohmann::json runEval(const EvalOptions& o) {
                               {"eccentric_radius", o.eccentricRadius},
                               {"jitter", o.jitter}};
         methods["foveated"] = s.json;
-        writePng(out / "flip_foveated.png", errorMapImage(s.flip, g.width, g.height));
+        writePng(mOut / "flip_foveated.png", errorMapImage(s.flip, g.width, g.height));
         bars.push_back(s.flipBands);
         plotSeries.push_back({{"name", "foveated"}, {"colour", seriesColourHex(0)}});
     }
@@ -486,16 +588,16 @@ nlohmann::json runEval(const EvalOptions& o) {
              {"uniform_catmull_rom", &b.bicubic},
              {"full_resolution", &b.fullRes}}};
         for (const auto& [name, img] : rows) {
-            Scores s = score(*img, ref, g, bleedMask);
+            Scores s = scored(*img);
             const bool full = std::string(name) == "full_resolution";
             s.json["rays"] = full ? static_cast<uint64_t>(b.fullSpp) * g.width * g.height
                                   : static_cast<uint64_t>(b.uw) * b.uh * o.raysPerPoint;
             s.json["size"] = full ? nlohmann::json{g.width, g.height} : nlohmann::json{b.uw, b.uh};
             s.json["rays_per_pixel"] = full ? b.fullSpp : o.raysPerPoint;
             methods[name] = s.json;
-            writePng(out / ("flip_" + std::string(name) + ".png"),
+            writePng(mOut / ("flip_" + std::string(name) + ".png"),
                      errorMapImage(s.flip, g.width, g.height));
-            writePng(out / (std::string(name) + ".png"), *img);
+            writePng(mOut / (std::string(name) + ".png"), *img);
             plotSeries.push_back({{"name", name}, {"colour", seriesColourHex(bars.size())}});
             bars.push_back(s.flipBands);
         }
@@ -505,131 +607,162 @@ nlohmann::json runEval(const EvalOptions& o) {
     for (const auto& b : bars) {
         maxBar = std::max(maxBar, *std::max_element(b.begin(), b.end()));
     }
-    writePng(out / "bands.png", bandBars(bars, maxBar * 1.1));
+    writePng(mOut / "bands.png", bandBars(bars, maxBar * 1.1));
     summary["plots"] = {
         {"bands.png", "FLIP per band (0-5, 5-10, 10-20, 20+ deg), one bar per method"},
         {"series", plotSeries}};
+}
 
-    // Temporal stability.
-    nlohmann::json temporal = nlohmann::json::object();
-    const uint32_t seqFrames = std::max(2u, o.sequenceFrames);
-    if (o.temporal) {
-        // A still view: whatever changes from frame to frame is the method's own flicker,
-        // measured after the `frames` the still frame settles for.
-        std::vector<Change> steps;
-        RgbaImage last;
-        render::View v = base;
-        v.name = "still";
-        v.post.taa = o.taa;
-        const uint32_t settle = std::max(1u, o.frames) - 1;
-        for (uint32_t i = 0; i < settle + seqFrames; ++i) {
-            RgbaImage img = shooter.shot(v, *foveated);
-            if (i > settle) {
-                steps.push_back(stillChange(last, img, g.bands));
+// A still view: whatever changes from frame to frame is the method's own flicker, measured
+// after the `frames` the still frame settles for.
+nlohmann::json EvalRun::stillSequence() {
+    const uint32_t seqFrames = std::max(2u, mOptions.sequenceFrames);
+    std::vector<Change> steps;
+    RgbaImage last;
+    render::View v = mBase;
+    v.name = "still";
+    v.post.taa = mOptions.taa;
+    const uint32_t settle = std::max(1u, mOptions.frames) - 1;
+    mShooter->sequence(
+        settle + seqFrames, [&](const FrameTick&) { return v; }, *mFoveated,
+        [&](const FrameTick& t, RgbaImage img, uint64_t) {
+            if (t.index > settle) {
+                steps.push_back(stillChange(last, img, mGeometry.bands));
             }
             last = std::move(img);
-        }
-        temporal["still"] = changeJson(steps);
+        });
+    return changeJson(steps);
+}
+
+// A moving camera: each frame against the previous one reprojected through the geometry; the
+// reference at one ray per pixel with the same seed every frame.
+nlohmann::json EvalRun::movingSequence() {
+    const Geometry& g = mGeometry;
+    const scene::CameraPath& path = *mInputs.path;
+    const uint32_t seqFrames = std::max(2u, mOptions.sequenceFrames);
+    render::FullResolution oneRay(mRenderer->methodContext(), {1, kSeed});
+    nlohmann::json moving = nlohmann::json::object();
+    std::vector<scene::Camera> cams;
+    std::vector<std::vector<float>> depths;
+    for (uint32_t i = 0; i < seqFrames; ++i) {
+        const double t = path.startMs() + (path.endMs() - path.startMs()) * i / (seqFrames - 1);
+        cams.push_back(path.at(t, mCamera.yfov));
+        depths.push_back(depthMap(*mRenderer, cams.back(), g.width, g.height));
     }
-    if (path) {
-        // A moving camera: each frame against the previous one reprojected through the
-        // geometry; the reference at one ray per pixel with the same seed every frame.
-        render::FullResolution oneRay(renderer.methodContext(), {1, kSeed});
-        nlohmann::json moving = nlohmann::json::object();
-        std::vector<scene::Camera> cams;
-        std::vector<std::vector<float>> depths;
-        for (uint32_t i = 0; i < seqFrames; ++i) {
-            const double t =
-                path->startMs() + (path->endMs() - path->startMs()) * i / (seqFrames - 1);
-            cams.push_back(path->at(t, camera.yfov));
-            depths.push_back(depthMap(renderer, cams.back(), g.width, g.height));
-        }
-        for (const bool isRef : {false, true}) {
-            std::vector<Change> steps;
-            RgbaImage last;
-            for (uint32_t i = 0; i < seqFrames; ++i) {
-                render::View v = base;
-                v.camera = cams[i];
-                v.name = isRef ? "moving_reference" : "moving_foveated";
-                v.post.taa = !isRef && o.taa;
-                RgbaImage img = isRef ? shooter.shot(v, oneRay) : shooter.shot(v, *foveated);
+    for (const bool isRef : {false, true}) {
+        std::vector<Change> steps;
+        RgbaImage last;
+        const auto view = [&](const FrameTick& t) {
+            render::View v = mBase;
+            v.camera = cams[t.index];
+            v.name = isRef ? "moving_reference" : "moving_foveated";
+            v.post.taa = !isRef && mOptions.taa;
+            return v;
+        };
+        render::FoveationMethod& method =
+            isRef ? static_cast<render::FoveationMethod&>(oneRay) : *mFoveated;
+        mShooter->sequence(
+            seqFrames, view, method, [&](const FrameTick& t, RgbaImage img, uint64_t) {
+                const uint32_t i = t.index;
                 if (i > 0) {
                     steps.push_back(reprojectedChange(last, img, cams[i - 1], cams[i],
                                                       depths[i - 1], depths[i], g.bands));
                 }
                 last = std::move(img);
-            }
-            moving[isRef ? "reference" : "foveated"] = changeJson(steps);
-        }
-        moving["camera_path"] = o.cameraPath;
-        moving["frames"] = seqFrames;
-        temporal["moving"] = moving;
+            });
+        moving[isRef ? "reference" : "foveated"] = changeJson(steps);
     }
-    if (pursuit) {
-        // Smooth pursuit over a still scene: the point set follows the gaze, the scene stays.
-        std::vector<Change> steps;
-        RgbaImage last;
-        const auto& samples = pursuit->samples();
-        const std::size_t n = std::min<std::size_t>(samples.size(), seqFrames);
-        const uint32_t settle = std::max(1u, o.frames) - 1; // at the first gaze, as a still view
-        double overall = 0.0;
-        for (std::size_t f = 0; f < settle + n; ++f) {
-            const std::size_t i = f < settle ? 0 : f - settle;
-            render::View v = base;
-            v.name = "pursuit";
-            v.post.taa = o.taa;
-            v.gaze = glm::clamp(
-                samples[i].position, glm::vec2(0.0f),
-                glm::vec2(static_cast<float>(g.width - 1), static_cast<float>(g.height - 1)));
-            RgbaImage img = shooter.shot(v, *foveated);
-            if (f > settle) {
+    moving["camera_path"] = mOptions.cameraPath;
+    moving["frames"] = seqFrames;
+    return moving;
+}
+
+// Smooth pursuit over a still scene: the point set follows the gaze, the scene stays.
+nlohmann::json EvalRun::pursuitSequence() {
+    const Geometry& g = mGeometry;
+    std::vector<Change> steps;
+    RgbaImage last;
+    const auto& samples = mInputs.pursuit->samples();
+    const std::size_t n =
+        std::min<std::size_t>(samples.size(), std::max(2u, mOptions.sequenceFrames));
+    const uint32_t settle = std::max(1u, mOptions.frames) - 1; // at the first gaze, as a still view
+    double overall = 0.0;
+    const auto view = [&](const FrameTick& t) {
+        const std::size_t i = t.index < settle ? 0 : t.index - settle;
+        render::View v = mBase;
+        v.name = "pursuit";
+        v.post.taa = mOptions.taa;
+        v.gaze = clampToImage(samples[i].position, g.width, g.height);
+        return v;
+    };
+    mShooter->sequence(
+        settle + static_cast<uint32_t>(n), view, *mFoveated,
+        [&](const FrameTick& t, RgbaImage img, uint64_t) {
+            if (t.index > settle) {
                 const std::vector<uint8_t> one(img.count(), 0);
                 const Change all = stillChange(last, img, one);
                 overall += all.share[0] / static_cast<double>(n - 1);
-                steps.push_back(
-                    stillChange(last, img, quality::bandMap(g.display, g.width, g.height, v.gaze)));
+                steps.push_back(stillChange(
+                    last, img, quality::bandMap(g.display, g.width, g.height, view(t).gaze)));
             }
             last = std::move(img);
-        }
-        nlohmann::json pj = changeJson(steps);
-        pj["changed_percent_all"] = overall;
-        pj["frames"] = n;
-        pj["trace"] = o.pursuit;
-        temporal["pursuit"] = pj;
+        });
+    nlohmann::json pj = changeJson(steps);
+    pj["changed_percent_all"] = overall;
+    pj["frames"] = n;
+    pj["trace"] = mOptions.pursuit;
+    return pj;
+}
+
+// Quality against rays: the foveated method at sparser scales and the uniform baseline at the
+// same rays, mean FLIP over the two foveal bands and over the image.
+void EvalRun::sweep(nlohmann::json& summary) {
+    nlohmann::json sweep = nlohmann::json::array();
+    std::vector<std::vector<std::pair<double, double>>> curves(2);
+    for (const double scale : {1.0, 1.5, 2.0, 3.0}) {
+        auto m = scale == mOptions.scale ? std::move(mFoveated) : makeFoveated(scale);
+        uint64_t r = 0;
+        const RgbaImage img = foveatedFrame(*m, "sweep_foveated", r);
+        const Scores fs = scored(img);
+        const Baselines b = baselines(r);
+        Scores us = scored(b.bilinear);
+        us.json["rays"] = static_cast<uint64_t>(b.uw) * b.uh * mOptions.raysPerPoint;
+        sweep.push_back({{"scale", scale},
+                         {"rays", r},
+                         {"foveated", fs.json},
+                         {"uniform_bilinear", us.json},
+                         {"uniform_size", {b.uw, b.uh}}});
+        curves[0].emplace_back(static_cast<double>(r), fs.json["flip_mean"].get<double>());
+        curves[1].emplace_back(static_cast<double>(r), us.json["flip_mean"].get<double>());
+        mFoveated = std::move(m);
     }
+    summary["sweep"] = sweep;
+    writePng(mOut / "curves.png", curvesImage(curves));
+    summary["plots"]["curves.png"] =
+        "mean FLIP against rays (log): foveated (series 0) and uniform bilinear (series 1)";
+}
+
+nlohmann::json EvalRun::run() {
+    nlohmann::json summary = summaryHead();
+    stillFrame(summary);
+    // Temporal stability.
+    nlohmann::json temporal = nlohmann::json::object();
+    if (mOptions.temporal) temporal["still"] = stillSequence();
+    if (mInputs.path) temporal["moving"] = movingSequence();
+    if (mInputs.pursuit) temporal["pursuit"] = pursuitSequence();
     if (!temporal.empty()) {
         summary["temporal"] = temporal;
     }
-
-    // Quality against rays: the foveated method at sparser scales and the uniform baseline at
-    // the same rays, mean FLIP over the two foveal bands and over the image.
-    if (o.sweep) {
-        nlohmann::json sweep = nlohmann::json::array();
-        std::vector<std::vector<std::pair<double, double>>> curves(2);
-        for (const double scale : {1.0, 1.5, 2.0, 3.0}) {
-            auto m = scale == o.scale ? std::move(foveated) : makeFoveated(scale);
-            uint64_t r = 0;
-            const RgbaImage img = foveatedFrame(*m, "sweep_foveated", r);
-            const Scores fs = score(img, ref, g, bleedMask);
-            const Baselines b = baselines(r);
-            Scores us = score(b.bilinear, ref, g, bleedMask);
-            us.json["rays"] = static_cast<uint64_t>(b.uw) * b.uh * o.raysPerPoint;
-            sweep.push_back({{"scale", scale},
-                             {"rays", r},
-                             {"foveated", fs.json},
-                             {"uniform_bilinear", us.json},
-                             {"uniform_size", {b.uw, b.uh}}});
-            curves[0].emplace_back(static_cast<double>(r), fs.json["flip_mean"].get<double>());
-            curves[1].emplace_back(static_cast<double>(r), us.json["flip_mean"].get<double>());
-            foveated = std::move(m);
-        }
-        summary["sweep"] = sweep;
-        writePng(out / "curves.png", curvesImage(curves));
-        summary["plots"]["curves.png"] =
-            "mean FLIP against rays (log): foveated (series 0) and uniform bilinear (series 1)";
-    }
-    io::writeFileAtomic(out / "eval.json", summary.dump(2) + "\n");
+    if (mOptions.sweep) sweep(summary);
+    io::writeFileAtomic(mOut / "eval.json", summary.dump(2) + "\n");
     return summary;
+}
+
+} // namespace
+
+nlohmann::json runEval(const EvalOptions& o) {
+    EvalRun run(o);
+    return run.run();
 }
 
 std::string evalText(const nlohmann::json& s) {

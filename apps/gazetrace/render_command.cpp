@@ -23,10 +23,13 @@
 #include "foveation/gaze_trace.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
+#include "frame_loop.hpp"
 #include "full_resolution.hpp"
 #include "gaze/gaze_tracker.hpp"
 #include "gaze_mapping.hpp"
+#include "gaze_view.hpp"
 #include "layers_command.hpp"
+#include "method_choice.hpp"
 #include "output_target.hpp"
 #include "point_sample/point_sample.hpp"
 #include "point_set_method.hpp"
@@ -204,11 +207,64 @@ nlohmann::json layersJson(render::EccentricityLayers& layers, const render::View
             {"temporal", layers.settings().temporal}};
 }
 
-// `render --hmd NAME`: both eyes of the profile in one render graph (scopes left., right.), each
-// with its off-axis frustum, its own gaze and its lens, composed into the side-by-side frame an
-// extended-mode HMD shows. --gaze and --gaze-trace are pixels of the left eye's image.
-nlohmann::json runRenderHmd(const RenderOptions& o) {
-    const display::HmdProfile profile = display::hmdProfile(o.hmd);
+// --gaze-trace, loaded: pixel traces are checked against the w x h screen they are clamped to;
+// without --frames, one frame every --frame-ms from its first sample to its last.
+foveation::GazeTrace loadGazeTrace(const RenderOptions& o, uint32_t w, uint32_t h,
+                                   uint32_t& frameCount) {
+    foveation::GazeTrace trace = foveation::GazeTrace::load(o.gazeTrace);
+    if (trace.units() == foveation::GazeUnits::Pixels) {
+        warnOffScreen(trace, o.gazeTrace, w, h);
+    }
+    if (!o.framesGiven) {
+        frameCount = 1 + static_cast<uint32_t>((trace.endMs() - trace.startMs()) / o.frameMs);
+    }
+    return trace;
+}
+
+// A run's frames on disk: each frame's PNG as soon as it is rendered (--out: one file, or a
+// folder of frame_NNNN.png), the first frame's render graph (--graph); all removed again unless
+// the run succeeds (keep()).
+class FrameFiles {
+public:
+    FrameFiles(const RenderOptions& o, uint32_t frameCount)
+        : mGraphDot(o.graphDot), mOut(o.out), mToFolder(outIsFolder(mOut)),
+          mWritten(mOut, mToFolder, o.out, frameCount) {}
+    [[nodiscard]] render::FrameOptions options(uint32_t frame) const {
+        return {.graphviz = !mGraphDot.empty() && frame == 0};
+    }
+    void write(uint32_t frame, const render::FrameResult& result, uint32_t w, uint32_t h,
+               const std::vector<uint8_t>& pixels) {
+        mFrameMs.push_back(result.wallMs);
+        if (options(frame).graphviz) {
+            writeText(mGraphDot, result.dot);
+            mWritten.add(mGraphDot);
+        }
+        const std::filesystem::path file = frameFile(mOut, mToFolder, frame);
+        image::writePngAtomic(file, w, h, pixels);
+        mWritten.add(file);
+        mOutputs.push_back(file.string());
+    }
+    // The median wall time of a frame.
+    [[nodiscard]] double medianMs() const {
+        std::vector<double> sorted = mFrameMs;
+        std::sort(sorted.begin(), sorted.end());
+        return sorted[sorted.size() / 2];
+    }
+    [[nodiscard]] std::string output() const {
+        return mToFolder ? mOut.string() : mOutputs.front();
+    }
+    void keep() noexcept { mWritten.keep(); }
+
+private:
+    std::string mGraphDot;
+    std::filesystem::path mOut;
+    bool mToFolder;
+    RunOutputs mWritten;
+    std::vector<double> mFrameMs;
+    std::vector<std::string> mOutputs;
+};
+
+void checkHmdOptions(const RenderOptions& o, const display::HmdProfile& profile) {
     const bool foveated = o.method == "foveated";
     if (o.method != "reference" && o.method != "layers" && !foveated) {
         throw ArgumentError("--method: '" + o.method + "' (known: reference, foveated, layers)");
@@ -228,109 +284,65 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
     if (!(o.vergenceM >= 0.0) || !std::isfinite(o.vergenceM)) {
         throw ArgumentError("--vergence-m must be 0 (infinity) or a positive distance");
     }
-    const uint32_t w = profile.eyeWidth, h = profile.eyeHeight;
-    glm::vec2 gazePx = parseGaze(o.gaze, w, h);
-    std::optional<foveation::GazeTrace> trace;
-    uint32_t frameCount = o.frames;
-    if (!o.gazeTrace.empty()) {
-        if (!o.gaze.empty()) throw ArgumentError("--gaze and --gaze-trace exclude each other");
-        if (!(o.frameMs > 0.0)) throw ArgumentError("--frame-ms must be positive");
-        trace = foveation::GazeTrace::load(o.gazeTrace);
-        if (trace->units() == foveation::GazeUnits::Pixels) {
-            warnOffScreen(*trace, o.gazeTrace, w, h);
-        }
-        if (!o.framesGiven) {
-            frameCount = 1 + static_cast<uint32_t>((trace->endMs() - trace->startMs()) / o.frameMs);
-        }
-    }
-    const std::filesystem::path outPath(o.out);
-    const bool toFolder = outIsFolder(outPath);
-    RunOutputs written(outPath, toFolder, o.out, frameCount);
-    const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
-    render::Renderer renderer(rendererOptions(o));
-    scene::Camera head = renderer.scene().camera;
-    if (cameraArg) head = cameraArg->camera(head.yfov);
-    std::optional<render::FullResolution> reference;
-    std::optional<render::PointSetMethod> pointSet;
-    std::optional<render::EccentricityLayers> layers;
-    render::FoveationMethod* method = nullptr;
+}
+
+// The HMD path's method, shared by both eyes, and the post settings of its views.
+render::FoveationMethod& hmdMethod(const RenderOptions& o, const display::HmdProfile& profile,
+                                   MethodChoice& methods, render::PostSettings& post) {
+    post.taa = o.method == "foveated" && o.taa && o.view.empty();
     if (o.method == "layers") {
         // Each eye's layers from its own frustum: the HMD image fills the eye's field of view.
-        layers.emplace(renderer.methodContext(), renderLayerSettings(o, std::nullopt));
-        method = &*layers;
-    } else if (foveated) {
-        foveation::PointSetParams params;
-        params.display = foveation::displayProfile(profile.pointSetProfile);
-        params.scale = o.scale;
-        if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
-            throw ArgumentError("--k must be 1..20");
-        }
-        pointSet.emplace(renderer.methodContext(), params,
-                         o.cacheDir.empty() ? foveation::defaultCacheDir()
-                                            : std::filesystem::path(o.cacheDir));
-        passes::InterpolateSettings interp;
-        interp.method =
-            o.view.empty() ? passes::parseInterpolation(o.interp) : passes::parseView(o.view);
-        interp.k = o.k;
-        interp.kernel = passes::parseKernel(o.kernel);
-        interp.rbfShape = static_cast<float>(o.rbfShape);
-        interp.knn = passes::parseKnnIndex(o.knn);
-        pointSet->settings = {o.raysPerPoint, interp, o.displaySpace && o.distortion, o.lod};
-        method = &*pointSet;
-    } else {
-        reference.emplace(renderer.methodContext(), passes::ReferenceSettings{o.spp, o.seed});
-        method = &*reference;
+        return methods.layers(renderLayerSettings(o, std::nullopt));
     }
-    const render::StereoRig rig(profile, o.distortion);
-    render::PostSettings post;
-    post.taa = foveated && o.taa && o.view.empty();
-    if (pointSet && render::parseReconstruction(o.reconstruction)) {
-        render::useThesisReconstruction(pointSet->settings, post.taaSettings);
+    if (o.method != "foveated") return methods.reference({o.spp, o.seed});
+    foveation::PointSetParams params;
+    params.display = foveation::displayProfile(profile.pointSetProfile);
+    params.scale = o.scale;
+    if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
+        throw ArgumentError("--k must be 1..20");
     }
-    render::CompositeReadbackTarget composite(renderer.context(), 2 * w, h);
-    composite.place("left", {{0, 0}, {w, h}});
-    composite.place("right", {{static_cast<int32_t>(w), 0}, {w, h}});
-    render::OutputTarget* const targets[2] = {&composite, &composite};
-    render::FrameResult frame;
-    std::array<render::View, 2> views;
-    std::vector<double> frameMs;
-    std::vector<std::string> outputs;
-    const glm::vec2 lastPixel(static_cast<float>(w) - 1.0f, static_cast<float>(h) - 1.0f);
-    for (uint32_t i = 0; i < frameCount; ++i) {
-        render::StereoGaze gaze;
-        const double t = trace ? trace->startMs() + i * o.frameMs : 0.0;
-        if (trace && trace->units() == foveation::GazeUnits::AnglesDeg) {
-            // Angles: one direction for both eyes, or each tracked eye its own.
-            gaze.direction = render::directionOfAngles(trace->at(t));
-            for (const auto eye : {foveation::GazeEye::Left, foveation::GazeEye::Right}) {
-                if (trace->hasEye(eye)) {
-                    gaze.eyeDirection[eye == foveation::GazeEye::Left ? 0 : 1] =
-                        render::directionOfAngles(trace->at(t, eye));
-                }
+    render::PointSetMethod& pointSet = methods.pointSet(params);
+    passes::InterpolateSettings interp = interpolationOf(o.interp, o.k, o.view);
+    interp.kernel = passes::parseKernel(o.kernel);
+    interp.rbfShape = static_cast<float>(o.rbfShape);
+    interp.knn = passes::parseKnnIndex(o.knn);
+    pointSet.settings = {o.raysPerPoint, interp, o.displaySpace && o.distortion, o.lod};
+    if (render::parseReconstruction(o.reconstruction)) {
+        render::useThesisReconstruction(pointSet.settings, post.taaSettings);
+    }
+    return pointSet;
+}
+
+// Both eyes' gaze at time `tMs` along the trace (none: the fixed --gaze pixel of the left eye).
+render::StereoGaze hmdGaze(const std::optional<foveation::GazeTrace>& trace, double tMs,
+                           const render::StereoRig& rig, glm::vec2 gazePx, double vergenceM) {
+    render::StereoGaze gaze;
+    const double t = trace ? trace->startMs() + tMs : 0.0;
+    if (trace && trace->units() == foveation::GazeUnits::AnglesDeg) {
+        // Angles: one direction for both eyes, or each tracked eye its own.
+        gaze.direction = render::directionOfAngles(trace->at(t));
+        for (const auto eye : {foveation::GazeEye::Left, foveation::GazeEye::Right}) {
+            if (trace->hasEye(eye)) {
+                gaze.eyeDirection[eye == foveation::GazeEye::Left ? 0 : 1] =
+                    render::directionOfAngles(trace->at(t, eye));
             }
-        } else {
-            if (trace) gazePx = glm::clamp(trace->at(t), glm::vec2(0.0f), lastPixel);
-            gaze.direction = rig.directionOfLeftPixel(gazePx);
         }
-        if (reference) reference->settings.frameSeed = o.seed + i;
-        if (o.vergenceM > 0.0) gaze.vergenceM = static_cast<float>(o.vergenceM);
-        views = rig.views(head, gaze, *method, post, renderer.scene().exposure);
-        const bool dot = !o.graphDot.empty() && i == 0;
-        frame = renderer.renderFrame(views, targets, {.graphviz = dot});
-        frameMs.push_back(frame.wallMs);
-        if (dot) {
-            writeText(o.graphDot, frame.dot);
-            written.add(o.graphDot);
-        }
-        const std::filesystem::path file = frameFile(outPath, toFolder, i);
-        image::writePngAtomic(file, 2 * w, h, composite.pixels());
-        written.add(file);
-        outputs.push_back(file.string());
+    } else {
+        const display::HmdProfile& p = rig.profile();
+        if (trace) gazePx = clampToImage(trace->at(t), p.eyeWidth, p.eyeHeight);
+        gaze.direction = rig.directionOfLeftPixel(gazePx);
     }
+    if (vergenceM > 0.0) gaze.vergenceM = static_cast<float>(vergenceM);
+    return gaze;
+}
+
+nlohmann::json hmdSummary(const RenderOptions& o, const display::HmdProfile& profile,
+                          render::Renderer& renderer, const render::FrameResult& frame,
+                          std::span<const render::View> views, const FrameFiles& files,
+                          uint32_t frameCount, const scene::Camera& head) {
     vk::Context& ctx = renderer.context();
     const nlohmann::json gpu = checkedPassTimes(ctx, frame.timings);
     const rg::FrameTimings timings = frame.timings.value_or(rg::FrameTimings{});
-    std::sort(frameMs.begin(), frameMs.end());
     nlohmann::json eyes = nlohmann::json::array();
     uint64_t rays = 0;
     for (std::size_t e = 0; e < 2; ++e) {
@@ -342,11 +354,12 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
                          {views[e].frustum->left, views[e].frustum->right, views[e].frustum->up,
                           views[e].frustum->down}}});
     }
-    if (layers) {
+    if (o.method == "layers") {
         for (std::size_t e = 0; e < 2; ++e)
-            eyes[e]["layers"] = layersJson(*layers, views[e]);
+            eyes[e]["layers"] =
+                layersJson(*static_cast<render::EccentricityLayers*>(views[e].method), views[e]);
     }
-    written.keep();
+    const uint32_t w = profile.eyeWidth, h = profile.eyeHeight;
     return {{"device", ctx.deviceName()},
             {"device_type", ctx.deviceDescription()},
             {"scene", o.scene},
@@ -365,9 +378,359 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
             {"frames", frameCount},
             {"gpu_ms", gpu},
             {"gpu_total_ms", timings.gpuMs},
-            {"total_ms", frameMs[frameMs.size() / 2]},
+            {"total_ms", files.medianMs()},
             {"camera", cameraJson(head)},
-            {"output", toFolder ? outPath.string() : outputs.front()}};
+            {"output", files.output()}};
+}
+
+// `render --hmd NAME`: both eyes of the profile in one render graph (scopes left., right.), each
+// with its off-axis frustum, its own gaze and its lens, composed into the side-by-side frame an
+// extended-mode HMD shows. --gaze and --gaze-trace are pixels of the left eye's image.
+nlohmann::json runRenderHmd(const RenderOptions& o) {
+    const display::HmdProfile profile = display::hmdProfile(o.hmd);
+    checkHmdOptions(o, profile);
+    const uint32_t w = profile.eyeWidth, h = profile.eyeHeight;
+    const glm::vec2 gazePx = parseGaze(o.gaze, w, h);
+    std::optional<foveation::GazeTrace> trace;
+    uint32_t frameCount = o.frames;
+    if (!o.gazeTrace.empty()) {
+        if (!o.gaze.empty()) throw ArgumentError("--gaze and --gaze-trace exclude each other");
+        if (!(o.frameMs > 0.0)) throw ArgumentError("--frame-ms must be positive");
+        trace = loadGazeTrace(o, w, h, frameCount);
+    }
+    FrameFiles files(o, frameCount);
+    const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
+    render::Renderer renderer(rendererOptions(o));
+    scene::Camera head = renderer.scene().camera;
+    if (cameraArg) head = cameraArg->camera(head.yfov);
+    MethodChoice methods(renderer, o.cacheDir);
+    render::PostSettings post;
+    render::FoveationMethod& method = hmdMethod(o, profile, methods, post);
+    auto* const reference = dynamic_cast<render::FullResolution*>(&method);
+    const render::StereoRig rig(profile, o.distortion);
+    render::CompositeReadbackTarget composite(renderer.context(), 2 * w, h);
+    composite.place("left", {{0, 0}, {w, h}});
+    composite.place("right", {{static_cast<int32_t>(w), 0}, {w, h}});
+    render::FrameResult last;
+    std::vector<render::View> lastViews;
+    FrameStages<render::StereoGaze> stages;
+    stages.gaze = [&](const FrameTick& t) {
+        return hmdGaze(trace, t.timeMs, rig, gazePx, o.vergenceM);
+    };
+    stages.views = [&](const FrameTick& t, const render::StereoGaze& gaze) {
+        if (reference) reference->settings.frameSeed = o.seed + t.index;
+        const auto eyes = rig.views(head, gaze, method, post, renderer.scene().exposure);
+        return std::vector<render::View>(eyes.begin(), eyes.end());
+    };
+    stages.targets = [&](const FrameTick&, std::span<const render::View>) {
+        return std::vector<render::OutputTarget*>{&composite, &composite};
+    };
+    stages.options = [&](const FrameTick& t) { return files.options(t.index); };
+    stages.done = [&](const FrameTick& t, const render::StereoGaze&,
+                      std::span<const render::View> views, const render::FrameResult& result) {
+        files.write(t.index, result, 2 * w, h, composite.pixels());
+        last = result;
+        lastViews.assign(views.begin(), views.end());
+        return true;
+    };
+    (void)runFrameLoop(renderer, FrameClock(o.frameMs), frameCount, stages);
+    nlohmann::json j = hmdSummary(o, profile, renderer, last, lastViews, files, frameCount, head);
+    files.keep();
+    return j;
+}
+
+// The flat path's image and method settings, from the profile and the command line.
+struct FlatSetup {
+    uint32_t width = 0, height = 0;
+    foveation::PointSetParams pointSet;
+    passes::InterpolateSettings interp;
+    glm::vec2 gaze{};
+};
+
+FlatSetup flatSetup(const RenderOptions& o) {
+    FlatSetup s{o.width, o.height, {}, {}, {}};
+    if (o.method == "foveated") {
+        s.pointSet.display = foveation::displayProfile(o.profile);
+        s.pointSet.scale = o.scale;
+        if (o.sizeGiven && o.profile == "desktop") {
+            // A window on the desktop screen: its own point set at the screen's pixels per degree.
+            s.pointSet.display = foveation::windowProfile(s.pointSet.display, o.width, o.height);
+        } else if (o.sizeGiven &&
+                   (o.width != s.pointSet.display.width || o.height != s.pointSet.display.height)) {
+            throw ArgumentError("--width/--height: the " + o.profile + " profile renders " +
+                                std::to_string(s.pointSet.display.width) + "x" +
+                                std::to_string(s.pointSet.display.height));
+        }
+        s.width = s.pointSet.display.width;
+        s.height = s.pointSet.display.height;
+        s.interp = interpolationOf(o.interp, o.k, "");
+        s.interp.kernel = passes::parseKernel(o.kernel);
+        s.interp.rbfShape = static_cast<float>(o.rbfShape);
+        s.interp.knn = passes::parseKnnIndex(o.knn);
+        if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
+            throw ArgumentError("--k must be 1..20");
+        }
+        s.gaze = parseGaze(o.gaze, s.width, s.height);
+        if (!o.view.empty()) {
+            s.interp.method = passes::parseView(o.view);
+        }
+    } else if (o.method == "layers") {
+        // The profile's screen (or a window on it, with --width/--height): layer sizes follow
+        // its viewing geometry, as the point set's do.
+        const foveation::DisplayProfile screen = foveation::displayProfile(o.profile);
+        if (!o.sizeGiven) {
+            s.width = screen.width;
+            s.height = screen.height;
+        }
+        s.gaze = parseGaze(o.gaze, s.width, s.height);
+    }
+    return s;
+}
+
+// What moves the flat path's frames: a gaze trace or the live eye tracker (opened now, so a bad
+// one fails before any work; the tracker thread starts with the first frame), a camera path,
+// and the frame count they imply.
+struct FlatInputs {
+    std::optional<foveation::GazeTrace> trace;
+    std::unique_ptr<eyetrack::FrameSource> gazeSource;
+    std::optional<eyetrack::Calibration> calibration;
+    std::optional<scene::CameraPath> path;
+    uint32_t frameCount = 1;
+};
+
+FlatInputs flatInputs(const RenderOptions& o, const FlatSetup& s) {
+    const bool foveated = o.method == "foveated";
+    const bool gazeDriven = foveated || o.method == "layers";
+    FlatInputs in;
+    in.frameCount = o.frames;
+    if (!o.gazeTrace.empty()) {
+        if (!gazeDriven) throw ArgumentError("--gaze-trace needs --method foveated or layers");
+        if (!(o.frameMs > 0.0)) throw ArgumentError("--frame-ms must be positive");
+        if (!o.gaze.empty()) throw ArgumentError("--gaze and --gaze-trace exclude each other");
+        in.trace = loadGazeTrace(o, s.width, s.height, in.frameCount);
+    }
+    if (!o.gazeSource.empty()) {
+        if (!gazeDriven) throw ArgumentError("--gaze-source needs --method foveated or layers");
+        if (in.trace) throw ArgumentError("--gaze-source and --gaze-trace exclude each other");
+        if (!o.gaze.empty()) throw ArgumentError("--gaze and --gaze-source exclude each other");
+        if (o.calibration.empty()) {
+            throw ArgumentError("--gaze-source needs --calibration (see gazetrace calibrate)");
+        }
+        in.calibration = eyetrack::Calibration::load(o.calibration);
+        in.gazeSource = eyetrack::openFrameSource(o.gazeSource);
+    } else if (!o.calibration.empty()) {
+        throw ArgumentError("--calibration is for --gaze-source");
+    }
+    if (!foveated && !o.view.empty()) throw ArgumentError("--view needs --method foveated");
+    if (!gazeDriven && !o.gaze.empty()) {
+        throw ArgumentError("--gaze needs --method foveated or layers");
+    }
+    // --camera-path: the camera follows a recorded path, one frame every --frame-ms.
+    if (!o.cameraPath.empty()) {
+        if (!(o.frameMs > 0.0)) throw ArgumentError("--frame-ms must be positive");
+        in.path = scene::CameraPath::load(o.cameraPath);
+        if (!o.framesGiven) {
+            in.frameCount = std::max(
+                in.trace ? in.frameCount : 1u,
+                1 + static_cast<uint32_t>((in.path->endMs() - in.path->startMs()) / o.frameMs));
+        }
+    }
+    return in;
+}
+
+// The flat path's gaze source: the fixed --gaze, the trace at each frame's time, or the eye
+// tracker's newest sample (the last one while none is new), with the saccades it saw.
+class FlatGazeSource {
+public:
+    FlatGazeSource(const RenderOptions& o, FlatInputs& in, glm::vec2 fixed)
+        : mOptions(o), mTrace(in.trace), mPixel(fixed) {
+        if (in.gazeSource) {
+            mTracker.emplace(std::move(in.gazeSource), *in.calibration);
+            (void)mTracker->waitForFirstSample(2000.0); // a camera may take a moment to stream
+        }
+    }
+    struct Gaze {
+        glm::vec2 pixel{};
+        bool saccade = false;
+    };
+    Gaze at(const FrameTick& t, const render::View& view) {
+        const bool desktop = mOptions.profile == "desktop";
+        if (mTrace) {
+            glm::vec2 px = mTrace->at(mTrace->startMs() + t.timeMs);
+            if (mTrace->units() == foveation::GazeUnits::AnglesDeg) {
+                px = renderPixelOfAngles(px, desktop, view);
+            }
+            mPixel = clampToImage(px, view.width, view.height);
+        }
+        if (!mTracker) return {mPixel, false};
+        if (const auto e = mTracker->error()) {
+            throw Error("--gaze-source " + mOptions.gazeSource + ": " + *e);
+        }
+        if (const auto g = mTracker->mailbox().latest()) {
+            // The calibration fits gaze angles: back from its screen's pixels to angles, then
+            // onto this render as an angle trace lands.
+            const cv::Point2d a = mTracker->display().anglesDeg({g->x, g->y});
+            mPixel = clampToImage(
+                renderPixelOfAngles(glm::vec2(static_cast<float>(a.x), static_cast<float>(a.y)),
+                                    desktop, view),
+                view.width, view.height);
+        }
+        // A saccade since the last frame: the TAA history is dropped (thesis, 3.1).
+        const std::uint64_t saccades = mTracker->saccades();
+        const bool saccade = saccades != mSaccadesSeen;
+        mSaccadesSeen = saccades;
+        return {mPixel, saccade};
+    }
+    [[nodiscard]] const std::optional<eyetrack::GazeTracker>& tracker() const { return mTracker; }
+
+private:
+    const RenderOptions& mOptions;
+    const std::optional<foveation::GazeTrace>& mTrace;
+    std::optional<eyetrack::GazeTracker> mTracker;
+    glm::vec2 mPixel;
+    std::uint64_t mSaccadesSeen = 0;
+};
+
+// The flat path's view and its method.
+render::View flatView(const RenderOptions& o, const FlatSetup& s, render::Renderer& renderer,
+                      MethodChoice& methods) {
+    render::View view;
+    view.width = s.width;
+    view.height = s.height;
+    view.exposure = renderer.scene().exposure;
+    view.post.taa = false;
+    view.gaze = s.gaze;
+    if (o.method == "layers") {
+        view.method = &methods.layers(renderLayerSettings(o, foveation::displayProfile(o.profile)));
+    } else if (o.method == "foveated") {
+        render::PointSetMethod& pointSet = methods.pointSet(s.pointSet);
+        pointSet.settings = {o.raysPerPoint, s.interp, false, o.lod};
+        view.method = &pointSet;
+        view.post.taa = o.taa && o.view.empty(); // debug views show one frame's data as is
+        if (render::parseReconstruction(o.reconstruction)) {
+            render::useThesisReconstruction(pointSet.settings, view.post.taaSettings);
+        }
+    } else {
+        view.method = &methods.reference({o.spp, o.seed});
+        view.gaze = {};
+    }
+    return view;
+}
+
+// The foveated part of the summary: the last frame's points, the interpolation, the tables.
+void addPointSetJson(nlohmann::json& j, const RenderOptions& o, const FlatSetup& s,
+                     const render::PointSetMethod& pointSet, const render::View& view,
+                     uint64_t& rays) {
+    const passes::InterpolateSettings& interp = s.interp;
+    const bool neighbours = interp.method == passes::Interpolation::Shepard ||
+                            interp.method == passes::Interpolation::Rbf;
+    // The last frame's, as gpu_ms is; a trace or live gaze moves it from frame to frame.
+    const std::size_t sampled = pointSet.pointsSampled(view.gaze);
+    rays = static_cast<uint64_t>(sampled) * o.raysPerPoint;
+    j["points_sampled"] = sampled;
+    j["points_total"] = pointSet.pointSet().points().size();
+    j["rays_per_point"] = o.raysPerPoint;
+    j["interp"] = o.interp;
+    j["k"] = neighbours ? o.k : 1u;
+    if (interp.method == passes::Interpolation::Rbf) {
+        j["kernel"] = o.kernel;
+        j["rbf_c"] = o.rbfShape;
+    }
+    j["scale"] = o.scale;
+    j["profile"] = o.profile;
+    j["taa"] = o.taa;
+    j["gaze"] = {view.gaze.x, view.gaze.y};
+}
+
+void addPointSetTablesJson(nlohmann::json& j, const RenderOptions& o,
+                           const passes::InterpolateSettings& interp,
+                           const render::PointSetMethod& pointSet) {
+    if (!o.view.empty()) {
+        j["view"] = o.view;
+    }
+    j["point_set_ms"] = pointSet.pointSetMs();
+    j["neighbour_index_ms"] = pointSet.neighbourIndexMs();
+    j["neighbour_index_mb"] = pointSet.neighbourIndexMb();
+    if (interp.method == passes::Interpolation::Shepard ||
+        interp.method == passes::Interpolation::Rbf) {
+        j["knn"] = o.knn;
+    }
+    if (passes::usesPixelTable(interp)) {
+        j["knn_table_ms"] = pointSet.knnTablePrepared().ms;
+        j["knn_table_mb"] = pointSet.knnTablePrepared().mb;
+    }
+    if (interp.method == passes::Interpolation::Rbf) {
+        // Built once for these settings: per-pixel weights (table) or inverses (lists).
+        j["rbf_prepared"] = passes::usesPixelTable(interp) ? "pixel_weights" : "inverses";
+        j["rbf_prepared_ms"] = pointSet.rbfPrepared().ms;
+        j["rbf_prepared_mb"] = pointSet.rbfPrepared().mb;
+    }
+}
+
+// What a flat run did, for --json.
+struct FlatRun {
+    const render::FrameResult& frame;
+    const render::View& view;
+    const FrameFiles& files;
+    const FlatGazeSource& gaze;
+    const nlohmann::json& gazes; // per frame, when a trace or the tracker moved it
+    uint32_t frameCount = 0;
+    bool traced = false;
+};
+
+nlohmann::json flatSummary(const RenderOptions& o, const FlatSetup& s, render::Renderer& renderer,
+                           const FlatRun& run) {
+    vk::Context& ctx = renderer.context();
+    const nlohmann::json gpu = checkedPassTimes(ctx, run.frame.timings);
+    const rg::FrameTimings timings = run.frame.timings.value_or(rg::FrameTimings{});
+    const double totalMs = run.files.medianMs();
+    uint64_t rays = static_cast<uint64_t>(s.width) * s.height * o.spp;
+    nlohmann::json j = {{"device", ctx.deviceName()},
+                        {"device_type", ctx.deviceDescription()},
+                        {"scene", o.scene},
+                        {"triangles", renderer.scene().triangleCount()},
+                        {"lod_triangles", renderer.lodTriangles()},
+                        {"lod", o.lod},
+                        {"width", s.width},
+                        {"height", s.height},
+                        {"method", o.method},
+                        {"gpu_ms", gpu},
+                        {"gpu_total_ms", timings.gpuMs},
+                        {"total_ms", totalMs},
+                        {"frames", run.frameCount},
+                        {"load_ms", renderer.loadMs()},
+                        {"bvh_ms", renderer.bvhMs()},
+                        {"bvh_nodes", renderer.bvhStats().nodes},
+                        {"bvh_sah_cost", renderer.bvhStats().sahCost},
+                        {"camera", cameraJson(run.view.camera)},
+                        {"output", run.files.output()}};
+    const auto& tracker = run.gaze.tracker();
+    if (o.method == "foveated") {
+        const auto& pointSet = *static_cast<const render::PointSetMethod*>(run.view.method);
+        addPointSetJson(j, o, s, pointSet, run.view, rays);
+        if (run.traced || tracker) {
+            j["gaze_per_frame"] = run.gazes;
+        }
+        if (tracker) {
+            j["gaze_source"] = o.gazeSource;
+            j["tracker_frames"] = tracker->frames();
+            j["saccades"] = tracker->saccades();
+        }
+        addPointSetTablesJson(j, o, s.interp, pointSet);
+    } else if (o.method == "layers") {
+        rays = run.frame.views.front().rays; // the last frame's: half-rate layers alternate
+        j["spp"] = o.spp;
+        j["profile"] = o.profile;
+        j["gaze"] = {run.view.gaze.x, run.view.gaze.y};
+        if (run.traced || tracker) j["gaze_per_frame"] = run.gazes;
+        j["layers"] =
+            layersJson(*static_cast<render::EccentricityLayers*>(run.view.method), run.view);
+    } else {
+        j["spp"] = o.spp;
+    }
+    j["rays"] = rays;
+    j["rays_per_second"] = totalMs > 0.0 ? static_cast<double>(rays) / (totalMs * 1e-3) : 0.0;
+    return j;
 }
 
 } // namespace
@@ -377,308 +740,52 @@ nlohmann::json runRender(const RenderOptions& o) {
     if (!o.hmd.empty()) {
         return runRenderHmd(o);
     }
-    if (o.method != "reference" && o.method != "foveated" && o.method != "layers") {
+    if (!methodKindOf(o.method)) {
         throw ArgumentError("--method: '" + o.method +
                             "' is not available (known: reference, foveated, layers)");
     }
     if (o.out.empty()) {
         throw ArgumentError("--out: empty path");
     }
-    const bool foveated = o.method == "foveated";
-    const bool layered = o.method == "layers";
-    const bool gazeDriven = foveated || layered;
-    uint32_t width = o.width, height = o.height;
-    foveation::PointSetParams psParams;
-    passes::InterpolateSettings interp;
-    glm::vec2 gaze{};
-    if (foveated) {
-        psParams.display = foveation::displayProfile(o.profile);
-        psParams.scale = o.scale;
-        if (o.sizeGiven && o.profile == "desktop") {
-            // A window on the desktop screen: its own point set at the screen's pixels per degree.
-            psParams.display = foveation::windowProfile(psParams.display, o.width, o.height);
-        } else if (o.sizeGiven &&
-                   (o.width != psParams.display.width || o.height != psParams.display.height)) {
-            throw ArgumentError("--width/--height: the " + o.profile + " profile renders " +
-                                std::to_string(psParams.display.width) + "x" +
-                                std::to_string(psParams.display.height));
-        }
-        width = psParams.display.width;
-        height = psParams.display.height;
-        interp.method = passes::parseInterpolation(o.interp);
-        interp.k = o.k;
-        interp.kernel = passes::parseKernel(o.kernel);
-        interp.rbfShape = static_cast<float>(o.rbfShape);
-        interp.knn = passes::parseKnnIndex(o.knn);
-        if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
-            throw ArgumentError("--k must be 1..20");
-        }
-        gaze = parseGaze(o.gaze, width, height);
-        if (!o.view.empty()) {
-            interp.method = passes::parseView(o.view);
-        }
-    } else if (layered) {
-        // The profile's screen (or a window on it, with --width/--height): layer sizes follow
-        // its viewing geometry, as the point set's do.
-        const foveation::DisplayProfile screen = foveation::displayProfile(o.profile);
-        if (!o.sizeGiven) {
-            width = screen.width;
-            height = screen.height;
-        }
-        gaze = parseGaze(o.gaze, width, height);
-    }
-    std::optional<foveation::GazeTrace> trace;
-    uint32_t frameCount = o.frames;
-    if (!o.gazeTrace.empty()) {
-        if (!gazeDriven) {
-            throw ArgumentError("--gaze-trace needs --method foveated or layers");
-        }
-        if (!(o.frameMs > 0.0)) {
-            throw ArgumentError("--frame-ms must be positive");
-        }
-        if (!o.gaze.empty()) {
-            throw ArgumentError("--gaze and --gaze-trace exclude each other");
-        }
-        trace = foveation::GazeTrace::load(o.gazeTrace);
-        if (trace->units() == foveation::GazeUnits::Pixels) {
-            warnOffScreen(*trace, o.gazeTrace, width, height);
-        }
-        if (!o.framesGiven) {
-            frameCount = 1 + static_cast<uint32_t>((trace->endMs() - trace->startMs()) / o.frameMs);
-        }
-    }
-    // Live gaze: source and calibration are opened now, so a bad one fails before any work;
-    // the tracker thread starts with the first frame.
-    std::unique_ptr<eyetrack::FrameSource> gazeSource;
-    std::optional<eyetrack::Calibration> calibration;
-    if (!o.gazeSource.empty()) {
-        if (!gazeDriven) {
-            throw ArgumentError("--gaze-source needs --method foveated or layers");
-        }
-        if (trace) {
-            throw ArgumentError("--gaze-source and --gaze-trace exclude each other");
-        }
-        if (!o.gaze.empty()) {
-            throw ArgumentError("--gaze and --gaze-source exclude each other");
-        }
-        if (o.calibration.empty()) {
-            throw ArgumentError("--gaze-source needs --calibration (see gazetrace calibrate)");
-        }
-        calibration = eyetrack::Calibration::load(o.calibration);
-        gazeSource = eyetrack::openFrameSource(o.gazeSource);
-    } else if (!o.calibration.empty()) {
-        throw ArgumentError("--calibration is for --gaze-source");
-    }
-    if (!foveated && !o.view.empty()) {
-        throw ArgumentError("--view needs --method foveated");
-    }
-    if (!gazeDriven && !o.gaze.empty()) {
-        throw ArgumentError("--gaze needs --method foveated or layers");
-    }
-    // --camera-path: the camera follows a recorded path, one frame every --frame-ms.
-    std::optional<scene::CameraPath> path;
-    if (!o.cameraPath.empty()) {
-        if (!(o.frameMs > 0.0)) throw ArgumentError("--frame-ms must be positive");
-        path = scene::CameraPath::load(o.cameraPath);
-        if (!o.framesGiven) {
-            frameCount =
-                std::max(trace ? frameCount : 1u,
-                         1 + static_cast<uint32_t>((path->endMs() - path->startMs()) / o.frameMs));
-        }
-    }
-    // --out: a .png file for one frame, else a folder for frame_NNNN.png.
-    const std::filesystem::path outPath(o.out);
-    const bool toFolder = outIsFolder(outPath);
-    RunOutputs written(outPath, toFolder, o.out, frameCount);
+    const bool gazeDriven = o.method == "foveated" || o.method == "layers";
+    const FlatSetup s = flatSetup(o);
+    FlatInputs in = flatInputs(o, s);
+    FrameFiles files(o, in.frameCount);
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
     render::Renderer renderer(rendererOptions(o));
-    render::View view;
+    MethodChoice methods(renderer, o.cacheDir);
+    render::View view = flatView(o, s, renderer, methods);
     view.camera = renderer.scene().camera;
-    if (cameraArg) {
-        view.camera = scene::lookAt(cameraArg->eye, cameraArg->target,
-                                    cameraArg->yfovDeg ? glm::radians(*cameraArg->yfovDeg)
-                                                       : renderer.scene().camera.yfov);
-    }
-    view.width = width;
-    view.height = height;
-    view.exposure = renderer.scene().exposure;
-    view.post.taa = false;
-    std::optional<render::FullResolution> reference;
-    std::optional<render::PointSetMethod> pointSet;
-    std::optional<render::EccentricityLayers> layers;
-    if (layered) {
-        layers.emplace(renderer.methodContext(),
-                       renderLayerSettings(o, foveation::displayProfile(o.profile)));
-        view.method = &*layers;
-        view.gaze = gaze;
-    } else if (foveated) {
-        pointSet.emplace(renderer.methodContext(), psParams,
-                         o.cacheDir.empty() ? foveation::defaultCacheDir()
-                                            : std::filesystem::path(o.cacheDir));
-        pointSet->settings = {o.raysPerPoint, interp, false, o.lod};
-        view.method = &*pointSet;
-        view.gaze = gaze;
-        view.post.taa = o.taa && o.view.empty(); // debug views show one frame's data as is
-        if (render::parseReconstruction(o.reconstruction)) {
-            render::useThesisReconstruction(pointSet->settings, view.post.taaSettings);
-        }
-    } else {
-        reference.emplace(renderer.methodContext(), passes::ReferenceSettings{o.spp, o.seed});
-        view.method = &*reference;
-    }
-    std::optional<eyetrack::GazeTracker> tracker;
-    std::uint64_t saccadesSeen = 0;
-    if (gazeSource) {
-        tracker.emplace(std::move(gazeSource), *calibration);
-        (void)tracker->waitForFirstSample(2000.0); // a camera may take a moment to stream
-    }
+    if (cameraArg) view.camera = cameraArg->camera(renderer.scene().camera.yfov);
+    auto* const reference = dynamic_cast<render::FullResolution*>(view.method);
+    FlatGazeSource gazeSource(o, in, view.gaze);
     render::ReadbackTarget readback(renderer.context());
-    render::OutputTarget* const target = &readback;
-    render::FrameResult frame;
-    std::vector<double> frameMs;
-    std::vector<std::string> outputs;
+    render::FrameResult last;
     nlohmann::json gazes = nlohmann::json::array();
-    const glm::vec2 lastPixel(static_cast<float>(width) - 1.0f, static_cast<float>(height) - 1.0f);
-    // Gaze angles on this render. The desktop profile: the physical screen (1920 px, 51 cm wide,
-    // 59 cm away), this render a window centred on it; an HMD eye (fove, vive) rendered on its
-    // own: through the view's projection. No flat rescaling of pixels between screens.
-    auto gazePixelOfAngles = [&](glm::vec2 angles) {
-        const render::ScreenGeometry screen;
-        return o.profile == "desktop" ? screen.pixelOfAngles(angles) -
-                                            render::centredWindowOrigin(screen, {width, height})
-                                      : render::pixelOfAnglesInView(angles, view);
+    FrameStages<FlatGazeSource::Gaze> stages;
+    stages.gaze = [&](const FrameTick& t) { return gazeSource.at(t, view); };
+    stages.views = [&](const FrameTick& t, const FlatGazeSource::Gaze& g) {
+        if (in.path) view.camera = in.path->at(in.path->startMs() + t.timeMs, view.camera.yfov);
+        view.gaze = g.pixel;
+        view.saccade = g.saccade;
+        if (gazeDriven) gazes.push_back({view.gaze.x, view.gaze.y});
+        if (reference) reference->settings.frameSeed = o.seed + t.index;
+        return std::vector<render::View>{view};
     };
-    for (uint32_t i = 0; i < frameCount; ++i) {
-        const bool dot = !o.graphDot.empty() && i == 0;
-        if (path) view.camera = path->at(path->startMs() + i * o.frameMs, view.camera.yfov);
-        if (trace) {
-            const glm::vec2 g = trace->at(trace->startMs() + i * o.frameMs);
-            glm::vec2 px = g;
-            if (trace->units() == foveation::GazeUnits::AnglesDeg) {
-                px = gazePixelOfAngles(g);
-            }
-            view.gaze = glm::clamp(px, glm::vec2(0.0f), lastPixel);
-        }
-        if (tracker) {
-            if (const auto e = tracker->error()) {
-                throw Error("--gaze-source " + o.gazeSource + ": " + *e);
-            }
-            if (const auto g = tracker->mailbox().latest()) {
-                // The calibration fits gaze angles: back from its screen's pixels to angles, then
-                // onto this render as an angle trace lands (gazePixelOfAngles).
-                const cv::Point2d a = tracker->display().anglesDeg({g->x, g->y});
-                view.gaze = glm::clamp(
-                    gazePixelOfAngles(glm::vec2(static_cast<float>(a.x), static_cast<float>(a.y))),
-                    glm::vec2(0.0f), lastPixel);
-            }
-            // A saccade since the last frame: the TAA history is dropped (thesis, 3.1).
-            const std::uint64_t saccades = tracker->saccades();
-            view.saccade = saccades != saccadesSeen;
-            saccadesSeen = saccades;
-        }
-        if (gazeDriven) {
-            gazes.push_back({view.gaze.x, view.gaze.y});
-        } else {
-            reference->settings.frameSeed = o.seed + i;
-        }
-        frame = renderer.renderFrame(std::span(&view, 1), std::span(&target, 1), {.graphviz = dot});
-        frameMs.push_back(frame.wallMs);
-        if (dot) {
-            writeText(o.graphDot, frame.dot);
-            written.add(o.graphDot);
-        }
-        const std::filesystem::path file = frameFile(outPath, toFolder, i);
-        image::writePngAtomic(file, width, height, readback.pixels());
-        written.add(file);
-        outputs.push_back(file.string());
-    }
-    vk::Context& ctx = renderer.context();
-    const nlohmann::json gpu = checkedPassTimes(ctx, frame.timings);
-    const rg::FrameTimings timings = frame.timings.value_or(rg::FrameTimings{});
-    std::vector<double> sorted = frameMs;
-    std::sort(sorted.begin(), sorted.end());
-    const double totalMs = sorted[sorted.size() / 2];
-    uint64_t rays = static_cast<uint64_t>(width) * height * o.spp;
-    nlohmann::json j = {{"device", ctx.deviceName()},
-                        {"device_type", ctx.deviceDescription()},
-                        {"scene", o.scene},
-                        {"triangles", renderer.scene().triangleCount()},
-                        {"lod_triangles", renderer.lodTriangles()},
-                        {"lod", o.lod},
-                        {"width", width},
-                        {"height", height},
-                        {"method", o.method},
-                        {"gpu_ms", gpu},
-                        {"gpu_total_ms", timings.gpuMs},
-                        {"total_ms", totalMs},
-                        {"frames", frameCount},
-                        {"load_ms", renderer.loadMs()},
-                        {"bvh_ms", renderer.bvhMs()},
-                        {"bvh_nodes", renderer.bvhStats().nodes},
-                        {"bvh_sah_cost", renderer.bvhStats().sahCost},
-                        {"camera", cameraJson(view.camera)},
-                        {"output", toFolder ? outPath.string() : outputs.front()}};
-    if (foveated) {
-        // The last frame's, as gpu_ms is; a trace or live gaze moves it from frame to frame.
-        const std::size_t sampled = pointSet->pointsSampled(view.gaze);
-        rays = static_cast<uint64_t>(sampled) * o.raysPerPoint;
-        j["points_sampled"] = sampled;
-        j["points_total"] = pointSet->pointSet().points().size();
-        j["rays_per_point"] = o.raysPerPoint;
-        j["interp"] = o.interp;
-        j["k"] = interp.method == passes::Interpolation::Shepard ||
-                         interp.method == passes::Interpolation::Rbf
-                     ? o.k
-                     : 1u;
-        if (interp.method == passes::Interpolation::Rbf) {
-            j["kernel"] = o.kernel;
-            j["rbf_c"] = o.rbfShape;
-        }
-        j["scale"] = o.scale;
-        j["profile"] = o.profile;
-        j["taa"] = o.taa;
-        j["gaze"] = {view.gaze.x, view.gaze.y};
-        if (trace || tracker) {
-            j["gaze_per_frame"] = gazes;
-        }
-        if (tracker) {
-            j["gaze_source"] = o.gazeSource;
-            j["tracker_frames"] = tracker->frames();
-            j["saccades"] = tracker->saccades();
-        }
-        if (!o.view.empty()) {
-            j["view"] = o.view;
-        }
-        j["point_set_ms"] = pointSet->pointSetMs();
-        j["neighbour_index_ms"] = pointSet->neighbourIndexMs();
-        j["neighbour_index_mb"] = pointSet->neighbourIndexMb();
-        if (interp.method == passes::Interpolation::Shepard ||
-            interp.method == passes::Interpolation::Rbf) {
-            j["knn"] = o.knn;
-        }
-        if (passes::usesPixelTable(interp)) {
-            j["knn_table_ms"] = pointSet->knnTablePrepared().ms;
-            j["knn_table_mb"] = pointSet->knnTablePrepared().mb;
-        }
-        if (interp.method == passes::Interpolation::Rbf) {
-            // Built once for these settings: per-pixel weights (table) or inverses (lists).
-            j["rbf_prepared"] = passes::usesPixelTable(interp) ? "pixel_weights" : "inverses";
-            j["rbf_prepared_ms"] = pointSet->rbfPrepared().ms;
-            j["rbf_prepared_mb"] = pointSet->rbfPrepared().mb;
-        }
-    } else if (layered) {
-        rays = frame.views.front().rays; // the last frame's: half-rate layers alternate
-        j["spp"] = o.spp;
-        j["profile"] = o.profile;
-        j["gaze"] = {view.gaze.x, view.gaze.y};
-        if (trace || tracker) j["gaze_per_frame"] = gazes;
-        j["layers"] = layersJson(*layers, view);
-    } else {
-        j["spp"] = o.spp;
-    }
-    j["rays"] = rays;
-    j["rays_per_second"] = totalMs > 0.0 ? static_cast<double>(rays) / (totalMs * 1e-3) : 0.0;
-    written.keep();
+    stages.targets = [&](const FrameTick&, std::span<const render::View>) {
+        return std::vector<render::OutputTarget*>{&readback};
+    };
+    stages.options = [&](const FrameTick& t) { return files.options(t.index); };
+    stages.done = [&](const FrameTick& t, const FlatGazeSource::Gaze&,
+                      std::span<const render::View>, const render::FrameResult& result) {
+        files.write(t.index, result, s.width, s.height, readback.pixels());
+        last = result;
+        return true;
+    };
+    (void)runFrameLoop(renderer, FrameClock(o.frameMs), in.frameCount, stages);
+    const FlatRun run{last, view, files, gazeSource, gazes, in.frameCount, in.trace.has_value()};
+    nlohmann::json j = flatSummary(o, s, renderer, run);
+    files.keep();
     return j;
 }
 

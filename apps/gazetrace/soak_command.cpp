@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <string>
@@ -27,7 +28,9 @@
 #include "core/error.hpp"
 #include "foveation/contrast_sensitivity.hpp"
 #include "foveation/point_set_cache.hpp"
+#include "frame_loop.hpp"
 #include "full_resolution.hpp"
+#include "method_choice.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
@@ -76,103 +79,81 @@ const Phase kPhases[] = {
 };
 constexpr uint32_t kCycleFrames = std::size(kPhases) * kPhaseFrames; // 90
 
-} // namespace
+// The gaze of a soak frame: a Lissajous pursuit around a centre that jumps (a saccade) every
+// kSaccadeEvery frames.
+struct SoakGaze {
+    glm::vec2 pixel{};
+    bool saccade = false;
+};
 
-nlohmann::json runSoak(const SoakOptions& o) {
-    if (o.frames < 1) throw ArgumentError("soak: --frames must be at least 1");
-    const std::filesystem::path cache =
-        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
-    const char* device = std::getenv("GAZETRACE_DEVICE");
-    render::Renderer r({.scene = o.scene,
-                        .validate = true, // Khronos validation and synchronisation validation
-                        .framesInFlight = 0,
-                        .deviceOverride = device ? device : ""});
-    foveation::PointSetParams params;
-    params.display =
-        foveation::windowProfile(foveation::displayProfile("desktop"), o.width, o.height);
-    render::PointSetMethod foveated(r.methodContext(), params, cache);
-    render::FullResolution reference(r.methodContext(), {1, 0});
-    render::DiscardTarget discard;
-    render::ReadbackTarget readback(r.context());
-
-    const scene::Camera home = r.scene().camera;
-    const auto w = static_cast<float>(o.width), h = static_cast<float>(o.height);
-    std::mt19937 rng(20);
-    std::uniform_real_distribution<float> jump(-0.3f, 0.3f);
-    glm::vec2 centre{0.5f * w, 0.5f * h};
-
-    nlohmann::json samples = nlohmann::json::array();
-    double referenceMiB = 0.0, comparedMiB = 0.0;
-    uint32_t comparedFrame = 0;
-    uint64_t rays = 0, saccades = 0, readbackBytes = 0;
-    const auto start = std::chrono::steady_clock::now();
-    for (uint32_t i = 0; i < o.frames; ++i) {
-        const Phase& phase = kPhases[(i / kPhaseFrames) % std::size(kPhases)];
+class SoakGazeSource {
+public:
+    SoakGazeSource(uint32_t width, uint32_t height)
+        : mW(static_cast<float>(width)), mH(static_cast<float>(height)),
+          mCentre(0.5f * mW, 0.5f * mH) {}
+    SoakGaze at(uint32_t i) {
         const bool saccade = i > 0 && i % kSaccadeEvery == 0;
         if (saccade) {
-            centre = {w * (0.5f + jump(rng)), h * (0.5f + jump(rng))};
-            ++saccades;
+            mCentre = {mW * (0.5f + mJump(mRng)), mH * (0.5f + mJump(mRng))};
+            ++mSaccades;
         }
         const float t = static_cast<float>(i) / 60.0f; // as if at 60 Hz
         const float tau = 2.0f * std::numbers::pi_v<float>;
-        render::View v;
-        v.width = o.width;
-        v.height = o.height;
-        v.gaze = glm::clamp(centre + glm::vec2(0.15f * w * std::sin(tau * 0.23f * t),
-                                               0.12f * h * std::sin(tau * 0.31f * t)),
-                            glm::vec2(0.0f), glm::vec2(w - 1.0f, h - 1.0f));
-        v.saccade = saccade;
-        v.camera = home;
-        const glm::mat4 turn =
-            glm::rotate(glm::mat4(1.0f), 0.15f * std::sin(tau * 0.05f * t), home.up);
-        v.camera.forward = glm::vec3(turn * glm::vec4(home.forward, 0.0f));
-        v.exposure = r.scene().exposure;
-        v.post.taa = phase.taa;
-        foveated.settings.raysPerPoint = phase.raysPerPoint;
-        foveated.settings.interpolation.method = phase.interpolation;
-        foveated.settings.interpolation.knn = phase.knn;
-        foveated.settings.interpolation.k = phase.k;
-        v.method = phase.reference ? static_cast<render::FoveationMethod*>(&reference)
-                                   : static_cast<render::FoveationMethod*>(&foveated);
-        render::OutputTarget* target = phase.readback
-                                           ? static_cast<render::OutputTarget*>(&readback)
-                                           : static_cast<render::OutputTarget*>(&discard);
-        const render::FrameResult f = r.renderFrame({&v, 1}, {&target, 1});
-        for (const auto& view : f.views)
-            rays += view.rays;
-        if (phase.readback) readbackBytes += readback.takePixels().size();
-        (void)r.takeCompleted();
-        const uint32_t frame = i + 1;
+        return {glm::clamp(mCentre + glm::vec2(0.15f * mW * std::sin(tau * 0.23f * t),
+                                               0.12f * mH * std::sin(tau * 0.31f * t)),
+                           glm::vec2(0.0f), glm::vec2(mW - 1.0f, mH - 1.0f)),
+                saccade};
+    }
+    [[nodiscard]] uint64_t saccades() const noexcept { return mSaccades; }
+
+private:
+    float mW, mH;
+    glm::vec2 mCentre;
+    std::mt19937 mRng{20};
+    std::uniform_real_distribution<float> mJump{-0.3f, 0.3f};
+    uint64_t mSaccades = 0;
+};
+
+// Resident memory at the frames that are compared (the same point of the phase cycle) and at
+// every hundredth, with the validation errors so far.
+struct MemoryTrace {
+    nlohmann::json samples = nlohmann::json::array();
+    double referenceMiB = 0.0, comparedMiB = 0.0;
+    uint32_t comparedFrame = 0;
+
+    void frameDone(uint32_t frame, uint32_t frames, const vk::Context& ctx, double seconds,
+                   bool quiet) {
         const bool comparable =
             frame >= kReferenceFrame && (frame - kReferenceFrame) % kCycleFrames == 0;
-        if (comparable || frame % 100 == 0 || frame == o.frames) {
-            const double mib = residentMiB();
-            if (frame == kReferenceFrame) referenceMiB = mib;
-            if (comparable) {
-                comparedMiB = mib;
-                comparedFrame = frame;
-            }
-            const double s =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            samples.push_back({{"frame", frame},
-                               {"resident_mib", mib},
-                               {"same_point_of_cycle", comparable},
-                               {"seconds", s},
-                               {"validation_errors", r.context().validationErrors()}});
-            if (!o.quiet) {
-                std::fprintf(stderr,
-                             "soak: frame %u, %.1f MiB resident, %.1f s, %u validation "
-                             "errors\n",
-                             frame, mib, s, r.context().validationErrors());
-            }
+        if (!comparable && frame % 100 != 0 && frame != frames) return;
+        const double mib = residentMiB();
+        if (frame == kReferenceFrame) referenceMiB = mib;
+        if (comparable) {
+            comparedMiB = mib;
+            comparedFrame = frame;
+        }
+        samples.push_back({{"frame", frame},
+                           {"resident_mib", mib},
+                           {"same_point_of_cycle", comparable},
+                           {"seconds", seconds},
+                           {"validation_errors", ctx.validationErrors()}});
+        if (!quiet) {
+            std::fprintf(stderr,
+                         "soak: frame %u, %.1f MiB resident, %.1f s, %u validation "
+                         "errors\n",
+                         frame, mib, seconds, ctx.validationErrors());
         }
     }
-    r.waitIdle();
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+};
+
+// The summary, and the failures it shows: validation errors, or memory growth above the limit.
+nlohmann::json soakSummary(const SoakOptions& o, render::Renderer& r, const MemoryTrace& memory,
+                           double seconds, uint64_t rays, uint64_t saccades,
+                           uint64_t readbackBytes) {
     const uint32_t errors = r.context().validationErrors();
-    const bool measured = comparedFrame > kReferenceFrame;
-    const double growth = measured ? 100.0 * (comparedMiB - referenceMiB) / referenceMiB : 0.0;
+    const bool measured = memory.comparedFrame > kReferenceFrame;
+    const double growth =
+        measured ? 100.0 * (memory.comparedMiB - memory.referenceMiB) / memory.referenceMiB : 0.0;
     nlohmann::json phases = nlohmann::json::array();
     for (const Phase& p : kPhases)
         phases.push_back(p.name);
@@ -192,9 +173,10 @@ nlohmann::json runSoak(const SoakOptions& o) {
         {"validation", "khronos + synchronization"},
         {"validation_errors", errors},
         {"validation_warnings", r.context().validationWarnings()},
-        {"resident_mib", samples},
+        {"resident_mib", memory.samples},
         {"growth_from_frame", kReferenceFrame},
-        {"growth_to_frame", measured ? nlohmann::json(comparedFrame) : nlohmann::json(nullptr)},
+        {"growth_to_frame",
+         measured ? nlohmann::json(memory.comparedFrame) : nlohmann::json(nullptr)},
         {"growth_percent", measured ? nlohmann::json(growth) : nlohmann::json(nullptr)},
         {"max_growth_percent", o.maxGrowthPercent}};
     if (!o.json.empty()) writeJsonFile(o.json, result);
@@ -209,11 +191,84 @@ nlohmann::json runSoak(const SoakOptions& o) {
         std::snprintf(what, sizeof(what),
                       "soak: resident memory grew %.1f%% from frame %u to frame %u (%.1f -> %.1f "
                       "MiB), more than %.1f%%",
-                      growth, kReferenceFrame, comparedFrame, referenceMiB, comparedMiB,
-                      o.maxGrowthPercent);
+                      growth, kReferenceFrame, memory.comparedFrame, memory.referenceMiB,
+                      memory.comparedMiB, o.maxGrowthPercent);
         throw Error(what);
     }
     return result;
+}
+
+} // namespace
+
+nlohmann::json runSoak(const SoakOptions& o) {
+    if (o.frames < 1) throw ArgumentError("soak: --frames must be at least 1");
+    const char* device = std::getenv("GAZETRACE_DEVICE");
+    render::Renderer r({.scene = o.scene,
+                        .validate = true, // Khronos validation and synchronisation validation
+                        .framesInFlight = 0,
+                        .deviceOverride = device ? device : ""});
+    foveation::PointSetParams params;
+    params.display =
+        foveation::windowProfile(foveation::displayProfile("desktop"), o.width, o.height);
+    const std::unique_ptr<render::PointSetMethod> foveated =
+        makePointSetMethod(r, params, o.cacheDir);
+    render::FullResolution reference(r.methodContext(), {1, 0});
+    render::DiscardTarget discard;
+    render::ReadbackTarget readback(r.context());
+
+    const scene::Camera home = r.scene().camera;
+    SoakGazeSource gaze(o.width, o.height);
+    MemoryTrace memory;
+    uint64_t rays = 0, readbackBytes = 0;
+    const auto phaseOf = [](uint32_t i) -> const Phase& {
+        return kPhases[(i / kPhaseFrames) % std::size(kPhases)];
+    };
+    FrameStages<SoakGaze> stages;
+    stages.gaze = [&](const FrameTick& t) { return gaze.at(t.index); };
+    stages.views = [&](const FrameTick& tick, const SoakGaze& g) {
+        const Phase& phase = phaseOf(tick.index);
+        const float t = static_cast<float>(tick.index) / 60.0f; // as if at 60 Hz
+        const float tau = 2.0f * std::numbers::pi_v<float>;
+        render::View v;
+        v.width = o.width;
+        v.height = o.height;
+        v.gaze = g.pixel;
+        v.saccade = g.saccade;
+        v.camera = home;
+        const glm::mat4 turn =
+            glm::rotate(glm::mat4(1.0f), 0.15f * std::sin(tau * 0.05f * t), home.up);
+        v.camera.forward = glm::vec3(turn * glm::vec4(home.forward, 0.0f));
+        v.exposure = r.scene().exposure;
+        v.post.taa = phase.taa;
+        foveated->settings.raysPerPoint = phase.raysPerPoint;
+        foveated->settings.interpolation.method = phase.interpolation;
+        foveated->settings.interpolation.knn = phase.knn;
+        foveated->settings.interpolation.k = phase.k;
+        v.method = phase.reference ? static_cast<render::FoveationMethod*>(&reference)
+                                   : static_cast<render::FoveationMethod*>(foveated.get());
+        return std::vector<render::View>{v};
+    };
+    stages.targets = [&](const FrameTick& t, std::span<const render::View>) {
+        return std::vector<render::OutputTarget*>{
+            phaseOf(t.index).readback ? static_cast<render::OutputTarget*>(&readback)
+                                      : static_cast<render::OutputTarget*>(&discard)};
+    };
+    const auto start = std::chrono::steady_clock::now();
+    const auto secondsSince = [&] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    stages.done = [&](const FrameTick& t, const SoakGaze&, std::span<const render::View>,
+                      const render::FrameResult& f) {
+        for (const auto& view : f.views)
+            rays += view.rays;
+        if (phaseOf(t.index).readback) readbackBytes += readback.takePixels().size();
+        (void)r.takeCompleted();
+        memory.frameDone(t.index + 1, o.frames, r.context(), secondsSince(), o.quiet);
+        return true;
+    };
+    (void)runFrameLoop(r, FrameClock(), o.frames, stages);
+    r.waitIdle();
+    return soakSummary(o, r, memory, secondsSince(), rays, gaze.saccades(), readbackBytes);
 }
 
 } // namespace gt::app

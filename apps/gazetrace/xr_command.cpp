@@ -19,9 +19,11 @@
 #include "eye_gaze.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
+#include "frame_loop.hpp"
 #include "full_resolution.hpp"
 #include "gaze_input.hpp"
 #include "layers_command.hpp"
+#include "method_choice.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "scene/image_io.hpp"
@@ -107,60 +109,41 @@ void checkOptions(const XrOptions& o) {
 // shared by every eye with the same display; the reference method for --method reference.
 class EyeMethods {
 public:
-    EyeMethods(render::Renderer& r, const XrOptions& o) : mRenderer(r), mOptions(o) {}
+    EyeMethods(render::Renderer& r, const XrOptions& o)
+        : mChoice(r, o.cacheDir), mOptions(o),
+          mKind(methodKindOf(o.method).value_or(MethodKind::Foveated)),
+          mLayerSettings(layerSettings(o.slope, o.layers, o.spp)),
+          mInterp(interpolationOf(o.interp, o.k, "")),
+          mThesis(render::parseReconstruction(o.reconstruction)) {}
     render::FoveationMethod& forEye(const XrFovf& fov, VkExtent2D size) {
-        if (mOptions.method == "reference") {
-            if (!mReference) {
-                mReference.emplace(mRenderer.methodContext());
-                mReference->settings = {mOptions.spp, 0};
-            }
-            return *mReference;
-        }
-        if (mOptions.method == "layers") {
-            // One method for both eyes: each eye's layers follow its own frustum (XrFovf).
-            if (!mLayers) {
-                mLayers.emplace(mRenderer.methodContext(),
-                                layerSettings(mOptions.slope, mOptions.layers, mOptions.spp));
-            }
-            return *mLayers;
-        }
-        const foveation::DisplayProfile display = xr::eyeDisplay(fov, size.width, size.height);
-        // v to 1e-4 display widths: a runtime's per-frame float noise must not rebuild the set.
-        const auto key =
-            std::make_tuple(size.width, size.height, std::lround(display.viewingDistance * 1e4));
-        auto& slot = mPointSets[key];
-        if (!slot) {
-            foveation::PointSetParams params;
-            params.display = display;
-            params.scale = mOptions.pointScale;
-            const auto t = Clock::now();
-            slot = std::make_unique<render::PointSetMethod>(
-                mRenderer.methodContext(), params,
-                mOptions.cacheDir.empty() ? foveation::defaultCacheDir()
-                                          : std::filesystem::path(mOptions.cacheDir));
-            passes::InterpolateSettings interp;
-            interp.method = passes::parseInterpolation(mOptions.interp);
-            interp.k = mOptions.k;
-            slot->settings = {mOptions.raysPerPoint, interp, false};
-            if (render::parseReconstruction(mOptions.reconstruction)) {
+        if (mKind == MethodKind::Reference) return mChoice.reference({mOptions.spp, 0});
+        // One method for both eyes: each eye's layers follow its own frustum (XrFovf).
+        if (mKind == MethodKind::Layers) return mChoice.layers(mLayerSettings);
+        foveation::PointSetParams params;
+        params.display = xr::eyeDisplay(fov, size.width, size.height);
+        params.scale = mOptions.pointScale;
+        return mChoice.pointSet(params, [&](render::PointSetMethod& m, double ms) {
+            m.settings = {mOptions.raysPerPoint, mInterp, false};
+            if (mThesis) {
                 passes::TaaSettings unused; // the views' TAA follows in eyeViews
-                render::useThesisReconstruction(slot->settings, unused);
+                render::useThesisReconstruction(m.settings, unused);
             }
             log::info("xr: point set for " + std::to_string(size.width) + "x" +
-                      std::to_string(size.height) + " eyes (v = " +
-                      std::to_string(display.viewingDistance) + " widths) ready in " +
-                      std::to_string(static_cast<int>(msSince(t, Clock::now()))) + " ms");
-        }
-        return *slot;
+                      std::to_string(size.height) +
+                      " eyes (v = " + std::to_string(params.display.viewingDistance) +
+                      " widths) ready in " + std::to_string(static_cast<int>(ms)) + " ms");
+        });
     }
+    // --reconstruction thesis: the thesis's TAA in the views too.
+    [[nodiscard]] bool thesis() const noexcept { return mThesis; }
 
 private:
-    render::Renderer& mRenderer;
+    MethodChoice mChoice;
     const XrOptions& mOptions;
-    std::optional<render::FullResolution> mReference;
-    std::optional<render::EccentricityLayers> mLayers;
-    std::map<std::tuple<uint32_t, uint32_t, long>, std::unique_ptr<render::PointSetMethod>>
-        mPointSets;
+    MethodKind mKind;
+    render::EccentricityLayerSettings mLayerSettings;
+    passes::InterpolateSettings mInterp;
+    bool mThesis;
 };
 
 // The gaze of one frame in the head frame (OpenXR axes): a fixation point, or a direction
@@ -337,23 +320,27 @@ void checkOwnValidation(const vk::Context& ctx) {
     }
 }
 
-} // namespace
-
-nlohmann::json runXr(const XrOptions& o) {
-    checkOptions(o);
-    const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
+// Where the viewer starts: --camera, --xr-origin and --xr-yaw, parsed and checked (with the
+// --screenshot-eye folder) before the runtime is touched.
+struct StartArgs {
+    std::optional<CameraArg> camera;
     std::optional<glm::vec3> origin;
-    if (!o.origin.empty()) {
-        origin = parseVec3(o.origin, "--xr-origin");
-    }
     std::optional<float> yaw;
+};
+
+StartArgs parseStartArgs(const XrOptions& o) {
+    StartArgs a;
+    a.camera = parseCamera(o.camera);
+    if (!o.origin.empty()) {
+        a.origin = parseVec3(o.origin, "--xr-origin");
+    }
     if (!o.yawDeg.empty()) {
         char* end = nullptr;
         const double d = std::strtod(o.yawDeg.c_str(), &end);
         if (end == o.yawDeg.c_str() || *end != '\0' || !std::isfinite(d) || std::abs(d) > 360.0) {
             throw ArgumentError("--xr-yaw: expected degrees within +-360, got '" + o.yawDeg + "'");
         }
-        yaw = static_cast<float>(glm::radians(d));
+        a.yaw = static_cast<float>(glm::radians(d));
     }
     if (!o.screenshot.empty()) {
         const auto dir = std::filesystem::path(o.screenshot).parent_path();
@@ -362,18 +349,66 @@ nlohmann::json runXr(const XrOptions& o) {
             throw ArgumentError("--screenshot-eye: folder " + dir.string() + " does not exist");
         }
     }
+    return a;
+}
+
+// One OpenXR session of `gazetrace xr`: the runtime, the renderer on its Vulkan device, the
+// session and where the scene stands in it, and the frame loop's stages over them: begin (the
+// runtime's events and frame), gaze (the runtime's or gazetrace's own), views (both eyes),
+// targets (the swapchain images) and done (release, submit, figures).
+class XrRun {
+public:
+    explicit XrRun(const XrOptions& o);
+    nlohmann::json run();
+
+private:
+    void openSession(const StartArgs& args);
+    FrameStart begin(const FrameTick& t);
+    HeadGaze gaze();
+    std::vector<render::OutputTarget*> targets(const FrameTick& t);
+    bool done(const FrameTick& t, const HeadGaze& gaze, std::span<const render::View> views,
+              const render::FrameResult& result);
+    // After every frame of the runtime's, shown or not: the frame interval, and the end of the
+    // session once --frames were rendered.
+    void frameEnded(bool rendered, uint32_t renderedFrames);
+    nlohmann::json summary(uint32_t rendered);
+    [[nodiscard]] bool lastFrame(const FrameTick& t) const {
+        return mOptions.frames != 0 && t.index + 1 == mOptions.frames;
+    }
+
+    const XrOptions& mOptions;
+    std::unique_ptr<GazeInput> mOwnGaze;
+    std::optional<xr::Runtime> mRuntime;
+    std::optional<render::Renderer> mRenderer;
+    std::optional<xr::Session> mSession;
+    xr::ScenePlacement mPlacement;
+    std::optional<xr::EyeGaze> mEyeGaze;
+    std::string mEyeGazeStatus = "not offered by the runtime";
+    std::optional<EyeMethods> mMethods;
+    std::array<std::optional<render::ExternalImageTarget>, 2> mTargets;
+    uint32_t mShotEye = 0;
+    RunStats mStats;
+    uint32_t mRuntimeGazeFrames = 0, mEmptyFrames = 0;
+    nlohmann::json mShotInfo;
+    Clock::time_point mT0, mLastFrameEnd, mRenderStart;
+    std::optional<Clock::time_point> mExitAsked;
+    bool mExited = false;
+    xr::FrameInfo mFrame;
+};
+
+XrRun::XrRun(const XrOptions& o) : mOptions(o) {
+    checkOptions(o);
+    const StartArgs args = parseStartArgs(o);
     // Gaze source first: a bad one fails before the runtime is touched.
-    std::unique_ptr<GazeInput> ownGaze;
     if (o.gaze != "ahead") {
         GazeInputContext gc;
         gc.calibration = o.calibration;
-        ownGaze = openGazeInput(o.gaze, gc);
+        mOwnGaze = openGazeInput(o.gaze, gc);
     }
-
     xr::RuntimeOptions rto;
     rto.eyeGaze = o.runtimeGaze;
-    const xr::Runtime runtime(rto);
-    log::info("xr: runtime " + runtime.runtimeName() + ", system " + runtime.systemName());
+    mRuntime.emplace(rto);
+    log::info("xr: runtime " + mRuntime->runtimeName() + ", system " + mRuntime->systemName());
 
     render::RendererOptions ro;
     ro.scene = o.scene;
@@ -381,189 +416,221 @@ nlohmann::json runXr(const XrOptions& o) {
     ro.framesInFlight = 1; // each frame's images are released right after its submit
     const char* device = std::getenv("GAZETRACE_DEVICE");
     ro.deviceOverride = device ? device : "";
-    ro.display = runtime.vulkanHooks();
-    render::Renderer renderer(ro);
-    vk::Context& ctx = renderer.context();
+    ro.display = mRuntime->vulkanHooks();
+    mRenderer.emplace(ro);
+    openSession(args);
+    mMethods.emplace(*mRenderer, o);
+    for (auto& t : mTargets)
+        t.emplace(mRenderer->context());
+    mShotEye = o.screenshotEye == "right" ? 1 : 0;
+}
 
-    const scene::Scene& sc = renderer.scene();
+void XrRun::openSession(const StartArgs& args) {
+    const scene::Scene& sc = mRenderer->scene();
     scene::Camera start = sc.camera;
-    if (cameraArg) {
-        start = cameraArg->camera(sc.camera.yfov);
+    if (args.camera) {
+        start = args.camera->camera(sc.camera.yfov);
     } else if (sc.cameraFramed) {
-        if (const auto inside = scene::insideStartView(sc, renderer.bvh())) {
+        if (const auto inside = scene::insideStartView(sc, mRenderer->bvh())) {
             start = *inside;
         }
     }
-
-    std::optional<xr::Session> session;
-    session.emplace(runtime, ctx, xr::SessionOptions{o.space == "stage", o.resolutionScale});
-    xr::ScenePlacement placement =
-        xr::ScenePlacement::facing(start, static_cast<float>(o.worldScale));
-    if (session->spaceName() == "STAGE" && !origin) {
+    mSession.emplace(*mRuntime, mRenderer->context(),
+                     xr::SessionOptions{mOptions.space == "stage", mOptions.resolutionScale});
+    mPlacement = xr::ScenePlacement::facing(start, static_cast<float>(mOptions.worldScale));
+    if (mSession->spaceName() == "STAGE" && !args.origin) {
         // STAGE's origin is on the floor: the start view's eye stands 1.6 m above it.
-        placement.origin.y -= 1.6f * placement.scale;
+        mPlacement.origin.y -= 1.6f * mPlacement.scale;
     }
-    if (origin) {
-        placement.origin = *origin;
+    if (args.origin) {
+        mPlacement.origin = *args.origin;
     }
-    if (yaw) {
-        placement.yawRad = *yaw;
+    if (args.yaw) {
+        mPlacement.yawRad = *args.yaw;
     }
+    if (!mOptions.runtimeGaze) {
+        mEyeGazeStatus = "not used (--no-runtime-gaze)";
+    } else if (mRuntime->eyeGazeOffered() && !mRuntime->eyeGazeSupported()) {
+        mEyeGazeStatus = "offered, but the system reports no eye tracker";
+    } else if (mRuntime->eyeGazeSupported()) {
+        mEyeGaze.emplace(*mSession);
+        mEyeGazeStatus = "offered";
+    }
+}
 
-    std::optional<xr::EyeGaze> eyeGaze;
-    std::string eyeGazeStatus = "not offered by the runtime";
-    if (!o.runtimeGaze) {
-        eyeGazeStatus = "not used (--no-runtime-gaze)";
-    } else if (runtime.eyeGazeOffered() && !runtime.eyeGazeSupported()) {
-        eyeGazeStatus = "offered, but the system reports no eye tracker";
-    } else if (runtime.eyeGazeSupported()) {
-        eyeGaze.emplace(*session);
-        eyeGazeStatus = "offered";
+FrameStart XrRun::begin(const FrameTick& t) {
+    if (!mSession->pollEvents()) {
+        mExited = true;
+        return FrameStart::Stop;
     }
-
-    EyeMethods methods(renderer, o);
-    std::array<render::ExternalImageTarget, 2> targets{render::ExternalImageTarget(ctx),
-                                                       render::ExternalImageTarget(ctx)};
-    const std::array<render::OutputTarget*, 2> targetPtrs{&targets[0], &targets[1]};
-    const uint32_t shotEye = o.screenshotEye == "right" ? 1 : 0;
-
-    RunStats stats;
-    uint32_t rendered = 0, runtimeGazeFrames = 0, emptyFrames = 0;
-    nlohmann::json shotInfo;
-    const auto t0 = Clock::now();
-    auto lastFrameEnd = t0;
-    std::optional<Clock::time_point> exitAsked;
-    bool exited = false;
-    while (true) {
-        if (!session->pollEvents()) {
-            exited = true;
-            break;
-        }
-        const auto now = Clock::now();
-        if (exitAsked && msSince(*exitAsked, now) > 5000.0) {
-            log::warn("xr: the runtime did not end the session within 5 s of the request");
-            break;
-        }
-        if (!session->running()) {
-            if (!exitAsked && rendered == 0 && msSince(t0, now) > o.startTimeoutS * 1000.0) {
-                throw Error("the OpenXR session did not start within " +
-                            std::to_string(static_cast<int>(o.startTimeoutS)) + " s (last state " +
-                            xr::stateName(session->lifecycle().state()) +
-                            "): is the headset on and the runtime's compositor running?");
-            }
-            std::this_thread::sleep_for(std::chrono::milliseconds(5));
-            continue;
-        }
-        const xr::FrameInfo frame = session->beginFrame();
-        const bool wanted = !exitAsked && (o.frames == 0 || rendered < o.frames);
-        const bool render = wanted && frame.shouldRender && frame.posesValid;
-        if (!render) {
-            session->endFrame(frame, false);
-            ++emptyFrames;
-        } else {
-            const auto renderStart = Clock::now();
-            const std::optional<xr::EyeGazeSample> sample =
-                eyeGaze ? eyeGaze->locate(frame.displayTime) : std::nullopt;
-            const HeadGaze gaze = sample ? runtimeHeadGaze(*sample, o.vergenceM, runtime)
-                                         : ownHeadGaze(ownGaze.get(), msSince(t0, renderStart),
-                                                       frame, session->eyeExtent(0), o.vergenceM);
-            runtimeGazeFrames += sample ? 1 : 0;
-            const std::array<render::View, 2> views =
-                eyeViews(frame, gaze, placement, *session, methods, o.taa, sc.exposure,
-                         render::parseReconstruction(o.reconstruction));
-            const bool lastFrame = o.frames != 0 && rendered + 1 == o.frames;
-            if (lastFrame && !o.screenshot.empty()) {
-                targets[shotEye].requestScreenshot();
-            }
-            for (uint32_t e = 0; e < 2; ++e) {
-                const xr::EyeImage img = session->acquire(e);
-                targets[e].setImage({img.image, img.format, img.extent, 0});
-            }
-            const render::FrameResult result = renderer.renderFrame(views, targetPtrs);
-            session->release(0);
-            session->release(1);
-            session->endFrame(frame, true);
-            checkOwnValidation(ctx);
-            stats.addFrame(result, msSince(renderStart, Clock::now()));
-            if (gaze.sampled) {
-                stats.addGazeAge(msSince(*gaze.sampled, runtime.fromXrTime(frame.displayTime)));
-            }
-            if (lastFrame && !o.screenshot.empty()) {
-                const auto& px = targets[shotEye].screenshot();
-                if (!px) {
-                    throw Error("--screenshot-eye: the eye image was not read back");
-                }
-                const render::View& v = views[shotEye];
-                image::writePngAtomic(o.screenshot, v.width, v.height, *px);
-                shotInfo = screenshotJson(o, rendered, v, frame.views[shotEye]);
-            }
-            ++rendered;
-        }
-        const auto end = Clock::now();
-        if (render) {
-            stats.addInterval(msSince(lastFrameEnd, end));
-        }
-        lastFrameEnd = end;
-        if (o.frames != 0 && rendered >= o.frames && !exitAsked) {
-            session->requestExit();
-            exitAsked = Clock::now();
-        }
+    const auto now = Clock::now();
+    if (mExitAsked && msSince(*mExitAsked, now) > 5000.0) {
+        log::warn("xr: the runtime did not end the session within 5 s of the request");
+        return FrameStart::Stop;
     }
-    renderer.waitIdle();
+    if (!mSession->running()) {
+        if (!mExitAsked && t.index == 0 && msSince(mT0, now) > mOptions.startTimeoutS * 1000.0) {
+            throw Error("the OpenXR session did not start within " +
+                        std::to_string(static_cast<int>(mOptions.startTimeoutS)) +
+                        " s (last state " + xr::stateName(mSession->lifecycle().state()) +
+                        "): is the headset on and the runtime's compositor running?");
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        return FrameStart::Skip;
+    }
+    mFrame = mSession->beginFrame();
+    const bool wanted = !mExitAsked && (mOptions.frames == 0 || t.index < mOptions.frames);
+    if (!(wanted && mFrame.shouldRender && mFrame.posesValid)) {
+        mSession->endFrame(mFrame, false);
+        ++mEmptyFrames;
+        frameEnded(false, t.index);
+        return FrameStart::Skip;
+    }
+    mRenderStart = Clock::now();
+    return FrameStart::Render;
+}
+
+HeadGaze XrRun::gaze() {
+    const std::optional<xr::EyeGazeSample> sample =
+        mEyeGaze ? mEyeGaze->locate(mFrame.displayTime) : std::nullopt;
+    mRuntimeGazeFrames += sample ? 1 : 0;
+    if (sample) return runtimeHeadGaze(*sample, mOptions.vergenceM, *mRuntime);
+    return ownHeadGaze(mOwnGaze.get(), msSince(mT0, mRenderStart), mFrame, mSession->eyeExtent(0),
+                       mOptions.vergenceM);
+}
+
+std::vector<render::OutputTarget*> XrRun::targets(const FrameTick& t) {
+    if (lastFrame(t) && !mOptions.screenshot.empty()) {
+        mTargets[mShotEye]->requestScreenshot();
+    }
+    for (uint32_t e = 0; e < 2; ++e) {
+        const xr::EyeImage img = mSession->acquire(e);
+        mTargets[e]->setImage({img.image, img.format, img.extent, 0});
+    }
+    return {&*mTargets[0], &*mTargets[1]};
+}
+
+bool XrRun::done(const FrameTick& t, const HeadGaze& gaze, std::span<const render::View> views,
+                 const render::FrameResult& result) {
+    mSession->release(0);
+    mSession->release(1);
+    mSession->endFrame(mFrame, true);
+    checkOwnValidation(mRenderer->context());
+    mStats.addFrame(result, msSince(mRenderStart, Clock::now()));
+    if (gaze.sampled) {
+        mStats.addGazeAge(msSince(*gaze.sampled, mRuntime->fromXrTime(mFrame.displayTime)));
+    }
+    if (lastFrame(t) && !mOptions.screenshot.empty()) {
+        const auto& px = mTargets[mShotEye]->screenshot();
+        if (!px) {
+            throw Error("--screenshot-eye: the eye image was not read back");
+        }
+        const render::View& v = views[mShotEye];
+        image::writePngAtomic(mOptions.screenshot, v.width, v.height, *px);
+        mShotInfo = screenshotJson(mOptions, t.index, v, mFrame.views[mShotEye]);
+    }
+    frameEnded(true, t.index + 1);
+    return true;
+}
+
+void XrRun::frameEnded(bool rendered, uint32_t renderedFrames) {
+    const auto end = Clock::now();
+    if (rendered) {
+        mStats.addInterval(msSince(mLastFrameEnd, end));
+    }
+    mLastFrameEnd = end;
+    if (mOptions.frames != 0 && renderedFrames >= mOptions.frames && !mExitAsked) {
+        mSession->requestExit();
+        mExitAsked = Clock::now();
+    }
+}
+
+nlohmann::json XrRun::run() {
+    const float exposure = mRenderer->scene().exposure;
+    FrameStages<HeadGaze> stages;
+    stages.begin = [this](const FrameTick& t) { return begin(t); };
+    stages.gaze = [this](const FrameTick&) { return gaze(); };
+    stages.views = [this, exposure](const FrameTick&, const HeadGaze& g) {
+        const auto eyes = eyeViews(mFrame, g, mPlacement, *mSession, *mMethods, mOptions.taa,
+                                   exposure, mMethods->thesis());
+        return std::vector<render::View>(eyes.begin(), eyes.end());
+    };
+    stages.targets = [this](const FrameTick& t, std::span<const render::View>) {
+        return targets(t);
+    };
+    stages.done = [this](const FrameTick& t, const HeadGaze& g, std::span<const render::View> v,
+                         const render::FrameResult& result) { return done(t, g, v, result); };
+    const FrameClock clock;
+    mT0 = clock.start();
+    mLastFrameEnd = mT0;
+    const uint32_t rendered = runFrameLoop(*mRenderer, clock, 0, stages);
+    return summary(rendered);
+}
+
+nlohmann::json XrRun::summary(uint32_t rendered) {
+    mRenderer->waitIdle();
+    vk::Context& ctx = mRenderer->context();
     nlohmann::json eyes = nlohmann::json::array();
     for (uint32_t e = 0; e < 2; ++e) {
-        const VkExtent2D size = session->eyeExtent(e), recommended = session->recommendedExtent(e);
+        const VkExtent2D size = mSession->eyeExtent(e),
+                         recommended = mSession->recommendedExtent(e);
         eyes.push_back({{"name", e == 0 ? "left" : "right"},
                         {"width", size.width},
                         {"height", size.height},
                         {"recommended", {recommended.width, recommended.height}},
-                        {"gpu_ms_median", stats.eyeGpuMs(e)}});
+                        {"gpu_ms_median", mStats.eyeGpuMs(e)}});
     }
-    nlohmann::json summary = {{"runtime", runtime.runtimeName()},
-                              {"system", runtime.systemName()},
+    nlohmann::json summary = {{"runtime", mRuntime->runtimeName()},
+                              {"system", mRuntime->systemName()},
                               {"device", ctx.deviceName()},
-                              {"space", session->spaceName()},
-                              {"swapchain_format", static_cast<int>(session->format())},
-                              {"session_states", session->lifecycle().history()}};
-    const std::string ownGazeName = ownGaze ? ownGaze->describe() : "ahead";
-    const uint32_t ownGazeFrames = rendered - runtimeGazeFrames;
+                              {"space", mSession->spaceName()},
+                              {"swapchain_format", static_cast<int>(mSession->format())},
+                              {"session_states", mSession->lifecycle().history()}};
+    const std::string ownGazeName = mOwnGaze ? mOwnGaze->describe() : "ahead";
+    const uint32_t ownGazeFrames = rendered - mRuntimeGazeFrames;
     std::string gazeUsed;
-    if (runtimeGazeFrames > 0 && ownGazeFrames == 0) {
+    if (mRuntimeGazeFrames > 0 && ownGazeFrames == 0) {
         gazeUsed = "XR_EXT_eye_gaze_interaction";
-    } else if (runtimeGazeFrames > 0) {
+    } else if (mRuntimeGazeFrames > 0) {
         gazeUsed = "XR_EXT_eye_gaze_interaction, else " + ownGazeName;
     } else {
         gazeUsed = ownGazeName;
-        if (eyeGaze) {
-            eyeGazeStatus = "offered, but no valid gaze pose was reported";
+        if (mEyeGaze) {
+            mEyeGazeStatus = "offered, but no valid gaze pose was reported";
         }
     }
     // The action set before the session it belongs to.
-    eyeGaze.reset();
-    session.reset();
+    mEyeGaze.reset();
+    mSession.reset();
     checkOwnValidation(ctx);
-    if (o.frames != 0 && rendered < o.frames) {
+    if (mOptions.frames != 0 && rendered < mOptions.frames) {
         throw Error("the OpenXR runtime ended the session after " + std::to_string(rendered) +
-                    " of " + std::to_string(o.frames) + " frames");
+                    " of " + std::to_string(mOptions.frames) + " frames");
     }
-
-    summary.update(stats.json());
+    summary.update(mStats.json());
     summary.update({{"placement",
-                     {{"origin", {placement.origin.x, placement.origin.y, placement.origin.z}},
-                      {"yaw_deg", glm::degrees(placement.yawRad)},
-                      {"scale", placement.scale}}},
-                    {"method", o.method},
-                    {"eye_gaze_extension", eyeGazeStatus},
+                     {{"origin", {mPlacement.origin.x, mPlacement.origin.y, mPlacement.origin.z}},
+                      {"yaw_deg", glm::degrees(mPlacement.yawRad)},
+                      {"scale", mPlacement.scale}}},
+                    {"method", mOptions.method},
+                    {"eye_gaze_extension", mEyeGazeStatus},
                     {"gaze_source", gazeUsed},
                     {"frames", rendered},
-                    {"frames_with_runtime_gaze", runtimeGazeFrames},
-                    {"frames_not_shown", emptyFrames},
-                    {"session_ended_by_runtime", exited},
+                    {"frames_with_runtime_gaze", mRuntimeGazeFrames},
+                    {"frames_not_shown", mEmptyFrames},
+                    {"session_ended_by_runtime", mExited},
                     {"eyes", eyes},
                     {"validation_errors", ctx.validationErrors()},
                     {"validation_errors_in_runtime_calls", ctx.runtimeValidationErrors()},
-                    {"screenshot", shotInfo}});
+                    {"screenshot", mShotInfo}});
     return summary;
+}
+
+} // namespace
+
+nlohmann::json runXr(const XrOptions& o) {
+    XrRun run(o);
+    return run.run();
 }
 
 } // namespace gt::app
