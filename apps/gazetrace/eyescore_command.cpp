@@ -21,7 +21,64 @@
 
 namespace gt::app {
 
-namespace {} // namespace
+namespace {
+
+// One row of --answers: the answer and the evidence its confidence weighed.
+void writeAnswerRow(std::ostream& s, std::uint64_t seed, std::size_t frame,
+                    const eyetrack::EyeTruth& truth, const eyetrack::DetectionRecord& r,
+                    const eyetrack::PupilResult& p, const eyetrack::AnswerEvidence& e,
+                    double radiusPx) {
+    s << cv::format("%llu,%zu,%.3f,%.3f,%d,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%d,%.5f,%.5f,%.3f,%.3f,%."
+                    "4f\n",
+                    static_cast<unsigned long long>(seed), frame, truth.visibility, r.errorPx,
+                    eyetrack::isRight(r, radiusPx) ? 1 : 0, p.confidence, e.confidence,
+                    e.visibleSupport, e.fill, e.axisRatio, e.sizeFactor, e.sizeKnown ? 1 : 0,
+                    e.score, e.rivalScore, e.lastDistance, e.semiMajor, e.levelExcess);
+}
+
+// One row of --misses: the truth beside what was found.
+void writeMissRow(std::ostream& s, std::uint64_t seed, std::size_t frame,
+                  const eyetrack::EyeTruth& truth, const eyetrack::DetectionRecord& r,
+                  const eyetrack::PupilResult& p) {
+    s << cv::format("%llu,%zu,%.3f,%.2f,%.2f,%.2f,%.2f,%.2f,%.3f,%.2f,%.2f,%.2f,%.2f\n",
+                    static_cast<unsigned long long>(seed), frame, truth.visibility, truth.centre.x,
+                    truth.centre.y, p.centre().x, p.centre().y, r.answered ? r.errorPx : -1.0,
+                    p.confidence, truth.axisA, truth.axisB, p.semiMajor(), p.semiMinor());
+}
+
+nlohmann::json eyescoreSummary(const EyescoreOptions& o,
+                               const std::vector<eyetrack::DetectionRecord>& all, double threshold,
+                               const std::vector<double>& fps, const nlohmann::json& perSeed) {
+    const eyetrack::DetectionScore s = eyetrack::scoreDetections(all, o.radiusPx);
+    const eyetrack::ThresholdRates gate = eyetrack::ratesAt(all, threshold, o.radiusPx);
+    nlohmann::json sweep = nlohmann::json::array();
+    for (int i = 2; i <= 8; ++i) {
+        const eyetrack::ThresholdRates t = eyetrack::ratesAt(all, 0.1 * i, o.radiusPx);
+        sweep.push_back({{"threshold", t.threshold},
+                         {"wrong_rejected", t.wrongRejected},
+                         {"right_kept", t.rightKept}});
+    }
+    return {{"preset", o.preset},
+            {"detector", o.detector},
+            {"seeds", o.seeds},
+            {"frames", s.frames},
+            {"visible_frames", s.visible},
+            {"radius_px", o.radiusPx},
+            {"detection_rate", s.detectionRate},
+            {"median_error_px", s.medianErrorPx},
+            {"right_answers", s.right},
+            {"wrong_answers", s.wrong},
+            {"wrong_answers_pupil_hidden", s.wrongHidden},
+            {"roc_auc", s.rocAuc},
+            {"threshold", threshold},
+            {"wrong_rejected", gate.wrongRejected},
+            {"right_kept", gate.rightKept},
+            {"threshold_sweep", sweep},
+            {"median_fps", eyetrack::median(fps)},
+            {"per_seed", perSeed}};
+}
+
+} // namespace
 
 std::pair<std::uint64_t, std::uint64_t> parseSeedRange(const std::string& s) {
     unsigned long long a = 0, b = 0;
@@ -120,23 +177,12 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
                 sheet->add(images[f], p, seed * 100000 + o.skip + f);
             }
             if (answers && r.answered && f < evidence.size()) {
-                const eyetrack::AnswerEvidence& e = evidence[f];
-                answers->stream() << cv::format(
-                    "%llu,%zu,%.3f,%.3f,%d,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%d,%.5f,%.5f,%.3f,%.3f,%."
-                    "4f\n",
-                    static_cast<unsigned long long>(seed), o.skip + f, truths[f].visibility,
-                    r.errorPx, eyetrack::isRight(r, o.radiusPx) ? 1 : 0, p.confidence, e.confidence,
-                    e.visibleSupport, e.fill, e.axisRatio, e.sizeFactor, e.sizeKnown ? 1 : 0,
-                    e.score, e.rivalScore, e.lastDistance, e.semiMajor, e.levelExcess);
+                writeAnswerRow(answers->stream(), seed, o.skip + f, truths[f], r, p, evidence[f],
+                               o.radiusPx);
             }
             // Every visible frame not found within the radius, and every answer on a hidden pupil.
             if (misses && !eyetrack::isRight(r, o.radiusPx) && (r.visible || r.answered)) {
-                misses->stream() << cv::format(
-                    "%llu,%zu,%.3f,%.2f,%.2f,%.2f,%.2f,%.2f,%.3f,%.2f,%.2f,%.2f,%.2f\n",
-                    static_cast<unsigned long long>(seed), o.skip + f, truths[f].visibility,
-                    truths[f].centre.x, truths[f].centre.y, p.centre().x, p.centre().y,
-                    r.answered ? r.errorPx : -1.0, p.confidence, truths[f].axisA, truths[f].axisB,
-                    p.semiMajor(), p.semiMinor());
+                writeMissRow(misses->stream(), seed, o.skip + f, truths[f], r, p);
             }
         }
         const eyetrack::DetectionScore s = eyetrack::scoreDetections(records, o.radiusPx);
@@ -159,33 +205,7 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
     if (sheet && sheet->tiles() > 0) {
         sheet->write();
     }
-    const eyetrack::DetectionScore s = eyetrack::scoreDetections(all, o.radiusPx);
-    const eyetrack::ThresholdRates gate = eyetrack::ratesAt(all, threshold, o.radiusPx);
-    nlohmann::json sweep = nlohmann::json::array();
-    for (int i = 2; i <= 8; ++i) {
-        const eyetrack::ThresholdRates t = eyetrack::ratesAt(all, 0.1 * i, o.radiusPx);
-        sweep.push_back({{"threshold", t.threshold},
-                         {"wrong_rejected", t.wrongRejected},
-                         {"right_kept", t.rightKept}});
-    }
-    return {{"preset", o.preset},
-            {"detector", o.detector},
-            {"seeds", o.seeds},
-            {"frames", s.frames},
-            {"visible_frames", s.visible},
-            {"radius_px", o.radiusPx},
-            {"detection_rate", s.detectionRate},
-            {"median_error_px", s.medianErrorPx},
-            {"right_answers", s.right},
-            {"wrong_answers", s.wrong},
-            {"wrong_answers_pupil_hidden", s.wrongHidden},
-            {"roc_auc", s.rocAuc},
-            {"threshold", threshold},
-            {"wrong_rejected", gate.wrongRejected},
-            {"right_kept", gate.rightKept},
-            {"threshold_sweep", sweep},
-            {"median_fps", eyetrack::median(fps)},
-            {"per_seed", perSeed}};
+    return eyescoreSummary(o, all, threshold, fps, perSeed);
 }
 
 } // namespace gt::app

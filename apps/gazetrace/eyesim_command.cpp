@@ -24,9 +24,8 @@ cv::Size parseSize(const std::string& s) {
     return {w, h};
 }
 
-} // namespace
-
-nlohmann::json runEyesim(const EyesimOptions& o) {
+// The clip's configuration from the options, each checked.
+eyetrack::EyeSimConfig eyesimConfig(const EyesimOptions& o) {
     eyetrack::EyeSimConfig c;
     c.seed = o.seed;
     c.frames = o.frames;
@@ -56,6 +55,31 @@ nlohmann::json runEyesim(const EyesimOptions& o) {
     if (!(o.depthCm == 0.0 || (o.depthCm >= 10.0 && o.depthCm <= 10000.0)))
         throw ArgumentError("--depth-cm: expected 10..10000 cm (0: on the screen)");
     c.fixationDepthCm = o.depthCm;
+    return c;
+}
+
+// What the preset drew for this seed (wild draws its variations per seed), so a clip that
+// scores badly can be told apart by what it shows.
+nlohmann::json appearanceJson(const eyetrack::EyeSimConfig& c) {
+    return {{"glints", c.glints},
+            {"blur_sigma", c.blurSigma},
+            {"noise_sigma", c.noiseSigma},
+            {"upper_lid_height", c.upperLidHeight},
+            {"drooping_lashes", c.droopingLashes},
+            {"mascara", c.mascara},
+            {"shadows", c.shadows},
+            {"eyeliner", c.eyeliner},
+            {"iris_contrast", c.irisContrast},
+            {"border_glints", c.borderGlints},
+            {"camera_tilt_deg", c.cameraTiltDeg},
+            {"lower_lid_raise", c.lowerLidRaise},
+            {"pupil_dilation", c.pupilDilation}};
+}
+
+} // namespace
+
+nlohmann::json runEyesim(const EyesimOptions& o) {
+    eyetrack::EyeSimConfig c = eyesimConfig(o);
     const bool both = o.eye == "both";
     if (both && o.truthRight.empty())
         throw ArgumentError("--eye both writes one frame with both eyes side by side and needs "
@@ -121,21 +145,7 @@ nlohmann::json runEyesim(const EyesimOptions& o) {
     nlohmann::json j{{"frames", c.frames}, {"width", frameSize.width}, {"height", frameSize.height},
                      {"fps", c.fps},       {"preset", o.preset},       {"seed", o.seed},
                      {"video", o.out},     {"truth", o.truth}};
-    // What the preset drew for this seed (wild draws its variations per seed), so a clip that
-    // scores badly can be told apart by what it shows.
-    j["appearance"] = {{"glints", c.glints},
-                       {"blur_sigma", c.blurSigma},
-                       {"noise_sigma", c.noiseSigma},
-                       {"upper_lid_height", c.upperLidHeight},
-                       {"drooping_lashes", c.droopingLashes},
-                       {"mascara", c.mascara},
-                       {"shadows", c.shadows},
-                       {"eyeliner", c.eyeliner},
-                       {"iris_contrast", c.irisContrast},
-                       {"border_glints", c.borderGlints},
-                       {"camera_tilt_deg", c.cameraTiltDeg},
-                       {"lower_lid_raise", c.lowerLidRaise},
-                       {"pupil_dilation", c.pupilDilation}};
+    j["appearance"] = appearanceJson(c);
     if (o.eye != "cyclops") {
         j["eye"] = o.eye;
         j["ipd_mm"] = o.ipdMm;

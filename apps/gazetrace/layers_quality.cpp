@@ -15,6 +15,7 @@
 #include "foveation/point_set_cache.hpp"
 #include "frame_shots.hpp"
 #include "full_resolution.hpp"
+#include "method_choice.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "quality/eccentricity_bands.hpp"
@@ -85,178 +86,208 @@ nlohmann::json bandsJson(const std::array<double, kBands>& v) {
     return j;
 }
 
+// The runs measureLayerQuality compares, on the desktop profile with the gaze centred: the
+// layers, the point set and the uniform render at about equal rays, against a many-ray reference.
+class LayerQualityRun {
+public:
+    explicit LayerQualityRun(const LayerQualityOptions& options)
+        : o(options), desktop(foveation::displayProfile("desktop")), w(desktop.width),
+          h(desktop.height), centre(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h)),
+          bands(quality::bandMap(desktop, w, h, centre)), cache(cacheFolder(o.cacheDir)),
+          renderer({.scene = o.scene}), shots(renderer) {
+        base.camera = renderer.scene().camera;
+        base.width = w;
+        base.height = h;
+        base.gaze = centre;
+        base.post.taa = true;
+        // The methods at about equal rays: layers at slope A (mean of two frames), the point
+        // set at the scale whose on-screen points match them (1.5 on this profile), 1 ray per
+        // point, nn, TAA; the uniform render at the resolution that spends the same rays,
+        // upscaled.
+        ls.display = desktop;
+        layers.emplace(renderer.methodContext(), ls);
+        pp.display = desktop;
+        pp.scale = 1.5;
+        points = makePointSetMethod(renderer, pp, o.cacheDir);
+        points->settings.raysPerPoint = 1;
+        points->settings.interpolation.method = passes::Interpolation::Nearest;
+        uniform.emplace(renderer.methodContext(), passes::ReferenceSettings{1, 0});
+        reference.emplace(renderer.methodContext(), passes::ReferenceSettings{refRays, 7});
+    }
+
+    // The still view: each method's error per band against the reference.
+    nlohmann::json still() {
+        render::View v = base;
+        v.name = "reference";
+        v.post.taa = false;
+        const Image ref = shots.shot(v, *reference);
+        Image layerImg, pointImg;
+        uint64_t layerRays = 0, r1 = 0, r2 = 0;
+        v = base;
+        v.name = "layers";
+        for (int i = 0; i < settle; ++i) {
+            layerImg = shots.shot(v, *layers, i % 2 ? &r2 : &r1);
+        }
+        layerRays = (r1 + r2) / 2;
+        v.name = "points";
+        for (int i = 0; i < settle; ++i) {
+            pointImg = shots.shot(v, *points);
+        }
+        const uint64_t pointRays = points->pointsSampled(centre);
+        const double k = std::sqrt(static_cast<double>(w) * h / static_cast<double>(layerRays));
+        uw = static_cast<uint32_t>(std::lround(w / k));
+        uh = static_cast<uint32_t>(std::lround(h / k));
+        v = base;
+        v.name = "uniform";
+        v.width = uw;
+        v.height = uh;
+        v.post.taa = false;
+        const Image uniformImg = upscaled(shots.shot(v, *uniform), uw, uh, w, h);
+        return {{"scene", o.scene},
+                {"reference_rays_per_pixel", refRays},
+                {"frames", settle},
+                {"layers", {{"rays", layerRays}, {"bands", errorByBand(layerImg, ref, bands)}}},
+                {"points",
+                 {{"rays", pointRays},
+                  {"scale", pp.scale},
+                  {"bands", errorByBand(pointImg, ref, bands)}}},
+                {"uniform",
+                 {{"rays", static_cast<uint64_t>(uw) * uh},
+                  {"size", {uw, uh}},
+                  {"bands", errorByBand(uniformImg, ref, bands)}}}};
+    }
+
+    nlohmann::json moving() {
+        // A moving camera: a dolly forward with a slow turn; per band, the share of pixels changing
+        // by more than 10/255 between frames, against the reference's own (1 ray, same seed).
+        const int moving = o.quick ? 4 : 12;
+        std::vector<scene::CameraKey> keys;
+        const scene::Camera c0 = renderer.scene().camera;
+        for (int i = 0; i <= 1; ++i) {
+            const glm::vec3 eye = c0.position + static_cast<float>(i) * 0.6f * c0.forward;
+            const glm::vec3 target =
+                eye + c0.forward + glm::vec3(0.15f * static_cast<float>(i), 0, 0);
+            keys.push_back({static_cast<double>(i) * 1000.0, eye, target});
+        }
+        const scene::CameraPath path = scene::CameraPath::fromKeys(keys);
+        nlohmann::json movingJson = nlohmann::json::object();
+        render::FullResolution oneRay(renderer.methodContext(), {1, 3});
+        for (const char* name : {"layers", "points", "uniform", "reference"}) {
+            std::array<double, kBands> sum{};
+            Image last;
+            for (int i = 0; i < moving; ++i) {
+                render::View mv = base;
+                mv.name = std::string("moving_") + name;
+                mv.camera = path.at(1000.0 * i / (moving - 1), c0.yfov);
+                Image img;
+                if (std::string(name) == "layers") {
+                    img = shots.shot(mv, *layers);
+                } else if (std::string(name) == "points") {
+                    img = shots.shot(mv, *points);
+                } else if (std::string(name) == "uniform") {
+                    mv.width = uw;
+                    mv.height = uh;
+                    mv.post.taa = false;
+                    img = upscaled(shots.shot(mv, *uniform), uw, uh, w, h);
+                } else {
+                    mv.post.taa = false;
+                    img = shots.shot(mv, oneRay);
+                }
+                if (!last.empty()) {
+                    const auto s = changedShare(img, last, bands);
+                    for (std::size_t b = 0; b < kBands; ++b) {
+                        sum[b] += s[b] / (moving - 1);
+                    }
+                }
+                last = std::move(img);
+            }
+            movingJson[name] = bandsJson(sum);
+        }
+        return {{"frames", moving}, {"changed_percent", movingJson}};
+    }
+
+    nlohmann::json pursuit() {
+        // Smooth pursuit over a still scene with subdivision cages, with and without geometric LOD:
+        // the share of pixels changing by more than 10/255 from frame to frame (all bands).
+        const int pursuitFrames = o.quick ? 6 : 24;
+        render::Renderer lodRenderer({.scene = o.lodScene});
+        FrameShots lodShots(lodRenderer);
+        nlohmann::json pursuit = nlohmann::json::object();
+        nlohmann::json traceGpu = nlohmann::json::object(); // median GPU ms of the tracing passes
+        for (const bool lod : {false, true}) {
+            render::EccentricityLayerSettings s = ls;
+            s.lod = lod;
+            render::EccentricityLayers lodLayers(lodRenderer.methodContext(), s);
+            render::PointSetMethod lodPoints(lodRenderer.methodContext(), pp, cache);
+            lodPoints.settings = points->settings;
+            lodPoints.settings.lod = lod;
+            for (const char* name : {"layers", "points"}) {
+                double share = 0.0;
+                std::vector<double> traceMs;
+                Image last;
+                for (int i = 0; i < pursuitFrames; ++i) {
+                    render::View pv = base;
+                    pv.camera = lodRenderer.scene().camera;
+                    pv.name = std::string("pursuit_") + name + (lod ? "_lod" : "");
+                    // content/gaze/pursuit.csv's target: a circle of 260 px radius once every 2 s,
+                    // sampled at 90 Hz, here around the screen's centre.
+                    const double a = 2.0 * 3.14159265358979 * (i / 90.0) / 2.0;
+                    pv.gaze = centre + 260.0f * glm::vec2(static_cast<float>(std::cos(a)),
+                                                          static_cast<float>(std::sin(a)));
+                    const bool isLayers = std::string(name) == "layers";
+                    const Image img =
+                        isLayers ? lodShots.shot(pv, lodLayers) : lodShots.shot(pv, lodPoints);
+                    if (i > 0) { // the first frame compiles and traces every layer
+                        traceMs.push_back(lodShots.lastPassMs(isLayers ? "trace" : "point_sample"));
+                    }
+                    if (!last.empty()) {
+                        const auto sh =
+                            changedShare(img, last, std::vector<uint8_t>(bands.size(), 0));
+                        share += sh[0] / (pursuitFrames - 1);
+                    }
+                    last = img;
+                }
+                pursuit[name][lod ? "lod" : "full_detail"] = share;
+                std::sort(traceMs.begin(), traceMs.end());
+                traceGpu[name][lod ? "lod" : "full_detail"] =
+                    traceMs.empty() ? 0.0 : traceMs[traceMs.size() / 2];
+            }
+        }
+        return {{"scene", o.lodScene},
+                {"frames", pursuitFrames},
+                {"lod_triangles", lodRenderer.lodTriangles()},
+                {"changed_percent", pursuit},
+                {"trace_gpu_ms_median", traceGpu}};
+    }
+
+    const LayerQualityOptions& o;
+    const foveation::DisplayProfile desktop;
+    const uint32_t w, h;
+    const glm::vec2 centre;
+    const std::vector<uint8_t> bands;
+    const std::filesystem::path cache;
+    const int settle = o.quick ? 4 : 16; // frames for the histories to converge
+    const uint32_t refRays = o.quick ? 4 : 16;
+    render::Renderer renderer;
+    FrameShots shots;
+    render::View base;
+    render::EccentricityLayerSettings ls;
+    foveation::PointSetParams pp;
+    std::optional<render::EccentricityLayers> layers;
+    std::unique_ptr<render::PointSetMethod> points;
+    std::optional<render::FullResolution> uniform, reference;
+    uint32_t uw = 0, uh = 0; // the uniform render's size (still())
+};
+
 } // namespace
 
 nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
-    const foveation::DisplayProfile desktop = foveation::displayProfile("desktop");
-    const uint32_t w = desktop.width, h = desktop.height;
-    const glm::vec2 centre(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h));
-    const std::vector<uint8_t> bands = quality::bandMap(desktop, w, h, centre);
-    const std::filesystem::path cache =
-        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
-    const int settle = o.quick ? 4 : 16; // frames for the histories to converge
-    const uint32_t refRays = o.quick ? 4 : 16;
+    LayerQualityRun run(o);
     nlohmann::json out;
-
-    render::Renderer renderer({.scene = o.scene});
-    FrameShots shots(renderer);
-    render::View base;
-    base.camera = renderer.scene().camera;
-    base.width = w;
-    base.height = h;
-    base.gaze = centre;
-    base.post.taa = true;
-
-    // The methods at about equal rays: layers at slope A (mean of two frames), the point set at
-    // the scale whose on-screen points match them (1.5 on this profile), 1 ray per point, nn,
-    // TAA; the uniform render at the resolution that spends the same rays, upscaled.
-    render::EccentricityLayerSettings ls;
-    ls.display = desktop;
-    render::EccentricityLayers layers(renderer.methodContext(), ls);
-    foveation::PointSetParams pp;
-    pp.display = desktop;
-    pp.scale = 1.5;
-    render::PointSetMethod points(renderer.methodContext(), pp, cache);
-    points.settings.raysPerPoint = 1;
-    points.settings.interpolation.method = passes::Interpolation::Nearest;
-    render::FullResolution uniform(renderer.methodContext(), {1, 0});
-    render::FullResolution reference(renderer.methodContext(), {refRays, 7});
-
-    render::View v = base;
-    v.name = "reference";
-    v.post.taa = false;
-    const Image ref = shots.shot(v, reference);
-    Image layerImg, pointImg;
-    uint64_t layerRays = 0, r1 = 0, r2 = 0;
-    v = base;
-    v.name = "layers";
-    for (int i = 0; i < settle; ++i) {
-        layerImg = shots.shot(v, layers, i % 2 ? &r2 : &r1);
-    }
-    layerRays = (r1 + r2) / 2;
-    v.name = "points";
-    for (int i = 0; i < settle; ++i) {
-        pointImg = shots.shot(v, points);
-    }
-    const uint64_t pointRays = points.pointsSampled(centre);
-    const double k = std::sqrt(static_cast<double>(w) * h / static_cast<double>(layerRays));
-    const auto uw = static_cast<uint32_t>(std::lround(w / k));
-    const auto uh = static_cast<uint32_t>(std::lround(h / k));
-    v = base;
-    v.name = "uniform";
-    v.width = uw;
-    v.height = uh;
-    v.post.taa = false;
-    const Image uniformImg = upscaled(shots.shot(v, uniform), uw, uh, w, h);
-    out["still"] = {
-        {"scene", o.scene},
-        {"reference_rays_per_pixel", refRays},
-        {"frames", settle},
-        {"layers", {{"rays", layerRays}, {"bands", errorByBand(layerImg, ref, bands)}}},
-        {"points",
-         {{"rays", pointRays}, {"scale", pp.scale}, {"bands", errorByBand(pointImg, ref, bands)}}},
-        {"uniform",
-         {{"rays", static_cast<uint64_t>(uw) * uh},
-          {"size", {uw, uh}},
-          {"bands", errorByBand(uniformImg, ref, bands)}}}};
-
-    // A moving camera: a dolly forward with a slow turn; per band, the share of pixels changing
-    // by more than 10/255 between frames, against the reference's own (1 ray, same seed).
-    const int moving = o.quick ? 4 : 12;
-    std::vector<scene::CameraKey> keys;
-    const scene::Camera c0 = renderer.scene().camera;
-    for (int i = 0; i <= 1; ++i) {
-        const glm::vec3 eye = c0.position + static_cast<float>(i) * 0.6f * c0.forward;
-        const glm::vec3 target = eye + c0.forward + glm::vec3(0.15f * static_cast<float>(i), 0, 0);
-        keys.push_back({static_cast<double>(i) * 1000.0, eye, target});
-    }
-    const scene::CameraPath path = scene::CameraPath::fromKeys(keys);
-    nlohmann::json movingJson = nlohmann::json::object();
-    render::FullResolution oneRay(renderer.methodContext(), {1, 3});
-    for (const char* name : {"layers", "points", "uniform", "reference"}) {
-        std::array<double, kBands> sum{};
-        Image last;
-        for (int i = 0; i < moving; ++i) {
-            render::View mv = base;
-            mv.name = std::string("moving_") + name;
-            mv.camera = path.at(1000.0 * i / (moving - 1), c0.yfov);
-            Image img;
-            if (std::string(name) == "layers") {
-                img = shots.shot(mv, layers);
-            } else if (std::string(name) == "points") {
-                img = shots.shot(mv, points);
-            } else if (std::string(name) == "uniform") {
-                mv.width = uw;
-                mv.height = uh;
-                mv.post.taa = false;
-                img = upscaled(shots.shot(mv, uniform), uw, uh, w, h);
-            } else {
-                mv.post.taa = false;
-                img = shots.shot(mv, oneRay);
-            }
-            if (!last.empty()) {
-                const auto s = changedShare(img, last, bands);
-                for (std::size_t b = 0; b < kBands; ++b) {
-                    sum[b] += s[b] / (moving - 1);
-                }
-            }
-            last = std::move(img);
-        }
-        movingJson[name] = bandsJson(sum);
-    }
-    out["moving"] = {{"frames", moving}, {"changed_percent", movingJson}};
-
-    // Smooth pursuit over a still scene with subdivision cages, with and without geometric LOD:
-    // the share of pixels changing by more than 10/255 from frame to frame (all bands).
-    const int pursuitFrames = o.quick ? 6 : 24;
-    render::Renderer lodRenderer({.scene = o.lodScene});
-    FrameShots lodShots(lodRenderer);
-    nlohmann::json pursuit = nlohmann::json::object();
-    nlohmann::json traceGpu = nlohmann::json::object(); // median GPU ms of the tracing passes
-    for (const bool lod : {false, true}) {
-        render::EccentricityLayerSettings s = ls;
-        s.lod = lod;
-        render::EccentricityLayers lodLayers(lodRenderer.methodContext(), s);
-        render::PointSetMethod lodPoints(lodRenderer.methodContext(), pp, cache);
-        lodPoints.settings = points.settings;
-        lodPoints.settings.lod = lod;
-        for (const char* name : {"layers", "points"}) {
-            double share = 0.0;
-            std::vector<double> traceMs;
-            Image last;
-            for (int i = 0; i < pursuitFrames; ++i) {
-                render::View pv = base;
-                pv.camera = lodRenderer.scene().camera;
-                pv.name = std::string("pursuit_") + name + (lod ? "_lod" : "");
-                // content/gaze/pursuit.csv's target: a circle of 260 px radius once every 2 s,
-                // sampled at 90 Hz, here around the screen's centre.
-                const double a = 2.0 * 3.14159265358979 * (i / 90.0) / 2.0;
-                pv.gaze = centre + 260.0f * glm::vec2(static_cast<float>(std::cos(a)),
-                                                      static_cast<float>(std::sin(a)));
-                const bool isLayers = std::string(name) == "layers";
-                const Image img =
-                    isLayers ? lodShots.shot(pv, lodLayers) : lodShots.shot(pv, lodPoints);
-                if (i > 0) { // the first frame compiles and traces every layer
-                    traceMs.push_back(lodShots.lastPassMs(isLayers ? "trace" : "point_sample"));
-                }
-                if (!last.empty()) {
-                    const auto sh = changedShare(img, last, std::vector<uint8_t>(bands.size(), 0));
-                    share += sh[0] / (pursuitFrames - 1);
-                }
-                last = img;
-            }
-            pursuit[name][lod ? "lod" : "full_detail"] = share;
-            std::sort(traceMs.begin(), traceMs.end());
-            traceGpu[name][lod ? "lod" : "full_detail"] =
-                traceMs.empty() ? 0.0 : traceMs[traceMs.size() / 2];
-        }
-    }
-    out["pursuit"] = {{"scene", o.lodScene},
-                      {"frames", pursuitFrames},
-                      {"lod_triangles", lodRenderer.lodTriangles()},
-                      {"changed_percent", pursuit},
-                      {"trace_gpu_ms_median", traceGpu}};
-    out["device"] = renderer.context().deviceName();
+    out["still"] = run.still();
+    out["moving"] = run.moving();
+    out["pursuit"] = run.pursuit();
+    out["device"] = run.renderer.context().deviceName();
     return out;
 }
 

@@ -41,10 +41,7 @@ double truthVergenceDeg(const eyetrack::CsvTable& t, std::size_t row, double ipd
     return std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180.0 / CV_PI;
 }
 
-} // namespace
-
-nlohmann::json runTrackBinocular(const TrackOptions& o) {
-    cv::setNumThreads(1);
+void checkBinocularOptions(const TrackOptions& o) {
     const bool split = !o.regions.empty();
     if (split && (o.source.empty() || !o.sourceLeft.empty() || !o.sourceRight.empty())) {
         throw ArgumentError("--regions splits the one --source; without --source-left/-right");
@@ -59,6 +56,94 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
     if (o.model != "2d" && o.model != "3d") {
         throw ArgumentError("--model " + o.model + ": expected 2d or 3d");
     }
+}
+
+// The left or right eye's detection against its truth (rows by frame number).
+void scoreEye(EyeTruthTable& t, const eyetrack::Frame& frame, const eyetrack::EyeStep& step) {
+    if (t.table) {
+        const auto row = static_cast<std::size_t>(frame.sequence);
+        if (row < t.table->rows() &&
+            t.table->number(row, "visibility") >= eyetrack::kVisibleShare) {
+            ++t.visible;
+            if (step.pupil.found &&
+                std::hypot(step.pupil.centre().x - t.table->number(row, "cx"),
+                           step.pupil.centre().y - t.table->number(row, "cy")) <= 5.0) {
+                ++t.within5;
+            }
+        }
+    }
+}
+
+// Each eye's sample with its own angles, then the combined gaze with the vergence.
+void sendBinocular(eyetrack::UdpEmitter& emitter, const eyetrack::DisplayGeometry& display,
+                   double ipdMm, int e, const eyetrack::GazeSample& s,
+                   const eyetrack::BinocularSample& b) {
+    const char* const names[2] = {"left", "right"};
+    (void)emitter.sendEye(
+        s, names[e],
+        eyetrack::eyeAnglesDeg(display, ipdMm, e == 0 ? eyetrack::Eye::Left : eyetrack::Eye::Right,
+                               {s.x, s.y}));
+    (void)emitter.sendCombined(b.combined,
+                               b.vergence ? std::optional(b.vergence->angleDeg) : std::nullopt,
+                               b.vergence ? std::optional(b.vergence->distanceCm) : std::nullopt);
+}
+
+// One row of --out: the combined gaze, both eyes' when paired, the vergence when known.
+void writeBinocularRow(std::ostream& s, const eyetrack::BinocularSample& b) {
+    s << cv::format("%.3f,%.2f,%.2f,", b.combined.tMs, b.combined.x, b.combined.y);
+    if (b.left && b.right) {
+        s << cv::format("%.2f,%.2f,%.2f,%.2f,", b.left->x, b.left->y, b.right->x, b.right->y);
+    } else {
+        s << ",,,,";
+    }
+    if (b.vergence) {
+        s << cv::format("%.3f,%.2f", b.vergence->angleDeg, b.vergence->distanceCm);
+    } else {
+        s << ',';
+    }
+    s << '\n';
+}
+
+// What a two-eye run counted, for its summary.
+struct BinocularTally {
+    int frames[2] = {0, 0};
+    int pairs = 0, withVergence = 0;
+    double maxSkew = 0.0;
+    std::vector<double> vergenceErrors, vergenceErrorsFree, busyMs;
+
+    [[nodiscard]] nlohmann::json json(const TrackOptions& o,
+                                      const EyeTruthTable (&truth)[2]) const {
+        const char* const kEyeNames[2] = {"left", "right"};
+        nlohmann::json j{{"eyes", 2},
+                         {"frames_left", frames[0]},
+                         {"frames_right", frames[1]},
+                         {"pairs", pairs},
+                         {"max_pair_skew_ms", maxSkew},
+                         {"samples_with_vergence", withVergence},
+                         {"model", o.model},
+                         {"detector", o.detector},
+                         {"fps_per_eye", busyMs.empty() ? 0.0 : 1000.0 / eyetrack::median(busyMs)}};
+        for (int e = 0; e < 2; ++e) {
+            if (!truth[e].table) {
+                continue;
+            }
+            j[std::string("detection_rate_5px_") + kEyeNames[e]] =
+                truth[e].visible ? static_cast<double>(truth[e].within5) / truth[e].visible : 0.0;
+        }
+        if (!vergenceErrors.empty()) {
+            j["vergence_error_deg_median"] = eyetrack::median(vergenceErrors);
+            j["vergence_error_deg_median_free_viewing"] = eyetrack::median(vergenceErrorsFree);
+        }
+        return j;
+    }
+};
+
+} // namespace
+
+nlohmann::json runTrackBinocular(const TrackOptions& o) {
+    cv::setNumThreads(1);
+    checkBinocularOptions(o);
+    const bool split = !o.regions.empty();
     std::pair<cv::Rect, cv::Rect> regions;
     if (split) {
         regions = eyetrack::parseEyeRegions(o.regions);
@@ -99,77 +184,39 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
         truth[1].table = eyetrack::CsvTable::load(o.truthRight, columns);
     }
 
-    int frames[2] = {0, 0}, pairs = 0, withVergence = 0;
-    double maxSkew = 0.0;
-    std::vector<double> vergenceErrors, vergenceErrorsFree, busyMs;
+    BinocularTally tally;
     std::optional<eyetrack::Frame> pending[2];
     auto process = [&](int e, const eyetrack::Frame& frame) {
         const auto begin = std::chrono::steady_clock::now();
         const eyetrack::EyeStep step = pipes[e]->process(frame);
-        busyMs.push_back(
+        tally.busyMs.push_back(
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin)
                 .count());
-        ++frames[e];
-        if (auto& t = truth[e]; t.table) {
-            const auto row = static_cast<std::size_t>(frame.sequence);
-            if (row < t.table->rows() &&
-                t.table->number(row, "visibility") >= eyetrack::kVisibleShare) {
-                ++t.visible;
-                if (step.pupil.found &&
-                    std::hypot(step.pupil.centre().x - t.table->number(row, "cx"),
-                               step.pupil.centre().y - t.table->number(row, "cy")) <= 5.0) {
-                    ++t.within5;
-                }
-            }
-        }
+        ++tally.frames[e];
+        scoreEye(truth[e], frame, step);
         const eyetrack::BinocularSample b =
             combiner.push(e == 0 ? eyetrack::Eye::Left : eyetrack::Eye::Right, *step.sample);
         if (b.left && b.right) {
-            ++pairs;
-            maxSkew = std::max(maxSkew, std::abs(b.left->tMs - b.right->tMs));
+            ++tally.pairs;
+            tally.maxSkew = std::max(tally.maxSkew, std::abs(b.left->tMs - b.right->tMs));
         }
         if (b.vergence) {
-            ++withVergence;
+            ++tally.withVergence;
             const auto row = static_cast<std::size_t>(frame.sequence);
             if (truth[0].table && row < truth[0].table->rows()) {
                 const double err = std::abs(b.vergence->angleDeg -
                                             truthVergenceDeg(*truth[0].table, row, o.ipdMm));
-                vergenceErrors.push_back(err);
+                tally.vergenceErrors.push_back(err);
                 if (truth[0].table->text(row, "phase") == "free") {
-                    vergenceErrorsFree.push_back(err);
+                    tally.vergenceErrorsFree.push_back(err);
                 }
             }
         }
-        if (emitter) {
-            const eyetrack::GazeSample& s = *step.sample;
-            (void)emitter->sendEye(
-                s, names[e],
-                eyetrack::eyeAnglesDeg(display, o.ipdMm,
-                                       e == 0 ? eyetrack::Eye::Left : eyetrack::Eye::Right,
-                                       {s.x, s.y}));
-            (void)emitter->sendCombined(
-                b.combined, b.vergence ? std::optional(b.vergence->angleDeg) : std::nullopt,
-                b.vergence ? std::optional(b.vergence->distanceCm) : std::nullopt);
-        }
-        if (gazeCsv) {
-            auto& s = gazeCsv->stream();
-            s << cv::format("%.3f,%.2f,%.2f,", b.combined.tMs, b.combined.x, b.combined.y);
-            if (b.left && b.right) {
-                s << cv::format("%.2f,%.2f,%.2f,%.2f,", b.left->x, b.left->y, b.right->x,
-                                b.right->y);
-            } else {
-                s << ",,,,";
-            }
-            if (b.vergence) {
-                s << cv::format("%.3f,%.2f", b.vergence->angleDeg, b.vergence->distanceCm);
-            } else {
-                s << ',';
-            }
-            s << '\n';
-        }
+        if (emitter) sendBinocular(*emitter, display, o.ipdMm, e, *step.sample, b);
+        if (gazeCsv) writeBinocularRow(gazeCsv->stream(), b);
     };
     for (;;) {
-        if (o.maxFrames > 0 && frames[0] + frames[1] >= 2 * o.maxFrames) {
+        if (o.maxFrames > 0 && tally.frames[0] + tally.frames[1] >= 2 * o.maxFrames) {
             break;
         }
         if (split) {
@@ -196,34 +243,14 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
         process(e, *pending[e]);
         pending[e].reset();
     }
-    if (frames[0] == 0 || frames[1] == 0) {
-        throw ArgumentError(std::string("the ") + (frames[0] == 0 ? "left" : "right") +
+    if (tally.frames[0] == 0 || tally.frames[1] == 0) {
+        throw ArgumentError(std::string("the ") + (tally.frames[0] == 0 ? "left" : "right") +
                             " eye's source gave no frames");
     }
     if (gazeCsv) {
         gazeCsv->commit();
     }
-    nlohmann::json j{{"eyes", 2},
-                     {"frames_left", frames[0]},
-                     {"frames_right", frames[1]},
-                     {"pairs", pairs},
-                     {"max_pair_skew_ms", maxSkew},
-                     {"samples_with_vergence", withVergence},
-                     {"model", o.model},
-                     {"detector", o.detector},
-                     {"fps_per_eye", busyMs.empty() ? 0.0 : 1000.0 / eyetrack::median(busyMs)}};
-    for (int e = 0; e < 2; ++e) {
-        if (!truth[e].table) {
-            continue;
-        }
-        j[std::string("detection_rate_5px_") + names[e]] =
-            truth[e].visible ? static_cast<double>(truth[e].within5) / truth[e].visible : 0.0;
-    }
-    if (!vergenceErrors.empty()) {
-        j["vergence_error_deg_median"] = eyetrack::median(vergenceErrors);
-        j["vergence_error_deg_median_free_viewing"] = eyetrack::median(vergenceErrorsFree);
-    }
-    return j;
+    return tally.json(o, truth);
 }
 
 } // namespace gt::app

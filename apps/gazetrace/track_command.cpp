@@ -35,6 +35,116 @@ std::unique_ptr<eyetrack::GazeMapper> openGazeMapper(const TrackOptions& o) {
     return eyetrack::makeGazeMapper(set.eye(o.eye), o.model, eyeCamera(o.camera));
 }
 
+// --truth: rows by frame number (eyesim writes every frame, hand labels only some).
+struct TrackTruth {
+    std::optional<eyetrack::CsvTable> table;
+    std::map<std::uint64_t, std::size_t> rows;
+    bool hasDoubtful = false;
+};
+
+TrackTruth loadTrackTruth(const TrackOptions& o) {
+    TrackTruth truth;
+    if (o.truth.empty()) return truth;
+    truth.table = eyetrack::CsvTable::load(o.truth, {"frame", "cx", "cy", "visibility"});
+    for (std::size_t i = 0; i < truth.table->rows(); ++i) {
+        const double f = truth.table->number(i, "frame");
+        if (!(f >= 0.0) || f != std::floor(f))
+            throw ArgumentError("--truth " + o.truth + ": row " + std::to_string(i + 2) +
+                                " has no whole frame number");
+        truth.rows[static_cast<std::uint64_t>(f)] = i;
+    }
+    truth.hasDoubtful = truth.table->has("doubtful");
+    return truth;
+}
+
+// The detector and the gaze scored against the truth, frame by frame.
+class TrackScore {
+public:
+    explicit TrackScore(const TrackTruth& truth) : mTruth(truth) {}
+    void add(const eyetrack::Frame& frame, const eyetrack::EyeStep& step,
+             const eyetrack::EyePipeline& pipeline) {
+        if (!mTruth.table) return;
+        const auto found = mTruth.rows.find(frame.sequence);
+        if (found == mTruth.rows.end()) return;
+        const eyetrack::CsvTable& truth = *mTruth.table;
+        const std::size_t row = found->second;
+        const eyetrack::PupilResult& p = step.pupil;
+        if (step.screen && truth.has("phase") && truth.has("target_x")) {
+            // Gaze accuracy on the settled validation targets, as calibrate measures it.
+            if (truth.text(row, "phase") == "validation") {
+                const cv::Point2d target(truth.number(row, "target_x"),
+                                         truth.number(row, "target_y"));
+                if (target != mLastTarget) {
+                    mLastTarget = target;
+                    mTargetOnsetMs = frame.tMs;
+                }
+                if (frame.tMs - mTargetOnsetMs >= kSettleMs && p.confidence >= 0.6)
+                    mGazeErrors.push_back(
+                        pipeline.mapper()->display().angularDistanceDeg(*step.screen, target));
+            }
+        }
+        if (truth.number(row, "visibility") >= eyetrack::kVisibleShare) {
+            ++mVisible;
+            const bool certain = !mTruth.hasDoubtful || truth.number(row, "doubtful") == 0.0;
+            if (certain) ++mCertainVisible;
+            if (p.found) {
+                const double e = std::hypot(p.centre().x - truth.number(row, "cx"),
+                                            p.centre().y - truth.number(row, "cy"));
+                mErrors.push_back(e);
+                if (e <= 5.0) {
+                    ++mWithin5;
+                    if (certain) ++mCertainWithin5;
+                }
+            }
+        }
+    }
+    void addJson(nlohmann::json& j) const {
+        if (!mTruth.table) return;
+        j["visible_frames"] = mVisible;
+        j["detection_rate_5px"] = mVisible ? static_cast<double>(mWithin5) / mVisible : 0.0;
+        j["median_error_px"] = eyetrack::median(mErrors);
+        if (mTruth.hasDoubtful) {
+            j["certain_visible_frames"] = mCertainVisible;
+            j["detection_rate_5px_certain"] =
+                mCertainVisible ? static_cast<double>(mCertainWithin5) / mCertainVisible : 0.0;
+        }
+        if (!mGazeErrors.empty()) {
+            double sum = 0.0;
+            for (const double e : mGazeErrors)
+                sum += e;
+            j["gaze_accuracy_deg"] = sum / static_cast<double>(mGazeErrors.size());
+            j["gaze_accuracy_samples"] = mGazeErrors.size();
+        }
+    }
+
+private:
+    const TrackTruth& mTruth;
+    int mVisible = 0, mWithin5 = 0, mCertainVisible = 0, mCertainWithin5 = 0;
+    cv::Point2d mLastTarget{-1e30, -1e30};
+    double mTargetOnsetMs = 0.0;
+    std::vector<double> mGazeErrors, mErrors;
+};
+
+void writePupilRow(std::ostream& s, const eyetrack::Frame& frame, const eyetrack::PupilResult& p) {
+    s << frame.sequence << ',' << cv::format("%.3f", frame.tMs) << ',';
+    if (p.found)
+        s << cv::format("%.3f,%.3f,%.3f,%.3f,%.2f,%.3f", p.centre().x, p.centre().y, p.semiMajor(),
+                        p.semiMinor(), p.majorAngleDeg(), p.confidence);
+    else
+        s << cv::format(",,,,,%.3f", p.confidence);
+    s << '\n';
+}
+
+// Latency: frame timestamp to gaze out on live cameras (same monotonic clock); from the moment
+// the source handed the frame over for recordings.
+double latencyMs(const eyetrack::FrameSource& source, const eyetrack::Frame& frame,
+                 std::chrono::steady_clock::time_point done) {
+    if (source.liveClock())
+        return std::chrono::duration<double, std::milli>(done.time_since_epoch()).count() -
+               frame.tMs;
+    return std::chrono::duration<double, std::milli>(done - frame.arrival).count();
+}
+
 } // namespace
 
 nlohmann::json runTrack(const TrackOptions& o) {
@@ -60,21 +170,8 @@ nlohmann::json runTrack(const TrackOptions& o) {
         throw ArgumentError("--model 3d maps to the screen and needs --calibration");
     std::unique_ptr<eyetrack::GazeMapper> mapper;
     if (!o.calibration.empty()) mapper = openGazeMapper(o);
-    std::optional<eyetrack::CsvTable> truth;
-    // Truth rows by frame number: eyesim writes every frame, hand labels only some.
-    std::map<std::uint64_t, std::size_t> truthRow;
-    if (!o.truth.empty()) {
-        truth = eyetrack::CsvTable::load(o.truth, {"frame", "cx", "cy", "visibility"});
-        for (std::size_t i = 0; i < truth->rows(); ++i) {
-            const double f = truth->number(i, "frame");
-            if (!(f >= 0.0) || f != std::floor(f))
-                throw ArgumentError("--truth " + o.truth + ": row " + std::to_string(i + 2) +
-                                    " has no whole frame number");
-            truthRow[static_cast<std::uint64_t>(f)] = i;
-        }
-    }
-    const bool hasDoubtful = truth && truth->has("doubtful");
-    int certainVisible = 0, certainWithin5 = 0;
+    const TrackTruth truth = loadTrackTruth(o);
+    TrackScore score(truth);
     std::unique_ptr<eyetrack::UdpEmitter> emitter;
     if (!o.emit.empty()) {
         emitter = std::make_unique<eyetrack::UdpEmitter>(o.emit, mapper->display());
@@ -96,12 +193,9 @@ nlohmann::json runTrack(const TrackOptions& o) {
     eyetrack::FrameSource* source = &pipeline.source();
     eyetrack::GazeMailbox mailbox;
 
-    int frames = 0, detected = 0, visible = 0, within5 = 0, saccades = 0;
-    cv::Point2d lastTarget(-1e30, -1e30);
-    double targetOnsetMs = 0.0;
-    std::vector<double> gazeErrors;
+    int frames = 0, detected = 0, saccades = 0;
     double lastGazeT = -1e300;
-    std::vector<double> errors, latencies;
+    std::vector<double> latencies;
     const auto start = std::chrono::steady_clock::now();
     double busyMs = 0.0;
     while (o.maxFrames <= 0 || frames < o.maxFrames) {
@@ -113,16 +207,7 @@ nlohmann::json runTrack(const TrackOptions& o) {
         ++frames;
         if (p.found) ++detected;
         if (sheet) sheet->add(frame->grey, p, frame->sequence);
-        if (pupilCsv) {
-            auto& s = pupilCsv->stream();
-            s << frame->sequence << ',' << cv::format("%.3f", frame->tMs) << ',';
-            if (p.found)
-                s << cv::format("%.3f,%.3f,%.3f,%.3f,%.2f,%.3f", p.centre().x, p.centre().y,
-                                p.semiMajor(), p.semiMinor(), p.majorAngleDeg(), p.confidence);
-            else
-                s << cv::format(",,,,,%.3f", p.confidence);
-            s << '\n';
-        }
+        if (pupilCsv) writePupilRow(pupilCsv->stream(), *frame, p);
         if (step.sample) {
             const eyetrack::GazeSample& sample = *step.sample;
             mailbox.publish(sample);
@@ -133,49 +218,10 @@ nlohmann::json runTrack(const TrackOptions& o) {
             }
             if (emitter) (void)emitter->send(sample);
         }
-        // Latency: frame timestamp to gaze out on live cameras (same monotonic clock); from the
-        // moment the source handed the frame over for recordings.
         const auto done = std::chrono::steady_clock::now();
         busyMs += std::chrono::duration<double, std::milli>(done - begin).count();
-        if (source->liveClock())
-            latencies.push_back(
-                std::chrono::duration<double, std::milli>(done.time_since_epoch()).count() -
-                frame->tMs);
-        else
-            latencies.push_back(
-                std::chrono::duration<double, std::milli>(done - frame->arrival).count());
-
-        const auto found = truth ? truthRow.find(frame->sequence) : truthRow.end();
-        const bool labelled = found != truthRow.end();
-        const std::size_t row = labelled ? found->second : 0;
-        if (labelled && step.screen && truth->has("phase") && truth->has("target_x")) {
-            // Gaze accuracy on the settled validation targets, as calibrate measures it.
-            if (truth->text(row, "phase") == "validation") {
-                const cv::Point2d target(truth->number(row, "target_x"),
-                                         truth->number(row, "target_y"));
-                if (target != lastTarget) {
-                    lastTarget = target;
-                    targetOnsetMs = frame->tMs;
-                }
-                if (frame->tMs - targetOnsetMs >= kSettleMs && p.confidence >= 0.6)
-                    gazeErrors.push_back(
-                        pipeline.mapper()->display().angularDistanceDeg(*step.screen, target));
-            }
-        }
-        if (labelled && truth->number(row, "visibility") >= eyetrack::kVisibleShare) {
-            ++visible;
-            const bool certain = !hasDoubtful || truth->number(row, "doubtful") == 0.0;
-            if (certain) ++certainVisible;
-            if (p.found) {
-                const double e = std::hypot(p.centre().x - truth->number(row, "cx"),
-                                            p.centre().y - truth->number(row, "cy"));
-                errors.push_back(e);
-                if (e <= 5.0) {
-                    ++within5;
-                    if (certain) ++certainWithin5;
-                }
-            }
-        }
+        latencies.push_back(latencyMs(*source, *frame, done));
+        score.add(*frame, step, pipeline);
     }
     if (frames == 0) throw ArgumentError("--source " + o.source + ": no frames");
     if (gazeCsv) gazeCsv->commit();
@@ -191,23 +237,7 @@ nlohmann::json runTrack(const TrackOptions& o) {
                      {"fps", frames / (busyMs / 1000.0)},
                      {"fps_with_decoding", frames / (wallMs / 1000.0)},
                      {"median_latency_ms", eyetrack::median(latencies)}};
-    if (truth) {
-        j["visible_frames"] = visible;
-        j["detection_rate_5px"] = visible ? static_cast<double>(within5) / visible : 0.0;
-        j["median_error_px"] = eyetrack::median(errors);
-        if (hasDoubtful) {
-            j["certain_visible_frames"] = certainVisible;
-            j["detection_rate_5px_certain"] =
-                certainVisible ? static_cast<double>(certainWithin5) / certainVisible : 0.0;
-        }
-        if (!gazeErrors.empty()) {
-            double sum = 0.0;
-            for (const double e : gazeErrors)
-                sum += e;
-            j["gaze_accuracy_deg"] = sum / static_cast<double>(gazeErrors.size());
-            j["gaze_accuracy_samples"] = gazeErrors.size();
-        }
-    }
+    score.addJson(j);
     if (mapped) {
         j["saccades"] = saccades;
         j["model"] = o.model;
