@@ -17,7 +17,6 @@
 #include "core/error.hpp"
 #include "eccentricity_layers.hpp"
 #include "foveation/eccentricity_layers.hpp"
-#include "foveation/point_set_cache.hpp"
 #include "frame_loop.hpp"
 #include "full_resolution.hpp"
 #include "layers_quality.hpp"

@@ -26,7 +26,6 @@
 #include "eccentricity_layers.hpp"
 #include "foveation/contrast_sensitivity.hpp"
 #include "foveation/neighbour_index.hpp"
-#include "foveation/point_set_cache.hpp"
 #include "frame_loop.hpp"
 #include "full_resolution.hpp"
 #include "gaze_input.hpp"

@@ -17,7 +17,6 @@
 #include "foveation/contrast_sensitivity.hpp"
 #include "foveation/gaze_trace.hpp"
 #include "foveation/neighbour_index.hpp"
-#include "foveation/point_set_cache.hpp"
 #include "frame_loop.hpp"
 #include "full_resolution.hpp"
 #include "gaze_view.hpp"

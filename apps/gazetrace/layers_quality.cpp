@@ -12,7 +12,6 @@
 #include "eccentricity_layers.hpp"
 #include "foveation/contrast_sensitivity.hpp"
 #include "foveation/eccentricity_layers.hpp"
-#include "foveation/point_set_cache.hpp"
 #include "frame_shots.hpp"
 #include "full_resolution.hpp"
 #include "method_choice.hpp"

@@ -22,7 +22,6 @@
 #include "eccentricity_layers.hpp"
 #include "foveation/gaze_trace.hpp"
 #include "foveation/neighbour_index.hpp"
-#include "foveation/point_set_cache.hpp"
 #include "frame_loop.hpp"
 #include "full_resolution.hpp"
 #include "gaze/gaze_tracker.hpp"

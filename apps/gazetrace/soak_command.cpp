@@ -27,7 +27,6 @@
 #include "bench_command.hpp"
 #include "core/error.hpp"
 #include "foveation/contrast_sensitivity.hpp"
-#include "foveation/point_set_cache.hpp"
 #include "frame_loop.hpp"
 #include "full_resolution.hpp"
 #include "method_choice.hpp"

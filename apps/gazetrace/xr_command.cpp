@@ -18,7 +18,6 @@
 #include "external_image_target.hpp"
 #include "eye_gaze.hpp"
 #include "foveation/neighbour_index.hpp"
-#include "foveation/point_set_cache.hpp"
 #include "frame_loop.hpp"
 #include "full_resolution.hpp"
 #include "gaze_input.hpp"

@@ -62,9 +62,9 @@ template <typename Gaze> struct FrameStages {
 };
 
 // Runs frames until `frames` were rendered (0: until a stage stops the loop); returns how many
-// were rendered.
-template <typename Gaze>
-uint32_t runFrameLoop(render::Renderer& renderer, const FrameClock& clock, uint32_t frames,
+// were rendered. `renderer` is a render::Renderer (any type with its renderFrame, for tests).
+template <typename Gaze, typename FrameRenderer>
+uint32_t runFrameLoop(FrameRenderer& renderer, const FrameClock& clock, uint32_t frames,
                       const FrameStages<Gaze>& stages) {
     FrameTick tick;
     while (frames == 0 || tick.index < frames) {
