@@ -331,7 +331,7 @@ class BenchRun {
 public:
     BenchRun(const BenchOptions& o, const foveation::PointSetParams& params,
              const std::filesystem::path& cache)
-        : mOptions(o), mFrames(o.quick ? 2 : 5), // median of >= 5 frames for Table 2
+        : options(o), frames(o.quick ? 2 : 5), // median of >= 5 frames for Table 2
           session(o.scene, params, cache), w(params.display.width), h(params.display.height),
           centre(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h)),
           table2(table2Rows(centre)),
@@ -344,8 +344,8 @@ public:
     [[nodiscard]] nlohmann::json table2Json();
     [[nodiscard]] nlohmann::json headlineJson();
 
-    const BenchOptions& mOptions;
-    const int mFrames;
+    const BenchOptions& options;
+    const int frames;
     BenchFrames session;
     const uint32_t w, h;
     const glm::vec2 centre;
@@ -383,7 +383,7 @@ void BenchRun::registerTable2() {
                 }
             })
             ->UseManualTime()
-            ->Iterations(mFrames)
+            ->Iterations(frames)
             ->Unit(benchmark::kMillisecond);
     }
 }
@@ -425,7 +425,7 @@ void BenchRun::addHeadline(uint32_t rays, int pairs, bool warm) {
 
 void BenchRun::runBenchmarks() {
     registerTable2();
-    addHeadline(rayCounts.front(), mFrames, true);
+    addHeadline(rayCounts.front(), frames, true);
     std::printf("gazetrace bench on %s (%s)\n", session.renderer.context().deviceName().c_str(),
                 session.renderer.context().deviceDescription().c_str());
     std::fflush(stdout);
@@ -449,10 +449,10 @@ void BenchRun::runBenchmarks() {
     };
     const double pairEstimateS =
         1e-3 * (wallMs("reference") + wallMs("foveated")) * static_cast<double>(rayCounts.back());
-    const int minPairs = mOptions.quick ? 1 : 2;
+    const int minPairs = options.quick ? 1 : 2;
     const int pairs =
         std::clamp(static_cast<int>(kHeadlinePairBudgetS / std::max(pairEstimateS, 1e-6)), minPairs,
-                   mOptions.quick ? minPairs : kHeadlineMaxPairs);
+                   options.quick ? minPairs : kHeadlineMaxPairs);
     // A device slow enough to get the fewest pairs gets no warm-up pair either: one 32-ray pair
     // on lavapipe takes 40 s, far beyond any start-up effect.
     addHeadline(rayCounts.back(), pairs, pairs > minPairs);
@@ -471,7 +471,7 @@ nlohmann::json BenchRun::rayCostByGaze() {
         s.taa = false;
         warmUp([&] { return session.foveated(s).wallMs; });
         std::vector<double> ms;
-        for (int i = 0; i < mFrames; ++i) {
+        for (int i = 0; i < frames; ++i) {
             ms.push_back(passMs(session.foveated(s), "point_sample"));
         }
         const auto points = static_cast<double>(session.pointSet.pointsSampled(g));
@@ -632,7 +632,7 @@ nlohmann::json runBench(const BenchOptions& o) {
     b.runBenchmarks();
     const nlohmann::json perRay = b.rayCostByGaze();
     const nlohmann::json layerPredicted = layerPredictions();
-    const nlohmann::json layerMeasured = measureLayers(session.renderer, b.mFrames);
+    const nlohmann::json layerMeasured = measureLayers(session.renderer, b.frames);
     const nlohmann::json layerQuality =
         measureLayerQuality({.quick = o.quick, .scene = o.scene, .cacheDir = o.cacheDir});
     const nlohmann::json table2json = b.table2Json();

@@ -292,9 +292,9 @@ ResizeAt parseResize(const std::string& text) {
 // The window, its swapchain and overlay, the camera and the gaze of one demo run, and the frame
 // loop's stages over them: begin (input, camera, swapchain image), gaze, views, targets and
 // done (present, timings, log).
-class DemoSession {
+class DemoRun {
 public:
-    explicit DemoSession(const DemoOptions& o);
+    explicit DemoRun(const DemoOptions& o);
     nlohmann::json run();
 
 private:
@@ -356,7 +356,7 @@ private:
     int mScreenshotsTaken = 0;
 };
 
-DemoSession::DemoSession(const DemoOptions& o)
+DemoRun::DemoRun(const DemoOptions& o)
     : mOptions(o), mResize(parseResize(o.resize)), mCameraArg(parseCamera(o.camera)) {
     if (!o.cameraPath.empty()) mPath = scene::CameraPath::load(o.cameraPath);
     if (!o.log.empty()) {
@@ -415,7 +415,7 @@ DemoSession::DemoSession(const DemoOptions& o)
     mFly.emplace(start, std::max(0.25f * sceneSize, 0.1f));
 }
 
-void DemoSession::handleKey(int key) {
+void DemoRun::handleKey(int key) {
     if (key == GLFW_KEY_ESCAPE) mWindow->requestClose();
     if (key == GLFW_KEY_T) mSettings.taa = !mSettings.taa;
     if (key == GLFW_KEY_TAB && mOverlay) mOverlay->toggle();
@@ -444,7 +444,7 @@ void DemoSession::handleKey(int key) {
     }
 }
 
-FrameStart DemoSession::begin(const FrameTick& t) {
+FrameStart DemoRun::begin(const FrameTick& t) {
     if (mWindow->shouldClose()) return FrameStart::Stop;
     if (mResize.pending && t.index == mResize.frame) {
         mWindow->setSize(mResize.size.width, mResize.size.height);
@@ -491,7 +491,7 @@ FrameStart DemoSession::begin(const FrameTick& t) {
     return FrameStart::Render;
 }
 
-std::optional<GazeReading> DemoSession::readGaze(const FrameTick& t) {
+std::optional<GazeReading> DemoRun::readGaze(const FrameTick& t) {
     std::optional<GazeReading> reading = mGaze->read(t.timeMs);
     if (reading) {
         mLastReading = reading;
@@ -500,8 +500,8 @@ std::optional<GazeReading> DemoSession::readGaze(const FrameTick& t) {
     return reading;
 }
 
-std::vector<render::View> DemoSession::hmdViews(const std::optional<GazeReading>& reading,
-                                                VkExtent2D ext) {
+std::vector<render::View> DemoRun::hmdViews(const std::optional<GazeReading>& reading,
+                                            VkExtent2D ext) {
     // Each eye in its half of the window; the gaze is a pixel of the left eye's image (the
     // mouse over either half counts as that point of the left eye).
     const display::HmdProfile& p = mRig->profile();
@@ -536,7 +536,7 @@ std::vector<render::View> DemoSession::hmdViews(const std::optional<GazeReading>
     return {eyes.begin(), eyes.end()};
 }
 
-std::vector<render::View> DemoSession::views(const std::optional<GazeReading>& reading) {
+std::vector<render::View> DemoRun::views(const std::optional<GazeReading>& reading) {
     const VkExtent2D ext = mSwapchain->extent();
     mExtent = ext; // the frame's size, though presenting it may recreate the swapchain
     if (mRig) return hmdViews(reading, ext);
@@ -555,8 +555,8 @@ std::vector<render::View> DemoSession::views(const std::optional<GazeReading>& r
     return {view};
 }
 
-std::vector<render::OutputTarget*> DemoSession::targets(std::span<const render::View> views,
-                                                        const FrameTick& t) {
+std::vector<render::OutputTarget*> DemoRun::targets(std::span<const render::View> views,
+                                                    const FrameTick& t) {
     mTarget->setImage(*mImage, mSwapchain->format(), mExtent);
     if (mOverlay) {
         const std::size_t recent = std::min<std::size_t>(30, mFrameTimes.size());
@@ -581,8 +581,8 @@ std::vector<render::OutputTarget*> DemoSession::targets(std::span<const render::
 
 // Frames the GPU finished: their GPU time and the latency from their gaze sample to the moment
 // the frame was known finished (the driver offers no present timing here).
-void DemoSession::recordCompleted(const FrameTick& t, std::span<const render::View> views,
-                                  const render::FrameResult& result) {
+void DemoRun::recordCompleted(const FrameTick& t, std::span<const render::View> views,
+                              const render::FrameResult& result) {
     std::vector<rg::CompletedFrame> done = mRenderer->takeCompleted();
     if (result.timings) done.push_back({result.number, *result.timings});
     const auto finishedAt = SteadyClock::now();
@@ -605,8 +605,8 @@ void DemoSession::recordCompleted(const FrameTick& t, std::span<const render::Vi
     }
 }
 
-bool DemoSession::done(const FrameTick& t, const std::optional<GazeReading>& reading,
-                       std::span<const render::View> views, const render::FrameResult& result) {
+bool DemoRun::done(const FrameTick& t, const std::optional<GazeReading>& reading,
+                   std::span<const render::View> views, const render::FrameResult& result) {
     mStats.rays = 0;
     for (const auto& v : result.views)
         mStats.rays += v.rays;
@@ -634,7 +634,7 @@ bool DemoSession::done(const FrameTick& t, const std::optional<GazeReading>& rea
     return true;
 }
 
-nlohmann::json DemoSession::run() {
+nlohmann::json DemoRun::run() {
     FrameStages<std::optional<GazeReading>> stages;
     stages.begin = [this](const FrameTick& t) { return begin(t); };
     stages.gaze = [this](const FrameTick& t) { return readGaze(t); };
@@ -653,7 +653,7 @@ nlohmann::json DemoSession::run() {
     return summary(frames);
 }
 
-nlohmann::json DemoSession::summary(uint32_t frames) {
+nlohmann::json DemoRun::summary(uint32_t frames) {
     mRenderer->waitIdle();
     if (!mOptions.screenshot.empty()) {
         if (!mTarget->screenshot()) {
@@ -694,7 +694,7 @@ nlohmann::json DemoSession::summary(uint32_t frames) {
 
 nlohmann::json runDemo(const DemoOptions& o) {
     checkOptions(o);
-    DemoSession session(o);
+    DemoRun session(o);
     return session.run();
 }
 
