@@ -7,8 +7,8 @@
 
 #include "core/error.hpp"
 #include "eye_commands.hpp"
-#include "io/atomic_file.hpp"
-#include "io/csv_tables.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/csv_tables.hpp"
 #include "sim/synthetic_eye.hpp"
 
 namespace gt::app {

@@ -1,4 +1,4 @@
-#include "io/contact_sheet.hpp"
+#include "formats/contact_sheet.hpp"
 
 #include <algorithm>
 

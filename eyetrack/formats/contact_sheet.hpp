@@ -8,7 +8,7 @@
 
 #include <opencv2/core/mat.hpp>
 
-#include "io/atomic_file.hpp"
+#include "formats/atomic_file.hpp"
 #include "pupil/pupil_detector.hpp"
 
 namespace gt::eyetrack {
