@@ -127,7 +127,10 @@ bool DemoOverlay::build(DemoSettings& s, const DemoStats& stats, std::optional<g
 
 bool DemoOverlay::panel(DemoSettings& s, const DemoStats& stats) {
     const OverlayLayout& layout = mLayout;
-    ImGui::SetNextWindowPos(ImVec2(layout.position.x, layout.position.y), ImGuiCond_Always);
+    // Anchored at its corner: a panel smaller than its largest size hugs the corner too.
+    const glm::vec2 pivot(layout.corner % 2 == 1 ? 1.0f : 0.0f, layout.corner >= 2 ? 1.0f : 0.0f);
+    const glm::vec2 anchor = layout.position + pivot * layout.maxSize;
+    ImGui::SetNextWindowPos(ImVec2(anchor.x, anchor.y), ImGuiCond_Always, ImVec2(pivot.x, pivot.y));
     ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(layout.maxSize.x, layout.maxSize.y));
     ImGui::SetNextWindowBgAlpha(0.75f);
     ImGui::Begin("gazetrace (Tab hides)", nullptr,
