@@ -1,5 +1,5 @@
 // The contact sheet of a long clip shows the whole clip: its tiles spread evenly from the first
-// frame to the last, not the first 48 every-n-th frames (0..1175 of 3000 at every 25th).
+// frame to the last, not just its first 48 every-n-th frames (0..1175 of 3000 at every 25th).
 #include <algorithm>
 #include <filesystem>
 

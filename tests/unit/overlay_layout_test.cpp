@@ -27,7 +27,7 @@ TEST(OverlayLayout, FitsTheDefaultWindowOffTheFovea) {
         const OverlayLayout l = overlayLayout(window, gaze, kPpd);
         expectInside(l, window);
         EXPECT_GT(distanceToPanel(l, gaze), radius) << gaze.x << "," << gaze.y;
-        // Small: a share of the window, not the 60 % the fixed panel took.
+        // Small: at most 15 % of the window.
         EXPECT_LE(l.maxSize.x * l.maxSize.y, 0.15f * window.x * window.y);
     }
 }
