@@ -27,6 +27,7 @@
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "full_resolution.hpp"
+#include "gaze_bounds.hpp"
 #include "gaze_input.hpp"
 #include "gaze_mapping.hpp"
 #include "layers_command.hpp"
@@ -280,6 +281,9 @@ nlohmann::json runDemo(const DemoOptions& o) {
     DemoSettings settings{
         o.method, o.interp, o.k,   o.method == "foveated" ? o.raysPerPoint : o.spp,
         o.scale,  o.taa,    o.view};
+    const DemoDefaults defaults = demoDefaults(ctx.properties().deviceType);
+    applyDemoDefaults(settings, defaults, o.given);
+    log::info("demo defaults: " + defaults.label + " (options given on the command line win)");
     Methods methods(renderer, settings, o.cacheDir,
                     o.displaySpace && !o.hmd.empty() && o.distortion,
                     layerSettings(o.slope, o.layers, o.spp));
@@ -291,6 +295,8 @@ nlohmann::json runDemo(const DemoOptions& o) {
     DemoStats stats;
     stats.gazeSource = gaze->describe();
     stats.device = ctx.deviceName();
+    stats.defaults = defaults.label;
+    OffScreenGazeWarning offScreen(gaze->describe());
     std::optional<render::StereoRig> rig;
     if (!o.hmd.empty()) rig.emplace(display::hmdProfile(o.hmd), o.distortion);
 
@@ -460,6 +466,7 @@ nlohmann::json runDemo(const DemoOptions& o) {
             view.method = &methods.forSize(ext.width, ext.height);
             view.post.taa = settings.taa && settings.view.empty();
             if (reading) view.saccade = reading->saccade;
+            if (gazePx && !calibrationTarget) offScreen.check(*gazePx, ext.width, ext.height);
             const glm::vec2 lastPixel(static_cast<float>(ext.width) - 1.0f,
                                       static_cast<float>(ext.height) - 1.0f);
             view.gaze = glm::clamp(calibrationTarget
@@ -479,6 +486,7 @@ nlohmann::json runDemo(const DemoOptions& o) {
                                               30, static_cast<std::ptrdiff_t>(frameTimes.size())),
                                       frameTimes.end()));
             stats.latencyMs = latencies.empty() ? 0.0 : latencies.back();
+            stats.gaze = views[0].gaze;
             stats.pointsSampled =
                 methods.current() ? methods.current()->pointsSampled(views[0].gaze) : 0;
             (void)overlay->build(settings, stats, calibrationTarget);
@@ -558,6 +566,7 @@ nlohmann::json runDemo(const DemoOptions& o) {
             {"present_mode", vk::toString(swapchain.presentMode())},
             {"window", {swapchain.extent().width, swapchain.extent().height}},
             {"method", o.method},
+            {"defaults", defaults.label},
             {"hmd", o.hmd},
             {"gaze_source", calibration ? o.gaze : gaze->describe()},
             {"frames", frame},

@@ -13,6 +13,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "eval_plots.hpp"
+#include "eval_progress.hpp"
 #include "foveation/contrast_sensitivity.hpp"
 #include "foveation/gaze_trace.hpp"
 #include "foveation/neighbour_index.hpp"
@@ -53,13 +54,16 @@ struct Geometry {
 // A view rendered and read back as a picture.
 class Shooter {
 public:
-    explicit Shooter(render::Renderer& r) : mShots(r) {}
+    Shooter(render::Renderer& r, EvalProgress& p) : mShots(r), mProgress(p) {}
     RgbaImage shot(const render::View& v, render::FoveationMethod& m, uint64_t* rays = nullptr) {
-        return {v.width, v.height, mShots.shot(v, m, rays)};
+        RgbaImage img{v.width, v.height, mShots.shot(v, m, rays)};
+        mProgress.frame(v.name);
+        return img;
     }
 
 private:
     FrameShots mShots;
+    EvalProgress& mProgress;
 };
 
 nlohmann::json bandsJson(const std::array<double, kBands>& v) {
@@ -342,7 +346,9 @@ nlohmann::json runEval(const EvalOptions& o) {
                                .validate = o.validate,
                                .framesInFlight = 1,
                                .deviceOverride = device ? device : ""});
-    Shooter shooter(renderer);
+    EvalProgress progress(
+        evalFrameCount(o, givenRef.has_value(), pursuit ? pursuit->samples().size() : 0));
+    Shooter shooter(renderer, progress);
     scene::Camera camera = renderer.scene().camera;
     if (cameraArg) {
         camera = cameraArg->camera(camera.yfov);
@@ -458,6 +464,7 @@ nlohmann::json runEval(const EvalOptions& o) {
     std::vector<std::array<double, kBands>> bars;
     nlohmann::json plotSeries = nlohmann::json::array();
     {
+        progress.step("scoring foveated (FLIP, PSNR, SSIM per band)");
         Scores s = score(fov, ref, g, bleedMask);
         s.json["rays"] = rays;
         s.json["settings"] = {{"reconstruction", o.reconstruction},
@@ -486,6 +493,7 @@ nlohmann::json runEval(const EvalOptions& o) {
              {"uniform_catmull_rom", &b.bicubic},
              {"full_resolution", &b.fullRes}}};
         for (const auto& [name, img] : rows) {
+            progress.step(std::string("scoring ") + name);
             Scores s = score(*img, ref, g, bleedMask);
             const bool full = std::string(name) == "full_resolution";
             s.json["rays"] = full ? static_cast<uint64_t>(b.fullSpp) * g.width * g.height
@@ -505,7 +513,7 @@ nlohmann::json runEval(const EvalOptions& o) {
     for (const auto& b : bars) {
         maxBar = std::max(maxBar, *std::max_element(b.begin(), b.end()));
     }
-    writePng(out / "bands.png", bandBars(bars, maxBar * 1.1));
+    writePng(out / "bands.png", bandBars(bars, maxBar * 1.1, seriesNames(plotSeries)));
     summary["plots"] = {
         {"bands.png", "FLIP per band (0-5, 5-10, 10-20, 20+ deg), one bar per method"},
         {"series", plotSeries}};
@@ -542,6 +550,7 @@ nlohmann::json runEval(const EvalOptions& o) {
             const double t =
                 path->startMs() + (path->endMs() - path->startMs()) * i / (seqFrames - 1);
             cams.push_back(path->at(t, camera.yfov));
+            progress.step("depth map " + std::to_string(i + 1) + "/" + std::to_string(seqFrames));
             depths.push_back(depthMap(renderer, cams.back(), g.width, g.height));
         }
         for (const bool isRef : {false, true}) {
@@ -610,6 +619,7 @@ nlohmann::json runEval(const EvalOptions& o) {
             auto m = scale == o.scale ? std::move(foveated) : makeFoveated(scale);
             uint64_t r = 0;
             const RgbaImage img = foveatedFrame(*m, "sweep_foveated", r);
+            progress.step("scoring the sweep at scale " + std::to_string(scale).substr(0, 3));
             const Scores fs = score(img, ref, g, bleedMask);
             const Baselines b = baselines(r);
             Scores us = score(b.bilinear, ref, g, bleedMask);
@@ -624,7 +634,7 @@ nlohmann::json runEval(const EvalOptions& o) {
             foveated = std::move(m);
         }
         summary["sweep"] = sweep;
-        writePng(out / "curves.png", curvesImage(curves));
+        writePng(out / "curves.png", curvesImage(curves, {"foveated", "uniform_bilinear"}));
         summary["plots"]["curves.png"] =
             "mean FLIP against rays (log): foveated (series 0) and uniform bilinear (series 1)";
     }
@@ -642,18 +652,19 @@ std::string evalText(const nlohmann::json& s) {
                   s["pixels_per_degree"].get<double>(), s["reference_spp"].dump().c_str());
     t << buf;
     t << "method                  rays      FLIP 0-5   5-10  10-20    20+ | flip_ecc 5-10 10-20  "
-         "20+ | PSNR 0-5  SSIM 0-5 | bleed\n";
+         "20+ | PSNR 0-5  SSIM 0-5 | bleed | FLIP all\n";
     for (const auto& [name, m] : s["methods"].items()) {
         const auto& b = m["bands"];
         std::snprintf(buf, sizeof buf,
                       "%-20s %9llu   %6.4f %6.4f %6.4f %6.4f |        %6.4f %6.4f %6.4f | %7.2f  "
-                      "%7.4f | %5.2f\n",
+                      "%7.4f | %5.2f |   %6.4f\n",
                       name.c_str(), static_cast<unsigned long long>(m["rays"].get<uint64_t>()),
                       b["0-5"]["flip"].get<double>(), b["5-10"]["flip"].get<double>(),
                       b["10-20"]["flip"].get<double>(), b["20+"]["flip"].get<double>(),
                       b["5-10"]["flip_ecc"].get<double>(), b["10-20"]["flip_ecc"].get<double>(),
                       b["20+"]["flip_ecc"].get<double>(), b["0-5"]["psnr_db"].get<double>(),
-                      b["0-5"]["ssim"].get<double>(), m["bleed_mad"].get<double>());
+                      b["0-5"]["ssim"].get<double>(), m["bleed_mad"].get<double>(),
+                      m["flip_mean"].get<double>());
         t << buf;
     }
     if (s.contains("temporal")) {

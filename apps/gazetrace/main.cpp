@@ -736,6 +736,8 @@ int main(int argc, char** argv) {
             demo.taa = demoTaa == "on";
             demo.distortion = !demoNoDistortion;
             demo.overlay = demoOverlay == "on";
+            demo.given = {demoCmd->count("--interp") > 0, demoCmd->count("--k") > 0,
+                          demoCmd->count("--scale") > 0, demoCmd->count("--rays-per-point") > 0};
             const nlohmann::json result = gt::app::runDemo(demo);
             if (demoJson) std::cout << result.dump() << std::endl;
         } else if (xrCmd->parsed()) {

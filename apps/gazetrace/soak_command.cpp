@@ -184,7 +184,9 @@ nlohmann::json runSoak(const SoakOptions& o) {
         {"frames", o.frames},
         {"seconds", seconds},
         {"ms_per_frame", 1000.0 * seconds / o.frames},
-        {"rays", rays},
+        // Per frame (the mean over the run's phases), as every command reports rays.
+        {"rays", o.frames ? (rays + o.frames / 2) / o.frames : 0},
+        {"rays_total", rays},
         {"saccades", saccades},
         {"readback_bytes", readbackBytes},
         {"phases", phases},

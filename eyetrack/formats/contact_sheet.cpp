@@ -11,18 +11,13 @@ namespace gt::eyetrack {
 
 namespace {
 constexpr int kTileWidth = 320; // wider frames are scaled down, smaller ones kept as they are
-} // namespace
+// The pool holds up to four candidates per tile: after thinning at least two, so the candidate
+// nearest each evenly spaced frame lies within a quarter of the tiles' spacing of it.
+constexpr std::size_t kPoolTiles = 4 * ContactSheet::kMaxTiles;
 
-ContactSheet::ContactSheet(const std::filesystem::path& png, int every)
-    : mOut(png), mEvery(std::max(1, every)) {}
-
-void ContactSheet::add(const cv::Mat& grey, const PupilResult& pupil, std::uint64_t sequence) {
-    const bool keep = mSeen++ % static_cast<std::uint64_t>(mEvery) == 0;
-    if (!keep || tiles() >= kMaxTiles || grey.empty()) return;
-    const double s = std::min(1.0, static_cast<double>(kTileWidth) / grey.cols);
+cv::Mat drawTile(const cv::Mat& grey, double s, const PupilResult& pupil, std::uint64_t sequence) {
     cv::Mat tile;
-    cv::resize(grey, tile, cv::Size(), s, s, cv::INTER_AREA);
-    cv::cvtColor(tile, tile, cv::COLOR_GRAY2BGR);
+    cv::cvtColor(grey, tile, cv::COLOR_GRAY2BGR);
     const cv::Scalar green(60, 220, 60), red(40, 40, 230), white(255, 255, 255);
     std::string label = "#" + std::to_string(sequence);
     if (pupil.found) {
@@ -42,23 +37,93 @@ void ContactSheet::add(const cv::Mat& grey, const PupilResult& pupil, std::uint6
                   cv::Scalar(0, 0, 0), cv::FILLED); // legible on a bright eyelid too
     cv::putText(tile, label, {4, 4 + text.height}, cv::FONT_HERSHEY_PLAIN, 0.9,
                 pupil.found ? white : red, 1, cv::LINE_AA);
-    mTiles.push_back(std::move(tile));
+    return tile;
+}
+} // namespace
+
+std::vector<std::uint64_t> spreadFrames(std::uint64_t frames, int tiles) {
+    std::vector<std::uint64_t> out;
+    if (frames == 0 || tiles <= 0) return out;
+    const auto n = static_cast<std::uint64_t>(tiles);
+    if (frames <= n || n == 1) {
+        for (std::uint64_t i = 0; i < std::min(frames, n); ++i)
+            out.push_back(i);
+        return out;
+    }
+    for (std::uint64_t i = 0; i < n; ++i) // rounded to the nearest frame
+        out.push_back((i * (frames - 1) + (n - 1) / 2) / (n - 1));
+    return out;
+}
+
+ContactSheet::ContactSheet(const std::filesystem::path& png, int every)
+    : mOut(png), mEvery(std::max(1, every)), mStride(static_cast<std::uint64_t>(mEvery)) {}
+
+void ContactSheet::add(const cv::Mat& grey, const PupilResult& pupil, std::uint64_t sequence) {
+    const std::uint64_t index = mSeen++;
+    if (grey.empty()) return;
+    Tile t{index, sequence, {}, std::min(1.0, static_cast<double>(kTileWidth) / grey.cols), pupil};
+    cv::resize(grey, t.grey, cv::Size(), t.scale, t.scale, cv::INTER_AREA);
+    if (index % mStride != 0) {
+        mLast = std::move(t);
+        return;
+    }
+    mLast.reset();
+    mPool.push_back(std::move(t));
+    if (mPool.size() > kPoolTiles) {
+        mStride *= 2;
+        std::erase_if(mPool, [this](const Tile& p) { return p.index % mStride != 0; });
+    }
+}
+
+std::vector<const ContactSheet::Tile*> ContactSheet::chosen() const {
+    std::vector<const Tile*> candidates;
+    for (const Tile& t : mPool)
+        candidates.push_back(&t);
+    const std::uint64_t everyN =
+        (mSeen + static_cast<std::uint64_t>(mEvery) - 1) / static_cast<std::uint64_t>(mEvery);
+    if (everyN <= static_cast<std::uint64_t>(kMaxTiles)) return candidates; // every n-th frame
+    if (mLast) candidates.push_back(&*mLast);
+    // The candidate nearest each evenly spaced frame, each after the one chosen before it.
+    std::vector<const Tile*> out;
+    std::size_t next = 0;
+    for (const std::uint64_t f : spreadFrames(mSeen, kMaxTiles)) {
+        std::size_t best = next;
+        auto distance = [f](const Tile* t) { return t->index > f ? t->index - f : f - t->index; };
+        for (std::size_t c = next; c < candidates.size(); ++c) {
+            if (distance(candidates[c]) < distance(candidates[best])) best = c;
+            if (candidates[c]->index > f) break;
+        }
+        if (best >= candidates.size()) break;
+        out.push_back(candidates[best]);
+        next = best + 1;
+    }
+    return out;
+}
+
+std::vector<std::uint64_t> ContactSheet::tileSequences() const {
+    std::vector<std::uint64_t> out;
+    for (const Tile* t : chosen())
+        out.push_back(t->sequence);
+    return out;
 }
 
 void ContactSheet::write() {
-    if (mTiles.empty())
+    const std::vector<const Tile*> shown = chosen();
+    if (shown.empty())
         throw EyetrackError(mOut.target().string() + ": no frames for the contact sheet");
     int tw = 0, th = 0;
-    for (const cv::Mat& t : mTiles) {
-        tw = std::max(tw, t.cols);
-        th = std::max(th, t.rows);
+    for (const Tile* t : shown) {
+        tw = std::max(tw, t->grey.cols);
+        th = std::max(th, t->grey.rows);
     }
-    const int cols = std::min(kColumns, tiles());
-    const int rows = (tiles() + cols - 1) / cols;
+    const int count = static_cast<int>(shown.size());
+    const int cols = std::min(kColumns, count);
+    const int rows = (count + cols - 1) / cols;
     cv::Mat sheet(rows * th, cols * tw, CV_8UC3, cv::Scalar(32, 32, 32));
-    for (int i = 0; i < tiles(); ++i) {
-        const cv::Mat& t = mTiles[static_cast<std::size_t>(i)];
-        t.copyTo(sheet(cv::Rect((i % cols) * tw, (i / cols) * th, t.cols, t.rows)));
+    for (int i = 0; i < count; ++i) {
+        const Tile& t = *shown[static_cast<std::size_t>(i)];
+        drawTile(t.grey, t.scale, t.pupil, t.sequence)
+            .copyTo(sheet(cv::Rect((i % cols) * tw, (i / cols) * th, t.grey.cols, t.grey.rows)));
     }
     std::vector<uchar> bytes;
     if (!cv::imencode(".png", sheet, bytes))
