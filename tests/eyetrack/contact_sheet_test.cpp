@@ -8,7 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <unistd.h>
 
-#include "io/contact_sheet.hpp"
+#include "formats/contact_sheet.hpp"
 
 namespace gt::eyetrack {
 namespace {
