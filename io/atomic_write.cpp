@@ -55,9 +55,14 @@ int writeAll(int fd, const std::byte* data, std::size_t size) {
     return 0;
 }
 
-} // namespace
+// ".tmp<pid>_<n>": unique per process and call, since two processes may write the same cache
+// file at once.
+std::string temporarySuffix() {
+    static std::atomic<unsigned> counter{0};
+    return ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
+}
 
-void writeFileAtomic(const std::filesystem::path& path, std::span<const std::byte> bytes) {
+void requireFolder(const std::filesystem::path& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) fail(path, "it is a folder", 0);
     const std::filesystem::path parent =
@@ -65,10 +70,17 @@ void writeFileAtomic(const std::filesystem::path& path, std::span<const std::byt
     if (!std::filesystem::is_directory(parent, ec)) {
         fail(path, "folder " + parent.string() + " does not exist", 0);
     }
-    // Unique per process and call: two processes may write the same cache file at once.
-    static std::atomic<unsigned> counter{0};
+}
+
+} // namespace
+
+void writeFileAtomic(const std::filesystem::path& path, std::span<const std::byte> bytes) {
+    requireFolder(path);
+    const std::filesystem::path parent =
+        path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
+    std::error_code ec;
     std::filesystem::path temp = path;
-    temp += ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
+    temp += temporarySuffix();
     const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd < 0) fail(path, "cannot create a file in " + parent.string(), errno);
     auto abandon = [&](const std::string& what, int error) {
@@ -105,6 +117,46 @@ AtomicFile::AtomicFile(std::filesystem::path target) : mTarget(std::move(target)
 void AtomicFile::commit() {
     if (mCommitted) return;
     writeFileAtomic(mTarget, std::string_view(mText.view()));
+    mCommitted = true;
+}
+
+StagedFile::StagedFile(std::filesystem::path target) : mTarget(std::move(target)) {
+    requireFolder(mTarget);
+    // The writer picks the format from the extension, so the temporary keeps it.
+    mTemp = mTarget.parent_path() /
+            (mTarget.stem().string() + temporarySuffix() + mTarget.extension().string());
+}
+
+StagedFile::~StagedFile() {
+    if (mCommitted) return;
+    std::error_code ec;
+    std::filesystem::remove(mTemp, ec);
+}
+
+void StagedFile::commit() {
+    if (mCommitted) return;
+    std::error_code ec;
+    auto abandon = [&](const std::string& what, int error) {
+        std::filesystem::remove(mTemp, ec);
+        fail(mTarget, what, error);
+    };
+    if (!std::filesystem::is_regular_file(mTemp, ec)) abandon("nothing was written", 0);
+    const std::uintmax_t size = std::filesystem::file_size(mTemp, ec);
+    if (ec) abandon("cannot read the size of " + mTemp.string(), ec.value());
+    // The seam: the bytes another writer put there count as written here.
+    if (const int injected = fault().error.load(); injected != 0 && size > fault().okBytes.load()) {
+        abandon("write failed", injected);
+    }
+    const int fd = ::open(mTemp.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) abandon("cannot open " + mTemp.string(), errno);
+    if (::fsync(fd) != 0) {
+        const int e = errno;
+        ::close(fd);
+        abandon("fsync failed", e);
+    }
+    if (::close(fd) != 0) abandon("close failed", errno);
+    std::filesystem::rename(mTemp, mTarget, ec);
+    if (ec) abandon("cannot replace it", ec.value());
     mCommitted = true;
 }
 

@@ -40,9 +40,35 @@ private:
     bool mCommitted = false;
 };
 
+// A file another library writes by name (OpenCV's video writer, which picks the container from
+// the extension): it writes to temp(), a unique name beside the target that keeps the target's
+// extension, and commit() finishes it as writeFileAtomic does: the fsync() and the close() are
+// checked, then rename() replaces the target. Until then nothing exists under the target's
+// name; destroyed without commit() (a failed run), the temporary is removed and an existing
+// file of that name stays as it was. The constructor fails at once when the target's folder
+// does not exist or the target is a folder.
+class StagedFile {
+public:
+    explicit StagedFile(std::filesystem::path target);
+    ~StagedFile();
+    StagedFile(const StagedFile&) = delete;
+    StagedFile& operator=(const StagedFile&) = delete;
+    [[nodiscard]] const std::filesystem::path& temp() const noexcept { return mTemp; }
+    [[nodiscard]] const std::filesystem::path& target() const noexcept { return mTarget; }
+    // Throws WriteError (the temporary removed) when nothing was written under temp(), or the
+    // fsync or the rename fails.
+    void commit();
+
+private:
+    std::filesystem::path mTarget;
+    std::filesystem::path mTemp;
+    bool mCommitted = false;
+};
+
 // The write-fault seam for tests: while set, writes fail with `error` (e.g. ENOSPC, a full
-// disk) after `okBytes` bytes of the file. GAZETRACE_WRITE_FAULT=enospc in the environment sets
-// it for a whole process (command-line tests).
+// disk) after `okBytes` bytes of the file (a StagedFile longer than that fails its commit()).
+// GAZETRACE_WRITE_FAULT=enospc in the environment sets it for a whole process (command-line
+// tests).
 namespace testing {
 void failWrites(int error, std::size_t okBytes = 0);
 void clearWriteFaults();

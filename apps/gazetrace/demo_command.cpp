@@ -28,6 +28,7 @@
 #include "foveation/neighbour_index.hpp"
 #include "frame_loop.hpp"
 #include "full_resolution.hpp"
+#include "gaze_bounds.hpp"
 #include "gaze_input.hpp"
 #include "gaze_mapping.hpp"
 #include "gaze_view.hpp"
@@ -341,6 +342,8 @@ private:
     std::optional<DemoMethods> mMethods;
     std::optional<DemoOverlay> mOverlay;
     DemoStats mStats;
+    DemoDefaults mDefaults;
+    std::optional<OffScreenGazeWarning> mOffScreen;
     std::optional<render::StereoRig> mRig;
     std::optional<FlyCamera> mFly;
     std::optional<std::vector<scene::CameraKey>> mRecording;
@@ -390,9 +393,13 @@ DemoRun::DemoRun(const DemoOptions& o)
     vk::Context& ctx = mRenderer->context();
     mSwapchain.emplace(ctx, mWindow->framebufferSize(), vk::parsePresentMode(o.present));
     mTarget.emplace(ctx);
-    mSettings =
-        liveSettingsOf({o.method, o.interp, o.k, o.method == "foveated" ? o.raysPerPoint : o.spp,
-                        o.scale, o.taa, o.view});
+    DemoSettings words{
+        o.method, o.interp, o.k,   o.method == "foveated" ? o.raysPerPoint : o.spp,
+        o.scale,  o.taa,    o.view};
+    mDefaults = demoDefaults(ctx.properties().deviceType);
+    applyDemoDefaults(words, mDefaults, o.given);
+    log::info("demo defaults: " + mDefaults.label + " (options given on the command line win)");
+    mSettings = liveSettingsOf(words);
     mMethods.emplace(*mRenderer, o.cacheDir, o.displaySpace && !o.hmd.empty() && o.distortion,
                      layerSettings(o.slope, o.layers, o.spp), o.hmd);
     if (o.overlay || mCalibration) {
@@ -401,6 +408,8 @@ DemoRun::DemoRun(const DemoOptions& o)
     }
     mStats.gazeSource = mGaze->describe();
     mStats.device = ctx.deviceName();
+    mStats.defaults = mDefaults.label;
+    mOffScreen.emplace(mGaze->describe());
     if (!o.hmd.empty()) mRig.emplace(display::hmdProfile(o.hmd), o.distortion);
 
     const scene::Scene& sc = mRenderer->scene();
@@ -548,6 +557,7 @@ std::vector<render::View> DemoRun::views(const std::optional<GazeReading>& readi
     view.method = &mMethods->forSize(mSettings, ext.width, ext.height);
     view.post.taa = mSettings.taa && !mSettings.view;
     if (reading) view.saccade = reading->saccade;
+    if (mGazePx && !mCalibrationTarget) mOffScreen->check(*mGazePx, ext.width, ext.height);
     view.gaze =
         clampToImage(mCalibrationTarget ? *mCalibrationTarget
                                         : mGazePx.value_or(0.5f * glm::vec2(ext.width, ext.height)),
@@ -566,6 +576,7 @@ std::vector<render::OutputTarget*> DemoRun::targets(std::span<const render::View
                 : median(std::vector<double>(
                       mFrameTimes.end() - static_cast<std::ptrdiff_t>(recent), mFrameTimes.end()));
         mStats.latencyMs = mLatencies.empty() ? 0.0 : mLatencies.back();
+        mStats.gaze = views[0].gaze;
         mStats.pointsSampled =
             mMethods->current() ? mMethods->current()->pointsSampled(views[0].gaze) : 0;
         // The overlay shows and edits the settings as words; they are read back only when it
@@ -678,6 +689,7 @@ nlohmann::json DemoRun::summary(uint32_t frames) {
             {"present_mode", vk::toString(mSwapchain->presentMode())},
             {"window", {mSwapchain->extent().width, mSwapchain->extent().height}},
             {"method", mOptions.method},
+            {"defaults", mDefaults.label},
             {"hmd", mOptions.hmd},
             {"gaze_source", mCalibration ? mOptions.gaze : mGaze->describe()},
             {"frames", frames},

@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "demo_settings.hpp"
+
 namespace gt::app {
 
 struct DemoOptions {
@@ -15,13 +17,13 @@ struct DemoOptions {
     std::string method = "foveated"; // foveated | layers | reference
     std::string slope = "A";         // layers: MAR slope
     uint32_t layers = 3;             // layers: how many
+    // The foveated method's settings where `given` says so; else the device's defaults
+    // (demoDefaults: a GPU's best quality, a CPU driver's fast trade-off).
     std::string interp = "nn";
     uint32_t k = 5;
-    // 2.0: at the desktop screen's pixels per degree a 640x360 window spans only 18 degrees, so
-    // the thesis's scale 1.0 samples 155,000 of its 230,000 pixels (5.4 fps on lavapipe);
-    // 2.0 samples 61,000 (11.5 fps).
     double scale = 2.0;
     uint32_t raysPerPoint = 1;
+    GivenMethodOptions given;
     uint32_t spp = 1; // reference method
     bool taa = true;
     std::string view; // debug view: points | cells | eccentricity

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 
 #include <imgui.h>
@@ -10,6 +11,8 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "gaze_mapping.hpp"
+#include "overlay_layout.hpp"
 #include "vk/context.hpp"
 #include "window.hpp"
 
@@ -38,6 +41,13 @@ bool combo(const char* label, std::string& value, const std::vector<const char*>
     }
     return false;
 }
+
+// The desktop screen's pixels per degree at its centre, where the demo's window sits.
+float desktopPixelsPerDegree() {
+    const render::ScreenGeometry screen;
+    return static_cast<float>(screen.distanceCm * std::tan(M_PI / 180.0) * screen.widthPx /
+                              screen.widthCm);
+}
 } // namespace
 
 DemoOverlay::DemoOverlay(Window& window, vk::Context& ctx, VkFormat format, uint32_t imageCount)
@@ -54,7 +64,6 @@ DemoOverlay::DemoOverlay(Window& window, vk::Context& ctx, VkFormat format, uint
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr; // no imgui.ini left in the working folder
     ImGui::StyleColorsDark();
-    ImGui::GetIO().FontGlobalScale = 0.85f;
     ImGui_ImplGlfw_InitForVulkan(window.handle(), true);
     ImGui_ImplVulkan_InitInfo info{};
     info.Instance = ctx.instance();
@@ -94,6 +103,12 @@ void DemoOverlay::addTimings(const rg::FrameTimings& t) {
 bool DemoOverlay::build(DemoSettings& s, const DemoStats& stats, std::optional<glm::vec2> target) {
     ImGui_ImplVulkan_NewFrame();
     ImGui_ImplGlfw_NewFrame();
+    // The panel's place and the font's scale before the frame (NewFrame takes the scale).
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    const glm::vec2 window(display.x, display.y);
+    mLayout = overlayLayout(window, stats.gaze.value_or(0.5f * window), desktopPixelsPerDegree(),
+                            mLayout.corner);
+    ImGui::GetIO().FontGlobalScale = mLayout.fontScale;
     ImGui::NewFrame();
     bool changed = false;
     if (target) {
@@ -104,13 +119,34 @@ bool DemoOverlay::build(DemoSettings& s, const DemoStats& stats, std::optional<g
         d->AddCircleFilled(c, 4.0f, IM_COL32(220, 0, 0, 255));
     }
     if (mVisible) {
-        ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-        ImGui::SetNextWindowBgAlpha(0.75f);
-        ImGui::Begin("gazetrace (Tab hides)", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
-        ImGui::Text("%.1f fps  %.1f ms/frame", stats.frameMs > 0 ? 1000.0 / stats.frameMs : 0.0,
-                    stats.frameMs);
-        ImGui::Text("gaze-to-photon %.1f ms (%s)", stats.latencyMs, stats.gazeSource.c_str());
-        ImGui::Text("%s", stats.device.c_str());
+        changed = panel(s, stats);
+    }
+    ImGui::Render();
+    return changed;
+}
+
+bool DemoOverlay::panel(DemoSettings& s, const DemoStats& stats) {
+    const OverlayLayout& layout = mLayout;
+    // Anchored at its corner: a panel smaller than its largest size hugs the corner too.
+    const glm::vec2 pivot(layout.corner % 2 == 1 ? 1.0f : 0.0f, layout.corner >= 2 ? 1.0f : 0.0f);
+    const glm::vec2 anchor = layout.position + pivot * layout.maxSize;
+    ImGui::SetNextWindowPos(ImVec2(anchor.x, anchor.y), ImGuiCond_Always, ImVec2(pivot.x, pivot.y));
+    ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(layout.maxSize.x, layout.maxSize.y));
+    ImGui::SetNextWindowBgAlpha(0.75f);
+    ImGui::Begin("gazetrace (Tab hides)", nullptr,
+                 ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove);
+    ImGui::TextUnformatted(frameRateText(stats.frameMs).c_str());
+    ImGui::TextUnformatted(latencyText(stats.latencyMs).c_str());
+    if (ImGui::IsItemHovered()) {
+        ImGui::SetTooltip("From the gaze sample a frame used to the moment the frame was known\n"
+                          "finished on the device. No present timing is offered: not\n"
+                          "gaze-to-photon, which adds the display's scan-out.");
+    }
+    if (!stats.defaults.empty()) ImGui::Text("defaults: %s", stats.defaults.c_str());
+    bool changed = false;
+    if (ImGui::CollapsingHeader("settings")) {
+        ImGui::TextUnformatted(stats.device.c_str());
+        ImGui::Text("gaze %s", stats.gazeSource.c_str());
         changed |= combo("method (M)", s.method, {"foveated", "layers", "reference"});
         if (s.method == "foveated") {
             changed |= combo("interpolation (I)", s.interp, {"nn", "msm", "rbf"});
@@ -139,23 +175,22 @@ bool DemoOverlay::build(DemoSettings& s, const DemoStats& stats, std::optional<g
         }
         changed |= ImGui::Checkbox("TAA (T)", &s.taa);
         ImGui::Text("rays %llu", static_cast<unsigned long long>(stats.rays));
-        if (!mGpuHistory.empty() && ImGui::CollapsingHeader("GPU time per pass")) {
-            // On lavapipe, once a render pass (this overlay's) has run, llvmpipe bins later
-            // timestamp queries with its rasteriser and the compute passes' times collapse;
-            // the frame time above is wall clock and stays right. GPUs report true times.
-            const std::vector<float> gpu(mGpuHistory.begin(), mGpuHistory.end());
-            char label[64];
-            std::snprintf(label, sizeof(label), "GPU %.1f ms", gpu.back());
-            ImGui::PlotLines("##gpu", gpu.data(), static_cast<int>(gpu.size()), 0, label, 0.0f,
-                             FLT_MAX, ImVec2(260, 50));
-            for (const auto& [name, h] : mPassHistory) {
-                ImGui::Text("%-22s %7.2f ms", name.c_str(), h.back());
-            }
-        }
-        ImGui::TextUnformatted("WASD/QE move, right button looks, P screenshot, R records path");
-        ImGui::End();
+        ImGui::TextWrapped("WASD/QE move, right button looks, P screenshot, R records path");
     }
-    ImGui::Render();
+    if (!mGpuHistory.empty() && ImGui::CollapsingHeader("GPU time per pass")) {
+        // On lavapipe, once a render pass (this overlay's) has run, llvmpipe bins later
+        // timestamp queries with its rasteriser and the compute passes' times collapse;
+        // the frame time above is wall clock and stays right. GPUs report true times.
+        const std::vector<float> gpu(mGpuHistory.begin(), mGpuHistory.end());
+        char label[64];
+        std::snprintf(label, sizeof(label), "GPU %.1f ms", gpu.back());
+        ImGui::PlotLines("##gpu", gpu.data(), static_cast<int>(gpu.size()), 0, label, 0.0f, FLT_MAX,
+                         ImVec2(0, 50 * layout.fontScale));
+        for (const auto& [name, h] : mPassHistory) {
+            ImGui::Text("%-22s %7.2f ms", name.c_str(), h.back());
+        }
+    }
+    ImGui::End();
     return changed;
 }
 

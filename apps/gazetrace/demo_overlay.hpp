@@ -1,8 +1,9 @@
 #pragma once
 // The demo's overlay (Dear ImGui, Debian's libimgui-dev with the GLFW and Vulkan backends that
 // package ships as sources): the settings as switches, what the frame cost per pass from the
-// graph's timestamps, the frame rate and the gaze-to-photon latency. Drawn by pass `overlay`
-// into the swapchain image after the views, inside the frame's render graph.
+// graph's timestamps, the frame rate and the latency from the gaze sample to the frame's
+// completion. Drawn by pass `overlay` into the swapchain image after the views, inside the
+// frame's render graph; laid out by overlayLayout (overlay_layout.hpp) to keep off the fovea.
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -15,7 +16,9 @@
 
 #include <vulkan/vulkan.h>
 
+#include "demo_settings.hpp"
 #include "overlay/overlay.hpp"
+#include "overlay_layout.hpp"
 #include "render_graph/render_graph.hpp"
 
 namespace gt::vk {
@@ -25,26 +28,6 @@ class Context;
 namespace gt::app {
 
 class Window;
-
-// What the overlay shows and may change; the demo applies the changes before the next frame.
-struct DemoSettings {
-    std::string method = "foveated"; // foveated | layers | reference
-    std::string interp = "nn";       // nn | msm | rbf
-    uint32_t k = 5;
-    uint32_t raysPerPoint = 1;
-    double scale = 2.0;
-    bool taa = true;
-    std::string view; // "" | points | cells | eccentricity
-};
-
-struct DemoStats {
-    double frameMs = 0.0;
-    double latencyMs = 0.0;
-    uint64_t pointsSampled = 0;
-    uint64_t rays = 0;
-    std::string gazeSource;
-    std::string device;
-};
 
 class DemoOverlay {
 public:
@@ -66,10 +49,14 @@ public:
     [[nodiscard]] bool visible() const noexcept { return mVisible; }
 
 private:
+    // The settings and timings panel; returns true when the user changed a setting.
+    bool panel(DemoSettings& settings, const DemoStats& stats);
+
     vk::Context& mCtx;
     passes::OverlayPass mPass;
     VkDescriptorPool mPool = VK_NULL_HANDLE;
     bool mVisible = true;
+    OverlayLayout mLayout{.corner = -1}; // kept in its corner while it clears the gaze
     std::deque<float> mGpuHistory;
     std::map<std::string, std::deque<float>> mPassHistory;
 };

@@ -14,6 +14,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "eval_plots.hpp"
+#include "eval_progress.hpp"
 #include "foveation/contrast_sensitivity.hpp"
 #include "foveation/gaze_trace.hpp"
 #include "foveation/neighbour_index.hpp"
@@ -55,7 +56,8 @@ struct Geometry {
 // Views rendered and read back as pictures, one frame or a sequence through the frame loop.
 class Shooter {
 public:
-    explicit Shooter(render::Renderer& r) : mRenderer(r), mReadback(r.context()) {}
+    Shooter(render::Renderer& r, EvalProgress& p)
+        : mRenderer(r), mReadback(r.context()), mProgress(p) {}
     RgbaImage shot(const render::View& v, render::FoveationMethod& m, uint64_t* rays = nullptr) {
         RgbaImage img;
         sequence(
@@ -88,8 +90,9 @@ public:
         };
         stages.done = [&](const FrameTick& t, const glm::vec2&, std::span<const render::View> v,
                           const render::FrameResult& f) {
-            frame(t, RgbaImage{v[0].width, v[0].height, mReadback.takePixels()},
-                  f.views.front().rays);
+            RgbaImage img{v[0].width, v[0].height, mReadback.takePixels()};
+            mProgress.frame(v[0].name);
+            frame(t, std::move(img), f.views.front().rays);
             return true;
         };
         (void)runFrameLoop(mRenderer, FrameClock(), frames, stages);
@@ -98,6 +101,7 @@ public:
 private:
     render::Renderer& mRenderer;
     render::ReadbackTarget mReadback;
+    EvalProgress& mProgress;
 };
 
 nlohmann::json bandsJson(const std::array<double, kBands>& v) {
@@ -420,6 +424,7 @@ private:
     EvalInputs mInputs;
     std::filesystem::path mOut;
     std::optional<render::Renderer> mRenderer;
+    std::optional<EvalProgress> mProgress;
     std::optional<Shooter> mShooter;
     scene::Camera mCamera;
     render::View mBase;
@@ -438,7 +443,9 @@ EvalRun::EvalRun(const EvalOptions& o)
                                               .validate = o.validate,
                                               .framesInFlight = 1,
                                               .deviceOverride = device ? device : ""});
-    mShooter.emplace(*mRenderer);
+    mProgress.emplace(evalFrameCount(o, mInputs.reference.has_value(),
+                                     mInputs.pursuit ? mInputs.pursuit->samples().size() : 0));
+    mShooter.emplace(*mRenderer, *mProgress);
     mCamera = mRenderer->scene().camera;
     if (cameraArg) {
         mCamera = cameraArg->camera(mCamera.yfov);
@@ -559,6 +566,7 @@ void EvalRun::stillFrame(nlohmann::json& summary) {
     std::vector<std::array<double, kBands>> bars;
     nlohmann::json plotSeries = nlohmann::json::array();
     {
+        mProgress->step("scoring foveated (FLIP, PSNR, SSIM per band)");
         Scores s = scored(fov);
         s.json["rays"] = rays;
         s.json["settings"] = {{"reconstruction", o.reconstruction},
@@ -587,6 +595,7 @@ void EvalRun::stillFrame(nlohmann::json& summary) {
              {"uniform_catmull_rom", &b.bicubic},
              {"full_resolution", &b.fullRes}}};
         for (const auto& [name, img] : rows) {
+            mProgress->step(std::string("scoring ") + name);
             Scores s = scored(*img);
             const bool full = std::string(name) == "full_resolution";
             s.json["rays"] = full ? static_cast<uint64_t>(b.fullSpp) * g.width * g.height
@@ -606,7 +615,7 @@ void EvalRun::stillFrame(nlohmann::json& summary) {
     for (const auto& b : bars) {
         maxBar = std::max(maxBar, *std::max_element(b.begin(), b.end()));
     }
-    writePng(mOut / "bands.png", bandBars(bars, maxBar * 1.1));
+    writePng(mOut / "bands.png", bandBars(bars, maxBar * 1.1, seriesNames(plotSeries)));
     summary["plots"] = {
         {"bands.png", "FLIP per band (0-5, 5-10, 10-20, 20+ deg), one bar per method"},
         {"series", plotSeries}};
@@ -646,6 +655,7 @@ nlohmann::json EvalRun::movingSequence() {
     for (uint32_t i = 0; i < seqFrames; ++i) {
         const double t = path.startMs() + (path.endMs() - path.startMs()) * i / (seqFrames - 1);
         cams.push_back(path.at(t, mCamera.yfov));
+        mProgress->step("depth map " + std::to_string(i + 1) + "/" + std::to_string(seqFrames));
         depths.push_back(depthMap(*mRenderer, cams.back(), g.width, g.height));
     }
     for (const bool isRef : {false, true}) {
@@ -722,6 +732,7 @@ void EvalRun::sweep(nlohmann::json& summary) {
         auto m = scale == mOptions.scale ? std::move(mFoveated) : makeFoveated(scale);
         uint64_t r = 0;
         const RgbaImage img = foveatedFrame(*m, "sweep_foveated", r);
+        mProgress->step("scoring the sweep at scale " + std::to_string(scale).substr(0, 3));
         const Scores fs = scored(img);
         const Baselines b = baselines(r);
         Scores us = scored(b.bilinear);
@@ -736,7 +747,7 @@ void EvalRun::sweep(nlohmann::json& summary) {
         mFoveated = std::move(m);
     }
     summary["sweep"] = sweep;
-    writePng(mOut / "curves.png", curvesImage(curves));
+    writePng(mOut / "curves.png", curvesImage(curves, {"foveated", "uniform_bilinear"}));
     summary["plots"]["curves.png"] =
         "mean FLIP against rays (log): foveated (series 0) and uniform bilinear (series 1)";
 }
@@ -774,18 +785,19 @@ std::string evalText(const nlohmann::json& s) {
                   s["pixels_per_degree"].get<double>(), s["reference_spp"].dump().c_str());
     t << buf;
     t << "method                  rays      FLIP 0-5   5-10  10-20    20+ | flip_ecc 5-10 10-20  "
-         "20+ | PSNR 0-5  SSIM 0-5 | bleed\n";
+         "20+ | PSNR 0-5  SSIM 0-5 | bleed | FLIP all\n";
     for (const auto& [name, m] : s["methods"].items()) {
         const auto& b = m["bands"];
         std::snprintf(buf, sizeof buf,
                       "%-20s %9llu   %6.4f %6.4f %6.4f %6.4f |        %6.4f %6.4f %6.4f | %7.2f  "
-                      "%7.4f | %5.2f\n",
+                      "%7.4f | %5.2f |   %6.4f\n",
                       name.c_str(), static_cast<unsigned long long>(m["rays"].get<uint64_t>()),
                       b["0-5"]["flip"].get<double>(), b["5-10"]["flip"].get<double>(),
                       b["10-20"]["flip"].get<double>(), b["20+"]["flip"].get<double>(),
                       b["5-10"]["flip_ecc"].get<double>(), b["10-20"]["flip_ecc"].get<double>(),
                       b["20+"]["flip_ecc"].get<double>(), b["0-5"]["psnr_db"].get<double>(),
-                      b["0-5"]["ssim"].get<double>(), m["bleed_mad"].get<double>());
+                      b["0-5"]["ssim"].get<double>(), m["bleed_mad"].get<double>(),
+                      m["flip_mean"].get<double>());
         t << buf;
     }
     if (s.contains("temporal")) {

@@ -3,6 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wold-style-cast"
+#pragma GCC diagnostic ignored "-Wsign-conversion"
+#pragma GCC diagnostic ignored "-Wconversion"
+#include <stb_easy_font.h>
+#pragma GCC diagnostic pop
 
 namespace gt::app {
 
@@ -49,6 +58,106 @@ void line(quality::RgbaImage& img, double x0, double y0, double x1, double y1,
         fill(img, x - 1, y - 1, x + 2, y + 2, c);
     }
 }
+
+constexpr std::array<uint8_t, 3> kBlack{0, 0, 0}, kGrey{200, 200, 200};
+
+// Text in stb_easy_font's segments (about 6 x 12 pixels a character at scale 1), top-left at
+// (x, y).
+int textWidth(const std::string& t, int scale = 1) {
+    std::string copy = t;
+    return stb_easy_font_width(copy.data()) * scale;
+}
+
+void text(quality::RgbaImage& img, int x, int y, const std::string& t, std::array<uint8_t, 3> c,
+          int scale = 1) {
+    std::string copy = t;
+    std::vector<char> quads(copy.size() * 300 + 64);
+    const int n = stb_easy_font_print(0.0f, 0.0f, copy.data(), nullptr, quads.data(),
+                                      static_cast<int>(quads.size()));
+    // Each quad: 4 vertices of x, y, z (float) and an RGBA colour (16 bytes), axis-aligned.
+    for (int q = 0; q < n; ++q) {
+        std::array<float, 2> lo{1e9f, 1e9f}, hi{-1e9f, -1e9f};
+        for (int v = 0; v < 4; ++v) {
+            float xy[2];
+            std::memcpy(xy, quads.data() + (q * 4 + v) * 16, sizeof xy);
+            for (int k = 0; k < 2; ++k) {
+                lo[k] = std::min(lo[k], xy[k]);
+                hi[k] = std::max(hi[k], xy[k]);
+            }
+        }
+        fill(img, x + static_cast<int>(lo[0]) * scale, y + static_cast<int>(lo[1]) * scale,
+             x + static_cast<int>(hi[0]) * scale, y + static_cast<int>(hi[1]) * scale, c);
+    }
+}
+
+void textCentred(quality::RgbaImage& img, int cx, int y, const std::string& t,
+                 std::array<uint8_t, 3> c, int scale = 1) {
+    text(img, cx - textWidth(t, scale) / 2, y, t, c, scale);
+}
+
+std::string number(double v, const char* format) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, format, v);
+    return buf;
+}
+
+// The smallest of 1, 2, 2.5, 5 times a power of ten at or above v.
+double roundUp(double v) {
+    if (!(v > 0.0)) return 1.0;
+    const double p = std::pow(10.0, std::floor(std::log10(v)));
+    for (const double m : {1.0, 2.0, 2.5, 5.0, 10.0}) {
+        if (m * p >= v * (1.0 - 1e-9)) return m * p;
+    }
+    return 10.0 * p;
+}
+
+// The plot frame shared by the bars and the curves: title, data area, the value axis with its
+// ticks, and the legend to the right of the area.
+constexpr int kPlotW = 880, kPlotH = 430;
+constexpr PlotBox kArea{80, 50, 640, 360};
+
+PlotLayout frame(const std::vector<std::string>& names, double maxValue) {
+    PlotLayout l;
+    l.width = kPlotW;
+    l.height = kPlotH;
+    l.area = kArea;
+    l.yMax = roundUp(maxValue);
+    for (int i = 0; i <= 5; ++i)
+        l.yTicks.push_back(l.yMax * i / 5.0);
+    const int x = kArea.x1 + 24;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        const int y = kArea.y0 + 20 + static_cast<int>(i) * 22;
+        l.legend.push_back({names[i],
+                            seriesColour(i),
+                            {x, y, x + 14, y + 14},
+                            {x + 22, y + 1, x + 22 + textWidth(names[i]), y + 13}});
+    }
+    return l;
+}
+
+int yPixel(const PlotLayout& l, double v) {
+    return l.area.y1 -
+           static_cast<int>(std::lround(v / l.yMax * static_cast<double>(l.area.y1 - l.area.y0)));
+}
+
+void drawFrame(quality::RgbaImage& img, const PlotLayout& l, const std::string& title,
+               const std::string& yTitle, const char* tickFormat) {
+    textCentred(img, (l.area.x0 + l.area.x1) / 2, 12, title, kBlack, 2);
+    text(img, 8, l.area.y0 - 20, yTitle, kBlack);
+    for (const double t : l.yTicks) {
+        const int y = yPixel(l, t);
+        fill(img, l.area.x0 + 1, y, l.area.x1, y + 1, kGrey); // grid
+        fill(img, l.area.x0 - 5, y, l.area.x0, y + 1, kBlack);
+        const std::string s = number(t, tickFormat);
+        text(img, l.area.x0 - 8 - textWidth(s), y - 5, s, kBlack);
+    }
+    fill(img, l.area.x0, l.area.y0, l.area.x0 + 1, l.area.y1 + 1, kBlack);
+    fill(img, l.area.x0, l.area.y1, l.area.x1, l.area.y1 + 1, kBlack);
+    for (const LegendEntry& e : l.legend) {
+        fill(img, e.swatch.x0, e.swatch.y0, e.swatch.x1, e.swatch.y1, e.colour);
+        text(img, e.label.x0, e.label.y0, e.name, kBlack);
+    }
+}
 } // namespace
 
 std::array<uint8_t, 3> seriesColour(std::size_t i) {
@@ -79,30 +188,59 @@ quality::RgbaImage errorMapImage(const quality::ScalarMap& error, uint32_t width
     return img;
 }
 
+std::vector<std::string> seriesNames(const nlohmann::json& plotSeries) {
+    std::vector<std::string> names;
+    for (const auto& s : plotSeries)
+        names.push_back(s.at("name").get<std::string>());
+    return names;
+}
+
+PlotLayout bandBarsLayout(const std::vector<std::string>& names, double maxValue) {
+    return frame(names, maxValue);
+}
+
 quality::RgbaImage bandBars(const std::vector<std::array<double, quality::kBands>>& series,
-                            double maxValue) {
-    constexpr int kW = 640, kH = 320, kMargin = 20, kGap = 24;
-    quality::RgbaImage img = canvas(kW, kH);
-    const int groupW = (kW - 2 * kMargin) / static_cast<int>(quality::kBands);
+                            double maxValue, const std::vector<std::string>& names) {
+    const PlotLayout l = bandBarsLayout(names, maxValue);
+    quality::RgbaImage img =
+        canvas(static_cast<uint32_t>(l.width), static_cast<uint32_t>(l.height));
+    drawFrame(img, l, "FLIP per eccentricity band (lower is better)", "FLIP (0..1)", "%.3g");
+    constexpr int kGap = 20;
+    const int groupW = (l.area.x1 - l.area.x0) / static_cast<int>(quality::kBands);
     const int barW =
         std::max(2, (groupW - kGap) / std::max<int>(1, static_cast<int>(series.size())));
-    const int base = kH - kMargin;
     for (std::size_t b = 0; b < quality::kBands; ++b) {
+        const int g0 = l.area.x0 + static_cast<int>(b) * groupW;
         for (std::size_t s = 0; s < series.size(); ++s) {
-            const double v = std::clamp(series[s][b] / std::max(maxValue, 1e-9), 0.0, 1.0);
-            const int x0 =
-                kMargin + static_cast<int>(b) * groupW + kGap / 2 + static_cast<int>(s) * barW;
-            const int top = base - static_cast<int>(std::lround(v * (kH - 2 * kMargin)));
-            fill(img, x0, top, x0 + barW - 1, base, seriesColour(s));
+            const double v = std::clamp(series[s][b], 0.0, l.yMax);
+            const int x0 = g0 + kGap / 2 + static_cast<int>(s) * barW;
+            const int top = yPixel(l, v);
+            fill(img, x0, top, x0 + barW - 1, l.area.y1, seriesColour(s));
+            textCentred(img, x0 + barW / 2, top - 12, number(series[s][b], "%.3f"), kBlack);
         }
+        textCentred(img, g0 + groupW / 2, l.area.y1 + 8,
+                    std::string(quality::kBandNames[b]) + " deg", kBlack);
     }
-    fill(img, kMargin, base, kW - kMargin, base + 1, {0, 0, 0});
+    textCentred(img, (l.area.x0 + l.area.x1) / 2, l.area.y1 + 30,
+                "eccentricity band: degrees from the gaze", kBlack);
     return img;
 }
 
-quality::RgbaImage curvesImage(const std::vector<std::vector<std::pair<double, double>>>& series) {
-    constexpr int kW = 640, kH = 400, kMargin = 30;
-    quality::RgbaImage img = canvas(kW, kH);
+PlotLayout curvesLayout(const std::vector<std::string>& names, double maxValue) {
+    return frame(names, maxValue * 1.1);
+}
+
+namespace {
+// "12k", "1.5M": the rays axis's ticks.
+std::string raysText(double v) {
+    if (v >= 1e6) return number(v / 1e6, "%.3gM");
+    if (v >= 1e3) return number(v / 1e3, "%.3gk");
+    return number(v, "%.3g");
+}
+} // namespace
+
+quality::RgbaImage curvesImage(const std::vector<std::vector<std::pair<double, double>>>& series,
+                               const std::vector<std::string>& names) {
     double x0 = 1e300, x1 = 0.0, y1 = 0.0;
     for (const auto& s : series) {
         for (const auto& [x, y] : s) {
@@ -111,16 +249,32 @@ quality::RgbaImage curvesImage(const std::vector<std::vector<std::pair<double, d
             y1 = std::max(y1, y);
         }
     }
+    const PlotLayout l = curvesLayout(names, y1);
+    quality::RgbaImage img =
+        canvas(static_cast<uint32_t>(l.width), static_cast<uint32_t>(l.height));
+    drawFrame(img, l, "mean FLIP against rays (lower is better)", "mean FLIP (0..1)", "%.3g");
+    textCentred(img, (l.area.x0 + l.area.x1) / 2, l.area.y1 + 30,
+                "primary rays per frame (log scale)", kBlack);
     if (x1 <= 0.0 || y1 <= 0.0) {
         return img;
     }
-    const double lx0 = std::log(x0), lx1 = std::max(std::log(x1), lx0 + 1e-6);
+    // A margin of a tenth of the span each side, so the end points are not on the axes.
+    const double span = std::max(std::log(x1) - std::log(x0), 1e-3);
+    const double lx0 = std::log(x0) - 0.1 * span, lx1 = std::log(x1) + 0.1 * span;
     auto px = [&](double x) {
-        return kMargin + (std::log(x) - lx0) / (lx1 - lx0) * (kW - 2 * kMargin);
+        return l.area.x0 + (std::log(x) - lx0) / (lx1 - lx0) * (l.area.x1 - l.area.x0);
     };
-    auto py = [&](double y) { return kH - kMargin - y / (1.1 * y1) * (kH - 2 * kMargin); };
-    fill(img, kMargin, kH - kMargin, kW - kMargin, kH - kMargin + 1, {0, 0, 0});
-    fill(img, kMargin, kMargin, kMargin + 1, kH - kMargin, {0, 0, 0});
+    auto py = [&](double y) { return static_cast<double>(yPixel(l, y)); };
+    // Ticks at 1, 2 and 5 times the powers of ten inside the axis.
+    for (double p = std::pow(10.0, std::floor(lx0 / std::log(10.0))); p < std::exp(lx1); p *= 10) {
+        for (const double m : {1.0, 2.0, 5.0}) {
+            const double v = m * p;
+            if (std::log(v) < lx0 || std::log(v) > lx1) continue;
+            const int x = static_cast<int>(std::lround(px(v)));
+            fill(img, x, l.area.y1, x + 1, l.area.y1 + 5, kBlack);
+            textCentred(img, x, l.area.y1 + 8, raysText(v), kBlack);
+        }
+    }
     for (std::size_t s = 0; s < series.size(); ++s) {
         for (std::size_t i = 0; i < series[s].size(); ++i) {
             const auto [x, y] = series[s][i];
@@ -130,6 +284,8 @@ quality::RgbaImage curvesImage(const std::vector<std::vector<std::pair<double, d
                 line(img, px(series[s][i - 1].first), py(series[s][i - 1].second), px(x), py(y),
                      seriesColour(s));
             }
+            text(img, static_cast<int>(px(x)) + 6, static_cast<int>(py(y)) - 14, number(y, "%.3f"),
+                 seriesColour(s));
         }
     }
     return img;

@@ -1,11 +1,15 @@
 #pragma once
 // The pictures `gazetrace eval` writes beside its JSON: an error map in a perceptual colour
-// ramp, grouped bars per eccentricity band, and quality-against-rays curves. Plain rasters
-// with no text: the colours are listed in the JSON (`plots`) and the README.
+// ramp, grouped bars per eccentricity band, and quality-against-rays curves. The bars and the
+// curves carry their axes (units, ticks and numbers), the bars' values and a legend naming each
+// series in its colour, in a small built-in bitmap font (stb_easy_font); the colours are also
+// listed in the JSON (`plots`).
 #include <array>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "quality/eccentricity_bands.hpp"
 #include "quality/image.hpp"
@@ -19,11 +23,43 @@ namespace gt::app {
 // FLIP errors in [0, 1] from black through purple and orange to pale yellow.
 [[nodiscard]] quality::RgbaImage errorMapImage(const quality::ScalarMap& error, uint32_t width,
                                                uint32_t height);
-// One group of bars per band, one bar per series (its value over `maxValue`).
+
+// A rectangle of a plot, pixels, [x0, x1) x [y0, y1).
+struct PlotBox {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
+struct LegendEntry {
+    std::string name;
+    std::array<uint8_t, 3> colour{};
+    PlotBox swatch; // filled with the colour
+    PlotBox label;  // the name, in black
+};
+
+// Where a plot's parts go: the data area inside the axes, the value axis's ticks and the legend.
+struct PlotLayout {
+    int width = 0, height = 0;
+    PlotBox area;
+    double yMax = 1.0;          // the top of the value axis (a round number)
+    std::vector<double> yTicks; // 0 .. yMax
+    std::vector<LegendEntry> legend;
+};
+
+// The series' names as eval lists them in its JSON (`plots.series[].name`).
+[[nodiscard]] std::vector<std::string> seriesNames(const nlohmann::json& plotSeries);
+
+// One group of bars per band (x: eccentricity band in degrees), one bar per series (y: FLIP
+// from 0 to at least `maxValue`), each bar's value over it, the series named in the legend.
+[[nodiscard]] PlotLayout bandBarsLayout(const std::vector<std::string>& names, double maxValue);
 [[nodiscard]] quality::RgbaImage
-bandBars(const std::vector<std::array<double, quality::kBands>>& series, double maxValue);
-// Polylines of (rays, value) per series; x logarithmic over the rays, y linear from 0.
+bandBars(const std::vector<std::array<double, quality::kBands>>& series, double maxValue,
+         const std::vector<std::string>& names);
+
+// Polylines of (rays, value) per series; x logarithmic over the rays per frame, y mean FLIP
+// linear from 0.
+[[nodiscard]] PlotLayout curvesLayout(const std::vector<std::string>& names, double maxValue);
 [[nodiscard]] quality::RgbaImage
-curvesImage(const std::vector<std::vector<std::pair<double, double>>>& series);
+curvesImage(const std::vector<std::vector<std::pair<double, double>>>& series,
+            const std::vector<std::string>& names);
 
 } // namespace gt::app

@@ -10,9 +10,9 @@
 
 #include "core/error.hpp"
 #include "eye_commands.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/contact_sheet.hpp"
 #include "gaze/gaze_filter.hpp"
-#include "io/atomic_file.hpp"
-#include "io/contact_sheet.hpp"
 #include "pupil/pupil_detector.hpp"
 #include "pupil/starburst_detector.hpp"
 #include "score/detection_score.hpp"

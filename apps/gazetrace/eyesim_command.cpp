@@ -5,10 +5,11 @@
 
 #include <opencv2/videoio.hpp>
 
+#include "atomic_write.hpp"
 #include "core/error.hpp"
 #include "eye_commands.hpp"
-#include "io/atomic_file.hpp"
-#include "io/csv_tables.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/csv_tables.hpp"
 #include "sim/synthetic_eye.hpp"
 
 namespace gt::app {
@@ -105,9 +106,8 @@ nlohmann::json runEyesim(const EyesimOptions& o) {
     if (video.has_parent_path() && !std::filesystem::is_directory(video.parent_path(), ec))
         throw ArgumentError("--out " + o.out + ": folder " + video.parent_path().string() +
                             " does not exist");
-    // The container is chosen from the extension, so the temporary keeps it.
-    const std::filesystem::path temp =
-        video.parent_path() / (video.stem().string() + ".partial" + ext);
+    // OpenCV writes the clip under a temporary name; it replaces --out only when the run ends.
+    io::StagedFile staged(video);
     eyetrack::AtomicFile truth(o.truth);
     truth.stream() << eyetrack::truthHeader() << "\n";
     std::optional<eyetrack::AtomicFile> truthRight;
@@ -116,7 +116,7 @@ nlohmann::json runEyesim(const EyesimOptions& o) {
         truthRight->stream() << eyetrack::truthHeader() << "\n";
     }
     {
-        cv::VideoWriter writer(temp.string(), cv::CAP_FFMPEG,
+        cv::VideoWriter writer(staged.temp().string(), cv::CAP_FFMPEG,
                                cv::VideoWriter::fourcc('F', 'F', 'V', '1'), c.fps, frameSize,
                                false);
         if (!writer.isOpened())
@@ -134,11 +134,7 @@ nlohmann::json runEyesim(const EyesimOptions& o) {
             writer.write(image);
         }
     }
-    std::filesystem::rename(temp, video, ec);
-    if (ec) {
-        std::filesystem::remove(temp, ec);
-        throw ArgumentError("--out " + o.out + ": cannot be written");
-    }
+    staged.commit();
     truth.commit();
     if (truthRight) truthRight->commit();
     if (!o.intrinsicsOut.empty()) eye.intrinsics().save(o.intrinsicsOut);

@@ -25,6 +25,7 @@
 #include "frame_loop.hpp"
 #include "full_resolution.hpp"
 #include "gaze/gaze_tracker.hpp"
+#include "gaze_bounds.hpp"
 #include "gaze_mapping.hpp"
 #include "gaze_view.hpp"
 #include "layers_command.hpp"
@@ -49,23 +50,6 @@ nlohmann::json cameraJson(const scene::Camera& c) {
     return {{"position", {c.position.x, c.position.y, c.position.z}},
             {"target", {target.x, target.y, target.z}},
             {"yfov_deg", glm::degrees(c.yfov)}};
-}
-
-// Frames clamp a trace's gaze to the screen; say so when samples lie outside it, since many
-// of them usually mean the trace was recorded for another screen.
-void warnOffScreen(const foveation::GazeTrace& trace, const std::string& file, uint32_t w,
-                   uint32_t h) {
-    const auto& samples = trace.samples();
-    const auto outside = std::count_if(samples.begin(), samples.end(), [&](const auto& s) {
-        return s.position.x < 0.0f || s.position.y < 0.0f ||
-               s.position.x >= static_cast<float>(w) || s.position.y >= static_cast<float>(h);
-    });
-    if (outside == 0) {
-        return;
-    }
-    log::warn(file + ": " + std::to_string(outside) + " of " + std::to_string(samples.size()) +
-              " gaze samples lie outside the " + std::to_string(w) + "x" + std::to_string(h) +
-              " screen; the gaze is clamped to its edge there");
 }
 
 // One frame at a time (each is written before the next), on GAZETRACE_DEVICE if set.

@@ -164,7 +164,9 @@ nlohmann::json soakSummary(const SoakOptions& o, render::Renderer& r, const Memo
         {"frames", o.frames},
         {"seconds", seconds},
         {"ms_per_frame", 1000.0 * seconds / o.frames},
-        {"rays", rays},
+        // Per frame (the mean over the run's phases), as every command reports rays.
+        {"rays", o.frames ? (rays + o.frames / 2) / o.frames : 0},
+        {"rays_total", rays},
         {"saccades", saccades},
         {"readback_bytes", readbackBytes},
         {"phases", phases},

@@ -30,6 +30,7 @@
 #include "stereo_rig.hpp"
 #include "view_args.hpp"
 #include "xr_error.hpp"
+#include "xr_run_stats.hpp"
 #include "xr_runtime.hpp"
 #include "xr_session.hpp"
 #include "xr_views.hpp"
@@ -42,14 +43,6 @@ using Clock = std::chrono::steady_clock;
 
 double msSince(Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double, std::milli>(b - a).count();
-}
-
-double medianOf(std::vector<double> v) {
-    if (v.empty()) {
-        return 0.0;
-    }
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
 }
 
 glm::vec3 parseVec3(const std::string& text, const char* flag) {
@@ -256,61 +249,6 @@ nlohmann::json screenshotJson(const XrOptions& o, uint32_t frameNumber, const re
                {p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w}}}},
             {"xr_fov_rad", {f.angleLeft, f.angleRight, f.angleUp, f.angleDown}}};
 }
-
-// The median of all but the first value: the first frame compiles pipelines and builds tables.
-double steadyMedian(std::vector<double> v) {
-    if (v.size() > 1) {
-        v.erase(v.begin());
-    }
-    return medianOf(std::move(v));
-}
-
-// The run's figures: per-pass and per-eye GPU times, wall times, rays and gaze ages.
-class RunStats {
-public:
-    void addFrame(const render::FrameResult& result, double renderMs) {
-        mRenderMs.push_back(renderMs);
-        for (const auto& v : result.views) {
-            mRays += v.rays;
-        }
-        if (!result.timings) {
-            return;
-        }
-        std::array<double, 2> eyeSum{0.0, 0.0};
-        for (const rg::PassTiming& p : result.timings->passes) {
-            mPassMs[p.name].push_back(p.gpuMs);
-            for (std::size_t e = 0; e < 2; ++e) {
-                if (p.name.starts_with(e == 0 ? "left." : "right.")) {
-                    eyeSum[e] += p.gpuMs;
-                }
-            }
-        }
-        mEyeGpuMs[0].push_back(eyeSum[0]);
-        mEyeGpuMs[1].push_back(eyeSum[1]);
-    }
-    void addInterval(double ms) { mFrameMs.push_back(ms); }
-    void addGazeAge(double ms) { mGazeToDisplayMs.push_back(ms); }
-
-    [[nodiscard]] uint64_t rays() const noexcept { return mRays; }
-    [[nodiscard]] double eyeGpuMs(std::size_t eye) const { return steadyMedian(mEyeGpuMs[eye]); }
-    [[nodiscard]] nlohmann::json json() const {
-        nlohmann::json passes = nlohmann::json::object();
-        for (const auto& [name, times] : mPassMs) {
-            passes[name] = steadyMedian(times);
-        }
-        return {{"rays", mRays},
-                {"gpu_ms", passes},
-                {"frame_ms_median", steadyMedian(mFrameMs)},
-                {"render_ms_median", steadyMedian(mRenderMs)},
-                {"gaze_to_display_ms_median", medianOf(mGazeToDisplayMs)}};
-    }
-
-private:
-    std::vector<double> mFrameMs, mRenderMs, mGazeToDisplayMs;
-    std::map<std::string, std::vector<double>> mPassMs;
-    std::array<std::vector<double>, 2> mEyeGpuMs;
-    uint64_t mRays = 0;
-};
 
 void checkOwnValidation(const vk::Context& ctx) {
     if (ctx.validationErrors() > 0) {

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <map>
-#include <queue>
-#include <set>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "render_graph/compile_phases.hpp"
+#include "render_graph/graph_declarations.hpp"
 #include "vk/context.hpp"
 #include "vk/query_pool.hpp"
 #include "vk/resources.hpp"
@@ -80,61 +80,8 @@ const char* toString(Access a) noexcept {
     return "?";
 }
 
-namespace {
-const char* formatName(VkFormat f) {
-    switch (f) {
-    case VK_FORMAT_R8G8B8A8_UNORM:
-        return "R8G8B8A8_UNORM";
-    case VK_FORMAT_R8G8B8A8_SRGB:
-        return "R8G8B8A8_SRGB";
-    case VK_FORMAT_B8G8R8A8_UNORM:
-        return "B8G8R8A8_UNORM";
-    case VK_FORMAT_R16G16B16A16_SFLOAT:
-        return "R16G16B16A16_SFLOAT";
-    case VK_FORMAT_R32G32B32A32_SFLOAT:
-        return "R32G32B32A32_SFLOAT";
-    case VK_FORMAT_R32G32_SFLOAT:
-        return "R32G32_SFLOAT";
-    case VK_FORMAT_R32_SFLOAT:
-        return "R32_SFLOAT";
-    case VK_FORMAT_R32_UINT:
-        return "R32_UINT";
-    default:
-        return "VkFormat(other)";
-    }
-}
-} // namespace
-
 // ---------------------------------------------------------------------------------------------
 // Declarations
-
-struct RenderGraph::Resource {
-    std::string name;
-    bool image = false;
-    bool imported = false;
-    TextureDesc texture;
-    BufferDesc buffer;
-    ImportedTexture importedTexture;
-    ImportedBuffer importedBuffer;
-    uint32_t versions = 1;                  // highest version handed out + 1
-    uint32_t baseWidth = 0, baseHeight = 0; // what OutputRelative sizes are relative to
-};
-
-struct RenderGraph::Use {
-    uint32_t resource = 0;
-    uint32_t version = 0; // version read, or version written (the new one)
-    Access access = Access::StorageRead;
-    bool write = false;
-    VkFormat expected = VK_FORMAT_UNDEFINED;
-};
-
-struct RenderGraph::Pass {
-    std::string name;
-    std::vector<Use> uses;
-    std::vector<std::string> after;
-    bool sideEffect = false;
-    Execute execute;
-};
 
 RenderGraph::RenderGraph(uint32_t outputWidth, uint32_t outputHeight)
     : mWidth(outputWidth), mHeight(outputHeight), mScopeWidth(outputWidth),
@@ -325,317 +272,25 @@ std::vector<uint32_t> CompiledGraph::order() const {
 // Compile
 
 CompiledGraph RenderGraph::compile() const {
-    const uint32_t passCount = static_cast<uint32_t>(mPasses.size());
-    // Who writes each (resource, version)?
-    std::map<std::pair<uint32_t, uint32_t>, uint32_t> writer;
-    for (uint32_t p = 0; p < passCount; ++p) {
-        for (const Use& u : mPasses[p].uses) {
-            const Resource& r = mResources[u.resource];
-            if (u.expected != VK_FORMAT_UNDEFINED && r.image && r.texture.format != u.expected) {
-                throw GraphError("pass '" + mPasses[p].name + "' expects " +
-                                 formatName(u.expected) + " for '" + r.name + "', which is " +
-                                 formatName(r.texture.format));
-            }
-            if (!u.write) continue;
-            auto [it, inserted] = writer.emplace(std::make_pair(u.resource, u.version), p);
-            if (!inserted && it->second != p) {
-                throw GraphError("passes '" + mPasses[it->second].name + "' and '" +
-                                 mPasses[p].name + "' both write '" + r.name +
-                                 "' without an order between them (write through a stale handle)");
-            }
-        }
-    }
-    // Dependency edges: producer -> consumer, readers of v -> writer of v+1, explicit order.
-    std::vector<std::set<uint32_t>> preds(passCount);
-    std::map<std::pair<uint32_t, uint32_t>, std::vector<uint32_t>> readers;
-    for (uint32_t p = 0; p < passCount; ++p) {
-        for (const Use& u : mPasses[p].uses) {
-            if (u.write) {
-                if (u.version >= 2) {
-                    auto w = writer.find({u.resource, u.version - 1});
-                    if (w != writer.end() && w->second != p) preds[p].insert(w->second);
-                }
-                continue;
-            }
-            const Resource& r = mResources[u.resource];
-            auto w = writer.find({u.resource, u.version});
-            if (w == writer.end()) {
-                if (!(r.imported && u.version == 0)) {
-                    throw GraphError("pass '" + mPasses[p].name + "' reads '" + r.name +
-                                     "', which nothing writes");
-                }
-            } else if (w->second != p) {
-                preds[p].insert(w->second);
-            }
-            readers[{u.resource, u.version}].push_back(p);
-        }
-        for (const std::string& name : mPasses[p].after) {
-            auto it = std::find_if(mPasses.begin(), mPasses.end(),
-                                   [&](const Pass& q) { return q.name == name; });
-            if (it == mPasses.end()) {
-                throw GraphError("pass '" + mPasses[p].name + "' depends on unknown pass '" + name +
-                                 "'");
-            }
-            preds[p].insert(static_cast<uint32_t>(it - mPasses.begin()));
-        }
-    }
-    for (const auto& [key, list] : readers) {
-        auto w = writer.find({key.first, key.second + 1});
-        if (w == writer.end()) continue;
-        for (uint32_t reader : list) {
-            if (reader != w->second) preds[w->second].insert(reader);
-        }
-    }
+    const detail::Declarations graph{mPasses, mResources, mSinks};
+    const detail::Dependencies deps = detail::findDependencies(graph);
+    const std::vector<bool> alive = detail::cullPasses(graph, deps);
+    const std::vector<uint32_t> order = detail::orderPasses(graph, deps, alive);
+    detail::ResourcePlan resources = detail::planLifetimes(graph, order);
+    detail::BarrierPlan barriers = detail::planBarriers(graph, deps, order, resources.lifetimes);
 
-    // Culling: keep passes with side effects or writes to imported resources, and everything
-    // they (transitively) depend on.
-    std::vector<bool> alive(passCount, false);
-    std::vector<uint32_t> stack;
-    for (uint32_t p = 0; p < passCount; ++p) {
-        bool root = mPasses[p].sideEffect;
-        for (const Use& u : mPasses[p].uses)
-            root |= u.write && mResources[u.resource].imported;
-        for (const Sink& k : mSinks) {
-            const auto w = writer.find({k.resource, k.version});
-            root |= w != writer.end() && w->second == p;
-        }
-        if (root) {
-            alive[p] = true;
-            stack.push_back(p);
-        }
-    }
-    while (!stack.empty()) {
-        const uint32_t p = stack.back();
-        stack.pop_back();
-        for (uint32_t q : preds[p]) {
-            // Only data producers and explicit orders keep a pass alive; a reader that must
-            // precede a later writer (WAR) does not, unless it is alive for its own reasons.
-            bool needed = std::find(mPasses[p].after.begin(), mPasses[p].after.end(),
-                                    mPasses[q].name) != mPasses[p].after.end();
-            for (const Use& u : mPasses[p].uses) {
-                if (u.write && u.version < 2) continue;
-                const uint32_t v = u.write ? u.version - 1 : u.version;
-                auto w = writer.find({u.resource, v});
-                if (w != writer.end() && w->second == q) needed = true;
-            }
-            if (needed && !alive[q]) {
-                alive[q] = true;
-                stack.push_back(q);
-            }
-        }
-    }
-
-    // Topological order (Kahn), ties broken by declaration order so the plan is stable.
-    std::vector<uint32_t> indegree(passCount, 0);
-    std::vector<std::vector<uint32_t>> succs(passCount);
-    for (uint32_t p = 0; p < passCount; ++p) {
-        if (!alive[p]) continue;
-        for (uint32_t q : preds[p]) {
-            if (!alive[q]) continue;
-            ++indegree[p];
-            succs[q].push_back(p);
-        }
-    }
-    std::priority_queue<uint32_t, std::vector<uint32_t>, std::greater<>> ready;
-    for (uint32_t p = 0; p < passCount; ++p) {
-        if (alive[p] && indegree[p] == 0) ready.push(p);
-    }
     CompiledGraph out;
-    while (!ready.empty()) {
-        const uint32_t p = ready.top();
-        ready.pop();
-        out.passes.push_back({p, {}});
-        for (uint32_t s : succs[p]) {
-            if (--indegree[s] == 0) ready.push(s);
-        }
+    out.passes.reserve(order.size());
+    for (std::size_t pos = 0; pos < order.size(); ++pos) {
+        out.passes.push_back({order[pos], std::move(barriers.beforePass[pos])});
     }
-    const auto aliveCount = static_cast<std::size_t>(std::count(alive.begin(), alive.end(), true));
-    if (out.passes.size() != aliveCount) {
-        std::string names;
-        for (uint32_t p = 0; p < passCount; ++p) {
-            if (alive[p] && indegree[p] > 0)
-                names += (names.empty() ? "'" : ", '") + mPasses[p].name + "'";
-        }
-        throw GraphError("render graph has a cycle through passes " + names);
-    }
-    for (uint32_t p = 0; p < passCount; ++p) {
+    for (uint32_t p = 0; p < alive.size(); ++p) {
         if (!alive[p]) out.culled.push_back(p);
     }
-
-    // Lifetimes, usage flags and barriers, walking the passes in execution order.
-    const std::size_t rc = mResources.size();
-    out.lifetimes.assign(rc, {});
-    out.imageUsage.assign(rc, 0);
-    out.bufferUsage.assign(rc, 0);
-    struct State {
-        VkPipelineStageFlags2 writeStage = VK_PIPELINE_STAGE_2_NONE;
-        VkAccessFlags2 writeAccess = VK_ACCESS_2_NONE;
-        VkPipelineStageFlags2 readStages = VK_PIPELINE_STAGE_2_NONE; // since the last write
-        VkPipelineStageFlags2 visibleStages = VK_PIPELINE_STAGE_2_NONE;
-        VkAccessFlags2 visibleAccess = VK_ACCESS_2_NONE;
-        VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
-    };
-    std::vector<State> state(rc);
-    for (uint32_t r = 0; r < rc; ++r) {
-        const Resource& res = mResources[r];
-        const std::optional<Access> init =
-            res.image ? res.importedTexture.initialAccess : res.importedBuffer.initialAccess;
-        if (res.imported && init) {
-            const AccessInfo ai = accessInfo(*init);
-            state[r].layout = res.image ? ai.layout : VK_IMAGE_LAYOUT_UNDEFINED;
-            // Whatever happened before this frame is treated as a write to wait for.
-            state[r].writeStage = ai.stage == VK_PIPELINE_STAGE_2_NONE
-                                      ? VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT
-                                      : ai.stage;
-            state[r].writeAccess = ai.writes ? ai.access : VK_ACCESS_2_NONE;
-        } else if (res.imported && res.image &&
-                   res.importedTexture.acquireStage != VK_PIPELINE_STAGE_2_NONE) {
-            state[r].writeStage = res.importedTexture.acquireStage; // the semaphore wait
-        }
-    }
-    auto usageBits = [&](uint32_t r, Access a) {
-        if (mResources[r].image) {
-            switch (a) {
-            case Access::StorageRead:
-            case Access::StorageWrite:
-            case Access::StorageReadWrite:
-                out.imageUsage[r] |= VK_IMAGE_USAGE_STORAGE_BIT;
-                break;
-            case Access::SampledCompute:
-            case Access::UniformRead:
-                out.imageUsage[r] |= VK_IMAGE_USAGE_SAMPLED_BIT;
-                break;
-            case Access::TransferSrc:
-                out.imageUsage[r] |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-                break;
-            case Access::TransferDst:
-                out.imageUsage[r] |= VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-                break;
-            case Access::ColorAttachment:
-                out.imageUsage[r] |= VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
-                break;
-            default:
-                break;
-            }
-        } else {
-            switch (a) {
-            case Access::UniformRead:
-                out.bufferUsage[r] |=
-                    VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
-                break;
-            case Access::TransferSrc:
-            case Access::TransferDst:
-            case Access::HostRead:
-                break;
-            default:
-                out.bufferUsage[r] |= VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-                break;
-            }
-        }
-    };
-    auto place = [&](std::vector<Barrier>& list, uint32_t r, const AccessInfo& use) {
-        State& s = state[r];
-        const bool image = mResources[r].image;
-        const bool layoutChange = image && s.layout != use.layout;
-        Barrier b;
-        b.resource = r;
-        b.image = image;
-        b.layer = mResources[r].imported ? mResources[r].importedTexture.layer : 0;
-        b.oldLayout = s.layout;
-        b.newLayout = image ? use.layout : VK_IMAGE_LAYOUT_UNDEFINED;
-        b.dstStage = use.stage == VK_PIPELINE_STAGE_2_NONE ? VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT
-                                                           : use.stage;
-        b.dstAccess = use.access;
-        bool needed = layoutChange;
-        if (use.writes) {
-            // WAW: wait for and make available the last write; WAR: wait for the readers.
-            if (s.writeStage != VK_PIPELINE_STAGE_2_NONE) {
-                b.srcStage |= s.writeStage;
-                b.srcAccess |= s.writeAccess;
-                needed = true;
-            }
-            if (s.readStages != VK_PIPELINE_STAGE_2_NONE) {
-                b.srcStage |= s.readStages;
-                needed = true;
-            }
-        } else if (s.writeStage != VK_PIPELINE_STAGE_2_NONE) {
-            // RAW: needed unless an earlier barrier already made the write visible here.
-            const bool covered = (s.visibleStages & use.stage) == use.stage &&
-                                 (s.visibleAccess & use.access) == use.access;
-            if (!covered || layoutChange) {
-                b.srcStage |= s.writeStage;
-                b.srcAccess |= s.writeAccess;
-                needed = true;
-            }
-        }
-        if (layoutChange) {
-            // The transition itself is a write: order it after every earlier access.
-            b.srcStage |= s.writeStage | s.readStages;
-            b.srcAccess |= s.writeAccess;
-        }
-        if (needed) list.push_back(b);
-        // Update the tracked state.
-        if (image) s.layout = use.layout;
-        if (use.writes || layoutChange) {
-            s.writeStage = use.writes ? use.stage : b.dstStage;
-            s.writeAccess = use.writes ? use.access : VK_ACCESS_2_NONE;
-            s.readStages = use.writes ? VK_PIPELINE_STAGE_2_NONE : use.stage;
-            s.visibleStages = use.writes ? VK_PIPELINE_STAGE_2_NONE : use.stage;
-            s.visibleAccess = use.writes ? VK_ACCESS_2_NONE : use.access;
-        } else {
-            s.readStages |= use.stage;
-            if (needed) {
-                s.visibleStages |= use.stage;
-                s.visibleAccess |= use.access;
-            }
-        }
-    };
-
-    for (std::size_t pos = 0; pos < out.passes.size(); ++pos) {
-        const Pass& pass = mPasses[out.passes[pos].pass];
-        // Merge the uses of one resource within the pass into one access.
-        std::map<uint32_t, AccessInfo> merged;
-        for (const Use& u : pass.uses) {
-            usageBits(u.resource, u.access);
-            Lifetime& lt = out.lifetimes[u.resource];
-            if (lt.firstPass < 0) lt.firstPass = static_cast<int>(pos);
-            lt.lastPass = static_cast<int>(pos);
-            const AccessInfo ai = accessInfo(u.access);
-            auto [it, inserted] = merged.emplace(u.resource, ai);
-            if (!inserted) {
-                if (mResources[u.resource].image && it->second.layout != ai.layout) {
-                    throw GraphError("pass '" + pass.name + "' uses '" +
-                                     mResources[u.resource].name + "' in two layouts at once (" +
-                                     toString(u.access) + ")");
-                }
-                it->second.stage |= ai.stage;
-                it->second.access |= ai.access;
-                it->second.writes |= ai.writes;
-                it->second.reads |= ai.reads;
-            }
-        }
-        for (const auto& [r, ai] : merged)
-            place(out.passes[pos].barriers, r, ai);
-    }
-    for (uint32_t r = 0; r < rc; ++r) {
-        const Resource& res = mResources[r];
-        const std::optional<Access> fin =
-            res.image ? res.importedTexture.finalAccess : res.importedBuffer.finalAccess;
-        if (res.imported && fin && out.lifetimes[r].firstPass >= 0) {
-            usageBits(r, *fin);
-            place(out.finalBarriers, r, accessInfo(*fin));
-        }
-    }
-    for (const Sink& k : mSinks) {
-        const Resource& res = mResources[k.resource];
-        const auto w = writer.find({k.resource, k.version});
-        if (w == writer.end() && !(res.imported && k.version == 0)) {
-            throw GraphError("sink of '" + res.name + "', a version nothing writes");
-        }
-        if (out.lifetimes[k.resource].firstPass < 0) continue; // an untouched import
-        usageBits(k.resource, k.access);
-        place(out.finalBarriers, k.resource, accessInfo(k.access));
-    }
+    out.lifetimes = std::move(resources.lifetimes);
+    out.finalBarriers = std::move(barriers.final);
+    out.imageUsage = std::move(resources.imageUsage);
+    out.bufferUsage = std::move(resources.bufferUsage);
     return out;
 }
 

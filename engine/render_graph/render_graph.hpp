@@ -34,6 +34,13 @@ class TimestampPool;
 
 namespace gt::rg {
 
+namespace detail { // graph_declarations.hpp
+struct Resource;
+struct Use;
+struct Pass;
+struct Sink;
+} // namespace detail
+
 // Every declared use maps to one (stage, access, layout) triple: see accessInfo().
 enum class Access : uint8_t {
     StorageRead,      // compute shader imageLoad / SSBO read
@@ -366,9 +373,10 @@ private:
     // One of a history's two images, imported (importHistory, readHistory).
     TextureId importHistoryImage(const HistoryPool::Entry& e, int index, std::string_view name,
                                  VkFormat format, uint32_t width, uint32_t height);
-    struct Resource;
-    struct Use;
-    struct Pass;
+    using Resource = detail::Resource;
+    using Use = detail::Use;
+    using Pass = detail::Pass;
+    using Sink = detail::Sink;
     uint32_t beginPass(std::string_view name);
     void setExecute(uint32_t pass, Execute execute);
     uint32_t addResource(Resource resource);
@@ -380,10 +388,6 @@ private:
     std::vector<Pass> mPasses;
     std::vector<Resource> mResources;
     std::string mScope; // current prefix, "" or ending in '.'
-    struct Sink {
-        uint32_t resource, version;
-        Access access;
-    };
     std::vector<Sink> mSinks;
     struct HistoryUse {
         HistoryPool* pool;

@@ -10,8 +10,8 @@
 #include <opencv2/core.hpp>
 
 #include "error.hpp"
-#include "io/atomic_file.hpp"
-#include "io/json_file.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/json_file.hpp"
 #include "stats.hpp"
 
 namespace gt::eyetrack {

@@ -1,8 +1,8 @@
 #include "gaze/calibration_set.hpp"
 
 #include "error.hpp"
-#include "io/atomic_file.hpp"
-#include "io/json_file.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/json_file.hpp"
 #include "model/eye_model_mapper.hpp"
 
 namespace gt::eyetrack {

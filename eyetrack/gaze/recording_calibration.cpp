@@ -5,7 +5,7 @@
 #include <map>
 
 #include "error.hpp"
-#include "io/csv_tables.hpp"
+#include "formats/csv_tables.hpp"
 #include "model/eye_model.hpp"
 #include "model/eye_model_mapper.hpp"
 #include "stats.hpp"

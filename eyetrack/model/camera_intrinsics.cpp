@@ -1,8 +1,8 @@
 #include "model/camera_intrinsics.hpp"
 
 #include "error.hpp"
-#include "io/atomic_file.hpp"
-#include "io/json_file.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/json_file.hpp"
 
 namespace gt::eyetrack {
 

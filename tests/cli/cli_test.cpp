@@ -642,7 +642,8 @@ TEST(Cli, SoakRunsEveryPhaseWithoutValidationErrors) {
     EXPECT_EQ(j["phases"].size(), 6u);
     EXPECT_EQ(j["saccades"], 2);                       // frames 40 and 80
     EXPECT_EQ(j["readback_bytes"], 15 * 160 * 90 * 4); // the readback phase, frames 75-89
-    EXPECT_GT(j["rays"].get<double>(), 100 * 1000.0);
+    EXPECT_GT(j["rays_total"].get<double>(), 100 * 1000.0);
+    EXPECT_NEAR(j["rays"].get<double>(), j["rays_total"].get<double>() / 100, 1.0); // per frame
     EXPECT_TRUE(j["growth_percent"].is_null()); // measured only past frame 100
     ASSERT_EQ(j["resident_mib"].size(), 1u);
     EXPECT_GT(j["resident_mib"][0]["resident_mib"].get<double>(), 10.0);

@@ -144,6 +144,32 @@ TEST(Demo, ResizeMidRunIsValidationClean) {
     EXPECT_EQ(image::readPng(shot).width, 240u);
 }
 
+// A trace in pixels of a larger screen (the FOVE's 1280 x 1440) in a small window: the gaze is
+// clamped to the window's edge, and the demo says so once, as `render` does for such a trace.
+// The run also starts from its device's defaults, with --scale given winning over them.
+TEST(Demo, GazeOutsideTheWindowWarnsOnce) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    const auto dir = test::tempDir("demo_offscreen");
+    const auto trace = dir / "fove.csv";
+    std::ofstream(trace) << "t_ms,x,y\n0,100,60\n100,900,1200\n400,1100,1300\n";
+    const Result r = test::runWith(
+        kXvfb,
+        "demo --scene builtin:cornell --width 320 --height 180 --gaze trace:" + trace.string() +
+            " --frame-ms 50 --frames 8 --overlay off --scale 1.5 --json --cache " +
+            (dir / "cache").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    // The device's defaults, and a method option given on the command line over them.
+    const auto j = nlohmann::json::parse(r.out);
+    const bool cpu = j["device"].get<std::string>().find("llvmpipe") != std::string::npos;
+    EXPECT_EQ(j["defaults"], cpu ? "CPU fast" : "GPU quality");
+    EXPECT_NE(r.err.find("at scale 1.500000"), std::string::npos) << r.err;
+    const std::string warning = "outside the 320x180 window; the gaze is clamped to its edge";
+    const auto first = r.err.find(warning);
+    ASSERT_NE(first, std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find(warning, first + 1), std::string::npos) << r.err; // once
+    EXPECT_NE(r.err.find("trace:"), std::string::npos) << r.err;           // names the source
+}
+
 TEST(Demo, NoDisplayIsOneLineAndNoFile) {
     const auto dir = test::tempDir("demo_nodisplay");
     const auto shot = dir / "never.png";

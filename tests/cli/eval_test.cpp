@@ -91,6 +91,10 @@ TEST(Eval, SweepTracesFewerRaysAtSparserScales) {
                          "--reference-spp 2 --frames 2 --sweep --json --cache " +
                          (dir / "cache").string() + " --out " + (dir / "e").string());
     ASSERT_EQ(r.status, 0) << r.err;
+    // Progress on stderr, frame by frame: reference, 2 foveated, 2 baselines, then 4 scales of
+    // 2 foveated and 2 baselines.
+    EXPECT_NE(r.err.find("eval: frame 1/21 (reference)"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("eval: frame 21/21"), std::string::npos) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     ASSERT_EQ(j["sweep"].size(), 4u);
     uint64_t last = UINT64_MAX;

@@ -231,6 +231,51 @@ TEST(EyeCli, BadInputsAreOneLine) {
 namespace gt {
 namespace {
 
+// eyesim's clip is written by OpenCV, not by gazetrace's writer: it must still appear only
+// whole. A run that fails at the end (a full disk, through the write-fault seam) replaced an
+// existing clip with the new one; now it leaves the old clip, no new file under the final name
+// and no temporary behind.
+TEST(EyeCli, EyesimClipAppearsOnlyWhenTheRunSucceeds) {
+    const auto dir = freshDir("eyesim_whole");
+    const auto clip = dir / "clip.mkv", truth = dir / "truth.csv";
+    const std::string args = "eyesim --seed 3 --frames 30 --size 64x48 --out " + clip.string() +
+                             " --truth " + truth.string();
+    const Result first = run(args);
+    ASSERT_EQ(first.status, 0) << first.err;
+    const std::string clipBefore = slurp(clip), truthBefore = slurp(truth);
+    ASSERT_FALSE(clipBefore.empty());
+    auto onlyTheOutputs = [&](std::size_t expected) {
+        std::size_t n = 0;
+        for (const auto& e : std::filesystem::directory_iterator(dir)) {
+            const auto name = e.path().filename();
+            EXPECT_TRUE(name == "clip.mkv" || name == "truth.csv") << "left behind: " << e.path();
+            ++n;
+        }
+        EXPECT_EQ(n, expected);
+    };
+    onlyTheOutputs(2);
+    const Result full = test::runWith("GAZETRACE_WRITE_FAULT=enospc",
+                                      "eyesim --seed 8 --frames 30 --size 64x48 --out " +
+                                          clip.string() + " --truth " + truth.string());
+    EXPECT_EQ(full.status, 1);
+    EXPECT_NE(full.err.find("No space left"), std::string::npos) << full.err;
+    EXPECT_TRUE(slurp(clip) == clipBefore) << "the old clip was replaced"; // (no binary dump)
+    EXPECT_EQ(slurp(truth), truthBefore);
+    onlyTheOutputs(2);
+    // With no clip there before, a failed run leaves none under the final name.
+    std::filesystem::remove(clip);
+    std::filesystem::remove(truth);
+    EXPECT_EQ(test::runWith("GAZETRACE_WRITE_FAULT=enospc", args).status, 1);
+    EXPECT_FALSE(std::filesystem::exists(clip));
+    onlyTheOutputs(0);
+}
+
+} // namespace
+} // namespace gt
+
+namespace gt {
+namespace {
+
 // The detector on the real near-infrared recording in ../shared/eyedata, against the pupil
 // centres labelled by hand (content/eyedata/real_nir_part1.labels.csv, 60 frames with a pupil).
 TEST(EyeCli, RealRecordingAgainstHandLabels) {

@@ -24,7 +24,7 @@
 #include "gaze/gaze_filter.hpp"
 #include "gaze/gaze_tracker.hpp"
 #include "gaze/recording_calibration.hpp"
-#include "io/udp_emitter.hpp"
+#include "net/udp_emitter.hpp"
 #include "pupil/answer_confidence.hpp"
 #include "pupil/ellipse_fit.hpp"
 #include "pupil/limbus_fit.hpp"

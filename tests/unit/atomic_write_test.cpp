@@ -72,5 +72,44 @@ TEST(AtomicWrite, FolderInTheWayOrMissingIsNamed) {
     EXPECT_EQ(readAll(dir / "now.csv"), "a,b\n");
 }
 
+// A file another library writes by name (a video): nothing under the target's name until
+// commit(), then the whole file; a run that fails (no commit, or a full disk at the commit)
+// leaves an existing file as it was and no temporary.
+TEST(AtomicWrite, StagedFileAppearsOnlyWhenCommitted) {
+    const ClearFaults clear;
+    const auto dir = test::tempDir("atomic_staged");
+    const auto file = dir / "clip.mkv";
+    {
+        io::StagedFile staged(file);
+        EXPECT_EQ(staged.temp().parent_path(), dir);
+        EXPECT_EQ(staged.temp().extension(), ".mkv"); // the writer picks the container by it
+        std::ofstream(staged.temp(), std::ios::binary) << "first clip";
+        EXPECT_FALSE(std::filesystem::exists(file));
+        staged.commit();
+    }
+    EXPECT_EQ(readAll(file), "first clip");
+    EXPECT_TRUE(onlyFile(dir, "clip.mkv"));
+    {
+        io::StagedFile abandoned(file);
+        std::ofstream(abandoned.temp(), std::ios::binary) << "half a clip";
+    }
+    EXPECT_EQ(readAll(file), "first clip");
+    EXPECT_TRUE(onlyFile(dir, "clip.mkv"));
+    io::testing::failWrites(ENOSPC);
+    {
+        io::StagedFile full(file);
+        std::ofstream(full.temp(), std::ios::binary) << "second clip";
+        const std::string e = test::thrownMessage<io::WriteError>([&] { full.commit(); });
+        EXPECT_NE(e.find("No space left"), std::string::npos) << e;
+    }
+    EXPECT_EQ(readAll(file), "first clip");
+    EXPECT_TRUE(onlyFile(dir, "clip.mkv"));
+    io::testing::clearWriteFaults();
+    io::StagedFile empty(file); // the writer never created it
+    EXPECT_THROW(empty.commit(), io::WriteError);
+    EXPECT_EQ(readAll(file), "first clip");
+    EXPECT_THROW(io::StagedFile(dir / "none" / "x.mkv"), io::WriteError); // at once
+}
+
 } // namespace
 } // namespace gt

@@ -80,6 +80,8 @@ public:
         mOptions.taa = mTaa == "on";
         mOptions.distortion = !mNoDistortion;
         mOptions.overlay = mOverlay == "on";
+        mOptions.given = {mCommand->count("--interp") > 0, mCommand->count("--k") > 0,
+                          mCommand->count("--scale") > 0, mCommand->count("--rays-per-point") > 0};
         const nlohmann::json result = runDemo(mOptions);
         if (mJson) std::cout << result.dump() << std::endl;
         return 0;

@@ -1,4 +1,4 @@
-#include "io/csv_tables.hpp"
+#include "formats/csv_tables.hpp"
 
 #include <cmath>
 #include <fstream>

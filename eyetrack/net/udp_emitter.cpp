@@ -1,4 +1,4 @@
-#include "io/udp_emitter.hpp"
+#include "net/udp_emitter.hpp"
 
 #include <cmath>
 
