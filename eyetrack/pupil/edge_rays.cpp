@@ -131,7 +131,7 @@ bool isGlint(const cv::Mat& grey, const cv::Mat& fullIntegral, cv::Point2d p, co
     // integral image), or anything saturated; a plain pupil-iris edge is never more than a few
     // grey levels above its box mean.
     // Nearest pixel, halves away from zero as std::lround, which is a library call here and
-    // this test runs five times at every ray's crossing (2 % of a frame's instructions).
+    // this test runs five times at every ray's crossing.
     const auto nearest = [](double v) {
         // NOLINTNEXTLINE(bugprone-incorrect-roundings): off only for the double just below 0.5
         return v >= 0.0 ? static_cast<int>(v + 0.5) : -static_cast<int>(0.5 - v);

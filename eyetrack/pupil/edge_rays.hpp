@@ -52,7 +52,7 @@ struct RayImage {
 
 class EdgeRays {
 public:
-    // `rays` evenly spaced directions, set once (a sincos per ray per cast cost 1 %).
+    // `rays` evenly spaced directions, set once (not a sincos per ray per cast).
     explicit EdgeRays(int rays);
 
     // Casts every stride-th ray from `from` out to maxDistance and keeps each ray's boundary
