@@ -10,64 +10,6 @@
 
 namespace gt::eyetrack::starburst {
 
-CentreSurroundRow::CentreSurroundRow(const cv::Mat& ii, int y, int hi, int ho)
-    : mW(ii.cols - 1), mHi(hi), mHo(ho),
-      mInnerRows(std::min(ii.rows - 1, y + hi + 1) - std::max(0, y - hi)),
-      mOuterRows(std::min(ii.rows - 1, y + ho + 1) - std::max(0, y - ho)),
-      mI0(ii.ptr<int>(std::max(0, y - hi))), mI1(ii.ptr<int>(std::min(ii.rows - 1, y + hi + 1))),
-      mO0(ii.ptr<int>(std::max(0, y - ho))), mO1(ii.ptr<int>(std::min(ii.rows - 1, y + ho + 1))) {}
-
-double CentreSurroundRow::at(int x) const {
-    const int ix0 = std::max(0, x - mHi), ix1 = std::min(mW, x + mHi + 1);
-    const int ox0 = std::max(0, x - mHo), ox1 = std::min(mW, x + mHo + 1);
-    const long long inner = static_cast<long long>(mI1[ix1]) - mI1[ix0] - mI0[ix1] + mI0[ix0];
-    const long long outer = static_cast<long long>(mO1[ox1]) - mO1[ox0] - mO0[ox1] + mO0[ox0];
-    const int innerArea = (ix1 - ix0) * mInnerRows;
-    const int ringArea = (ox1 - ox0) * mOuterRows - innerArea;
-    if (ringArea <= innerArea) {
-        return -std::numeric_limits<double>::infinity();
-    }
-    return static_cast<double>(outer - inner) / ringArea - static_cast<double>(inner) / innerArea;
-}
-
-// out[k] = at(k * step) for k in [0, count): the same values, with the part of the row where
-// neither box is clipped (the areas fixed there) as a loop the compiler vectorises — at one
-// coarse pixel's step it is most of the coarse search. Box sums are taken as differences of
-// two column differences, each within the integral image's (int) range.
-void CentreSurroundRow::fill(int step, int count, double* out) const {
-    const int first = std::min(count, (mHo + step - 1) / step);
-    const int end = std::max(first, std::min(count, mW - mHo >= 1 ? (mW - mHo - 1) / step + 1 : 0));
-    for (int k = 0; k < first; ++k) {
-        out[k] = at(k * step);
-    }
-    const int innerArea = (2 * mHi + 1) * mInnerRows;
-    const int ringArea = (2 * mHo + 1) * mOuterRows - innerArea;
-    if (ringArea <= innerArea) {
-        std::fill(out + first, out + end, -std::numeric_limits<double>::infinity());
-    } else {
-        const int *i0 = mI0, *i1 = mI1, *o0 = mO0, *o1 = mO1;
-        const int hi = mHi, ho = mHo;
-        const auto one = [&](int x) {
-            const int inner = (i1[x + hi + 1] - i0[x + hi + 1]) - (i1[x - hi] - i0[x - hi]);
-            const int outer = (o1[x + ho + 1] - o0[x + ho + 1]) - (o1[x - ho] - o0[x - ho]);
-            return static_cast<double>(outer - inner) / ringArea -
-                   static_cast<double>(inner) / innerArea;
-        };
-        if (step == 1) {
-            for (int x = first; x < end; ++x) {
-                out[x] = one(x);
-            }
-        } else {
-            for (int k = first; k < end; ++k) {
-                out[k] = one(k * step);
-            }
-        }
-    }
-    for (int k = end; k < count; ++k) {
-        out[k] = at(k * step);
-    }
-}
-
 void CandidateSearch::find(const cv::Mat& grey, const cv::Mat& fullIntegral, double minR,
                            double maxR, std::vector<Candidate>& out, std::size_t limit) {
     search(grey, fullIntegral, minR, maxR, mSmall, mIntegral, out, limit);

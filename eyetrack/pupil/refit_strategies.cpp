@@ -176,6 +176,10 @@ Refitted applyRefits(const RefitContext& ctx, EllipseFit fit,
     return out;
 }
 
+// A lid over the pupil's top whose margin is lined with lashes as dark as the iris passes the ray
+// walk's iris test: its edge points would make the fit hug the lid, centre low. They are dropped
+// and the rest refitted; the refit counts only if its outline reaches at least 1 px beyond the
+// line (the hidden arc) with its centre on the pupil's side.
 std::optional<EllipseFit> fitBesideLid(const RefitContext& ctx, const EllipseFit& fit) {
     const std::size_t n = ctx.points.size();
     if (n < 20) {

@@ -2,8 +2,8 @@
 // The default pupil detector (`--detector starburst`) for near-infrared eye images.
 //
 // Our own code; the ideas are from the published detectors (Starburst, Li, Winfield & Parkhurst
-// 2005; Świrski, Bulling & Dodgson 2012; ExCuSe/ElSe; PuRe and PuReST, Santini, Fuhl & Kasneci
-// 2018). Like them it runs in stages, each in its own file:
+// 2005; Świrski, Bulling & Dodgson 2012; PuRe and PuReST, Santini, Fuhl & Kasneci 2018). Like
+// those and ExCuSe/ElSe (Fuhl et al. 2015, 2016) it runs in stages, each in its own file:
 //  1. Candidates (candidate_search.hpp): last frame's pupil first (tracking, after PuReST), then
 //     the strongest dark blobs of a coarse centre-surround search. When no candidate is
 //     confident, further blobs from the image with lashes closed away are tried, and the same
@@ -121,7 +121,7 @@ public:
 private:
     using Candidate = starburst::Candidate;
     // A candidate refined: its fit and what was measured on it. result.confidence is the
-    // detector's own (FitEvidence::confidence with the size prior, detect() applies it).
+    // detector's own (FitEvidence::confidence; consider() applies the size prior to it).
     struct Refined : starburst::FitEvidence {
         PupilResult result;
         double fittedSemiMajor = 0.0; // before refits held to the recent size: the edges' choice
