@@ -1,10 +1,9 @@
 #!/usr/bin/env bash
-# The eye tracker's held-out numbers: detection, confidence and speed on
-# eyesim seeds 9000-9049 (set A), 8000-8049 (set B), 7000-7049 (set C), 6000-6049 (set D),
-# 5000-5049 (set E) and 4000-4049 (set F) — seeds the detector is not developed on (seeds 1-300
-# are) — then the
-# 2D and 3D gaze models before and after headset slippage on seeds 9000-9007, and binocular
-# vergence on seeds 9000-9003. Writes JSON into OUT (default out/eye_heldout).
+# The eye tracker's held-out numbers: detection, confidence and speed on eyesim seeds 9000-9049
+# (set A), 8000-8049 (set B), 7000-7049 (set C), 6000-6049 (set D), 5000-5049 (set E) and
+# 4000-4049 (set F) — seeds the detector is not developed on (seeds 1-300 are) — then the 2D and
+# 3D gaze models before and after headset slippage on seeds 9000-9007, and binocular vergence on
+# seeds 9000-9003. Writes JSON into OUT (default out/eye_heldout).
 # DETECTOR_ONLY=1 skips slippage and vergence.
 set -euo pipefail
 G=${GAZETRACE:-build/gazetrace}

@@ -6,7 +6,7 @@
 // product leaves out or weighs by hand: how much of the outline is seen, how dark the inside is,
 // how round the fit is, whether another place scored nearly as well, whether the answer
 // continues the last one, and whether its inside is as dark as the pupil has lately been. Fitted on
-// development seeds only (see answer_confidence.cpp).
+// synthetic clips (see answer_confidence.cpp).
 
 namespace gt::eyetrack {
 

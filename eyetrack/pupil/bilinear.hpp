@@ -38,8 +38,8 @@ private:
 
 // Bilinear samples of an 8-bit image with pixel centres at integer coordinates; -1 outside the
 // image. The image's bounds are read once: the ray walk samples tens of thousands of times a
-// frame, a quarter of the detector's instructions, and reloading and converting them each time
-// was a third of that.
+// frame, a quarter of the detector's instructions, and reloading and converting them at each
+// sample would add a third to that.
 class Bilinear {
 public:
     explicit Bilinear(const cv::Mat& img)

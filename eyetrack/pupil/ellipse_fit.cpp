@@ -255,6 +255,42 @@ double outwardSign(const Conic& q, const cv::RotatedRect& e) {
     return q.value(cv::Point2d(e.center.x, e.center.y)) < 0.0 ? 1.0 : -1.0;
 }
 
+// The eigenvector of the reduced scatter matrix r with 4ac - b^2 > 0: the ellipse's quadratic
+// part (Fitzgibbon et al.: exactly one); nullopt when none is found.
+std::optional<std::array<double, 3>> ellipseEigenvector(const Mat3& r) {
+    const double trace = r[0][0] + r[1][1] + r[2][2];
+    const double minors = r[0][0] * r[1][1] - r[0][1] * r[1][0] + r[0][0] * r[2][2] -
+                          r[0][2] * r[2][0] + r[1][1] * r[2][2] - r[1][2] * r[2][1];
+    const double det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
+                       r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
+                       r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+    const RealRoots roots = cubicRoots(-trace, minors, -det);
+    for (const double lambda : roots.all()) {
+        // Eigenvector: the longest cross product of two rows of R - lambda I.
+        Mat3 shifted = r;
+        for (std::size_t i = 0; i < 3; ++i) {
+            shifted[i][i] -= lambda;
+        }
+        std::array<double, 3> best{};
+        double bestNorm = 0.0;
+        for (const auto& [i, j] : {std::pair{0, 1}, std::pair{0, 2}, std::pair{1, 2}}) {
+            const auto& u = shifted[static_cast<std::size_t>(i)];
+            const auto& w = shifted[static_cast<std::size_t>(j)];
+            const std::array<double, 3> c{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                                          u[0] * w[1] - u[1] * w[0]};
+            const double norm = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+            if (norm > bestNorm) {
+                bestNorm = norm;
+                best = c;
+            }
+        }
+        if (bestNorm > 0.0 && 4.0 * best[0] * best[2] - best[1] * best[1] > 0.0) {
+            return best;
+        }
+    }
+    return std::nullopt;
+}
+
 } // namespace
 
 std::optional<Conic> directEllipseFit(std::span<const cv::Point2d> points,
@@ -322,39 +358,7 @@ std::optional<Conic> directEllipseFit(std::span<const cv::Point2d> points,
     const Mat3 r{{{0.5 * m[2][0], 0.5 * m[2][1], 0.5 * m[2][2]},
                   {-m[1][0], -m[1][1], -m[1][2]},
                   {0.5 * m[0][0], 0.5 * m[0][1], 0.5 * m[0][2]}}};
-    // Its eigenvector with 4ac - b^2 > 0 is the ellipse (Fitzgibbon et al.: exactly one).
-    const double trace = r[0][0] + r[1][1] + r[2][2];
-    const double minors = r[0][0] * r[1][1] - r[0][1] * r[1][0] + r[0][0] * r[2][2] -
-                          r[0][2] * r[2][0] + r[1][1] * r[2][2] - r[1][2] * r[2][1];
-    const double det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
-                       r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
-                       r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
-    std::optional<std::array<double, 3>> a1;
-    const RealRoots roots = cubicRoots(-trace, minors, -det);
-    for (const double lambda : roots.all()) {
-        // Eigenvector: the longest cross product of two rows of R - lambda I.
-        Mat3 shifted = r;
-        for (std::size_t i = 0; i < 3; ++i) {
-            shifted[i][i] -= lambda;
-        }
-        std::array<double, 3> best{};
-        double bestNorm = 0.0;
-        for (const auto& [i, j] : {std::pair{0, 1}, std::pair{0, 2}, std::pair{1, 2}}) {
-            const auto& u = shifted[static_cast<std::size_t>(i)];
-            const auto& w = shifted[static_cast<std::size_t>(j)];
-            const std::array<double, 3> c{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                                          u[0] * w[1] - u[1] * w[0]};
-            const double norm = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
-            if (norm > bestNorm) {
-                bestNorm = norm;
-                best = c;
-            }
-        }
-        if (bestNorm > 0.0 && 4.0 * best[0] * best[2] - best[1] * best[1] > 0.0) {
-            a1 = best;
-            break;
-        }
-    }
+    const std::optional<std::array<double, 3>> a1 = ellipseEigenvector(r);
     if (!a1) {
         return std::nullopt;
     }

@@ -4,6 +4,9 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <span>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -19,6 +22,195 @@ double radialResidual(cv::Point2d p, double cx, double cy, double a, double b, d
     const double u = dx * c + dy * s, w = -dx * s + dy * c;
     const double rho = std::sqrt(u * u / (a * a) + w * w / (b * b));
     return rho > 1e-9 ? std::sqrt(u * u + w * w) * (1.0 - 1.0 / rho) : -b;
+}
+
+// The concentric model: parameters (cx, cy, a, ratio, angle, scale), the pupil an ellipse of
+// semi-axes a and a ratio turned by `angle`, the limbus the same ellipse `scale` times larger.
+using ConcentricParams = std::array<double, 6>;
+constexpr double kConcentricSigma = 1.5; // px: the Cauchy weights' scale, and the inlier band
+
+class ConcentricModel {
+public:
+    ConcentricModel(std::span<const cv::Point2d> pupilPoints,
+                    std::span<const cv::Point2d> limbusPoints, double minRatio)
+        : mPupil(pupilPoints), mLimbus(limbusPoints), mMinRatio(minRatio), np(pupilPoints.size()),
+          nl(limbusPoints.size()), n(np + nl) {}
+
+    void project(ConcentricParams& x) const {
+        x[2] = std::max(2.0, x[2]);
+        x[3] = std::clamp(x[3], mMinRatio, 1.0);
+        x[5] = std::clamp(x[5], 1.2, 10.0);
+    }
+
+    void residuals(const ConcentricParams& x, std::vector<double>& r) const {
+        r.resize(n);
+        const double c = std::cos(x[4]), s = std::sin(x[4]);
+        for (std::size_t i = 0; i < np; ++i) {
+            r[i] = radialResidual(mPupil[i], x[0], x[1], x[2], x[2] * x[3], c, s);
+        }
+        for (std::size_t i = 0; i < nl; ++i) {
+            r[np + i] =
+                radialResidual(mLimbus[i], x[0], x[1], x[2] * x[5], x[2] * x[3] * x[5], c, s);
+        }
+    }
+
+    // d r / d (cx, cy, a, ratio, angle, scale) for r = L (1 - 1 / rho), L the distance from the
+    // centre and rho the ellipse's normalised radius there (A, B its semi-axes).
+    void jacobian(const ConcentricParams& x, std::vector<std::array<double, 6>>& jac) const {
+        jac.resize(n);
+        const double c = std::cos(x[4]), s = std::sin(x[4]);
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool onLimbus = i >= np;
+            const cv::Point2d p = onLimbus ? mLimbus[i - np] : mPupil[i];
+            const double ke = onLimbus ? x[5] : 1.0;
+            const double A = x[2] * ke, B = x[2] * x[3] * ke;
+            const double dx = p.x - x[0], dy = p.y - x[1];
+            const double u = dx * c + dy * s, w = -dx * s + dy * c;
+            const double L = std::max(1e-9, std::sqrt(u * u + w * w));
+            const double rho = std::max(1e-9, std::sqrt(u * u / (A * A) + w * w / (B * B)));
+            const double k = L / (rho * rho); // d r / d rho
+            const double drdu = u / L * (1.0 - 1.0 / rho) + k * u / (A * A * rho);
+            const double drdw = w / L * (1.0 - 1.0 / rho) + k * w / (B * B * rho);
+            const double drdA = -k * u * u / (A * A * A * rho);
+            const double drdB = -k * w * w / (B * B * B * rho);
+            std::array<double, 6>& j = jac[i];
+            j[0] = -drdu * c + drdw * s;
+            j[1] = -drdu * s - drdw * c;
+            j[2] = (drdA + drdB * x[3]) * ke;
+            j[3] = drdB * x[2] * ke;
+            j[4] = drdu * w - drdw * u;
+            j[5] = onLimbus ? (drdA + drdB * x[3]) * x[2] : 0.0;
+        }
+    }
+
+    [[nodiscard]] static double robustCost(const std::vector<double>& r) {
+        double sum = 0.0;
+        for (const double v : r) {
+            sum += std::log1p(v * v / (kConcentricSigma * kConcentricSigma));
+        }
+        return sum;
+    }
+
+    // Levenberg-Marquardt on the Cauchy-weighted residuals from x (cost: its robustCost, r: its
+    // residuals; on return, the result's).
+    [[nodiscard]] ConcentricParams descend(ConcentricParams x, double cost,
+                                           std::vector<double>& r) const;
+    // The two ellipses, the inliers and the limbus points' spread, at x (r: its residuals).
+    [[nodiscard]] ConcentricFit describe(const ConcentricParams& x,
+                                         const std::vector<double>& r) const;
+
+private:
+    // The normal equations J^T W J and J^T W r, W the Cauchy weights 1 / (1 + (r / sigma)^2).
+    void normalEquations(const std::vector<std::array<double, 6>>& jac,
+                         const std::vector<double>& r, cv::Matx<double, 6, 6>& jtj,
+                         cv::Vec<double, 6>& jtr) const;
+
+    std::span<const cv::Point2d> mPupil, mLimbus;
+    double mMinRatio;
+    std::size_t np, nl, n;
+};
+
+void ConcentricModel::normalEquations(const std::vector<std::array<double, 6>>& jac,
+                                      const std::vector<double>& r, cv::Matx<double, 6, 6>& jtj,
+                                      cv::Vec<double, 6>& jtr) const {
+    constexpr double kSigma = kConcentricSigma;
+    jtj = cv::Matx<double, 6, 6>::zeros();
+    jtr = cv::Vec<double, 6>();
+    for (std::size_t i = 0; i < n; ++i) {
+        const double w = 1.0 / (1.0 + r[i] * r[i] / (kSigma * kSigma));
+        for (int p = 0; p < 6; ++p) {
+            const double wj = w * jac[i][static_cast<std::size_t>(p)];
+            jtr[p] += wj * r[i];
+            for (int q = p; q < 6; ++q) {
+                jtj(p, q) += wj * jac[i][static_cast<std::size_t>(q)];
+            }
+        }
+    }
+    for (int p = 0; p < 6; ++p) {
+        for (int q = 0; q < p; ++q) {
+            jtj(p, q) = jtj(q, p);
+        }
+    }
+}
+
+ConcentricParams ConcentricModel::descend(ConcentricParams x, double cost,
+                                          std::vector<double>& r) const {
+    constexpr int kIterations = 15;
+    constexpr double kConverged = 1e-4; // relative fall of the cost that ends the descent
+    double current = cost, lambda = 1e-2;
+    std::vector<std::array<double, 6>> jac(n);
+    std::vector<double> rh;
+    for (int it = 0; it < kIterations; ++it) {
+        jacobian(x, jac);
+        cv::Matx<double, 6, 6> jtj;
+        cv::Vec<double, 6> jtr;
+        normalEquations(jac, r, jtj, jtr);
+        double gain = 0.0;
+        for (int tries = 0; tries < 4 && gain <= 0.0; ++tries) {
+            cv::Matx<double, 6, 6> m = jtj;
+            for (int p = 0; p < 6; ++p) {
+                m(p, p) += lambda * (jtj(p, p) + 1e-9);
+            }
+            cv::Vec<double, 6> step;
+            if (!cv::solve(m, -jtr, step, cv::DECOMP_CHOLESKY)) {
+                lambda *= 10.0;
+                continue;
+            }
+            ConcentricParams xn = x;
+            for (int p = 0; p < 6; ++p) {
+                xn[static_cast<std::size_t>(p)] += step[p];
+            }
+            project(xn);
+            residuals(xn, rh);
+            const double next = robustCost(rh);
+            if (next < current) {
+                gain = (current - next) / std::max(1e-12, current);
+                x = xn;
+                r.swap(rh);
+                current = next;
+                lambda = std::max(1e-7, 0.3 * lambda);
+            } else {
+                lambda *= 10.0;
+            }
+        }
+        if (gain < kConverged) {
+            break;
+        }
+    }
+    return x;
+}
+
+ConcentricFit ConcentricModel::describe(const ConcentricParams& x,
+                                        const std::vector<double>& r) const {
+    ConcentricFit fit;
+    const float deg = static_cast<float>(x[4] * 180.0 / std::numbers::pi);
+    const cv::Point2f centre(static_cast<float>(x[0]), static_cast<float>(x[1]));
+    fit.pupil = cv::RotatedRect(
+        centre, cv::Size2f(static_cast<float>(2.0 * x[2]), static_cast<float>(2.0 * x[2] * x[3])),
+        deg);
+    fit.limbus = cv::RotatedRect(centre,
+                                 cv::Size2f(static_cast<float>(2.0 * x[2] * x[5]),
+                                            static_cast<float>(2.0 * x[2] * x[3] * x[5])),
+                                 deg);
+    double lo = 1e9, hi = -1e9;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (std::abs(r[i]) > kConcentricSigma) {
+            continue;
+        }
+        if (i < np) {
+            ++fit.pupilInliers;
+        } else {
+            ++fit.limbusInliers;
+            const cv::Point2d p = mLimbus[i - np];
+            const double ang = std::atan2(p.y - x[1], p.x - x[0]) * 180.0 / std::numbers::pi;
+            // Rays run from -20 to 200 deg: unwrap the few above the horizontal on the left.
+            const double unwrapped = ang < -90.0 ? ang + 360.0 : ang;
+            lo = std::min(lo, unwrapped);
+            hi = std::max(hi, unwrapped);
+        }
+    }
+    fit.limbusSpreadDeg = hi > lo ? hi - lo : 0.0;
+    return fit;
 }
 
 } // namespace
@@ -127,78 +319,22 @@ std::optional<ConcentricFit> fitConcentric(std::span<const cv::Point2d> pupilPoi
     std::nth_element(dist.begin(), dist.begin() + static_cast<std::ptrdiff_t>(dist.size() / 2),
                      dist.end());
     const double k0 = std::max(1.3, dist[dist.size() / 2] / a0);
-    constexpr double kSigma = 1.5;
-    constexpr int kIterations = 15;
-    constexpr double kConverged = 1e-4; // relative fall of the cost that ends the descent
-    const std::size_t np = pupilPoints.size(), nl = limbusPoints.size(), n = np + nl;
-    using Params = std::array<double, 6>;
-    const auto project = [&](Params& x) {
-        x[2] = std::max(2.0, x[2]);
-        x[3] = std::clamp(x[3], minRatio, 1.0);
-        x[5] = std::clamp(x[5], 1.2, 10.0);
-    };
-    const auto residuals = [&](const Params& x, std::vector<double>& r) {
-        r.resize(n);
-        const double c = std::cos(x[4]), s = std::sin(x[4]);
-        for (std::size_t i = 0; i < np; ++i) {
-            r[i] = radialResidual(pupilPoints[i], x[0], x[1], x[2], x[2] * x[3], c, s);
-        }
-        for (std::size_t i = 0; i < nl; ++i) {
-            r[np + i] =
-                radialResidual(limbusPoints[i], x[0], x[1], x[2] * x[5], x[2] * x[3] * x[5], c, s);
-        }
-    };
-    // d r / d (cx, cy, a, ratio, angle, scale) for r = L (1 - 1 / rho), L the distance from the
-    // centre and rho the ellipse's normalised radius there (A, B its semi-axes).
-    const auto jacobian = [&](const Params& x, std::vector<std::array<double, 6>>& jac) {
-        jac.resize(n);
-        const double c = std::cos(x[4]), s = std::sin(x[4]);
-        for (std::size_t i = 0; i < n; ++i) {
-            const bool onLimbus = i >= np;
-            const cv::Point2d p = onLimbus ? limbusPoints[i - np] : pupilPoints[i];
-            const double ke = onLimbus ? x[5] : 1.0;
-            const double A = x[2] * ke, B = x[2] * x[3] * ke;
-            const double dx = p.x - x[0], dy = p.y - x[1];
-            const double u = dx * c + dy * s, w = -dx * s + dy * c;
-            const double L = std::max(1e-9, std::sqrt(u * u + w * w));
-            const double rho = std::max(1e-9, std::sqrt(u * u / (A * A) + w * w / (B * B)));
-            const double k = L / (rho * rho); // d r / d rho
-            const double drdu = u / L * (1.0 - 1.0 / rho) + k * u / (A * A * rho);
-            const double drdw = w / L * (1.0 - 1.0 / rho) + k * w / (B * B * rho);
-            const double drdA = -k * u * u / (A * A * A * rho);
-            const double drdB = -k * w * w / (B * B * B * rho);
-            std::array<double, 6>& j = jac[i];
-            j[0] = -drdu * c + drdw * s;
-            j[1] = -drdu * s - drdw * c;
-            j[2] = (drdA + drdB * x[3]) * ke;
-            j[3] = drdB * x[2] * ke;
-            j[4] = drdu * w - drdw * u;
-            j[5] = onLimbus ? (drdA + drdB * x[3]) * x[2] : 0.0;
-        }
-    };
-    const auto robustCost = [&](const std::vector<double>& r) {
-        double sum = 0.0;
-        for (const double v : r) {
-            sum += std::log1p(v * v / (kSigma * kSigma));
-        }
-        return sum;
-    };
+    const ConcentricModel model(pupilPoints, limbusPoints, minRatio);
     // The start: the ratio (0.7, 0.85 or 1, the centre raised so the lowest point stays) whose
-    // ellipses explain the points best; one descent from there (a descent from each found 6 more
-    // frames of 1,700 on the twelve wild development seeds that gain most, for 3x the cost;
-    // starting the limbus scale at the distances' quartiles too, 3 more).
-    std::optional<Params> best;
+    // ellipses explain the points best; one descent from there (a descent from each start finds
+    // little more for three times the cost).
+    std::optional<ConcentricParams> best;
     double bestCost = 0.0;
-    std::vector<double> r, rh;
+    std::vector<double> r;
     for (const double ratio0 : {0.7, 0.85, 1.0}) {
         if (ratio0 < minRatio) {
             continue;
         }
-        Params x{c0.x, c0.y, a0, ratio0, th0, k0};
+        ConcentricParams x{c0.x, c0.y, a0, ratio0, th0, k0};
         x[1] -= std::max(0.0, ratio0 * a0 - b0) * std::abs(std::cos(th0));
-        project(x);
-        residuals(x, r);
-        const double cost = robustCost(r);
+        model.project(x);
+        model.residuals(x, r);
+        const double cost = ConcentricModel::robustCost(r);
         if (!best || cost < bestCost) {
             best = x;
             bestCost = cost;
@@ -207,99 +343,10 @@ std::optional<ConcentricFit> fitConcentric(std::span<const cv::Point2d> pupilPoi
     if (!best) {
         return std::nullopt;
     }
-    {
-        Params x = *best;
-        residuals(x, r);
-        double current = bestCost, lambda = 1e-2;
-        std::vector<std::array<double, 6>> jac(n);
-        for (int it = 0; it < kIterations; ++it) {
-            jacobian(x, jac);
-            // Iteratively reweighted: Cauchy weights 1 / (1 + (r / sigma)^2).
-            cv::Matx<double, 6, 6> jtj = cv::Matx<double, 6, 6>::zeros();
-            cv::Vec<double, 6> jtr;
-            for (std::size_t i = 0; i < n; ++i) {
-                const double w = 1.0 / (1.0 + r[i] * r[i] / (kSigma * kSigma));
-                for (int p = 0; p < 6; ++p) {
-                    const double wj = w * jac[i][static_cast<std::size_t>(p)];
-                    jtr[p] += wj * r[i];
-                    for (int q = p; q < 6; ++q) {
-                        jtj(p, q) += wj * jac[i][static_cast<std::size_t>(q)];
-                    }
-                }
-            }
-            for (int p = 0; p < 6; ++p) {
-                for (int q = 0; q < p; ++q) {
-                    jtj(p, q) = jtj(q, p);
-                }
-            }
-            double gain = 0.0;
-            for (int tries = 0; tries < 4 && gain <= 0.0; ++tries) {
-                cv::Matx<double, 6, 6> m = jtj;
-                for (int p = 0; p < 6; ++p) {
-                    m(p, p) += lambda * (jtj(p, p) + 1e-9);
-                }
-                cv::Vec<double, 6> step;
-                if (!cv::solve(m, -jtr, step, cv::DECOMP_CHOLESKY)) {
-                    lambda *= 10.0;
-                    continue;
-                }
-                Params xn = x;
-                for (int p = 0; p < 6; ++p) {
-                    xn[static_cast<std::size_t>(p)] += step[p];
-                }
-                project(xn);
-                residuals(xn, rh);
-                const double cost = robustCost(rh);
-                if (cost < current) {
-                    gain = (current - cost) / std::max(1e-12, current);
-                    x = xn;
-                    r.swap(rh);
-                    current = cost;
-                    lambda = std::max(1e-7, 0.3 * lambda);
-                } else {
-                    lambda *= 10.0;
-                }
-            }
-            if (gain < kConverged) {
-                break;
-            }
-        }
-        best = x;
-    }
-    if (!best) {
-        return std::nullopt;
-    }
-    const Params& x = *best;
-    residuals(x, r);
-    ConcentricFit fit;
-    const float deg = static_cast<float>(x[4] * 180.0 / std::numbers::pi);
-    const cv::Point2f centre(static_cast<float>(x[0]), static_cast<float>(x[1]));
-    fit.pupil = cv::RotatedRect(
-        centre, cv::Size2f(static_cast<float>(2.0 * x[2]), static_cast<float>(2.0 * x[2] * x[3])),
-        deg);
-    fit.limbus = cv::RotatedRect(centre,
-                                 cv::Size2f(static_cast<float>(2.0 * x[2] * x[5]),
-                                            static_cast<float>(2.0 * x[2] * x[3] * x[5])),
-                                 deg);
-    double lo = 1e9, hi = -1e9;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (std::abs(r[i]) > kSigma) {
-            continue;
-        }
-        if (i < np) {
-            ++fit.pupilInliers;
-        } else {
-            ++fit.limbusInliers;
-            const cv::Point2d p = limbusPoints[i - np];
-            const double ang = std::atan2(p.y - x[1], p.x - x[0]) * 180.0 / std::numbers::pi;
-            // Rays run from -20 to 200 deg: unwrap the few above the horizontal on the left.
-            const double unwrapped = ang < -90.0 ? ang + 360.0 : ang;
-            lo = std::min(lo, unwrapped);
-            hi = std::max(hi, unwrapped);
-        }
-    }
-    fit.limbusSpreadDeg = hi > lo ? hi - lo : 0.0;
-    return fit;
+    model.residuals(*best, r);
+    const ConcentricParams x = model.descend(*best, bestCost, r);
+    model.residuals(x, r);
+    return model.describe(x, r);
 }
 
 } // namespace gt::eyetrack

@@ -6,7 +6,7 @@
 //  - starburst (default; pupil/starburst_detector.hpp): centre-surround candidates, rays to the
 //    boundary, RANSAC ellipse, a confidence from outline, edge sharpness and a filled interior;
 //  - blob (pupil/blob_detector.hpp): threshold at the darkest percentile and take the largest
-//    blob — the naive baseline the issue measured against, kept to measure against.
+//    blob — the naive baseline, kept to measure against.
 // Confidence is in [0, 1]; `found` is the detector's own cut. Detectors keep state between frames
 // (a temporal prior), so frames are given in order; reset() forgets it (a new recording).
 #include <memory>

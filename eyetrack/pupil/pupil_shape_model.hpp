@@ -13,7 +13,7 @@
 // R (least squares of the distances against sin theta), and predicts the ratio and the major
 // axis's direction at any centre. Corneal refraction makes a real pupil look rounder than cos
 // theta; fitting R to the observed ratios absorbs most of it, and the predictions are used as a
-// band (StarburstDetector::fitToEyeShape), not as exact values.
+// band (refit_strategies.hpp, fitToEyeShape), not as exact values.
 //
 // The samples are a window of the most recent ones, so a headset that slips is relearnt.
 #include <cstddef>
