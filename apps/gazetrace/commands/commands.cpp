@@ -20,6 +20,7 @@ std::unique_ptr<Command> makeDemoCommand();
 std::unique_ptr<Command> makeXrCommand();
 std::unique_ptr<Command> makeDevicesCommand();
 std::unique_ptr<Command> makeScenesCommand();
+std::unique_ptr<Command> makeOptionsCommand();
 
 bool Command::given() const {
     return mCommand != nullptr && mCommand->parsed();
@@ -42,6 +43,7 @@ std::vector<std::unique_ptr<Command>> allCommands(const bool& quiet) {
     c.push_back(makeXrCommand());
     c.push_back(makeDevicesCommand());
     c.push_back(makeScenesCommand());
+    c.push_back(makeOptionsCommand());
     return c;
 }
 
