@@ -20,6 +20,7 @@
 #include "foveation/point_set_cache.hpp"
 #include "full_resolution.hpp"
 #include "layers_quality.hpp"
+#include "option_parsing.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
@@ -142,7 +143,7 @@ nlohmann::json layerPredictions() {
     nlohmann::json out = nlohmann::json::array();
     for (const char* profile : {"desktop", "fove"}) {
         const foveation::LayerDisplay d =
-            foveation::LayerDisplay::fromProfile(foveation::displayProfile(profile));
+            foveation::LayerDisplay::fromProfile(displayProfile(profile));
         for (const auto& [name, slope] :
              {std::pair{"A", foveation::kSlopeA}, std::pair{"B", foveation::kSlopeB}}) {
             const foveation::LayerPlan plan = foveation::optimiseLayers(d, {slope}, 3);
@@ -171,7 +172,8 @@ nlohmann::json layerPredictions() {
 // and outer layers alternate frames, so each sample is the mean over two consecutive frames,
 // paired with a reference frame between them (machine drift hits both alike).
 nlohmann::json measureLayers(render::Renderer& renderer, int pairs) {
-    const foveation::DisplayProfile desktop = foveation::displayProfile("desktop");
+    const foveation::DisplayProfile desktop =
+        foveation::displayProfile(foveation::DisplayModel::Desktop);
     const uint32_t w = desktop.width, h = desktop.height;
     render::FullResolution reference(renderer.methodContext(), {1, 0});
     render::DiscardTarget discard;
@@ -277,7 +279,7 @@ nlohmann::json runBench(const BenchOptions& o) {
     }
     const int frames = o.quick ? 2 : 5; // median of >= 5 frames for Table 2 (issue)
     foveation::PointSetParams params;
-    params.display = foveation::displayProfile("fove");
+    params.display = foveation::displayProfile(foveation::DisplayModel::Fove);
     const std::filesystem::path cache =
         o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
 

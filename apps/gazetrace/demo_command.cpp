@@ -30,6 +30,8 @@
 #include "gaze_input.hpp"
 #include "gaze_mapping.hpp"
 #include "layers_command.hpp"
+#include "method_factory.hpp"
+#include "option_parsing.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"
@@ -128,9 +130,11 @@ public:
     render::FoveationMethod& forSize(uint32_t w, uint32_t h) {
         // Layers: the window on the desktop screen (the method sizes them per window).
         if (mSettings.method == "layers") {
-            return layers(mWindowLayers, foveation::displayProfile("desktop"));
+            return layers(mWindowLayers,
+                          foveation::displayProfile(foveation::DisplayModel::Desktop));
         }
-        return forDisplay(foveation::windowProfile(foveation::displayProfile("desktop"), w, h));
+        return forDisplay(foveation::windowProfile(
+            foveation::displayProfile(foveation::DisplayModel::Desktop), w, h));
     }
     [[nodiscard]] double lastBuildMs() const noexcept { return mBuildMs; }
     // The point-set method last handed out (for the overlay's counts), or null.
@@ -159,8 +163,8 @@ private:
         // The interpolation and rays follow the settings every frame (nothing to rebuild
         // except the k-NN table, which the method builds when k changes).
         passes::InterpolateSettings interp;
-        interp.method = mSettings.view.empty() ? passes::parseInterpolation(mSettings.interp)
-                                               : passes::parseView(mSettings.view);
+        interp.method = mSettings.view.empty() ? parseInterpolation(mSettings.interp)
+                                               : parseView(mSettings.view);
         interp.k = mSettings.k;
         slot->settings = {mSettings.raysPerPoint, interp, mDisplaySpace};
         mCurrent = slot.get();
@@ -172,9 +176,10 @@ private:
         foveation::PointSetParams params;
         params.display = display;
         params.scale = mSettings.scale;
-        slot = std::make_unique<render::PointSetMethod>(
-            mRenderer.methodContext(), params,
-            mCacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(mCacheDir));
+        slot = render::makeMethod(
+            render::PointSetConfig{params, mCacheDir.empty() ? foveation::defaultCacheDir()
+                                                             : std::filesystem::path(mCacheDir)},
+            mRenderer.methodContext());
         mBuildMs = msBetween(t, SteadyClock::now());
         log::info("point set for " + std::to_string(display.width) + "x" +
                   std::to_string(display.height) + " at scale " + std::to_string(params.scale) +
@@ -198,10 +203,10 @@ void checkOptions(const DemoOptions& o) {
     if (o.method != "foveated" && o.method != "reference" && o.method != "layers") {
         throw ArgumentError("--method: '" + o.method + "' (known: foveated, layers, reference)");
     }
-    (void)foveation::parseSlope(o.slope);
+    (void)parseSlope(o.slope);
     if (o.method == "foveated") {
-        (void)passes::parseInterpolation(o.interp);
-        if (!o.view.empty()) (void)passes::parseView(o.view);
+        (void)parseInterpolation(o.interp);
+        if (!o.view.empty()) (void)parseView(o.view);
         if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
             throw ArgumentError("--k must be 1..20");
         }
@@ -210,8 +215,8 @@ void checkOptions(const DemoOptions& o) {
     if (o.framesInFlight > 4) {
         throw ArgumentError("--frames-in-flight must be 0 (automatic) to 4");
     }
-    (void)vk::parsePresentMode(o.present);
-    if (!o.hmd.empty()) (void)display::hmdProfile(o.hmd); // a bad name fails before the window
+    (void)parsePresentMode(o.present);
+    if (!o.hmd.empty()) (void)hmdProfile(o.hmd); // a bad name fails before the window
     if (!o.screenshot.empty() && std::filesystem::path(o.screenshot).extension() != ".png") {
         throw ArgumentError("--screenshot: give a .png file, got '" + o.screenshot + "'");
     }
@@ -274,7 +279,7 @@ nlohmann::json runDemo(const DemoOptions& o) {
     ro.display.createSurface = [&window](VkInstance i) { return window->createSurface(i); };
     render::Renderer renderer(ro);
     vk::Context& ctx = renderer.context();
-    vk::Swapchain swapchain(ctx, window->framebufferSize(), vk::parsePresentMode(o.present));
+    vk::Swapchain swapchain(ctx, window->framebufferSize(), parsePresentMode(o.present));
     render::SwapchainTarget target(ctx);
     render::OutputTarget* const targetPtr = &target;
     DemoSettings settings{
@@ -292,7 +297,7 @@ nlohmann::json runDemo(const DemoOptions& o) {
     stats.gazeSource = gaze->describe();
     stats.device = ctx.deviceName();
     std::optional<render::StereoRig> rig;
-    if (!o.hmd.empty()) rig.emplace(display::hmdProfile(o.hmd), o.distortion);
+    if (!o.hmd.empty()) rig.emplace(hmdProfile(o.hmd), o.distortion);
 
     const scene::Scene& sc = renderer.scene();
     const float sceneSize = glm::length(sc.boundsMax() - sc.boundsMin());

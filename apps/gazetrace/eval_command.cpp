@@ -19,6 +19,8 @@
 #include "foveation/point_set_cache.hpp"
 #include "frame_shots.hpp"
 #include "full_resolution.hpp"
+#include "method_factory.hpp"
+#include "option_parsing.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "quality/eccentricity_bands.hpp"
@@ -282,7 +284,7 @@ std::pair<uint32_t, uint32_t> uniformSize(uint64_t rays, uint32_t rpp, uint32_t 
 } // namespace
 
 nlohmann::json runEval(const EvalOptions& o) {
-    const std::vector<std::string> profiles = foveation::displayProfileNames();
+    const std::vector<std::string> profiles = displayProfileNames();
     if (std::find(profiles.begin(), profiles.end(), o.profile) == profiles.end()) {
         throw ArgumentError("--profile: unknown display profile '" + o.profile + "'");
     }
@@ -298,8 +300,8 @@ nlohmann::json runEval(const EvalOptions& o) {
     if (o.baseline != "uniform" && o.baseline != "none") {
         throw ArgumentError("--baseline: expected uniform or none, got '" + o.baseline + "'");
     }
-    const bool thesis = render::parseReconstruction(o.reconstruction);
-    const foveation::DisplayProfile screen = foveation::displayProfile(o.profile);
+    const bool thesis = parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis;
+    const foveation::DisplayProfile screen = displayProfile(o.profile);
     Geometry g;
     g.display = (o.width || o.height)
                     ? foveation::windowProfile(screen, o.width ? o.width : screen.width,
@@ -379,9 +381,10 @@ nlohmann::json runEval(const EvalOptions& o) {
         foveation::PointSetParams params;
         params.display = g.display;
         params.scale = scale;
-        auto m = std::make_unique<render::PointSetMethod>(renderer.methodContext(), params, cache);
+        auto m =
+            render::makeMethod(render::PointSetConfig{params, cache, {}}, renderer.methodContext());
         m->settings.raysPerPoint = o.raysPerPoint;
-        m->settings.interpolation.method = passes::parseInterpolation(o.interp);
+        m->settings.interpolation.method = parseInterpolation(o.interp);
         m->settings.interpolation.k = o.k;
         m->settings.lod = o.lod;
         m->settings.displayReferred = o.blend == "display";

@@ -88,7 +88,8 @@ nlohmann::json bandsJson(const std::array<double, kBands>& v) {
 } // namespace
 
 nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
-    const foveation::DisplayProfile desktop = foveation::displayProfile("desktop");
+    const foveation::DisplayProfile desktop =
+        foveation::displayProfile(foveation::DisplayModel::Desktop);
     const uint32_t w = desktop.width, h = desktop.height;
     const glm::vec2 centre(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h));
     const std::vector<uint8_t> bands = quality::bandMap(desktop, w, h, centre);

@@ -11,6 +11,7 @@
 #include "core/log.hpp"
 #include "display/display_space.hpp"
 #include "foveation/point_set_cache.hpp"
+#include "option_parsing.hpp"
 #include "scene/image_io.hpp"
 
 namespace gt::app {
@@ -82,8 +83,9 @@ nlohmann::json describe(const foveation::CachedPointSet& c) {
 nlohmann::json runPointSet(const PointSetOptions& o) {
     foveation::PointSetParams params;
     std::optional<display::HmdProfile> hmd;
-    if (!o.hmd.empty()) hmd = display::hmdProfile(o.hmd);
-    params.display = foveation::displayProfile(hmd ? hmd->pointSetProfile : o.profile);
+    if (!o.hmd.empty()) hmd = hmdProfile(o.hmd);
+    params.display =
+        hmd ? foveation::displayProfile(hmd->pointSetProfile) : displayProfile(o.profile);
     params.seed = o.seed;
     const std::filesystem::path dir =
         o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);

@@ -27,8 +27,9 @@
 #include "gaze/gaze_tracker.hpp"
 #include "gaze_mapping.hpp"
 #include "layers_command.hpp"
+#include "method_factory.hpp"
+#include "option_parsing.hpp"
 #include "output_target.hpp"
-#include "point_sample/point_sample.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"
@@ -208,7 +209,7 @@ nlohmann::json layersJson(render::EccentricityLayers& layers, const render::View
 // with its off-axis frustum, its own gaze and its lens, composed into the side-by-side frame an
 // extended-mode HMD shows. --gaze and --gaze-trace are pixels of the left eye's image.
 nlohmann::json runRenderHmd(const RenderOptions& o) {
-    const display::HmdProfile profile = display::hmdProfile(o.hmd);
+    const display::HmdProfile profile = hmdProfile(o.hmd);
     const bool foveated = o.method == "foveated";
     if (o.method != "reference" && o.method != "layers" && !foveated) {
         throw ArgumentError("--method: '" + o.method + "' (known: reference, foveated, layers)");
@@ -250,13 +251,14 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
     render::Renderer renderer(rendererOptions(o));
     scene::Camera head = renderer.scene().camera;
     if (cameraArg) head = cameraArg->camera(head.yfov);
-    std::optional<render::FullResolution> reference;
-    std::optional<render::PointSetMethod> pointSet;
-    std::optional<render::EccentricityLayers> layers;
+    std::unique_ptr<render::FullResolution> reference;
+    std::unique_ptr<render::PointSetMethod> pointSet;
+    std::unique_ptr<render::EccentricityLayers> layers;
     render::FoveationMethod* method = nullptr;
     if (o.method == "layers") {
         // Each eye's layers from its own frustum: the HMD image fills the eye's field of view.
-        layers.emplace(renderer.methodContext(), renderLayerSettings(o, std::nullopt));
+        layers = render::makeMethod(render::LayersConfig{renderLayerSettings(o, std::nullopt)},
+                                    renderer.methodContext());
         method = &*layers;
     } else if (foveated) {
         foveation::PointSetParams params;
@@ -265,26 +267,29 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
         if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
             throw ArgumentError("--k must be 1..20");
         }
-        pointSet.emplace(renderer.methodContext(), params,
-                         o.cacheDir.empty() ? foveation::defaultCacheDir()
-                                            : std::filesystem::path(o.cacheDir));
         passes::InterpolateSettings interp;
-        interp.method =
-            o.view.empty() ? passes::parseInterpolation(o.interp) : passes::parseView(o.view);
+        interp.method = o.view.empty() ? parseInterpolation(o.interp) : parseView(o.view);
         interp.k = o.k;
-        interp.kernel = passes::parseKernel(o.kernel);
+        interp.kernel = parseKernel(o.kernel);
         interp.rbfShape = static_cast<float>(o.rbfShape);
-        interp.knn = passes::parseKnnIndex(o.knn);
-        pointSet->settings = {o.raysPerPoint, interp, o.displaySpace && o.distortion, o.lod};
+        interp.knn = parseKnnIndex(o.knn);
+        pointSet = render::makeMethod(
+            render::PointSetConfig{params,
+                                   o.cacheDir.empty() ? foveation::defaultCacheDir()
+                                                      : std::filesystem::path(o.cacheDir),
+                                   {o.raysPerPoint, interp, o.displaySpace && o.distortion, o.lod}},
+            renderer.methodContext());
         method = &*pointSet;
     } else {
-        reference.emplace(renderer.methodContext(), passes::ReferenceSettings{o.spp, o.seed});
+        reference = render::makeMethod(
+            render::FullResolutionConfig{passes::ReferenceSettings{o.spp, o.seed}},
+            renderer.methodContext());
         method = &*reference;
     }
     const render::StereoRig rig(profile, o.distortion);
     render::PostSettings post;
     post.taa = foveated && o.taa && o.view.empty();
-    if (pointSet && render::parseReconstruction(o.reconstruction)) {
+    if (pointSet && parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis) {
         render::useThesisReconstruction(pointSet->settings, post.taaSettings);
     }
     render::CompositeReadbackTarget composite(renderer.context(), 2 * w, h);
@@ -373,7 +378,7 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
 } // namespace
 
 nlohmann::json runRender(const RenderOptions& o) {
-    if (o.method == "layers") (void)foveation::parseSlope(o.slope); // before any work
+    if (o.method == "layers") (void)parseSlope(o.slope); // before any work
     if (!o.hmd.empty()) {
         return runRenderHmd(o);
     }
@@ -392,7 +397,7 @@ nlohmann::json runRender(const RenderOptions& o) {
     passes::InterpolateSettings interp;
     glm::vec2 gaze{};
     if (foveated) {
-        psParams.display = foveation::displayProfile(o.profile);
+        psParams.display = displayProfile(o.profile);
         psParams.scale = o.scale;
         if (o.sizeGiven && o.profile == "desktop") {
             // A window on the desktop screen: its own point set at the screen's pixels per degree.
@@ -405,22 +410,22 @@ nlohmann::json runRender(const RenderOptions& o) {
         }
         width = psParams.display.width;
         height = psParams.display.height;
-        interp.method = passes::parseInterpolation(o.interp);
+        interp.method = parseInterpolation(o.interp);
         interp.k = o.k;
-        interp.kernel = passes::parseKernel(o.kernel);
+        interp.kernel = parseKernel(o.kernel);
         interp.rbfShape = static_cast<float>(o.rbfShape);
-        interp.knn = passes::parseKnnIndex(o.knn);
+        interp.knn = parseKnnIndex(o.knn);
         if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
             throw ArgumentError("--k must be 1..20");
         }
         gaze = parseGaze(o.gaze, width, height);
         if (!o.view.empty()) {
-            interp.method = passes::parseView(o.view);
+            interp.method = parseView(o.view);
         }
     } else if (layered) {
         // The profile's screen (or a window on it, with --width/--height): layer sizes follow
         // its viewing geometry, as the point set's do.
-        const foveation::DisplayProfile screen = foveation::displayProfile(o.profile);
+        const foveation::DisplayProfile screen = displayProfile(o.profile);
         if (!o.sizeGiven) {
             width = screen.width;
             height = screen.height;
@@ -503,27 +508,32 @@ nlohmann::json runRender(const RenderOptions& o) {
     view.height = height;
     view.exposure = renderer.scene().exposure;
     view.post.taa = false;
-    std::optional<render::FullResolution> reference;
-    std::optional<render::PointSetMethod> pointSet;
-    std::optional<render::EccentricityLayers> layers;
+    std::unique_ptr<render::FullResolution> reference;
+    std::unique_ptr<render::PointSetMethod> pointSet;
+    std::unique_ptr<render::EccentricityLayers> layers;
     if (layered) {
-        layers.emplace(renderer.methodContext(),
-                       renderLayerSettings(o, foveation::displayProfile(o.profile)));
+        layers = render::makeMethod(
+            render::LayersConfig{renderLayerSettings(o, displayProfile(o.profile))},
+            renderer.methodContext());
         view.method = &*layers;
         view.gaze = gaze;
     } else if (foveated) {
-        pointSet.emplace(renderer.methodContext(), psParams,
-                         o.cacheDir.empty() ? foveation::defaultCacheDir()
-                                            : std::filesystem::path(o.cacheDir));
-        pointSet->settings = {o.raysPerPoint, interp, false, o.lod};
+        pointSet = render::makeMethod(
+            render::PointSetConfig{psParams,
+                                   o.cacheDir.empty() ? foveation::defaultCacheDir()
+                                                      : std::filesystem::path(o.cacheDir),
+                                   {o.raysPerPoint, interp, false, o.lod}},
+            renderer.methodContext());
         view.method = &*pointSet;
         view.gaze = gaze;
         view.post.taa = o.taa && o.view.empty(); // debug views show one frame's data as is
-        if (render::parseReconstruction(o.reconstruction)) {
+        if (parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis) {
             render::useThesisReconstruction(pointSet->settings, view.post.taaSettings);
         }
     } else {
-        reference.emplace(renderer.methodContext(), passes::ReferenceSettings{o.spp, o.seed});
+        reference = render::makeMethod(
+            render::FullResolutionConfig{passes::ReferenceSettings{o.spp, o.seed}},
+            renderer.methodContext());
         view.method = &*reference;
     }
     std::optional<eyetrack::GazeTracker> tracker;

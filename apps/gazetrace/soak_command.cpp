@@ -88,8 +88,8 @@ nlohmann::json runSoak(const SoakOptions& o) {
                         .framesInFlight = 0,
                         .deviceOverride = device ? device : ""});
     foveation::PointSetParams params;
-    params.display =
-        foveation::windowProfile(foveation::displayProfile("desktop"), o.width, o.height);
+    params.display = foveation::windowProfile(
+        foveation::displayProfile(foveation::DisplayModel::Desktop), o.width, o.height);
     render::PointSetMethod foveated(r.methodContext(), params, cache);
     render::FullResolution reference(r.methodContext(), {1, 0});
     render::DiscardTarget discard;

@@ -102,7 +102,7 @@ nlohmann::json runStereoBench(const BenchOptions& o) {
     const std::filesystem::path cache =
         o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
     const char* device = std::getenv("GAZETRACE_DEVICE");
-    const display::HmdProfile hmd = display::hmdProfile("fove");
+    const display::HmdProfile hmd = display::hmdProfile(display::HmdModel::Fove);
     std::vector<Series> all;
     std::string deviceName, deviceType;
     for (const uint32_t inFlight : {1u, 2u}) {
@@ -140,8 +140,8 @@ nlohmann::json runStereoBench(const BenchOptions& o) {
         }
         // The desktop demo's default frame.
         foveation::PointSetParams winParams;
-        winParams.display =
-            foveation::windowProfile(foveation::displayProfile("desktop"), 640, 360);
+        winParams.display = foveation::windowProfile(
+            foveation::displayProfile(foveation::DisplayModel::Desktop), 640, 360);
         winParams.scale = 2.0;
         render::PointSetMethod window(r.methodContext(), winParams, cache);
         window.settings.raysPerPoint = 1;

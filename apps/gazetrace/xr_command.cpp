@@ -22,6 +22,8 @@
 #include "full_resolution.hpp"
 #include "gaze_input.hpp"
 #include "layers_command.hpp"
+#include "method_factory.hpp"
+#include "option_parsing.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "scene/image_io.hpp"
@@ -67,8 +69,8 @@ void checkOptions(const XrOptions& o) {
     if (o.method != "foveated" && o.method != "reference" && o.method != "layers") {
         throw ArgumentError("--method: '" + o.method + "' (known: foveated, layers, reference)");
     }
-    (void)foveation::parseSlope(o.slope);
-    (void)passes::parseInterpolation(o.interp);
+    (void)parseSlope(o.slope);
+    (void)parseInterpolation(o.interp);
     if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
         throw ArgumentError("--k must be 1..20");
     }
@@ -134,15 +136,17 @@ public:
             params.display = display;
             params.scale = mOptions.pointScale;
             const auto t = Clock::now();
-            slot = std::make_unique<render::PointSetMethod>(
-                mRenderer.methodContext(), params,
-                mOptions.cacheDir.empty() ? foveation::defaultCacheDir()
-                                          : std::filesystem::path(mOptions.cacheDir));
             passes::InterpolateSettings interp;
-            interp.method = passes::parseInterpolation(mOptions.interp);
+            interp.method = parseInterpolation(mOptions.interp);
             interp.k = mOptions.k;
-            slot->settings = {mOptions.raysPerPoint, interp, false};
-            if (render::parseReconstruction(mOptions.reconstruction)) {
+            slot = render::makeMethod(
+                render::PointSetConfig{params,
+                                       mOptions.cacheDir.empty()
+                                           ? foveation::defaultCacheDir()
+                                           : std::filesystem::path(mOptions.cacheDir),
+                                       {mOptions.raysPerPoint, interp, false}},
+                mRenderer.methodContext());
+            if (parseReconstruction(mOptions.reconstruction) == render::Reconstruction::Thesis) {
                 passes::TaaSettings unused; // the views' TAA follows in eyeViews
                 render::useThesisReconstruction(slot->settings, unused);
             }
@@ -470,7 +474,7 @@ nlohmann::json runXr(const XrOptions& o) {
             runtimeGazeFrames += sample ? 1 : 0;
             const std::array<render::View, 2> views =
                 eyeViews(frame, gaze, placement, *session, methods, o.taa, sc.exposure,
-                         render::parseReconstruction(o.reconstruction));
+                         parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis);
             const bool lastFrame = o.frames != 0 && rendered + 1 == o.frames;
             if (lastFrame && !o.screenshot.empty()) {
                 targets[shotEye].requestScreenshot();

@@ -1078,7 +1078,8 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
 
 Scene loadScene(const std::string& spec, GltfLoadReport* report) {
     if (spec.empty()) {
-        throw LoadError("--scene is empty: give builtin:NAME, FILE.gltf, FILE.glb or cubemap:FILE");
+        throw LoadError(
+            "the scene is empty: give builtin:NAME, FILE.gltf, FILE.glb or cubemap:FILE");
     }
     if (spec.rfind("builtin:", 0) == 0) return makeBuiltin(spec);
     if (spec.rfind("cubemap:", 0) == 0) {

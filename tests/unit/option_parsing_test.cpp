@@ -1,0 +1,54 @@
+// The command line's option values become the renderer's typed settings (apps/gazetrace/
+// option_parsing): each known name its value, and an unknown one an error naming the option.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "core/error.hpp"
+#include "option_parsing.hpp"
+#include "support/bad_files.hpp"
+
+namespace gt::app {
+namespace {
+
+TEST(OptionParsing, ParsesSlopes) {
+    EXPECT_DOUBLE_EQ(parseSlope("A"), foveation::kSlopeA);
+    EXPECT_DOUBLE_EQ(parseSlope("B"), foveation::kSlopeB);
+    EXPECT_DOUBLE_EQ(parseSlope("0.03"), 0.03);
+    EXPECT_THROW((void)parseSlope("C"), ArgumentError);
+    EXPECT_THROW((void)parseSlope("-0.1"), ArgumentError);
+    EXPECT_THROW((void)parseSlope("0.02x"), ArgumentError);
+}
+
+TEST(OptionParsing, EveryListedProfileNameIsItsModel) {
+    for (const std::string& name : hmdProfileNames()) {
+        EXPECT_EQ(hmdProfile(name).name, name);
+    }
+    EXPECT_EQ(parseHmd("rift-cv1"), render::HmdModel::RiftCv1);
+    EXPECT_NE(
+        test::thrownMessage<ArgumentError>([] { (void)hmdProfile("oculus-dk9"); }).find("--hmd"),
+        std::string::npos);
+    for (const std::string& name : displayProfileNames()) {
+        EXPECT_EQ(displayProfile(name).name, name);
+    }
+    EXPECT_EQ(parseDisplay("desktop"), render::DisplayModel::Desktop);
+    EXPECT_THROW((void)displayProfile("oculus"), ArgumentError);
+}
+
+TEST(OptionParsing, InterpolationChoices) {
+    EXPECT_EQ(parseInterpolation("msm"), render::Interpolation::Shepard);
+    EXPECT_EQ(parseView("eccentricity"), render::Interpolation::ViewSpacing);
+    EXPECT_EQ(parseKernel("gaussian"), render::RbfKernel::Gaussian);
+    EXPECT_EQ(parseKnnIndex("lists"), render::KnnIndex::NeighbourLists);
+    EXPECT_EQ(parseReconstruction("thesis"), render::Reconstruction::Thesis);
+    EXPECT_EQ(parsePresentMode("mailbox"), render::PresentMode::Mailbox);
+    EXPECT_NE(test::thrownMessage<ArgumentError>([] {
+                  (void)parseInterpolation("idw");
+              }).find("--interp"),
+              std::string::npos);
+    EXPECT_THROW((void)parseView("depth"), ArgumentError);
+    EXPECT_THROW((void)parseReconstruction("guenter"), ArgumentError);
+}
+
+} // namespace
+} // namespace gt::app
