@@ -56,11 +56,6 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-std::string deviceFromEnvironment() {
-    const char* device = std::getenv("GAZETRACE_DEVICE");
-    return device ? device : "";
-}
-
 // What one bench frame measures: the GPU times per pass and the wall time.
 struct Frame {
     rg::FrameTimings timings;
@@ -81,7 +76,9 @@ class BenchFrames {
 public:
     BenchFrames(const std::string& scene, const foveation::PointSetParams& params,
                 const std::filesystem::path& cache)
-        : renderer({.scene = scene, .deviceOverride = deviceFromEnvironment()}),
+        : renderer({.scene = scene,
+                    .deviceOverride = deviceRequest(),
+                    .sceneLoad = gltfLoadOptions()}),
           reference(renderer.methodContext()), pointSet(renderer.methodContext(), params, cache) {}
 
     Frame foveated(const FoveatedSettings& s) {
@@ -281,7 +278,7 @@ nlohmann::json runBench(const BenchOptions& o) {
     foveation::PointSetParams params;
     params.display = foveation::displayProfile(foveation::DisplayModel::Fove);
     const std::filesystem::path cache =
-        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
+        o.cacheDir.empty() ? defaultCacheDir() : std::filesystem::path(o.cacheDir);
 
     BenchFrames session(o.scene, params, cache);
     const uint32_t w = params.display.width, h = params.display.height;
@@ -618,7 +615,9 @@ nlohmann::json runBench(const BenchOptions& o) {
 }
 
 nlohmann::json runLayersBench(const BenchOptions& o) {
-    render::Renderer renderer({.scene = o.scene, .deviceOverride = deviceFromEnvironment()});
+    render::Renderer renderer({.scene = o.scene,
+                               .deviceOverride = deviceRequest(),
+                               .sceneLoad = gltfLoadOptions()});
     std::printf("gazetrace bench --suite layers on %s (%s)\n",
                 renderer.context().deviceName().c_str(),
                 renderer.context().deviceDescription().c_str());

@@ -177,7 +177,7 @@ private:
         params.display = display;
         params.scale = mSettings.scale;
         slot = render::makeMethod(
-            render::PointSetConfig{params, mCacheDir.empty() ? foveation::defaultCacheDir()
+            render::PointSetConfig{params, mCacheDir.empty() ? defaultCacheDir()
                                                              : std::filesystem::path(mCacheDir)},
             mRenderer.methodContext());
         mBuildMs = msBetween(t, SteadyClock::now());
@@ -272,8 +272,8 @@ nlohmann::json runDemo(const DemoOptions& o) {
     ro.scene = o.scene;
     ro.validate = o.validate;
     ro.framesInFlight = o.framesInFlight;
-    const char* device = std::getenv("GAZETRACE_DEVICE");
-    ro.deviceOverride = device ? device : "";
+    ro.deviceOverride = deviceRequest();
+    ro.sceneLoad = gltfLoadOptions();
     ro.display.instanceExtensions = window->requiredInstanceExtensions();
     ro.display.deviceExtensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
     ro.display.createSurface = [&window](VkInstance i) { return window->createSurface(i); };

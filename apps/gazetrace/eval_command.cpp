@@ -339,11 +339,11 @@ nlohmann::json runEval(const EvalOptions& o) {
     std::filesystem::create_directories(out);
 
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
-    const char* device = std::getenv("GAZETRACE_DEVICE");
     render::Renderer renderer({.scene = o.scene,
                                .validate = o.validate,
                                .framesInFlight = 1,
-                               .deviceOverride = device ? device : ""});
+                               .deviceOverride = deviceRequest(),
+                               .sceneLoad = gltfLoadOptions()});
     Shooter shooter(renderer);
     scene::Camera camera = renderer.scene().camera;
     if (cameraArg) {
@@ -376,7 +376,7 @@ nlohmann::json runEval(const EvalOptions& o) {
     const std::vector<uint8_t> bleedMask = quality::darkNearBrightMask(ref);
 
     const std::filesystem::path cache =
-        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
+        o.cacheDir.empty() ? defaultCacheDir() : std::filesystem::path(o.cacheDir);
     auto makeFoveated = [&](double scale) {
         foveation::PointSetParams params;
         params.display = g.display;

@@ -15,6 +15,7 @@
 #include "foveation/point_set_cache.hpp"
 #include "frame_shots.hpp"
 #include "full_resolution.hpp"
+#include "option_parsing.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "quality/eccentricity_bands.hpp"
@@ -94,7 +95,7 @@ nlohmann::json measureLayerQuality(const LayerQualityOptions& o) {
     const glm::vec2 centre(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h));
     const std::vector<uint8_t> bands = quality::bandMap(desktop, w, h, centre);
     const std::filesystem::path cache =
-        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
+        o.cacheDir.empty() ? defaultCacheDir() : std::filesystem::path(o.cacheDir);
     const int settle = o.quick ? 4 : 16; // frames for the histories to converge
     const uint32_t refRays = o.quick ? 4 : 16;
     nlohmann::json out;

@@ -1,6 +1,10 @@
 #include "option_parsing.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <exception>
 
 #include "core/error.hpp"
@@ -96,6 +100,97 @@ foveation::DisplayProfile displayProfile(const std::string& name) {
 
 std::vector<std::string> displayProfileNames() {
     return {"fove", "vive", "desktop"};
+}
+
+std::filesystem::path defaultCacheDir() {
+    if (const char* d = std::getenv("GAZETRACE_CACHE"); d && *d) return d;
+    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
+        return std::filesystem::path(x) / "gazetrace";
+    if (const char* h = std::getenv("HOME"); h && *h)
+        return std::filesystem::path(h) / ".cache" / "gazetrace";
+    return std::filesystem::temp_directory_path() / "gazetrace-cache";
+}
+
+namespace {
+// `fallback`, or the environment variable `name` when that is a positive number.
+double limitFromEnv(const char* name, double fallback) {
+    if (const char* env = std::getenv(name)) {
+        char* end = nullptr;
+        const double v = std::strtod(env, &end);
+        if (end != env && *end == '\0' && v > 0.0 && std::isfinite(v)) return v;
+    }
+    return fallback;
+}
+} // namespace
+
+vk::DeviceRequest parseDeviceRequest(const std::string& text) {
+    vk::DeviceRequest r;
+    const bool numeric = !text.empty() && text.size() < 10 &&
+                         std::all_of(text.begin(), text.end(),
+                                     [](unsigned char ch) { return std::isdigit(ch) != 0; });
+    if (numeric) {
+        r.index = std::stoul(text);
+    } else {
+        r.nameContains = text;
+    }
+    return r;
+}
+
+vk::DeviceRequest deviceRequest() {
+    const char* device = std::getenv("GAZETRACE_DEVICE");
+    return parseDeviceRequest(device ? device : "");
+}
+
+scene::GltfLoadOptions gltfLoadOptions() {
+    scene::GltfLoadOptions o;
+    o.maxTriangles = limitFromEnv("GAZETRACE_MAX_TRIANGLES", o.maxTriangles);
+    o.maxInstances = limitFromEnv("GAZETRACE_MAX_INSTANCES", o.maxInstances);
+    const char* any = std::getenv("GAZETRACE_GLTF_ANY_PATH");
+    o.anyPath = any != nullptr && std::string(any) == "1";
+    return o;
+}
+
+std::pair<cv::Rect, cv::Rect> parseEyeRegions(const std::string& text) {
+    int v[8] = {};
+    char extra = 0;
+    if (std::sscanf(text.c_str(), "%d,%d,%d,%d;%d,%d,%d,%d%c", &v[0], &v[1], &v[2], &v[3], &v[4],
+                    &v[5], &v[6], &v[7], &extra) != 8) {
+        throw ArgumentError("--regions " + text +
+                            ": expected X,Y,W,H;X,Y,W,H (left eye; right eye)");
+    }
+    const cv::Rect l(v[0], v[1], v[2], v[3]), r(v[4], v[5], v[6], v[7]);
+    for (const cv::Rect& q : {l, r}) {
+        if (q.x < 0 || q.y < 0 || q.width < 32 || q.height < 24) {
+            throw ArgumentError("--regions " + text +
+                                ": each region must start at >= 0 and be at least 32x24");
+        }
+    }
+    return {l, r};
+}
+
+eyetrack::UdpEndpoint parseUdpEndpoint(const std::string& url) {
+    const std::string prefix = "udp://";
+    auto bad = [&](const std::string& why) { return ArgumentError("--emit " + url + ": " + why); };
+    if (url.rfind(prefix, 0) != 0) throw bad("expected udp://HOST:PORT");
+    const std::string rest = url.substr(prefix.size());
+    const auto colon = rest.rfind(':');
+    if (colon == std::string::npos) throw bad("expected udp://HOST:PORT");
+    std::string host = rest.substr(0, colon);
+    const std::string portText = rest.substr(colon + 1);
+    int port = 0;
+    try {
+        std::size_t used = 0;
+        port = std::stoi(portText, &used);
+        if (used != portText.size()) port = 0;
+    } catch (const std::exception&) {
+        port = 0;
+    }
+    if (port <= 0 || port > 65535) throw bad("port must be 1-65535");
+    if (host == "localhost") host = "127.0.0.1";
+    if (host.empty() || host.find_first_not_of("0123456789.") != std::string::npos) {
+        throw bad("host must be an IPv4 address or localhost");
+    }
+    return {host, static_cast<std::uint16_t>(port)};
 }
 
 } // namespace gt::app

@@ -2,10 +2,16 @@
 // The command line's option values as the renderer's typed settings (renderer/settings.hpp):
 // every string an option takes becomes an enum or a number here, and only here. A bad value
 // throws ArgumentError naming the option and the values it takes.
+#include <filesystem>
 #include <string>
 #include <vector>
 
+#include <opencv2/core/types.hpp>
+
+#include "io/udp_emitter.hpp"
+#include "scene/gltf_loader.hpp"
 #include "settings.hpp"
+#include "vk/device_selector.hpp"
 
 namespace gt::app {
 
@@ -28,5 +34,24 @@ parsePresentMode(const std::string& name); // fifo|mailbox|immediate
 [[nodiscard]] render::DisplayModel parseDisplay(const std::string& name);
 [[nodiscard]] foveation::DisplayProfile displayProfile(const std::string& name);
 [[nodiscard]] std::vector<std::string> displayProfileNames();
+
+// Where point sets are cached unless --cache-dir says: $GAZETRACE_CACHE, else
+// $XDG_CACHE_HOME/gazetrace, else ~/.cache/gazetrace.
+[[nodiscard]] std::filesystem::path defaultCacheDir();
+
+// GAZETRACE_DEVICE: a decimal index among the Vulkan devices or a substring of a device's
+// name; unset or empty: the automatic choice.
+[[nodiscard]] vk::DeviceRequest deviceRequest();
+[[nodiscard]] vk::DeviceRequest parseDeviceRequest(const std::string& text);
+
+// The scene loader's limits as the environment sets them: GAZETRACE_MAX_TRIANGLES and
+// GAZETRACE_MAX_INSTANCES (positive numbers; anything else keeps the default) and
+// GAZETRACE_GLTF_ANY_PATH=1 (buffers and images anywhere).
+[[nodiscard]] scene::GltfLoadOptions gltfLoadOptions();
+
+// --regions "X,Y,W,H;X,Y,W,H": the left eye's region of the camera, then the right eye's.
+[[nodiscard]] std::pair<cv::Rect, cv::Rect> parseEyeRegions(const std::string& text);
+// --emit udp://IPV4:PORT or udp://localhost:PORT.
+[[nodiscard]] eyetrack::UdpEndpoint parseUdpEndpoint(const std::string& url);
 
 } // namespace gt::app

@@ -88,7 +88,7 @@ nlohmann::json runPointSet(const PointSetOptions& o) {
         hmd ? foveation::displayProfile(hmd->pointSetProfile) : displayProfile(o.profile);
     params.seed = o.seed;
     const std::filesystem::path dir =
-        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
+        o.cacheDir.empty() ? defaultCacheDir() : std::filesystem::path(o.cacheDir);
     for (const std::string& f : {o.out, o.image}) {
         if (f.empty()) continue;
         const std::filesystem::path parent = std::filesystem::path(f).parent_path();

@@ -69,11 +69,11 @@ void warnOffScreen(const foveation::GazeTrace& trace, const std::string& file, u
 
 // One frame at a time (each is written before the next), on GAZETRACE_DEVICE if set.
 render::RendererOptions rendererOptions(const RenderOptions& o) {
-    const char* device = std::getenv("GAZETRACE_DEVICE");
     return {.scene = o.scene,
             .validate = o.validate,
             .framesInFlight = 1,
-            .deviceOverride = device ? device : ""};
+            .deviceOverride = deviceRequest(),
+            .sceneLoad = gltfLoadOptions()};
 }
 
 // What this run wrote: removed again unless the run succeeds, so a failed run (a full disk at
@@ -275,7 +275,7 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
         interp.knn = parseKnnIndex(o.knn);
         pointSet = render::makeMethod(
             render::PointSetConfig{params,
-                                   o.cacheDir.empty() ? foveation::defaultCacheDir()
+                                   o.cacheDir.empty() ? defaultCacheDir()
                                                       : std::filesystem::path(o.cacheDir),
                                    {o.raysPerPoint, interp, o.displaySpace && o.distortion, o.lod}},
             renderer.methodContext());
@@ -520,7 +520,7 @@ nlohmann::json runRender(const RenderOptions& o) {
     } else if (foveated) {
         pointSet = render::makeMethod(
             render::PointSetConfig{psParams,
-                                   o.cacheDir.empty() ? foveation::defaultCacheDir()
+                                   o.cacheDir.empty() ? defaultCacheDir()
                                                       : std::filesystem::path(o.cacheDir),
                                    {o.raysPerPoint, interp, false, o.lod}},
             renderer.methodContext());

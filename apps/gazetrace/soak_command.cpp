@@ -28,6 +28,7 @@
 #include "foveation/contrast_sensitivity.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "full_resolution.hpp"
+#include "option_parsing.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
@@ -81,12 +82,12 @@ constexpr uint32_t kCycleFrames = std::size(kPhases) * kPhaseFrames; // 90
 nlohmann::json runSoak(const SoakOptions& o) {
     if (o.frames < 1) throw ArgumentError("soak: --frames must be at least 1");
     const std::filesystem::path cache =
-        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
-    const char* device = std::getenv("GAZETRACE_DEVICE");
+        o.cacheDir.empty() ? defaultCacheDir() : std::filesystem::path(o.cacheDir);
     render::Renderer r({.scene = o.scene,
                         .validate = true, // Khronos validation and synchronisation validation
                         .framesInFlight = 0,
-                        .deviceOverride = device ? device : ""});
+                        .deviceOverride = deviceRequest(),
+                        .sceneLoad = gltfLoadOptions()});
     foveation::PointSetParams params;
     params.display = foveation::windowProfile(
         foveation::displayProfile(foveation::DisplayModel::Desktop), o.width, o.height);

@@ -18,6 +18,7 @@
 #include "display/hmd_profile.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "full_resolution.hpp"
+#include "option_parsing.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
@@ -100,14 +101,15 @@ nlohmann::json toJson(const Series& s) {
 
 nlohmann::json runStereoBench(const BenchOptions& o) {
     const std::filesystem::path cache =
-        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
-    const char* device = std::getenv("GAZETRACE_DEVICE");
+        o.cacheDir.empty() ? defaultCacheDir() : std::filesystem::path(o.cacheDir);
     const display::HmdProfile hmd = display::hmdProfile(display::HmdModel::Fove);
     std::vector<Series> all;
     std::string deviceName, deviceType;
     for (const uint32_t inFlight : {1u, 2u}) {
-        render::Renderer r(
-            {.scene = o.scene, .framesInFlight = inFlight, .deviceOverride = device ? device : ""});
+        render::Renderer r({.scene = o.scene,
+                            .framesInFlight = inFlight,
+                            .deviceOverride = deviceRequest(),
+                            .sceneLoad = gltfLoadOptions()});
         deviceName = r.context().deviceName();
         deviceType = r.context().deviceDescription();
         const bool cpu = r.context().properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;

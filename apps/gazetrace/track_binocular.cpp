@@ -20,6 +20,7 @@
 #include "io/atomic_file.hpp"
 #include "io/csv_tables.hpp"
 #include "io/udp_emitter.hpp"
+#include "option_parsing.hpp"
 #include "score/detection_score.hpp"
 #include "stats.hpp"
 
@@ -61,7 +62,7 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
     }
     std::pair<cv::Rect, cv::Rect> regions;
     if (split) {
-        regions = eyetrack::parseEyeRegions(o.regions);
+        regions = parseEyeRegions(o.regions);
     }
     const auto set = eyetrack::CalibrationSet::load(o.calibration);
     const auto camera = eyeCamera(o.camera);
@@ -82,7 +83,7 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
     eyetrack::BinocularCombiner combiner(display, o.ipdMm);
     std::unique_ptr<eyetrack::UdpEmitter> emitter;
     if (!o.emit.empty()) {
-        emitter = std::make_unique<eyetrack::UdpEmitter>(o.emit, display);
+        emitter = std::make_unique<eyetrack::UdpEmitter>(parseUdpEndpoint(o.emit), display);
     }
     std::unique_ptr<eyetrack::AtomicFile> gazeCsv;
     if (!o.out.empty()) {

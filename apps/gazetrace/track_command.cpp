@@ -20,6 +20,7 @@
 #include "io/contact_sheet.hpp"
 #include "io/csv_tables.hpp"
 #include "io/udp_emitter.hpp"
+#include "option_parsing.hpp"
 #include "pupil/pupil_detector.hpp"
 #include "score/detection_score.hpp"
 #include "stats.hpp"
@@ -77,7 +78,8 @@ nlohmann::json runTrack(const TrackOptions& o) {
     int certainVisible = 0, certainWithin5 = 0;
     std::unique_ptr<eyetrack::UdpEmitter> emitter;
     if (!o.emit.empty()) {
-        emitter = std::make_unique<eyetrack::UdpEmitter>(o.emit, mapper->display());
+        emitter =
+            std::make_unique<eyetrack::UdpEmitter>(parseUdpEndpoint(o.emit), mapper->display());
     }
 
     std::unique_ptr<eyetrack::AtomicFile> gazeCsv, pupilCsv;

@@ -142,7 +142,7 @@ public:
             slot = render::makeMethod(
                 render::PointSetConfig{params,
                                        mOptions.cacheDir.empty()
-                                           ? foveation::defaultCacheDir()
+                                           ? defaultCacheDir()
                                            : std::filesystem::path(mOptions.cacheDir),
                                        {mOptions.raysPerPoint, interp, false}},
                 mRenderer.methodContext());
@@ -383,8 +383,8 @@ nlohmann::json runXr(const XrOptions& o) {
     ro.scene = o.scene;
     ro.validate = o.validate;
     ro.framesInFlight = 1; // each frame's images are released right after its submit
-    const char* device = std::getenv("GAZETRACE_DEVICE");
-    ro.deviceOverride = device ? device : "";
+    ro.deviceOverride = deviceRequest();
+    ro.sceneLoad = gltfLoadOptions();
     ro.display = runtime.vulkanHooks();
     render::Renderer renderer(ro);
     vk::Context& ctx = renderer.context();

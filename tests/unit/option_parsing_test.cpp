@@ -50,5 +50,27 @@ TEST(OptionParsing, InterpolationChoices) {
     EXPECT_THROW((void)parseReconstruction("guenter"), ArgumentError);
 }
 
+TEST(OptionParsing, EyeRegionsAndTheGazeReceiver) {
+    const auto [left, right] = parseEyeRegions("0,0,320,240;320,0,320,240");
+    EXPECT_EQ(left, cv::Rect(0, 0, 320, 240));
+    EXPECT_EQ(right, cv::Rect(320, 0, 320, 240));
+    EXPECT_THROW((void)parseEyeRegions("0,0,10"), ArgumentError);
+    EXPECT_THROW((void)parseEyeRegions("0,0,16,16;320,0,320,240"), ArgumentError);
+    const eyetrack::UdpEndpoint to = parseUdpEndpoint("udp://localhost:5005");
+    EXPECT_EQ(to.ipv4, "127.0.0.1");
+    EXPECT_EQ(to.port, 5005);
+    EXPECT_THROW((void)parseUdpEndpoint("tcp://1.2.3.4:5"), ArgumentError);
+    EXPECT_THROW((void)parseUdpEndpoint("udp://example.com:5"), ArgumentError);
+    EXPECT_THROW((void)parseUdpEndpoint("udp://127.0.0.1:99999"), ArgumentError);
+}
+
+TEST(OptionParsing, DeviceRequestIsAnIndexOrANameSubstring) {
+    EXPECT_EQ(parseDeviceRequest("1").index, 1u);
+    EXPECT_TRUE(parseDeviceRequest("1").nameContains.empty());
+    EXPECT_FALSE(parseDeviceRequest("llvmpipe").index.has_value());
+    EXPECT_EQ(parseDeviceRequest("llvmpipe").nameContains, "llvmpipe");
+    EXPECT_TRUE(parseDeviceRequest("").automatic());
+}
+
 } // namespace
 } // namespace gt::app
