@@ -1,7 +1,8 @@
 #pragma once
-// The command line's option values as the renderer's typed settings (renderer/settings.hpp):
-// every string an option takes becomes an enum or a number here, and only here. A bad value
-// throws ArgumentError naming the option and the values it takes.
+// The command line's option values and the environment's settings as the libraries' typed
+// settings (renderer/settings.hpp and the structs below): every string an option or variable
+// takes becomes an enum, a number or a struct here, and only here. A bad option value throws
+// ArgumentError naming the option and the values it takes.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -15,16 +16,17 @@
 
 namespace gt::app {
 
-[[nodiscard]] render::Interpolation parseInterpolation(const std::string& name); // nn | msm | rbf
-[[nodiscard]] render::RbfKernel parseKernel(const std::string& name);   // multiquadric | gaussian
-[[nodiscard]] render::KnnIndex parseKnnIndex(const std::string& name);  // lists | table
-[[nodiscard]] render::Interpolation parseView(const std::string& name); // points|cells|eccentricity
-[[nodiscard]] render::Reconstruction
-parseReconstruction(const std::string& name); // gazetrace|thesis
+// --interp nn | msm | rbf, --kernel multiquadric | gaussian, --knn lists | table,
+// --view points | cells | eccentricity, --reconstruction gazetrace | thesis.
+[[nodiscard]] render::Interpolation parseInterpolation(const std::string& name);
+[[nodiscard]] render::RbfKernel parseKernel(const std::string& name);
+[[nodiscard]] render::KnnIndex parseKnnIndex(const std::string& name);
+[[nodiscard]] render::Interpolation parseView(const std::string& name);
+[[nodiscard]] render::Reconstruction parseReconstruction(const std::string& name);
 // --slope: "A", "B" (Guenter et al. 2012's quality levels) or a positive MAR slope.
 [[nodiscard]] double parseSlope(const std::string& text);
-[[nodiscard]] render::PresentMode
-parsePresentMode(const std::string& name); // fifo|mailbox|immediate
+// --present fifo | mailbox | immediate.
+[[nodiscard]] render::PresentMode parsePresentMode(const std::string& name);
 
 // --hmd: fove | vive | rift-cv1.
 [[nodiscard]] render::HmdModel parseHmd(const std::string& name);
