@@ -376,6 +376,7 @@ nlohmann::json runXr(const XrOptions& o) {
 
     xr::RuntimeOptions rto;
     rto.eyeGaze = o.runtimeGaze;
+    if (const char* manifest = std::getenv("XR_RUNTIME_JSON")) rto.runtimeManifest = manifest;
     const xr::Runtime runtime(rto);
     log::info("xr: runtime " + runtime.runtimeName() + ", system " + runtime.systemName());
 
