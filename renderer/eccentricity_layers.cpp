@@ -23,13 +23,14 @@ std::string layerScope(std::size_t i) {
 EccentricityLayers::EccentricityLayers(const MethodContext& mc, EccentricityLayerSettings s)
     : mMc(mc), mSettings(std::move(s)), mPass(mc.ctx), mTaa(mc.ctx) {
     if (!(mSettings.slope > 0.0)) {
-        throw ArgumentError("--slope must be positive");
+        throw ArgumentError("MAR slope " + std::to_string(mSettings.slope) + " is not positive");
     }
     if (mSettings.layers < 1 || mSettings.layers > passes::kMaxEccentricityLayers) {
-        throw ArgumentError("--layers: " + std::to_string(mSettings.layers) + " (1 to 4)");
+        throw ArgumentError("layer count " + std::to_string(mSettings.layers) + " is outside 1.." +
+                            std::to_string(passes::kMaxEccentricityLayers));
     }
     if (mSettings.raysPerPixel == 0) {
-        throw ArgumentError("--rays-per-pixel must be at least 1");
+        throw ArgumentError("rays per layer pixel is 0: every layer pixel traces at least 1 ray");
     }
     if (!(mSettings.transition > 0.0f) || mSettings.transition > 1.0f) {
         throw ArgumentError("layer blend transition must be in (0, 1]");

@@ -37,16 +37,6 @@ void useThesisReconstruction(PointSetSettings& settings, passes::TaaSettings& ta
     taa.adaptive = false;
 }
 
-bool parseReconstruction(const std::string& name) {
-    if (name == "thesis") {
-        return true;
-    }
-    if (name == "gazetrace") {
-        return false;
-    }
-    throw ArgumentError("--reconstruction: expected gazetrace or thesis, got '" + name + "'");
-}
-
 PointSetMethod::PointSetMethod(const MethodContext& mc, const foveation::PointSetParams& params,
                                const std::filesystem::path& cacheDir)
     : mMc(mc), mPoints(loadPointSet(params, cacheDir, mPointSetMs)),

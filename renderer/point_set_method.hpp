@@ -70,7 +70,6 @@ struct PointSetSettings {
 // The defaults instead blend display-referred, weigh neighbours by depth and colour, use q = 2,
 // rotate the rays every frame and let TAA average a still view (README, "Reconstruction").
 void useThesisReconstruction(PointSetSettings& settings, passes::TaaSettings& taa);
-[[nodiscard]] bool parseReconstruction(const std::string& name); // gazetrace | thesis -> thesis?
 
 class PointSetMethod final : public FoveationMethod {
 public:

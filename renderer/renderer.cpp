@@ -27,7 +27,7 @@ constexpr const char* kTaaWeightHistory = "taa.weight";
 Renderer::Renderer(const RendererOptions& o) {
     const auto t0 = Clock::now();
     scene::GltfLoadReport report;
-    mScene = scene::loadScene(o.scene, &report);
+    mScene = scene::loadScene(o.scene, &report, o.sceneLoad);
     for (const std::string& w : report.warnings) {
         log::warn(o.scene + ": " + w);
     }

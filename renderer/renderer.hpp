@@ -17,6 +17,7 @@
 #include "render_graph/frame_ring.hpp"
 #include "render_graph/render_graph.hpp"
 #include "scene/bvh.hpp"
+#include "scene/gltf_loader.hpp"
 #include "scene/scene.hpp"
 #include "view.hpp"
 #include "vk/context.hpp"
@@ -37,7 +38,8 @@ struct RendererOptions {
     // and added a frame of latency). A frame with a target that reads its result back (a PNG) is
     // always waited for.
     uint32_t framesInFlight = 1;
-    std::string deviceOverride; // GAZETRACE_DEVICE: index or name substring; empty = best
+    vk::DeviceRequest deviceOverride; // automatic(): the best device
+    scene::GltfLoadOptions sceneLoad; // what a glTF scene may ask of the loader
     // What a display needs of the Vulkan context: a window's extensions and surface, an OpenXR
     // runtime's hooks (its validation and device fields are taken from the two above).
     vk::ContextOptions display;

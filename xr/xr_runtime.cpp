@@ -1,6 +1,5 @@
 #include "xr_runtime.hpp"
 
-#include <cstdlib>
 #include <cstring>
 #include <vector>
 
@@ -11,22 +10,21 @@ namespace gt::xr {
 
 namespace {
 
-std::string runtimeHint() {
-    const char* json = std::getenv("XR_RUNTIME_JSON");
-    return json && *json
-               ? std::string("XR_RUNTIME_JSON is ") + json +
+std::string runtimeHint(const std::string& manifest) {
+    return !manifest.empty()
+               ? "XR_RUNTIME_JSON is " + manifest +
                      ": check that file and that its "
                      "runtime's service is running"
                : "install an OpenXR runtime (Monado: apt-get install monado-service, then start "
                  "monado-service; or SteamVR) or set XR_RUNTIME_JSON to a runtime's manifest";
 }
 
-std::vector<std::string> instanceExtensions() {
+std::vector<std::string> instanceExtensions(const std::string& manifest) {
     uint32_t n = 0;
     XrResult r = xrEnumerateInstanceExtensionProperties(nullptr, 0, &n, nullptr);
     if (XR_FAILED(r)) {
         throw XrError(r, "xrEnumerateInstanceExtensionProperties",
-                      "no OpenXR runtime could be loaded: " + runtimeHint());
+                      "no OpenXR runtime could be loaded: " + runtimeHint(manifest));
     }
     std::vector<XrExtensionProperties> props(n, {XR_TYPE_EXTENSION_PROPERTIES});
     r = xrEnumerateInstanceExtensionProperties(nullptr, n, &n, props.data());
@@ -66,7 +64,7 @@ Runtime::Runtime(const RuntimeOptions& options) {
     // The loader prints its own errors on stderr; gazetrace says what went wrong in one line.
     // XR_LOADER_DEBUG set by the user (e.g. "all") still wins.
     setenv("XR_LOADER_DEBUG", "none", 0);
-    const std::vector<std::string> offered = instanceExtensions();
+    const std::vector<std::string> offered = instanceExtensions(options.runtimeManifest);
     if (!contains(offered, XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME)) {
         throw Error("the OpenXR runtime offers no Vulkan support (XR_KHR_vulkan_enable2); "
                     "gazetrace renders with Vulkan: use a runtime that has it (Monado, SteamVR) "
@@ -96,7 +94,7 @@ Runtime::Runtime(const RuntimeOptions& options) {
     if (XR_FAILED(created)) {
         throw XrError(created, "xrCreateInstance",
                       "the OpenXR runtime could not start a session for gazetrace: " +
-                          runtimeHint());
+                          runtimeHint(options.runtimeManifest));
     }
     try {
         XrInstanceProperties props{XR_TYPE_INSTANCE_PROPERTIES};

@@ -16,6 +16,9 @@ namespace gt::xr {
 struct RuntimeOptions {
     std::string applicationName = "gazetrace";
     bool eyeGaze = true; // enable XR_EXT_eye_gaze_interaction when the runtime offers it
+    // The runtime manifest the OpenXR loader was pointed at (XR_RUNTIME_JSON), named in the
+    // error when no runtime loads; empty: none was.
+    std::string runtimeManifest;
 };
 
 class Runtime {

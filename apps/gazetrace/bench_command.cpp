@@ -25,6 +25,7 @@
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "vk/context.hpp"
+#include "option_parsing.hpp"
 
 namespace gt::app {
 
@@ -56,11 +57,6 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-std::string deviceFromEnvironment() {
-    const char* device = std::getenv("GAZETRACE_DEVICE");
-    return device ? device : "";
-}
-
 // What one bench frame measures: the GPU times per pass and the wall time.
 struct Frame {
     rg::FrameTimings timings;
@@ -81,7 +77,9 @@ class BenchFrames {
 public:
     BenchFrames(const std::string& scene, const foveation::PointSetParams& params,
                 const std::filesystem::path& cache)
-        : renderer({.scene = scene, .deviceOverride = deviceFromEnvironment()}),
+        : renderer({.scene = scene,
+                    .deviceOverride = deviceRequest(),
+                    .sceneLoad = gltfLoadOptions()}),
           reference(renderer.methodContext()), pointSet(renderer.methodContext(), params, cache) {}
 
     Frame foveated(const FoveatedSettings& s) {
@@ -143,7 +141,7 @@ nlohmann::json layerPredictions() {
     nlohmann::json out = nlohmann::json::array();
     for (const char* profile : {"desktop", "fove"}) {
         const foveation::LayerDisplay d =
-            foveation::LayerDisplay::fromProfile(foveation::displayProfile(profile));
+            foveation::LayerDisplay::fromProfile(displayProfile(profile));
         for (const auto& [name, slope] :
              {std::pair{"A", foveation::kSlopeA}, std::pair{"B", foveation::kSlopeB}}) {
             const foveation::LayerPlan plan = foveation::optimiseLayers(d, {slope}, 3);
@@ -172,7 +170,7 @@ nlohmann::json layerPredictions() {
 // and outer layers alternate frames, so each sample is the mean over two consecutive frames,
 // paired with a reference frame between them (machine drift hits both alike).
 nlohmann::json measureLayers(render::Renderer& renderer, int pairs) {
-    const foveation::DisplayProfile desktop = foveation::displayProfile("desktop");
+    const foveation::DisplayProfile desktop = foveation::displayProfile(foveation::DisplayModel::Desktop);
     const uint32_t w = desktop.width, h = desktop.height;
     render::FullResolution reference(renderer.methodContext(), {1, 0});
     render::DiscardTarget discard;
@@ -625,7 +623,7 @@ nlohmann::json runBench(const BenchOptions& o) {
         }
     }
     foveation::PointSetParams params;
-    params.display = foveation::displayProfile("fove");
+    params.display = foveation::displayProfile(foveation::DisplayModel::Fove);
     BenchRun b(o, params, cacheFolder(o.cacheDir));
     BenchFrames& session = b.session;
     const foveation::PointSetStats t1 = session.pointSet.pointSet().stats(10.0f);
@@ -675,7 +673,9 @@ nlohmann::json runBench(const BenchOptions& o) {
 }
 
 nlohmann::json runLayersBench(const BenchOptions& o) {
-    render::Renderer renderer({.scene = o.scene, .deviceOverride = deviceFromEnvironment()});
+    render::Renderer renderer({.scene = o.scene,
+                               .deviceOverride = deviceRequest(),
+                               .sceneLoad = gltfLoadOptions()});
     std::printf("gazetrace bench --suite layers on %s (%s)\n",
                 renderer.context().deviceName().c_str(),
                 renderer.context().deviceDescription().c_str());

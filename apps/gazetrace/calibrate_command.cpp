@@ -6,6 +6,7 @@
 #include "eye_commands.hpp"
 #include "gaze/calibration_set.hpp"
 #include "gaze/recording_calibration.hpp"
+#include "option_parsing.hpp"
 #include "pupil/pupil_detector.hpp"
 
 namespace gt::app {
@@ -30,7 +31,7 @@ nlohmann::json runCalibrate(const CalibrateOptions& o) {
     if (!binocular) {
         eyes.push_back({"both", eyetrack::openFrameSource(o.source)});
     } else if (!o.regions.empty()) {
-        const auto [left, right] = eyetrack::parseEyeRegions(o.regions);
+        const auto [left, right] = parseEyeRegions(o.regions);
         eyes.push_back({"left", std::make_unique<eyetrack::RegionSource>(
                                     eyetrack::openFrameSource(o.source), left, "left eye")});
         eyes.push_back({"right", std::make_unique<eyetrack::RegionSource>(

@@ -45,6 +45,7 @@
 #include "vk/context.hpp"
 #include "vk/swapchain.hpp"
 #include "window.hpp"
+#include "option_parsing.hpp"
 
 namespace gt::app {
 
@@ -159,8 +160,8 @@ T nextOf(const std::array<std::pair<T, const char*>, N>& words, T value) {
 LiveSettings liveSettingsOf(const DemoSettings& words) {
     LiveSettings s;
     s.method = methodKindOf(words.method).value_or(MethodKind::Foveated);
-    s.interp = passes::parseInterpolation(words.interp);
-    if (!words.view.empty()) s.view = passes::parseView(words.view);
+    s.interp = parseInterpolation(words.interp);
+    if (!words.view.empty()) s.view = parseView(words.view);
     s.k = words.k;
     s.raysPerPoint = words.raysPerPoint;
     s.scale = words.scale;
@@ -186,9 +187,9 @@ public:
     DemoMethods(render::Renderer& r, const std::string& cacheDir, bool displaySpace,
                 render::EccentricityLayerSettings layers, const std::string& hmd)
         : mChoice(r, cacheDir), mDisplaySpace(displaySpace), mLayerSettings(std::move(layers)),
-          mDesktop(foveation::displayProfile("desktop")) {
+          mDesktop(foveation::displayProfile(foveation::DisplayModel::Desktop)) {
         if (!hmd.empty()) {
-            mHmdDisplay = foveation::displayProfile(display::hmdProfile(hmd).pointSetProfile);
+            mHmdDisplay = displayProfile(hmdProfile(hmd).pointSetProfile);
         }
     }
     render::FoveationMethod& forHmd(const LiveSettings& s) {
@@ -252,10 +253,10 @@ void checkOptions(const DemoOptions& o) {
     if (o.method != "foveated" && o.method != "reference" && o.method != "layers") {
         throw ArgumentError("--method: '" + o.method + "' (known: foveated, layers, reference)");
     }
-    (void)foveation::parseSlope(o.slope);
+    (void)parseSlope(o.slope);
     if (o.method == "foveated") {
-        (void)passes::parseInterpolation(o.interp);
-        if (!o.view.empty()) (void)passes::parseView(o.view);
+        (void)parseInterpolation(o.interp);
+        if (!o.view.empty()) (void)parseView(o.view);
         if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
             throw ArgumentError("--k must be 1..20");
         }
@@ -264,8 +265,8 @@ void checkOptions(const DemoOptions& o) {
     if (o.framesInFlight > 4) {
         throw ArgumentError("--frames-in-flight must be 0 (automatic) to 4");
     }
-    (void)vk::parsePresentMode(o.present);
-    if (!o.hmd.empty()) (void)display::hmdProfile(o.hmd); // a bad name fails before the window
+    (void)parsePresentMode(o.present);
+    if (!o.hmd.empty()) (void)hmdProfile(o.hmd); // a bad name fails before the window
     if (!o.screenshot.empty() && std::filesystem::path(o.screenshot).extension() != ".png") {
         throw ArgumentError("--screenshot: give a .png file, got '" + o.screenshot + "'");
     }
@@ -384,14 +385,14 @@ DemoRun::DemoRun(const DemoOptions& o)
     ro.scene = o.scene;
     ro.validate = o.validate;
     ro.framesInFlight = o.framesInFlight;
-    const char* device = std::getenv("GAZETRACE_DEVICE");
-    ro.deviceOverride = device ? device : "";
+    ro.deviceOverride = deviceRequest();
+    ro.sceneLoad = gltfLoadOptions();
     ro.display.instanceExtensions = mWindow->requiredInstanceExtensions();
     ro.display.deviceExtensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
     ro.display.createSurface = [this](VkInstance i) { return mWindow->createSurface(i); };
     mRenderer.emplace(ro);
     vk::Context& ctx = mRenderer->context();
-    mSwapchain.emplace(ctx, mWindow->framebufferSize(), vk::parsePresentMode(o.present));
+    mSwapchain.emplace(ctx, mWindow->framebufferSize(), parsePresentMode(o.present));
     mTarget.emplace(ctx);
     DemoSettings words{
         o.method, o.interp, o.k,   o.method == "foveated" ? o.raysPerPoint : o.spp,
@@ -410,7 +411,7 @@ DemoRun::DemoRun(const DemoOptions& o)
     mStats.device = ctx.deviceName();
     mStats.defaults = mDefaults.label;
     mOffScreen.emplace(mGaze->describe());
-    if (!o.hmd.empty()) mRig.emplace(display::hmdProfile(o.hmd), o.distortion);
+    if (!o.hmd.empty()) mRig.emplace(hmdProfile(o.hmd), o.distortion);
 
     const scene::Scene& sc = mRenderer->scene();
     const float sceneSize = glm::length(sc.boundsMax() - sc.boundsMin());

@@ -32,6 +32,7 @@
 #include "scene/camera_path.hpp"
 #include "scene/image_io.hpp"
 #include "view_args.hpp"
+#include "option_parsing.hpp"
 
 namespace gt::app {
 
@@ -322,7 +323,7 @@ std::pair<uint32_t, uint32_t> uniformSize(uint64_t rays, uint32_t rpp, uint32_t 
 }
 
 void checkEvalOptions(const EvalOptions& o) {
-    const std::vector<std::string> profiles = foveation::displayProfileNames();
+    const std::vector<std::string> profiles = displayProfileNames();
     if (std::find(profiles.begin(), profiles.end(), o.profile) == profiles.end()) {
         throw ArgumentError("--profile: unknown display profile '" + o.profile + "'");
     }
@@ -343,11 +344,11 @@ void checkEvalOptions(const EvalOptions& o) {
 // The options checked; whether --reconstruction is the thesis's.
 bool checkedThesis(const EvalOptions& o) {
     checkEvalOptions(o);
-    return render::parseReconstruction(o.reconstruction);
+    return (parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis);
 }
 
 Geometry evalGeometry(const EvalOptions& o) {
-    const foveation::DisplayProfile screen = foveation::displayProfile(o.profile);
+    const foveation::DisplayProfile screen = displayProfile(o.profile);
     Geometry g;
     g.display = (o.width || o.height)
                     ? foveation::windowProfile(screen, o.width ? o.width : screen.width,
@@ -438,11 +439,11 @@ EvalRun::EvalRun(const EvalOptions& o)
       mInputs(evalInputs(o, mGeometry)), mOut(o.out) {
     std::filesystem::create_directories(mOut);
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
-    const char* device = std::getenv("GAZETRACE_DEVICE");
     mRenderer.emplace(render::RendererOptions{.scene = o.scene,
                                               .validate = o.validate,
                                               .framesInFlight = 1,
-                                              .deviceOverride = device ? device : ""});
+                                              .deviceOverride = deviceRequest(),
+                                              .sceneLoad = gltfLoadOptions()});
     mProgress.emplace(evalFrameCount(o, mInputs.reference.has_value(),
                                      mInputs.pursuit ? mInputs.pursuit->samples().size() : 0));
     mShooter.emplace(*mRenderer, *mProgress);

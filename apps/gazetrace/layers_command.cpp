@@ -6,6 +6,7 @@
 #include "core/error.hpp"
 #include "foveation/contrast_sensitivity.hpp"
 #include "foveation/eccentricity_layers.hpp"
+#include "option_parsing.hpp"
 
 namespace gt::app {
 
@@ -19,7 +20,7 @@ LayerDisplay displayOf(const std::string& profile) {
     if (profile == "paper") {
         return LayerDisplay::paperMonitor();
     }
-    return LayerDisplay::fromProfile(foveation::displayProfile(profile));
+    return LayerDisplay::fromProfile(displayProfile(profile));
 }
 
 std::vector<double> weightsOf(const std::string& name, uint32_t layers) {
@@ -50,14 +51,14 @@ nlohmann::json planJson(const LayerPlan& p) {
 render::EccentricityLayerSettings layerSettings(const std::string& slope, uint32_t layers,
                                                 uint32_t raysPerPixel) {
     render::EccentricityLayerSettings s;
-    s.slope = foveation::parseSlope(slope);
+    s.slope = parseSlope(slope);
     s.layers = layers;
     s.raysPerPixel = raysPerPixel;
     return s;
 }
 
 nlohmann::json runLayers(const LayersOptions& o) {
-    const MarModel mar{foveation::parseSlope(o.slope)};
+    const MarModel mar{parseSlope(o.slope)};
     if (o.steps < 8 || o.steps > 4000) {
         throw ArgumentError("--steps: 8 to 4000");
     }

@@ -21,6 +21,7 @@
 #include "quality/resample.hpp"
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"
+#include "option_parsing.hpp"
 
 namespace gt::app {
 
@@ -90,7 +91,7 @@ nlohmann::json bandsJson(const std::array<double, kBands>& v) {
 class LayerQualityRun {
 public:
     explicit LayerQualityRun(const LayerQualityOptions& options)
-        : o(options), desktop(foveation::displayProfile("desktop")), w(desktop.width),
+        : o(options), desktop(foveation::displayProfile(foveation::DisplayModel::Desktop)), w(desktop.width),
           h(desktop.height), centre(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h)),
           bands(quality::bandMap(desktop, w, h, centre)), cache(cacheFolder(o.cacheDir)),
           renderer({.scene = o.scene}), shots(renderer) {

@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "foveation/point_set_cache.hpp"
+#include "method_factory.hpp"
+#include "option_parsing.hpp"
 
 namespace gt::app {
 
@@ -15,13 +17,13 @@ std::optional<MethodKind> methodKindOf(const std::string& name) {
 }
 
 std::filesystem::path cacheFolder(const std::string& cacheDir) {
-    return cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(cacheDir);
+    return cacheDir.empty() ? defaultCacheDir() : std::filesystem::path(cacheDir);
 }
 
 passes::InterpolateSettings interpolationOf(const std::string& interp, uint32_t k,
                                             const std::string& view) {
     passes::InterpolateSettings s;
-    s.method = view.empty() ? passes::parseInterpolation(interp) : passes::parseView(view);
+    s.method = view.empty() ? parseInterpolation(interp) : parseView(view);
     s.k = k;
     return s;
 }
@@ -29,12 +31,15 @@ passes::InterpolateSettings interpolationOf(const std::string& interp, uint32_t 
 std::unique_ptr<render::PointSetMethod> makePointSetMethod(render::Renderer& renderer,
                                                            const foveation::PointSetParams& params,
                                                            const std::string& cacheDir) {
-    return std::make_unique<render::PointSetMethod>(renderer.methodContext(), params,
-                                                    cacheFolder(cacheDir));
+    return render::makeMethod(render::PointSetConfig{params, cacheFolder(cacheDir), {}},
+                              renderer.methodContext());
 }
 
 render::FullResolution& MethodChoice::reference(const passes::ReferenceSettings& settings) {
-    if (!mReference) mReference.emplace(mRenderer.methodContext());
+    if (!mReference) {
+        mReference = render::makeMethod(render::FullResolutionConfig{settings},
+                                        mRenderer.methodContext());
+    }
     mReference->settings = settings;
     return *mReference;
 }
@@ -45,7 +50,7 @@ MethodChoice::layers(const render::EccentricityLayerSettings& settings) {
     if (settings.display) key = {settings.display->width, settings.display->height};
     auto& slot = mLayers[key];
     if (!slot) {
-        slot = std::make_unique<render::EccentricityLayers>(mRenderer.methodContext(), settings);
+        slot = render::makeMethod(render::LayersConfig{settings}, mRenderer.methodContext());
     }
     return *slot;
 }

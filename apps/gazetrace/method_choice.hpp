@@ -59,7 +59,7 @@ public:
 private:
     render::Renderer& mRenderer;
     std::string mCacheDir;
-    std::optional<render::FullResolution> mReference;
+    std::unique_ptr<render::FullResolution> mReference;
     std::map<std::optional<std::pair<uint32_t, uint32_t>>,
              std::unique_ptr<render::EccentricityLayers>>
         mLayers;

@@ -11,6 +11,7 @@
 #include "core/log.hpp"
 #include "display/display_space.hpp"
 #include "foveation/point_set_cache.hpp"
+#include "option_parsing.hpp"
 #include "scene/image_io.hpp"
 
 namespace gt::app {
@@ -82,11 +83,12 @@ nlohmann::json describe(const foveation::CachedPointSet& c) {
 nlohmann::json runPointSet(const PointSetOptions& o) {
     foveation::PointSetParams params;
     std::optional<display::HmdProfile> hmd;
-    if (!o.hmd.empty()) hmd = display::hmdProfile(o.hmd);
-    params.display = foveation::displayProfile(hmd ? hmd->pointSetProfile : o.profile);
+    if (!o.hmd.empty()) hmd = hmdProfile(o.hmd);
+    params.display =
+        hmd ? displayProfile(hmd->pointSetProfile) : displayProfile(o.profile);
     params.seed = o.seed;
     const std::filesystem::path dir =
-        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
+        o.cacheDir.empty() ? defaultCacheDir() : std::filesystem::path(o.cacheDir);
     for (const std::string& f : {o.out, o.image}) {
         if (f.empty()) continue;
         const std::filesystem::path parent = std::filesystem::path(f).parent_path();

@@ -39,6 +39,7 @@
 #include "scene/scene.hpp"
 #include "stereo_rig.hpp"
 #include "vk/context.hpp"
+#include "option_parsing.hpp"
 
 namespace gt::app {
 
@@ -54,11 +55,11 @@ nlohmann::json cameraJson(const scene::Camera& c) {
 
 // One frame at a time (each is written before the next), on GAZETRACE_DEVICE if set.
 render::RendererOptions rendererOptions(const RenderOptions& o) {
-    const char* device = std::getenv("GAZETRACE_DEVICE");
     return {.scene = o.scene,
             .validate = o.validate,
             .framesInFlight = 1,
-            .deviceOverride = device ? device : ""};
+            .deviceOverride = deviceRequest(),
+            .sceneLoad = gltfLoadOptions()};
 }
 
 // What this run wrote: removed again unless the run succeeds, so a failed run (a full disk at
@@ -279,18 +280,18 @@ render::FoveationMethod& hmdMethod(const RenderOptions& o, const display::HmdPro
     }
     if (o.method != "foveated") return methods.reference({o.spp, o.seed});
     foveation::PointSetParams params;
-    params.display = foveation::displayProfile(profile.pointSetProfile);
+    params.display = displayProfile(profile.pointSetProfile);
     params.scale = o.scale;
     if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
         throw ArgumentError("--k must be 1..20");
     }
     render::PointSetMethod& pointSet = methods.pointSet(params);
     passes::InterpolateSettings interp = interpolationOf(o.interp, o.k, o.view);
-    interp.kernel = passes::parseKernel(o.kernel);
+    interp.kernel = parseKernel(o.kernel);
     interp.rbfShape = static_cast<float>(o.rbfShape);
-    interp.knn = passes::parseKnnIndex(o.knn);
+    interp.knn = parseKnnIndex(o.knn);
     pointSet.settings = {o.raysPerPoint, interp, o.displaySpace && o.distortion, o.lod};
-    if (render::parseReconstruction(o.reconstruction)) {
+    if ((parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis)) {
         render::useThesisReconstruction(pointSet.settings, post.taaSettings);
     }
     return pointSet;
@@ -370,7 +371,7 @@ nlohmann::json hmdSummary(const RenderOptions& o, const display::HmdProfile& pro
 // with its off-axis frustum, its own gaze and its lens, composed into the side-by-side frame an
 // extended-mode HMD shows. --gaze and --gaze-trace are pixels of the left eye's image.
 nlohmann::json runRenderHmd(const RenderOptions& o) {
-    const display::HmdProfile profile = display::hmdProfile(o.hmd);
+    const display::HmdProfile profile = hmdProfile(o.hmd);
     checkHmdOptions(o, profile);
     const uint32_t w = profile.eyeWidth, h = profile.eyeHeight;
     const glm::vec2 gazePx = parseGaze(o.gaze, w, h);
@@ -433,7 +434,7 @@ struct FlatSetup {
 FlatSetup flatSetup(const RenderOptions& o) {
     FlatSetup s{o.width, o.height, {}, {}, {}};
     if (o.method == "foveated") {
-        s.pointSet.display = foveation::displayProfile(o.profile);
+        s.pointSet.display = displayProfile(o.profile);
         s.pointSet.scale = o.scale;
         if (o.sizeGiven && o.profile == "desktop") {
             // A window on the desktop screen: its own point set at the screen's pixels per degree.
@@ -447,20 +448,20 @@ FlatSetup flatSetup(const RenderOptions& o) {
         s.width = s.pointSet.display.width;
         s.height = s.pointSet.display.height;
         s.interp = interpolationOf(o.interp, o.k, "");
-        s.interp.kernel = passes::parseKernel(o.kernel);
+        s.interp.kernel = parseKernel(o.kernel);
         s.interp.rbfShape = static_cast<float>(o.rbfShape);
-        s.interp.knn = passes::parseKnnIndex(o.knn);
+        s.interp.knn = parseKnnIndex(o.knn);
         if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
             throw ArgumentError("--k must be 1..20");
         }
         s.gaze = parseGaze(o.gaze, s.width, s.height);
         if (!o.view.empty()) {
-            s.interp.method = passes::parseView(o.view);
+            s.interp.method = parseView(o.view);
         }
     } else if (o.method == "layers") {
         // The profile's screen (or a window on it, with --width/--height): layer sizes follow
         // its viewing geometry, as the point set's do.
-        const foveation::DisplayProfile screen = foveation::displayProfile(o.profile);
+        const foveation::DisplayProfile screen = displayProfile(o.profile);
         if (!o.sizeGiven) {
             s.width = screen.width;
             s.height = screen.height;
@@ -584,13 +585,13 @@ render::View flatView(const RenderOptions& o, const FlatSetup& s, render::Render
     view.post.taa = false;
     view.gaze = s.gaze;
     if (o.method == "layers") {
-        view.method = &methods.layers(renderLayerSettings(o, foveation::displayProfile(o.profile)));
+        view.method = &methods.layers(renderLayerSettings(o, displayProfile(o.profile)));
     } else if (o.method == "foveated") {
         render::PointSetMethod& pointSet = methods.pointSet(s.pointSet);
         pointSet.settings = {o.raysPerPoint, s.interp, false, o.lod};
         view.method = &pointSet;
         view.post.taa = o.taa && o.view.empty(); // debug views show one frame's data as is
-        if (render::parseReconstruction(o.reconstruction)) {
+        if ((parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis)) {
             render::useThesisReconstruction(pointSet.settings, view.post.taaSettings);
         }
     } else {
@@ -719,7 +720,7 @@ nlohmann::json flatSummary(const RenderOptions& o, const FlatSetup& s, render::R
 } // namespace
 
 nlohmann::json runRender(const RenderOptions& o) {
-    if (o.method == "layers") (void)foveation::parseSlope(o.slope); // before any work
+    if (o.method == "layers") (void)parseSlope(o.slope); // before any work
     if (!o.hmd.empty()) {
         return runRenderHmd(o);
     }

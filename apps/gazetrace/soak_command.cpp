@@ -34,6 +34,7 @@
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "vk/context.hpp"
+#include "option_parsing.hpp"
 
 namespace gt::app {
 
@@ -203,14 +204,14 @@ nlohmann::json soakSummary(const SoakOptions& o, render::Renderer& r, const Memo
 
 nlohmann::json runSoak(const SoakOptions& o) {
     if (o.frames < 1) throw ArgumentError("soak: --frames must be at least 1");
-    const char* device = std::getenv("GAZETRACE_DEVICE");
     render::Renderer r({.scene = o.scene,
                         .validate = true, // Khronos validation and synchronisation validation
                         .framesInFlight = 0,
-                        .deviceOverride = device ? device : ""});
+                        .deviceOverride = deviceRequest(),
+                        .sceneLoad = gltfLoadOptions()});
     foveation::PointSetParams params;
     params.display =
-        foveation::windowProfile(foveation::displayProfile("desktop"), o.width, o.height);
+        foveation::windowProfile(foveation::displayProfile(foveation::DisplayModel::Desktop), o.width, o.height);
     const std::unique_ptr<render::PointSetMethod> foveated =
         makePointSetMethod(r, params, o.cacheDir);
     render::FullResolution reference(r.methodContext(), {1, 0});

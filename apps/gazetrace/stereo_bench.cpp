@@ -18,6 +18,7 @@
 #include "display/hmd_profile.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "full_resolution.hpp"
+#include "option_parsing.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
@@ -100,21 +101,22 @@ nlohmann::json toJson(const Series& s) {
 
 nlohmann::json runStereoBench(const BenchOptions& o) {
     const std::filesystem::path cache =
-        o.cacheDir.empty() ? foveation::defaultCacheDir() : std::filesystem::path(o.cacheDir);
-    const char* device = std::getenv("GAZETRACE_DEVICE");
-    const display::HmdProfile hmd = display::hmdProfile("fove");
+        o.cacheDir.empty() ? defaultCacheDir() : std::filesystem::path(o.cacheDir);
+    const display::HmdProfile hmd = hmdProfile(display::HmdModel::Fove);
     std::vector<Series> all;
     std::string deviceName, deviceType;
     for (const uint32_t inFlight : {1u, 2u}) {
-        render::Renderer r(
-            {.scene = o.scene, .framesInFlight = inFlight, .deviceOverride = device ? device : ""});
+        render::Renderer r({.scene = o.scene,
+                            .framesInFlight = inFlight,
+                            .deviceOverride = deviceRequest(),
+                            .sceneLoad = gltfLoadOptions()});
         deviceName = r.context().deviceName();
         deviceType = r.context().deviceDescription();
         const bool cpu = r.context().properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
         // A CPU driver takes seconds per stereo frame: fewer of them.
         const uint32_t warm = cpu ? 1 : 30, frames = o.quick ? 2 : (cpu ? 3 : 120);
         foveation::PointSetParams eyeParams;
-        eyeParams.display = foveation::displayProfile(hmd.pointSetProfile);
+        eyeParams.display = displayProfile(hmd.pointSetProfile);
         render::PointSetMethod eyes(r.methodContext(), eyeParams, cache);
         eyes.settings.raysPerPoint = o.quick ? 1 : 8;
         eyes.settings.interpolation.method = passes::Interpolation::Nearest;
@@ -140,8 +142,8 @@ nlohmann::json runStereoBench(const BenchOptions& o) {
         }
         // The desktop demo's default frame.
         foveation::PointSetParams winParams;
-        winParams.display =
-            foveation::windowProfile(foveation::displayProfile("desktop"), 640, 360);
+        winParams.display = foveation::windowProfile(
+            foveation::displayProfile(foveation::DisplayModel::Desktop), 640, 360);
         winParams.scale = 2.0;
         render::PointSetMethod window(r.methodContext(), winParams, cache);
         window.settings.raysPerPoint = 1;

@@ -22,6 +22,7 @@
 #include "net/udp_emitter.hpp"
 #include "score/detection_score.hpp"
 #include "stats.hpp"
+#include "option_parsing.hpp"
 
 namespace gt::app {
 
@@ -146,7 +147,7 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
     const bool split = !o.regions.empty();
     std::pair<cv::Rect, cv::Rect> regions;
     if (split) {
-        regions = eyetrack::parseEyeRegions(o.regions);
+        regions = parseEyeRegions(o.regions);
     }
     const auto set = eyetrack::CalibrationSet::load(o.calibration);
     const auto camera = eyeCamera(o.camera);
@@ -167,7 +168,7 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
     eyetrack::BinocularCombiner combiner(display, o.ipdMm);
     std::unique_ptr<eyetrack::UdpEmitter> emitter;
     if (!o.emit.empty()) {
-        emitter = std::make_unique<eyetrack::UdpEmitter>(o.emit, display);
+        emitter = std::make_unique<eyetrack::UdpEmitter>(parseUdpEndpoint(o.emit), display);
     }
     std::unique_ptr<eyetrack::AtomicFile> gazeCsv;
     if (!o.out.empty()) {

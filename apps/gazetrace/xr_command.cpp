@@ -34,6 +34,7 @@
 #include "xr_runtime.hpp"
 #include "xr_session.hpp"
 #include "xr_views.hpp"
+#include "option_parsing.hpp"
 
 namespace gt::app {
 
@@ -61,8 +62,8 @@ void checkOptions(const XrOptions& o) {
     if (o.method != "foveated" && o.method != "reference" && o.method != "layers") {
         throw ArgumentError("--method: '" + o.method + "' (known: foveated, layers, reference)");
     }
-    (void)foveation::parseSlope(o.slope);
-    (void)passes::parseInterpolation(o.interp);
+    (void)parseSlope(o.slope);
+    (void)parseInterpolation(o.interp);
     if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
         throw ArgumentError("--k must be 1..20");
     }
@@ -106,7 +107,7 @@ public:
           mKind(methodKindOf(o.method).value_or(MethodKind::Foveated)),
           mLayerSettings(layerSettings(o.slope, o.layers, o.spp)),
           mInterp(interpolationOf(o.interp, o.k, "")),
-          mThesis(render::parseReconstruction(o.reconstruction)) {}
+          mThesis((parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis)) {}
     render::FoveationMethod& forEye(const XrFovf& fov, VkExtent2D size) {
         if (mKind == MethodKind::Reference) return mChoice.reference({mOptions.spp, 0});
         // One method for both eyes: each eye's layers follow its own frustum (XrFovf).
@@ -344,6 +345,7 @@ XrRun::XrRun(const XrOptions& o) : mOptions(o) {
     }
     xr::RuntimeOptions rto;
     rto.eyeGaze = o.runtimeGaze;
+    if (const char* manifest = std::getenv("XR_RUNTIME_JSON")) rto.runtimeManifest = manifest;
     mRuntime.emplace(rto);
     log::info("xr: runtime " + mRuntime->runtimeName() + ", system " + mRuntime->systemName());
 
@@ -351,8 +353,8 @@ XrRun::XrRun(const XrOptions& o) : mOptions(o) {
     ro.scene = o.scene;
     ro.validate = o.validate;
     ro.framesInFlight = 1; // each frame's images are released right after its submit
-    const char* device = std::getenv("GAZETRACE_DEVICE");
-    ro.deviceOverride = device ? device : "";
+    ro.deviceOverride = deviceRequest();
+    ro.sceneLoad = gltfLoadOptions();
     ro.display = mRuntime->vulkanHooks();
     mRenderer.emplace(ro);
     openSession(args);

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/error.hpp"
-
 namespace gt::display {
 
 float LensModel::f(float r) const noexcept {
@@ -63,11 +61,11 @@ void setFov(HmdProfile& p, float temporalDeg, float nasalDeg, float verticalDeg)
 }
 } // namespace
 
-HmdProfile hmdProfile(const std::string& name) {
+HmdProfile hmdProfile(HmdModel model) {
     HmdProfile p;
-    p.name = name;
     p.lens = kPublishedLens;
-    if (name == "fove") {
+    switch (model) {
+    case HmdModel::Fove:
         // FOVE 0: one 2560x1440 panel, 1280x1440 per eye (vendor specification); about 100
         // degrees horizontally (vendor); 70 Hz panel (vendor), run at 90 Hz in the thesis's
         // experiments. The tangents split 100 degrees 52/48 temporal/nasal (fitted: the lens
@@ -77,25 +75,29 @@ HmdProfile hmdProfile(const std::string& name) {
         p.refreshHz = 90.0;
         setFov(p, 52.0f, 48.0f, 53.0f);
         p.ipdM = 0.064f;
-        p.pointSetProfile = "fove";
+        p.name = "fove";
+        p.pointSetProfile = foveation::DisplayModel::Fove;
         p.sources = {"resolution, FOV: FOVE 0 specification (vendor)",
                      "refresh: 90 Hz as in the thesis's experiments",
                      "IPD: 64 mm, the adult mean (Dodgson 2004)",
                      "lens: Oculus SDK 0.2 DK1 coefficients (no vendor publishes FOVE's); "
                      "approximate"};
-    } else if (name == "vive") {
+        break;
+    case HmdModel::Vive:
         // HTC Vive: 2160x1200 panel, 1080x1200 per eye, 90 Hz, about 110 degrees (vendor).
         p.eyeWidth = 1080;
         p.eyeHeight = 1200;
         p.refreshHz = 90.0;
         setFov(p, 56.0f, 50.0f, 55.0f);
         p.ipdM = 0.064f;
-        p.pointSetProfile = "vive";
+        p.name = "vive";
+        p.pointSetProfile = foveation::DisplayModel::Vive;
         p.sources = {"resolution, refresh, FOV: HTC Vive specification (vendor)",
                      "IPD: 64 mm, the adult mean (Dodgson 2004)",
                      "lens: Oculus SDK 0.2 DK1 coefficients (each Vive stores its own in its "
                      "configuration; none are published); approximate"};
-    } else if (name == "rift-cv1") {
+        break;
+    case HmdModel::RiftCv1:
         // Oculus Rift CV1: 2160x1200 panel, 1080x1200 per eye, 90 Hz (vendor); about 94 degrees
         // horizontally per eye, 93 vertically (published teardown measurements, approximate).
         p.eyeWidth = 1080;
@@ -103,21 +105,17 @@ HmdProfile hmdProfile(const std::string& name) {
         p.refreshHz = 90.0;
         setFov(p, 49.0f, 45.0f, 46.5f);
         p.ipdM = 0.0635f;
-        p.pointSetProfile = "vive";
+        p.name = "rift-cv1";
+        p.pointSetProfile = foveation::DisplayModel::Vive;
         p.sources = {"resolution, refresh: Oculus Rift CV1 specification (vendor)",
                      "FOV: about 94 x 93 degrees per eye (measured by reviewers; approximate)",
                      "IPD: 63.5 mm, the Rift's default",
                      "lens: Oculus SDK 0.2 DK1 coefficients (CV1's spline is in firmware and "
                      "unpublished); approximate",
                      "point set: the vive profile's (same 1080x1200 panel per eye)"};
-    } else {
-        throw ArgumentError("--hmd: unknown profile '" + name + "' (known: fove, vive, rift-cv1)");
+        break;
     }
     return p;
-}
-
-std::vector<std::string> hmdProfileNames() {
-    return {"fove", "vive", "rift-cv1"};
 }
 
 EyeTangents eyeTangents(const HmdProfile& p, int eye) {

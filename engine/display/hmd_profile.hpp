@@ -9,6 +9,8 @@
 
 #include <glm/glm.hpp>
 
+#include "foveation/contrast_sensitivity.hpp"
+
 namespace gt::display {
 
 // Barrel pre-distortion, applied by pass `lens` to each eye's finished image so the headset's
@@ -43,12 +45,16 @@ struct HmdProfile {
     float tanLeft = -1.0f, tanRight = 1.0f, tanUp = 1.0f, tanDown = -1.0f;
     float ipdM = 0.064f;
     LensModel lens;
-    std::string pointSetProfile;      // the display profile its point sets are built for
+    // The display profile its point sets are built for.
+    foveation::DisplayModel pointSetProfile = foveation::DisplayModel::Fove;
     std::vector<std::string> sources; // where each value comes from
 };
 
-[[nodiscard]] HmdProfile hmdProfile(const std::string& name); // throws ArgumentError
-[[nodiscard]] std::vector<std::string> hmdProfileNames();
+// The headsets gazetrace knows.
+enum class HmdModel { Fove, Vive, RiftCv1 };
+inline constexpr std::array<HmdModel, 3> kHmdModels{HmdModel::Fove, HmdModel::Vive,
+                                                    HmdModel::RiftCv1};
+[[nodiscard]] HmdProfile hmdProfile(HmdModel model);
 
 // The eye's frustum tangents: left eye as stored, right eye mirrored about the nose.
 struct EyeTangents {

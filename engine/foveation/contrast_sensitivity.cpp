@@ -15,11 +15,16 @@ namespace gt::foveation {
 // eye image spans about 61 degrees. The Vive, a similar HMD, uses the same value.
 constexpr double kFoveViewingDistance = 0.85;
 
-DisplayProfile displayProfile(const std::string& name) {
-    if (name == "fove") return {"fove", 1280, 1440, kFoveViewingDistance};
-    if (name == "vive") return {"vive", 1080, 1200, kFoveViewingDistance};
-    if (name == "desktop") return {"desktop", 1920, 1080, 59.0 / 51.0};
-    throw ArgumentError("unknown display profile '" + name + "' (known: fove, vive, desktop)");
+DisplayProfile displayProfile(DisplayModel model) {
+    switch (model) {
+    case DisplayModel::Fove:
+        return {"fove", 1280, 1440, kFoveViewingDistance};
+    case DisplayModel::Vive:
+        return {"vive", 1080, 1200, kFoveViewingDistance};
+    case DisplayModel::Desktop:
+        break;
+    }
+    return {"desktop", 1920, 1080, 59.0 / 51.0};
 }
 
 DisplayProfile windowProfile(const DisplayProfile& screen, uint32_t width, uint32_t height) {
@@ -27,10 +32,6 @@ DisplayProfile windowProfile(const DisplayProfile& screen, uint32_t width, uint3
     if (width == screen.width && height == screen.height) return screen;
     return {screen.name + "-" + std::to_string(width) + "x" + std::to_string(height), width, height,
             screen.viewingDistance * static_cast<double>(screen.width) / width};
-}
-
-std::vector<std::string> displayProfileNames() {
-    return {"fove", "vive", "desktop"};
 }
 
 double ContrastSensitivity::eccentricityDeg(double distancePx, double displayWidthPx,

@@ -10,7 +10,6 @@
 // scaling value before eq. (2), which is how the thesis makes sparser sets (section 4.1).
 #include <cstdint>
 #include <string>
-#include <vector>
 
 namespace gt::foveation {
 
@@ -24,8 +23,8 @@ struct DisplayProfile {
 // fove: 1280x1440 per eye (the thesis's FOVE HMD), v chosen to reproduce Table 1 (see the
 // README, "Point set"); vive: 1080x1200 per eye; desktop: 1920x1080, 51 cm wide seen from
 // 59 cm (Guenter et al. 2012's setup), v = 59 / 51.
-[[nodiscard]] DisplayProfile displayProfile(const std::string& name);
-[[nodiscard]] std::vector<std::string> displayProfileNames();
+enum class DisplayModel { Fove, Vive, Desktop };
+[[nodiscard]] DisplayProfile displayProfile(DisplayModel model);
 // A window of `width` x `height` pixels on the screen of `screen` (same pixel pitch, same viewing
 // distance): the profile a point set for that window needs, with the screen's pixels per degree.
 // v is in display widths, so it grows as the window narrows: v = v_screen * N_screen / N_window.

@@ -41,26 +41,6 @@ double samplingFactor(const MarModel& mar, double innerRadiusDeg, double sharpne
 
 } // namespace
 
-double parseSlope(const std::string& text) {
-    if (text == "A" || text == "a") {
-        return kSlopeA;
-    }
-    if (text == "B" || text == "b") {
-        return kSlopeB;
-    }
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-        v = std::stod(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || text.empty() || !(v > 0.0) || !std::isfinite(v)) {
-        throw ArgumentError("--slope: '" + text + "' (A, B or a positive MAR slope such as 0.03)");
-    }
-    return v;
-}
-
 LayerDisplay LayerDisplay::paperMonitor() {
     return {1920.0, 51.0, 59.0, 9.0 / 16.0};
 }
@@ -144,7 +124,7 @@ LayerPlan planLayers(const LayerDisplay& display, const MarModel& mar,
 LayerPlan optimiseLayers(const LayerDisplay& display, const MarModel& mar, uint32_t layerCount,
                          std::span<const double> weights, uint32_t steps) {
     if (layerCount < 1 || layerCount > 4) {
-        throw ArgumentError("--layers: " + std::to_string(layerCount) + " (1 to 4 layers)");
+        throw ArgumentError("layer count " + std::to_string(layerCount) + " is outside 1..4");
     }
     if (steps < layerCount) {
         throw ArgumentError("layer optimisation needs more grid steps");

@@ -40,9 +40,6 @@ struct MarModel {
     }
 };
 
-// "A", "B" or a positive number; throws ArgumentError naming --slope otherwise.
-[[nodiscard]] double parseSlope(const std::string& text);
-
 // The display as the paper describes it: resolution D* and physical width W* along the long
 // axis, viewing distance V* (same unit as W*) and aspect alpha* = short / long <= 1.
 struct LayerDisplay {

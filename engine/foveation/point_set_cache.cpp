@@ -189,15 +189,6 @@ std::filesystem::path cacheFile(const std::filesystem::path& dir, const PointSet
     return dir / name;
 }
 
-std::filesystem::path defaultCacheDir() {
-    if (const char* d = std::getenv("GAZETRACE_CACHE"); d && *d) return d;
-    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
-        return std::filesystem::path(x) / "gazetrace";
-    if (const char* h = std::getenv("HOME"); h && *h)
-        return std::filesystem::path(h) / ".cache" / "gazetrace";
-    return std::filesystem::temp_directory_path() / "gazetrace-cache";
-}
-
 CachedPointSet loadOrGenerate(const std::filesystem::path& dir, const PointSetParams& params,
                               const PointSet::Progress& progress) {
     const auto start = std::chrono::steady_clock::now();

@@ -32,8 +32,6 @@ void savePointSet(const std::filesystem::path& file, const PointSet& set);
 // The cache file name for these parameters (a hash of all of them) inside `dir`.
 [[nodiscard]] std::filesystem::path cacheFile(const std::filesystem::path& dir,
                                               const PointSetParams& params);
-// $GAZETRACE_CACHE, else $XDG_CACHE_HOME/gazetrace, else ~/.cache/gazetrace.
-[[nodiscard]] std::filesystem::path defaultCacheDir();
 
 struct CachedPointSet {
     PointSet set;

@@ -94,8 +94,9 @@ struct UvTransform {
 
 class Loader {
 public:
-    Loader(const tinygltf::Model& model, std::string file, GltfLoadReport& report)
-        : mModel(model), mFile(std::move(file)), mReport(report) {}
+    Loader(const tinygltf::Model& model, std::string file, GltfLoadReport& report,
+           const GltfLoadOptions& options)
+        : mModel(model), mFile(std::move(file)), mReport(report), mOptions(options) {}
 
     // The default scene's nodes, or without a scene list every node no other node names.
     std::vector<int> rootNodes() {
@@ -430,12 +431,11 @@ private:
         // rather than fail to allocate it. Three vertices per triangle of the limit is all a
         // scene can use (178,956,969 zeros took 4.2 GB before "no triangles").
         constexpr std::size_t kMaxDenseBytes = std::size_t{1} << 31;
-        const double limit = triangleLimit();
+        const double limit = mOptions.maxTriangles;
         if (a.count > kMaxDenseBytes / size || static_cast<double>(a.count) > 3.0 * limit) {
             char what[200];
             std::snprintf(what, sizeof(what),
-                          " has %zu elements, more than 3 x the limit of %.3g triangles can use "
-                          "(GAZETRACE_MAX_TRIANGLES raises it)",
+                          " has %zu elements, more than 3 x the limit of %.3g triangles can use",
                           a.count, limit);
             fail(where + what);
         }
@@ -512,11 +512,6 @@ private:
     // (it ran out of memory after 135 s), and one mesh may be referenced by thousands of
     // primitives and nodes. Counted per node once (memoised: the graph may be a DAG), with
     // saturation instead of overflow.
-    // 200 times the largest shared scene (the flight helmet, 95 k triangles).
-    static constexpr double kDefaultMaxTriangles = 20e6;
-    // Node instances after expansion: a million is far beyond hand-made scenes (Sponza and the
-    // shared scenes have under a thousand) and still visited in well under a second.
-    static constexpr double kDefaultMaxInstances = 1e6;
 
     double primitiveTriangles(const tinygltf::Primitive& prim) const {
         if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
@@ -536,19 +531,6 @@ private:
         return prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP || prim.mode == TINYGLTF_MODE_TRIANGLE_FAN
                    ? std::max(0.0, n - 2.0)
                    : std::floor(n / 3.0);
-    }
-
-    // `fallback`, or the environment variable `name` when that is a positive number.
-    static double limitFromEnv(const char* name, double fallback) {
-        if (const char* env = std::getenv(name)) {
-            char* end = nullptr;
-            const double v = std::strtod(env, &end);
-            if (end != env && *end == '\0' && v > 0.0 && std::isfinite(v)) return v;
-        }
-        return fallback;
-    }
-    static double triangleLimit() {
-        return limitFromEnv("GAZETRACE_MAX_TRIANGLES", kDefaultMaxTriangles);
     }
 
     // Counted before anything is expanded: the triangles the node graph instantiates, and the
@@ -598,19 +580,18 @@ private:
             total.triangles += e.triangles;
             total.instances += e.instances;
         }
-        const auto refuse = [&](double value, const char* what, double limit, const char* env) {
+        const auto refuse = [&](double value, const char* what, double limit) {
             char line[200];
             std::snprintf(line, sizeof(line),
-                          "its nodes expand to %.3g %s, above the limit of %.3g (%s raises it)",
-                          value, what, limit, env);
+                          "its nodes expand to %.3g %s, above the limit of %.3g", value, what,
+                          limit);
             fail(line);
         };
-        if (const double limit = triangleLimit(); total.triangles > limit) {
-            refuse(total.triangles, "triangles", limit, "GAZETRACE_MAX_TRIANGLES");
+        if (total.triangles > mOptions.maxTriangles) {
+            refuse(total.triangles, "triangles", mOptions.maxTriangles);
         }
-        const double instanceLimit = limitFromEnv("GAZETRACE_MAX_INSTANCES", kDefaultMaxInstances);
-        if (total.instances > instanceLimit) {
-            refuse(total.instances, "node instances", instanceLimit, "GAZETRACE_MAX_INSTANCES");
+        if (total.instances > mOptions.maxInstances) {
+            refuse(total.instances, "node instances", mOptions.maxInstances);
         }
     }
 
@@ -889,6 +870,7 @@ private:
     const tinygltf::Model& mModel;
     std::string mFile;
     GltfLoadReport& mReport;
+    GltfLoadOptions mOptions;
     Scene mScene;
     std::vector<int> mTextureOfImage;
     mutable std::map<int, std::vector<unsigned char>> mDense; // see dense()
@@ -960,7 +942,7 @@ namespace {
 
 // tinygltf reads a model's external files (buffers, images) through these: a URI may only name
 // a file inside the model's folder (a `uri` of ../../../../etc/shadow was read),
-// unless GAZETRACE_GLTF_ANY_PATH=1 allows it. `~` and variables are not expanded.
+// unless GltfLoadOptions::anyPath allows it. `~` and variables are not expanded.
 struct UriGuard {
     std::filesystem::path root; // weakly canonical
     bool anyPath = false;
@@ -993,8 +975,7 @@ bool guardedRead(std::vector<unsigned char>* out, std::string* err, const std::s
                  void* user) {
     if (!insideRoot(file, *static_cast<UriGuard*>(user))) {
         if (err) {
-            *err += "refusing to read " + file +
-                    ": it lies outside the model's folder (GAZETRACE_GLTF_ANY_PATH=1 allows it)";
+            *err += "refusing to read " + file + ": it lies outside the model's folder";
         }
         return false;
     }
@@ -1008,7 +989,8 @@ bool noWrite(std::string* err, const std::string&, const std::vector<unsigned ch
 
 } // namespace
 
-Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
+Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report,
+               const GltfLoadOptions& options) {
     GltfLoadReport local;
     GltfLoadReport& rep = report ? *report : local;
     const std::string file = path.string();
@@ -1038,8 +1020,7 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
         std::error_code gec;
         guard.root = std::filesystem::weakly_canonical(
             path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path(), gec);
-        const char* any = std::getenv("GAZETRACE_GLTF_ANY_PATH");
-        guard.anyPath = any != nullptr && std::string(any) == "1";
+        guard.anyPath = options.anyPath;
     }
     loader.SetFsCallbacks({guardedExists, noExpansion, guardedRead, noWrite, &guard});
     ImageLoaderState state{&rep.warnings, file};
@@ -1066,7 +1047,7 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
         if (b.data.empty()) throw LoadError(file + ": buffer '" + b.uri + "' is empty or missing");
     }
     try {
-        return Loader(model, file, rep).load();
+        return Loader(model, file, rep, options).load();
     } catch (const std::length_error& e) {
         // An accessor count of 2^62, say: "cannot create std::vector larger than max_size()"
         // alone did not say which file.
@@ -1076,9 +1057,10 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report) {
     }
 }
 
-Scene loadScene(const std::string& spec, GltfLoadReport* report) {
+Scene loadScene(const std::string& spec, GltfLoadReport* report, const GltfLoadOptions& options) {
     if (spec.empty()) {
-        throw LoadError("--scene is empty: give builtin:NAME, FILE.gltf, FILE.glb or cubemap:FILE");
+        throw LoadError(
+            "the scene is empty: give builtin:NAME, FILE.gltf, FILE.glb or cubemap:FILE");
     }
     if (spec.rfind("builtin:", 0) == 0) return makeBuiltin(spec);
     if (spec.rfind("cubemap:", 0) == 0) {
@@ -1091,7 +1073,7 @@ Scene loadScene(const std::string& spec, GltfLoadReport* report) {
         s.camera.yfov = glm::radians(75.0f);
         return s;
     }
-    return loadGltf(spec, report);
+    return loadGltf(spec, report, options);
 }
 
 } // namespace gt::scene

@@ -17,10 +17,24 @@ struct GltfLoadReport {
     std::vector<std::string> warnings; // e.g. skipped line primitives, undecodable textures
 };
 
-[[nodiscard]] Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report = nullptr);
+// What a file may ask of the loader. The limits are counted before anything is expanded: a node
+// graph whose levels each reference the next twice expands to 2^24 instances from 25 nodes.
+struct GltfLoadOptions {
+    // 200 times the largest shared scene (the flight helmet, 95 k triangles).
+    double maxTriangles = 20e6;
+    // Node instances after expansion: a million is far beyond hand-made scenes (Sponza and the
+    // shared scenes have under a thousand) and still visited in well under a second.
+    double maxInstances = 1e6;
+    // Buffers and images may lie anywhere, not only in the model's folder and below it.
+    bool anyPath = false;
+};
+
+[[nodiscard]] Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report = nullptr,
+                             const GltfLoadOptions& options = {});
 
 // "builtin:NAME", "cubemap:FILE" (an environment image or cube faces, see environment.hpp)
 // or a .gltf/.glb path.
-[[nodiscard]] Scene loadScene(const std::string& spec, GltfLoadReport* report = nullptr);
+[[nodiscard]] Scene loadScene(const std::string& spec, GltfLoadReport* report = nullptr,
+                              const GltfLoadOptions& options = {});
 
 } // namespace gt::scene

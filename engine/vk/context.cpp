@@ -228,7 +228,7 @@ void Context::pickPhysicalDevice(const ContextOptions& options) {
         // The runtime's device: it must still do what gazetrace needs.
         mPhysicalDevice = options.choosePhysicalDevice(mInstance);
         const DeviceCandidate c = describe(mPhysicalDevice, mSurface, options.deviceExtensions);
-        const DeviceChoice choice = chooseDevice({c}, "");
+        const DeviceChoice choice = chooseDevice({c}, {});
         if (!choice.index) throw Error("the device the runtime requires: " + choice.error);
     } else {
         const std::vector<VkPhysicalDevice> devices = enumerate(mInstance);

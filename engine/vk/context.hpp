@@ -11,15 +11,16 @@
 #include <vulkan/vulkan.h>
 
 #include "vk/allocator.hpp"
+#include "vk/device_selector.hpp"
 
 namespace gt::vk {
 
 struct ContextOptions {
     bool validation = false; // VK_LAYER_KHRONOS_validation + messenger
     bool synchronizationValidation =
-        false;                  // VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION
-    std::string deviceOverride; // GAZETRACE_DEVICE; empty = automatic choice
-    bool announceDevice = true; // print the chosen device on stderr
+        false;                    // VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION
+    DeviceRequest deviceOverride; // automatic(): the automatic choice
+    bool announceDevice = true;   // print the chosen device on stderr
     // Extensions beyond gazetrace's own: a window system's (glfwGetRequiredInstanceExtensions),
     // VK_KHR_swapchain, what an OpenXR runtime asks for.
     std::vector<std::string> instanceExtensions;

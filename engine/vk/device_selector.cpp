@@ -52,7 +52,7 @@ std::string unsuitableReason(const DeviceCandidate& c) {
 } // namespace
 
 DeviceChoice chooseDevice(const std::vector<DeviceCandidate>& candidates,
-                          const std::string& override) {
+                          const DeviceRequest& request) {
     DeviceChoice choice;
     if (candidates.empty()) {
         choice.error = "no Vulkan device found (install mesa-vulkan-drivers for lavapipe)";
@@ -67,25 +67,25 @@ DeviceChoice chooseDevice(const std::vector<DeviceCandidate>& candidates,
             choice.rejected.push_back(candidates[i].name + ": " + reason);
         }
     }
-    if (!override.empty()) {
-        const bool numeric = std::all_of(override.begin(), override.end(),
-                                         [](unsigned char ch) { return std::isdigit(ch) != 0; });
+    if (!request.automatic()) {
         std::optional<std::size_t> match;
-        if (numeric) {
-            const std::size_t idx = std::stoul(override);
-            if (idx < candidates.size()) match = idx;
+        if (request.index) {
+            if (*request.index < candidates.size()) match = request.index;
         } else {
             for (std::size_t i = 0; i < candidates.size() && !match; ++i) {
-                if (lower(candidates[i].name).find(lower(override)) != std::string::npos) match = i;
+                if (lower(candidates[i].name).find(lower(request.nameContains)) !=
+                    std::string::npos)
+                    match = i;
             }
         }
         if (!match) {
-            choice.error = "GAZETRACE_DEVICE='" + override + "' matches none of the " +
+            choice.error = "the requested " + request.describe() + " matches none of the " +
                            std::to_string(candidates.size()) + " Vulkan device(s)";
             return choice;
         }
         if (std::find(suitable.begin(), suitable.end(), *match) == suitable.end()) {
-            choice.error = "GAZETRACE_DEVICE selects " + candidates[*match].name +
+            choice.error = "the requested " + request.describe() + " is " +
+                           candidates[*match].name +
                            ", which is unsuitable: " + unsuitableReason(candidates[*match]);
             return choice;
         }

@@ -1,7 +1,7 @@
 #pragma once
 // Physical-device choice as a pure function so it can be unit tested without a GPU:
 // discrete > integrated > virtual > CPU (lavapipe), overridable by index or name substring
-// (GAZETRACE_DEVICE). Unsuitable devices carry the reason, in vk-bootstrap's spirit.
+// (a DeviceRequest). Unsuitable devices carry the reason, in vk-bootstrap's spirit.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -20,6 +20,17 @@ struct DeviceCandidate {
     bool hasRequiredFeatures = false;
 };
 
+// A device asked for by its index among the enumerated devices or by a case-insensitive
+// substring of its name; neither: the automatic choice.
+struct DeviceRequest {
+    std::optional<std::size_t> index;
+    std::string nameContains;
+    [[nodiscard]] bool automatic() const { return !index && nameContains.empty(); }
+    [[nodiscard]] std::string describe() const {
+        return index ? "device " + std::to_string(*index) : "device '" + nameContains + "'";
+    }
+};
+
 struct DeviceChoice {
     std::optional<std::size_t> index;  // chosen candidate, empty when none fits
     std::vector<std::string> rejected; // "name: reason" for every unsuitable device
@@ -29,9 +40,8 @@ struct DeviceChoice {
 [[nodiscard]] int typeRank(VkPhysicalDeviceType type) noexcept;
 [[nodiscard]] const char* typeName(VkPhysicalDeviceType type) noexcept;
 
-// `override` is GAZETRACE_DEVICE: a decimal index into `candidates` or a case-insensitive
-// substring of the device name. An override that matches nothing is an error, never ignored.
+// A request that matches nothing is an error, never ignored.
 [[nodiscard]] DeviceChoice chooseDevice(const std::vector<DeviceCandidate>& candidates,
-                                        const std::string& override);
+                                        const DeviceRequest& request);
 
 } // namespace gt::vk

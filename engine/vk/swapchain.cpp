@@ -7,13 +7,6 @@
 
 namespace gt::vk {
 
-PresentMode parsePresentMode(const std::string& name) {
-    if (name == "fifo") return PresentMode::Fifo;
-    if (name == "mailbox") return PresentMode::Mailbox;
-    if (name == "immediate") return PresentMode::Immediate;
-    throw ArgumentError("--present: unknown mode '" + name + "' (known: fifo, mailbox, immediate)");
-}
-
 const char* toString(VkPresentModeKHR mode) noexcept {
     switch (mode) {
     case VK_PRESENT_MODE_FIFO_KHR:

@@ -14,7 +14,6 @@ namespace gt::vk {
 class Context;
 
 enum class PresentMode { Fifo, Mailbox, Immediate };
-[[nodiscard]] PresentMode parsePresentMode(const std::string& name); // fifo|mailbox|immediate
 [[nodiscard]] const char* toString(VkPresentModeKHR mode) noexcept;
 
 class Swapchain {

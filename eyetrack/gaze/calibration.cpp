@@ -263,9 +263,10 @@ Calibration Calibration::load(const std::filesystem::path& file) {
         if (j["eyes"].size() == 1 && j["eyes"][0].is_object() && j["eyes"][0].contains("poly"))
             return fromJson(j["eyes"][0]["poly"], file.string());
         if (j["eyes"].size() == 2)
-            throw FormatError("calibration " + file.string() +
-                              ": holds two eyes, and this reads one (use gazetrace track with "
-                              "--source-left/--source-right and --emit, and --gaze udp:PORT)");
+            throw FormatError(
+                "calibration " + file.string() +
+                ": holds two eyes, and this reads one (track both eyes with gazetrace track, "
+                "emit the gaze over UDP and read it from there)");
     }
     return fromJson(j, file.string());
 }

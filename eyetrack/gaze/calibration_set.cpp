@@ -106,8 +106,8 @@ std::unique_ptr<GazeMapper> makeGazeMapper(const EyeCalibration& eye, const std:
     }
     if (!eye.model3d) {
         throw CalibrationError("the calibration of eye '" + eye.eye +
-                               "' has no 3D model: run gazetrace calibrate with --intrinsics "
-                               "or --focal");
+                               "' has no 3D model: calibrate it again with the camera's intrinsics "
+                               "or focal length");
     }
     Model3dCalibration m = *eye.model3d;
     if (intrinsics) {

@@ -3,51 +3,14 @@
 #include "core/error.hpp"
 #include "foveated_shared.h"
 #include "foveation/gpu_point_set.hpp"
+#include "foveation/sample_canvas.hpp"
 #include "interpolate_comp.h"
-#include "point_sample/point_sample.hpp"
 #include "vk/context.hpp"
 #include "vk/pipeline.hpp"
 
 namespace gt::passes {
 
 namespace sh = shaders::foveated;
-
-Interpolation parseInterpolation(const std::string& name) {
-    if (name == "nn") return Interpolation::Nearest;
-    if (name == "msm") return Interpolation::Shepard;
-    if (name == "rbf") return Interpolation::Rbf;
-    throw ArgumentError("--interp: '" + name + "' is not available (known: nn, msm, rbf)");
-}
-
-RbfKernel parseKernel(const std::string& name) {
-    if (name == "multiquadric") return RbfKernel::Multiquadric;
-    if (name == "gaussian") return RbfKernel::Gaussian;
-    throw ArgumentError("--kernel: '" + name +
-                        "' is not available (known: multiquadric, gaussian)");
-}
-
-KnnIndex parseKnnIndex(const std::string& name) {
-    if (name == "lists") return KnnIndex::NeighbourLists;
-    if (name == "table") return KnnIndex::PixelTable;
-    throw ArgumentError("--knn: '" + name + "' is not available (known: lists, table)");
-}
-
-bool usesPixelTable(const InterpolateSettings& s) {
-    return s.knn == KnnIndex::PixelTable &&
-           (s.method == Interpolation::Shepard || s.method == Interpolation::Rbf);
-}
-
-bool usesRbfSolve(const InterpolateSettings& s) {
-    return s.method == Interpolation::Rbf && s.knn == KnnIndex::NeighbourLists;
-}
-
-Interpolation parseView(const std::string& name) {
-    if (name == "points") return Interpolation::ViewPoints;
-    if (name == "cells") return Interpolation::ViewCells;
-    if (name == "eccentricity") return Interpolation::ViewSpacing;
-    throw ArgumentError("--view: '" + name +
-                        "' is not available (known: points, cells, eccentricity)");
-}
 
 InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
     const std::vector<VkDescriptorType> bindings = {
@@ -81,7 +44,7 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
         throw ArgumentError("RBF over the neighbour lists needs the rbf_solve pass's weights");
     }
     if (s.k == 0 || s.k > points.storedNeighbours() + 1 || s.k > sh::kMaxK) {
-        throw ArgumentError("--k must be 1.." +
+        throw ArgumentError("k = " + std::to_string(s.k) + " nearest points is outside 1.." +
                             std::to_string(std::min(sh::kMaxK, points.storedNeighbours() + 1)));
     }
     const bool useTable = usesPixelTable(s);
@@ -97,7 +60,8 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
         throw ArgumentError("RBF with the k-NN table needs per-pixel weights and a table built "
                             "for the same k, kernel and shape");
     }
-    const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());
+    const glm::vec2 off =
+        foveation::gazeOffset(gaze, points.displayWidth(), points.displayHeight());
     uint32_t method = sh::kMethodNearest;
     switch (s.method) {
     case Interpolation::Nearest:
@@ -122,7 +86,7 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
     const uint32_t k =
         s.method == Interpolation::Shepard || s.method == Interpolation::Rbf ? s.k : 1u;
     const sh::InterpolatePush push{
-        glm::vec4(off, kSampleMargin, s.shepardPower),
+        glm::vec4(off, foveation::kSampleMargin, s.shepardPower),
         glm::uvec4(graph.outputWidth(), graph.outputHeight(), k, method),
         glm::uvec4(points.canvasWidth(), points.canvasHeight(), points.storedNeighbours(),
                    s.kernel == RbfKernel::Gaussian ? sh::kKernelGaussian : sh::kKernelMultiquadric),

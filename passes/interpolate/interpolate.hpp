@@ -11,7 +11,7 @@
 
 #include <glm/glm.hpp>
 
-#include "foveation/rbf_system.hpp"
+#include "foveation/interpolation.hpp"
 #include "render_graph/render_graph.hpp"
 
 namespace gt::vk {
@@ -27,49 +27,13 @@ class GpuRbfPixelWeights;
 
 namespace gt::passes {
 
-// Nearest/Shepard rebuild the image; the others are debug views (--view).
-enum class Interpolation { Nearest, Shepard, Rbf, ViewPoints, ViewCells, ViewSpacing };
-// The engine's kernel type, so that settings pass to the RBF builders unconverted.
-using RbfKernel = foveation::RbfKernelType;
-// Where Modified Shepard and RBF find a pixel's k nearest points. PixelTable (the default): the
-// thesis's table of the k nearest per canvas pixel, exact, 2-2.5x faster per frame than the
-// lists on lavapipe, but 29.5 MB per neighbour (590 MB at k = 20) and seconds to build; RBF
-// adds as much again for its per-pixel weights (rbf_pixel_weights.hpp) and then costs no more
-// than Modified Shepard. NeighbourLists: the nearest point per canvas pixel plus that point's
-// 20 neighbours (75.6 MB for fove), exact at k <= 7 and close at k = 20; RBF then solves per
-// point each frame (rbf_solve). Nearest neighbour always uses the nearest-point array (the
-// thesis's table at k = 1).
-enum class KnnIndex { NeighbourLists, PixelTable };
-
-struct InterpolateSettings {
-    Interpolation method = Interpolation::Nearest;
-    uint32_t k = 10;
-    float shepardPower = 2.0f;                  // 1: the thesis's eq. (6); 2: Renka's original
-    RbfKernel kernel = RbfKernel::Multiquadric; // thesis eq. (10); Gaussian is eq. (9)
-    float rbfShape = 1.0f;                      // c, in units of the point's spacing p
-    KnnIndex knn = KnnIndex::PixelTable;        // where msm finds its k neighbours
-    // Blend in display-referred space at this exposure (the view's): T(c) = c / (1 + e L(c)),
-    // mapped back after (interpolate.comp). 0: linear radiance, as the thesis. Modified Shepard
-    // and RBF with the pixel table; rbf_solve's per-point weights stay linear.
-    float displayExposure = 0.0f;
-    // Geometry-aware Modified Shepard: neighbours whose first-hit distance differs from the
-    // nearest sample's by more than about this share of it lose their weight. 0: off (the
-    // thesis).
-    float edgeTolerance = 0.1f;
-    // Colour-guided Modified Shepard: neighbours whose display-referred luminance differs from
-    // the nearest sample's by more than about this lose their weight. 0: off (the thesis).
-    float rangeSigma = 0.1f;
-    // The frame whose moved sites point_sample traced (site_jitter.glsl), set per frame by the
-    // method: Modified Shepard (and nearest neighbour, if given) blend from them. 0: the fixed
-    // sites.
-    uint32_t siteFrame = 0;
-    float siteJitter = 0.0f; // how far they moved, as a share of their spacing
-};
-
-// The RBF weights rbf_solve wrote (one buffer per colour channel).
-struct RbfWeights {
-    rg::BufferId r, g, b;
-};
+using foveation::InterpolateSettings;
+using foveation::Interpolation;
+using foveation::KnnIndex;
+using foveation::RbfKernel;
+using foveation::RbfWeights;
+using foveation::usesPixelTable;
+using foveation::usesRbfSolve;
 
 // What a method reads besides the samples, prepared by the caller for the same settings:
 // rbf_solve's weights (RBF over the neighbour lists), the k-NN table (usesPixelTable), and the
@@ -79,13 +43,6 @@ struct InterpolateInputs {
     const foveation::GpuPixelKnnTable* table = nullptr;
     const foveation::GpuRbfPixelWeights* rbfWeights = nullptr;
 };
-
-[[nodiscard]] Interpolation parseInterpolation(const std::string& name); // nn | msm | rbf
-[[nodiscard]] RbfKernel parseKernel(const std::string& name);            // multiquadric | gaussian
-[[nodiscard]] KnnIndex parseKnnIndex(const std::string& name);           // lists | table
-[[nodiscard]] bool usesPixelTable(const InterpolateSettings& s);         // msm/rbf with PixelTable
-[[nodiscard]] bool usesRbfSolve(const InterpolateSettings& s);           // rbf with NeighbourLists
-[[nodiscard]] Interpolation parseView(const std::string& name); // points | cells | eccentricity
 
 // What interpolate writes: the radiance (rgb; a = the nearest sample's first-hit distance) and
 // per pixel the distance to the sample it took most from, in units of that point's spacing p —

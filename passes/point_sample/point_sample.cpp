@@ -19,11 +19,6 @@ namespace {
 constexpr uint32_t kMaxLanes = 32; // a GPU subgroup's width at most; kSampleGroupSize / 2
 } // namespace
 
-glm::vec2 gazeOffset(glm::vec2 gaze, uint32_t displayWidth, uint32_t displayHeight) {
-    return {std::round(gaze.x) - static_cast<float>(displayWidth),
-            std::round(gaze.y) - static_cast<float>(displayHeight)};
-}
-
 uint32_t pointSampleLanes(const vk::Context& ctx, uint32_t raysPerPoint) {
     if (ctx.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) {
         return 1;
@@ -62,7 +57,7 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
                                   const PanelWarp* warp, bool lod, uint32_t frame, float siteJitter,
                                   bool thesisDisc) const {
     if (raysPerPoint == 0) {
-        throw ArgumentError("--rays-per-point must be at least 1");
+        throw ArgumentError("rays per point is 0: every point traces at least 1 ray");
     }
     const uint32_t lanes =
         lanesPerPoint == 0 ? pointSampleLanes(mCtx, raysPerPoint) : lanesPerPoint;

@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 
 #include "display/hmd_profile.hpp"
+#include "foveation/sample_canvas.hpp"
 #include "render_graph/render_graph.hpp"
 #include "trace_shared.h"
 
@@ -24,10 +25,8 @@ class GpuPointSet;
 
 namespace gt::passes {
 
-inline constexpr float kSampleMargin = 10.0f; // pixels beyond the screen (thesis 4.2)
-
-// Canvas -> screen offset for a gaze point, in whole pixels (the set shifts by the gaze).
-[[nodiscard]] glm::vec2 gazeOffset(glm::vec2 gaze, uint32_t displayWidth, uint32_t displayHeight);
+using foveation::gazeOffset;
+using foveation::kSampleMargin;
 
 // How many threads trace the rays of one point side by side. On a GPU the largest power of two
 // up to min(R, 32), so that a subgroup traces the rays of one disc: on an H100 at R = 32 the

@@ -5,7 +5,8 @@
 #include "core/error.hpp"
 #include "foveated_shared.h"
 #include "foveation/gpu_point_set.hpp"
-#include "point_sample/point_sample.hpp"
+#include "foveation/rbf_inverse.hpp"
+#include "foveation/sample_canvas.hpp"
 #include "rbf_solve_comp.h"
 #include "vk/context.hpp"
 #include "vk/pipeline.hpp"
@@ -13,6 +14,9 @@
 namespace gt::passes {
 
 namespace sh = shaders::foveated;
+using foveation::InterpolateSettings;
+using foveation::RbfKernel;
+using foveation::RbfWeights;
 
 RbfSolvePass::RbfSolvePass(vk::Context& ctx) : mCtx(ctx) {
     mPipeline = std::make_unique<vk::ComputePipeline>(
@@ -35,13 +39,16 @@ RbfWeights RbfSolvePass::add(rg::RenderGraph& graph, const foveation::GpuPointSe
         throw ArgumentError("rbf_solve: the precomputed inverse was built for other settings");
     }
     if (s.k == 0 || s.k > std::min(sh::kMaxK, points.storedNeighbours() + 1)) {
-        throw ArgumentError("--k must be 1.." +
+        throw ArgumentError("k = " + std::to_string(s.k) + " nearest points is outside 1.." +
                             std::to_string(std::min(sh::kMaxK, points.storedNeighbours() + 1)));
     }
-    if (!(s.rbfShape > 0.0f)) throw ArgumentError("--rbf-c must be positive");
-    const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());
+    if (!(s.rbfShape > 0.0f)) {
+        throw ArgumentError("RBF shape c = " + std::to_string(s.rbfShape) + " is not positive");
+    }
+    const glm::vec2 off =
+        foveation::gazeOffset(gaze, points.displayWidth(), points.displayHeight());
     const sh::RbfSolvePush push{
-        glm::vec4(off, kSampleMargin, s.rbfShape),
+        glm::vec4(off, foveation::kSampleMargin, s.rbfShape),
         glm::uvec4(graph.outputWidth(), graph.outputHeight(), s.k,
                    s.kernel == RbfKernel::Gaussian ? sh::kKernelGaussian : sh::kKernelMultiquadric),
         glm::uvec4(points.count(), points.storedNeighbours(), inverse.texelsPerPoint(), 0)};

@@ -6,8 +6,17 @@
 
 #include <glm/glm.hpp>
 
-#include "interpolate/interpolate.hpp"
+#include "foveation/interpolation.hpp"
 #include "render_graph/render_graph.hpp"
+
+namespace gt::vk {
+class Context;
+class ComputePipeline;
+} // namespace gt::vk
+namespace gt::foveation {
+class GpuPointSet;
+class GpuRbfInverse;
+} // namespace gt::foveation
 
 namespace gt::passes {
 
@@ -16,9 +25,9 @@ public:
     explicit RbfSolvePass(vk::Context& ctx);
     ~RbfSolvePass();
     // `inverse` must have been built for the settings' k, kernel and shape.
-    RbfWeights add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
-                   const foveation::GpuRbfInverse& inverse, rg::BufferId samples, glm::vec2 gaze,
-                   const InterpolateSettings& s) const;
+    foveation::RbfWeights add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
+                              const foveation::GpuRbfInverse& inverse, rg::BufferId samples,
+                              glm::vec2 gaze, const foveation::InterpolateSettings& s) const;
 
 private:
     vk::Context& mCtx;

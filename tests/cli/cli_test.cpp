@@ -595,8 +595,8 @@ TEST(Cli, CalibrateRefusesNanAndOverflowingScreens) {
     expectCleanFailure(run(base + " --screen-width-cm nan"), "--screen-width-cm", out);
     expectCleanFailure(run(base + " --screen 99999999999x1"), "--screen", out);
     expectCleanFailure(run(base + " --screen 1920x-5"), "--screen", out);
-    expectCleanFailure(run("render --scene '' --out " + (dir / "x.png").string()),
-                       "--scene is empty", dir / "x.png");
+    expectCleanFailure(run("render --scene '' --out " + (dir / "x.png").string()), "scene is empty",
+                       dir / "x.png");
 }
 
 } // namespace

@@ -35,7 +35,7 @@ TEST_F(LensTest, MapsAKnownGridWhereTheModelSays) {
     upload.upload(std::as_bytes(std::span(grid)));
     vk::Buffer host(ctx(), {grid.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                             vk::MemoryUsage::Readback, "panel.host"});
-    display::LensModel lens = display::hmdProfile("fove").lens;
+    display::LensModel lens = display::hmdProfile(display::HmdModel::Fove).lens;
     lens.chroma = glm::vec3(1.0f); // one sample position for every channel
     const glm::vec2 centre(0.55f, 0.5f);
     rg::RenderGraph g(w, h);

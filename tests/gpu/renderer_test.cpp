@@ -329,7 +329,7 @@ TEST_F(RendererTest, PanelLayoutShowsWhatTheLensPassShows) {
     display::LensModel identity;
     identity.k1 = identity.k2 = 0.0f;
     EXPECT_EQ(frame(true, identity).first, frame(false, identity).first);
-    const display::LensModel lens = display::hmdProfile("fove").lens;
+    const display::LensModel lens = display::hmdProfile(display::HmdModel::Fove).lens;
     const auto [panel, panelRays] = frame(true, lens);
     const auto imageLayout = frame(false, lens).first;
     const auto undistorted = frame(false, std::nullopt).first;

@@ -1,17 +1,18 @@
 #include "support/gpu_test_context.hpp"
 
-#include <cstdlib>
 #include <memory>
+
+#include "option_parsing.hpp"
 
 namespace gt::test {
 
 vk::Context& gpuContext() {
     static std::unique_ptr<vk::Context> ctx = [] {
-        const char* env = std::getenv("GAZETRACE_DEVICE");
-        return std::make_unique<vk::Context>(vk::ContextOptions{.validation = true,
-                                                                .synchronizationValidation = true,
-                                                                .deviceOverride = env ? env : "",
-                                                                .announceDevice = false});
+        return std::make_unique<vk::Context>(
+            vk::ContextOptions{.validation = true,
+                               .synchronizationValidation = true,
+                               .deviceOverride = app::deviceRequest(),
+                               .announceDevice = false});
     }();
     return *ctx;
 }

@@ -142,15 +142,6 @@ TEST(EccentricityLayers, PortraitProfilesTakeTheLongAxis) {
     EXPECT_NEAR(desk.sharpnessDeg(), LayerDisplay::paperMonitor().sharpnessDeg(), 1e-12);
 }
 
-TEST(EccentricityLayers, ParsesSlopes) {
-    EXPECT_DOUBLE_EQ(parseSlope("A"), kSlopeA);
-    EXPECT_DOUBLE_EQ(parseSlope("B"), kSlopeB);
-    EXPECT_DOUBLE_EQ(parseSlope("0.03"), 0.03);
-    EXPECT_THROW((void)parseSlope("C"), ArgumentError);
-    EXPECT_THROW((void)parseSlope("-0.1"), ArgumentError);
-    EXPECT_THROW((void)parseSlope("0.02x"), ArgumentError);
-}
-
 // ---------------------------------------------------------------------------------------------
 // Where the layers go on a view (renderer/layer_layout).
 

@@ -341,7 +341,7 @@ TEST(GltfLoader, HugeCountsAndEmptySpecsNameWhatIsWrong) {
                                                 R"("count": 4, "type": "VEC3")",
                                                 R"("count": 4611686018427387904, "type": "VEC3")"));
     EXPECT_NE(e.find("huge.gltf"), std::string::npos) << e;
-    EXPECT_NE(test::thrownMessage<LoadError>([] { (void)loadScene(""); }).find("--scene is empty"),
+    EXPECT_NE(test::thrownMessage<LoadError>([] { (void)loadScene(""); }).find("scene is empty"),
               std::string::npos);
 }
 
@@ -353,7 +353,7 @@ namespace {
 
 // 25 nodes, each level referencing the next twice, expand to 2^24 quads (33.6 M
 // triangles): it ran out of memory after 135 s. The expansion is counted first and refused with
-// the limit and how to raise it; GAZETRACE_MAX_TRIANGLES moves the limit either way.
+// the limit; GltfLoadOptions::maxTriangles moves the limit either way.
 TEST(GltfLoader, RefusesNodeGraphsThatExpandPastTheTriangleLimit) {
     const auto dir = test::tempDir("dag");
     std::string json = test::quadJsonBesideBin(dir);
@@ -373,20 +373,21 @@ TEST(GltfLoader, RefusesNodeGraphsThatExpandPastTheTriangleLimit) {
     // Refused before any expansion: peak memory, not time, tells (the expansion needs GBs).
     EXPECT_LT(test::peakResidentGrowthKiB([&] { e = loadError(dir / "dag.gltf"); }), 64 * 1024);
     EXPECT_NE(e.find("3.36e+07 triangles"), std::string::npos) << e;
-    EXPECT_NE(e.find("GAZETRACE_MAX_TRIANGLES"), std::string::npos) << e;
     // The one quad alone is fine, and a lower limit refuses even that.
     const Scene quad = loadGltf(test::writeQuadGltf(dir));
     EXPECT_EQ(quad.triangleCount(), 2u);
-    ::setenv("GAZETRACE_MAX_TRIANGLES", "1", 1);
-    EXPECT_NE(loadError(test::writeQuadGltf(dir)).find("limit of 1"), std::string::npos);
-    ::unsetenv("GAZETRACE_MAX_TRIANGLES");
+    const std::string one = test::thrownMessage<LoadError>(
+        [&] { (void)loadGltf(test::writeQuadGltf(dir), nullptr, {.maxTriangles = 1}); });
+    EXPECT_NE(one.find("limit of 1"), std::string::npos) << one;
     // Found by fuzzing: the same graph over a mesh without primitives has no triangle to count
     // but 2^25 node instances to visit (11 s a file under ASan). Instances have a limit too.
     const std::string e2 =
         loadError(writeEdited(dir, "empty_dag.gltf", json, R"("primitives")", R"("unknown")"));
     EXPECT_NE(e2.find("3.36e+07 node instances, above the limit of 1e+06"), std::string::npos)
         << e2;
-    EXPECT_NE(e2.find("GAZETRACE_MAX_INSTANCES"), std::string::npos) << e2;
+    const std::string few = test::thrownMessage<LoadError>(
+        [&] { (void)loadGltf(test::writeQuadGltf(dir), nullptr, {.maxInstances = 0.5}); });
+    EXPECT_NE(few.find("node instances, above the limit of 0.5"), std::string::npos) << few;
 }
 
 } // namespace
@@ -397,7 +398,7 @@ namespace {
 
 // An image `uri` of ../../../../etc/shadow was read. URIs resolve under the model's
 // folder: an image outside it is refused with a warning (the material keeps its factor), a
-// buffer outside it is an error; GAZETRACE_GLTF_ANY_PATH=1 allows both.
+// buffer outside it is an error; GltfLoadOptions::anyPath allows both.
 TEST(GltfLoader, UrisStayInsideTheModelsFolder) {
     const auto root = test::tempDir("uri_guard");
     const auto dir = root / "model";
@@ -424,9 +425,7 @@ TEST(GltfLoader, UrisStayInsideTheModelsFolder) {
     std::string buf = test::quadJson("../outside.bin");
     test::writeFile(dir / "buffer.gltf", buf.data(), buf.size());
     EXPECT_NE(loadError(dir / "buffer.gltf").find("outside the model's folder"), std::string::npos);
-    ::setenv("GAZETRACE_GLTF_ANY_PATH", "1", 1);
-    EXPECT_NO_THROW((void)loadGltf(dir / "buffer.gltf"));
-    ::unsetenv("GAZETRACE_GLTF_ANY_PATH");
+    EXPECT_NO_THROW((void)loadGltf(dir / "buffer.gltf", nullptr, {.anyPath = true}));
 }
 
 } // namespace

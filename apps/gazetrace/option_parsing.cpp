@@ -1,0 +1,196 @@
+#include "option_parsing.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+
+#include "core/error.hpp"
+
+namespace gt::app {
+
+render::Interpolation parseInterpolation(const std::string& name) {
+    if (name == "nn") return render::Interpolation::Nearest;
+    if (name == "msm") return render::Interpolation::Shepard;
+    if (name == "rbf") return render::Interpolation::Rbf;
+    throw ArgumentError("--interp: '" + name + "' is not available (known: nn, msm, rbf)");
+}
+
+render::RbfKernel parseKernel(const std::string& name) {
+    if (name == "multiquadric") return render::RbfKernel::Multiquadric;
+    if (name == "gaussian") return render::RbfKernel::Gaussian;
+    throw ArgumentError("--kernel: '" + name +
+                        "' is not available (known: multiquadric, gaussian)");
+}
+
+render::KnnIndex parseKnnIndex(const std::string& name) {
+    if (name == "lists") return render::KnnIndex::NeighbourLists;
+    if (name == "table") return render::KnnIndex::PixelTable;
+    throw ArgumentError("--knn: '" + name + "' is not available (known: lists, table)");
+}
+
+render::Interpolation parseView(const std::string& name) {
+    if (name == "points") return render::Interpolation::ViewPoints;
+    if (name == "cells") return render::Interpolation::ViewCells;
+    if (name == "eccentricity") return render::Interpolation::ViewSpacing;
+    throw ArgumentError("--view: '" + name +
+                        "' is not available (known: points, cells, eccentricity)");
+}
+
+render::Reconstruction parseReconstruction(const std::string& name) {
+    if (name == "thesis") return render::Reconstruction::Thesis;
+    if (name == "gazetrace") return render::Reconstruction::Gazetrace;
+    throw ArgumentError("--reconstruction: expected gazetrace or thesis, got '" + name + "'");
+}
+
+double parseSlope(const std::string& text) {
+    if (text == "A" || text == "a") {
+        return foveation::kSlopeA;
+    }
+    if (text == "B" || text == "b") {
+        return foveation::kSlopeB;
+    }
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+        v = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != text.size() || text.empty() || !(v > 0.0) || !std::isfinite(v)) {
+        throw ArgumentError("--slope: '" + text + "' (A, B or a positive MAR slope such as 0.03)");
+    }
+    return v;
+}
+
+render::PresentMode parsePresentMode(const std::string& name) {
+    if (name == "fifo") return render::PresentMode::Fifo;
+    if (name == "mailbox") return render::PresentMode::Mailbox;
+    if (name == "immediate") return render::PresentMode::Immediate;
+    throw ArgumentError("--present: unknown mode '" + name + "' (known: fifo, mailbox, immediate)");
+}
+
+render::HmdModel parseHmd(const std::string& name) {
+    if (name == "fove") return render::HmdModel::Fove;
+    if (name == "vive") return render::HmdModel::Vive;
+    if (name == "rift-cv1") return render::HmdModel::RiftCv1;
+    throw ArgumentError("--hmd: unknown profile '" + name + "' (known: fove, vive, rift-cv1)");
+}
+
+display::HmdProfile hmdProfile(const std::string& name) {
+    return display::hmdProfile(parseHmd(name));
+}
+
+std::vector<std::string> hmdProfileNames() {
+    return {"fove", "vive", "rift-cv1"};
+}
+
+render::DisplayModel parseDisplay(const std::string& name) {
+    if (name == "fove") return render::DisplayModel::Fove;
+    if (name == "vive") return render::DisplayModel::Vive;
+    if (name == "desktop") return render::DisplayModel::Desktop;
+    throw ArgumentError("unknown display profile '" + name + "' (known: fove, vive, desktop)");
+}
+
+foveation::DisplayProfile displayProfile(const std::string& name) {
+    return foveation::displayProfile(parseDisplay(name));
+}
+
+std::vector<std::string> displayProfileNames() {
+    return {"fove", "vive", "desktop"};
+}
+
+std::filesystem::path defaultCacheDir() {
+    if (const char* d = std::getenv("GAZETRACE_CACHE"); d && *d) return d;
+    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
+        return std::filesystem::path(x) / "gazetrace";
+    if (const char* h = std::getenv("HOME"); h && *h)
+        return std::filesystem::path(h) / ".cache" / "gazetrace";
+    return std::filesystem::temp_directory_path() / "gazetrace-cache";
+}
+
+namespace {
+// `fallback`, or the environment variable `name` when that is a positive number.
+double limitFromEnv(const char* name, double fallback) {
+    if (const char* env = std::getenv(name)) {
+        char* end = nullptr;
+        const double v = std::strtod(env, &end);
+        if (end != env && *end == '\0' && v > 0.0 && std::isfinite(v)) return v;
+    }
+    return fallback;
+}
+} // namespace
+
+vk::DeviceRequest parseDeviceRequest(const std::string& text) {
+    vk::DeviceRequest r;
+    const bool numeric = !text.empty() && text.size() < 10 &&
+                         std::all_of(text.begin(), text.end(),
+                                     [](unsigned char ch) { return std::isdigit(ch) != 0; });
+    if (numeric) {
+        r.index = std::stoul(text);
+    } else {
+        r.nameContains = text;
+    }
+    return r;
+}
+
+vk::DeviceRequest deviceRequest() {
+    const char* device = std::getenv("GAZETRACE_DEVICE");
+    return parseDeviceRequest(device ? device : "");
+}
+
+scene::GltfLoadOptions gltfLoadOptions() {
+    scene::GltfLoadOptions o;
+    o.maxTriangles = limitFromEnv("GAZETRACE_MAX_TRIANGLES", o.maxTriangles);
+    o.maxInstances = limitFromEnv("GAZETRACE_MAX_INSTANCES", o.maxInstances);
+    const char* any = std::getenv("GAZETRACE_GLTF_ANY_PATH");
+    o.anyPath = any != nullptr && std::string(any) == "1";
+    return o;
+}
+
+std::pair<cv::Rect, cv::Rect> parseEyeRegions(const std::string& text) {
+    int v[8] = {};
+    char extra = 0;
+    if (std::sscanf(text.c_str(), "%d,%d,%d,%d;%d,%d,%d,%d%c", &v[0], &v[1], &v[2], &v[3], &v[4],
+                    &v[5], &v[6], &v[7], &extra) != 8) {
+        throw ArgumentError("--regions " + text +
+                            ": expected X,Y,W,H;X,Y,W,H (left eye; right eye)");
+    }
+    const cv::Rect l(v[0], v[1], v[2], v[3]), r(v[4], v[5], v[6], v[7]);
+    for (const cv::Rect& q : {l, r}) {
+        if (q.x < 0 || q.y < 0 || q.width < 32 || q.height < 24) {
+            throw ArgumentError("--regions " + text +
+                                ": each region must start at >= 0 and be at least 32x24");
+        }
+    }
+    return {l, r};
+}
+
+eyetrack::UdpEndpoint parseUdpEndpoint(const std::string& url) {
+    const std::string prefix = "udp://";
+    auto bad = [&](const std::string& why) { return ArgumentError("--emit " + url + ": " + why); };
+    if (url.rfind(prefix, 0) != 0) throw bad("expected udp://HOST:PORT");
+    const std::string rest = url.substr(prefix.size());
+    const auto colon = rest.rfind(':');
+    if (colon == std::string::npos) throw bad("expected udp://HOST:PORT");
+    std::string host = rest.substr(0, colon);
+    const std::string portText = rest.substr(colon + 1);
+    int port = 0;
+    try {
+        std::size_t used = 0;
+        port = std::stoi(portText, &used);
+        if (used != portText.size()) port = 0;
+    } catch (const std::exception&) {
+        port = 0;
+    }
+    if (port <= 0 || port > 65535) throw bad("port must be 1-65535");
+    if (host == "localhost") host = "127.0.0.1";
+    if (host.empty() || host.find_first_not_of("0123456789.") != std::string::npos) {
+        throw bad("host must be an IPv4 address or localhost");
+    }
+    return {host, static_cast<std::uint16_t>(port)};
+}
+
+} // namespace gt::app

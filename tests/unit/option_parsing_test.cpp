@@ -1,0 +1,76 @@
+// The command line's option values become the renderer's typed settings (apps/gazetrace/
+// option_parsing): each known name its value, and an unknown one an error naming the option.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "core/error.hpp"
+#include "option_parsing.hpp"
+#include "support/bad_files.hpp"
+
+namespace gt::app {
+namespace {
+
+TEST(OptionParsing, ParsesSlopes) {
+    EXPECT_DOUBLE_EQ(parseSlope("A"), foveation::kSlopeA);
+    EXPECT_DOUBLE_EQ(parseSlope("B"), foveation::kSlopeB);
+    EXPECT_DOUBLE_EQ(parseSlope("0.03"), 0.03);
+    EXPECT_THROW((void)parseSlope("C"), ArgumentError);
+    EXPECT_THROW((void)parseSlope("-0.1"), ArgumentError);
+    EXPECT_THROW((void)parseSlope("0.02x"), ArgumentError);
+}
+
+TEST(OptionParsing, EveryListedProfileNameIsItsModel) {
+    for (const std::string& name : hmdProfileNames()) {
+        EXPECT_EQ(hmdProfile(name).name, name);
+    }
+    EXPECT_EQ(parseHmd("rift-cv1"), render::HmdModel::RiftCv1);
+    EXPECT_NE(
+        test::thrownMessage<ArgumentError>([] { (void)hmdProfile("oculus-dk9"); }).find("--hmd"),
+        std::string::npos);
+    for (const std::string& name : displayProfileNames()) {
+        EXPECT_EQ(displayProfile(name).name, name);
+    }
+    EXPECT_EQ(parseDisplay("desktop"), render::DisplayModel::Desktop);
+    EXPECT_THROW((void)displayProfile("oculus"), ArgumentError);
+}
+
+TEST(OptionParsing, InterpolationChoices) {
+    EXPECT_EQ(parseInterpolation("msm"), render::Interpolation::Shepard);
+    EXPECT_EQ(parseView("eccentricity"), render::Interpolation::ViewSpacing);
+    EXPECT_EQ(parseKernel("gaussian"), render::RbfKernel::Gaussian);
+    EXPECT_EQ(parseKnnIndex("lists"), render::KnnIndex::NeighbourLists);
+    EXPECT_EQ(parseReconstruction("thesis"), render::Reconstruction::Thesis);
+    EXPECT_EQ(parsePresentMode("mailbox"), render::PresentMode::Mailbox);
+    EXPECT_NE(test::thrownMessage<ArgumentError>([] {
+                  (void)parseInterpolation("idw");
+              }).find("--interp"),
+              std::string::npos);
+    EXPECT_THROW((void)parseView("depth"), ArgumentError);
+    EXPECT_THROW((void)parseReconstruction("guenter"), ArgumentError);
+}
+
+TEST(OptionParsing, EyeRegionsAndTheGazeReceiver) {
+    const auto [left, right] = parseEyeRegions("0,0,320,240;320,0,320,240");
+    EXPECT_EQ(left, cv::Rect(0, 0, 320, 240));
+    EXPECT_EQ(right, cv::Rect(320, 0, 320, 240));
+    EXPECT_THROW((void)parseEyeRegions("0,0,10"), ArgumentError);
+    EXPECT_THROW((void)parseEyeRegions("0,0,16,16;320,0,320,240"), ArgumentError);
+    const eyetrack::UdpEndpoint to = parseUdpEndpoint("udp://localhost:5005");
+    EXPECT_EQ(to.ipv4, "127.0.0.1");
+    EXPECT_EQ(to.port, 5005);
+    EXPECT_THROW((void)parseUdpEndpoint("tcp://1.2.3.4:5"), ArgumentError);
+    EXPECT_THROW((void)parseUdpEndpoint("udp://example.com:5"), ArgumentError);
+    EXPECT_THROW((void)parseUdpEndpoint("udp://127.0.0.1:99999"), ArgumentError);
+}
+
+TEST(OptionParsing, DeviceRequestIsAnIndexOrANameSubstring) {
+    EXPECT_EQ(parseDeviceRequest("1").index, 1u);
+    EXPECT_TRUE(parseDeviceRequest("1").nameContains.empty());
+    EXPECT_FALSE(parseDeviceRequest("llvmpipe").index.has_value());
+    EXPECT_EQ(parseDeviceRequest("llvmpipe").nameContains, "llvmpipe");
+    EXPECT_TRUE(parseDeviceRequest("").automatic());
+}
+
+} // namespace
+} // namespace gt::app
