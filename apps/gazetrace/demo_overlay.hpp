@@ -17,9 +17,9 @@
 #include <vulkan/vulkan.h>
 
 #include "demo_settings.hpp"
-#include "overlay/overlay.hpp"
 #include "overlay_layout.hpp"
 #include "render_graph/render_graph.hpp"
+#include "ui_overlay.hpp"
 
 namespace gt::vk {
 class Context;
@@ -53,7 +53,7 @@ private:
     bool panel(DemoSettings& settings, const DemoStats& stats);
 
     vk::Context& mCtx;
-    passes::OverlayPass mPass;
+    render::UiOverlay mPass;
     VkDescriptorPool mPool = VK_NULL_HANDLE;
     bool mVisible = true;
     OverlayLayout mLayout{.corner = -1}; // kept in its corner while it clears the gaze

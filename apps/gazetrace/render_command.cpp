@@ -31,7 +31,6 @@
 #include "layers_command.hpp"
 #include "method_choice.hpp"
 #include "output_target.hpp"
-#include "point_sample/point_sample.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"

@@ -36,8 +36,7 @@ public:
         for (const CLI::App* sub : mCommand->get_parent()->get_subcommands({})) {
             if (sub == mCommand) continue;
             const std::string row = defaultsOf(*sub);
-            std::cout << "| `" << sub->get_name() << "` | " << (row.empty() ? "—" : row)
-                      << " |\n";
+            std::cout << "| `" << sub->get_name() << "` | " << (row.empty() ? "—" : row) << " |\n";
         }
         return 0;
     }
