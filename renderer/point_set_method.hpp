@@ -49,8 +49,9 @@ struct PointSetSettings {
     // that shows the gaze, and trace each ray where the lens sends its panel position
     // (engine/display/display_space.hpp); the result is the panel's image.
     bool displaySpace = false;
-    // Geometric LOD (Guenter et al. 2012, 6): points whose spacing is large trace coarser refinements of
-    // the scene's subdivision cages (point_sample.comp); a scene without cages is unaffected.
+    // Geometric LOD (Guenter et al. 2012, 6): points whose spacing is large trace coarser
+    // refinements of the scene's subdivision cages (point_sample.comp); a scene without cages is
+    // unaffected.
     bool lod = true;
     // Blend the interpolation in display-referred space at the view's exposure
     // (InterpolateSettings::displayExposure); false: linear radiance, as the thesis.

@@ -32,8 +32,8 @@ Renderer::Renderer(const RendererOptions& o) {
         log::warn(o.scene + ": " + w);
     }
     if (!mScene.cages.empty()) {
-        // Geometric LOD (Guenter et al. 2012, 6): the cages refined once per level, a BVH per level; the
-        // coarser levels hold geometry only, the full scene is refined in place last.
+        // Geometric LOD (Guenter et al. 2012, 6): the cages refined once per level, a BVH per
+        // level; the coarser levels hold geometry only, the full scene is refined in place last.
         for (std::size_t l = 1; l < scene::kLodRefinements.size(); ++l) {
             scene::Scene level = scene::refinedGeometry(mScene, scene::kLodRefinements[l]);
             scene::Bvh bvh(level);

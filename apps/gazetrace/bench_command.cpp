@@ -21,11 +21,11 @@
 #include "full_resolution.hpp"
 #include "layers_quality.hpp"
 #include "method_choice.hpp"
+#include "option_parsing.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "vk/context.hpp"
-#include "option_parsing.hpp"
 
 namespace gt::app {
 
@@ -77,9 +77,8 @@ class BenchFrames {
 public:
     BenchFrames(const std::string& scene, const foveation::PointSetParams& params,
                 const std::filesystem::path& cache)
-        : renderer({.scene = scene,
-                    .deviceOverride = deviceRequest(),
-                    .sceneLoad = gltfLoadOptions()}),
+        : renderer(
+              {.scene = scene, .deviceOverride = deviceRequest(), .sceneLoad = gltfLoadOptions()}),
           reference(renderer.methodContext()), pointSet(renderer.methodContext(), params, cache) {}
 
     Frame foveated(const FoveatedSettings& s) {
@@ -170,7 +169,8 @@ nlohmann::json layerPredictions() {
 // and outer layers alternate frames, so each sample is the mean over two consecutive frames,
 // paired with a reference frame between them (machine drift hits both alike).
 nlohmann::json measureLayers(render::Renderer& renderer, int pairs) {
-    const foveation::DisplayProfile desktop = foveation::displayProfile(foveation::DisplayModel::Desktop);
+    const foveation::DisplayProfile desktop =
+        foveation::displayProfile(foveation::DisplayModel::Desktop);
     const uint32_t w = desktop.width, h = desktop.height;
     render::FullResolution reference(renderer.methodContext(), {1, 0});
     render::DiscardTarget discard;
@@ -673,9 +673,8 @@ nlohmann::json runBench(const BenchOptions& o) {
 }
 
 nlohmann::json runLayersBench(const BenchOptions& o) {
-    render::Renderer renderer({.scene = o.scene,
-                               .deviceOverride = deviceRequest(),
-                               .sceneLoad = gltfLoadOptions()});
+    render::Renderer renderer(
+        {.scene = o.scene, .deviceOverride = deviceRequest(), .sceneLoad = gltfLoadOptions()});
     std::printf("gazetrace bench --suite layers on %s (%s)\n",
                 renderer.context().deviceName().c_str(),
                 renderer.context().deviceDescription().c_str());

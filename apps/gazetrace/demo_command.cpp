@@ -34,6 +34,7 @@
 #include "gaze_view.hpp"
 #include "layers_command.hpp"
 #include "method_choice.hpp"
+#include "option_parsing.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"
@@ -45,7 +46,6 @@
 #include "vk/context.hpp"
 #include "vk/swapchain.hpp"
 #include "window.hpp"
-#include "option_parsing.hpp"
 
 namespace gt::app {
 
@@ -394,9 +394,8 @@ DemoRun::DemoRun(const DemoOptions& o)
     vk::Context& ctx = mRenderer->context();
     mSwapchain.emplace(ctx, mWindow->framebufferSize(), parsePresentMode(o.present));
     mTarget.emplace(ctx);
-    DemoSettings words{
-        o.method, o.interp, o.k,   o.method == "foveated" ? o.raysPerPoint : o.spp,
-        o.scale,  o.taa,    o.view};
+    DemoSettings words{o.method, o.interp, o.k,   o.method == "foveated" ? o.raysPerPoint : o.spp,
+                       o.scale,  o.taa,    o.view};
     mDefaults = demoDefaults(ctx.properties().deviceType);
     applyDemoDefaults(words, mDefaults, o.given);
     log::info("demo defaults: " + mDefaults.label + " (options given on the command line win)");

@@ -22,6 +22,7 @@
 #include "full_resolution.hpp"
 #include "gaze_view.hpp"
 #include "method_choice.hpp"
+#include "option_parsing.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "quality/eccentricity_bands.hpp"
@@ -32,7 +33,6 @@
 #include "scene/camera_path.hpp"
 #include "scene/image_io.hpp"
 #include "view_args.hpp"
-#include "option_parsing.hpp"
 
 namespace gt::app {
 

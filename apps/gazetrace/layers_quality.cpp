@@ -15,13 +15,13 @@
 #include "frame_shots.hpp"
 #include "full_resolution.hpp"
 #include "method_choice.hpp"
+#include "option_parsing.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "quality/eccentricity_bands.hpp"
 #include "quality/resample.hpp"
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"
-#include "option_parsing.hpp"
 
 namespace gt::app {
 
@@ -91,8 +91,9 @@ nlohmann::json bandsJson(const std::array<double, kBands>& v) {
 class LayerQualityRun {
 public:
     explicit LayerQualityRun(const LayerQualityOptions& options)
-        : o(options), desktop(foveation::displayProfile(foveation::DisplayModel::Desktop)), w(desktop.width),
-          h(desktop.height), centre(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h)),
+        : o(options), desktop(foveation::displayProfile(foveation::DisplayModel::Desktop)),
+          w(desktop.width), h(desktop.height),
+          centre(0.5f * static_cast<float>(w), 0.5f * static_cast<float>(h)),
           bands(quality::bandMap(desktop, w, h, centre)), cache(cacheFolder(o.cacheDir)),
           renderer({.scene = o.scene}), shots(renderer) {
         base.camera = renderer.scene().camera;

@@ -37,8 +37,8 @@ std::unique_ptr<render::PointSetMethod> makePointSetMethod(render::Renderer& ren
 
 render::FullResolution& MethodChoice::reference(const passes::ReferenceSettings& settings) {
     if (!mReference) {
-        mReference = render::makeMethod(render::FullResolutionConfig{settings},
-                                        mRenderer.methodContext());
+        mReference =
+            render::makeMethod(render::FullResolutionConfig{settings}, mRenderer.methodContext());
     }
     mReference->settings = settings;
     return *mReference;

@@ -30,6 +30,7 @@
 #include "gaze_view.hpp"
 #include "layers_command.hpp"
 #include "method_choice.hpp"
+#include "option_parsing.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
@@ -38,7 +39,6 @@
 #include "scene/scene.hpp"
 #include "stereo_rig.hpp"
 #include "vk/context.hpp"
-#include "option_parsing.hpp"
 
 namespace gt::app {
 

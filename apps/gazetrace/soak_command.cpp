@@ -30,11 +30,11 @@
 #include "frame_loop.hpp"
 #include "full_resolution.hpp"
 #include "method_choice.hpp"
+#include "option_parsing.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "vk/context.hpp"
-#include "option_parsing.hpp"
 
 namespace gt::app {
 
@@ -210,8 +210,8 @@ nlohmann::json runSoak(const SoakOptions& o) {
                         .deviceOverride = deviceRequest(),
                         .sceneLoad = gltfLoadOptions()});
     foveation::PointSetParams params;
-    params.display =
-        foveation::windowProfile(foveation::displayProfile(foveation::DisplayModel::Desktop), o.width, o.height);
+    params.display = foveation::windowProfile(
+        foveation::displayProfile(foveation::DisplayModel::Desktop), o.width, o.height);
     const std::unique_ptr<render::PointSetMethod> foveated =
         makePointSetMethod(r, params, o.cacheDir);
     render::FullResolution reference(r.methodContext(), {1, 0});

@@ -20,9 +20,9 @@
 #include "gaze/calibration_set.hpp"
 #include "gaze/eye_pipeline.hpp"
 #include "net/udp_emitter.hpp"
+#include "option_parsing.hpp"
 #include "score/detection_score.hpp"
 #include "stats.hpp"
-#include "option_parsing.hpp"
 
 namespace gt::app {
 

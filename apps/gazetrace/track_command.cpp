@@ -20,10 +20,10 @@
 #include "gaze/gaze_filter.hpp"
 #include "gaze/gaze_mailbox.hpp"
 #include "net/udp_emitter.hpp"
+#include "option_parsing.hpp"
 #include "pupil/pupil_detector.hpp"
 #include "score/detection_score.hpp"
 #include "stats.hpp"
-#include "option_parsing.hpp"
 
 namespace gt::app {
 
@@ -175,7 +175,8 @@ nlohmann::json runTrack(const TrackOptions& o) {
     TrackScore score(truth);
     std::unique_ptr<eyetrack::UdpEmitter> emitter;
     if (!o.emit.empty()) {
-        emitter = std::make_unique<eyetrack::UdpEmitter>(parseUdpEndpoint(o.emit), mapper->display());
+        emitter =
+            std::make_unique<eyetrack::UdpEmitter>(parseUdpEndpoint(o.emit), mapper->display());
     }
 
     std::unique_ptr<eyetrack::AtomicFile> gazeCsv, pupilCsv;

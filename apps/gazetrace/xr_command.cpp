@@ -23,6 +23,7 @@
 #include "gaze_input.hpp"
 #include "layers_command.hpp"
 #include "method_choice.hpp"
+#include "option_parsing.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "scene/image_io.hpp"
@@ -34,7 +35,6 @@
 #include "xr_runtime.hpp"
 #include "xr_session.hpp"
 #include "xr_views.hpp"
-#include "option_parsing.hpp"
 
 namespace gt::app {
 

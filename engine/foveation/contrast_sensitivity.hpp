@@ -1,6 +1,6 @@
 #pragma once
-// The perception model of the foveated ray-tracing thesis (section 4.1), after Wang et al. 2001 with the
-// parameters Geisler & Perry 1998 fitted:
+// The perception model of the foveated ray-tracing thesis (section 4.1), after Wang et al. 2001
+// with the parameters Geisler & Perry 1998 fitted:
 //   eccentricity      e  = atan(d / (N v))               [deg]        thesis eq. (1)
 //   cut-off frequency fc = e2 ln(1/CT0) / ((e + e2) a)   [cycles/deg] thesis eq. (2)
 //   display Nyquist   fd = pi N v / 360                  [cycles/deg] thesis eq. (3)
