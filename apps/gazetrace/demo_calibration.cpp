@@ -5,6 +5,7 @@
 #include "capture/file_sources.hpp"
 #include "capture/frame_source.hpp"
 #include "core/error.hpp"
+#include "eye_source_parsing.hpp"
 #include "pupil/starburst_detector.hpp"
 #include "sim/synthetic_eye.hpp"
 
@@ -62,7 +63,7 @@ CalibrationSession::CalibrationSession(const std::string& gazeSpec, std::string 
         c.schedule = mConfig; // the demo's targets: the eye looks where they are shown
         source = std::make_unique<eyetrack::SyntheticSource>(c);
     } else {
-        source = eyetrack::openFrameSource(mSource); // a camera or a recording
+        source = openFrameSource(mSource); // a camera or a recording
     }
     mWorker = std::jthread([this, src = std::move(source)]() mutable {
         try {

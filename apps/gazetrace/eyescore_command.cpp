@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "eye_commands.hpp"
+#include "eye_source_parsing.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/contact_sheet.hpp"
 #include "gaze/gaze_filter.hpp"
@@ -146,7 +147,7 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
             images[f] = eye.render(o.skip + f, &truths[f]);
         }
 
-        const auto detector = eyetrack::makePupilDetector(o.detector);
+        const auto detector = eyetrack::makePupilDetector(pupilDetectorKind(o.detector));
         std::vector<eyetrack::DetectionRecord> records;
         const auto begin = std::chrono::steady_clock::now();
         std::vector<eyetrack::PupilResult> results;

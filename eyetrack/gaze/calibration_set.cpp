@@ -96,18 +96,15 @@ CalibrationSet CalibrationSet::load(const std::filesystem::path& file) {
     return fromJson(readJsonFile(file, "calibration"), file.string());
 }
 
-std::unique_ptr<GazeMapper> makeGazeMapper(const EyeCalibration& eye, const std::string& model,
+std::unique_ptr<GazeMapper> makeGazeMapper(const EyeCalibration& eye, GazeModel model,
                                            const std::optional<CameraIntrinsics>& intrinsics) {
-    if (model == "2d") {
+    if (model == GazeModel::TwoD) {
         return std::make_unique<PolynomialMapper>(eye.poly);
-    }
-    if (model != "3d") {
-        throw CalibrationError("unknown gaze model '" + model + "' (2d | 3d)");
     }
     if (!eye.model3d) {
         throw CalibrationError("the calibration of eye '" + eye.eye +
-                               "' has no 3D model: run gazetrace calibrate with --intrinsics "
-                               "or --focal");
+                               "' has no 3D model: it was calibrated without the eye camera's "
+                               "intrinsics");
     }
     Model3dCalibration m = *eye.model3d;
     if (intrinsics) {
