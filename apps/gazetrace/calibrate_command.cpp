@@ -31,7 +31,7 @@ nlohmann::json runCalibrate(const CalibrateOptions& o) {
     if (!binocular) {
         eyes.push_back({"both", openFrameSource(o.source)});
     } else if (!o.regions.empty()) {
-        const auto [left, right] = eyetrack::parseEyeRegions(o.regions);
+        const auto [left, right] = eyeRegions(o.regions);
         eyes.push_back({"left", std::make_unique<eyetrack::RegionSource>(openFrameSource(o.source),
                                                                          left, "left eye")});
         eyes.push_back({"right", std::make_unique<eyetrack::RegionSource>(openFrameSource(o.source),

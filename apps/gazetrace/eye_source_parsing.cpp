@@ -1,5 +1,7 @@
 #include "eye_source_parsing.hpp"
 
+#include <arpa/inet.h>
+
 #include <cstdio>
 #include <stdexcept>
 
@@ -145,6 +147,51 @@ eyetrack::PupilDetectorKind pupilDetectorKind(const std::string& name) {
     if (name == "starburst") return eyetrack::PupilDetectorKind::Starburst;
     if (name == "blob") return eyetrack::PupilDetectorKind::Blob;
     throw ArgumentError("unknown pupil detector '" + name + "' (starburst | blob)");
+}
+
+std::pair<cv::Rect, cv::Rect> eyeRegions(const std::string& text) {
+    int v[8] = {};
+    char extra = 0;
+    if (std::sscanf(text.c_str(), "%d,%d,%d,%d;%d,%d,%d,%d%c", &v[0], &v[1], &v[2], &v[3], &v[4],
+                    &v[5], &v[6], &v[7], &extra) != 8) {
+        throw ArgumentError("--regions " + text +
+                            ": expected X,Y,W,H;X,Y,W,H (left eye; right eye)");
+    }
+    const cv::Rect l(v[0], v[1], v[2], v[3]), r(v[4], v[5], v[6], v[7]);
+    for (const cv::Rect& q : {l, r}) {
+        if (q.x < 0 || q.y < 0 || q.width < 32 || q.height < 24) {
+            throw ArgumentError("--regions " + text +
+                                ": each region must start at >= 0 and be at least 32x24");
+        }
+    }
+    return {l, r};
+}
+
+eyetrack::UdpEndpoint udpEndpoint(const std::string& url) {
+    const std::string prefix = "udp://";
+    auto bad = [&](const std::string& why) { return ArgumentError("--emit " + url + ": " + why); };
+    if (url.rfind(prefix, 0) != 0) throw bad("expected udp://HOST:PORT");
+    const std::string rest = url.substr(prefix.size());
+    const auto colon = rest.rfind(':');
+    if (colon == std::string::npos) throw bad("expected udp://HOST:PORT");
+    eyetrack::UdpEndpoint to;
+    to.host = rest.substr(0, colon);
+    const std::string portText = rest.substr(colon + 1);
+    int port = 0;
+    try {
+        std::size_t used = 0;
+        port = std::stoi(portText, &used);
+        if (used != portText.size()) port = 0;
+    } catch (const std::exception&) {
+        port = 0;
+    }
+    if (port <= 0 || port > 65535) throw bad("port must be 1-65535");
+    to.port = static_cast<std::uint16_t>(port);
+    if (to.host == "localhost") to.host = "127.0.0.1";
+    in_addr address{};
+    if (inet_pton(AF_INET, to.host.c_str(), &address) != 1)
+        throw bad("host must be an IPv4 address or localhost");
+    return to;
 }
 
 std::unique_ptr<eyetrack::GazeMapper>

@@ -1,6 +1,7 @@
 #pragma once
 // The eye tracker's command-line values turned into eyetrack's typed ones: frame sources
-// (--source and friends), the gaze model (--model) and the pupil detector (--detector). Every
+// (--source and friends), the gaze model (--model), the pupil detector (--detector), the eye
+// regions of one camera (--regions) and where gaze is sent (--emit). Every
 // error is an ArgumentError, one line naming the bad value.
 //
 // Frame sources:
@@ -12,8 +13,13 @@
 #include <memory>
 #include <string>
 
+#include <utility>
+
+#include <opencv2/core/types.hpp>
+
 #include "capture/frame_source.hpp"
 #include "gaze/calibration_set.hpp"
+#include "net/udp_emitter.hpp"
 #include "pupil/pupil_detector.hpp"
 
 namespace gt::app {
@@ -34,6 +40,12 @@ struct SourceSpec {
 [[nodiscard]] eyetrack::GazeModel gazeModel(const std::string& name);
 // "starburst" | "blob".
 [[nodiscard]] eyetrack::PupilDetectorKind pupilDetectorKind(const std::string& name);
+
+// --regions "X,Y,W,H;X,Y,W,H": the left eye's region, then the right eye's.
+[[nodiscard]] std::pair<cv::Rect, cv::Rect> eyeRegions(const std::string& text);
+
+// --emit udp://IPV4:PORT or udp://localhost:PORT.
+[[nodiscard]] eyetrack::UdpEndpoint udpEndpoint(const std::string& url);
 
 // eyetrack::makeGazeMapper(), with the missing 3D model reported as what to run.
 [[nodiscard]] std::unique_ptr<eyetrack::GazeMapper>

@@ -147,7 +147,7 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
     const bool split = !o.regions.empty();
     std::pair<cv::Rect, cv::Rect> regions;
     if (split) {
-        regions = eyetrack::parseEyeRegions(o.regions);
+        regions = eyeRegions(o.regions);
     }
     const auto set = eyetrack::CalibrationSet::load(o.calibration);
     const auto camera = eyeCamera(o.camera);
@@ -167,7 +167,7 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
     eyetrack::BinocularCombiner combiner(display, o.ipdMm);
     std::unique_ptr<eyetrack::UdpEmitter> emitter;
     if (!o.emit.empty()) {
-        emitter = std::make_unique<eyetrack::UdpEmitter>(o.emit, display);
+        emitter = std::make_unique<eyetrack::UdpEmitter>(udpEndpoint(o.emit), display);
     }
     std::unique_ptr<eyetrack::AtomicFile> gazeCsv;
     if (!o.out.empty()) {

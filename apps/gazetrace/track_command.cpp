@@ -175,7 +175,7 @@ nlohmann::json runTrack(const TrackOptions& o) {
     TrackScore score(truth);
     std::unique_ptr<eyetrack::UdpEmitter> emitter;
     if (!o.emit.empty()) {
-        emitter = std::make_unique<eyetrack::UdpEmitter>(o.emit, mapper->display());
+        emitter = std::make_unique<eyetrack::UdpEmitter>(udpEndpoint(o.emit), mapper->display());
     }
 
     std::unique_ptr<eyetrack::AtomicFile> gazeCsv, pupilCsv;

@@ -13,8 +13,6 @@
 
 namespace gt::eyetrack {
 
-// "X,Y,W,H;X,Y,W,H": the left eye's region, then the right eye's. Throws CaptureError.
-[[nodiscard]] std::pair<cv::Rect, cv::Rect> parseEyeRegions(const std::string& text);
 // Crops a frame (a copy); throws CaptureError when the region does not fit the frame.
 [[nodiscard]] Frame cropFrame(const Frame& frame, const cv::Rect& region);
 

@@ -264,8 +264,8 @@ Calibration Calibration::load(const std::filesystem::path& file) {
             return fromJson(j["eyes"][0]["poly"], file.string());
         if (j["eyes"].size() == 2)
             throw FormatError("calibration " + file.string() +
-                              ": holds two eyes, and this reads one (use gazetrace track with "
-                              "--source-left/--source-right and --emit, and --gaze udp:PORT)");
+                              ": holds two eyes, and this reads one (track both eyes with "
+                              "gazetrace track, a source per eye, and read their gaze over UDP)");
     }
     return fromJson(j, file.string());
 }

@@ -12,31 +12,15 @@
 
 namespace gt::eyetrack {
 
-UdpEmitter::UdpEmitter(const std::string& url, const DisplayGeometry& display) : mDisplay(display) {
-    const std::string prefix = "udp://";
-    auto bad = [&](const std::string& why) { return EyetrackError("--emit " + url + ": " + why); };
-    if (url.rfind(prefix, 0) != 0) throw bad("expected udp://HOST:PORT");
-    const std::string rest = url.substr(prefix.size());
-    const auto colon = rest.rfind(':');
-    if (colon == std::string::npos) throw bad("expected udp://HOST:PORT");
-    std::string host = rest.substr(0, colon);
-    const std::string portText = rest.substr(colon + 1);
-    int port = 0;
-    try {
-        std::size_t used = 0;
-        port = std::stoi(portText, &used);
-        if (used != portText.size()) port = 0;
-    } catch (const std::exception&) {
-        port = 0;
-    }
-    if (port <= 0 || port > 65535) throw bad("port must be 1-65535");
-    if (host == "localhost") host = "127.0.0.1";
+UdpEmitter::UdpEmitter(const UdpEndpoint& to, const DisplayGeometry& display) : mDisplay(display) {
+    const std::string where = "UDP destination " + to.host + ":" + std::to_string(to.port);
+    if (to.port == 0) throw EyetrackError(where + ": port 0 is not a destination port");
     mTo.sin_family = AF_INET;
-    mTo.sin_port = htons(static_cast<std::uint16_t>(port));
-    if (inet_pton(AF_INET, host.c_str(), &mTo.sin_addr) != 1)
-        throw bad("host must be an IPv4 address or localhost");
+    mTo.sin_port = htons(to.port);
+    if (inet_pton(AF_INET, to.host.c_str(), &mTo.sin_addr) != 1)
+        throw EyetrackError(where + ": the host is not an IPv4 address");
     mSocket = ::socket(AF_INET, SOCK_DGRAM, 0);
-    if (mSocket < 0) throw bad("cannot create a UDP socket");
+    if (mSocket < 0) throw EyetrackError(where + ": cannot create a UDP socket");
 }
 
 UdpEmitter::~UdpEmitter() {

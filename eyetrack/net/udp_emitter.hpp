@@ -6,6 +6,7 @@
 // plus, on binocular "both" datagrams, "vergence_deg" and "fixation_cm" when known.
 // Angles are degrees from the eye's straight-ahead (yaw right, pitch up); x, y are pixels of
 // the calibration's screen, given where one is known.
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -16,11 +17,17 @@
 
 namespace gt::eyetrack {
 
+// Where the datagrams go.
+struct UdpEndpoint {
+    std::string host;       // an IPv4 address, dotted
+    std::uint16_t port = 0; // 1-65535
+};
+
 class UdpEmitter {
 public:
-    // url: udp://IPV4:PORT or udp://localhost:PORT. Throws EyetrackError for a bad URL.
+    // Throws EyetrackError for a host that is not an IPv4 address, port 0, or no socket.
     // `display`: the calibration's screen, for the angles and the screen size in each datagram.
-    UdpEmitter(const std::string& url, const DisplayGeometry& display);
+    UdpEmitter(const UdpEndpoint& to, const DisplayGeometry& display);
     ~UdpEmitter();
     UdpEmitter(const UdpEmitter&) = delete;
     UdpEmitter& operator=(const UdpEmitter&) = delete;

@@ -106,3 +106,28 @@ TEST(EyeSourceParsing, ModelsAndDetectorsByName) {
     EXPECT_EQ(et::makePupilDetector(et::PupilDetectorKind::Blob)->name(), "blob");
     EXPECT_EQ(et::makePupilDetector(et::PupilDetectorKind::Starburst)->name(), "starburst");
 }
+
+TEST(EyeSourceParsing, EyeRegionsAreTwoRectangles) {
+    const auto [left, right] = eyeRegions("0,0,160,120;160,0,160,120");
+    EXPECT_EQ(left, cv::Rect(0, 0, 160, 120));
+    EXPECT_EQ(right, cv::Rect(160, 0, 160, 120));
+    EXPECT_THROW((void)eyeRegions("0,0,10"), gt::ArgumentError);
+    EXPECT_THROW((void)eyeRegions("0,0,160,120;160,0,16,12"), gt::ArgumentError);
+    EXPECT_THROW((void)eyeRegions("0,0,160,120;160,0,160,120x"), gt::ArgumentError);
+}
+
+TEST(EyeSourceParsing, EmitUrlsBecomeEndpoints) {
+    const auto to = udpEndpoint("udp://localhost:9000");
+    EXPECT_EQ(to.host, "127.0.0.1");
+    EXPECT_EQ(to.port, 9000);
+    EXPECT_EQ(udpEndpoint("udp://10.0.0.2:65535").host, "10.0.0.2");
+    for (const char* bad : {"tcp://1.2.3.4:5", "udp://example.com:5", "udp://127.0.0.1:99999",
+                            "udp://127.0.0.1:0", "udp://127.0.0.1"}) {
+        EXPECT_THROW((void)udpEndpoint(bad), gt::ArgumentError) << bad;
+    }
+    try {
+        (void)udpEndpoint("udp://127.0.0.1:99999");
+    } catch (const gt::ArgumentError& e) {
+        EXPECT_STREQ(e.what(), "--emit udp://127.0.0.1:99999: port must be 1-65535");
+    }
+}
