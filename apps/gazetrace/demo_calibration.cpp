@@ -56,7 +56,7 @@ CalibrationSession::CalibrationSession(const std::string& gazeSpec, std::string 
     std::unique_ptr<eyetrack::FrameSource> source;
     if (seed) {
         eyetrack::EyeSimConfig c;
-        eyetrack::applyPreset(c, "clean");
+        eyetrack::applyPreset(c, eyetrack::EyeSimPreset::Clean);
         c.seed = *seed;
         c.fps = kFps;
         c.frames = static_cast<int>((mDurationMs + 500.0) * kFps / 1000.0);

@@ -88,7 +88,7 @@ eyetrack::EyeSimConfig syntheticConfig(const SourceSpec& s) {
         const auto it = s.options.find(key);
         return it == s.options.end() ? nullptr : &it->second;
     };
-    eyetrack::applyPreset(c, option("preset") ? *option("preset") : "clean");
+    eyetrack::applyPreset(c, eyeSimPreset(option("preset") ? *option("preset") : "clean"));
     if (const auto* v = option("frames"))
         c.frames = static_cast<int>(positiveNumber(where, "frames", *v));
     if (const auto* v = option("fps")) c.fps = positiveNumber(where, "fps", *v);
@@ -141,6 +141,13 @@ eyetrack::GazeModel gazeModel(const std::string& name) {
     if (name == "2d") return eyetrack::GazeModel::TwoD;
     if (name == "3d") return eyetrack::GazeModel::ThreeD;
     throw ArgumentError("unknown gaze model '" + name + "' (2d | 3d)");
+}
+
+eyetrack::EyeSimPreset eyeSimPreset(const std::string& name) {
+    if (name == "clean") return eyetrack::EyeSimPreset::Clean;
+    if (name == "hard") return eyetrack::EyeSimPreset::Hard;
+    if (name == "wild") return eyetrack::EyeSimPreset::Wild;
+    throw ArgumentError("unknown eyesim preset '" + name + "' (clean | hard | wild)");
 }
 
 eyetrack::PupilDetectorKind pupilDetectorKind(const std::string& name) {

@@ -38,6 +38,8 @@ struct SourceSpec {
 
 // "2d" | "3d".
 [[nodiscard]] eyetrack::GazeModel gazeModel(const std::string& name);
+// "clean" | "hard" | "wild".
+[[nodiscard]] eyetrack::EyeSimPreset eyeSimPreset(const std::string& name);
 // "starburst" | "blob".
 [[nodiscard]] eyetrack::PupilDetectorKind pupilDetectorKind(const std::string& name);
 

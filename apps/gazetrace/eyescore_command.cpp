@@ -139,7 +139,7 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
         eyetrack::EyeSimConfig c;
         c.seed = seed;
         c.frames = o.skip + o.frames;
-        eyetrack::applyPreset(c, o.preset);
+        eyetrack::applyPreset(c, eyeSimPreset(o.preset));
         const eyetrack::SyntheticEye eye(c);
         std::vector<cv::Mat> images(static_cast<std::size_t>(o.frames));
         std::vector<eyetrack::EyeTruth> truths(images.size());

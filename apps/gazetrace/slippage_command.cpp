@@ -105,7 +105,7 @@ nlohmann::json runSlippage(const SlippageOptions& o) {
         eyetrack::EyeSimConfig c;
         c.seed = seed;
         c.frames = kFrames;
-        eyetrack::applyPreset(c, o.preset);
+        eyetrack::applyPreset(c, eyeSimPreset(o.preset));
         c.perspective = true;
         eyetrack::SyntheticSource source(c);
         const auto schedule = scheduleOf(source.eye());

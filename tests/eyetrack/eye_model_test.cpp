@@ -67,7 +67,7 @@ TEST(EyeModel, FitsTheSyntheticEyeAndFollowsASlip) {
     EyeSimConfig c;
     c.seed = 3;
     c.frames = 2400;
-    applyPreset(c, "clean");
+    applyPreset(c, EyeSimPreset::Clean);
     c.perspective = true;
     const SyntheticEye eye(c);
     EyeModel model(eye.intrinsics());

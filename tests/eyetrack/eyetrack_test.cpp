@@ -55,12 +55,15 @@ struct ClipScore {
     int right = 0, rightKept = 0, wrong = 0, wrongKept = 0;
 };
 
-// An eyesim clip of `frames` frames from `seed` with a preset's look.
+// An eyesim clip of `frames` frames from `seed` with a preset's look, named as the cases below
+// name it: "clean", "hard" or "wild".
 EyeSimConfig presetClip(std::uint64_t seed, int frames, const std::string& preset) {
     EyeSimConfig c;
     c.seed = seed;
     c.frames = frames;
-    applyPreset(c, preset);
+    applyPreset(c, preset == "clean"  ? EyeSimPreset::Clean
+                   : preset == "hard" ? EyeSimPreset::Hard
+                                      : EyeSimPreset::Wild);
     return c;
 }
 
@@ -817,7 +820,7 @@ TEST(FrameSources, VideoImagesAndSyntheticAgree) {
     }
     EyeSimConfig synthetic = c; // what synthetic:1?frames=12&size=96x72 opens
     synthetic.seed = 1;
-    applyPreset(synthetic, "clean");
+    applyPreset(synthetic, EyeSimPreset::Clean);
     auto video = openFrameSource(VideoFileConfig{(dir / "clip.mkv").string()});
     auto images = openFrameSource(ImageFolderConfig{(dir / "frames").string()});
     auto synth = openFrameSource(synthetic);
@@ -947,7 +950,7 @@ TEST(Calibration, FromASyntheticRecording) {
     c.seed = 21;
     c.frames = 1000; // 9 calibration + 4 validation targets of 600 ms at 120 fps = 936 frames
     c.schedule.targetMs = 600.0;
-    applyPreset(c, "clean");
+    applyPreset(c, EyeSimPreset::Clean);
     SyntheticSource source(c);
     std::vector<ScheduledTarget> rows;
     for (int f = 0; f < c.frames; ++f) {

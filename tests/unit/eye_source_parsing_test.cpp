@@ -6,7 +6,6 @@
 #include <variant>
 
 #include "core/error.hpp"
-#include "error.hpp"
 #include "eye_source_parsing.hpp"
 
 using namespace gt::app;
@@ -51,7 +50,7 @@ TEST(EyeSourceParsing, SyntheticOptionsBecomeTheSimulatorsConfig) {
     const auto* c = std::get_if<et::EyeSimConfig>(&config);
     ASSERT_NE(c, nullptr);
     et::EyeSimConfig hard;
-    et::applyPreset(hard, "hard");
+    et::applyPreset(hard, et::EyeSimPreset::Hard);
     EXPECT_EQ(c->seed, 7u);
     EXPECT_EQ(c->frames, 12);
     EXPECT_DOUBLE_EQ(c->fps, 60.0);
@@ -65,7 +64,8 @@ TEST(EyeSourceParsing, SyntheticOptionsBecomeTheSimulatorsConfig) {
               "synthetic:1: size=20x10 is not WxH (at least 32x24)");
     EXPECT_EQ(errorOf("synthetic:1?speed=2"),
               "synthetic:1: unknown option 'speed' (preset, frames, fps, size)");
-    EXPECT_THROW((void)frameSourceConfig("synthetic:1?preset=soft"), et::EyetrackError);
+    EXPECT_EQ(errorOf("synthetic:1?preset=soft"),
+              "unknown eyesim preset 'soft' (clean | hard | wild)");
 }
 
 TEST(EyeSourceParsing, RecordingsKeepTheirWholePath) {
@@ -91,6 +91,9 @@ TEST(EyeSourceParsing, ModelsAndDetectorsByName) {
     EXPECT_EQ(gazeModel("3d"), et::GazeModel::ThreeD);
     EXPECT_EQ(pupilDetectorKind("starburst"), et::PupilDetectorKind::Starburst);
     EXPECT_EQ(pupilDetectorKind("blob"), et::PupilDetectorKind::Blob);
+    EXPECT_EQ(eyeSimPreset("clean"), et::EyeSimPreset::Clean);
+    EXPECT_EQ(eyeSimPreset("hard"), et::EyeSimPreset::Hard);
+    EXPECT_EQ(eyeSimPreset("wild"), et::EyeSimPreset::Wild);
     try {
         (void)gazeModel("4d");
         ADD_FAILURE() << "4d accepted";
