@@ -4,6 +4,7 @@
 #include "capture/region_source.hpp"
 #include "core/error.hpp"
 #include "eye_commands.hpp"
+#include "eye_source_parsing.hpp"
 #include "gaze/calibration_set.hpp"
 #include "gaze/recording_calibration.hpp"
 #include "option_parsing.hpp"
@@ -29,21 +30,21 @@ nlohmann::json runCalibrate(const CalibrateOptions& o) {
     };
     std::vector<Eye> eyes;
     if (!binocular) {
-        eyes.push_back({"both", eyetrack::openFrameSource(o.source)});
+        eyes.push_back({"both", openFrameSource(o.source)});
     } else if (!o.regions.empty()) {
         const auto [left, right] = parseEyeRegions(o.regions);
-        eyes.push_back({"left", std::make_unique<eyetrack::RegionSource>(
-                                    eyetrack::openFrameSource(o.source), left, "left eye")});
-        eyes.push_back({"right", std::make_unique<eyetrack::RegionSource>(
-                                     eyetrack::openFrameSource(o.source), right, "right eye")});
+        eyes.push_back({"left", std::make_unique<eyetrack::RegionSource>(openFrameSource(o.source),
+                                                                         left, "left eye")});
+        eyes.push_back({"right", std::make_unique<eyetrack::RegionSource>(openFrameSource(o.source),
+                                                                          right, "right eye")});
     } else {
-        eyes.push_back({"left", eyetrack::openFrameSource(o.sourceLeft)});
-        eyes.push_back({"right", eyetrack::openFrameSource(o.sourceRight)});
+        eyes.push_back({"left", openFrameSource(o.sourceLeft)});
+        eyes.push_back({"right", openFrameSource(o.sourceRight)});
     }
     eyetrack::CalibrationSet set;
     nlohmann::json perEye = nlohmann::json::object();
     for (Eye& e : eyes) {
-        const auto detector = eyetrack::makePupilDetector(o.detector);
+        const auto detector = eyetrack::makePupilDetector(pupilDetectorKind(o.detector));
         const auto r = eyetrack::calibrateFromRecording(*e.source, schedule, o.display, o.settleMs,
                                                         *detector, camera);
         set.eyes.push_back({e.name, r.calibration, r.model3d});

@@ -5,6 +5,7 @@
 #include "capture/file_sources.hpp"
 #include "capture/frame_source.hpp"
 #include "core/error.hpp"
+#include "eye_source_parsing.hpp"
 #include "pupil/starburst_detector.hpp"
 #include "sim/synthetic_eye.hpp"
 
@@ -55,14 +56,14 @@ CalibrationSession::CalibrationSession(const std::string& gazeSpec, std::string 
     std::unique_ptr<eyetrack::FrameSource> source;
     if (seed) {
         eyetrack::EyeSimConfig c;
-        eyetrack::applyPreset(c, "clean");
+        eyetrack::applyPreset(c, eyetrack::EyeSimPreset::Clean);
         c.seed = *seed;
         c.fps = kFps;
         c.frames = static_cast<int>((mDurationMs + 500.0) * kFps / 1000.0);
         c.schedule = mConfig; // the demo's targets: the eye looks where they are shown
         source = std::make_unique<eyetrack::SyntheticSource>(c);
     } else {
-        source = eyetrack::openFrameSource(mSource); // a camera or a recording
+        source = openFrameSource(mSource); // a camera or a recording
     }
     mWorker = std::jthread([this, src = std::move(source)]() mutable {
         try {

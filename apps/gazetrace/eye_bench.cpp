@@ -2,6 +2,7 @@
 // pre-rendered 320x240 synthetic frames, clean, hard and wild; five repetitions each, reported as
 // mean, median and spread.
 #include <cstdio>
+#include <utility>
 
 #include <benchmark/benchmark.h>
 #include <opencv2/core/utility.hpp>
@@ -15,11 +16,15 @@ namespace gt::app {
 nlohmann::json runEyeBench() {
     cv::setNumThreads(1); // one core, as the target says
     nlohmann::json result;
-    for (const char* preset : {"clean", "hard", "wild"}) {
+    const std::pair<const char*, eyetrack::EyeSimPreset> presets[] = {
+        {"clean", eyetrack::EyeSimPreset::Clean},
+        {"hard", eyetrack::EyeSimPreset::Hard},
+        {"wild", eyetrack::EyeSimPreset::Wild}};
+    for (const auto& [preset, look] : presets) {
         eyetrack::EyeSimConfig c;
         c.seed = 5;
         c.frames = 2400;
-        eyetrack::applyPreset(c, preset);
+        eyetrack::applyPreset(c, look);
         const eyetrack::SyntheticEye eye(c);
         std::vector<cv::Mat> frames;
         for (int f = 0; f < c.frames; f += 10)

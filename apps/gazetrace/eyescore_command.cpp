@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "eye_commands.hpp"
+#include "eye_source_parsing.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/contact_sheet.hpp"
 #include "gaze/gaze_filter.hpp"
@@ -138,7 +139,7 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
         eyetrack::EyeSimConfig c;
         c.seed = seed;
         c.frames = o.skip + o.frames;
-        eyetrack::applyPreset(c, o.preset);
+        eyetrack::applyPreset(c, eyeSimPreset(o.preset));
         const eyetrack::SyntheticEye eye(c);
         std::vector<cv::Mat> images(static_cast<std::size_t>(o.frames));
         std::vector<eyetrack::EyeTruth> truths(images.size());
@@ -146,7 +147,7 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
             images[f] = eye.render(o.skip + f, &truths[f]);
         }
 
-        const auto detector = eyetrack::makePupilDetector(o.detector);
+        const auto detector = eyetrack::makePupilDetector(pupilDetectorKind(o.detector));
         std::vector<eyetrack::DetectionRecord> records;
         const auto begin = std::chrono::steady_clock::now();
         std::vector<eyetrack::PupilResult> results;

@@ -8,6 +8,7 @@
 #include "atomic_write.hpp"
 #include "core/error.hpp"
 #include "eye_commands.hpp"
+#include "eye_source_parsing.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/csv_tables.hpp"
 #include "sim/synthetic_eye.hpp"
@@ -34,7 +35,7 @@ eyetrack::EyeSimConfig eyesimConfig(const EyesimOptions& o) {
     c.fps = o.fps;
     c.schedule.calibrationPoints = o.grid;
     c.schedule.targetMs = o.targetMs;
-    eyetrack::applyPreset(c, o.preset);
+    eyetrack::applyPreset(c, eyeSimPreset(o.preset));
     if (o.perspective) c.perspective = true;
     if (!o.slipMm.empty()) {
         double x = 0, y = 0, z = 0;

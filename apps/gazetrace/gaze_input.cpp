@@ -14,6 +14,7 @@
 
 #include "capture/frame_source.hpp"
 #include "core/error.hpp"
+#include "eye_source_parsing.hpp"
 #include "foveation/gaze_trace.hpp"
 #include "gaze/calibration.hpp"
 #include "gaze/gaze_tracker.hpp"
@@ -95,7 +96,7 @@ public:
                                 " needs --calibration (see gazetrace calibrate)");
         }
         eyetrack::Calibration calibration = eyetrack::Calibration::load(calibrationFile);
-        mTracker.emplace(eyetrack::openFrameSource(source), std::move(calibration));
+        mTracker.emplace(openFrameSource(source), std::move(calibration));
         (void)mTracker->waitForFirstSample(2000.0); // a camera may take a moment to stream
     }
     std::optional<GazeReading> read(double) override {

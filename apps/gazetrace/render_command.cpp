@@ -20,6 +20,7 @@
 #include "core/log.hpp"
 #include "display/hmd_profile.hpp"
 #include "eccentricity_layers.hpp"
+#include "eye_source_parsing.hpp"
 #include "foveation/gaze_trace.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "frame_loop.hpp"
@@ -500,7 +501,7 @@ FlatInputs flatInputs(const RenderOptions& o, const FlatSetup& s) {
             throw ArgumentError("--gaze-source needs --calibration (see gazetrace calibrate)");
         }
         in.calibration = eyetrack::Calibration::load(o.calibration);
-        in.gazeSource = eyetrack::openFrameSource(o.gazeSource);
+        in.gazeSource = openFrameSource(o.gazeSource);
     } else if (!o.calibration.empty()) {
         throw ArgumentError("--calibration is for --gaze-source");
     }

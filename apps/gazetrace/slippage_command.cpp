@@ -15,6 +15,7 @@
 #include "capture/file_sources.hpp"
 #include "core/error.hpp"
 #include "eye_commands.hpp"
+#include "eye_source_parsing.hpp"
 #include "gaze/gaze_mapper.hpp"
 #include "gaze/recording_calibration.hpp"
 #include "model/eye_model_mapper.hpp"
@@ -62,7 +63,7 @@ double validate(const eyetrack::EyeSimConfig& c, eyetrack::GazeMapper& mapper,
                 const std::string& detectorName) {
     eyetrack::SyntheticSource source(c);
     const auto schedule = scheduleOf(source.eye());
-    const auto detector = eyetrack::makePupilDetector(detectorName);
+    const auto detector = eyetrack::makePupilDetector(pupilDetectorKind(detectorName));
     const eyetrack::DisplayGeometry& d = mapper.display();
     double sum = 0.0;
     int n = 0;
@@ -95,7 +96,8 @@ nlohmann::json runSlippage(const SlippageOptions& o) {
     if (!std::isfinite(o.slipDeg) || std::abs(o.slipDeg) > 20.0) {
         throw ArgumentError("--slip-deg: expected a turn within 20 degrees");
     }
-    (void)eyetrack::makePupilDetector(o.detector); // a bad name fails before any work
+    (void)eyetrack::makePupilDetector(
+        pupilDetectorKind(o.detector)); // a bad name fails before any work
 
     std::vector<double> before2d, before3d;
     std::vector<std::vector<double>> after2d(slips.size()), after3d(slips.size());
@@ -103,11 +105,11 @@ nlohmann::json runSlippage(const SlippageOptions& o) {
         eyetrack::EyeSimConfig c;
         c.seed = seed;
         c.frames = kFrames;
-        eyetrack::applyPreset(c, o.preset);
+        eyetrack::applyPreset(c, eyeSimPreset(o.preset));
         c.perspective = true;
         eyetrack::SyntheticSource source(c);
         const auto schedule = scheduleOf(source.eye());
-        const auto detector = eyetrack::makePupilDetector(o.detector);
+        const auto detector = eyetrack::makePupilDetector(pupilDetectorKind(o.detector));
         const auto r = eyetrack::calibrateFromRecording(
             source, schedule, c.schedule.display, kSettleMs, *detector, source.eye().intrinsics());
         before2d.push_back(r.accuracyDeg);

@@ -14,6 +14,7 @@
 #include "capture/region_source.hpp"
 #include "core/error.hpp"
 #include "eye_commands.hpp"
+#include "eye_source_parsing.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/csv_tables.hpp"
 #include "gaze/binocular.hpp"
@@ -155,14 +156,13 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
     std::unique_ptr<eyetrack::EyePipeline> pipes[2];
     const char* names[2] = {"left", "right"};
     if (split) {
-        shared = eyetrack::openFrameSource(o.source);
+        shared = openFrameSource(o.source);
     }
     for (int e = 0; e < 2; ++e) {
-        auto source =
-            split ? nullptr : eyetrack::openFrameSource(e == 0 ? o.sourceLeft : o.sourceRight);
+        auto source = split ? nullptr : openFrameSource(e == 0 ? o.sourceLeft : o.sourceRight);
         pipes[e] = std::make_unique<eyetrack::EyePipeline>(
-            std::move(source), eyetrack::makePupilDetector(o.detector),
-            eyetrack::makeGazeMapper(set.eye(names[e]), o.model, camera));
+            std::move(source), eyetrack::makePupilDetector(pupilDetectorKind(o.detector)),
+            gazeMapper(set.eye(names[e]), gazeModel(o.model), camera));
     }
     const eyetrack::DisplayGeometry display = pipes[0]->mapper()->display();
     eyetrack::BinocularCombiner combiner(display, o.ipdMm);

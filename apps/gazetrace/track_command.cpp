@@ -11,6 +11,7 @@
 #include "capture/frame_source.hpp"
 #include "core/error.hpp"
 #include "eye_commands.hpp"
+#include "eye_source_parsing.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/contact_sheet.hpp"
 #include "formats/csv_tables.hpp"
@@ -33,7 +34,7 @@ constexpr double kSettleMs = 300.0; // validation samples count once the eye is 
 
 std::unique_ptr<eyetrack::GazeMapper> openGazeMapper(const TrackOptions& o) {
     const auto set = eyetrack::CalibrationSet::load(o.calibration);
-    return eyetrack::makeGazeMapper(set.eye(o.eye), o.model, eyeCamera(o.camera));
+    return gazeMapper(set.eye(o.eye), gazeModel(o.model), eyeCamera(o.camera));
 }
 
 // --truth: rows by frame number (eyesim writes every frame, hand labels only some).
@@ -190,8 +191,9 @@ nlohmann::json runTrack(const TrackOptions& o) {
     }
 
     const bool mapped = mapper != nullptr;
-    eyetrack::EyePipeline pipeline(eyetrack::openFrameSource(o.source),
-                                   eyetrack::makePupilDetector(o.detector), std::move(mapper));
+    eyetrack::EyePipeline pipeline(openFrameSource(o.source),
+                                   eyetrack::makePupilDetector(pupilDetectorKind(o.detector)),
+                                   std::move(mapper));
     eyetrack::FrameSource* source = &pipeline.source();
     eyetrack::GazeMailbox mailbox;
 

@@ -30,11 +30,19 @@ std::string fourcc(std::uint32_t f) {
     return s;
 }
 
-std::uint32_t formatFromName(const std::string& name) {
-    if (name == "grey") return V4L2_PIX_FMT_GREY;
-    if (name == "yuyv") return V4L2_PIX_FMT_YUYV;
-    if (name == "mjpeg") return V4L2_PIX_FMT_MJPEG;
-    throw CaptureError("v4l2: unknown format '" + name + "' (grey | yuyv | mjpeg)");
+// The V4L2 code of a format asked for; 0 for the first offered.
+std::uint32_t pixelFormatCode(V4l2PixelFormat format) {
+    switch (format) {
+    case V4l2PixelFormat::Grey:
+        return V4L2_PIX_FMT_GREY;
+    case V4l2PixelFormat::Yuyv:
+        return V4L2_PIX_FMT_YUYV;
+    case V4l2PixelFormat::Mjpeg:
+        return V4L2_PIX_FMT_MJPEG;
+    case V4l2PixelFormat::FirstOffered:
+        break;
+    }
+    return 0;
 }
 
 } // namespace
@@ -56,38 +64,6 @@ V4l2Syscalls V4l2Syscalls::system() {
         return static_cast<double>(ts.tv_sec) * 1000.0 + static_cast<double>(ts.tv_nsec) / 1e6;
     };
     return s;
-}
-
-V4l2Config v4l2ConfigFromSpec(const SourceSpec& spec) {
-    V4l2Config c;
-    c.device = spec.target;
-    auto number = [&](const std::string& key) -> double {
-        const std::string& v = spec.options.at(key);
-        try {
-            std::size_t used = 0;
-            const double x = std::stod(v, &used);
-            if (used != v.size() || x <= 0.0) throw std::invalid_argument(v);
-            return x;
-        } catch (const std::exception&) {
-            throw CaptureError("v4l2:" + spec.target + ": option " + key + "=" + v +
-                               " is not a positive number");
-        }
-    };
-    for (const auto& [key, value] : spec.options) {
-        if (key == "width")
-            c.width = static_cast<int>(number(key));
-        else if (key == "height")
-            c.height = static_cast<int>(number(key));
-        else if (key == "fps")
-            c.fps = number(key);
-        else if (key == "format") {
-            (void)formatFromName(value);
-            c.format = value;
-        } else
-            throw CaptureError("v4l2:" + spec.target + ": unknown option '" + key +
-                               "' (width, height, fps, format)");
-    }
-    return c;
 }
 
 V4l2Source::V4l2Source(V4l2Config config, V4l2Syscalls sys)
@@ -153,10 +129,8 @@ void V4l2Source::start() {
     auto has = [&](std::uint32_t f) {
         return std::find(offered.begin(), offered.end(), f) != offered.end();
     };
-    std::uint32_t want = 0;
-    if (!mConfig.format.empty()) {
-        want = formatFromName(mConfig.format);
-    } else {
+    std::uint32_t want = pixelFormatCode(mConfig.format);
+    if (want == 0) {
         for (std::uint32_t f : {V4L2_PIX_FMT_GREY, V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_MJPEG})
             if (want == 0 && has(f)) want = f;
     }

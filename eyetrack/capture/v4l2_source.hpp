@@ -38,20 +38,6 @@ struct V4l2Syscalls {
     [[nodiscard]] static V4l2Syscalls system();
 };
 
-struct V4l2Config {
-    std::string device = "/dev/video0";
-    int width = 0, height = 0; // 0: keep the driver's current size
-    double fps = 0.0;          // 0: keep the driver's rate
-    std::string format; // grey | yuyv | mjpeg; empty: the first offered of those, in that order
-    int pollTimeoutMs = 1000;
-    int reconnectAttempts = 8;
-    std::chrono::milliseconds backoffStart{100};
-    std::chrono::milliseconds backoffMax{2000};
-};
-
-// Parses the options of "v4l2:/dev/videoN?width=..&height=..&fps=..&format=..".
-[[nodiscard]] V4l2Config v4l2ConfigFromSpec(const SourceSpec& spec);
-
 class V4l2Source final : public FrameSource {
 public:
     V4l2Source(V4l2Config config, V4l2Syscalls sys);

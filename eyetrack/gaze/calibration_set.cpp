@@ -96,13 +96,10 @@ CalibrationSet CalibrationSet::load(const std::filesystem::path& file) {
     return fromJson(readJsonFile(file, "calibration"), file.string());
 }
 
-std::unique_ptr<GazeMapper> makeGazeMapper(const EyeCalibration& eye, const std::string& model,
+std::unique_ptr<GazeMapper> makeGazeMapper(const EyeCalibration& eye, GazeModel model,
                                            const std::optional<CameraIntrinsics>& intrinsics) {
-    if (model == "2d") {
+    if (model == GazeModel::TwoD) {
         return std::make_unique<PolynomialMapper>(eye.poly);
-    }
-    if (model != "3d") {
-        throw CalibrationError("unknown gaze model '" + model + "' (2d | 3d)");
     }
     if (!eye.model3d) {
         throw CalibrationError("the calibration of eye '" + eye.eye +

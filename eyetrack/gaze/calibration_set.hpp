@@ -41,10 +41,16 @@ public:
     [[nodiscard]] static CalibrationSet load(const std::filesystem::path& file);
 };
 
-// The mapper for one eye: model "2d" (the polynomial) or "3d" (the eye model; needs the file's
-// 3D calibration; `intrinsics`, when given, replace the file's). Throws CalibrationError.
+// The gaze models a calibration can drive.
+enum class GazeModel {
+    TwoD,   // the polynomial from pupil centre to screen
+    ThreeD, // the eye model (needs the file's 3D calibration)
+};
+
+// The mapper for one eye; for ThreeD, `intrinsics`, when given, replace the file's. Throws
+// CalibrationError when the eye has no 3D calibration.
 [[nodiscard]] std::unique_ptr<GazeMapper>
-makeGazeMapper(const EyeCalibration& eye, const std::string& model,
+makeGazeMapper(const EyeCalibration& eye, GazeModel model,
                const std::optional<CameraIntrinsics>& intrinsics = std::nullopt);
 
 } // namespace gt::eyetrack

@@ -21,14 +21,11 @@ double PupilResult::majorAngleDeg() const {
     return std::fmod(std::fmod(a, 180.0) + 180.0, 180.0);
 }
 
-std::unique_ptr<PupilDetector> makePupilDetector(const std::string& name) {
-    if (name == "starburst") {
-        return std::make_unique<StarburstDetector>();
-    }
-    if (name == "blob") {
+std::unique_ptr<PupilDetector> makePupilDetector(PupilDetectorKind kind) {
+    if (kind == PupilDetectorKind::Blob) {
         return std::make_unique<BlobDetector>();
     }
-    throw EyetrackError("unknown pupil detector '" + name + "' (starburst | blob)");
+    return std::make_unique<StarburstDetector>();
 }
 
 } // namespace gt::eyetrack

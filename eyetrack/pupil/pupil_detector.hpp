@@ -44,7 +44,12 @@ private:
     double mNextMs = 0.0;
 };
 
-// "starburst" | "blob"; throws EyetrackError naming the known ones otherwise.
-[[nodiscard]] std::unique_ptr<PupilDetector> makePupilDetector(const std::string& name);
+// The pupil detectors gazetrace has.
+enum class PupilDetectorKind {
+    Starburst, // rays from a dark seed to the pupil's edge, then an ellipse fit
+    Blob,      // the largest dark blob's outline, then an ellipse fit: the naive baseline
+};
+
+[[nodiscard]] std::unique_ptr<PupilDetector> makePupilDetector(PupilDetectorKind kind);
 
 } // namespace gt::eyetrack

@@ -75,8 +75,8 @@ std::pair<cv::Vec3d, cv::Vec3d> planeBasis(const cv::Vec3d& n) {
 
 } // namespace
 
-void applyPreset(EyeSimConfig& c, const std::string& preset) {
-    if (preset == "clean") {
+void applyPreset(EyeSimConfig& c, EyeSimPreset preset) {
+    if (preset == EyeSimPreset::Clean) {
         c.glints = 1;
         c.blurSigma = 0.7;
         c.noiseSigma = 1.5;
@@ -84,7 +84,7 @@ void applyPreset(EyeSimConfig& c, const std::string& preset) {
         c.upperLidHeight = 82.0;
         c.droopingLashes = 0.0;
         c.schedule.blinks = false;
-    } else if (preset == "hard") {
+    } else if (preset == EyeSimPreset::Hard) {
         c.glints = 4;
         c.blurSigma = 1.6;
         c.noiseSigma = 6.0;
@@ -92,7 +92,7 @@ void applyPreset(EyeSimConfig& c, const std::string& preset) {
         c.upperLidHeight = 36.0;
         c.droopingLashes = 0.3;
         c.schedule.blinks = true;
-    } else if (preset == "wild") {
+    } else {
         // Each variation on for a share of the seeds, at a random strength, so a set of seeds
         // covers them alone and together.
         std::mt19937_64 rng(c.seed * 0x9E3779B97F4A7C15ull + 17);
@@ -117,8 +117,6 @@ void applyPreset(EyeSimConfig& c, const std::string& preset) {
         c.pupilMinPx = 8.0;
         c.pupilMaxPx = 30.0;
         c.pupilDilation = range(0.05, 0.25);
-    } else {
-        throw EyetrackError("unknown eyesim preset '" + preset + "' (clean | hard | wild)");
     }
 }
 

@@ -80,13 +80,15 @@ struct EyeSimConfig {
     double fixationDepthCm = 0.0;
 };
 
-// "clean": wide-open lids, one glint, little blur and noise, no blinks.
-// "hard": low upper lid that covers part of the pupil, four glints, drooping lashes, strong blur,
-// noise, exposure drift and blinks.
-// "wild": a perspective camera and, drawn from config.seed (set it first), each of the wider
-// variations on or off and of random strength, over random lids, glints, blur and noise.
-// Throws EyetrackError for an unknown name.
-void applyPreset(EyeSimConfig& config, const std::string& preset);
+// The looks applyPreset() gives a synthetic eye.
+enum class EyeSimPreset {
+    Clean, // wide-open lids, one glint, little blur and noise, no blinks
+    Hard,  // low upper lid that covers part of the pupil, four glints, drooping lashes, strong
+           // blur, noise, exposure drift and blinks
+    Wild,  // a perspective camera and, drawn from config.seed (set it first), each of the wider
+           // variations on or off and of random strength, over random lids, glints, blur, noise
+};
+void applyPreset(EyeSimConfig& config, EyeSimPreset preset);
 
 struct EyeTruth {
     int frame = 0;

@@ -67,7 +67,7 @@ TEST(EyeModel, FitsTheSyntheticEyeAndFollowsASlip) {
     EyeSimConfig c;
     c.seed = 3;
     c.frames = 2400;
-    applyPreset(c, "clean");
+    applyPreset(c, EyeSimPreset::Clean);
     c.perspective = true;
     const SyntheticEye eye(c);
     EyeModel model(eye.intrinsics());
@@ -142,8 +142,8 @@ TEST(CalibrationSet, VersionThreeRoundTripAndVersionTwoStillLoads) {
     EXPECT_FALSE(back.eye("right").model3d);
     EXPECT_NEAR(cv::norm(back.eye("left").model3d->rotation - m.rotation), 0.0, 1e-9);
     EXPECT_NEAR(cv::norm(back.eye("left").poly.map({170, 130}) - poly.map({170, 130})), 0.0, 1e-6);
-    EXPECT_NO_THROW((void)makeGazeMapper(back.eye("left"), "3d"));
-    EXPECT_THROW((void)makeGazeMapper(back.eye("right"), "3d"), CalibrationError);
+    EXPECT_NO_THROW((void)makeGazeMapper(back.eye("left"), GazeModel::ThreeD));
+    EXPECT_THROW((void)makeGazeMapper(back.eye("right"), GazeModel::ThreeD), CalibrationError);
     EXPECT_THROW((void)back.eye("both"), CalibrationError); // two eyes: say which
     // Version 2 (a bare polynomial) loads as the one eye "both", and also through
     // Calibration::load; a version-3 file with one eye loads through both too.

@@ -31,7 +31,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             if (!eye.model3d) {
                 continue;
             }
-            const auto mapper = gt::eyetrack::makeGazeMapper(eye, "3d");
+            const auto mapper = gt::eyetrack::makeGazeMapper(eye, gt::eyetrack::GazeModel::ThreeD);
             for (const cv::RotatedRect e :
                  {cv::RotatedRect({160, 120}, {40, 30}, 20), cv::RotatedRect({5, 5}, {3, 2}, 0),
                   cv::RotatedRect({300, 230}, {90, 12}, 80)}) {
