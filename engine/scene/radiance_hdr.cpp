@@ -54,7 +54,7 @@ private:
     std::size_t mAt = 0;
 };
 
-void parseResolution(Reader& in, std::string_view l, int& width, int& height) {
+void readResolution(Reader& in, std::string_view l, int& width, int& height) {
     // Only the orientation every common writer uses: top row first, left to right.
     char ySign = 0, xSign = 0, yAxis = 0, xAxis = 0;
     long h = 0, w = 0;
@@ -188,7 +188,7 @@ RgbImage decodeRadianceHdr(std::span<const std::uint8_t> bytes, const std::strin
         }
     }
     RgbImage img;
-    parseResolution(in, in.line(), img.width, img.height);
+    readResolution(in, in.line(), img.width, img.height);
     // Two passes: the first only checks that every scanline is there and well formed, so a
     // header that promises a large picture in a few bytes (12 GB asked for by a
     // 30-byte file) fails before the picture's memory is taken; the second decodes.

@@ -23,7 +23,7 @@ UdpEmitter::UdpEmitter(const UdpEndpoint& to, const DisplayGeometry& display) : 
     if (inet_pton(AF_INET, to.ipv4.c_str(), &mTo.sin_addr) != 1)
         throw bad("the host is not an IPv4 address");
     mSocket = ::socket(AF_INET, SOCK_DGRAM, 0);
-    if (mSocket < 0) throw EyetrackError(where + ": cannot create a UDP socket");
+    if (mSocket < 0) throw bad("cannot create a UDP socket");
 }
 
 UdpEmitter::~UdpEmitter() {
