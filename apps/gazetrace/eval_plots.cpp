@@ -71,7 +71,9 @@ int textWidth(const std::string& t, int scale = 1) {
 void text(quality::RgbaImage& img, int x, int y, const std::string& t, std::array<uint8_t, 3> c,
           int scale = 1) {
     std::string copy = t;
-    std::vector<char> quads(copy.size() * 300 + 64);
+    // A glyph is up to ~12 segments of one 64-byte quad each ("8", "B"): a smaller buffer makes
+    // stb_easy_font stop mid-label and the last character is drawn in part.
+    std::vector<char> quads(copy.size() * 1024 + 64);
     const int n = stb_easy_font_print(0.0f, 0.0f, copy.data(), nullptr, quads.data(),
                                       static_cast<int>(quads.size()));
     // Each quad: 4 vertices of x, y, z (float) and an RGBA colour (16 bytes), axis-aligned.
