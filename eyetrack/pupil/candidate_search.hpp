@@ -31,6 +31,8 @@ struct Candidate {
 // at() for every position and scale, the larger part of the detector's work.
 class CentreSurroundRow {
 public:
+    // The row keeps pointers into `ii`: a temporary integral image would leave them dangling.
+    CentreSurroundRow(const cv::Mat&& ii, int y, int hi, int ho) = delete;
     CentreSurroundRow(const cv::Mat& ii, int y, int hi, int ho)
         : mW(ii.cols - 1), mHi(hi), mHo(ho),
           mInnerRows(std::min(ii.rows - 1, y + hi + 1) - std::max(0, y - hi)),

@@ -39,7 +39,8 @@ TEST(CentreSurroundRow, FillMatchesAtEverywhere) {
 TEST(CentreSurroundRow, DarkCentreRespondsPositive) {
     cv::Mat grey(40, 40, CV_8UC1, cv::Scalar(150));
     cv::circle(grey, {20, 20}, 4, cv::Scalar(30), cv::FILLED);
-    const CentreSurroundRow row(integralOf(grey), 20, 3, 7);
+    const cv::Mat ii = integralOf(grey); // the row reads it: it must outlive the row
+    const CentreSurroundRow row(ii, 20, 3, 7);
     EXPECT_GT(row.at(20), 60.0);
     EXPECT_LT(std::abs(row.at(5)), 1e-9); // flat: ring and centre alike
 }
