@@ -1,10 +1,10 @@
 #pragma once
-// Guenter et al.'s method (Guenter et al. 2012): nested eccentricity layers at falling resolution around the
-// gaze, sized by the linear MAR model and the layer optimisation of section 4.3 (layer_layout),
-// ray traced by pass `layers` as grids over their sub-frusta. As in section 4.2, each layer's grid
-// is jittered every frame, blended with its own temporally reprojected history (pass `taa`, one
-// history per layer), resampled bilinearly to the display and blended with smoothstep masks
-// (Figure 3); the middle and outer layers are updated at half rate, staggered.
+// Guenter et al.'s method (Guenter et al. 2012): nested eccentricity layers at falling resolution
+// around the gaze, sized by the linear MAR model and the layer optimisation of section 4.3
+// (layer_layout), ray traced by pass `layers` as grids over their sub-frusta. As in section 4.2,
+// each layer's grid is jittered every frame, blended with its own temporally reprojected history
+// (pass `taa`, one history per layer), resampled bilinearly to the display and blended with
+// smoothstep masks (Figure 3); the middle and outer layers are updated at half rate, staggered.
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -31,8 +31,9 @@ struct EccentricityLayerSettings {
     bool jitter = true;        // whole-grid jitter by up to half a layer pixel (section 4.2)
     bool temporal = true;      // blend each layer with its reprojected history (section 4.2)
     float transition = 0.4f;   // smoothstep share of a layer's radius (Figure 3)
-    // Geometric LOD (Guenter et al. 2012, 6): a layer sampled s display pixels apart traces the scene's
-    // subdivision cages log2(s) refinement levels coarser (scene::lodForPitch); off: full detail.
+    // Geometric LOD (Guenter et al. 2012, 6): a layer sampled s display pixels apart traces the
+    // scene's subdivision cages log2(s) refinement levels coarser (scene::lodForPitch); off: full
+    // detail.
     bool lod = true;
     // The physical display the eye sees the view on (desktop: its size and viewing distance);
     // empty: the view's frustum is the eye's field of view (an HMD eye, an OpenXR view). A view

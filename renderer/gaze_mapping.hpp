@@ -1,8 +1,8 @@
 #pragma once
 // Where a gaze given as angles lands. Desktop: on the physical screen of the display profile
 // (its pixels, width and distance; the desktop profile is 1920 x 1080 pixels, 51 cm wide, seen
-// from 59 cm, Guenter et al. 2012's setup), then in the window by the window's position on that screen —
-// the scene camera's field of view does not enter. HMD and OpenXR: through each eye's own
+// from 59 cm, Guenter et al. 2012's setup), then in the window by the window's position on that
+// screen — the scene camera's field of view does not enter. HMD and OpenXR: through each eye's own
 // projection (StereoRig, pixelOfDirection). Angles are degrees from the eye's straight-ahead,
 // yaw to the right and pitch up with pitch = atan2(y, hypot(x, z)), the convention the eye
 // tracker's calibration fits (eyetrack/gaze/display_geometry.hpp).

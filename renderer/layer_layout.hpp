@@ -1,7 +1,7 @@
 #pragma once
-// Where the eccentricity layers (Guenter et al. 2012) of a view go: their grids in layer pixels, where each
-// lies on the display this frame, and the sub-frustum each is traced through. Pure CPU maths,
-// kept apart from the method so it is tested without a device.
+// Where the eccentricity layers (Guenter et al. 2012) of a view go: their grids in layer pixels,
+// where each lies on the display this frame, and the sub-frustum each is traced through. Pure CPU
+// maths, kept apart from the method so it is tested without a device.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -58,9 +58,10 @@ struct LayerRect {
 };
 [[nodiscard]] LayerRect placeLayer(const LayerGrid& grid, uint32_t width, uint32_t height,
                                    glm::vec2 gaze);
-// `rect` shifted by `jitter` layer pixels (each in [-0.5, 0.5], Guenter et al. 2012 4.2): where this frame's
-// rays go. The history stays on the unjittered grid, so a still view accumulates the jittered
-// samples of each layer pixel (a box-filtered, supersampled layer) instead of blurring them.
+// `rect` shifted by `jitter` layer pixels (each in [-0.5, 0.5], Guenter et al. 2012 4.2): where
+// this frame's rays go. The history stays on the unjittered grid, so a still view accumulates the
+// jittered samples of each layer pixel (a box-filtered, supersampled layer) instead of blurring
+// them.
 [[nodiscard]] LayerRect jittered(const LayerRect& rect, float pitch, glm::vec2 jitter);
 
 // The frustum through `rect` of a view of `width` x `height` pixels spanning `view`.

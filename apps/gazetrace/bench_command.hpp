@@ -18,8 +18,8 @@ nlohmann::json runBench(const BenchOptions& options);
 // --suite stereo: the HMD frame (both fove eyes) and the desktop demo's frame, one frame in
 // flight against two (apps/gazetrace/stereo_bench.cpp).
 nlohmann::json runStereoBench(const BenchOptions& options);
-// Eccentricity layers only (Guenter et al. 2012): the predictions and the measured ratios against the
-// reference, also part of the full `render` suite.
+// Eccentricity layers only (Guenter et al. 2012): the predictions and the measured ratios against
+// the reference, also part of the full `render` suite.
 nlohmann::json runLayersBench(const BenchOptions& options);
 // Writes `j` to `path` through a temporary file renamed when complete.
 void writeJsonFile(const std::string& path, const nlohmann::json& j);

@@ -1,7 +1,7 @@
 #pragma once
-// `gazetrace layers`: Guenter et al. 2012's layer optimisation (section 4.3) for a display profile — the
-// radii, sampling factors, sizes and pixel counts of the layers that minimise eq. (5), and the
-// predicted speed-up P*/P; with --fov-table, Figure 12's speed-up against the field of view.
+// `gazetrace layers`: Guenter et al. 2012's layer optimisation (section 4.3) for a display profile
+// — the radii, sampling factors, sizes and pixel counts of the layers that minimise eq. (5), and
+// the predicted speed-up P*/P; with --fov-table, Figure 12's speed-up against the field of view.
 #include <cstdint>
 #include <string>
 

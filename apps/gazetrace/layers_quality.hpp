@@ -1,8 +1,8 @@
 #pragma once
-// `gazetrace bench --suite layers`, the picture side: eccentricity layers (Guenter et al. 2012) against the
-// point-set method (the thesis) and a uniform render with the same rays, per eccentricity band —
-// a still view against a many-ray reference, a moving camera, and smooth pursuit over a still
-// scene (with and without geometric LOD).
+// `gazetrace bench --suite layers`, the picture side: eccentricity layers (Guenter et al. 2012)
+// against the point-set method (the thesis) and a uniform render with the same rays, per
+// eccentricity band — a still view against a many-ray reference, a moving camera, and smooth
+// pursuit over a still scene (with and without geometric LOD).
 #include <nlohmann/json.hpp>
 
 namespace gt::app {

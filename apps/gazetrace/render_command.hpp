@@ -47,7 +47,8 @@ struct RenderOptions {
     bool distortion = true;    // --no-distortion: the eyes' images as rendered
     double vergenceM = 0.0;    // distance the eyes converge at; 0: infinity (parallel)
     bool displaySpace = false; // foveated --hmd: the point set laid on the panel after the lens
-    // --method layers (Guenter et al. 2012): MAR slope, layer count, half-rate outer layers, grid jitter.
+    // --method layers (Guenter et al. 2012): MAR slope, layer count, half-rate outer layers, grid
+    // jitter.
     // --spp is the rays per layer pixel, --taa the per-layer history.
     std::string slope = "A";
     uint32_t layers = 3;

@@ -226,8 +226,8 @@ Scene makeCornell() {
     return scene;
 }
 
-// A sculpture gallery made of Catmull-Clark cages (the geometric LOD's test content, Guenter et al. 2012
-// section 6): rounded blocks, slabs, pillars and rings on plinths along a hall, lit by a sun
+// A sculpture gallery made of Catmull-Clark cages (the geometric LOD's test content, Guenter et al.
+// 2012 section 6): rounded blocks, slabs, pillars and rings on plinths along a hall, lit by a sun
 // through the open side and lamps; only the room itself is plain triangles.
 Scene makeGallery() {
     Scene scene;

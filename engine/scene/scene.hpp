@@ -72,9 +72,9 @@ struct Vertex {
     glm::vec2 uv;
 };
 
-// A Catmull-Clark control cage (the geometric LOD of Guenter et al. 2012, section 6): polygons over shared
-// control points in world space, refined by OpenSubdiv to as many levels as the renderer's LOD
-// needs (scene/subdivision.hpp). Its triangles are not in Scene::vertices.
+// A Catmull-Clark control cage (the geometric LOD of Guenter et al. 2012, section 6): polygons over
+// shared control points in world space, refined by OpenSubdiv to as many levels as the renderer's
+// LOD needs (scene/subdivision.hpp). Its triangles are not in Scene::vertices.
 struct SubdivisionCage {
     std::vector<glm::vec3> points;
     std::vector<uint32_t> faceSizes; // corners of each face (3 or more)

@@ -1,8 +1,8 @@
 #pragma once
 // Catmull-Clark refinement of the scene's cages with OpenSubdiv (Far), for geometric LOD by
-// eccentricity (Guenter et al. 2012, section 6: "the outer layer is rendered with roughly half as many
-// triangles"). Every refined vertex is placed on the limit surface with its limit normal, so the
-// levels differ only by how finely they approximate one smooth surface: shading barely changes
+// eccentricity (Guenter et al. 2012, section 6: "the outer layer is rendered with roughly half as
+// many triangles"). Every refined vertex is placed on the limit surface with its limit normal, so
+// the levels differ only by how finely they approximate one smooth surface: shading barely changes
 // between them and silhouettes move by the chord error, which falls about fourfold per level.
 #include <array>
 #include <cstdint>

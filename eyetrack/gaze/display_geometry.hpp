@@ -1,8 +1,8 @@
 #pragma once
 // The screen the eye looks at, for converting between screen pixels and visual angle: accuracy and
 // precision (calibration), I-VT velocities (filter) and the synthetic eye's rotation all need it.
-// Default: the desktop profile of the renderer (1920x1080, 51 cm wide, seen from 59 cm; Guenter et al. 2012's
-// setup).
+// Default: the desktop profile of the renderer (1920x1080, 51 cm wide, seen from 59 cm; Guenter et
+// al. 2012's setup).
 #include <algorithm>
 #include <cmath>
 #include <numbers>

@@ -1,5 +1,6 @@
-// Eccentricity layers (Guenter et al. 2012) on lavapipe with validation on: the blend masks of Figure 3, the
-// half-rate schedule, a static scene converging without seams at the layer borders, resets.
+// Eccentricity layers (Guenter et al. 2012) on lavapipe with validation on: the blend masks of
+// Figure 3, the half-rate schedule, a static scene converging without seams at the layer borders,
+// resets.
 #include <algorithm>
 #include <array>
 #include <cmath>

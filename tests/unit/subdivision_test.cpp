@@ -1,4 +1,5 @@
-// OpenSubdiv refinement of subdivision cages and the geometric LOD levels (Guenter et al. 2012, section 6).
+// OpenSubdiv refinement of subdivision cages and the geometric LOD levels (Guenter et al. 2012,
+// section 6).
 #include <gtest/gtest.h>
 
 #include <algorithm>
