@@ -80,12 +80,7 @@ public:
                          "Foveated RBF shape c, in units of the point spacing")
             ->check(CLI::Range(0.001, 1000.0))
             ->capture_default_str();
-        mCommand
-            ->add_option(
-                "--reconstruction", mOptions.reconstruction,
-                "Foveated: gazetrace | thesis (the thesis's interpolation and TAA as published)")
-            ->check(CLI::IsMember({"gazetrace", "thesis"}))
-            ->capture_default_str();
+        addReconstructionOption(mCommand, mOptions.reconstruction);
         mCommand->add_option("--k", mOptions.k, "Foveated: neighbours for msm and rbf (1-20)")
             ->check(CLI::Range(1u, 20u))
             ->capture_default_str();

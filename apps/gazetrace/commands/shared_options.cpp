@@ -38,4 +38,12 @@ void addLiveMethodOptions(CLI::App* cmd, std::string& method, std::string& inter
         ->capture_default_str();
 }
 
+void addReconstructionOption(CLI::App* cmd, std::string& reconstruction) {
+    cmd->add_option(
+           "--reconstruction", reconstruction,
+           "Foveated: gazetrace | thesis (the thesis's interpolation and TAA as published)")
+        ->check(CLI::IsMember({"gazetrace", "thesis"}))
+        ->capture_default_str();
+}
+
 } // namespace gt::app

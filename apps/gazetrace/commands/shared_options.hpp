@@ -18,4 +18,7 @@ void addLiveMethodOptions(CLI::App* cmd, std::string& method, std::string& inter
                           double& scale, uint32_t& raysPerPoint, uint32_t& spp, std::string& taa,
                           std::string& slope, uint32_t& layers);
 
+// --reconstruction gazetrace | thesis, as render and xr take it.
+void addReconstructionOption(CLI::App* cmd, std::string& reconstruction);
+
 } // namespace gt::app

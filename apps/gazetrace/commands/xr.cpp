@@ -46,12 +46,7 @@ public:
         addLiveMethodOptions(mCommand, mOptions.method, mOptions.interp, mOptions.k,
                              mOptions.pointScale, mOptions.raysPerPoint, mOptions.spp, mTaa,
                              mOptions.slope, mOptions.layers);
-        mCommand
-            ->add_option(
-                "--reconstruction", mOptions.reconstruction,
-                "Foveated: gazetrace | thesis (the thesis's interpolation and TAA as published)")
-            ->check(CLI::IsMember({"gazetrace", "thesis"}))
-            ->capture_default_str();
+        addReconstructionOption(mCommand, mOptions.reconstruction);
         mCommand
             ->add_option("--gaze", mOptions.gaze,
                          "Gaze when the runtime gives none: ahead | fixed:X,Y (left eye pixels) | "
