@@ -7,7 +7,7 @@
 //  - a file over the caller's limit, or a sparse one (most of its length unallocated), is refused
 //    before any byte is read: a reader never grows a buffer without bound;
 //  - a file that grows while it is read past the limit is refused as well.
-// The limits themselves are named in io/limits.hpp and listed in docs/limits.md.
+// The limits themselves are named in io/limits.hpp and listed in docs/reliability.md.
 // V4L2 capture devices are the one kind of non-regular input, and the camera source opens them
 // itself.
 #include <cstdint>

@@ -1,7 +1,7 @@
 #pragma once
-// Every size and count limit gazetrace applies to what it reads, in one place; docs/limits.md
-// lists them with the reason for each. A limit is refused with one line naming the file or the
-// value and the limit.
+// Every size and count limit gazetrace applies to what it reads, in one place; the limits table
+// in docs/reliability.md lists them with the reason for each. A limit is refused with one line
+// naming the file or the value and the limit.
 #include <cstdint>
 
 namespace gt::io::limits {
