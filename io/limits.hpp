@@ -24,4 +24,16 @@ inline constexpr std::uint64_t kCacheFileBytes = 4 * kGiB;
 // A recorded eye video.
 inline constexpr std::uint64_t kVideoFileBytes = 64 * kGiB;
 
+// Pixels in one decoded sky (Radiance .hdr, PNG or JPEG): the largest published skies (16384 x
+// 8192, 1.5 GiB as floats); a header asking for more is refused before pixel memory is taken.
+inline constexpr std::uint64_t kSkyPixels = 16384ULL * 8192ULL;
+
+// Numbers read from text tables (gaze traces, camera paths) are finite and within these.
+// Times in milliseconds: 1e13 ms (317 years) still takes Unix-epoch stamps and keeps a double
+// exact to a microsecond; a larger one is a corrupt file, and 1e300 overflowed frame counts.
+inline constexpr double kTableTimeMs = 1e13;
+// Camera positions and targets in scene units: a float camera past a million moves in steps of
+// 1/16, and 1e300 became infinity (a NaN camera, a flat image).
+inline constexpr double kSceneCoordinate = 1e6;
+
 } // namespace gt::io::limits

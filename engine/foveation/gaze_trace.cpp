@@ -3,13 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "core/error.hpp"
+#include "input_file.hpp"
+#include "limits.hpp"
 
 namespace gt::foveation {
 
@@ -44,12 +45,13 @@ glm::vec2 interpolate(const std::vector<GazeTraceSample>& v, double tMs) {
 } // namespace
 
 GazeTrace GazeTrace::load(const std::filesystem::path& file) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(file, ec)) {
-        throw LoadError(file.string() + ": is a folder, not a gaze trace");
+    // A regular file of bounded size only: a FIFO blocked forever, /dev/zero grew without end.
+    std::istringstream in;
+    try {
+        in.str(io::readInputFile(file, io::limits::kTextTableBytes));
+    } catch (const io::InputError& e) {
+        throw LoadError(e.what());
     }
-    std::ifstream in(file);
-    if (!in) throw LoadError(file.string() + ": cannot open gaze trace");
     std::string line;
     std::vector<GazeTraceSample> samples;
     int lineNo = 0;
@@ -84,8 +86,11 @@ GazeTrace GazeTrace::load(const std::filesystem::path& file) {
         for (int i = 0; i < 3; ++i) {
             char* end = nullptr;
             v[i] = std::strtod(f[static_cast<std::size_t>(i)].c_str(), &end);
-            if (f[static_cast<std::size_t>(i)].empty() || *end != '\0' || !std::isfinite(v[i])) {
+            if (f[static_cast<std::size_t>(i)].empty() || *end != '\0') {
                 throw bad("expected " + expected);
+            }
+            if (!std::isfinite(v[i])) {
+                throw bad("'" + f[static_cast<std::size_t>(i)] + "' is not a finite number");
             }
         }
         GazeEye eye = GazeEye::Both;
@@ -98,13 +103,17 @@ GazeTrace GazeTrace::load(const std::filesystem::path& file) {
                 throw bad("eye must be left, right or both, got '" + f[3] + "'");
             }
         }
+        // Times feed frame counts and interpolation weights: 1e300 ms overflowed the former.
+        if (std::abs(v[0]) > io::limits::kTableTimeMs) {
+            throw bad("t_ms " + f[0] + " is out of range (+-1e13)");
+        }
         if (*units == GazeUnits::AnglesDeg && (std::abs(v[1]) >= 90.0 || std::abs(v[2]) >= 90.0)) {
-            throw bad("gaze angles must lie within +-90 degrees");
+            throw bad("gaze angles must lie within +-90 degrees, got " + f[1] + ", " + f[2]);
         }
         // Positions are kept as floats: 1e300 became infinity (a fuzz regression case). Gaze may
         // leave the screen, but not by a million pixels.
         if (*units == GazeUnits::Pixels && (std::abs(v[1]) > 1e6 || std::abs(v[2]) > 1e6)) {
-            throw bad("gaze pixels must lie within +-1000000");
+            throw bad("gaze pixels must lie within +-1000000, got " + f[1] + ", " + f[2]);
         }
         samples.push_back({v[0], {static_cast<float>(v[1]), static_cast<float>(v[2])}, eye});
     }

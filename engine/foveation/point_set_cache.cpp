@@ -5,13 +5,14 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <random>
 #include <vector>
 
 #include "atomic_write.hpp"
 #include "core/error.hpp"
 #include "foveation/neighbour_index.hpp"
+#include "input_file.hpp"
+#include "limits.hpp"
 
 namespace gt::foveation {
 
@@ -38,7 +39,7 @@ public:
 
 class Reader {
 public:
-    Reader(const std::vector<uint8_t>& b) : mBytes(b) {}
+    explicit Reader(std::span<const uint8_t> b) : mBytes(b) {}
     template <typename T> bool get(T& v) {
         if (mPos + sizeof(T) > mBytes.size()) return false;
         std::memcpy(&v, mBytes.data() + mPos, sizeof(T));
@@ -48,7 +49,7 @@ public:
     [[nodiscard]] std::size_t pos() const { return mPos; }
 
 private:
-    const std::vector<uint8_t>& mBytes;
+    std::span<const uint8_t> mBytes;
     std::size_t mPos = 0;
 };
 
@@ -74,14 +75,16 @@ uint64_t pointSetChecksum(std::span<const uint8_t> bytes) noexcept {
 }
 
 CacheLoad loadPointSet(const std::filesystem::path& file, const PointSetParams& params) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(file, ec)) {
-        return {std::nullopt, file.string() + " is a folder, not a point-set file"};
+    // A regular file of bounded size only (a FIFO in the cache folder blocked forever); what
+    // is refused here is regenerated and written over by loadOrGenerate.
+    std::string text;
+    try {
+        text = io::readInputFile(file, io::limits::kCacheFileBytes);
+    } catch (const io::InputError& e) {
+        return {std::nullopt, e.what()};
     }
-    std::ifstream in(file, std::ios::binary);
-    if (!in) return {std::nullopt, "cannot open " + file.string()};
-    const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                     std::istreambuf_iterator<char>());
+    const std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(text.data()),
+                                         text.size());
     if (bytes.size() < 4 + 4 + 8 || std::memcmp(bytes.data(), kMagic, 4) != 0) {
         return {std::nullopt, file.string() + " is not a gazetrace point-set file"};
     }

@@ -1,14 +1,17 @@
 #include "scene/camera_path.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
+#include <cstdlib>
 #include <string>
+#include <string_view>
 
 #include "atomic_write.hpp"
 #include "core/error.hpp"
+#include "input_file.hpp"
+#include "limits.hpp"
 
 namespace gt::scene {
 
@@ -16,11 +19,61 @@ namespace {
 bool sameEyeAndTarget(const CameraKey& k) {
     return glm::length(k.target - k.eye) < 1e-6f;
 }
+
+constexpr std::array<const char*, 7> kColumns = {"t_ms", "ex", "ey", "ez", "tx", "ty", "tz"};
+
+// Column i's bound: times within io::limits::kTableTimeMs, eye and target coordinates within
+// io::limits::kSceneCoordinate (1e300 turned into an infinite float and a NaN camera).
+double columnLimit(std::size_t i) {
+    return i == 0 ? io::limits::kTableTimeMs : io::limits::kSceneCoordinate;
+}
+
+bool inRange(double v, std::size_t column) {
+    return std::isfinite(v) && std::abs(v) <= columnLimit(column);
+}
+
+// One data row: seven numbers, each finite and within its column's bound. `where` is
+// "FILE:LINE" and starts every message.
+CameraKey parseRow(std::string_view line, const std::string& where) {
+    std::array<double, 7> v{};
+    std::size_t column = 0;
+    for (std::size_t start = 0; start <= line.size(); ++column) {
+        std::size_t comma = line.find(',', start);
+        if (comma == std::string_view::npos) comma = line.size();
+        const std::string field(line.substr(start, comma - start));
+        start = comma + 1;
+        char* end = nullptr;
+        const double x = std::strtod(field.c_str(), &end);
+        if (column >= v.size() || end == field.c_str() || *end != '\0') {
+            throw LoadError(where + ": expected seven numbers t_ms,ex,ey,ez,tx,ty,tz");
+        }
+        if (!inRange(x, column)) {
+            char bound[32];
+            std::snprintf(bound, sizeof bound, "%g", columnLimit(column));
+            throw LoadError(where + ": " + kColumns[column] + " " + field +
+                            " is not a finite number within +-" + bound);
+        }
+        v[column] = x;
+    }
+    if (column != v.size()) {
+        throw LoadError(where + ": expected seven numbers t_ms,ex,ey,ez,tx,ty,tz");
+    }
+    return {v[0], glm::vec3(v[1], v[2], v[3]), glm::vec3(v[4], v[5], v[6])};
+}
 } // namespace
 
 CameraPath CameraPath::fromKeys(std::vector<CameraKey> keys) {
     if (keys.empty()) throw LoadError("camera path: no rows");
     for (std::size_t i = 0; i < keys.size(); ++i) {
+        const CameraKey& k = keys[i];
+        const std::array<double, 7> v = {k.tMs,      k.eye.x,    k.eye.y,   k.eye.z,
+                                         k.target.x, k.target.y, k.target.z};
+        for (std::size_t c = 0; c < v.size(); ++c) {
+            if (!inRange(v[c], c)) {
+                throw LoadError("camera path: row " + std::to_string(i + 1) + " has " +
+                                kColumns[c] + " " + std::to_string(v[c]) + " out of range");
+            }
+        }
         if (sameEyeAndTarget(keys[i])) {
             throw LoadError("camera path: row " + std::to_string(i + 1) +
                             " has the eye on its target");
@@ -35,37 +88,33 @@ CameraPath CameraPath::fromKeys(std::vector<CameraKey> keys) {
 }
 
 CameraPath CameraPath::load(const std::filesystem::path& file) {
-    std::ifstream in(file);
-    std::error_code ec;
-    if (std::filesystem::is_directory(file, ec)) {
-        throw LoadError(file.string() + ": is a folder, not a camera path CSV");
+    // A regular file of bounded size only: a FIFO blocked forever, /dev/zero grew without end.
+    std::string text;
+    try {
+        text = io::readInputFile(file, io::limits::kTextTableBytes);
+    } catch (const io::InputError& e) {
+        throw LoadError(e.what());
     }
-    if (!in) throw LoadError(file.string() + ": cannot open camera path");
     std::vector<CameraKey> keys;
-    std::string line;
     int number = 0;
     bool header = false;
-    while (std::getline(in, line)) {
+    for (std::size_t at = 0; at < text.size();) {
+        std::size_t eol = text.find('\n', at);
+        if (eol == std::string::npos) eol = text.size();
+        std::string_view line(text.data() + at, eol - at);
+        at = eol + 1;
         ++number;
-        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
         if (line.empty() || line[0] == '#') continue;
+        const std::string where = file.string() + ":" + std::to_string(number);
         if (!header) {
             if (line != "t_ms,ex,ey,ez,tx,ty,tz") {
-                throw LoadError(file.string() + ":" + std::to_string(number) +
-                                ": expected the header t_ms,ex,ey,ez,tx,ty,tz");
+                throw LoadError(where + ": expected the header t_ms,ex,ey,ez,tx,ty,tz");
             }
             header = true;
             continue;
         }
-        double v[7];
-        char extra = 0;
-        if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &v[3],
-                        &v[4], &v[5], &v[6], &extra) != 7 ||
-            !std::all_of(std::begin(v), std::end(v), [](double x) { return std::isfinite(x); })) {
-            throw LoadError(file.string() + ":" + std::to_string(number) +
-                            ": expected seven numbers t_ms,ex,ey,ez,tx,ty,tz");
-        }
-        keys.push_back({v[0], glm::vec3(v[1], v[2], v[3]), glm::vec3(v[4], v[5], v[6])});
+        keys.push_back(parseRow(line, where));
     }
     if (!header) throw LoadError(file.string() + ": empty camera path (no header)");
     try {

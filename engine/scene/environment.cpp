@@ -5,11 +5,15 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
+#include <string>
 
 #include <stb_image.h>
 
+#include "checked_size.hpp"
 #include "core/error.hpp"
-#include "scene/image_io.hpp"
+#include "input_file.hpp"
+#include "limits.hpp"
 #include "scene/radiance_hdr.hpp"
 
 namespace gt::scene {
@@ -19,9 +23,15 @@ namespace {
 // Radiance pictures go through gt's strict reader (radiance_hdr.hpp explains why), anything
 // else through stb_image.
 RgbImage loadFloat(const std::filesystem::path& p) {
-    std::error_code ec;
-    if (!std::filesystem::exists(p, ec)) throw LoadError(p.string() + ": no such file");
-    const std::vector<std::uint8_t> bytes = image::readFileBytes(p);
+    // A regular file of bounded size only: a FIFO blocked forever, /dev/zero grew without end.
+    std::string text;
+    try {
+        text = io::readInputFile(p, io::limits::kImageFileBytes);
+    } catch (const io::InputError& e) {
+        throw LoadError(e.what());
+    }
+    const std::span<const std::uint8_t> bytes(reinterpret_cast<const std::uint8_t*>(text.data()),
+                                              text.size());
     if (isRadianceHdr(bytes)) {
         return decodeRadianceHdr(bytes, p.string());
     }
@@ -29,6 +39,15 @@ RgbImage loadFloat(const std::filesystem::path& p) {
         throw LoadError(p.string() + ": too large for the image decoder");
     }
     int w = 0, h = 0, n = 0;
+    // The size from the header, checked before stb takes the picture's memory.
+    if (stbi_info_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &n)) {
+        const auto pixels =
+            io::checkedMul(static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h));
+        if (!pixels || *pixels > io::limits::kSkyPixels) {
+            throw LoadError(p.string() + ": " + std::to_string(w) + "x" + std::to_string(h) +
+                            " pixels, more than the 16384x8192 gazetrace reads");
+        }
+    }
     float* data =
         stbi_loadf_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &n, 3);
     if (!data)

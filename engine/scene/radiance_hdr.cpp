@@ -1,21 +1,24 @@
 #include "scene/radiance_hdr.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <string_view>
 
+#include "checked_size.hpp"
 #include "core/error.hpp"
+#include "limits.hpp"
 
 namespace gt::scene {
 
 namespace {
 
-// Beyond this a picture is more likely a corrupt header than an environment map.
+// Beyond this a picture is more likely a corrupt header than an environment map. The pixel
+// count is bounded by io::limits::kSkyPixels: the environment loader halves anything wider
+// than it keeps; a larger picture is refused rather than decoded.
 constexpr int kMaxSide = 1 << 15;
-// The largest skies published (16k, 16384 x 8192: 1.5 GiB as floats). The environment loader
-// halves anything wider than it keeps; a larger picture is refused rather than decoded.
-constexpr long kMaxPixels = 16384L * 8192L;
 
 class Reader {
 public:
@@ -70,12 +73,67 @@ void readResolution(Reader& in, std::string_view l, int& width, int& height) {
     if (w < 1 || h < 1 || w > kMaxSide || h > kMaxSide) {
         in.fail("resolution " + std::to_string(w) + "x" + std::to_string(h) + " out of range");
     }
-    if (w * h > kMaxPixels) {
+    const auto pixels =
+        io::checkedMul(static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h));
+    if (!pixels || *pixels > io::limits::kSkyPixels) {
         in.fail(std::to_string(w) + "x" + std::to_string(h) +
                 " pixels, more than the 16384x8192 gazetrace reads");
     }
     width = static_cast<int>(w);
     height = static_cast<int>(h);
+}
+
+// Header variables that carry numbers (Radiance file format notes). gazetrace applies none of
+// them (stb_image does not either, and cmgen writes EXPOSURE=0), but one that is not a finite
+// number (nan, 1e999, text) marks a corrupt header, not a picture to guess at.
+struct NumericVariable {
+    std::string_view name;
+    int count;
+    bool nonNegative;
+};
+constexpr std::array<NumericVariable, 5> kNumericVariables = {{{"EXPOSURE=", 1, true},
+                                                               {"GAMMA=", 1, true},
+                                                               {"PIXASPECT=", 1, true},
+                                                               {"COLORCORR=", 3, true},
+                                                               {"PRIMARIES=", 8, false}}};
+
+// The numbers after "NAME=": how many parse as finite numbers (and non-negative ones where
+// asked), or -1 at the first that does not.
+int countNumbers(const std::string& values, bool nonNegative) {
+    const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+    const char* p = values.c_str();
+    int n = 0;
+    while (true) {
+        while (blank(*p)) {
+            ++p;
+        }
+        if (*p == '\0') {
+            return n;
+        }
+        char* end = nullptr;
+        const double x = std::strtod(p, &end);
+        if (end == p || !(*end == '\0' || blank(*end)) || !std::isfinite(x) ||
+            (nonNegative && x < 0.0)) {
+            return -1;
+        }
+        p = end;
+        ++n;
+    }
+}
+
+void checkHeaderNumbers(const Reader& in, std::string_view l, int lineNo) {
+    for (const NumericVariable& v : kNumericVariables) {
+        if (!l.starts_with(v.name)) {
+            continue;
+        }
+        if (countNumbers(std::string(l.substr(v.name.size())), v.nonNegative) != v.count) {
+            const std::string shown(l.substr(0, 80));
+            in.fail("header line " + std::to_string(lineNo) + ": '" + shown + "' is not " +
+                    (v.count == 1 ? std::string("a") : std::to_string(v.count)) + " finite" +
+                    (v.nonNegative ? " non-negative" : "") +
+                    (v.count == 1 ? " number" : " numbers"));
+        }
+    }
 }
 
 // New-style scanline after its (2, 2, hi, lo) marker: each of R, G, B, E run-length encoded
@@ -178,7 +236,7 @@ RgbImage decodeRadianceHdr(std::span<const std::uint8_t> bytes, const std::strin
         in.fail("not a Radiance picture (no '#?' signature)");
     }
     (void)in.line(); // "#?RADIANCE", "#?RGBE" or another program's name
-    while (true) {
+    for (int lineNo = 2;; ++lineNo) {
         const std::string_view l = in.line();
         if (l.empty()) {
             break;
@@ -186,6 +244,7 @@ RgbImage decodeRadianceHdr(std::span<const std::uint8_t> bytes, const std::strin
         if (l.starts_with("FORMAT=") && l != "FORMAT=32-bit_rle_rgbe") {
             in.fail("unsupported " + std::string(l) + " (only 32-bit_rle_rgbe)");
         }
+        checkHeaderNumbers(in, l, lineNo);
     }
     RgbImage img;
     readResolution(in, in.line(), img.width, img.height);

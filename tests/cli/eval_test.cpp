@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <sys/stat.h>
+
 #include "scene/image_io.hpp"
 #include "support/cli_run.hpp"
 #include "support/gpu_test_context.hpp"
@@ -15,6 +17,7 @@ namespace {
 using test::expectCleanFailure;
 using test::Result;
 using test::run;
+using test::runWith;
 using test::slurp;
 
 const std::string kSource = GT_SOURCE_DIR;
@@ -123,6 +126,14 @@ TEST(Eval, BadInputsAreOneLine) {
     const std::vector<uint8_t> px(32 * 32 * 4, 128);
     image::writePngAtomic(dir / "small.png", 32, 32, px);
     expectCleanFailure(run(base + "--reference " + (dir / "small.png").string()), "small.png", out);
+    // A FIFO as the reference blocked eval forever (the timeout turns a hang into a failure);
+    // a device is refused by kind, not read.
+    ASSERT_EQ(::mkfifo((dir / "ref.png").c_str(), 0600), 0);
+    expectCleanFailure(runWith("timeout 120", base + "--reference " + (dir / "ref.png").string()),
+                       "ref.png: a FIFO", out);
+    std::filesystem::create_symlink("/dev/zero", dir / "device.png");
+    expectCleanFailure(run(base + "--reference " + (dir / "device.png").string()),
+                       "device.png: a character device", out);
 }
 
 } // namespace

@@ -1,5 +1,6 @@
 // Camera paths (demo records, render and demo play): parsing, interpolation, errors, round trip.
 #include <fstream>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -9,6 +10,7 @@
 
 #include "support/bad_files.hpp"
 #include "support/gpu_test_context.hpp"
+#include "support/writerless_fifo.hpp"
 
 namespace gt {
 namespace {
@@ -46,9 +48,49 @@ TEST(CameraPath, RefusesWhatItCannotPlay) {
     expectBad("t_ms,ex,ey,ez,tx,ty,tz\n0,1,2,3,4,5\n", "seven numbers");
     expectBad("t_ms,ex,ey,ez,tx,ty,tz\n0,1,1,1,1,1,1\n", "eye on its target");
     expectBad("t_ms,ex,ey,ez,tx,ty,tz\n5,0,0,0,0,0,1\n5,0,0,0,0,0,1\n", "increase");
-    expectBad("t_ms,ex,ey,ez,tx,ty,tz\n0,nan,0,0,0,0,1\n", "seven numbers");
+    expectBad("t_ms,ex,ey,ez,tx,ty,tz\n0,nan,0,0,0,0,1\n", "bad.csv:2: ex nan is not a finite");
     expectBad("", "empty");
     EXPECT_THROW((void)scene::CameraPath::load(dir), LoadError); // a folder
+}
+
+// 1e300 is a finite double but an infinite float: the camera became NaN and the run rendered a
+// flat image with exit 0. Every value names its line and itself.
+TEST(CameraPath, ValuesOutOfRangeNameTheLineAndTheValue) {
+    const auto dir = test::tempDir("camera_path_range");
+    auto expectBad = [&](const std::string& body, const std::string& mention) {
+        test::expectLoadError(dir / "far.csv", body, mention, [](const std::filesystem::path& f) {
+            (void)scene::CameraPath::load(f);
+        });
+    };
+    const std::string header = "t_ms,ex,ey,ez,tx,ty,tz\n0,0,0,0,0,0,1\n";
+    expectBad(header + "10,1e300,0,0,0,0,1\n", "far.csv:3: ex 1e300 is not a finite number");
+    expectBad(header + "10,0,0,0,0,0,-2e6\n", "far.csv:3: tz -2e6");
+    expectBad(header + "1e300,0,0,0,0,0,1\n", "far.csv:3: t_ms 1e300");
+    expectBad(header + "10,0,0,0,0,0,1e999\n", "far.csv:3: tz 1e999");
+    expectBad(header + "10,0,inf,0,0,0,1\n", "far.csv:3: ey inf");
+    // Keys built in memory (the demo's recorder) are held to the same bounds.
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_THROW((void)scene::CameraPath::fromKeys({{0.0, glm::vec3(nan), glm::vec3(1.0f)}}),
+                 LoadError);
+    EXPECT_THROW(
+        (void)scene::CameraPath::fromKeys({{1e300, glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f)}}),
+        LoadError);
+    // The bounds leave every real path alone.
+    expectBad(header + "10,999999,0,0,0,0,1\n5,0,0,0,0,0,1\n", "increase");
+}
+
+// A FIFO blocked the loader forever; a device (/dev/zero grew to 4 GB) is refused by kind.
+TEST(CameraPath, FifosAndDevicesAreRefusedWithoutReading) {
+    const auto dir = test::tempDir("camera_path_kinds");
+    const test::WriterlessFifo fifo(dir / "path.csv");
+    const std::string e =
+        test::thrownMessage<LoadError>([&] { (void)scene::CameraPath::load(fifo.path()); });
+    EXPECT_NE(e.find(fifo.path().string() + ": a FIFO"), std::string::npos) << e;
+    EXPECT_FALSE(fifo.blockedALoader());
+    std::filesystem::create_symlink("/dev/zero", dir / "device.csv");
+    const std::string d =
+        test::thrownMessage<LoadError>([&] { (void)scene::CameraPath::load(dir / "device.csv"); });
+    EXPECT_NE(d.find("device.csv: a character device"), std::string::npos) << d;
 }
 
 } // namespace

@@ -4,7 +4,9 @@
 
 #include "core/error.hpp"
 #include "foveation/gaze_trace.hpp"
+#include "support/bad_files.hpp"
 #include "support/gpu_test_context.hpp"
+#include "support/writerless_fifo.hpp"
 
 namespace gt::foveation {
 namespace {
@@ -53,6 +55,35 @@ TEST(GazeTrace, MalformedFilesNameFileAndLine) {
     EXPECT_NE(error(write("far.csv", "t_ms,x,y\n0,1e300,5\n")).find("far.csv:2: gaze pixels"),
               std::string::npos);
     EXPECT_NE(error("/nonexistent/trace.csv").find("/nonexistent/trace.csv"), std::string::npos);
+}
+
+// A time of 1e300 ms loaded and overflowed the frame count derived from it; angles and pixels
+// out of range name the values that are.
+TEST(GazeTrace, ValuesOutOfRangeNameTheLineAndTheValue) {
+    auto error = [](const std::filesystem::path& p) {
+        return test::thrownMessage<LoadError>([&] { (void)GazeTrace::load(p); });
+    };
+    EXPECT_NE(error(write("t.csv", "t_ms,x,y\n0,1,2\n1e300,1,2\n")).find("t.csv:3: t_ms 1e300"),
+              std::string::npos);
+    EXPECT_NE(error(write("n.csv", "t_ms,x,y\n0,nan,2\n")).find("n.csv:2: 'nan' is not a finite"),
+              std::string::npos);
+    EXPECT_NE(error(write("a.csv", "t_ms,yaw_deg,pitch_deg\n0,95,2\n")).find("got 95, 2"),
+              std::string::npos);
+    EXPECT_NE(error(write("p.csv", "t_ms,x,y\n0,1,-3e6\n")).find("got 1, -3e6"), std::string::npos);
+}
+
+// A FIFO blocked the loader forever; a device (/dev/zero grew to 4 GB) is refused by kind.
+TEST(GazeTrace, FifosAndDevicesAreRefusedWithoutReading) {
+    const auto dir = test::tempDir("trace_kinds");
+    const test::WriterlessFifo fifo(dir / "gaze.csv");
+    const std::string e =
+        test::thrownMessage<LoadError>([&] { (void)GazeTrace::load(fifo.path()); });
+    EXPECT_NE(e.find(fifo.path().string() + ": a FIFO"), std::string::npos) << e;
+    EXPECT_FALSE(fifo.blockedALoader());
+    std::filesystem::create_symlink("/dev/zero", dir / "device.csv");
+    const std::string d =
+        test::thrownMessage<LoadError>([&] { (void)GazeTrace::load(dir / "device.csv"); });
+    EXPECT_NE(d.find("device.csv: a character device"), std::string::npos) << d;
 }
 
 TEST(GazeTrace, ShippedTracesLoad) {

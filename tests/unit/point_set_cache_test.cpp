@@ -12,6 +12,7 @@
 #include "foveation/point_set_cache.hpp"
 #include "support/gltf_fixtures.hpp"
 #include "support/gpu_test_context.hpp"
+#include "support/writerless_fifo.hpp"
 
 namespace gt::foveation {
 namespace {
@@ -139,8 +140,30 @@ TEST(PointSetCache, ChecksItsContentsNotOnlyItsChecksum) {
     std::filesystem::remove(file);
     std::filesystem::create_directories(file);
     const CachedPointSet folder = loadOrGenerate(dir, p);
-    EXPECT_NE(folder.warning.find("is a folder"), std::string::npos) << folder.warning;
+    EXPECT_NE(folder.warning.find("a folder"), std::string::npos) << folder.warning;
     EXPECT_EQ(folder.set.points().size(), good.points().size());
+}
+
+// A FIFO where the cache file should be blocked every run forever. It is refused without being
+// opened for reading, the set regenerated, and the FIFO replaced by a good cache file.
+TEST(PointSetCache, AFifoOrADeviceIsRefusedAndReplaced) {
+    const auto dir = test::tempDir("psc_fifo");
+    const PointSetParams p = params();
+    const auto file = cacheFile(dir, p);
+    {
+        const test::WriterlessFifo fifo(file);
+        const CachedPointSet c = loadOrGenerate(dir, p);
+        EXPECT_FALSE(c.fromCache);
+        EXPECT_NE(c.warning.find(file.string() + ": a FIFO"), std::string::npos) << c.warning;
+        EXPECT_FALSE(fifo.blockedALoader());
+        EXPECT_FALSE(c.set.points().empty());
+    }
+    EXPECT_TRUE(std::filesystem::is_regular_file(file));
+    EXPECT_TRUE(loadOrGenerate(dir, p).fromCache);
+    std::filesystem::create_symlink("/dev/zero", dir / "device.gtps");
+    const CacheLoad device = loadPointSet(dir / "device.gtps", p);
+    EXPECT_FALSE(device.set.has_value());
+    EXPECT_NE(device.problem.find("a character device"), std::string::npos) << device.problem;
 }
 
 } // namespace

@@ -216,3 +216,88 @@ TEST(RadianceHdr, AHeaderAloneTakesNoPictureMemory) {
 
 } // namespace
 } // namespace gt::scene
+
+#include "support/writerless_fifo.hpp"
+
+namespace gt::scene {
+namespace {
+
+// Header numbers were skipped unread: EXPOSURE=nan or COLORCORR=1e999 passed as a sky. None is
+// applied (stb_image does not, and cmgen writes EXPOSURE=0), but each must be a finite number.
+TEST(RadianceHdr, HeaderNumbersAreFiniteOrTheHeaderIsCorrupt) {
+    auto picture = [](const std::string& variable) {
+        Bytes b = text("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n" + variable + "\n\n-Y 1 +X 1\n");
+        b.insert(b.end(), {128, 64, 32, 129});
+        return b;
+    };
+    EXPECT_NE(error(picture("EXPOSURE=nan")).find("sky.hdr: header line 3: 'EXPOSURE=nan'"),
+              std::string::npos)
+        << error(picture("EXPOSURE=nan"));
+    EXPECT_NE(error(picture("EXPOSURE=1e999")).find("not a finite non-negative number"),
+              std::string::npos);
+    EXPECT_NE(error(picture("EXPOSURE=-2")).find("EXPOSURE=-2"), std::string::npos);
+    EXPECT_NE(error(picture("EXPOSURE=bright")).find("EXPOSURE=bright"), std::string::npos);
+    EXPECT_NE(error(picture("COLORCORR=1 1")).find("not 3 finite"), std::string::npos);
+    EXPECT_NE(error(picture("PIXASPECT=inf")).find("PIXASPECT=inf"), std::string::npos);
+    EXPECT_NE(error(picture("PRIMARIES=0.64 0.33 0.3 0.6 0.15 0.06 nan 0.33")).find("PRIMARIES"),
+              std::string::npos);
+    // What real writers put there still loads.
+    for (const char* ok : {"EXPOSURE=0", "EXPOSURE= 1.5e-2", "GAMMA=1", "COLORCORR=1 1 1\r",
+                           "PRIMARIES=0.640 0.330 0.300 0.600 0.150 0.060 0.3127 0.3290"}) {
+        EXPECT_EQ(error(picture(ok)), "") << ok;
+    }
+}
+
+// A FIFO given as a sky or as one cube face blocked the loader forever; /dev/zero grew to 4 GB
+// before failing.
+TEST(Environment, FifosAndDevicesAreRefusedWithoutReading) {
+    const auto dir = test::tempDir("env_kinds");
+    auto errorOf = [](const std::filesystem::path& p) {
+        return test::thrownMessage<LoadError>([&] { (void)loadEnvironment(p); });
+    };
+    {
+        const test::WriterlessFifo fifo(dir / "sky.hdr");
+        const std::string e = errorOf(fifo.path());
+        EXPECT_NE(e.find(fifo.path().string() + ": a FIFO"), std::string::npos) << e;
+        EXPECT_FALSE(fifo.blockedALoader());
+    }
+    const auto faces = dir / "cube";
+    std::filesystem::create_directories(faces);
+    const Bytes face = encode(8, 8);
+    for (const char* name : {"px", "nx", "py", "ny", "pz"}) {
+        std::ofstream(faces / (std::string(name) + ".hdr"), std::ios::binary)
+            .write(reinterpret_cast<const char*>(face.data()),
+                   static_cast<std::streamsize>(face.size()));
+    }
+    {
+        const test::WriterlessFifo fifo(faces / "nz.hdr");
+        const std::string e = errorOf(faces);
+        EXPECT_NE(e.find("nz.hdr: a FIFO"), std::string::npos) << e;
+        EXPECT_FALSE(fifo.blockedALoader());
+    }
+    std::filesystem::create_symlink("/dev/zero", dir / "device.hdr");
+    const std::string d = errorOf(dir / "device.hdr");
+    EXPECT_NE(d.find("device.hdr: a character device"), std::string::npos) << d;
+}
+
+// A PNG sky's size is read from its header and checked before stb_image decodes it (the
+// Radiance reader's limit): 16384 x 16384 asked for 3 GiB of floats (stb_image itself refuses
+// only what needs more than 1 GiB as bytes).
+TEST(Environment, APngSkyPastThePixelLimitIsRefusedFromItsHeader) {
+    const auto file = test::tempDir("env_png_limit") / "sky.png";
+    Bytes png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R'};
+    for (const std::uint32_t side : {16384u, 16384u}) {
+        for (int shift = 24; shift >= 0; shift -= 8) {
+            png.push_back(static_cast<std::uint8_t>(side >> shift));
+        }
+    }
+    png.insert(png.end(), {8, 2, 0, 0, 0, 0, 0, 0, 0}); // 8-bit RGB, then a CRC stb skips
+    std::ofstream(file, std::ios::binary)
+        .write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+    const std::string e = test::thrownMessage<LoadError>([&] { (void)loadEnvironment(file); });
+    EXPECT_NE(e.find("sky.png: 16384x16384 pixels, more than the 16384x8192"), std::string::npos)
+        << e;
+}
+
+} // namespace
+} // namespace gt::scene
