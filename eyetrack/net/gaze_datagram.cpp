@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -178,7 +179,8 @@ GazeDatagram fields(const Json& o) {
         d.saccadeOnset = s->get<bool>();
     }
     d.vergenceDeg = number(o, "vergence_deg", 0.0, 180.0);
-    d.fixationCm = number(o, "fixation_cm", 0.0, kMaxGazeScreenPx, true);
+    // Nearly parallel lines of sight fixate very far: any positive distance is one.
+    d.fixationCm = number(o, "fixation_cm", 0.0, std::numeric_limits<double>::max(), true);
     return d;
 }
 

@@ -62,6 +62,8 @@ TEST(GazeDatagram, RefusesWrongTypesAndRangesNamingTheField) {
          "field screen is a number, must be [width, height] in whole pixels"},
         {R"({"x":100,"y":100,"vergence_deg":-3})",
          "field vergence_deg is -3, must lie within [0, 180]"},
+        {R"({"x":100,"y":100,"fixation_cm":0})",
+         "field fixation_cm is 0, must lie within (0, 1.79769e+308)"},
         {R"({"x":100})", "field y is missing (x and y come together)"},
         {R"({"pitch_deg":3})", "field yaw_deg is missing (yaw_deg and pitch_deg come together)"},
         {R"({"t_ms":5,"confidence":1})",
@@ -130,6 +132,11 @@ TEST(GazeDatagram, ReadsWhatTheEmitterWrites) {
     EXPECT_EQ(*d.event, GazeEvent::Saccade);
     EXPECT_TRUE(d.saccadeOnset);
     EXPECT_TRUE(d.placesGaze()); // it has x, y
+    // Two eyes' lines of sight nearly parallel: the emitter sends a far fixation, read as sent.
+    const DatagramReading far =
+        parseGazeDatagram(R"({"x":1,"y":2,"vergence_deg":1e-7,"fixation_cm":3e11})");
+    ASSERT_TRUE(far.datagram) << far.refusal;
+    EXPECT_DOUBLE_EQ(*far.datagram->fixationCm, 3e11);
     // A third party's minimal datagram: angles of both eyes only.
     const DatagramReading minimal = parseGazeDatagram(R"({"yaw_deg":-20,"pitch_deg":12.5})");
     ASSERT_TRUE(minimal.datagram) << minimal.refusal;

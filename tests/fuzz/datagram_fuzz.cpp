@@ -41,7 +41,7 @@ void check(const gt::eyetrack::GazeDatagram& d) {
     if (d.vergenceDeg && !(*d.vergenceDeg >= 0.0 && *d.vergenceDeg <= 180.0)) {
         finding("a vergence outside [0, 180] degrees was read");
     }
-    if (d.fixationCm && !(within(*d.fixationCm, kMaxGazeScreenPx) && *d.fixationCm > 0.0)) {
+    if (d.fixationCm && !(std::isfinite(*d.fixationCm) && *d.fixationCm > 0.0)) {
         finding("a fixation distance that is not positive and finite was read");
     }
 }
