@@ -13,7 +13,7 @@ seconds=${2:-60}
 shift $(($# < 2 ? $# : 2))
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(gltf radiance point_set_cache gaze_trace calibration)
+  targets=(gltf radiance point_set_cache gaze_trace calibration datagram)
 fi
 jobs=${FUZZ_JOBS:-1}
 

@@ -1,23 +1,17 @@
 #include "gaze_input.hpp"
 
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
-
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
-#include <nlohmann/json.hpp>
 
 #include "capture/frame_source.hpp"
 #include "core/error.hpp"
+#include "core/log.hpp"
+#include "error.hpp"
 #include "eye_source_parsing.hpp"
 #include "foveation/gaze_trace.hpp"
 #include "gaze/calibration.hpp"
 #include "gaze/gaze_tracker.hpp"
+#include "net/udp_receiver.hpp"
 
 namespace gt::app {
 
@@ -135,75 +129,23 @@ private:
     uint64_t mSaccadesSeen = 0;
 };
 
-// Datagrams of `gazetrace track --emit`: one JSON object each with t_ms, x, y (screen pixels),
-// confidence, event and saccade_onset. The newest valid one wins; the rest are counted.
+// Datagrams of `gazetrace track --emit` (eyetrack/net/gaze_datagram.hpp reads them). The
+// newest one wins; a refused one is dropped and counted with a warning, and the session goes on.
 class UdpGaze final : public GazeInput {
 public:
     UdpGaze(const std::string& host, int port) : mWhere(host + ":" + std::to_string(port)) {
-        auto bad = [&](const std::string& why) {
-            return ArgumentError("--gaze udp:" + mWhere + ": " + why);
-        };
-        mSocket = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK, 0);
-        if (mSocket < 0) throw bad(std::strerror(errno));
-        sockaddr_in addr{};
-        addr.sin_family = AF_INET;
-        addr.sin_port = htons(static_cast<uint16_t>(port));
-        if (::inet_pton(AF_INET, host.c_str(), &addr.sin_addr) != 1) {
-            ::close(mSocket);
-            throw bad("host must be an IPv4 address or localhost");
-        }
-        if (::bind(mSocket, reinterpret_cast<const sockaddr*>(&addr), sizeof(addr)) != 0) {
-            const std::string why = std::strerror(errno);
-            ::close(mSocket);
-            throw bad("cannot listen: " + why);
+        try {
+            mReceiver.emplace(eyetrack::UdpEndpoint{host, static_cast<uint16_t>(port)},
+                              "gaze udp:" + mWhere,
+                              [](const std::string& line) { log::warn(line); });
+        } catch (const eyetrack::EyetrackError& e) {
+            throw ArgumentError(std::string("--") + e.what()); // "--gaze udp:...: why"
         }
     }
-    ~UdpGaze() override { ::close(mSocket); }
-    UdpGaze(const UdpGaze&) = delete;
-    UdpGaze& operator=(const UdpGaze&) = delete;
 
     std::optional<GazeReading> read(double) override {
-        char buffer[2048];
-        for (;;) {
-            const ssize_t n = ::recv(mSocket, buffer, sizeof(buffer), 0);
-            if (n < 0) {
-                break; // EAGAIN: drained
-            }
-            const auto j = nlohmann::json::parse(buffer, buffer + n, nullptr, false);
-            const auto number = [&](const char* key) -> std::optional<float> {
-                if (j.is_discarded() || !j.is_object() || !j.contains(key) || !j[key].is_number()) {
-                    return std::nullopt;
-                }
-                const float v = j[key].get<float>();
-                return std::isfinite(v) ? std::optional(v) : std::nullopt;
-            };
-            const auto x = number("x"), y = number("y");
-            const auto yaw = number("yaw_deg"), pitch = number("pitch_deg");
-            const bool angles = yaw && pitch && std::abs(*yaw) < 90.0f && std::abs(*pitch) < 90.0f;
-            if (!(x && y) && !angles) {
-                ++mRejected;
-                continue;
-            }
-            GazeReading r = mLast.value_or(GazeReading{});
-            r.sampled = SteadyClock::now();
-            r.sequence = ++mSequence;
-            r.sourceMs = number("t_ms").value_or(0.0f);
-            r.confidence = number("confidence").value_or(1.0f);
-            r.windowPixels = false;
-            if (x && y) r.screenPx = {*x, *y};
-            const std::string eye = j.contains("eye") && j["eye"].is_string() ? j["eye"] : "both";
-            if (angles) {
-                const glm::vec2 a(*yaw, *pitch);
-                if (eye == "left") {
-                    r.eyeAnglesDeg[0] = a;
-                } else if (eye == "right") {
-                    r.eyeAnglesDeg[1] = a;
-                } else {
-                    r.anglesDeg = a;
-                }
-            }
-            r.saccade = (mLast && mLast->saccade) || j.value("saccade_onset", false);
-            mLast = r;
+        while (const std::optional<eyetrack::GazeDatagram> d = mReceiver->next()) {
+            fold(*d);
         }
         std::optional<GazeReading> out = mLast;
         if (mLast) {
@@ -212,13 +154,40 @@ public:
         return out;
     }
     std::string describe() const override { return "udp:" + mWhere; }
-    [[nodiscard]] uint64_t rejected() const noexcept { return mRejected; }
 
 private:
+    // A datagram updates what it gives: a per-eye one that eye's angles (and the screen point
+    // it sent), a "both" one the viewer's gaze; the rest stays as the last datagrams left it.
+    void fold(const eyetrack::GazeDatagram& d) {
+        GazeReading r = mLast.value_or(GazeReading{});
+        r.sampled = SteadyClock::now();
+        r.sequence = ++mSequence;
+        r.sourceMs = d.tMs;
+        r.confidence = static_cast<float>(d.confidence);
+        r.windowPixels = false;
+        if (d.screenPx) r.screenPx = glm::vec2(glm::dvec2(d.screenPx->x, d.screenPx->y));
+        if (d.anglesDeg) {
+            const glm::vec2 a(glm::dvec2(d.anglesDeg->x, d.anglesDeg->y));
+            switch (d.eye) {
+            case eyetrack::DatagramEye::Left:
+                r.eyeAnglesDeg[0] = a;
+                break;
+            case eyetrack::DatagramEye::Right:
+                r.eyeAnglesDeg[1] = a;
+                break;
+            case eyetrack::DatagramEye::Both:
+                r.anglesDeg = a;
+                break;
+            }
+        }
+        r.saccade = (mLast && mLast->saccade) || d.saccadeOnset;
+        mLast = r;
+    }
+
     std::string mWhere;
-    int mSocket = -1;
+    std::optional<eyetrack::UdpGazeReceiver> mReceiver;
     std::optional<GazeReading> mLast;
-    uint64_t mSequence = 0, mRejected = 0;
+    uint64_t mSequence = 0;
 };
 
 } // namespace

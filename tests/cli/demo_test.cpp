@@ -221,10 +221,18 @@ TEST(Demo, UdpSenderAndDemoAgreeOnTheSamples) {
     const int port = ntohs(addr.sin_port);
     // Sample i looks 20 degrees left and 12.5 - i/100 degrees up: with the window (320 x 180)
     // at the screen's top-left, that lands inside it, and its height says which sample it is.
+    // Between the samples, hostile datagrams (the first three each once stopped the demo with
+    // nlohmann's type_error): they are dropped, and the session goes on.
+    const std::string hostile[] = {
+        R"({"x":100,"y":100,"saccade_onset":1})", R"({"x":100,"y":100,"saccade_onset":"yes"})",
+        R"({"x":100,"y":100,"saccade_onset":null})", R"({"x":1e400,"y":100})", "\xff\xfe"};
     std::atomic<bool> stop{false};
     std::thread sender([&] {
         // Until the demo is done, however long its start takes (a sanitizer build is slower).
         for (int i = 1; !stop; ++i) {
+            const std::string& bad = hostile[static_cast<std::size_t>(i) % std::size(hostile)];
+            (void)::sendto(tx, bad.data(), bad.size(), 0, reinterpret_cast<sockaddr*>(&addr),
+                           sizeof(addr));
             const std::string msg = "{\"t_ms\":" + std::to_string(i) +
                                     ",\"eye\":\"both\",\"yaw_deg\":-20,\"pitch_deg\":" +
                                     std::to_string(12.5 - 0.01 * i) + "}";
@@ -242,6 +250,9 @@ TEST(Demo, UdpSenderAndDemoAgreeOnTheSamples) {
     sender.join();
     ::close(tx);
     ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("gaze udp:127.0.0.1:" + std::to_string(port) + ": dropped "),
+              std::string::npos)
+        << r.err;
     std::ifstream in(log);
     std::string line;
     std::getline(in, line);

@@ -23,6 +23,7 @@
 
 #include "foveation/point_set_cache.hpp"
 #include "gaze/calibration.hpp"
+#include "net/udp_emitter.hpp"
 #include <nlohmann/json.hpp>
 
 namespace {
@@ -469,6 +470,54 @@ void calibration() {
         replaced(poly7, R"("fit_error_deg": )", R"("fit_error_deg": 1e999, "x": )"));
 }
 
+// ---- gaze datagrams ----------------------------------------------------------------------------
+
+void datagrams() {
+    using namespace gt::eyetrack;
+    const std::string t = "datagram";
+    const DisplayGeometry display;
+    GazeSample s;
+    s.tMs = 1234.5;
+    s.x = 640.25f;
+    s.y = 360.5f;
+    s.confidence = 0.875f;
+    s.saccade = true;
+    s.event = GazeEvent::Saccade;
+    // What the emitter writes (one per eye and both), and a third party's minimal ones.
+    put(t, "seeds", "emitter_both.json", UdpEmitter::toJson(s, display));
+    put(t, "seeds", "emitter_left.json", UdpEmitter::toJson(s, display, "left"));
+    nlohmann::json combined = nlohmann::json::parse(UdpEmitter::toJson(s, display));
+    combined["vergence_deg"] = 3.5;
+    combined["fixation_cm"] = 62.0;
+    put(t, "seeds", "emitter_vergence.json", combined.dump());
+    put(t, "seeds", "angles_only.json",
+        R"({"t_ms":1,"eye":"both","yaw_deg":-20,"pitch_deg":12.5})");
+    put(t, "seeds", "pixels_only.json", R"({"x":100,"y":200})");
+    put(t, "seeds", "one_eye.json", R"({"eye":"right","yaw_deg":3,"pitch_deg":-2})");
+    // Found by a hostile-input run: each ended demo and xr with nlohmann's type_error.
+    put(t, "regressions", "saccade_onset_number.json", R"({"x":100,"y":100,"saccade_onset":1})");
+    put(t, "regressions", "saccade_onset_string.json",
+        R"({"x":100,"y":100,"saccade_onset":"yes"})");
+    put(t, "regressions", "saccade_onset_null.json", R"({"x":100,"y":100,"saccade_onset":null})");
+    put(t, "regressions", "x_1e400.json", R"({"x":1e400,"y":100})");
+    put(t, "regressions", "x_1e300.json", R"({"x":1e300,"y":100})");
+    put(t, "regressions", "yaw_90.json", R"({"yaw_deg":90,"pitch_deg":0})");
+    put(t, "regressions", "nan_literal.json", R"({"x":NaN,"y":1})");
+    put(t, "regressions", "x_without_y.json", R"({"x":100})");
+    put(t, "regressions", "no_gaze.json", R"({"t_ms":1,"confidence":1})");
+    put(t, "regressions", "eye_number.json", R"({"x":1,"y":1,"eye":7})");
+    put(t, "regressions", "screen_huge.json",
+        R"({"x":1,"y":1,"screen":[18446744073709551615,-9223372036854775808]})");
+    put(t, "regressions", "screen_float.json", R"({"x":1,"y":1,"screen":[1e300,1]})");
+    put(t, "regressions", "not_utf8.json", std::string("{\"x\":1,\"y\":2,\"eye\":\"\xff\xfe\"}"));
+    put(t, "regressions", "surrogate.json", std::string("{\"eye\":\"\xed\xa0\x80\"}"));
+    put(t, "regressions", "empty.json", std::string());
+    put(t, "regressions", "array.json", "[1,2,3]");
+    put(t, "regressions", "deep_1000.json", std::string(1000, '[') + std::string(1000, ']'));
+    put(t, "regressions", "oversized.json",
+        R"({"x":1,"y":2,"pad":")" + std::string(4000, 'a') + "\"}");
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -479,13 +528,14 @@ int main(int argc, char** argv) {
     gOut = argv[1];
     try {
         for (const char* target :
-             {"gltf", "radiance", "point_set_cache", "gaze_trace", "calibration"})
+             {"gltf", "radiance", "point_set_cache", "gaze_trace", "calibration", "datagram"})
             fs::remove_all(gOut / target); // only what this program writes
         gltf();
         radiance();
         pointSetCache();
         gazeTrace();
         calibration();
+        datagrams();
     } catch (const std::exception& e) {
         std::fprintf(stderr, "gazetrace_fuzz_corpus: %s\n", e.what());
         return 1;
