@@ -53,7 +53,8 @@ struct GazeInputContext {
 };
 
 // fixed:X,Y | mouse | trace:FILE.csv | track:SOURCE | udp:PORT (binds 127.0.0.1) |
-// udp:HOST:PORT. Opens the source now, so a bad one fails before any work (one line).
+// udp:HOST:PORT (a HOST outside 127.0.0.0/8 warns that anyone on the network can steer the
+// gaze). Opens the source now, so a bad one fails before any work (one line).
 [[nodiscard]] std::unique_ptr<GazeInput> openGazeInput(const std::string& spec,
                                                        const GazeInputContext& context);
 
