@@ -59,10 +59,12 @@ bool withinTextureBudget(ImageLoaderState& state, int index, std::span<const uin
     const auto total = bytesOf ? io::checkedAdd(state.decodedBytes, *bytesOf) : std::nullopt;
     if (!total || *total > state.maxTextureBytes) {
         if (err) {
-            *err += "decoded textures need more than " + io::describeBytes(state.maxTextureBytes) +
-                    " (the limit) with image " + std::to_string(index) + " (" +
-                    std::to_string(header->width) + "x" + std::to_string(header->height) + "), " +
-                    io::describeBytes(state.decodedBytes) + " before it";
+            const std::string reach = total ? std::to_string(*total) + " bytes" : "past 2^64 bytes";
+            *err += "decoded textures reach " + reach + " at image " + std::to_string(index) +
+                    " (" + std::to_string(header->width) + "x" + std::to_string(header->height) +
+                    "), over the limit of " + std::to_string(state.maxTextureBytes) + " bytes (" +
+                    io::describeBytes(state.maxTextureBytes) +
+                    "; GAZETRACE_MAX_TEXTURE_BYTES raises it)";
         }
         return false;
     }

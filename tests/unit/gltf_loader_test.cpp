@@ -676,8 +676,8 @@ TEST(GltfLoader, DecodedTexturesHaveABudget) {
     EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
     // 3 x 16 KiB decoded: two fit in 40 KiB, the third does not.
     expectRefused(dir / "tex.gltf",
-                  "decoded textures need more than 40 KiB (the limit) with image 2 (64x64), 32 KiB "
-                  "before it",
+                  "decoded textures reach 49152 bytes at image 2 (64x64), over the limit of "
+                  "40960 bytes (40 KiB;",
                   {.maxTextureBytes = 40 * 1024});
 }
 
