@@ -14,9 +14,12 @@ inline constexpr std::uint64_t kGiB = 1024 * kMiB;
 // (calibrations): a day of 1 kHz gaze samples is ~3 GB, far beyond any run; an hour is ~150 MB.
 inline constexpr std::uint64_t kTextTableBytes = 256 * kMiB;
 inline constexpr std::uint64_t kJsonDocumentBytes = 64 * kMiB;
-// A .gltf document or a GLB file, and each external buffer it names.
+// A .gltf document, and each external buffer it names or a whole GLB (it carries its buffer).
 inline constexpr std::uint64_t kGltfDocumentBytes = 256 * kMiB;
 inline constexpr std::uint64_t kGltfBufferBytes = 2 * kGiB;
+// All of a glTF file's base-colour textures as decoded RGBA: 400 of 2048 x 2048 took 7.5 GB;
+// Sponza's are ~0.3 GB. GltfLoadOptions::maxTextureBytes, GAZETRACE_MAX_TEXTURE_BYTES.
+inline constexpr std::uint64_t kGltfTextureBytes = 2 * kGiB;
 // One encoded image file (PNG, JPEG, Radiance .hdr, a cube face, an eval reference).
 inline constexpr std::uint64_t kImageFileBytes = 512 * kMiB;
 // A cached point set or k-NN table.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -112,14 +113,24 @@ std::filesystem::path defaultCacheDir() {
 }
 
 namespace {
-// `fallback`, or the environment variable `name` when that is a positive number.
-double limitFromEnv(const char* name, double fallback) {
-    if (const char* env = std::getenv(name)) {
-        char* end = nullptr;
-        const double v = std::strtod(env, &end);
-        if (end != env && *end == '\0' && v > 0.0 && std::isfinite(v)) return v;
+// `fallback`, or the environment variable `name`, which must then be a whole number from 1 to
+// `most` in decimal digits: a typo (-5, 0, 1e99, 20M) is refused, not ignored, so a limit the
+// user meant to raise is never silently the default.
+std::uint64_t limitFromEnv(const char* name, std::uint64_t fallback, std::uint64_t most) {
+    const char* env = std::getenv(name);
+    if (!env) return fallback;
+    const std::string text = env;
+    std::uint64_t v = 0;
+    bool digits = !text.empty() && text.size() <= 19;
+    for (const char c : text) {
+        digits = digits && c >= '0' && c <= '9';
+        if (digits) v = v * 10 + static_cast<std::uint64_t>(c - '0');
     }
-    return fallback;
+    if (!digits || v < 1 || v > most) {
+        throw ArgumentError(std::string(name) + "=" + text + ": must be a whole number from 1 to " +
+                            std::to_string(most));
+    }
+    return v;
 }
 } // namespace
 
@@ -143,8 +154,14 @@ vk::DeviceRequest deviceRequest() {
 
 scene::GltfLoadOptions gltfLoadOptions() {
     scene::GltfLoadOptions o;
-    o.maxTriangles = limitFromEnv("GAZETRACE_MAX_TRIANGLES", o.maxTriangles);
-    o.maxInstances = limitFromEnv("GAZETRACE_MAX_INSTANCES", o.maxInstances);
+    // A billion triangles is ~100 GB of vertices; past it a value is a typo, not a scene.
+    constexpr std::uint64_t kMostCount = 1'000'000'000;
+    o.maxTriangles = static_cast<double>(limitFromEnv(
+        "GAZETRACE_MAX_TRIANGLES", static_cast<std::uint64_t>(o.maxTriangles), kMostCount));
+    o.maxInstances = static_cast<double>(limitFromEnv(
+        "GAZETRACE_MAX_INSTANCES", static_cast<std::uint64_t>(o.maxInstances), kMostCount));
+    o.maxTextureBytes =
+        limitFromEnv("GAZETRACE_MAX_TEXTURE_BYTES", o.maxTextureBytes, std::uint64_t{1} << 40);
     const char* any = std::getenv("GAZETRACE_GLTF_ANY_PATH");
     o.anyPath = any != nullptr && std::string(any) == "1";
     return o;

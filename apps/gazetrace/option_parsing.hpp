@@ -46,9 +46,10 @@ namespace gt::app {
 [[nodiscard]] vk::DeviceRequest deviceRequest();
 [[nodiscard]] vk::DeviceRequest parseDeviceRequest(const std::string& text);
 
-// The scene loader's limits as the environment sets them: GAZETRACE_MAX_TRIANGLES and
-// GAZETRACE_MAX_INSTANCES (positive numbers; anything else keeps the default) and
-// GAZETRACE_GLTF_ANY_PATH=1 (buffers and images anywhere).
+// The scene loader's limits as the environment sets them: GAZETRACE_MAX_TRIANGLES,
+// GAZETRACE_MAX_INSTANCES and GAZETRACE_MAX_TEXTURE_BYTES (whole numbers from 1; anything else
+// throws ArgumentError naming the variable and the value) and GAZETRACE_GLTF_ANY_PATH=1
+// (buffers and images anywhere).
 [[nodiscard]] scene::GltfLoadOptions gltfLoadOptions();
 
 // --regions "X,Y,W,H;X,Y,W,H": the left eye's region of the camera, then the right eye's.

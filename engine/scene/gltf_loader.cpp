@@ -20,8 +20,12 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <tiny_gltf.h>
 
+#include "checked_size.hpp"
 #include "core/error.hpp"
+#include "input_file.hpp"
+#include "limits.hpp"
 #include "scene/builtin_scenes.hpp"
+#include "scene/gltf_validate.hpp"
 #include "scene/image_io.hpp"
 
 namespace gt::scene {
@@ -40,13 +44,47 @@ std::string oneLine(std::string s) {
 struct ImageLoaderState {
     std::vector<std::string>* warnings;
     std::string file;
+    const std::vector<bool>* baseColourImage; // the images worth decoding
+    std::uint64_t maxTextureBytes = 0;
+    std::uint64_t decodedBytes = 0; // so far, over all images
 };
+
+// Adds an image's decoded size, read from its header, to the file's total before decoding it:
+// 400 textures of 2048 x 2048 took 7.5 GB, one at a time each within the per-image limit.
+bool withinTextureBudget(ImageLoaderState& state, int index, std::span<const uint8_t> bytes,
+                         std::string* err) {
+    const auto header = image::headerSize(bytes, "image " + std::to_string(index));
+    if (!header) return true; // the decoder says what is wrong with it
+    const auto bytesOf = io::checkedMul(std::uint64_t{header->width} * header->height, 4);
+    const auto total = bytesOf ? io::checkedAdd(state.decodedBytes, *bytesOf) : std::nullopt;
+    if (!total || *total > state.maxTextureBytes) {
+        if (err) {
+            const std::string reach = total ? std::to_string(*total) + " bytes" : "past 2^64 bytes";
+            *err += "decoded textures reach " + reach + " at image " + std::to_string(index) +
+                    " (" + std::to_string(header->width) + "x" + std::to_string(header->height) +
+                    "), over the limit of " + std::to_string(state.maxTextureBytes) + " bytes (" +
+                    io::describeBytes(state.maxTextureBytes) +
+                    "; GAZETRACE_MAX_TEXTURE_BYTES raises it)";
+        }
+        return false;
+    }
+    state.decodedBytes = *total;
+    return true;
+}
 
 // Decodes with stb ourselves so that unsupported formats (webp, ktx2) become a warning and a
 // missing texture instead of a failed load, while corrupt PNG/JPEG data is still an error.
 bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::string* /*warn*/,
                int /*reqW*/, int /*reqH*/, const unsigned char* bytes, int size, void* user) {
     auto* state = static_cast<ImageLoaderState*>(user);
+    const auto& used = *state->baseColourImage;
+    if (index < 0 || static_cast<std::size_t>(index) >= used.size() ||
+        !used[static_cast<std::size_t>(index)] || size < 0) {
+        // Not a base-colour texture: the tracer never samples it, so it is not decoded.
+        image->width = image->height = 0;
+        image->image.clear();
+        return true;
+    }
     const bool png = size >= 8 && std::memcmp(bytes, "\x89PNG", 4) == 0;
     const bool jpeg = size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8;
     if (!png && !jpeg) {
@@ -56,9 +94,10 @@ bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::s
         image->image.clear();
         return true;
     }
+    const std::span encoded(bytes, static_cast<std::size_t>(size));
     try {
-        const image::DecodedImage d = image::decode(
-            std::span(bytes, static_cast<std::size_t>(size)), "image " + std::to_string(index));
+        if (!withinTextureBudget(*state, index, encoded, err)) return false;
+        const image::DecodedImage d = image::decode(encoded, "image " + std::to_string(index));
         image->width = static_cast<int>(d.width);
         image->height = static_cast<int>(d.height);
         image->component = 4;
@@ -306,7 +345,7 @@ private:
                  " components, expected " + std::to_string(components));
         }
         const auto [data, stride] = span(a, accessorIndex);
-        std::vector<float> out(a.count * static_cast<std::size_t>(n));
+        std::vector<float> out(elements(a.count, static_cast<std::uint64_t>(n), accessorIndex));
         for (std::size_t i = 0; i < a.count; ++i) {
             const unsigned char* e = data + i * stride;
             for (int c = 0; c < n; ++c) {
@@ -352,7 +391,7 @@ private:
         const tinygltf::Accessor& a = accessor(accessorIndex);
         if (a.type != TINYGLTF_TYPE_SCALAR) fail("index accessor is not scalar");
         const auto [data, stride] = span(a, accessorIndex);
-        std::vector<uint32_t> out(a.count);
+        std::vector<uint32_t> out(elements(a.count, 1, accessorIndex));
         for (std::size_t i = 0; i < a.count; ++i) {
             const unsigned char* e = data + i * stride;
             switch (a.componentType) {
@@ -375,6 +414,17 @@ private:
         return out;
     }
 
+    // count x components, refused when the product wraps around: a count of 2^64 / 3 + 1 made
+    // a 2-float vector that the loop then wrote count elements into.
+    std::size_t elements(std::uint64_t count, std::uint64_t components, int index) const {
+        const auto n = io::checkedMul(count, components);
+        if (!n || *n > std::numeric_limits<std::size_t>::max() / sizeof(float)) {
+            fail("accessor " + std::to_string(index) + " count " + std::to_string(count) +
+                 " is too large to hold");
+        }
+        return static_cast<std::size_t>(*n);
+    }
+
     const tinygltf::Accessor& accessor(int index) const {
         if (index < 0 || static_cast<std::size_t>(index) >= mModel.accessors.size()) {
             fail("accessor index " + std::to_string(index) + " out of range");
@@ -394,7 +444,9 @@ private:
         const std::size_t stride = mModel.bufferViews[a.bufferView].byteStride
                                        ? mModel.bufferViews[a.bufferView].byteStride
                                        : size;
-        if (a.count > 0 && a.byteOffset + (a.count - 1) * stride + size > bytes.size()) {
+        // Checked without wrap-around: count x stride of 2^64 + 8 passed as 8 bytes.
+        const auto extent = io::stridedSpan(a.count, stride, size);
+        if (!extent || !io::rangeFits(a.byteOffset, *extent, bytes.size())) {
             fail(where + " runs past the end of bufferView " + std::to_string(a.bufferView));
         }
         return {bytes.data() + a.byteOffset, stride};
@@ -410,7 +462,7 @@ private:
             fail(where + ": bufferView " + std::to_string(viewIndex) + " has no valid buffer");
         }
         const tinygltf::Buffer& buffer = mModel.buffers[view.buffer];
-        if (view.byteOffset + view.byteLength > buffer.data.size()) {
+        if (!io::rangeFits(view.byteOffset, view.byteLength, buffer.data.size())) {
             fail("bufferView " + std::to_string(viewIndex) + " runs past the end of buffer " +
                  std::to_string(view.buffer) + " (" + std::to_string(buffer.data.size()) +
                  " bytes; truncated or missing file?)");
@@ -439,7 +491,7 @@ private:
                           a.count, limit);
             fail(where + what);
         }
-        std::vector<unsigned char> out(a.count * size, 0);
+        std::vector<unsigned char> out(a.count * size, 0); // bounded just above
         if (a.bufferView >= 0) {
             tinygltf::Accessor base = a;
             base.sparse.isSparse = false;
@@ -459,18 +511,22 @@ private:
             }
             const auto idx = viewBytes(sp.indices.bufferView, where + " sparse indices");
             const auto val = viewBytes(sp.values.bufferView, where + " sparse values");
-            const auto idxOffset = static_cast<std::size_t>(sp.indices.byteOffset);
-            const auto valOffset = static_cast<std::size_t>(sp.values.byteOffset);
-            if (idxOffset + count * idxSize > idx.size() || valOffset + count * size > val.size()) {
+            const auto idxOffset = io::nonNegative(sp.indices.byteOffset);
+            const auto valOffset = io::nonNegative(sp.values.byteOffset);
+            const auto idxBytes = io::checkedMul(count, static_cast<std::uint64_t>(idxSize));
+            const auto valBytes = io::checkedMul(count, size);
+            if (!idxOffset || !valOffset || !idxBytes || !valBytes ||
+                !io::rangeFits(*idxOffset, *idxBytes, idx.size()) ||
+                !io::rangeFits(*valOffset, *valBytes, val.size())) {
                 fail(where + ": sparse data runs past the end of its bufferView");
             }
             for (std::size_t i = 0; i < count; ++i) {
                 uint32_t target = 0;
-                std::memcpy(&target, idx.data() + idxOffset + i * idxSize, idxSize); // little end
+                std::memcpy(&target, idx.data() + *idxOffset + i * idxSize, idxSize); // little end
                 if (target >= a.count) {
                     fail(where + ": sparse index " + std::to_string(target) + " out of range");
                 }
-                std::memcpy(out.data() + target * size, val.data() + valOffset + i * size, size);
+                std::memcpy(out.data() + target * size, val.data() + *valOffset + i * size, size);
             }
         }
         const auto& stored = mDense.emplace(index, std::move(out)).first->second;
@@ -916,26 +972,6 @@ int jsonDepth(std::string_view json) {
     return deepest;
 }
 
-// The JSON of a .gltf (the whole file) or a .glb (its first chunk), or empty if the header is
-// not a GLB's (tinygltf then says what is wrong).
-std::string jsonText(const std::filesystem::path& path, bool glb) {
-    std::ifstream in(path, std::ios::binary);
-    if (!glb) {
-        return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    }
-    uint32_t header[5] = {};
-    in.read(reinterpret_cast<char*>(header), sizeof(header));
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(path, ec);
-    if (!in || ec || header[0] != 0x46546C67u || header[4] != 0x4E4F534Au ||
-        header[3] > size - sizeof(header)) {
-        return {};
-    }
-    std::string json(header[3], '\0');
-    in.read(json.data(), static_cast<std::streamsize>(json.size()));
-    return json;
-}
-
 } // namespace
 
 namespace {
@@ -946,6 +982,9 @@ namespace {
 struct UriGuard {
     std::filesystem::path root; // weakly canonical
     bool anyPath = false;
+    // The files the document names as images and as buffers (weakly canonical): each is read
+    // through io::readInputFile with its kind's limit.
+    std::vector<std::filesystem::path> imageFiles, bufferFiles;
 };
 
 bool insideRoot(const std::string& file, const UriGuard& g) {
@@ -962,9 +1001,15 @@ bool insideRoot(const std::string& file, const UriGuard& g) {
 }
 
 // Existence is answered truthfully, so that reading an outside file reaches guardedRead and
-// its message says why it was refused, not just "not found".
+// its message says why it was refused, not just "not found". stat(), not tinygltf's fopen():
+// opening a FIFO to see whether it exists blocked forever.
 bool guardedExists(const std::string& file, void*) {
-    return tinygltf::FileExists(file, nullptr);
+    std::error_code ec;
+    return std::filesystem::exists(file, ec);
+}
+
+bool listed(const std::vector<std::filesystem::path>& files, const std::filesystem::path& p) {
+    return std::find(files.begin(), files.end(), p) != files.end();
 }
 
 std::string noExpansion(const std::string& file, void*) {
@@ -979,12 +1024,84 @@ bool guardedRead(std::vector<unsigned char>* out, std::string* err, const std::s
         }
         return false;
     }
-    return tinygltf::ReadWholeFile(out, err, file, nullptr);
+    const auto& guard = *static_cast<UriGuard*>(user);
+    std::error_code ec;
+    const std::filesystem::path canonical = std::filesystem::weakly_canonical(file, ec);
+    const bool image = listed(guard.imageFiles, canonical) && !listed(guard.bufferFiles, canonical);
+    try {
+        const std::string bytes = io::readInputFile(file, image ? io::limits::kImageFileBytes
+                                                                : io::limits::kGltfBufferBytes);
+        out->assign(bytes.begin(), bytes.end());
+        return true;
+    } catch (const io::InputError& e) {
+        if (err) *err += e.what();
+        return false;
+    }
 }
 
 bool noWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
     if (err) *err += "gazetrace does not write glTF files";
     return false;
+}
+
+} // namespace
+
+namespace {
+
+// The file's bytes and, inside them, its JSON (all of a .gltf, a GLB's first chunk), checked
+// before tinygltf sees them: read once, through io::readInputFile, so the text checked here is
+// the text tinygltf parses.
+struct Document {
+    std::string bytes;
+    std::string_view json;
+};
+
+Document readDocument(const std::filesystem::path& path, bool glb) {
+    const std::string file = path.string();
+    Document d;
+    try {
+        // A GLB carries its binary buffer, so it gets a buffer's limit.
+        d.bytes = io::readInputFile(path, glb ? io::limits::kGltfBufferBytes
+                                              : io::limits::kGltfDocumentBytes);
+    } catch (const io::InputError& e) {
+        throw LoadError(e.what());
+    }
+    d.json = d.bytes;
+    if (glb) {
+        const GlbLayout layout = glbLayout(d.bytes, file);
+        d.json = d.json.substr(layout.jsonOffset, layout.jsonLength);
+    }
+    checkJsonText(d.json, file);
+    if (const int depth = jsonDepth(d.json); depth > kMaxJsonDepth) {
+        throw LoadError(file + ": JSON nested more than " + std::to_string(kMaxJsonDepth) +
+                        " levels deep; refused before parsing");
+    }
+    return d;
+}
+
+std::vector<std::filesystem::path> canonicalFiles(const std::vector<std::string>& uris,
+                                                  const std::string& baseDir) {
+    std::vector<std::filesystem::path> out;
+    for (const std::string& uri : uris) {
+        std::error_code ec;
+        out.push_back(std::filesystem::weakly_canonical(
+            baseDir.empty() ? std::filesystem::path(uri) : std::filesystem::path(baseDir) / uri,
+            ec));
+    }
+    return out;
+}
+
+void checkModel(const tinygltf::Model& model, const std::string& file) {
+    for (const std::string& e : model.extensionsRequired) {
+        if (e != "KHR_lights_punctual" && e != "KHR_materials_emissive_strength" &&
+            e != "KHR_texture_transform" && e != "KHR_materials_unlit" &&
+            e != "KHR_mesh_quantization") {
+            throw LoadError(file + ": requires unsupported extension " + e);
+        }
+    }
+    for (const tinygltf::Buffer& b : model.buffers) {
+        if (b.data.empty()) throw LoadError(file + ": buffer '" + b.uri + "' is empty or missing");
+    }
 }
 
 } // namespace
@@ -1005,15 +1122,11 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report,
         throw LoadError(file + ": not a .gltf or .glb file");
     }
     const bool glb = ext == ".glb";
-    // A .gltf is read once: the text scanned here is the text tinygltf parses.
-    const std::string json = jsonText(path, glb);
-    if (!glb && json.size() > std::numeric_limits<unsigned int>::max()) {
-        throw LoadError(file + ": a .gltf of over 4 GiB of JSON");
-    }
-    if (const int depth = jsonDepth(json); depth > kMaxJsonDepth) {
-        throw LoadError(file + ": JSON nested more than " + std::to_string(kMaxJsonDepth) +
-                        " levels deep; refused before parsing");
-    }
+    const Document doc = readDocument(path, glb);
+    const GltfDocumentFacts facts = validateGltfJson(doc.json, file);
+    // tinygltf's base folder for relative URIs, as LoadASCIIFromFile would take it.
+    const std::string baseDir =
+        file.find_last_of('/') == std::string::npos ? "" : file.substr(0, file.find_last_of('/'));
     tinygltf::TinyGLTF loader;
     UriGuard guard;
     {
@@ -1021,31 +1134,24 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report,
         guard.root = std::filesystem::weakly_canonical(
             path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path(), gec);
         guard.anyPath = options.anyPath;
+        guard.imageFiles = canonicalFiles(facts.imageFiles, baseDir);
+        guard.bufferFiles = canonicalFiles(facts.bufferFiles, baseDir);
     }
     loader.SetFsCallbacks({guardedExists, noExpansion, guardedRead, noWrite, &guard});
-    ImageLoaderState state{&rep.warnings, file};
+    ImageLoaderState state{&rep.warnings, file, &facts.baseColourImage, options.maxTextureBytes};
     loader.SetImageLoader(loadImage, &state);
     tinygltf::Model model;
     std::string err, warn;
-    // tinygltf's base folder for relative URIs, as LoadASCIIFromFile would take it.
-    const std::string baseDir =
-        file.find_last_of('/') == std::string::npos ? "" : file.substr(0, file.find_last_of('/'));
+    // Both sizes fit: the limits on what readDocument reads are below 4 GiB.
     const bool ok =
-        glb ? loader.LoadBinaryFromFile(&model, &err, &warn, file)
-            : loader.LoadASCIIFromString(&model, &err, &warn, json.data(),
-                                         static_cast<unsigned int>(json.size()), baseDir);
+        glb ? loader.LoadBinaryFromMemory(&model, &err, &warn,
+                                          reinterpret_cast<const unsigned char*>(doc.bytes.data()),
+                                          static_cast<unsigned int>(doc.bytes.size()), baseDir)
+            : loader.LoadASCIIFromString(&model, &err, &warn, doc.json.data(),
+                                         static_cast<unsigned int>(doc.json.size()), baseDir);
     if (!warn.empty()) rep.warnings.push_back(oneLine(warn));
     if (!ok) throw LoadError(file + ": " + (err.empty() ? "cannot parse glTF" : oneLine(err)));
-    for (const std::string& e : model.extensionsRequired) {
-        if (e != "KHR_lights_punctual" && e != "KHR_materials_emissive_strength" &&
-            e != "KHR_texture_transform" && e != "KHR_materials_unlit" &&
-            e != "KHR_mesh_quantization") {
-            throw LoadError(file + ": requires unsupported extension " + e);
-        }
-    }
-    for (const tinygltf::Buffer& b : model.buffers) {
-        if (b.data.empty()) throw LoadError(file + ": buffer '" + b.uri + "' is empty or missing");
-    }
+    checkModel(model, file);
     try {
         return Loader(model, file, rep, options).load();
     } catch (const std::length_error& e) {

@@ -5,10 +5,12 @@
 // KHR_materials_emissive_strength), KHR_materials_unlit, cameras, KHR_lights_punctual,
 // KHR_mesh_quantization and sparse accessors. Every accessor is bounds-checked; a broken or
 // unsupported file throws gt::LoadError with one line naming the file and the problem.
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "limits.hpp"
 #include "scene/scene.hpp"
 
 namespace gt::scene {
@@ -25,6 +27,9 @@ struct GltfLoadOptions {
     // Node instances after expansion: a million is far beyond hand-made scenes (Sponza and the
     // shared scenes have under a thousand) and still visited in well under a second.
     double maxInstances = 1e6;
+    // Decoded base-colour textures, all together (each image is also limited to
+    // image::kMaxImageSide a side, checked from its header before decoding).
+    std::uint64_t maxTextureBytes = io::limits::kGltfTextureBytes;
     // Buffers and images may lie anywhere, not only in the model's folder and below it.
     bool anyPath = false;
 };

@@ -1,8 +1,6 @@
 #include "scene/image_io.hpp"
 
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -12,6 +10,8 @@
 
 #include "atomic_write.hpp"
 #include "core/error.hpp"
+#include "input_file.hpp"
+#include "limits.hpp"
 
 namespace gt::image {
 
@@ -40,21 +40,28 @@ void writePngAtomic(const std::filesystem::path& path, uint32_t width, uint32_t 
     }
 }
 
-DecodedImage decode(std::span<const uint8_t> bytes, const std::string& what) {
+std::optional<ImageSize> headerSize(std::span<const uint8_t> bytes, const std::string& what) {
     if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
         throw LoadError(what + ": too large for the image decoder");
     }
     int w = 0, h = 0, n = 0;
+    if (!stbi_info_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &n) ||
+        w <= 0 || h <= 0) {
+        return std::nullopt;
+    }
     // The header first: stb allocates the whole picture before it reads the pixels, so a
     // 100-byte PNG claiming 23000 x 23000 makes it ask for 2 GB (limits up front).
-    // Textures are box-filtered to 2048 anyway; 16384 a side is past any real one.
-    constexpr int kMaxSide = 16384;
-    if (stbi_info_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &n) &&
-        (w > kMaxSide || h > kMaxSide)) {
+    if (static_cast<uint32_t>(w) > kMaxImageSide || static_cast<uint32_t>(h) > kMaxImageSide) {
         throw LoadError(what + ": " + std::to_string(w) + "x" + std::to_string(h) +
-                        " pixels, more than the " + std::to_string(kMaxSide) +
+                        " pixels, more than the " + std::to_string(kMaxImageSide) +
                         " a side gazetrace decodes");
     }
+    return ImageSize{static_cast<uint32_t>(w), static_cast<uint32_t>(h)};
+}
+
+DecodedImage decode(std::span<const uint8_t> bytes, const std::string& what) {
+    (void)headerSize(bytes, what);
+    int w = 0, h = 0, n = 0;
     stbi_uc* pixels =
         stbi_load_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &n, 4);
     if (!pixels) {
@@ -69,16 +76,12 @@ DecodedImage decode(std::span<const uint8_t> bytes, const std::string& what) {
 }
 
 std::vector<uint8_t> readFileBytes(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        throw LoadError(path.string() + ": cannot open");
+    try {
+        const std::string bytes = io::readInputFile(path, io::limits::kImageFileBytes);
+        return {bytes.begin(), bytes.end()};
+    } catch (const io::InputError& e) {
+        throw LoadError(e.what());
     }
-    std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                               std::istreambuf_iterator<char>());
-    if (!in && !in.eof()) {
-        throw LoadError(path.string() + ": cannot read");
-    }
-    return bytes;
 }
 
 DecodedImage readPng(const std::filesystem::path& path) {

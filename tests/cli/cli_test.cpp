@@ -671,3 +671,31 @@ TEST(Cli, ReadmeOptionsTableIsGeneratedFromTheOptions) {
 
 } // namespace
 } // namespace gt
+
+namespace gt {
+namespace {
+
+// A POSITION count of (2^64 + 2) / 3 wrapped count x 3 to 2 floats and the loader wrote past
+// them: render and eval died of SIGSEGV. Both now refuse it with one line naming the accessor;
+// a GAZETRACE_MAX_TRIANGLES that is not a whole number was silently ignored.
+TEST(Cli, GltfSizesThatWrapAroundAndBadLimitsAreRefused) {
+    const auto dir = test::tempDir("cli_wrap");
+    std::string json = test::quadJsonBesideBin(dir);
+    const std::string count = R"("count": 4, "type": "VEC3")";
+    json.replace(json.find(count), count.size(), R"("count": 6148914691236517206, "type": "VEC3")");
+    test::writeFile(dir / "wrap.gltf", json.data(), json.size());
+    const std::string scene = " --scene " + (dir / "wrap.gltf").string();
+    const Result r =
+        run("render" + scene + " --width 16 --height 12 --out " + (dir / "o.png").string());
+    expectCleanFailure(r, "wrap.gltf: accessors[0] (byteOffset 0, count 6148914691236517206",
+                       dir / "o.png");
+    const Result e = run("eval" + scene + " --out " + (dir / "e").string());
+    expectCleanFailure(e, "wrap.gltf: accessors[0]", dir / "e" / "eval.json");
+    const Result bad = test::runWith(
+        "env GAZETRACE_MAX_TRIANGLES=1e99",
+        "render --scene builtin:cornell --width 16 --height 12 --out " + (dir / "t.png").string());
+    expectCleanFailure(bad, "GAZETRACE_MAX_TRIANGLES=1e99", dir / "t.png");
+}
+
+} // namespace
+} // namespace gt

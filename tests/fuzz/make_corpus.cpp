@@ -210,6 +210,68 @@ std::string quantizedSparse() {
                 {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}]})";
 }
 
+// Sizes and offsets that wrap around in 64-bit arithmetic, so a bounds check written with `+`
+// and `*` passes: count x 3 of (2^64 + 2) / 3 is 2 floats (the loader wrote past them), a
+// bufferView at byteOffset 2^64 - 4 read before its buffer; and what tinygltf reads as 0 or
+// casts to int (negative offsets, 64-bit indices).
+void wrapAround(const std::string& t, const std::string& quad) {
+    const std::string position = R"("count": 4, "type": "VEC3")";
+    const std::string view0 = R"({"buffer": 0, "byteOffset": 0, "byteLength": 48})";
+    const std::string accessor0 = R"({"bufferView": 0, "componentType": 5126,)";
+    put(t, "regressions", "accessor_count_x3_wraps_to_2.gltf",
+        replaced(quad, position, R"("count": 6148914691236517206, "type": "VEC3")"));
+    put(t, "regressions", "index_count_x2_wraps_to_0.gltf",
+        replaced(quad, R"("count": 6, "type": "SCALAR")",
+                 R"("count": 9223372036854775809, "type": "SCALAR")"));
+    put(t, "regressions", "view_offset_plus_length_wraps.gltf",
+        replaced(quad, view0,
+                 R"({"buffer": 0, "byteOffset": 18446744073709551612, "byteLength": 52})"));
+    put(t, "regressions", "accessor_offset_wraps.gltf",
+        replaced(
+            quad, accessor0,
+            R"({"bufferView": 0, "byteOffset": 18446744073709551612, "componentType": 5126,)"));
+    put(t, "regressions", "sparse_offset_wraps.gltf",
+        replaced(quad, position, R"("count": 4, "type": "VEC3", "sparse": {"count": 4,
+            "indices": {"bufferView": 1, "componentType": 5125, "byteOffset": 18446744073709551612},
+            "values": {"bufferView": 0}})"));
+    put(t, "regressions", "sparse_count_x12_wraps.gltf",
+        replaced(quad, position,
+                 R"("count": 4, "type": "VEC3", "sparse": {"count": 1537228672809129302,
+            "indices": {"bufferView": 1, "componentType": 5121}, "values": {"bufferView": 0}})"));
+    put(t, "regressions", "negative_accessor_offset.gltf",
+        replaced(quad, accessor0, R"({"bufferView": 0, "byteOffset": -4, "componentType": 5126,)"));
+    put(t, "regressions", "negative_view_offset.gltf",
+        replaced(quad, view0, R"({"buffer": 0, "byteOffset": -8, "byteLength": 48})"));
+    put(t, "regressions", "negative_stride.gltf",
+        replaced(quad, view0, R"({"buffer": 0, "byteLength": 48, "byteStride": -12})"));
+    put(t, "regressions", "index_2pow32_plus_1.gltf",
+        replaced(quad, R"("indices": 1)", R"("indices": 4294967297)"));
+    put(t, "regressions", "matrix_of_15.gltf",
+        replaced(quad, R"({"mesh": 0, "scale": [2, 1, 2]})",
+                 R"({"mesh": 0, "matrix": [1,0,0,0, 0,1,0,0, 0,0,1,0, 5,0,0]})"));
+    put(t, "regressions", "morph_target_missing_accessor.gltf",
+        replaced(quad, R"("indices": 1)", R"("indices": 1, "targets": [{"POSITION": 9}])"));
+    put(t, "regressions", "spot_inner_above_outer.gltf",
+        replaced(quad, R"({"type": "point", "intensity": 20})",
+                 R"({"type": "spot", "spot": {"innerConeAngle": 0.7, "outerConeAngle": 0.3}})"));
+    // GLB headers: versions other than 2, chunk lengths near 2^32 (a 32-bit sum wraps).
+    const Bytes glb = gt::test::quadGlb();
+    const auto withWord = [&](std::size_t offset, std::uint32_t v) {
+        Bytes b = glb;
+        std::memcpy(b.data() + offset, &v, 4);
+        return b;
+    };
+    std::uint32_t jsonLength = 0;
+    std::memcpy(&jsonLength, glb.data() + 12, 4);
+    put(t, "regressions", "glb_version_1.glb", withWord(4, 1));
+    put(t, "regressions", "glb_version_99.glb", withWord(4, 99));
+    put(t, "regressions", "glb_json_chunk_2pow32_minus_4.glb", withWord(12, 0xFFFFFFFCu));
+    put(t, "regressions", "glb_bin_chunk_2pow32_minus_16.glb",
+        withWord(20 + std::size_t{jsonLength}, 0xFFFFFFF0u));
+    put(t, "regressions", "glb_length_2pow32_minus_1.glb", withWord(8, 0xFFFFFFFFu));
+    put(t, "regressions", "bom.gltf", "\xEF\xBB\xBF" + quad);
+}
+
 void gltf() {
     const std::string t = "gltf";
     const std::string quad = quadEmbedded();
@@ -298,6 +360,7 @@ void gltf() {
     // A texture whose header claims 23000 x 23000 pixels: stb asks for 2 GB before reading.
     put(t, "regressions", "texture_claims_23000x23000.gltf",
         textured(dataUri(pngHeaderOnly(23000, 23000), "image/png")));
+    wrapAround(t, quad);
 }
 
 // ---- Radiance ----------------------------------------------------------------------------------

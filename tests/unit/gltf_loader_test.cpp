@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <tuple>
@@ -10,6 +11,8 @@
 #include <cstdlib>
 
 #include <gtest/gtest.h>
+#include <stb_image_write.h>
+#include <sys/stat.h>
 
 #include "core/error.hpp"
 #include "scene/builtin_scenes.hpp"
@@ -447,7 +450,7 @@ TEST(GltfLoader, FactorsBeyondAFloatAreRefused) {
           std::tuple{light, R"("intensity": -1)", "light 0 intensity is -1"},
           // Found by fuzzing (UBSan): tinygltf cast 1.5e44 to int.
           std::tuple{std::string(R"({"light": 0})"), R"({"light": 1.5e44})",
-                     "references light that is not an index"},
+                     "KHR_lights_punctual.light is 1.5e+44, must be an integer"},
           std::tuple{factor, R"("baseColorFactor": [0.5, 1e40, 1.0, 1.0])",
                      "baseColorFactor is 1e+40"}}) {
         const std::string e = loadError(writeEdited(dir, "f.gltf", base, from, to));
@@ -469,6 +472,213 @@ TEST(GltfLoader, AnAccessorOfZerosIsBoundedByTheTriangleLimit) {
     EXPECT_NE(e.find("178956969 elements, more than 3 x the limit of 2e+07 triangles"),
               std::string::npos)
         << e;
+}
+
+} // namespace
+} // namespace gt::scene
+
+namespace gt::scene {
+namespace {
+
+// Loads `file`, which must be refused with one line naming it and saying `mention`.
+void expectRefused(const std::filesystem::path& file, const std::string& mention,
+                   const GltfLoadOptions& options = {}) {
+    std::string e;
+    try {
+        (void)loadGltf(file, nullptr, options);
+    } catch (const LoadError& x) {
+        e = x.what();
+    }
+    EXPECT_NE(e.find(file.string() + ": "), std::string::npos) << file << " gave '" << e << "'";
+    EXPECT_NE(e.find(mention), std::string::npos) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+}
+
+// Sizes and offsets from the file wrapped around in 64-bit arithmetic, so the bounds checks
+// passed: a count of (2^64 + 2) / 3 made readFloats allocate 2 floats and write past them
+// (SIGSEGV), a bufferView at byteOffset 2^64 - 4 read 4 bytes before its buffer (and loaded).
+TEST(GltfLoader, SizesThatWrapAroundAreRefused) {
+    const auto dir = test::tempDir("wrap");
+    const std::string base = test::quadJsonBesideBin(dir);
+    const std::string position = R"("count": 4, "type": "VEC3")";
+    for (const auto& [name, from, to, mention] :
+         {std::tuple{"count_x3_is_2.gltf", position,
+                     R"("count": 6148914691236517206, "type": "VEC3")",
+                     "accessors[0] (byteOffset 0, count 6148914691236517206, stride 12) runs "
+                     "past the end of bufferViews[0] (48 bytes)"},
+          std::tuple{"index_count_2pow63.gltf", std::string(R"("count": 6, "type": "SCALAR")"),
+                     R"("count": 9223372036854775809, "type": "SCALAR")",
+                     "accessors[1] (byteOffset 0, count 9223372036854775809, stride 2) runs "
+                     "past the end"},
+          std::tuple{"view_offset_wraps.gltf",
+                     std::string(R"({"buffer": 0, "byteOffset": 0, "byteLength": 48})"),
+                     R"({"buffer": 0, "byteOffset": 18446744073709551612, "byteLength": 52})",
+                     "bufferViews[0] (byteOffset 18446744073709551612, byteLength 52) runs "
+                     "past the end of buffers[0] (60 bytes)"},
+          std::tuple{
+              "accessor_offset_wraps.gltf",
+              std::string(R"({"bufferView": 0, "componentType": 5126,)"),
+              R"({"bufferView": 0, "byteOffset": 18446744073709551612, "componentType": 5126,)",
+              "accessors[0] (byteOffset 18446744073709551612, count 4, stride 12) runs "
+              "past the end"},
+          std::tuple{"sparse_count_wraps.gltf", position,
+                     R"("count": 4, "type": "VEC3", "sparse": {"count": 4,
+                           "indices": {"bufferView": 1, "componentType": 5125,
+                                       "byteOffset": 18446744073709551612},
+                           "values": {"bufferView": 0}})",
+                     "accessors[0].sparse.indices (byteOffset 18446744073709551612, 4 x 4 "
+                     "bytes) runs past the end of bufferViews[1] (12 bytes)"}}) {
+        expectRefused(writeEdited(dir, name, base, from, to), mention);
+    }
+}
+
+// What the glTF 2.0 specification says a file MUST do, which tinygltf let through: a negative
+// byteOffset or byteStride was read as 0, a 64-bit index was cast to int (4294967297 named
+// accessor 1), a 15-number matrix was ignored, a morph target named a missing accessor, a spot
+// light's inner cone was wider than its outer one.
+TEST(GltfLoader, WhatTheSpecificationForbidsIsRefusedNamingTheField) {
+    const auto dir = test::tempDir("must");
+    const std::string base = test::quadJsonBesideBin(dir);
+    const std::string view0 = R"({"buffer": 0, "byteOffset": 0, "byteLength": 48})";
+    const std::string prim = R"("indices": 1, "material": 0)";
+    const std::string node = R"({"mesh": 0, "scale": [2, 1, 2]})";
+    const std::string light = R"({"type": "point", "intensity": 20})";
+    for (const auto& [from, to, mention] :
+         {std::tuple{std::string(R"({"bufferView": 0, "componentType": 5126,)"),
+                     std::string(R"({"bufferView": 0, "byteOffset": -4, "componentType": 5126,)"),
+                     "accessors[0].byteOffset is -4, must be >= 0"},
+          std::tuple{view0, std::string(R"({"buffer": 0, "byteOffset": -8, "byteLength": 48})"),
+                     "bufferViews[0].byteOffset is -8, must be >= 0"},
+          std::tuple{view0, std::string(R"({"buffer": 0, "byteLength": 48, "byteStride": -12})"),
+                     "bufferViews[0].byteStride is -12, must be >= 4"},
+          std::tuple{view0, std::string(R"({"buffer": 0, "byteLength": 48, "byteStride": 14})"),
+                     "bufferViews[0].byteStride is 14, must be a multiple of 4"},
+          std::tuple{view0, std::string(R"({"buffer": 0, "byteLength": 48, "byteStride": 256})"),
+                     "bufferViews[0].byteStride is 256, must be <= 252"},
+          std::tuple{view0, std::string(R"({"buffer": 0, "byteLength": 48.5})"),
+                     "bufferViews[0].byteLength is 48.5, must be an integer"},
+          std::tuple{prim, std::string(R"("indices": 4294967297, "material": 0)"),
+                     "meshes[0].primitives[0].indices is 4294967297, but there are 2 entries "
+                     "in accessors"},
+          std::tuple{node, std::string(R"({"mesh": 4294967296})"),
+                     "nodes[0].mesh is 4294967296, but there is 1 entry in meshes"},
+          std::tuple{node,
+                     std::string(R"({"mesh": 0, "matrix": [1,0,0,0, 0,1,0,0, 0,0,1,0, 5,0,0]})"),
+                     "nodes[0].matrix has 15 numbers, must have 16"},
+          std::tuple{prim,
+                     std::string(R"("indices": 1, "material": 0, "targets": [{"POSITION": 9}])"),
+                     "meshes[0].primitives[0].targets[0].POSITION is 9, but there are 2 "
+                     "entries in accessors"},
+          std::tuple{
+              light,
+              std::string(
+                  R"({"type": "spot", "spot": {"innerConeAngle": 0.7, "outerConeAngle": 0.3}})"),
+              "extensions.KHR_lights_punctual.lights[0].spot innerConeAngle 0.7 and "
+              "outerConeAngle 0.3: must be 0 <= inner < outer <= pi/2"},
+          std::tuple{light, std::string(R"({"type": "spot", "spot": {"outerConeAngle": 2}})"),
+                     "must be 0 <= inner < outer <= pi/2"},
+          std::tuple{std::string(R"("count": 6, "type": "SCALAR")"),
+                     std::string(R"("count": 0, "type": "SCALAR")"),
+                     "accessors[1].count is 0, must be >= 1"}}) {
+        expectRefused(writeEdited(dir, "must.gltf", base, from, to), mention);
+    }
+}
+
+std::vector<uint8_t> withHeaderWord(std::vector<uint8_t> glb, std::size_t offset, uint32_t v) {
+    std::memcpy(glb.data() + offset, &v, 4);
+    return glb;
+}
+
+// A GLB of version 1 or 99 loaded as version 2; chunk lengths near 2^32 are refused by a
+// check that cannot wrap; the JSON (chunk or file) is UTF-8 without a byte-order mark or NUL.
+TEST(GltfLoader, GlbHeaderAndJsonTextAreChecked) {
+    const auto dir = test::tempDir("glb_header");
+    const auto glb = test::quadGlb();
+    const auto write = [&](const std::string& name, const std::vector<uint8_t>& bytes) {
+        test::writeFile(dir / name, bytes.data(), bytes.size());
+        return dir / name;
+    };
+    expectRefused(write("v1.glb", withHeaderWord(glb, 4, 1)), "GLB header version is 1, must be 2");
+    expectRefused(write("v99.glb", withHeaderWord(glb, 4, 99)), "GLB header version is 99");
+    expectRefused(write("json_huge.glb", withHeaderWord(glb, 12, 0xFFFFFFFCu)),
+                  "GLB chunk 0 length 4294967292 at byte 12 runs past the GLB length");
+    uint32_t jsonLength = 0;
+    std::memcpy(&jsonLength, glb.data() + 12, 4);
+    const std::size_t binHeader = 20 + std::size_t{jsonLength};
+    expectRefused(write("bin_huge.glb", withHeaderWord(glb, binHeader, 0xFFFFFFF0u)),
+                  "GLB chunk 1 length 4294967280");
+    expectRefused(write("long.glb", withHeaderWord(glb, 8, 0xFFFFFFFFu)),
+                  "GLB header length is 4294967295 bytes, but the file has");
+    auto nul = glb;
+    nul[40] = 0;
+    expectRefused(write("nul.glb", nul), "the JSON holds a NUL byte at offset 20");
+    const std::string json = test::quadJsonBesideBin(dir);
+    const std::string bom = "\xEF\xBB\xBF" + json;
+    test::writeFile(dir / "bom.gltf", bom.data(), bom.size());
+    expectRefused(dir / "bom.gltf", "byte-order mark");
+    const std::string latin1 = json.substr(0, 10) + "\xE9" + json.substr(10);
+    test::writeFile(dir / "latin1.gltf", latin1.data(), latin1.size());
+    expectRefused(dir / "latin1.gltf", "not UTF-8 (byte offset 10)");
+    std::string withNul = json;
+    withNul.push_back('\0');
+    test::writeFile(dir / "nul.gltf", withNul.data(), withNul.size());
+    expectRefused(dir / "nul.gltf", "NUL byte");
+    EXPECT_EQ(loadGltf(write("fine.glb", glb)).triangleCount(), 2u);
+}
+
+// A buffer `uri` naming a folder said only "std::bad_alloc"; one naming a FIFO blocked forever
+// (tinygltf opened it to see whether it exists). Both are refused naming the file.
+TEST(GltfLoader, BuffersThatAreNotRegularFilesAreRefused) {
+    const auto dir = test::tempDir("buffer_kind");
+    std::filesystem::create_directories(dir / "folder.bin");
+    const std::string folder = test::quadJson("folder.bin");
+    test::writeFile(dir / "folder.gltf", folder.data(), folder.size());
+    expectRefused(dir / "folder.gltf", "folder.bin: a folder, not a regular file");
+    std::filesystem::remove(dir / "fifo.bin");
+    ASSERT_EQ(::mkfifo((dir / "fifo.bin").c_str(), 0600), 0);
+    const std::string fifo = test::quadJson("fifo.bin");
+    test::writeFile(dir / "fifo.gltf", fifo.data(), fifo.size());
+    expectRefused(dir / "fifo.gltf", "fifo.bin: a FIFO, not a regular file");
+}
+
+// 400 textures of 2048 x 2048 decoded to 7.5 GB. The base-colour textures' decoded size is
+// added up from their headers before each is decoded and refused past
+// GltfLoadOptions::maxTextureBytes; images no material uses as a base colour are not decoded.
+TEST(GltfLoader, DecodedTexturesHaveABudget) {
+    const auto dir = test::tempDir("texture_budget");
+    std::string json = test::quadJsonBesideBin(dir);
+    std::vector<uint8_t> rgba(64 * 64 * 4, 200);
+    std::vector<uint8_t> png;
+    stbi_write_png_to_func(
+        [](void* ctx, void* data, int size) {
+            auto* out = static_cast<std::vector<uint8_t>*>(ctx);
+            out->insert(out->end(), static_cast<uint8_t*>(data),
+                        static_cast<uint8_t*>(data) + size);
+        },
+        &png, 64, 64, 4, rgba.data(), 64 * 4);
+    for (int i = 0; i < 3; ++i) {
+        test::writeFile(dir / ("t" + std::to_string(i) + ".png"), png.data(), png.size());
+    }
+    test::writeFile(dir / "broken.png", png.data(), 40); // used by no base colour
+    const std::string materials = R"("materials": [)";
+    json.replace(json.find(materials), materials.size(),
+                 R"("materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}},
+                   {"pbrMetallicRoughness": {"baseColorTexture": {"index": 1}}},
+                   {"pbrMetallicRoughness": {"baseColorTexture": {"index": 2}}},
+                   {"normalTexture": {"index": 3}},)");
+    json.insert(json.rfind('}'), R"(, "images": [{"uri": "t0.png"}, {"uri": "t1.png"},
+        {"uri": "t2.png"}, {"uri": "broken.png"}],
+        "textures": [{"source": 0}, {"source": 1}, {"source": 2}, {"source": 3}])");
+    test::writeFile(dir / "tex.gltf", json.data(), json.size());
+    GltfLoadReport report;
+    const Scene s = loadGltf(dir / "tex.gltf", &report);
+    EXPECT_EQ(s.textures.size(), 3u);
+    EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
+    // 3 x 16 KiB decoded: two fit in 40 KiB, the third does not.
+    expectRefused(dir / "tex.gltf",
+                  "decoded textures reach 49152 bytes at image 2 (64x64), over the limit of "
+                  "40960 bytes (40 KiB;",
+                  {.maxTextureBytes = 40 * 1024});
 }
 
 } // namespace

@@ -2,6 +2,7 @@
 // option_parsing): each known name its value, and an unknown one an error naming the option.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <string>
 
 #include "core/error.hpp"
@@ -70,6 +71,43 @@ TEST(OptionParsing, DeviceRequestIsAnIndexOrANameSubstring) {
     EXPECT_FALSE(parseDeviceRequest("llvmpipe").index.has_value());
     EXPECT_EQ(parseDeviceRequest("llvmpipe").nameContains, "llvmpipe");
     EXPECT_TRUE(parseDeviceRequest("").automatic());
+}
+
+} // namespace
+} // namespace gt::app
+
+namespace gt::app {
+namespace {
+
+// GAZETRACE_MAX_TRIANGLES=1e99, -5, 0 or 20M was silently ignored: the default limit applied
+// and nothing said why. A value that is not a whole number from 1 up is refused, naming the
+// variable and the value.
+TEST(OptionParsing, GltfLimitsFromTheEnvironmentAreParsedStrictly) {
+    const auto with = [](const char* name, const char* value) {
+        ::setenv(name, value, 1);
+        std::string e;
+        try {
+            (void)gltfLoadOptions();
+        } catch (const ArgumentError& x) {
+            e = x.what();
+        }
+        ::unsetenv(name);
+        return e;
+    };
+    for (const char* bad :
+         {"abc", "-5", "0", "1e99", "20M", "2e7", "", " 5", "99999999999999999999"}) {
+        const std::string e = with("GAZETRACE_MAX_TRIANGLES", bad);
+        EXPECT_NE(e.find(std::string("GAZETRACE_MAX_TRIANGLES=") + bad + ":"), std::string::npos)
+            << "'" << bad << "': " << e;
+    }
+    EXPECT_NE(with("GAZETRACE_MAX_INSTANCES", "-1").find("GAZETRACE_MAX_INSTANCES=-1"),
+              std::string::npos);
+    EXPECT_NE(with("GAZETRACE_MAX_TEXTURE_BYTES", "2G").find("GAZETRACE_MAX_TEXTURE_BYTES=2G"),
+              std::string::npos);
+    ::setenv("GAZETRACE_MAX_TRIANGLES", "30000000", 1);
+    EXPECT_DOUBLE_EQ(gltfLoadOptions().maxTriangles, 3e7);
+    ::unsetenv("GAZETRACE_MAX_TRIANGLES");
+    EXPECT_DOUBLE_EQ(gltfLoadOptions().maxTriangles, scene::GltfLoadOptions{}.maxTriangles);
 }
 
 } // namespace
