@@ -279,12 +279,13 @@ TEST(EyeCli, HostileFilesAreOneLine) {
                        "\"display.distance_cm\" is not a number", out);
     // Truth with a NaN, then with two rows swapped.
     std::string rows = slurp(truth);
-    std::string nan = rows;
-    nan.replace(nan.find('\n') + 1, 1, "nan");
+    std::string nan = rows; // the first row's t_ms, a column track does not score
+    const auto firstComma = nan.find(',', nan.find('\n'));
+    nan.replace(firstComma + 1, nan.find(',', firstComma + 1) - firstComma - 1, "nan");
     std::ofstream(dir / "nan.csv") << nan;
     expectCleanFailure(run(track + "--source video:" + clip + " --calibration " + cal +
                            " --truth " + (dir / "nan.csv").string()),
-                       "nan.csv:2: frame 'nan'", out);
+                       "nan.csv:2: t_ms 'nan'", out);
     const auto second = rows.find('\n') + 1, third = rows.find('\n', second) + 1,
                fourth = rows.find('\n', third) + 1;
     const std::string swapped = rows.substr(0, second) + rows.substr(third, fourth - third) +
