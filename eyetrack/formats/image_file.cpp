@@ -2,6 +2,11 @@
 
 #include <array>
 #include <cstdlib>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include <zlib.h>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -87,6 +92,79 @@ cv::Size pngSize(const Bytes& b) {
     }
     return {static_cast<int>(std::min<std::uint32_t>(b.be(16, 4), 0x7fffffffU)),
             static_cast<int>(std::min<std::uint32_t>(b.be(20, 4), 0x7fffffffU))};
+}
+
+// The PNG's image data, inflated and counted against its header before libpng sees it: data that
+// does not inflate, too little of it or a row with an unknown filter would each make libpng print
+// its own "libpng error" line beside ours. Rows are walked pass by pass (Adam7 when interlaced).
+void checkPngImageData(const Bytes& b) {
+    const std::uint32_t width = b.be(16, 4), height = b.be(20, 4);
+    const std::uint32_t depth = b.be(24, 1), colour = b.be(25, 1), interlace = b.be(28, 1);
+    const int channels = colour == 0   ? 1
+                         : colour == 2 ? 3
+                         : colour == 3 ? 1
+                         : colour == 4 ? 2
+                         : colour == 6 ? 4
+                                       : 0;
+    const bool depthFits =
+        colour == 0   ? (depth == 1 || depth == 2 || depth == 4 || depth == 8 || depth == 16)
+        : colour == 3 ? (depth == 1 || depth == 2 || depth == 4 || depth == 8)
+                      : (depth == 8 || depth == 16);
+    if (channels == 0 || !depthFits || b.be(26, 1) != 0 || b.be(27, 1) != 0 || interlace > 1)
+        b.damaged("damaged PNG (an invalid IHDR)");
+    // Rows of each pass: (bytes per row including its filter byte, row count).
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> passes;
+    const std::uint64_t bitsPerPixel = static_cast<std::uint64_t>(channels) * depth;
+    const auto addPass = [&](std::uint64_t w, std::uint64_t h) {
+        if (w > 0 && h > 0) passes.emplace_back(1 + (w * bitsPerPixel + 7) / 8, h);
+    };
+    if (interlace == 0) {
+        addPass(width, height);
+    } else {
+        constexpr std::array<int, 7> x0{0, 4, 0, 2, 0, 1, 0}, dx{8, 8, 4, 4, 2, 2, 1},
+            y0{0, 0, 4, 0, 2, 0, 1}, dy{8, 8, 8, 4, 4, 2, 2};
+        for (std::size_t p = 0; p < 7; ++p)
+            addPass((width + dx[p] - 1 - x0[p]) / dx[p], (height + dy[p] - 1 - y0[p]) / dy[p]);
+    }
+    // The IDAT chunks' data, in order, inflated in pieces; only the filter bytes are looked at.
+    z_stream z{};
+    if (inflateInit(&z) != Z_OK) b.damaged("cannot check its image data (zlib)");
+    const std::unique_ptr<z_stream, int (*)(z_stream*)> guard(&z, inflateEnd);
+    std::array<unsigned char, 1 << 16> out{};
+    std::size_t pass = 0;
+    std::uint64_t row = 0, inRow = 0; // the next byte's row within the pass and offset in it
+    int status = Z_OK;
+    for (std::size_t at = 8; status != Z_STREAM_END && at < b.size();) {
+        const std::uint32_t length = b.be(at, 4);
+        const std::string_view type = b.view(at + 4, 4);
+        const std::string_view data = b.view(at + 8, length);
+        at += 12 + std::size_t{length};
+        if (type == "IEND") break;
+        if (type != "IDAT") continue;
+        z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
+        z.avail_in = static_cast<uInt>(data.size());
+        while (z.avail_in > 0 && status != Z_STREAM_END) {
+            z.next_out = out.data();
+            z.avail_out = static_cast<uInt>(out.size());
+            const uInt before = z.avail_in;
+            status = inflate(&z, Z_NO_FLUSH);
+            if ((status != Z_OK && status != Z_STREAM_END && status != Z_BUF_ERROR) ||
+                (status == Z_BUF_ERROR && z.avail_in == before && z.next_out == out.data()))
+                b.damaged("damaged PNG (its image data does not inflate)");
+            for (const unsigned char* p = out.data(); p < z.next_out; ++p) {
+                if (pass == passes.size()) break; // extra data: libpng ignores it
+                if (inRow == 0 && *p > 4) b.damaged("damaged PNG (a row has an unknown filter)");
+                if (++inRow == passes[pass].first) {
+                    inRow = 0;
+                    if (++row == passes[pass].second) {
+                        row = 0;
+                        ++pass;
+                    }
+                }
+            }
+        }
+    }
+    if (pass < passes.size()) b.damaged("truncated PNG (not enough image data)");
 }
 
 // The frame header (SOFn) before the first scan, and an EOI marker after the last scan: a cut
@@ -221,6 +299,13 @@ cv::Mat readImageFile(const std::filesystem::path& file) {
                            "image (" +
                            std::to_string(io::limits::kEyeImageSide) + " a side, " +
                            std::to_string(io::limits::kEyeImagePixels / (1024 * 1024)) + " Mpx)");
+    if (bytes.substr(0, 8) == "\x89PNG\r\n\x1a\n") {
+        try {
+            checkPngImageData(Bytes(bytes, what));
+        } catch (const FormatError& e) {
+            throw CaptureError(e.what());
+        }
+    }
     cv::Mat image;
     try {
         const cv::Mat buffer(1, static_cast<int>(bytes.size()), CV_8U, bytes.data());

@@ -4,9 +4,9 @@
 // memory, after its header has been read here:
 //  - the dimensions come from the header before any pixel is decoded, so an image that claims
 //    100000 x 100000 is refused by name instead of by an OpenCV assertion naming no file;
-//  - a PNG's chunks (lengths, CRCs, the closing IEND) and a JPEG's closing EOI marker are
-//    checked, so a truncated or damaged file is one line naming it, not a libpng/libjpeg line
-//    on stderr as well.
+//  - a PNG's chunks (lengths, CRCs, the closing IEND), its inflated image data (enough of it,
+//    every row filter known) and a JPEG's closing EOI marker are checked, so a truncated or
+//    damaged file is one line naming it, not a libpng/libjpeg line on stderr as well.
 #include <cstdint>
 #include <filesystem>
 #include <optional>

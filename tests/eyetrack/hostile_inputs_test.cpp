@@ -295,27 +295,45 @@ TEST(HostileCamera, OnlyVideoDevicesAreOpened) {
     fs::remove_all(dir);
 }
 
+// One PNG chunk: length, type, data and CRC-32.
+std::string pngChunk(const std::string& type, const std::string& data) {
+    const auto be32 = [](std::uint32_t v) {
+        return std::string{static_cast<char>(v >> 24), static_cast<char>((v >> 16) & 0xff),
+                           static_cast<char>((v >> 8) & 0xff), static_cast<char>(v & 0xff)};
+    };
+    std::uint32_t c = 0xffffffffU;
+    for (const char ch : type + data) {
+        c ^= static_cast<unsigned char>(ch);
+        for (int k = 0; k < 8; ++k)
+            c = (c & 1U) ? 0xedb88320U ^ (c >> 1) : c >> 1;
+    }
+    return be32(static_cast<std::uint32_t>(data.size())) + type + data + be32(c ^ 0xffffffffU);
+}
+
+// A grey 8-bit PNG of the given size around the given IDAT data.
+std::string pngWith(std::uint32_t w, std::uint32_t h, const std::string& idat) {
+    std::string ihdr;
+    for (const std::uint32_t v : {w, h})
+        for (int i = 0; i < 4; ++i)
+            ihdr += static_cast<char>((v >> (24 - 8 * i)) & 0xff);
+    ihdr += std::string("\x08\0\0\0\0", 5);
+    return "\x89PNG\r\n\x1a\n" + pngChunk("IHDR", ihdr) + pngChunk("IDAT", idat) +
+           pngChunk("IEND", "");
+}
+
 // A small PNG whose IHDR claims the given size.
 std::string pngWithSize(std::uint32_t w, std::uint32_t h) {
     cv::Mat small(2, 2, CV_8U, cv::Scalar(7));
     std::vector<uchar> png;
     cv::imencode(".png", small, png);
-    std::string s(png.begin(), png.end());
+    const std::string s(png.begin(), png.end());
+    // IHDR (8 + 25 bytes) replaced; the encoder's IDAT and IEND kept.
+    std::string ihdr = s.substr(16, 13);
     for (int i = 0; i < 4; ++i) {
-        s[16 + i] = static_cast<char>((w >> (24 - 8 * i)) & 0xff);
-        s[20 + i] = static_cast<char>((h >> (24 - 8 * i)) & 0xff);
+        ihdr[static_cast<std::size_t>(i)] = static_cast<char>((w >> (24 - 8 * i)) & 0xff);
+        ihdr[static_cast<std::size_t>(4 + i)] = static_cast<char>((h >> (24 - 8 * i)) & 0xff);
     }
-    // The IHDR's CRC for the new size (the reader checks every chunk's CRC).
-    std::uint32_t c = 0xffffffffU;
-    for (int i = 12; i < 12 + 4 + 13; ++i) {
-        c ^= static_cast<unsigned char>(s[static_cast<std::size_t>(i)]);
-        for (int k = 0; k < 8; ++k)
-            c = (c & 1U) ? 0xedb88320U ^ (c >> 1) : c >> 1;
-    }
-    c ^= 0xffffffffU;
-    for (int i = 0; i < 4; ++i)
-        s[29 + i] = static_cast<char>((c >> (24 - 8 * i)) & 0xff);
-    return s;
+    return s.substr(0, 8) + pngChunk("IHDR", ihdr) + s.substr(33);
 }
 
 TEST(HostileImages, SizeFromTheHeaderAndCutFilesAreOneLine) {
@@ -338,6 +356,26 @@ TEST(HostileImages, SizeFromTheHeaderAndCutFilesAreOneLine) {
     const std::string cut = errorOf<CaptureError>([&] { (void)readImageFile(dir / "cut.png"); });
     EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
     EXPECT_MENTIONS(cut, "cut.png: truncated PNG");
+
+    // Image data that does not inflate, under chunks whose CRCs are right: libpng's own line
+    // too, unless the data is checked first.
+    write(dir / "garbage.png", pngWith(64, 48, "not zlib data at all"));
+    testing::internal::CaptureStderr();
+    const std::string garbage =
+        errorOf<CaptureError>([&] { (void)readImageFile(dir / "garbage.png"); });
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+    EXPECT_MENTIONS(garbage, "garbage.png: damaged PNG (its image data does not inflate)");
+
+    // Every PNG layout OpenCV writes reads back (the checks refuse no good file).
+    for (const int type : {CV_8UC1, CV_16UC1, CV_8UC3, CV_8UC4, CV_16UC3}) {
+        cv::Mat m(45, 61, type);
+        cv::randu(m, 0, 255);
+        std::vector<uchar> png;
+        cv::imencode(".png", m, png);
+        write(dir / "layout.png", std::string(png.begin(), png.end()));
+        const cv::Mat back = readImageFile(dir / "layout.png");
+        EXPECT_EQ(cv::norm(back, m, cv::NORM_INF), 0.0) << type;
+    }
 
     // A cut JPEG: its scan ends early, with no end marker.
     cv::Mat noise(128, 128, CV_8U);
