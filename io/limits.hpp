@@ -22,6 +22,11 @@ inline constexpr std::uint64_t kGltfBufferBytes = 2 * kGiB;
 inline constexpr std::uint64_t kGltfTextureBytes = 2 * kGiB;
 // One encoded image file (PNG, JPEG, Radiance .hdr, a cube face, an eval reference).
 inline constexpr std::uint64_t kImageFileBytes = 512 * kMiB;
+// One recorded eye image (an `images:` folder's frame), by the size its header declares, checked
+// before decoding: an eye camera's frame is well under 4096 a side; OpenCV asserts (naming no
+// file) beyond 2^20 a side or 2^30 pixels, and a 16-bit RGBA frame of 64 Mpx decodes to 512 MiB.
+inline constexpr std::uint64_t kEyeImageSide = 1 << 16;
+inline constexpr std::uint64_t kEyeImagePixels = 64 * kMiB;
 // A cached point set or k-NN table.
 inline constexpr std::uint64_t kCacheFileBytes = 4 * kGiB;
 // A recorded eye video.

@@ -179,10 +179,10 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
     const std::vector<std::string> columns{"frame", "cx",       "cy",       "visibility",
                                            "phase", "fix_x_mm", "fix_y_mm", "fix_z_mm"};
     if (!o.truth.empty()) {
-        truth[0].table = eyetrack::CsvTable::load(o.truth, columns);
+        truth[0].table = eyetrack::CsvTable::loadTruth(o.truth, columns);
     }
     if (!o.truthRight.empty()) {
-        truth[1].table = eyetrack::CsvTable::load(o.truthRight, columns);
+        truth[1].table = eyetrack::CsvTable::loadTruth(o.truthRight, columns);
     }
 
     BinocularTally tally;

@@ -47,7 +47,7 @@ struct TrackTruth {
 TrackTruth loadTrackTruth(const TrackOptions& o) {
     TrackTruth truth;
     if (o.truth.empty()) return truth;
-    truth.table = eyetrack::CsvTable::load(o.truth, {"frame", "cx", "cy", "visibility"});
+    truth.table = eyetrack::CsvTable::loadTruth(o.truth, {"frame", "cx", "cy", "visibility"});
     for (std::size_t i = 0; i < truth.table->rows(); ++i) {
         const double f = truth.table->number(i, "frame");
         if (!(f >= 0.0) || f != std::floor(f))

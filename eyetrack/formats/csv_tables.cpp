@@ -1,13 +1,15 @@
 #include "formats/csv_tables.hpp"
 
+#include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <sstream>
 
 #include <opencv2/core.hpp>
 
 #include "error.hpp"
+#include "input_file.hpp"
+#include "limits.hpp"
 
 namespace gt::eyetrack {
 
@@ -50,8 +52,13 @@ std::vector<std::string> split(const std::string& line) {
 
 CsvTable CsvTable::load(const std::filesystem::path& file,
                         const std::vector<std::string>& required) {
-    std::ifstream in(file);
-    if (!in) throw FormatError(file.string() + ": cannot be opened");
+    // Read whole through the one input rule: a FIFO, a device or a runaway file is refused.
+    std::istringstream in;
+    try {
+        in.str(io::readInputFile(file, io::limits::kTextTableBytes));
+    } catch (const io::InputError& e) {
+        throw FormatError(e.what());
+    }
     CsvTable t;
     t.mFile = file.string();
     std::string line;
@@ -80,6 +87,48 @@ CsvTable CsvTable::load(const std::filesystem::path& file,
 
 const std::string& CsvTable::text(std::size_t row, const std::string& column) const {
     return mRows.at(row).at(mIndex.at(column));
+}
+
+std::string CsvTable::where(std::size_t row) const {
+    return mFile + ":" + std::to_string(mLines.at(row));
+}
+
+void CsvTable::requireNumbers(const std::vector<std::string>& textColumns) const {
+    for (const auto& [column, index] : mIndex) {
+        if (std::find(textColumns.begin(), textColumns.end(), column) != textColumns.end())
+            continue;
+        for (std::size_t row = 0; row < mRows.size(); ++row)
+            (void)number(row, column); // throws naming file, line and cell
+    }
+}
+
+void CsvTable::requireIncreasing(const std::string& column) const {
+    for (std::size_t row = 0; row < mRows.size(); ++row) {
+        const double v = number(row, column);
+        if (std::isnan(v)) throw FormatError(where(row) + ": " + column + " is empty");
+        if (row > 0 && !(v > number(row - 1, column)))
+            throw FormatError(where(row) + ": " + column + " " + text(row, column) +
+                              " does not follow " + text(row - 1, column) +
+                              " (rows must be in increasing " + column + ")");
+    }
+}
+
+CsvTable CsvTable::loadTruth(const std::filesystem::path& file,
+                             const std::vector<std::string>& required) {
+    CsvTable t = load(file, required);
+    t.requireNumbers({"phase", "note"});
+    t.requireIncreasing("frame");
+    if (t.has("t_ms")) t.requireIncreasing("t_ms");
+    // Frame numbers index frames: whole, and small enough to be exact as a double (a frame
+    // 1e300 cast to an integer is undefined).
+    constexpr double kMaxFrame = 9007199254740992.0; // 2^53
+    for (std::size_t row = 0; row < t.rows(); ++row) {
+        const double f = t.number(row, "frame");
+        if (!(f >= 0.0 && f <= kMaxFrame) || f != std::floor(f))
+            throw FormatError(t.where(row) + ": frame " + t.text(row, "frame") +
+                              " is not a whole frame number");
+    }
+    return t;
 }
 
 double CsvTable::number(std::size_t row, const std::string& column) const {

@@ -25,6 +25,17 @@ public:
     // Throws FormatError naming the file and line; `required` columns must be present.
     [[nodiscard]] static CsvTable load(const std::filesystem::path& file,
                                        const std::vector<std::string>& required);
+    // A truth table (eyesim's, or hand labels): every cell but `phase` and `note` empty or a
+    // finite number, and frame (and t_ms, when present) strictly increasing whole numbers —
+    // a NaN or a row out of order would be scored silently against the wrong frame.
+    [[nodiscard]] static CsvTable loadTruth(const std::filesystem::path& file,
+                                            const std::vector<std::string>& required);
+    // Throws FormatError naming file and line: a cell that is not empty or a finite number, in
+    // any column but `textColumns`.
+    void requireNumbers(const std::vector<std::string>& textColumns) const;
+    // Throws FormatError naming file and line unless `column` has a value on every row, each
+    // greater than the one before.
+    void requireIncreasing(const std::string& column) const;
 
     [[nodiscard]] std::size_t rows() const { return mRows.size(); }
     [[nodiscard]] bool has(const std::string& column) const { return mIndex.count(column) > 0; }
@@ -33,6 +44,8 @@ public:
     [[nodiscard]] double number(std::size_t row, const std::string& column) const;
 
 private:
+    [[nodiscard]] std::string where(std::size_t row) const; // "FILE:LINE"
+
     std::string mFile;
     std::map<std::string, std::size_t> mIndex;
     std::vector<std::vector<std::string>> mRows;

@@ -16,27 +16,6 @@
 
 namespace gt::eyetrack {
 
-namespace {
-
-// An integer field as an int, or nothing. nlohmann's get<int>() casts a real such as 1.3e123 to
-// int, which is undefined behaviour (found by fuzzing under UBSan), and wraps large integers.
-std::optional<int> asInt(const nlohmann::json& v) {
-    if (v.is_number_unsigned()) {
-        const auto u = v.get<std::uint64_t>();
-        if (u <= static_cast<std::uint64_t>(std::numeric_limits<int>::max())) {
-            return static_cast<int>(u);
-        }
-    } else if (v.is_number_integer()) {
-        const auto i = v.get<std::int64_t>();
-        if (i >= std::numeric_limits<int>::min() && i <= std::numeric_limits<int>::max()) {
-            return static_cast<int>(i);
-        }
-    }
-    return std::nullopt;
-}
-
-} // namespace
-
 std::vector<double> Calibration::features(cv::Point2d pupil) const {
     const double x = (pupil.x - mMean.x) / mScale.x, y = (pupil.y - mMean.y) / mScale.y;
     if (mX.size() == 4) return {1.0, x, y, x * y};
@@ -194,38 +173,39 @@ Calibration Calibration::fromJson(const nlohmann::json& j, const std::string& wh
         throw bad("version " + std::to_string(j["version"].get<long long>()) +
                   " is not supported (expected " + std::to_string(kVersion) +
                   "; run gazetrace calibrate again)");
+    // Every field typed and named: a wrong type or a missing field is one line naming it.
     Calibration c;
-    try {
-        const std::string model = j.at("model").get<std::string>();
-        const std::size_t terms = model == "poly7" ? 7 : model == "poly4" ? 4 : 0;
-        if (terms == 0) throw bad("unknown model '" + model + "'");
-        const auto& d = j.at("display");
-        const auto intAt = [&](const nlohmann::json& o, const char* key) {
-            const std::optional<int> v = asInt(o.at(key));
-            if (!v) throw bad(std::string("\"") + key + "\" is not an integer in range");
-            return *v;
-        };
-        c.mDisplay.widthPx = intAt(d, "width_px");
-        c.mDisplay.heightPx = intAt(d, "height_px");
-        c.mDisplay.widthCm = d.at("width_cm").get<double>();
-        c.mDisplay.distanceCm = d.at("distance_cm").get<double>();
-        const auto mean = j.at("pupil_mean").get<std::vector<double>>();
-        const auto scale = j.at("pupil_scale").get<std::vector<double>>();
-        c.mX = j.at("coefficients_x").get<std::vector<double>>();
-        c.mY = j.at("coefficients_y").get<std::vector<double>>();
-        if (mean.size() != 2 || scale.size() != 2)
-            throw bad("pupil_mean and pupil_scale need two numbers each");
-        if (c.mX.size() != terms || c.mY.size() != terms)
+    const JsonFields fields(j, "calibration " + what);
+    constexpr double kAny = std::numeric_limits<double>::max(); // finite; bounded below
+    const std::string model = fields.text("model");
+    const std::size_t terms = model == "poly7" ? 7 : model == "poly4" ? 4 : 0;
+    if (terms == 0) throw bad("unknown model '" + model + "'");
+    const JsonFields display(fields.at("display"), "calibration " + what, "display.");
+    constexpr std::int64_t kMaxDisplayPx = 1 << 20;
+    c.mDisplay.widthPx = static_cast<int>(display.integer("width_px", 1, kMaxDisplayPx));
+    c.mDisplay.heightPx = static_cast<int>(display.integer("height_px", 1, kMaxDisplayPx));
+    c.mDisplay.widthCm = display.number("width_cm", -kAny, kAny);
+    c.mDisplay.distanceCm = display.number("distance_cm", -kAny, kAny);
+    const auto mean = fields.numbers("pupil_mean", 2, -kAny, kAny);
+    const auto scale = fields.numbers("pupil_scale", 2, -kAny, kAny);
+    const auto coefficients = [&](const char* key) {
+        const nlohmann::json& v = fields.at(key);
+        if (!v.is_array() || v.size() != terms)
             throw bad("model " + model + " needs " + std::to_string(terms) +
                       " coefficients per axis");
-        c.mMean = {mean[0], mean[1]};
-        c.mScale = {scale[0], scale[1]};
-        c.mUsed = j.contains("points_used") ? intAt(j, "points_used") : 0;
-        c.mDropped = j.contains("outliers_dropped") ? intAt(j, "outliers_dropped") : 0;
-        c.mFitErrorDeg = j.value("fit_error_deg", 0.0);
-    } catch (const nlohmann::json::exception& e) {
-        throw bad(std::string("missing or mistyped field (") + e.what() + ")");
-    }
+        return fields.numbers(key, terms, -kAny, kAny);
+    };
+    c.mX = coefficients("coefficients_x");
+    c.mY = coefficients("coefficients_y");
+    c.mMean = {mean[0], mean[1]};
+    c.mScale = {scale[0], scale[1]};
+    constexpr std::int64_t kMaxInt = std::numeric_limits<int>::max();
+    c.mUsed =
+        fields.has("points_used") ? static_cast<int>(fields.integer("points_used", 0, kMaxInt)) : 0;
+    c.mDropped = fields.has("outliers_dropped")
+                     ? static_cast<int>(fields.integer("outliers_dropped", 0, kMaxInt))
+                     : 0;
+    c.mFitErrorDeg = fields.number("fit_error_deg", 0.0, 360.0, 0.0);
     const auto finite = [](const std::vector<double>& v) {
         return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
     };

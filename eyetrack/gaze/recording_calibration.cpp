@@ -83,6 +83,10 @@ void fit3d(EyeModel& model, const Observations& observations, const DisplayGeome
 
 TargetSchedule TargetSchedule::load(const std::filesystem::path& file) {
     const CsvTable t = CsvTable::load(file, {"t_ms", "target_x", "target_y"});
+    // Every number finite and the times in order, named by line: a NaN or a row out of order
+    // would otherwise put a target at the wrong time.
+    t.requireNumbers({"phase", "note"});
+    t.requireIncreasing("t_ms");
     std::vector<ScheduledTarget> rows;
     int run = -1;
     cv::Point2d last(-1e30, -1e30);

@@ -1,5 +1,7 @@
 #include "model/camera_intrinsics.hpp"
 
+#include <limits>
+
 #include "error.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/json_file.hpp"
@@ -23,16 +25,13 @@ nlohmann::json CameraIntrinsics::toJson() const {
 }
 
 CameraIntrinsics CameraIntrinsics::fromJson(const nlohmann::json& j, const std::string& what) {
-    if (!j.is_object()) {
-        throw FormatError("intrinsics " + what + ": expected a JSON object");
-    }
+    // Each field a finite number, named when it is not.
+    const JsonFields fields(j, "intrinsics " + what);
+    constexpr double kAny = std::numeric_limits<double>::max();
     CameraIntrinsics k;
     for (auto [key, field] :
          {std::pair{"fx", &k.fx}, {"fy", &k.fy}, {"cx", &k.cx}, {"cy", &k.cy}}) {
-        if (!j.contains(key) || !j[key].is_number()) {
-            throw FormatError("intrinsics " + what + ": '" + key + "' missing or not a number");
-        }
-        *field = j[key].get<double>();
+        *field = fields.number(key, -kAny, kAny);
     }
     if (!k.valid()) {
         throw FormatError("intrinsics " + what + ": focal lengths must be positive and finite");

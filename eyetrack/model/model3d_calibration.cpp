@@ -1,8 +1,11 @@
 #include "model/model3d_calibration.hpp"
 
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "error.hpp"
+#include "formats/json_file.hpp"
 
 namespace gt::eyetrack {
 
@@ -76,28 +79,22 @@ Model3dCalibration Model3dCalibration::fromJson(const nlohmann::json& j,
     }
     Model3dCalibration m;
     m.display = display;
-    try {
-        m.camera = CameraIntrinsics::fromJson(j.at("intrinsics"), what);
-        const auto& r = j.at("rotation");
-        if (!r.is_array() || r.size() != 9) {
-            throw bad("\"rotation\" must hold 9 numbers");
-        }
-        for (int i = 0; i < 9; ++i) {
-            m.rotation.val[i] = r.at(static_cast<std::size_t>(i)).get<double>();
-        }
-        const auto& c = j.at("eye_centre_mm");
-        if (!c.is_array() || c.size() != 3) {
-            throw bad("\"eye_centre_mm\" must hold 3 numbers");
-        }
-        for (int i = 0; i < 3; ++i) {
-            m.eyeCentreMm[i] = c.at(static_cast<std::size_t>(i)).get<double>();
-        }
-        m.eyeRadiusMm = j.at("eye_radius_mm").get<double>();
-        m.pupilRadiusMm = j.at("pupil_radius_mm").get<double>();
-        m.fitErrorDeg = j.value("fit_error_deg", 0.0);
-    } catch (const nlohmann::json::exception&) {
-        throw bad("a field is missing or not a number");
+    // Every field typed and named (a wrong type is one line naming the field).
+    const JsonFields fields(j, "calibration " + what, "model3d.");
+    constexpr double kAny = std::numeric_limits<double>::max(); // finite; bounded below
+    m.camera = CameraIntrinsics::fromJson(fields.at("intrinsics"), what);
+    const std::vector<double> r = fields.numbers("rotation", 9, -kAny, kAny);
+    for (int i = 0; i < 9; ++i) {
+        m.rotation.val[i] = r[static_cast<std::size_t>(i)];
     }
+    // An eye a metre from its camera, or with a radius beyond that, is no eye model.
+    const std::vector<double> c = fields.numbers("eye_centre_mm", 3, -1000.0, 1000.0);
+    for (int i = 0; i < 3; ++i) {
+        m.eyeCentreMm[i] = c[static_cast<std::size_t>(i)];
+    }
+    m.eyeRadiusMm = fields.number("eye_radius_mm", -1000.0, 1000.0);
+    m.pupilRadiusMm = fields.number("pupil_radius_mm", -1000.0, 1000.0);
+    m.fitErrorDeg = fields.number("fit_error_deg", 0.0, 360.0, 0.0);
     // A rotation: orthonormal with determinant 1.
     const cv::Matx33d e = m.rotation * m.rotation.t() - cv::Matx33d::eye();
     double off = 0.0;

@@ -4,6 +4,7 @@
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <fstream>
@@ -223,6 +224,88 @@ TEST(EyeCli, BadInputsAreOneLine) {
                            " --intrinsics " + (dir / "cam.json").string() + " --out " +
                            (dir / "cal2.json").string()),
                        "cam.json", dir / "cal2.json");
+}
+
+// Hostile files at the command line: each run ends in one line naming the file, a non-zero exit
+// and no output file — a FIFO calibration used to hang, a playlist named .mkv to read the files
+// it listed, a clip cut by one frame to end cleanly, a damaged calibration or truth to be read.
+TEST(EyeCli, HostileFilesAreOneLine) {
+    const auto dir = freshDir("eye_hostile");
+    const std::string clip = (dir / "c.avi").string(), truth = (dir / "c.csv").string();
+    ASSERT_EQ(
+        run("eyesim --seed 4 --frames 40 --size 64x48 --out " + clip + " --truth " + truth).status,
+        0);
+    const nlohmann::json calibration = {
+        {"format", "gazetrace-calibration"},
+        {"version", 2},
+        {"model", "poly4"},
+        {"display",
+         {{"width_px", 1920}, {"height_px", 1080}, {"width_cm", 53.0}, {"distance_cm", 60.0}}},
+        {"pupil_mean", {32.0, 24.0}},
+        {"pupil_scale", {5.0, 4.0}},
+        {"coefficients_x", {0.0, 10.0, 0.0, 0.0}},
+        {"coefficients_y", {0.0, 0.0, -8.0, 0.0}}};
+    const std::string cal = (dir / "cal.json").string();
+    std::ofstream(cal) << calibration.dump();
+    const auto out = dir / "gaze.csv";
+    const std::string track = "track --out " + out.string() + " ";
+    ASSERT_EQ(run(track + "--source video:" + clip + " --calibration " + cal).status, 0);
+    std::filesystem::remove(out);
+
+    // The clip cut short: 40 frames declared, fewer read.
+    std::filesystem::copy_file(clip, dir / "cut.avi");
+    std::filesystem::resize_file(dir / "cut.avi", std::filesystem::file_size(clip) * 9 / 10);
+    expectCleanFailure(
+        run(track + "--source video:" + (dir / "cut.avi").string() + " --calibration " + cal),
+        "of the 40 its container declares", out);
+    std::ofstream(dir / "playlist.mkv") << "#EXTM3U\n#EXT-X-TARGETDURATION:1\n#EXTINF:1,\n"
+                                        << clip << "\n#EXT-X-ENDLIST\n";
+    expectCleanFailure(
+        run(track + "--source video:" + (dir / "playlist.mkv").string() + " --calibration " + cal),
+        "playlist.mkv: a playlist", out);
+    ASSERT_EQ(::mkfifo((dir / "fifo.json").c_str(), 0600), 0);
+    expectCleanFailure(
+        run(track + "--source video:" + clip + " --calibration " + (dir / "fifo.json").string()),
+        "fifo.json: a FIFO", out);
+    std::ofstream(dir / "trailing.json") << calibration.dump() << "}garbage";
+    expectCleanFailure(run(track + "--source video:" + clip + " --calibration " +
+                           (dir / "trailing.json").string()),
+                       "trailing.json: not valid JSON", out);
+    nlohmann::json mistyped = calibration;
+    mistyped["display"]["distance_cm"] = "60";
+    std::ofstream(dir / "mistyped.json") << mistyped.dump();
+    expectCleanFailure(run(track + "--source video:" + clip + " --calibration " +
+                           (dir / "mistyped.json").string()),
+                       "\"display.distance_cm\" is not a number", out);
+    // Truth with a NaN, then with two rows swapped.
+    std::string rows = slurp(truth);
+    std::string nan = rows; // the first row's t_ms, a column track does not score
+    const auto firstComma = nan.find(',', nan.find('\n'));
+    nan.replace(firstComma + 1, nan.find(',', firstComma + 1) - firstComma - 1, "nan");
+    std::ofstream(dir / "nan.csv") << nan;
+    expectCleanFailure(run(track + "--source video:" + clip + " --calibration " + cal +
+                           " --truth " + (dir / "nan.csv").string()),
+                       "nan.csv:2: t_ms 'nan'", out);
+    const auto second = rows.find('\n') + 1, third = rows.find('\n', second) + 1,
+               fourth = rows.find('\n', third) + 1;
+    const std::string swapped = rows.substr(0, second) + rows.substr(third, fourth - third) +
+                                rows.substr(second, third - second) + rows.substr(fourth);
+    std::ofstream(dir / "swapped.csv") << swapped;
+    expectCleanFailure(run(track + "--source video:" + clip + " --calibration " + cal +
+                           " --truth " + (dir / "swapped.csv").string()),
+                       "swapped.csv:3: frame 0 does not follow 1", out);
+    expectCleanFailure(run("calibrate --source video:" + clip + " --targets " +
+                           (dir / "swapped.csv").string() + " --out " + out.string()),
+                       "swapped.csv:3: t_ms", out);
+    // An image folder whose frame claims 100000 x 100000 pixels.
+    std::filesystem::create_directories(dir / "frames");
+    std::string png("\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\x01\x86\xa0\0\x01\x86\xa0\x08\0\0\0\0"
+                    "\x8d\x39\x54\x14\0\0\0\0IEND\xae\x42\x60\x82",
+                    45);
+    std::ofstream(dir / "frames" / "a.png", std::ios::binary) << png;
+    expectCleanFailure(
+        run(track + "--source images:" + (dir / "frames").string() + " --calibration " + cal),
+        "a.png: 100000 x 100000 pixels", out);
 }
 
 } // namespace

@@ -924,7 +924,7 @@ TEST(Calibration, RecoversAKnownPolynomialMapping) {
     reject(j.dump(), "needs 7 coefficients");
     j = c.toJson();
     j.erase("display");
-    reject(j.dump(), "missing or mistyped field");
+    reject(j.dump(), "\"display\" is missing");
     // Fuzz regression cases: finite values that map an ordinary pupil to an infinite gaze.
     j = c.toJson();
     j["coefficients_x"][6] = 1e308;
@@ -937,10 +937,10 @@ TEST(Calibration, RecoversAKnownPolynomialMapping) {
     reject(j.dump(), "not a gazetrace calibration");
     j = c.toJson();
     j["display"]["width_px"] = 1.3e123; // found by fuzzing: get<int>() on it is UB
-    reject(j.dump(), "\"width_px\" is not an integer in range");
+    reject(j.dump(), "\"display.width_px\" is not an integer");
     j = c.toJson();
     j["points_used"] = 1LL << 40;
-    reject(j.dump(), "\"points_used\" is not an integer in range");
+    reject(j.dump(), "\"points_used\" is not in 0..");
     EXPECT_THROW((void)Calibration::fit({pts.begin(), pts.begin() + 3}, d), CalibrationError);
     fs::remove_all(dir);
 }
@@ -1089,7 +1089,7 @@ TEST(BadInput, FolderHugeVersionAndNonRegularVideoAreNamed) {
         (void)Calibration::load(dir / "calibration.json");
         ADD_FAILURE() << "a folder loaded as a calibration";
     } catch (const FormatError& e) {
-        EXPECT_NE(std::string(e.what()).find("is a folder"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("a folder"), std::string::npos) << e.what();
     }
     const nlohmann::json huge = {{"format", "gazetrace-calibration"}, {"version", 1099511627776LL}};
     try {
