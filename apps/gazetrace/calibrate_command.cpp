@@ -1,3 +1,8 @@
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+
 #include <opencv2/core/utility.hpp>
 
 #include "capture/frame_source.hpp"
@@ -9,8 +14,31 @@
 #include "gaze/recording_calibration.hpp"
 #include "option_parsing.hpp"
 #include "pupil/pupil_detector.hpp"
+#include "stop_request.hpp"
 
 namespace gt::app {
+
+namespace {
+
+// The recording handed to eyetrack::calibrateFromRecording: each next() first checks for a stop
+// request (SIGINT, SIGTERM), so calibrating fails within a frame of one, with nothing written.
+class InterruptibleSource final : public eyetrack::FrameSource {
+public:
+    explicit InterruptibleSource(std::unique_ptr<eyetrack::FrameSource> source)
+        : mSource(std::move(source)) {}
+    std::optional<eyetrack::Frame> next() override {
+        throwIfStopRequested();
+        return mSource->next();
+    }
+    std::string describe() const override { return mSource->describe(); }
+    std::uint64_t droppedFrames() const override { return mSource->droppedFrames(); }
+    bool liveClock() const override { return mSource->liveClock(); }
+
+private:
+    std::unique_ptr<eyetrack::FrameSource> mSource;
+};
+
+} // namespace
 
 nlohmann::json runCalibrate(const CalibrateOptions& o) {
     cv::setNumThreads(1);
@@ -45,7 +73,8 @@ nlohmann::json runCalibrate(const CalibrateOptions& o) {
     nlohmann::json perEye = nlohmann::json::object();
     for (Eye& e : eyes) {
         const auto detector = eyetrack::makePupilDetector(pupilDetectorKind(o.detector));
-        const auto r = eyetrack::calibrateFromRecording(*e.source, schedule, o.display, o.settleMs,
+        InterruptibleSource source(std::move(e.source));
+        const auto r = eyetrack::calibrateFromRecording(source, schedule, o.display, o.settleMs,
                                                         *detector, camera);
         set.eyes.push_back({e.name, r.calibration, r.model3d});
         nlohmann::json j{{"frames", r.frames},
@@ -65,6 +94,7 @@ nlohmann::json runCalibrate(const CalibrateOptions& o) {
         }
         perEye[e.name] = j;
     }
+    throwIfStopRequested(); // the fits of a long recording take a while
     set.save(o.out);
     if (!binocular) {
         nlohmann::json j = perEye["both"];

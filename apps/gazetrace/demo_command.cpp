@@ -41,6 +41,7 @@
 #include "scene/image_io.hpp"
 #include "scene/start_view.hpp"
 #include "stereo_rig.hpp"
+#include "stop_request.hpp"
 #include "swapchain_target.hpp"
 #include "view_args.hpp"
 #include "vk/context.hpp"
@@ -454,7 +455,9 @@ void DemoRun::handleKey(int key) {
 }
 
 FrameStart DemoRun::begin(const FrameTick& t) {
-    if (mWindow->shouldClose()) return FrameStart::Stop;
+    // SIGINT or SIGTERM close the demo as its window's close button does: after the frame
+    // shown, with the log and the summary written.
+    if (mWindow->shouldClose() || stopRequested()) return FrameStart::Stop;
     if (mResize.pending && t.index == mResize.frame) {
         mWindow->setSize(mResize.size.width, mResize.size.height);
         mResize.pending = false;
@@ -658,6 +661,7 @@ nlohmann::json DemoRun::run() {
     stages.done = [this](const FrameTick& t, const std::optional<GazeReading>& r,
                          std::span<const render::View> v,
                          const render::FrameResult& result) { return done(t, r, v, result); };
+    stages.onStop = OnStopRequest::BeginStageEnds;
     const FrameClock clock(mOptions.frameMs);
     mLast = clock.start();
     const uint32_t frames = runFrameLoop(*mRenderer, clock, mOptions.frames, stages);

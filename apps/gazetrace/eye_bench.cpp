@@ -10,6 +10,7 @@
 #include "eye_commands.hpp"
 #include "pupil/starburst_detector.hpp"
 #include "sim/synthetic_eye.hpp"
+#include "stop_request.hpp"
 
 namespace gt::app {
 
@@ -31,6 +32,7 @@ nlohmann::json runEyeBench() {
             frames.push_back(eye.render(f)); // all phases, blinks included
         const std::string name = std::string("pupil_detect/320x240/") + preset;
         benchmark::RegisterBenchmark(name.c_str(), [frames](benchmark::State& st) {
+            throwIfStopRequested(); // once per run of the benchmark, outside its timed loop
             eyetrack::StarburstDetector detector;
             std::size_t i = 0;
             for (auto _ : st) {

@@ -19,6 +19,7 @@
 #include "score/detection_score.hpp"
 #include "sim/synthetic_eye.hpp"
 #include "stats.hpp"
+#include "stop_request.hpp"
 
 namespace gt::app {
 
@@ -144,8 +145,10 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
         std::vector<cv::Mat> images(static_cast<std::size_t>(o.frames));
         std::vector<eyetrack::EyeTruth> truths(images.size());
         for (int f = 0; f < o.frames; ++f) {
+            throwIfStopRequested();
             images[f] = eye.render(o.skip + f, &truths[f]);
         }
+        throwIfStopRequested(); // not inside the detector's timed loop: a step of its own
 
         const auto detector = eyetrack::makePupilDetector(pupilDetectorKind(o.detector));
         std::vector<eyetrack::DetectionRecord> records;
@@ -197,6 +200,7 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
                            {"right_kept", g.rightKept}});
         all.insert(all.end(), records.begin(), records.end());
     }
+    throwIfStopRequested();
     if (misses) {
         misses->commit();
     }

@@ -12,6 +12,7 @@
 #include "formats/atomic_file.hpp"
 #include "formats/csv_tables.hpp"
 #include "sim/synthetic_eye.hpp"
+#include "stop_request.hpp"
 
 namespace gt::app {
 
@@ -123,6 +124,9 @@ nlohmann::json runEyesim(const EyesimOptions& o) {
         if (!writer.isOpened())
             throw ArgumentError("--out " + o.out + ": cannot open a lossless FFV1 writer");
         for (int f = 0; f < c.frames; ++f) {
+            // SIGINT or SIGTERM: the clip and the truth are left unwritten (their destructors
+            // remove the temporaries), an existing --out as it was.
+            throwIfStopRequested();
             eyetrack::EyeTruth t;
             cv::Mat image = eye.render(f, &t);
             truth.stream() << eyetrack::truthRow(t) << "\n";

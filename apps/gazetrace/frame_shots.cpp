@@ -2,9 +2,12 @@
 
 #include <span>
 
+#include "stop_request.hpp"
+
 namespace gt::app {
 
 std::vector<uint8_t> FrameShots::shot(render::View v, render::FoveationMethod& m, uint64_t* rays) {
+    throwIfStopRequested(); // the quality sweeps are fixed-length runs, shot by shot
     v.method = &m;
     v.exposure = mRenderer.scene().exposure;
     render::OutputTarget* const target = &mReadback;

@@ -9,12 +9,22 @@
 #include "commands/command.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "stop_request.hpp"
 
 namespace {
 
 int fail(const std::string& message) {
     std::fprintf(stderr, "gazetrace: error: %s\n", message.c_str());
     return 1;
+}
+
+// A fixed-length run stopped by SIGINT or SIGTERM: what it wrote was removed while the exception
+// unwound, as after any failure.
+int interrupted(const CLI::App& app, const gt::app::Interrupted& e) {
+    const auto given = app.get_subcommands();
+    const std::string command = given.empty() ? "gazetrace" : given.front()->get_name();
+    std::fprintf(stderr, "gazetrace: %s: %s; nothing written\n", command.c_str(), e.what());
+    return e.exitStatus();
 }
 
 } // namespace
@@ -41,11 +51,15 @@ int main(int argc, char** argv) {
     }
     if (quiet) gt::log::setLevel(gt::log::Level::Error);
 
+    // From here on SIGINT and SIGTERM are requests the commands' loops act on.
+    gt::app::installStopHandlers();
     int status = 0;
     try {
         for (const auto& command : commands) {
             if (command->given()) status = command->run();
         }
+    } catch (const gt::app::Interrupted& e) {
+        return interrupted(app, e);
     } catch (const gt::Error& e) {
         return fail(e.what());
     } catch (const std::exception& e) {

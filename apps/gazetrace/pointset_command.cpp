@@ -13,6 +13,7 @@
 #include "foveation/point_set_cache.hpp"
 #include "option_parsing.hpp"
 #include "scene/image_io.hpp"
+#include "stop_request.hpp"
 
 namespace gt::app {
 
@@ -99,6 +100,7 @@ nlohmann::json runPointSet(const PointSetOptions& o) {
     }
     auto one = [&](double scale) {
         if (!(scale > 0.0) || scale > 100.0) throw ArgumentError("--scale must be in (0, 100]");
+        throwIfStopRequested(); // each set of a sweep is a step of its own
         params.scale = scale;
         foveation::CachedPointSet c = foveation::loadOrGenerate(dir, params, progressBar());
         if (!c.warning.empty()) log::warn(c.warning);
@@ -134,6 +136,7 @@ nlohmann::json runPointSet(const PointSetOptions& o) {
         j["layouts"] = rows;
         return j;
     }
+    throwIfStopRequested(); // a set generated at length, then the files
     if (!o.out.empty()) foveation::savePointSet(o.out, c.set);
     if (!o.image.empty()) drawPoints(c.set, o.image);
     nlohmann::json j = describe(c);

@@ -21,6 +21,7 @@
 #include "model/eye_model_mapper.hpp"
 #include "pupil/pupil_detector.hpp"
 #include "sim/synthetic_eye.hpp"
+#include "stop_request.hpp"
 
 namespace gt::app {
 
@@ -68,6 +69,7 @@ double validate(const eyetrack::EyeSimConfig& c, eyetrack::GazeMapper& mapper,
     double sum = 0.0;
     int n = 0;
     while (auto frame = source.next()) {
+        throwIfStopRequested();
         const eyetrack::PupilResult p = detector->detect(frame->grey, frame->tMs);
         // Every confident pupil goes through the mapper (the 3D model learns from it).
         const auto gaze = p.found ? mapper.map(p, frame->tMs) : std::nullopt;
@@ -102,6 +104,7 @@ nlohmann::json runSlippage(const SlippageOptions& o) {
     std::vector<double> before2d, before3d;
     std::vector<std::vector<double>> after2d(slips.size()), after3d(slips.size());
     for (std::uint64_t seed = first; seed <= last; ++seed) {
+        throwIfStopRequested(); // calibrating one seed is a step of its own
         eyetrack::EyeSimConfig c;
         c.seed = seed;
         c.frames = kFrames;

@@ -23,6 +23,7 @@
 #include "point_set_method.hpp"
 #include "renderer.hpp"
 #include "stereo_rig.hpp"
+#include "stop_request.hpp"
 #include "vk/context.hpp"
 
 namespace gt::app {
@@ -62,6 +63,7 @@ void measure(render::Renderer& r, Series& s, uint32_t warm, uint32_t frames, Mak
     };
     auto last = Clock::now();
     for (uint32_t i = 0; i < warm + frames; ++i) {
+        throwIfStopRequested();
         const std::vector<render::View> views = make(i);
         const std::vector<render::OutputTarget*> targets(views.size(), &discard);
         const render::FrameResult f = r.renderFrame(views, targets);

@@ -24,6 +24,7 @@
 #include "option_parsing.hpp"
 #include "score/detection_score.hpp"
 #include "stats.hpp"
+#include "stop_request.hpp"
 
 namespace gt::app {
 
@@ -216,10 +217,14 @@ nlohmann::json runTrackBinocular(const TrackOptions& o) {
         if (emitter) sendBinocular(*emitter, display, o.ipdMm, e, *step.sample, b);
         if (gazeCsv) writeBinocularRow(gazeCsv->stream(), b);
     };
+    // Cameras end at SIGINT or SIGTERM as at their last frame; recordings fail (track_command).
+    const bool live = split ? shared->liveClock()
+                            : pipes[0]->source().liveClock() || pipes[1]->source().liveClock();
     for (;;) {
         if (o.maxFrames > 0 && tally.frames[0] + tally.frames[1] >= 2 * o.maxFrames) {
             break;
         }
+        if (liveRunEnds(live)) break;
         if (split) {
             auto f = shared->next();
             if (!f) {

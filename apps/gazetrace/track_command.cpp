@@ -25,6 +25,7 @@
 #include "pupil/pupil_detector.hpp"
 #include "score/detection_score.hpp"
 #include "stats.hpp"
+#include "stop_request.hpp"
 
 namespace gt::app {
 
@@ -203,6 +204,9 @@ nlohmann::json runTrack(const TrackOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     double busyMs = 0.0;
     while (o.maxFrames <= 0 || frames < o.maxFrames) {
+        // SIGINT or SIGTERM: a camera's run ends here as at its last frame, its files written; a
+        // recording's run fails and writes nothing.
+        if (liveRunEnds(source->liveClock())) break;
         auto frame = pipeline.grab();
         if (!frame) break;
         const auto begin = std::chrono::steady_clock::now();

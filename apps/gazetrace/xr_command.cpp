@@ -29,6 +29,7 @@
 #include "scene/image_io.hpp"
 #include "scene/start_view.hpp"
 #include "stereo_rig.hpp"
+#include "stop_request.hpp"
 #include "view_args.hpp"
 #include "xr_error.hpp"
 #include "xr_run_stats.hpp"
@@ -403,6 +404,13 @@ FrameStart XrRun::begin(const FrameTick& t) {
         return FrameStart::Stop;
     }
     const auto now = Clock::now();
+    if (stopRequested() && !mExitAsked) {
+        // SIGINT or SIGTERM end the session as --frames does: asked to exit, the runtime ends it
+        // and the summary is written. A session that never started has nothing to end.
+        if (!mSession->running()) return FrameStart::Stop;
+        mSession->requestExit();
+        mExitAsked = now;
+    }
     if (mExitAsked && msSince(*mExitAsked, now) > 5000.0) {
         log::warn("xr: the runtime did not end the session within 5 s of the request");
         return FrameStart::Stop;
@@ -499,6 +507,7 @@ nlohmann::json XrRun::run() {
     };
     stages.done = [this](const FrameTick& t, const HeadGaze& g, std::span<const render::View> v,
                          const render::FrameResult& result) { return done(t, g, v, result); };
+    stages.onStop = OnStopRequest::BeginStageEnds;
     const FrameClock clock;
     mT0 = clock.start();
     mLastFrameEnd = mT0;
@@ -542,7 +551,7 @@ nlohmann::json XrRun::summary(uint32_t rendered) {
     mEyeGaze.reset();
     mSession.reset();
     checkOwnValidation(ctx);
-    if (mOptions.frames != 0 && rendered < mOptions.frames) {
+    if (mOptions.frames != 0 && rendered < mOptions.frames && !stopRequested()) {
         throw Error("the OpenXR runtime ended the session after " + std::to_string(rendered) +
                     " of " + std::to_string(mOptions.frames) + " frames");
     }

@@ -9,6 +9,7 @@ double FrameClock::at(uint32_t index) const {
 
 render::FrameResult renderOneFrame(render::Renderer& renderer, const render::View& view,
                                    render::OutputTarget& target) {
+    throwIfStopRequested();
     render::OutputTarget* const t = &target;
     return renderer.renderFrame(std::span(&view, 1), std::span(&t, 1));
 }

@@ -3,7 +3,7 @@
 // targets -> present or write. What differs between `render` (PNGs along a trace), `demo` (a
 // window), `xr` (an OpenXR session), `eval` and `bench` (sequences read back and measured) are
 // the stages, given as callables; the order, the frame count, the time along the sequence and
-// the stopping rules are written once, here.
+// the stopping rules (a stop request from SIGINT or SIGTERM among them) are written once, here.
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -12,6 +12,7 @@
 
 #include "output_target.hpp"
 #include "renderer.hpp"
+#include "stop_request.hpp"
 #include "view.hpp"
 
 namespace gt::app {
@@ -41,6 +42,13 @@ struct FrameTick {
 // window, no swapchain image, an XR frame the runtime does not show), or end the loop.
 enum class FrameStart { Render, Skip, Stop };
 
+// What a stop request (stop_request.hpp) does to the loop. A fixed-length run (a sequence written
+// or measured) fails before its next frame with Interrupted, so what it wrote is undone as after
+// any failure. A live run (a window, an OpenXR session) is ended by its begin stage, which sees
+// stopRequested() and ends the way its user would end it: the window closes after the current
+// frame, the XR session is asked to exit and runs until the runtime ends it.
+enum class OnStopRequest { Interrupt, BeginStageEnds };
+
 template <typename Gaze> struct FrameStages {
     // Before anything else of a frame (input, the swapchain image, the XR frame). Optional.
     std::function<FrameStart(const FrameTick&)> begin;
@@ -59,15 +67,20 @@ template <typename Gaze> struct FrameStages {
     std::function<bool(const FrameTick&, const Gaze&, std::span<const render::View>,
                        const render::FrameResult&)>
         done;
+    // Live runs (a window, an OpenXR session) set BeginStageEnds and check in begin.
+    OnStopRequest onStop = OnStopRequest::Interrupt;
 };
 
 // Runs frames until `frames` were rendered (0: until a stage stops the loop); returns how many
 // were rendered. `renderer` is a render::Renderer (any type with its renderFrame, for tests).
+// Throws Interrupted before a frame once a stop was requested, unless stages.onStop leaves that
+// to the begin stage.
 template <typename Gaze, typename FrameRenderer>
 uint32_t runFrameLoop(FrameRenderer& renderer, const FrameClock& clock, uint32_t frames,
                       const FrameStages<Gaze>& stages) {
     FrameTick tick;
     while (frames == 0 || tick.index < frames) {
+        if (stages.onStop == OnStopRequest::Interrupt) throwIfStopRequested();
         tick.timeMs = clock.at(tick.index);
         if (stages.begin) {
             const FrameStart start = stages.begin(tick);
@@ -87,7 +100,8 @@ uint32_t runFrameLoop(FrameRenderer& renderer, const FrameClock& clock, uint32_t
 }
 
 // One frame of one view into one target: the loop's single step, for the measurements that
-// interleave methods frame by frame (eval, bench).
+// interleave methods frame by frame (eval, bench). Throws Interrupted first once a stop was
+// requested: those are fixed-length runs.
 render::FrameResult renderOneFrame(render::Renderer& renderer, const render::View& view,
                                    render::OutputTarget& target);
 

@@ -1,6 +1,7 @@
 // The front ends' frame loop (apps/support/frame_loop.hpp): the order of its stages, the frame
-// index and time it hands them, and its rules for skipping and stopping, with a renderer that
-// only records what it was given.
+// index and time it hands them, and its rules for skipping and stopping (a stop request from
+// SIGINT or SIGTERM among them), with a renderer that only records what it was given.
+#include <csignal>
 #include <span>
 #include <string>
 #include <vector>
@@ -8,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "frame_loop.hpp"
+#include "stop_request.hpp"
 
 namespace {
 
@@ -15,6 +17,8 @@ using gt::app::FrameClock;
 using gt::app::FrameStages;
 using gt::app::FrameStart;
 using gt::app::FrameTick;
+using gt::app::Interrupted;
+using gt::app::OnStopRequest;
 using gt::render::FrameResult;
 using gt::render::OutputTarget;
 using gt::render::View;
@@ -39,6 +43,7 @@ struct LoggedStages {
     std::vector<std::string> log;
     std::vector<double> times;
     bool stopAfterDone = false;
+    int signalAfterFrame = -1; // a stop request once this frame is done (SIGTERM)
 
     FrameStages<uint32_t> stages() {
         FrameStages<uint32_t> s;
@@ -71,6 +76,9 @@ struct LoggedStages {
             EXPECT_EQ(r.number, t.index + 1); // the result of this frame's renderFrame
             times.push_back(t.timeMs);
             log.push_back("done");
+            if (static_cast<int>(t.index) == signalAfterFrame) {
+                gt::app::testing::requestStop(SIGTERM);
+            }
             return !stopAfterDone;
         };
         return s;
@@ -109,6 +117,60 @@ TEST(FrameLoop, StopsWhenBeginOrDoneSaysSo) {
         EXPECT_EQ(gt::app::runFrameLoop(renderer, FrameClock(1.0), 5, logged.stages()), 1u);
         EXPECT_EQ(renderer.views.size(), 1u);
     }
+}
+
+// Clears the stop request a test made, whatever the test's outcome.
+struct StopRequestReset {
+    ~StopRequestReset() { gt::app::testing::requestStop(0); }
+};
+
+TEST(FrameLoop, AStopRequestInterruptsAFixedLengthRunBeforeItsNextFrame) {
+    const StopRequestReset reset;
+    RecordingRenderer renderer;
+    LoggedStages logged;
+    logged.signalAfterFrame = 1;
+    try {
+        (void)gt::app::runFrameLoop(renderer, FrameClock(1.0), 10, logged.stages());
+        ADD_FAILURE() << "the loop ran all its frames after SIGTERM";
+    } catch (const Interrupted& e) {
+        EXPECT_EQ(e.signal(), SIGTERM);
+        EXPECT_EQ(e.exitStatus(), 143);
+        EXPECT_STREQ(e.what(), "interrupted (SIGTERM)");
+    }
+    // The frame under way was finished; none began after it.
+    EXPECT_EQ(renderer.views.size(), 2u);
+    EXPECT_EQ(logged.log.back(), "done");
+}
+
+TEST(FrameLoop, ALiveRunsBeginStageEndsItAtAStopRequest) {
+    const StopRequestReset reset;
+    RecordingRenderer renderer;
+    LoggedStages logged;
+    logged.signalAfterFrame = 2;
+    FrameStages<uint32_t> stages = logged.stages();
+    stages.onStop = OnStopRequest::BeginStageEnds;
+    const auto begin = stages.begin;
+    stages.begin = [&](const FrameTick& t) {
+        return gt::app::stopRequested() ? FrameStart::Stop : begin(t);
+    };
+    EXPECT_EQ(gt::app::runFrameLoop(renderer, FrameClock(1.0), 0, stages), 3u);
+}
+
+TEST(StopRequest, TheFirstSignalIsRecordedAndTheSecondGetsTheDefaultAction) {
+    const StopRequestReset reset;
+    gt::app::installStopHandlers();
+    EXPECT_FALSE(gt::app::stopRequested());
+    ASSERT_EQ(std::raise(SIGINT), 0); // would end the test binary without the handler
+    EXPECT_EQ(gt::app::stopSignal(), SIGINT);
+    EXPECT_THROW(gt::app::throwIfStopRequested(), Interrupted);
+    for (const int signal : {SIGINT, SIGTERM}) {
+        struct sigaction now {};
+        ASSERT_EQ(sigaction(signal, nullptr, &now), 0);
+        EXPECT_EQ(now.sa_handler, SIG_DFL) << signal;
+    }
+    // A live loop's check ends it; a fixed-length one's throws.
+    EXPECT_TRUE(gt::app::liveRunEnds(true));
+    EXPECT_THROW((void)gt::app::liveRunEnds(false), Interrupted);
 }
 
 TEST(FrameLoop, WithoutAStepTheClockIsTheWallClock) {
