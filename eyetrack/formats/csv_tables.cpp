@@ -115,7 +115,9 @@ void CsvTable::requireIncreasing(const std::string& column) const {
 
 CsvTable CsvTable::loadTruth(const std::filesystem::path& file,
                              const std::vector<std::string>& required) {
-    CsvTable t = load(file, required);
+    std::vector<std::string> columns = required;
+    columns.emplace_back("frame");
+    CsvTable t = load(file, columns);
     t.requireNumbers({"phase", "note"});
     t.requireIncreasing("frame");
     if (t.has("t_ms")) t.requireIncreasing("t_ms");

@@ -73,10 +73,17 @@ std::uint32_t crc32(std::string_view data) {
     return c ^ 0xffffffffU;
 }
 
-// Every chunk whole with its CRC, IHDR first and IEND last: libpng would otherwise print its own
-// "libpng error" line for a cut file before OpenCV reports the failure.
+// The size in the IHDR chunk, which comes first; the rest of the file is checked only once the
+// size is known to be within the limits.
 cv::Size pngSize(const Bytes& b) {
-    if (b.view(12, 4) != "IHDR") b.damaged("damaged PNG (no IHDR chunk first)");
+    if (b.be(8, 4) != 13 || b.view(12, 4) != "IHDR") b.damaged("damaged PNG (no IHDR chunk first)");
+    return {static_cast<int>(std::min<std::uint32_t>(b.be(16, 4), 0x7fffffffU)),
+            static_cast<int>(std::min<std::uint32_t>(b.be(20, 4), 0x7fffffffU))};
+}
+
+// Every chunk whole with its CRC, IEND last: libpng would otherwise print its own "libpng error"
+// line for a cut file before OpenCV reports the failure.
+void checkPngChunks(const Bytes& b) {
     std::size_t at = 8;
     for (;;) {
         if (at == b.size()) b.damaged("truncated PNG (no IEND chunk)");
@@ -90,8 +97,6 @@ cv::Size pngSize(const Bytes& b) {
         if (typeAndData.substr(0, 4) == "IEND") break;
         at += 12 + std::size_t{length};
     }
-    return {static_cast<int>(std::min<std::uint32_t>(b.be(16, 4), 0x7fffffffU)),
-            static_cast<int>(std::min<std::uint32_t>(b.be(20, 4), 0x7fffffffU))};
 }
 
 // The PNG's image data, inflated and counted against its header before libpng sees it: data that
@@ -301,7 +306,9 @@ cv::Mat readImageFile(const std::filesystem::path& file) {
                            std::to_string(io::limits::kEyeImagePixels / (1024 * 1024)) + " Mpx)");
     if (bytes.substr(0, 8) == "\x89PNG\r\n\x1a\n") {
         try {
-            checkPngImageData(Bytes(bytes, what));
+            const Bytes png(bytes, what);
+            checkPngChunks(png);
+            checkPngImageData(png);
         } catch (const FormatError& e) {
             throw CaptureError(e.what());
         }

@@ -60,9 +60,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         gt::scene::GltfLoadReport report;
         // The shipped limits (20 M triangles, 1 M node instances) are for real scenes; fuzzing
         // explores the loader's logic, not how long a 20 M-triangle BVH takes, so inputs get a
-        // smaller budget.
-        const gt::scene::Scene scene =
-            gt::scene::loadGltf(file, &report, {.maxTriangles = 100000, .maxInstances = 100000});
+        // smaller budget, textures included (a fuzzer's memory limit is about 2 GB).
+        const gt::scene::Scene scene = gt::scene::loadGltf(
+            file, &report,
+            {.maxTriangles = 100000, .maxInstances = 100000, .maxTextureBytes = 64 << 20});
         checkScene(scene);
         const gt::scene::Bvh bvh(scene); // a node at 3.4e38 crashed here
         (void)bvh.intersect({scene.camera.position, scene.camera.forward});

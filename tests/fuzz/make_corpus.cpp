@@ -238,6 +238,11 @@ void wrapAround(const std::string& t, const std::string& quad) {
         replaced(quad, position,
                  R"("count": 4, "type": "VEC3", "sparse": {"count": 1537228672809129302,
             "indices": {"bufferView": 1, "componentType": 5121}, "values": {"bufferView": 0}})"));
+    put(t, "regressions", "image_view_offset_wraps.gltf",
+        replaced(quad, R"({"buffer": 0, "byteOffset": 48, "byteLength": 12}])",
+                 R"({"buffer": 0, "byteOffset": 48, "byteLength": 12},
+                    {"buffer": 0, "byteOffset": 18446744073709551612, "byteLength": 8}],
+                    "images": [{"bufferView": 2, "mimeType": "image/png"}])"));
     put(t, "regressions", "negative_accessor_offset.gltf",
         replaced(quad, accessor0, R"({"bufferView": 0, "byteOffset": -4, "componentType": 5126,)"));
     put(t, "regressions", "negative_view_offset.gltf",

@@ -527,7 +527,15 @@ TEST(GltfLoader, SizesThatWrapAroundAreRefused) {
                                        "byteOffset": 18446744073709551612},
                            "values": {"bufferView": 0}})",
                      "accessors[0].sparse.indices (byteOffset 18446744073709551612, 4 x 4 "
-                     "bytes) runs past the end of bufferViews[1] (12 bytes)"}}) {
+                     "bytes) runs past the end of bufferViews[1] (12 bytes)"},
+          // tinygltf hands an image's bufferView to the decoder unchecked.
+          std::tuple{"image_view_wraps.gltf",
+                     std::string(R"({"buffer": 0, "byteOffset": 48, "byteLength": 12}])"),
+                     R"({"buffer": 0, "byteOffset": 48, "byteLength": 12},
+                           {"buffer": 0, "byteOffset": 18446744073709551612, "byteLength": 8}],
+                           "images": [{"bufferView": 2, "mimeType": "image/png"}])",
+                     "bufferViews[2] (byteOffset 18446744073709551612, byteLength 8) runs past "
+                     "the end of buffers[0]"}}) {
         expectRefused(writeEdited(dir, name, base, from, to), mention);
     }
 }
