@@ -191,6 +191,22 @@ nlohmann::json layersJson(render::EccentricityLayers& layers, const render::View
             {"temporal", layers.settings().temporal}};
 }
 
+// One frame every --frame-ms along `spanMs` of a trace or path in `file`, held to the bound
+// --frames has: a span of years (times may reach io::limits::kTableTimeMs) overflowed the
+// uint32 frame count, and a typo in one time would render for days.
+uint32_t framesAlong(double spanMs, const RenderOptions& o, const std::string& file) {
+    constexpr double kMaxFrames = 100000.0; // --frames' own range
+    const double frames = 1.0 + std::floor(spanMs / o.frameMs);
+    if (!(frames <= kMaxFrames)) {
+        char text[160];
+        std::snprintf(text, sizeof text,
+                      ": %.0f ms long, %.4g frames of --frame-ms %g; over 100000 (give --frames)",
+                      spanMs, frames, o.frameMs);
+        throw ArgumentError(file + text);
+    }
+    return static_cast<uint32_t>(frames);
+}
+
 // --gaze-trace, loaded: pixel traces are checked against the w x h screen they are clamped to;
 // without --frames, one frame every --frame-ms from its first sample to its last.
 foveation::GazeTrace loadGazeTrace(const RenderOptions& o, uint32_t w, uint32_t h,
@@ -200,7 +216,7 @@ foveation::GazeTrace loadGazeTrace(const RenderOptions& o, uint32_t w, uint32_t 
         warnOffScreen(trace, o.gazeTrace, w, h);
     }
     if (!o.framesGiven) {
-        frameCount = 1 + static_cast<uint32_t>((trace.endMs() - trace.startMs()) / o.frameMs);
+        frameCount = framesAlong(trace.endMs() - trace.startMs(), o, o.gazeTrace);
     }
     return trace;
 }
@@ -514,9 +530,9 @@ FlatInputs flatInputs(const RenderOptions& o, const FlatSetup& s) {
         if (!(o.frameMs > 0.0)) throw ArgumentError("--frame-ms must be positive");
         in.path = scene::CameraPath::load(o.cameraPath);
         if (!o.framesGiven) {
-            in.frameCount = std::max(
-                in.trace ? in.frameCount : 1u,
-                1 + static_cast<uint32_t>((in.path->endMs() - in.path->startMs()) / o.frameMs));
+            in.frameCount =
+                std::max(in.trace ? in.frameCount : 1u,
+                         framesAlong(in.path->endMs() - in.path->startMs(), o, o.cameraPath));
         }
     }
     return in;

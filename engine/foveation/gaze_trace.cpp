@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <optional>
 #include <sstream>
@@ -105,7 +106,9 @@ GazeTrace GazeTrace::load(const std::filesystem::path& file) {
         }
         // Times feed frame counts and interpolation weights: 1e300 ms overflowed the former.
         if (std::abs(v[0]) > io::limits::kTableTimeMs) {
-            throw bad("t_ms " + f[0] + " is out of range (+-1e13)");
+            char bound[32];
+            std::snprintf(bound, sizeof bound, "%g", io::limits::kTableTimeMs);
+            throw bad("t_ms " + f[0] + " is out of range (+-" + bound + ")");
         }
         if (*units == GazeUnits::AnglesDeg && (std::abs(v[1]) >= 90.0 || std::abs(v[2]) >= 90.0)) {
             throw bad("gaze angles must lie within +-90 degrees, got " + f[1] + ", " + f[2]);

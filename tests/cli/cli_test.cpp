@@ -393,6 +393,25 @@ TEST(Cli, CameraPathMovesTheView) {
     expectCleanFailure(
         run("render --camera-path " + (dir / "none.csv").string() + " --out " + png.string()),
         "none.csv", png);
+    // 1e300 became an infinite float: a NaN camera and a flat image with exit 0.
+    {
+        std::ofstream far(dir / "far.csv");
+        far << "t_ms,ex,ey,ez,tx,ty,tz\n0,1e300,1,3,0.5,1,0\n200,0,1,3,0,1,0\n";
+    }
+    expectCleanFailure(run("render --width 48 --height 32 --frames 1 --camera-path " +
+                           (dir / "far.csv").string() + " --out " + png.string()),
+                       "far.csv:2: ex 1e300", png);
+    // A path of 11 days at --frame-ms 10 asked for 10^8 frames (the timeout turns that run into
+    // a failure): refused as --frames past its range would be.
+    {
+        std::ofstream days(dir / "days.csv");
+        days << "t_ms,ex,ey,ez,tx,ty,tz\n0,0,1,3,0,1,0\n1e9,0.5,1,3,0.5,1,0\n";
+    }
+    const auto folder = dir / "never";
+    expectCleanFailure(test::runWith("timeout -k 5 60",
+                                     "render --width 48 --height 32 --frame-ms 10 --camera-path " +
+                                         (dir / "days.csv").string() + " --out " + folder.string()),
+                       "days.csv: 1000000000 ms long", folder);
 }
 
 // The HMD path: a side-by-side frame of both eyes; bad profiles and sizes are one line.

@@ -129,8 +129,9 @@ TEST(Eval, BadInputsAreOneLine) {
     // A FIFO as the reference blocked eval forever (the timeout turns a hang into a failure);
     // a device is refused by kind, not read.
     ASSERT_EQ(::mkfifo((dir / "ref.png").c_str(), 0600), 0);
-    expectCleanFailure(runWith("timeout 120", base + "--reference " + (dir / "ref.png").string()),
-                       "ref.png: a FIFO", out);
+    expectCleanFailure(
+        runWith("timeout -k 5 120", base + "--reference " + (dir / "ref.png").string()),
+        "ref.png: a FIFO", out);
     std::filesystem::create_symlink("/dev/zero", dir / "device.png");
     expectCleanFailure(run(base + "--reference " + (dir / "device.png").string()),
                        "device.png: a character device", out);
