@@ -157,6 +157,9 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
             answers ? dynamic_cast<const eyetrack::StarburstDetector*>(detector.get()) : nullptr;
         std::vector<eyetrack::AnswerEvidence> evidence;
         for (const cv::Mat& img : images) {
+            if (o.cold) {
+                detector->reset();
+            }
             results.push_back(detector->detect(img));
             if (starburst != nullptr) {
                 evidence.push_back(starburst->lastEvidence());
@@ -206,7 +209,11 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
     if (sheet && sheet->tiles() > 0) {
         sheet->write();
     }
-    return eyescoreSummary(o, all, threshold, fps, perSeed);
+    nlohmann::json summary = eyescoreSummary(o, all, threshold, fps, perSeed);
+    if (o.cold) {
+        summary["cold"] = true;
+    }
+    return summary;
 }
 
 } // namespace gt::app
