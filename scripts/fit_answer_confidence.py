@@ -3,54 +3,62 @@
 
 The confidence is a logistic regression of "this answer is right" (within eyescore's radius of
 the true centre, the pupil at least half visible) on what the detector measured on the answer,
-in two parts that add up in the logit:
-  - the frame's own evidence, fitted on answers given without history (`eyescore --cold`: the
-    detector forgets everything before each frame, as on a recording's first frame);
-  - what the history adds (the last answer, the learnt pupil size, level and shape), fitted on
-    the answers of ordinary runs with the frame's part held fixed. It is nil without history,
-    so a first frame is judged on its own evidence and the history can only add doubt or
-    assurance.
+in two parts:
+  - the frame's own evidence (frameLogit), fitted on answers given without history (`eyescore
+    --cold`: the detector forgets everything before each frame, as on a recording's first
+    frame);
+  - the ranked answer with its history (rankedLogit), fitted on the answers of ordinary runs;
+    where an answer has history, what that adds to the frame's logit is the difference.
 Write the answers of development seeds with `gazetrace eyescore --answers FILE.csv` (with and
 without --cold), then
 
     scripts/fit_answer_confidence.py --cold c1.csv [...] --warm w1.csv [...] \\
         [--test-cold tc.csv ...] [--test-warm tw.csv ...]
 
-prints the constants for answer_confidence.cpp and the ROC areas of the fitted probability and
-of the detector's own product, on the training answers and on others. Newton's method with a
-small ridge; only the Python standard library.
+prints the constants for answer_confidence.cpp and the ROC areas and gate rates of the fitted
+probability, on the training answers and on others. Newton's method with a small ridge; only the
+Python standard library.
 """
 import argparse
 import csv
 import math
 
-FRAME_NAMES = ["bias", "log_product", "visible_support", "fill", "axis_ratio", "score",
-               "rival_ratio", "inlier_share", "log_contrast"]
-HISTORY_NAMES = ["has_last", "last_distance", "size_known", "log_size_factor", "level_excess",
-                 "eye_axis_gain"]
+FRAME_NAMES = ["bias", "log_product", "visible_support", "support_all", "fill", "axis_ratio",
+               "score", "rival_ratio", "inlier_share", "log_contrast"]
+RANKED_NAMES = ["bias", "log_product", "visible_support", "fill", "axis_ratio",
+                "log_size_factor", "score", "rival_ratio", "last_distance", "no_last",
+                "size_known", "level_excess"]
 
 
 def frame_features(row):
-    """The frame's own inputs exactly as answerProbability() forms them."""
+    """The frame's own inputs exactly as frameLogit() forms them."""
     product = float(row["product"])
     score = float(row["score"])
     rival = min(2.0, float(row["rival_score"]) / score) if score > 0 else 0.0
-    return [1.0, math.log(max(1e-3, product)), float(row["visible_support"]), float(row["fill"]),
-            float(row["axis_ratio"]), score, rival, float(row["inlier_share"]),
-            math.log(max(1.0, float(row["contrast"])))]
+    return [1.0, math.log(max(1e-3, product)), float(row["visible_support"]),
+            float(row["support_all"]), float(row["fill"]), float(row["axis_ratio"]), score, rival,
+            float(row["inlier_share"]), math.log(max(1.0, float(row["contrast"])))]
 
 
-def history_features(row):
-    """What the history adds, as answerProbability() forms it: all nil without history."""
+def ranked_features(row):
+    """The inputs exactly as rankedLogit() forms them."""
+    score = float(row["ranked_score"])
+    rival = min(2.0, float(row["ranked_rival_score"]) / score) if score > 0 else 0.0
     last = float(row["last_distance"])
-    has_last = last >= 0
-    last_n = min(3.0, last / max(1.0, float(row["semi_major"]))) if has_last else 0.0
-    size_known = float(row["size_known"]) > 0
+    no_last = last < 0
+    last_n = 0.0 if no_last else min(3.0, last / max(1.0, float(row["semi_major"])))
     eye = float(row["eye_axis_ratio"])
-    eye_gain = eye - float(row["axis_ratio"]) if eye > 0 else 0.0
-    return [1.0 if has_last else 0.0, last_n, 1.0 if size_known else 0.0,
-            math.log(max(1e-3, float(row["size_factor"]))) if size_known else 0.0,
-            float(row["level_excess"]), eye_gain]
+    return [1.0, math.log(max(1e-3, float(row["ranked_product"]))),
+            float(row["visible_support"]), float(row["fill"]),
+            eye if eye > 0 else float(row["axis_ratio"]),
+            math.log(max(1e-3, float(row["size_factor"]))), score, rival, last_n,
+            1.0 if no_last else 0.0, float(row["size_known"]), float(row["level_excess"])]
+
+
+def has_history(row):
+    """As hasHistory() decides it."""
+    return (float(row["last_distance"]) >= 0 or float(row["size_known"]) > 0
+            or float(row["eye_axis_ratio"]) > 0 or float(row["level_excess"]) > 0)
 
 
 def load(paths):
@@ -84,15 +92,14 @@ def sigmoid(z):
     return 1.0 / (1.0 + math.exp(-max(-50.0, min(50.0, z))))
 
 
-def fit(xs, ys, offsets, ridge=1e-3, iterations=30):
-    """Logistic regression with a fixed offset added to each answer's logit."""
+def fit(xs, ys, ridge=1e-3, iterations=30):
     d = len(xs[0])
     w = [0.0] * d
     for _ in range(iterations):
         h = [[0.0] * d for _ in range(d)]
         g = [0.0] * d
-        for x, y, o in zip(xs, ys, offsets):
-            p = sigmoid(o + sum(wi * xi for wi, xi in zip(w, x)))
+        for x, y in zip(xs, ys):
+            p = sigmoid(sum(wi * xi for wi, xi in zip(w, x)))
             s = p * (1.0 - p)
             for i in range(d):
                 g[i] += (y - p) * x[i]
@@ -132,20 +139,19 @@ def roc_area(scores, ys):
     return (rank_sum - positives * (positives + 1) / 2) / (positives * negatives)
 
 
-def probabilities(rows, wf, wh):
+def probabilities(rows, wf, wr):
     out = []
     for row in rows:
-        z = sum(a * b for a, b in zip(wf, frame_features(row)))
-        z += sum(a * b for a, b in zip(wh, history_features(row)))
-        out.append(sigmoid(z))
+        w, x = (wr, ranked_features(row)) if has_history(row) else (wf, frame_features(row))
+        out.append(sigmoid(sum(a * b for a, b in zip(w, x))))
     return out
 
 
-def report(label, rows, wf, wh, gate=0.75):
+def report(label, rows, wf, wr, gate=0.75):
     if not rows:
         return
     ys = [int(r["right"]) for r in rows]
-    probs = probabilities(rows, wf, wh)
+    probs = probabilities(rows, wf, wr)
     products = [float(r["product"]) for r in rows]
     right = [p for p, y in zip(probs, ys) if y]
     wrong = [p for p, y in zip(probs, ys) if not y]
@@ -164,16 +170,16 @@ def main():
     ap.add_argument("--test-warm", nargs="*", default=[], help="warm CSVs to test on")
     args = ap.parse_args()
     cold = load(args.cold)
-    wf = fit([frame_features(r) for r in cold], [int(r["right"]) for r in cold], [0.0] * len(cold))
+    wf = fit([frame_features(r) for r in cold], [int(r["right"]) for r in cold])
     warm = load(args.warm)
-    offsets = [sum(a * b for a, b in zip(wf, frame_features(r))) for r in warm]
-    wh = fit([history_features(r) for r in warm], [int(r["right"]) for r in warm], offsets)
-    for name, value in zip(FRAME_NAMES + HISTORY_NAMES, wf + wh):
-        print(f"{name:16s} {value:.3f}")
-    report("train cold", cold, wf, wh)
-    report("train warm", warm, wf, wh)
-    report("test cold", load(args.test_cold), wf, wh)
-    report("test warm", load(args.test_warm), wf, wh)
+    wr = fit([ranked_features(r) for r in warm], [int(r["right"]) for r in warm])
+    for part, names, w in (("frame", FRAME_NAMES, wf), ("ranked", RANKED_NAMES, wr)):
+        for name, value in zip(names, w):
+            print(f"{part:7s} {name:16s} {value:.3f}")
+    report("train cold", cold, wf, wr)
+    report("train warm", warm, wf, wr)
+    report("test cold", load(args.test_cold), wf, wr)
+    report("test warm", load(args.test_warm), wf, wr)
 
 
 if __name__ == "__main__":
