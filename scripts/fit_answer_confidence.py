@@ -57,7 +57,8 @@ def ranked_features(row):
 
 def has_history(row):
     """As hasHistory() decides it."""
-    return (float(row["last_distance"]) >= 0 or float(row["size_known"]) > 0
+    return (int(row["earlier_frames"]) > 0 or float(row["last_distance"]) >= 0
+            or float(row["size_known"]) > 0
             or float(row["eye_axis_ratio"]) > 0 or float(row["level_excess"]) > 0)
 
 

@@ -30,13 +30,13 @@ void writeAnswerRow(std::ostream& s, std::uint64_t seed, std::size_t frame,
                     const eyetrack::PupilResult& p, const eyetrack::AnswerEvidence& e,
                     double radiusPx) {
     s << cv::format("%llu,%zu,%.3f,%.3f,%d,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.3f,%.3f,%.5f,"
-                    "%.5f,%d,%.3f,%.4f,%.5f,%.5f,%.5f,%.5f\n",
+                    "%.5f,%d,%.3f,%.4f,%.5f,%.5f,%.5f,%.5f,%llu\n",
                     static_cast<unsigned long long>(seed), frame, truth.visibility, r.errorPx,
                     eyetrack::isRight(r, radiusPx) ? 1 : 0, p.confidence, e.confidence,
                     e.visibleSupport, e.fill, e.axisRatio, e.score, e.rivalScore, e.inlierShare,
                     e.contrast, e.semiMajor, e.eyeAxisRatio, e.sizeFactor, e.sizeKnown ? 1 : 0,
                     e.lastDistance, e.levelExcess, e.supportAll, e.rankedConfidence, e.rankedScore,
-                    e.rankedRivalScore);
+                    e.rankedRivalScore, static_cast<unsigned long long>(e.earlierFrames));
 }
 
 // One row of --misses: the truth beside what was found.
@@ -130,7 +130,7 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
                              "visible_support,fill,axis_ratio,score,rival_score,inlier_share,"
                              "contrast,semi_major,eye_axis_ratio,size_factor,size_known,"
                              "last_distance,level_excess,support_all,ranked_product,"
-                             "ranked_score,ranked_rival_score\n";
+                             "ranked_score,ranked_rival_score,earlier_frames\n";
     }
     std::optional<eyetrack::ContactSheet> sheet;
     if (!o.missesSheet.empty()) {

@@ -49,7 +49,8 @@ double rankedLogit(const AnswerEvidence& e) {
 } // namespace
 
 bool hasHistory(const AnswerEvidence& e) {
-    return e.lastDistance >= 0.0 || e.sizeKnown || e.eyeAxisRatio > 0.0 || e.levelExcess > 0.0;
+    return e.earlierFrames > 0 || e.lastDistance >= 0.0 || e.sizeKnown || e.eyeAxisRatio > 0.0 ||
+           e.levelExcess > 0.0;
 }
 
 double frameLogit(const AnswerEvidence& e) {

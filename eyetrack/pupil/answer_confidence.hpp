@@ -2,18 +2,19 @@
 // The confidence the detector reports: the probability that its answer is within 5 px of the
 // pupil's centre, from what it measured on the answer (logistic calibration in the manner of
 // Platt scaling). Its logit is the sum of two parts:
-//  - the frame's own evidence, all a first frame has (a recording's start, a frame after a long
-//    loss, a still image): how much of the fitted outline has an edge, how many of the ray
+//  - the frame's own evidence, all a first frame has (a recording's start, the frame after a
+//    reset, a still image): how much of the fitted outline has an edge, how many of the ray
 //    walk's edge points lie on the fit, how dark and filled the inside is against the noise,
 //    how round the fit is, the detector's product of factors without its priors, and whether
 //    another place scored nearly as well;
-//  - what the history adds, nil without one: with a last answer or a learnt pupil size, level
-//    or shape, the answer is judged as ordinary runs calibrate it (whether it continues the last
+//  - what the history adds, nil without one: once the detector has seen earlier frames, the
+//    answer is judged as ordinary runs calibrate it (whether it continues the last
 //    answer, agrees with the recent size, is as dark inside as the pupil has lately been, is as
-//    round as this eye's whole pupils, and the frame's evidence as the priors ranked it), which
-//    adds assurance where the history agrees and doubt where it does not. A clear pupil does not
-//    need it to pass the gaze filter's gate.
+//    round as this eye's whole pupils, whether earlier frames taught it a pupil at all, and the
+//    frame's evidence as the priors ranked it), which adds assurance where the history agrees
+//    and doubt where it does not. A clear pupil does not need it to pass the gaze filter's gate.
 // Fitted on synthetic clips (see answer_confidence.cpp).
+#include <cstdint>
 
 namespace gt::eyetrack {
 
@@ -30,6 +31,10 @@ struct AnswerEvidence {
     double contrast = 0.0;       // outside minus inside level over the frame's noise sigma
     double semiMajor = 0.0;      // px
     // What the history adds (the defaults: none).
+    // Frames the detector saw since it was last reset, before this one (0: a first frame). Seen
+    // frames that taught it nothing are history too: a pupil that was not found confidently
+    // for a while is less likely to be right now.
+    std::uint64_t earlierFrames = 0;
     // The axis ratio over the eye's own whole-pupil ratio, at most 1 (0: not learnt).
     double eyeAxisRatio = 0.0;
     double sizeFactor = 1.0; // the size prior's factor (1 without a prior)
@@ -46,7 +51,7 @@ struct AnswerEvidence {
     double levelExcess = 0.0;
 };
 
-// Whether e carries any history (a last answer, a learnt size, level or eye shape).
+// Whether e carries any history (earlier frames, a last answer, a learnt size, level or shape).
 [[nodiscard]] bool hasHistory(const AnswerEvidence& e);
 // The logit of the frame's own evidence alone (what a frame without history is judged on).
 [[nodiscard]] double frameLogit(const AnswerEvidence& e);

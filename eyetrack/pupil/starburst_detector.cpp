@@ -394,10 +394,10 @@ PupilResult StarburstDetector::report(const Pick& pick) {
     // The frame's own evidence first (all a first frame has): the product without the size
     // prior's factor and with the shape judged on the configured ramp, not the eye's own.
     const double eyeRatio = mPriors.eyeRatio;
-    const double frameProduct =
-        picked->shapeFactor > 0.0 ? best.confidence / std::max(1e-12, picked->sizeFactor) *
-                                        ownShapeFactor(picked->axisRatio) / picked->shapeFactor
-                                  : 0.0;
+    const double frameProduct = picked->shapeFactor > 0.0
+                                    ? best.confidence / std::max(1e-12, picked->sizeFactor) *
+                                          ownShapeFactor(picked->axisRatio) / picked->shapeFactor
+                                    : 0.0;
     mEvidence = AnswerEvidence{
         .confidence = frameProduct,
         .visibleSupport = picked->visibleSupport,
@@ -410,6 +410,7 @@ PupilResult StarburstDetector::report(const Pick& pick) {
                         ? std::max(0.0, picked->outside - picked->interior) / std::max(1.0, mNoise)
                         : 0.0,
         .semiMajor = best.semiMajor(),
+        .earlierFrames = mFramesSinceReset - 1,
         .eyeAxisRatio = eyeRatio > 0.0 ? std::min(1.0, picked->axisRatio / eyeRatio) : 0.0,
         .sizeFactor = picked->sizeFactor,
         .rankedConfidence = best.confidence,
@@ -453,6 +454,7 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     if (grey.empty() || grey.type() != CV_8UC1)
         throw EyetrackError("pupil detector: expected an 8-bit greyscale image");
     ++mFrame;
+    ++mFramesSinceReset;
     mBlobsRefined = 0;
     const double side = std::min(grey.rows, grey.cols);
     const Frame frame{.grey = grey,

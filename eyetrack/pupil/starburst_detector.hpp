@@ -109,6 +109,7 @@ public:
         mLast = {};
         mEvidence = {};
         mPriors.reset();
+        mFramesSinceReset = 0;
     }
     [[nodiscard]] std::string name() const override { return "starburst"; }
     // How many blobs the last detect() refined (cast rays from and fitted): 1 in a frame where
@@ -197,7 +198,8 @@ private:
     starburst::CandidateSearch mSearch;
     starburst::EdgeRays mRays;
     starburst::PupilPriors mPriors;
-    std::uint64_t mFrame = 0;
+    std::uint64_t mFrame = 0; // frames ever seen (the RANSAC seeds follow it, reset or not)
+    std::uint64_t mFramesSinceReset = 0;
     int mBlobsRefined = 0;
     PupilResult mLast;
     AnswerEvidence mEvidence;
