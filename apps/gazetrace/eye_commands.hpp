@@ -49,6 +49,9 @@ struct TrackOptions {
     std::string sourceLeft, sourceRight, regions;
     std::string truthRight; // the right eye's truth (--truth is the left's)
     double ipdMm = 63.0;
+    // The detector's history (last pupil, learnt size and shape) forgotten before every frame:
+    // each frame judged as a single image, as a recording's first frame is.
+    bool cold = false;
 };
 
 struct EyescoreOptions {
@@ -63,6 +66,7 @@ struct EyescoreOptions {
     std::string missesSheet; // contact sheet (PNG) of every sheetEvery-th of those frames
     std::string answers;     // CSV of every answer with the evidence its confidence came from
     int sheetEvery = 20;
+    bool cold = false; // the detector's history forgotten before every frame (TrackOptions::cold)
 };
 
 struct CalibrateOptions {

@@ -30,12 +30,14 @@ void writeAnswerRow(std::ostream& s, std::uint64_t seed, std::size_t frame,
                     const eyetrack::EyeTruth& truth, const eyetrack::DetectionRecord& r,
                     const eyetrack::PupilResult& p, const eyetrack::AnswerEvidence& e,
                     double radiusPx) {
-    s << cv::format("%llu,%zu,%.3f,%.3f,%d,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%d,%.5f,%.5f,%.3f,%.3f,%."
-                    "4f\n",
+    s << cv::format("%llu,%zu,%.3f,%.3f,%d,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.3f,%.3f,%.5f,"
+                    "%.5f,%d,%.3f,%.4f,%.5f,%.5f,%.5f,%.5f,%llu\n",
                     static_cast<unsigned long long>(seed), frame, truth.visibility, r.errorPx,
                     eyetrack::isRight(r, radiusPx) ? 1 : 0, p.confidence, e.confidence,
-                    e.visibleSupport, e.fill, e.axisRatio, e.sizeFactor, e.sizeKnown ? 1 : 0,
-                    e.score, e.rivalScore, e.lastDistance, e.semiMajor, e.levelExcess);
+                    e.visibleSupport, e.fill, e.axisRatio, e.score, e.rivalScore, e.inlierShare,
+                    e.contrast, e.semiMajor, e.eyeAxisRatio, e.sizeFactor, e.sizeKnown ? 1 : 0,
+                    e.lastDistance, e.levelExcess, e.supportAll, e.rankedConfidence, e.rankedScore,
+                    e.rankedRivalScore, static_cast<unsigned long long>(e.earlierFrames));
 }
 
 // One row of --misses: the truth beside what was found.
@@ -126,8 +128,10 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
     if (!o.answers.empty()) {
         answers = std::make_unique<eyetrack::AtomicFile>(o.answers);
         answers->stream() << "seed,frame,visibility,error_px,right,confidence,product,"
-                             "visible_support,fill,axis_ratio,size_factor,size_known,score,"
-                             "rival_score,last_distance,semi_major,level_excess\n";
+                             "visible_support,fill,axis_ratio,score,rival_score,inlier_share,"
+                             "contrast,semi_major,eye_axis_ratio,size_factor,size_known,"
+                             "last_distance,level_excess,support_all,ranked_product,"
+                             "ranked_score,ranked_rival_score,earlier_frames\n";
     }
     std::optional<eyetrack::ContactSheet> sheet;
     if (!o.missesSheet.empty()) {
@@ -160,6 +164,9 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
             answers ? dynamic_cast<const eyetrack::StarburstDetector*>(detector.get()) : nullptr;
         std::vector<eyetrack::AnswerEvidence> evidence;
         for (const cv::Mat& img : images) {
+            if (o.cold) {
+                detector->reset();
+            }
             results.push_back(detector->detect(img));
             if (starburst != nullptr) {
                 evidence.push_back(starburst->lastEvidence());
@@ -210,7 +217,11 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
     if (sheet && sheet->tiles() > 0) {
         sheet->write();
     }
-    return eyescoreSummary(o, all, threshold, fps, perSeed);
+    nlohmann::json summary = eyescoreSummary(o, all, threshold, fps, perSeed);
+    if (o.cold) {
+        summary["cold"] = true;
+    }
+    return summary;
 }
 
 } // namespace gt::app

@@ -86,9 +86,10 @@ public:
                         pipeline.mapper()->display().angularDistanceDeg(*step.screen, target));
             }
         }
+        const bool certain = !mTruth.hasDoubtful || truth.number(row, "doubtful") == 0.0;
+        addRecord(truth, row, p, certain);
         if (truth.number(row, "visibility") >= eyetrack::kVisibleShare) {
             ++mVisible;
-            const bool certain = !mTruth.hasDoubtful || truth.number(row, "doubtful") == 0.0;
             if (certain) ++mCertainVisible;
             if (p.found) {
                 const double e = std::hypot(p.centre().x - truth.number(row, "cx"),
@@ -111,6 +112,20 @@ public:
             j["detection_rate_5px_certain"] =
                 mCertainVisible ? static_cast<double>(mCertainWithin5) / mCertainVisible : 0.0;
         }
+        // The gaze filter's gate on the labelled frames' answers, as eyescore reports it.
+        const double gate = eyetrack::GazeFilterConfig{}.minConfidence;
+        const eyetrack::ThresholdRates rates = eyetrack::ratesAt(mRecords, gate);
+        const eyetrack::DetectionScore s = eyetrack::scoreDetections(mRecords);
+        j["threshold"] = gate;
+        j["right_answers"] = s.right;
+        j["wrong_answers"] = s.wrong;
+        j["wrong_rejected"] = rates.wrongRejected;
+        j["right_kept"] = rates.rightKept;
+        if (mTruth.hasDoubtful) {
+            const eyetrack::ThresholdRates certain = eyetrack::ratesAt(mCertainRecords, gate);
+            j["right_kept_certain"] = certain.rightKept;
+            j["wrong_rejected_certain"] = certain.wrongRejected;
+        }
         if (!mGazeErrors.empty()) {
             double sum = 0.0;
             for (const double e : mGazeErrors)
@@ -121,7 +136,22 @@ public:
     }
 
 private:
+    // The frame's answer against its label, for the gate's rates (detection_score.hpp).
+    void addRecord(const eyetrack::CsvTable& truth, std::size_t row, const eyetrack::PupilResult& p,
+                   bool certain) {
+        eyetrack::DetectionRecord r;
+        r.visible = truth.number(row, "visibility") >= eyetrack::kVisibleShare;
+        r.answered = p.confidence > 0.0;
+        r.errorPx = r.visible ? std::hypot(p.centre().x - truth.number(row, "cx"),
+                                           p.centre().y - truth.number(row, "cy"))
+                              : 0.0;
+        r.confidence = p.confidence;
+        mRecords.push_back(r);
+        if (certain) mCertainRecords.push_back(r);
+    }
+
     const TrackTruth& mTruth;
+    std::vector<eyetrack::DetectionRecord> mRecords, mCertainRecords;
     int mVisible = 0, mWithin5 = 0, mCertainVisible = 0, mCertainWithin5 = 0;
     cv::Point2d mLastTarget{-1e30, -1e30};
     double mTargetOnsetMs = 0.0;
@@ -151,8 +181,10 @@ double latencyMs(const eyetrack::FrameSource& source, const eyetrack::Frame& fra
 } // namespace
 
 nlohmann::json runTrack(const TrackOptions& o) {
-    if (!o.sourceLeft.empty() || !o.sourceRight.empty() || !o.regions.empty())
+    if (!o.sourceLeft.empty() || !o.sourceRight.empty() || !o.regions.empty()) {
+        if (o.cold) throw ArgumentError("--cold scores one eye's detector (--source alone)");
         return runTrackBinocular(o);
+    }
     if (!o.truthRight.empty()) throw ArgumentError("--truth-right is for two eyes");
     cv::setNumThreads(1); // the detector's budget is one core
     if (!o.out.empty() && o.calibration.empty())
@@ -210,6 +242,7 @@ nlohmann::json runTrack(const TrackOptions& o) {
         auto frame = pipeline.grab();
         if (!frame) break;
         const auto begin = std::chrono::steady_clock::now();
+        if (o.cold) pipeline.detector().reset();
         const eyetrack::EyeStep step = pipeline.process(*frame);
         const eyetrack::PupilResult& p = step.pupil;
         ++frames;
@@ -251,6 +284,7 @@ nlohmann::json runTrack(const TrackOptions& o) {
         j["model"] = o.model;
     }
     j["detector"] = pipeline.detector().name();
+    if (o.cold) j["cold"] = true;
     if (sheet) j["contact_sheet_tiles"] = sheet->tiles();
     if (const auto last = mailbox.latest()) j["last_gaze"] = {last->x, last->y};
     return j;

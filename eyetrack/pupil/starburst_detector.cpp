@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <optional>
+#include <span>
 
 #include <opencv2/imgproc.hpp>
 
@@ -22,6 +23,20 @@ namespace {
 // A candidate at least this many times the smallest pupil radius is iris-sized: when it yields no
 // fit, the pupil is looked for inside it.
 constexpr double kIrisSized = 3.0;
+
+// The share of the edge points within 1 px (Sampson distance) of ellipse e: the fit's residual
+// as a frame's own evidence. A pupil's rays end on its outline nearly all round; a lash loop's
+// or a shadow's scatter. The refits place some fits from fewer points (a lid line dropped, a
+// limbus), so it is measured on the final ellipse rather than taken from RANSAC's consensus.
+double inlierShare(const cv::RotatedRect& e, std::span<const cv::Point2d> points) {
+    if (points.empty()) {
+        return 0.0;
+    }
+    const Conic q = Conic::fromEllipse(e);
+    const auto on = std::count_if(points.begin(), points.end(),
+                                  [&](cv::Point2d p) { return q.sampsonDistance(p) <= 1.0; });
+    return static_cast<double>(on) / static_cast<double>(points.size());
+}
 
 } // namespace
 
@@ -125,6 +140,7 @@ StarburstDetector::Refined StarburstDetector::refine(const cv::Mat& grey, const 
     static_cast<starburst::FitEvidence&>(refined) =
         starburst::judgeFit(grey, refitted.fit.ellipse, lv, mConfig.flattestAxisRatio, round);
     refined.result.confidence = refined.confidence;
+    refined.inlierShare = inlierShare(refitted.fit.ellipse, mRays.points());
     return refined;
 }
 
@@ -153,7 +169,12 @@ void StarburstDetector::consider(const Frame& frame, const Candidate& c, double 
         cv::norm(r.centre() - mLast.centre()) < std::max(5.0, 0.5 * mLast.semiMajor()))
         score *= 1.2;
     if (score > 0.0) {
-        mScored.push_back({refined, score, consistency, sizeFactor});
+        // The same score from the frame alone: no size prior, no last pupil, the shape judged on
+        // the configured ramp rather than the one this eye's pupils taught.
+        const double ownShape = ownShapeFactor(refined.axisRatio);
+        const double frameScore = refined.visibleSupport * refined.quality * std::sqrt(ownShape) *
+                                  (0.6 + 0.4 * std::min(1.0, r.semiMinor() / (0.06 * frame.side)));
+        mScored.push_back({refined, score, consistency, sizeFactor, frameScore});
     }
 }
 
@@ -370,22 +391,37 @@ PupilResult StarburstDetector::report(const Pick& pick) {
     // What is reported is the probability that the answer is right (answer_confidence.hpp); the
     // detector's own product of factors stays what its priors and the next frame's search go by
     // (they were designed on its scale).
+    // The frame's own evidence first (all a first frame has): the product without the size
+    // prior's factor and with the shape judged on the configured ramp, not the eye's own.
     const double eyeRatio = mPriors.eyeRatio;
-    mEvidence =
-        AnswerEvidence{.confidence = best.confidence,
-                       .visibleSupport = picked->visibleSupport,
-                       .fill = picked->fill,
-                       .axisRatio = eyeRatio > 0.0 ? std::min(1.0, picked->axisRatio / eyeRatio)
-                                                   : picked->axisRatio,
-                       .sizeFactor = picked->sizeFactor,
-                       .sizeKnown = mPriors.recentRadius > 0.0,
-                       .score = picked->score,
-                       .semiMajor = best.semiMajor()};
+    const double frameProduct = picked->shapeFactor > 0.0
+                                    ? best.confidence / std::max(1e-12, picked->sizeFactor) *
+                                          ownShapeFactor(picked->axisRatio) / picked->shapeFactor
+                                    : 0.0;
+    mEvidence = AnswerEvidence{
+        .confidence = frameProduct,
+        .visibleSupport = picked->visibleSupport,
+        .supportAll = picked->supportAll,
+        .fill = picked->fill,
+        .axisRatio = picked->axisRatio,
+        .score = picked->frameScore,
+        .inlierShare = picked->inlierShare,
+        .contrast = picked->outside >= 0.0
+                        ? std::max(0.0, picked->outside - picked->interior) / std::max(1.0, mNoise)
+                        : 0.0,
+        .semiMajor = best.semiMajor(),
+        .earlierFrames = mFramesSinceReset - 1,
+        .eyeAxisRatio = eyeRatio > 0.0 ? std::min(1.0, picked->axisRatio / eyeRatio) : 0.0,
+        .sizeFactor = picked->sizeFactor,
+        .rankedConfidence = best.confidence,
+        .rankedScore = picked->score,
+        .sizeKnown = mPriors.recentRadius > 0.0};
     // A rival: the best candidate at another place (not the same blob found twice).
     for (const Scored& s : mScored) {
         if (&s != picked &&
             cv::norm(s.result.centre() - best.centre()) >= std::max(5.0, 0.5 * best.semiMajor())) {
-            mEvidence.rivalScore = std::max(mEvidence.rivalScore, s.score);
+            mEvidence.rivalScore = std::max(mEvidence.rivalScore, s.frameScore);
+            mEvidence.rankedRivalScore = std::max(mEvidence.rankedRivalScore, s.score);
         }
     }
     if (mLast.found) {
@@ -418,6 +454,7 @@ PupilResult StarburstDetector::detect(const cv::Mat& grey, double /*tMs*/) {
     if (grey.empty() || grey.type() != CV_8UC1)
         throw EyetrackError("pupil detector: expected an 8-bit greyscale image");
     ++mFrame;
+    ++mFramesSinceReset;
     mBlobsRefined = 0;
     const double side = std::min(grey.rows, grey.cols);
     const Frame frame{.grey = grey,

@@ -35,6 +35,7 @@
 #include "pupil/edge_rays.hpp"
 #include "pupil/ellipse_fit.hpp"
 #include "pupil/fit_confidence.hpp"
+#include "pupil/image_sampling.hpp"
 #include "pupil/pupil_detector.hpp"
 #include "pupil/pupil_priors.hpp"
 
@@ -108,6 +109,7 @@ public:
         mLast = {};
         mEvidence = {};
         mPriors.reset();
+        mFramesSinceReset = 0;
     }
     [[nodiscard]] std::string name() const override { return "starburst"; }
     // How many blobs the last detect() refined (cast rays from and fitted): 1 in a frame where
@@ -125,12 +127,14 @@ private:
     struct Refined : starburst::FitEvidence {
         PupilResult result;
         double fittedSemiMajor = 0.0; // before refits held to the recent size: the edges' choice
+        double inlierShare = 0.0; // the second ray pass's edge points within inlierDistance of it
     };
     // A refined candidate and how it was ranked.
     struct Scored : Refined {
         double score = 0.0;
         double consistency = 1.0; // the size prior's factor in score and confidence
         double sizeFactor = 1.0;  // the size prior's factor in the confidence alone
+        double frameScore = 0.0;  // the score without its history factors (size, last pupil)
     };
     // What detect() knows of the frame it works on.
     struct Frame {
@@ -180,6 +184,12 @@ private:
                                  double surroundHint = 0.0);
     [[nodiscard]] std::optional<FirstPass> firstPass(const cv::Mat& grey, const Candidate& c,
                                                      double minR, double maxR, double surroundHint);
+    // The axis-ratio ramp's factor on the configured ramp (StarburstConfig::flattestAxisRatio,
+    // roundAxisRatio), without what this eye's pupils have taught: the shape as a single image
+    // shows it.
+    [[nodiscard]] double ownShapeFactor(double axisRatio) const {
+        return starburst::smoothstep(mConfig.flattestAxisRatio, mConfig.roundAxisRatio, axisRatio);
+    }
     [[nodiscard]] starburst::RayImage rayImage() const {
         return {mSmooth, mSmoothRange, mFullIntegral};
     }
@@ -188,7 +198,8 @@ private:
     starburst::CandidateSearch mSearch;
     starburst::EdgeRays mRays;
     starburst::PupilPriors mPriors;
-    std::uint64_t mFrame = 0;
+    std::uint64_t mFrame = 0; // frames ever seen (the RANSAC seeds follow it, reset or not)
+    std::uint64_t mFramesSinceReset = 0;
     int mBlobsRefined = 0;
     PupilResult mLast;
     AnswerEvidence mEvidence;

@@ -158,6 +158,20 @@ TEST(EyeCli, EyescoreReportsTheIssuesNumbers) {
     EXPECT_EQ(nlohmann::json::parse(blob.out).at("detector"), "blob");
 }
 
+TEST(EyeCli, ColdScoringJudgesEveryFrameAsAFirstFrame) {
+    // --cold forgets the detector's history before every frame: clean pupils are still found and
+    // trusted on their own evidence.
+    const Result r = run("eyescore --preset clean --seeds 2 --frames 20 --cold --json");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j.at("cold"), true);
+    EXPECT_EQ(j.at("detection_rate").get<double>(), 1.0);
+    EXPECT_EQ(j.at("right_kept").get<double>(), 1.0);
+    const Result track = run("track --source synthetic:2 --max-frames 5 --cold --json");
+    ASSERT_EQ(track.status, 0) << track.err;
+    EXPECT_EQ(nlohmann::json::parse(track.out).at("cold"), true);
+}
+
 TEST(EyeCli, EyesimReportsWhatTheSeedDrew) {
     // The wild preset draws its variations per seed; the JSON summary says which, so a clip that
     // scores badly can be told apart by what it shows.
@@ -197,6 +211,9 @@ TEST(EyeCli, BadInputsAreOneLine) {
         run("track --source synthetic:1 --regions 0,0,10 --calibration " + none.string()),
         "--regions", none);
     expectCleanFailure(run("track --source-left synthetic:1"), "--source-right", none);
+    expectCleanFailure(run("track --source synthetic:1 --regions \"0,0,160,240;160,0,160,240\" "
+                           "--cold"),
+                       "--cold", none);
     expectCleanFailure(run("eyesim --eye both --out " + (dir / "x.mkv").string() + " --truth " +
                            (dir / "x.csv").string()),
                        "--truth-right", dir / "x.mkv");

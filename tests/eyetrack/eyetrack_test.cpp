@@ -683,33 +683,53 @@ TEST(PupilDetector, AnArcTheLidLeavesOpenIsFittedAtTheEyesShape) {
 }
 
 TEST(AnswerConfidence, WeighsWhatTheProductLeavesOut) {
-    const AnswerEvidence right{.confidence = 0.9,
+    // A clear pupil's frame evidence, as a single image shows it: no history, nothing added.
+    const AnswerEvidence frame{.confidence = 0.9,
                                .visibleSupport = 0.95,
+                               .supportAll = 0.95,
                                .fill = 0.95,
                                .axisRatio = 0.9,
-                               .sizeKnown = true,
                                .score = 0.9,
-                               .lastDistance = 0.5,
+                               .inlierShare = 0.9,
+                               .contrast = 20.0,
                                .semiMajor = 20.0};
-    const double p = answerProbability(right);
-    EXPECT_GT(p, 0.9);
-    EXPECT_LT(p, 1.0);
-    AnswerEvidence none = right;
+    EXPECT_FALSE(hasHistory(frame));
+    EXPECT_EQ(historyLogit(frame), 0.0);
+    const double alone = answerProbability(frame);
+    EXPECT_GT(alone, GazeFilterConfig{}.minConfidence);
+    EXPECT_LT(alone, 1.0);
+    AnswerEvidence none = frame;
     none.confidence = 0.0;
     EXPECT_EQ(answerProbability(none), 0.0);
-    // Each of these makes the answer less likely to be right.
-    AnswerEvidence rival = right;
-    rival.rivalScore = right.score;
-    EXPECT_LT(answerProbability(rival), p);
+    // Each of these makes a single image's answer less likely to be right.
+    AnswerEvidence rival = frame;
+    rival.rivalScore = frame.score;
+    EXPECT_LT(answerProbability(rival), alone);
+    AnswerEvidence scattered = frame;
+    scattered.inlierShare = 0.4;
+    EXPECT_LT(answerProbability(scattered), alone);
+    AnswerEvidence flat = frame;
+    flat.axisRatio = 0.5;
+    EXPECT_LT(answerProbability(flat), alone);
+    AnswerEvidence covered = frame;
+    covered.visibleSupport = 0.5;
+    EXPECT_LT(answerProbability(covered), alone);
+    // The same answer with a history that agrees (it continues the last answer, a size is
+    // known and fits) stays above the gate; history that disagrees adds doubt.
+    AnswerEvidence right = frame;
+    right.rankedConfidence = frame.confidence;
+    right.rankedScore = frame.score;
+    right.sizeKnown = true;
+    right.lastDistance = 0.5;
+    ASSERT_TRUE(hasHistory(right));
+    const double p = answerProbability(right);
+    EXPECT_GT(p, GazeFilterConfig{}.minConfidence);
     AnswerEvidence jumped = right;
     jumped.lastDistance = 60.0;
     EXPECT_LT(answerProbability(jumped), p);
-    AnswerEvidence flat = right;
-    flat.axisRatio = 0.5;
-    EXPECT_LT(answerProbability(flat), p);
-    AnswerEvidence covered = right;
-    covered.visibleSupport = 0.5;
-    EXPECT_LT(answerProbability(covered), p);
+    AnswerEvidence resized = right;
+    resized.sizeFactor = 0.3;
+    EXPECT_LT(answerProbability(resized), p);
     AnswerEvidence brighter = right;
     brighter.levelExcess = 0.5;
     EXPECT_LT(answerProbability(brighter), p);
@@ -722,9 +742,76 @@ TEST(AnswerConfidence, WeighsWhatTheProductLeavesOut) {
                               .axisRatio = 0.686,
                               .score = 0.905,
                               .rivalScore = 0.155,
-                              .lastDistance = 1.24,
-                              .semiMajor = 10.29};
+                              .semiMajor = 10.29,
+                              .rankedConfidence = 0.765,
+                              .rankedScore = 0.905,
+                              .rankedRivalScore = 0.155,
+                              .lastDistance = 1.24};
     EXPECT_LT(answerProbability(loop), GazeFilterConfig{}.minConfidence);
+}
+
+// A single eye image: a pupil of semi-axes a x b (px) turned by `angleDeg`, centred at `centre`,
+// in an iris on skin, its edges anti-aliased and softened as optics do, under sensor noise.
+cv::Mat singleEyeImage(cv::Point2d centre, double a, double b, double angleDeg) {
+    cv::Mat img(240, 320, CV_8U, cv::Scalar(170));
+    const auto at = [](cv::Point2d p) { return cv::Point(cvRound(p.x * 16), cvRound(p.y * 16)); };
+    cv::ellipse(img, at(centre), cv::Size(55 * 16, 50 * 16), 0, 0, 360, cv::Scalar(100), cv::FILLED,
+                cv::LINE_AA, 4);
+    cv::ellipse(img, at(centre), cv::Size(cvRound(a * 16), cvRound(b * 16)), angleDeg, 0, 360,
+                cv::Scalar(25), cv::FILLED, cv::LINE_AA, 4);
+    cv::GaussianBlur(img, img, cv::Size(3, 3), 0.6);
+    cv::Mat noise(img.size(), CV_16S);
+    cv::RNG rng(7);
+    rng.fill(noise, cv::RNG::NORMAL, 0, 3);
+    cv::Mat out;
+    cv::add(img, noise, out, cv::noArray(), CV_8U);
+    return out;
+}
+
+// A pupil in plain view needs no history to be trusted: the first frame of a recording, the
+// frame after a blink or a lost track and every frame of a set of still images are judged on
+// what they show. Each of these clear pupils, seen from the side (axis ratio 0.6-0.7) or small,
+// was found within a pixel but fell under the gaze filter's gate until a second frame had
+// taught the detector the pupil's size and shape.
+TEST(PupilDetector, AClearPupilIsTrustedWithoutHistory) {
+    const double gate = GazeFilterConfig{}.minConfidence;
+    const cv::Point2d centre(158.3, 121.7);
+    struct Pupil {
+        double a, b, angleDeg;
+    };
+    for (const Pupil& p :
+         {Pupil{22.0, 13.2, 0.0}, Pupil{22.0, 13.2, 90.0}, Pupil{18.0, 12.0, 45.0},
+          Pupil{12.0, 8.2, 20.0}, Pupil{26.0, 16.0, 110.0}, Pupil{20.0, 19.0, 0.0}}) {
+        SCOPED_TRACE(testing::Message() << p.a << " x " << p.b << " px");
+        const cv::Mat img = singleEyeImage(centre, p.a, p.b, p.angleDeg);
+        StarburstDetector det;
+        const PupilResult first = det.detect(img);
+        ASSERT_TRUE(first.found);
+        EXPECT_LT(cv::norm(first.centre() - centre), 1.0);
+        EXPECT_GE(first.confidence, gate);
+        // Forgotten history (reset) is a first frame again.
+        (void)det.detect(img);
+        det.reset();
+        EXPECT_NEAR(det.detect(img).confidence, first.confidence, 1e-9);
+    }
+}
+
+// ... while a frame without a pupil stays under the gate without history to doubt it.
+TEST(PupilDetector, NoPupilIsNotTrustedWithoutHistory) {
+    const double gate = GazeFilterConfig{}.minConfidence;
+    const cv::Mat blank(240, 320, CV_8U, cv::Scalar(128));
+    cv::Mat noise(240, 320, CV_8U);
+    cv::RNG rng(11);
+    rng.fill(noise, cv::RNG::NORMAL, 128, 25);
+    cv::Mat speckle(240, 320, CV_8U);
+    rng.fill(speckle, cv::RNG::UNIFORM, 0, 256);
+    cv::Mat smoothNoise;
+    cv::GaussianBlur(noise, smoothNoise, cv::Size(0, 0), 4.0);
+    cv::normalize(smoothNoise, smoothNoise, 0, 255, cv::NORM_MINMAX);
+    for (const cv::Mat& img : {blank, noise, speckle, smoothNoise}) {
+        StarburstDetector det;
+        EXPECT_LT(det.detect(img).confidence, gate);
+    }
 }
 
 TEST(PupilDetector, CleanSyntheticClip) {

@@ -44,6 +44,8 @@ public:
                              "(scripts/fit_answer_confidence.py)");
         mCommand->add_option("--sheet-every", mOptions.sheetEvery, "Misses between sheet tiles")
             ->capture_default_str();
+        mCommand->add_flag("--cold", mOptions.cold,
+                           "Forget the detector's history before every frame (single images)");
         mCommand->add_flag("--json", mJson, "Print JSON on one line");
     }
 

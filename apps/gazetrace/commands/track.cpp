@@ -61,6 +61,8 @@ public:
         mCommand->add_option("--focal", mOptions.camera.focal, "Eye camera focal length, pixels");
         mCommand->add_option("--principal", mOptions.camera.principal,
                              "Eye camera principal point X,Y");
+        mCommand->add_flag("--cold", mOptions.cold,
+                           "Forget the detector's history before every frame (single images)");
         mCommand->add_flag("--json", mJson, "Print a JSON summary on stdout");
     }
 
