@@ -16,8 +16,9 @@ without --cold), then
         [--test-cold tc.csv ...] [--test-warm tw.csv ...]
 
 prints the constants for answer_confidence.cpp and the ROC areas and gate rates of the fitted
-probability, on the training answers and on others. Newton's method with a small ridge; only the
-Python standard library.
+probability, on the training answers and on others. The frame part's bias is then set on held-out
+answers as answer_confidence.cpp says, not taken from the fit. Newton's method with a small ridge;
+only the Python standard library.
 """
 import argparse
 import csv

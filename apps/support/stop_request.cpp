@@ -39,8 +39,13 @@ std::string signalName(int signal) {
 } // namespace
 
 void installStopHandlers() {
-    setDisposition(SIGINT, onStopSignal);
-    setDisposition(SIGTERM, onStopSignal);
+    for (const int signal : {SIGINT, SIGTERM}) {
+        // A signal ignored on entry stays ignored: a shell starts background jobs with SIGINT
+        // ignored, so that Ctrl-C at the terminal does not reach them, and nohup does the same.
+        struct sigaction now {};
+        if (sigaction(signal, nullptr, &now) == 0 && now.sa_handler == SIG_IGN) continue;
+        setDisposition(signal, onStopSignal);
+    }
 }
 
 int stopSignal() noexcept {

@@ -10,7 +10,8 @@
 
 namespace gt::app {
 
-// Installs the SIGINT and SIGTERM handlers (once, from main).
+// Installs the SIGINT and SIGTERM handlers (once, from main); a signal ignored on entry (a
+// background job's SIGINT) stays ignored.
 void installStopHandlers();
 
 // The signal that asked to stop (SIGINT, SIGTERM), or 0 while none has.

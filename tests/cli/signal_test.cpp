@@ -52,7 +52,18 @@ public:
                                          0644);
         posix_spawn_file_actions_addopen(&files, 2, mErr.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
                                          0644);
-        const int rc = posix_spawnp(&mPid, raw[0], &files, nullptr, raw.data(), environ);
+        // SIGINT and SIGTERM as a terminal delivers them, even when this test runs as a
+        // background job (which a shell starts with SIGINT ignored, and gazetrace keeps so).
+        posix_spawnattr_t attributes;
+        posix_spawnattr_init(&attributes);
+        sigset_t defaults;
+        sigemptyset(&defaults);
+        sigaddset(&defaults, SIGINT);
+        sigaddset(&defaults, SIGTERM);
+        posix_spawnattr_setsigdefault(&attributes, &defaults);
+        posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF);
+        const int rc = posix_spawnp(&mPid, raw[0], &files, &attributes, raw.data(), environ);
+        posix_spawnattr_destroy(&attributes);
         posix_spawn_file_actions_destroy(&files);
         if (rc != 0) ADD_FAILURE() << "cannot start " << raw[0] << ": " << rc;
         if (rc != 0) mPid = -1;

@@ -173,6 +173,21 @@ TEST(StopRequest, TheFirstSignalIsRecordedAndTheSecondGetsTheDefaultAction) {
     EXPECT_THROW((void)gt::app::liveRunEnds(false), Interrupted);
 }
 
+TEST(StopRequest, ASignalIgnoredOnEntryStaysIgnored) {
+    const StopRequestReset reset;
+    struct sigaction ignore {
+    }, now{};
+    ignore.sa_handler = SIG_IGN;
+    ASSERT_EQ(sigaction(SIGTERM, &ignore, nullptr), 0);
+    gt::app::installStopHandlers();
+    ASSERT_EQ(sigaction(SIGTERM, nullptr, &now), 0);
+    EXPECT_EQ(now.sa_handler, SIG_IGN);
+    ASSERT_EQ(std::raise(SIGTERM), 0);
+    EXPECT_FALSE(gt::app::stopRequested());
+    for (const int signal : {SIGINT, SIGTERM})
+        std::signal(signal, SIG_DFL);
+}
+
 TEST(FrameLoop, WithoutAStepTheClockIsTheWallClock) {
     const auto start = FrameClock::Clock::now() - std::chrono::milliseconds(50);
     const FrameClock clock(0.0, start);
