@@ -7,8 +7,10 @@
 #include <CLI/CLI.hpp>
 
 #include "commands/command.hpp"
+#include "commands/shared_options.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "vulkan_failure.hpp"
 
 namespace {
 
@@ -29,6 +31,7 @@ int main(int argc, char** argv) {
     for (const auto& command : commands) {
         command->registerOptions(app);
     }
+    gt::app::addNumberChecks(app);
 
     try {
         app.parse(argc, argv);
@@ -46,6 +49,8 @@ int main(int argc, char** argv) {
         for (const auto& command : commands) {
             if (command->given()) status = command->run();
         }
+    } catch (const gt::VulkanError& e) {
+        return fail(gt::app::vulkanFailureMessage(e));
     } catch (const gt::Error& e) {
         return fail(e.what());
     } catch (const std::exception& e) {

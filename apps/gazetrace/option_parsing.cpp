@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -65,6 +66,22 @@ double parseSlope(const std::string& text) {
     return v;
 }
 
+std::string finiteNumberProblem(const std::string& text) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size()) return "'" + text + "' is not a number";
+    if (!std::isfinite(v)) return "'" + text + "' is not a finite number";
+    return "";
+}
+
+std::string nonNegativeIntegerProblem(const std::string& text) {
+    const auto first = text.find_first_not_of(" \t");
+    if (first != std::string::npos && text[first] == '-') {
+        return "'" + text + "' is negative (expected 0 or more)";
+    }
+    return "";
+}
+
 render::PresentMode parsePresentMode(const std::string& name) {
     if (name == "fifo") return render::PresentMode::Fifo;
     if (name == "mailbox") return render::PresentMode::Mailbox;
@@ -125,11 +142,21 @@ double limitFromEnv(const char* name, double fallback) {
 
 vk::DeviceRequest parseDeviceRequest(const std::string& text) {
     vk::DeviceRequest r;
-    const bool numeric = !text.empty() && text.size() < 10 &&
-                         std::all_of(text.begin(), text.end(),
-                                     [](unsigned char ch) { return std::isdigit(ch) != 0; });
-    if (numeric) {
-        r.index = std::stoul(text);
+    const auto isDigit = [](unsigned char ch) { return std::isdigit(ch) != 0; };
+    const bool numeric = !text.empty() && std::all_of(text.begin(), text.end(), isDigit);
+    const bool negative =
+        text.size() > 1 && text[0] == '-' && std::all_of(text.begin() + 1, text.end(), isDigit);
+    if (numeric || negative) {
+        // Every digit is read: a long number is an index out of range, not part of a name.
+        std::size_t index = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), index);
+        if (negative || ec != std::errc() || end != text.data() + text.size() ||
+            index > kMaxDeviceIndex) {
+            throw ArgumentError("GAZETRACE_DEVICE=" + text + ": expected a device index 0.." +
+                                std::to_string(kMaxDeviceIndex) +
+                                " or part of a device's name (gazetrace devices lists them)");
+        }
+        r.index = index;
     } else {
         r.nameContains = text;
     }
