@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "core/error.hpp"
+#include "core/progress.hpp"
 
 namespace gt::foveation {
 
@@ -156,6 +157,8 @@ LayerPlan optimiseLayers(const LayerDisplay& display, const MarModel& mar, uint3
     std::vector<uint32_t> arg(layerCount - 1), cur(layerCount - 1);
     // Depth-first over every rising choice of radii on the grid: the plain brute force of
     // section 4.3 (no pruning: the outer layer's pixels fall as the inner radii grow).
+    // Four layers on a fine grid take minutes: the innermost radius's progress, once it does.
+    progress::Step step("optimising the layer radii", steps);
     auto search = [&](auto& self, std::size_t depth, uint32_t in, double sum) -> void {
         if (depth == layerCount - 1) {
             const double total = sum + outer(in);
@@ -168,6 +171,7 @@ LayerPlan optimiseLayers(const LayerDisplay& display, const MarModel& mar, uint3
         for (uint32_t k = in + 1; k + (layerCount - 2 - depth) < steps; ++k) {
             cur[depth] = k;
             self(self, depth + 1, k, sum + inner(depth, in, k));
+            if (depth == 0) (void)step.advance(); // the innermost radius: the top of the search
         }
     };
     search(search, 0, 0, 0.0);
