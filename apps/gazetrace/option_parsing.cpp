@@ -82,6 +82,22 @@ std::string nonNegativeIntegerProblem(const std::string& text) {
     return "";
 }
 
+std::optional<uint32_t> parseWholeNumber(const std::string& text) {
+    uint32_t v = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (text.empty() || ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+    return v;
+}
+
+std::optional<std::pair<uint32_t, uint32_t>> parseSizeText(const std::string& text) {
+    const auto x = text.find('x');
+    if (x == std::string::npos) return std::nullopt;
+    const auto w = parseWholeNumber(text.substr(0, x));
+    const auto h = parseWholeNumber(text.substr(x + 1));
+    if (!w || !h) return std::nullopt;
+    return std::pair{*w, *h};
+}
+
 render::PresentMode parsePresentMode(const std::string& name) {
     if (name == "fifo") return render::PresentMode::Fifo;
     if (name == "mailbox") return render::PresentMode::Mailbox;

@@ -3,7 +3,9 @@
 // settings (renderer/settings.hpp and the structs below): every string an option or variable
 // takes becomes an enum, a number or a struct here, and only here. A bad option value throws
 // ArgumentError naming the option and the values it takes.
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +33,10 @@ namespace gt::app {
 // 2^64 - 5 for a 64-bit unsigned option; its ranges let NaN through.
 [[nodiscard]] std::string finiteNumberProblem(const std::string& text);
 [[nodiscard]] std::string nonNegativeIntegerProblem(const std::string& text);
+// A whole number of digits only (no sign, no blanks), or nullopt: sscanf's %d and %u wrapped
+// 4294967328 to 32. "WxH" as two of them.
+[[nodiscard]] std::optional<uint32_t> parseWholeNumber(const std::string& text);
+[[nodiscard]] std::optional<std::pair<uint32_t, uint32_t>> parseSizeText(const std::string& text);
 // --present fifo | mailbox | immediate.
 [[nodiscard]] render::PresentMode parsePresentMode(const std::string& name);
 

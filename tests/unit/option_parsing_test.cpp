@@ -101,6 +101,17 @@ TEST(OptionParsing, NumericOptionsMustBeFiniteAndSeedsNotNegative) {
     EXPECT_EQ(nonNegativeIntegerProblem("42"), "");
 }
 
+// sscanf's %d read 4294967328 as 32: eyesim --size 4294967328x240 made a 32-pixel-wide clip.
+TEST(OptionParsing, SizesAreDigitsThatFit) {
+    EXPECT_EQ(parseSizeText("320x240"), (std::pair<uint32_t, uint32_t>{320, 240}));
+    for (const char* bad : {"4294967328x240", "320x-240", "-320x240", " 320x240", "320x", "x240",
+                            "320", "320x240x1", "3.5x240"}) {
+        EXPECT_FALSE(parseSizeText(bad).has_value()) << bad;
+    }
+    EXPECT_EQ(parseWholeNumber("4294967295"), 4294967295u);
+    EXPECT_FALSE(parseWholeNumber("4294967296").has_value());
+}
+
 // Out of memory and a lost device say what to try; other failures stay as they were.
 TEST(OptionParsing, VulkanFailuresSayWhatToTry) {
     const VulkanError oom(VK_ERROR_OUT_OF_DEVICE_MEMORY,
