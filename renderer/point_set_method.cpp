@@ -4,6 +4,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/progress.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "view.hpp"
 
@@ -18,7 +19,10 @@ double msSince(Clock::time_point t) {
 foveation::PointSet loadPointSet(const foveation::PointSetParams& params,
                                  const std::filesystem::path& cacheDir, double& ms) {
     const auto t = Clock::now();
-    foveation::CachedPointSet c = foveation::loadOrGenerate(cacheDir, params);
+    // Generating a set for a large display takes minutes; loading one from the cache does not.
+    progress::Step step("generating the point set", 1000);
+    foveation::CachedPointSet c =
+        foveation::loadOrGenerate(cacheDir, params, [&](double f) { (void)step.reach(f); });
     if (!c.warning.empty()) {
         log::warn(c.warning);
     }

@@ -283,13 +283,15 @@ struct ResizeAt {
 ResizeAt parseResize(const std::string& text) {
     ResizeAt r;
     if (text.empty()) return r;
-    unsigned f = 0, w = 0, h = 0;
-    char extra = 0;
-    if (std::sscanf(text.c_str(), "%u:%ux%u%c", &f, &w, &h, &extra) != 3 || w < 16 || h < 16 ||
-        w > 8192 || h > 8192) {
+    const auto colon = text.find(':');
+    const auto frame = parseWholeNumber(text.substr(0, colon));
+    const auto size =
+        colon == std::string::npos ? std::nullopt : parseSizeText(text.substr(colon + 1));
+    if (!frame || !size || size->first < 16 || size->second < 16 || size->first > 8192 ||
+        size->second > 8192) {
         throw ArgumentError("--resize: expected FRAME:WxH (16..8192), got '" + text + "'");
     }
-    return {true, f, {w, h}};
+    return {true, *frame, {size->first, size->second}};
 }
 
 // The window, its swapchain and overlay, the camera and the gaze of one demo run, and the frame

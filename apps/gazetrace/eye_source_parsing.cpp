@@ -2,7 +2,9 @@
 
 #include <arpa/inet.h>
 
+#include <charconv>
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "core/error.hpp"
@@ -10,6 +12,12 @@
 namespace gt::app {
 
 namespace {
+
+std::string describeRange(double lo, double hi) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.15g..%.15g", lo, hi);
+    return text;
+}
 
 // "key=value&key=value" into `options`; `spec` names the whole source in errors.
 void splitQuery(const std::string& spec, const std::string& query,
@@ -31,15 +39,34 @@ void splitQuery(const std::string& spec, const std::string& query,
     }
 }
 
-// A positive number, the whole of `value`; `where` and `key` name it in the error.
-double positiveNumber(const std::string& where, const std::string& key, const std::string& value) {
-    try {
-        std::size_t used = 0;
-        const double v = std::stod(value, &used);
-        if (used == value.size() && v > 0.0) return v;
-    } catch (const std::exception&) {
-    }
-    throw ArgumentError(where + ": option " + key + "=" + value + " is not a positive number");
+// The ranges a source's numeric options must lie in: the eye cameras gazetrace reads and the
+// clips eyesim renders (its --fps, --frames and --size take the same). Unbounded, fps=1e-300
+// made a synthetic clip's schedule span 1e303 ms, and a huge width reached the driver as-is.
+constexpr double kMinFps = 1.0;
+constexpr double kMaxV4l2Fps = 10000.0;
+constexpr double kMaxSyntheticFps = 2000.0;
+constexpr int kMaxV4l2Side = 8192;
+constexpr int kMaxSyntheticFrames = 1000000;
+constexpr int kMaxSyntheticSide = 4096;
+
+// A number in [lo, hi], the whole of `value`; `where` and `key` name it in the error.
+double numberIn(const std::string& where, const std::string& key, const std::string& value,
+                double lo, double hi) {
+    char* end = nullptr;
+    const double v = std::strtod(value.c_str(), &end);
+    if (!value.empty() && end == value.c_str() + value.size() && v >= lo && v <= hi) return v;
+    throw ArgumentError(where + ": option " + key + "=" + value + " is not a number in " +
+                        describeRange(lo, hi));
+}
+
+// A whole number in [lo, hi], the whole of `value`.
+int wholeNumberIn(const std::string& where, const std::string& key, const std::string& value,
+                  int lo, int hi) {
+    int v = 0;
+    const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+    if (ec == std::errc() && end == value.data() + value.size() && v >= lo && v <= hi) return v;
+    throw ArgumentError(where + ": option " + key + "=" + value + " is not a whole number in " +
+                        describeRange(lo, hi));
 }
 
 eyetrack::V4l2PixelFormat v4l2PixelFormat(const std::string& name) {
@@ -55,11 +82,11 @@ eyetrack::V4l2Config v4l2Config(const SourceSpec& s) {
     const std::string where = "v4l2:" + s.target;
     for (const auto& [key, value] : s.options) {
         if (key == "width")
-            c.width = static_cast<int>(positiveNumber(where, key, value));
+            c.width = wholeNumberIn(where, key, value, 1, kMaxV4l2Side);
         else if (key == "height")
-            c.height = static_cast<int>(positiveNumber(where, key, value));
+            c.height = wholeNumberIn(where, key, value, 1, kMaxV4l2Side);
         else if (key == "fps")
-            c.fps = positiveNumber(where, key, value);
+            c.fps = numberIn(where, key, value, kMinFps, kMaxV4l2Fps);
         else if (key == "format")
             c.format = v4l2PixelFormat(value);
         else
@@ -72,13 +99,11 @@ eyetrack::V4l2Config v4l2Config(const SourceSpec& s) {
 eyetrack::EyeSimConfig syntheticConfig(const SourceSpec& s) {
     eyetrack::EyeSimConfig c;
     const std::string where = "synthetic:" + s.target;
-    try {
-        std::size_t used = 0;
-        c.seed = std::stoull(s.target, &used);
-        if (used != s.target.size()) throw std::invalid_argument(s.target);
-    } catch (const std::exception&) {
-        throw ArgumentError(where + ": the seed must be a whole number");
-    }
+    // from_chars, unlike stoull, refuses "-1" (which wrapped to 2^64 - 1) and leading blanks.
+    const auto [end, ec] =
+        std::from_chars(s.target.data(), s.target.data() + s.target.size(), c.seed);
+    if (ec != std::errc() || end != s.target.data() + s.target.size())
+        throw ArgumentError(where + ": the seed must be a whole number, 0 or more");
     for (const auto& [key, value] : s.options) {
         if (key != "preset" && key != "frames" && key != "fps" && key != "size")
             throw ArgumentError(where + ": unknown option '" + key +
@@ -90,14 +115,15 @@ eyetrack::EyeSimConfig syntheticConfig(const SourceSpec& s) {
     };
     eyetrack::applyPreset(c, eyeSimPreset(option("preset") ? *option("preset") : "clean"));
     if (const auto* v = option("frames"))
-        c.frames = static_cast<int>(positiveNumber(where, "frames", *v));
-    if (const auto* v = option("fps")) c.fps = positiveNumber(where, "fps", *v);
+        c.frames = wholeNumberIn(where, "frames", *v, 1, kMaxSyntheticFrames);
+    if (const auto* v = option("fps"))
+        c.fps = numberIn(where, "fps", *v, kMinFps, kMaxSyntheticFps);
     if (const auto* v = option("size")) {
-        int w = 0, h = 0;
-        char x = 0;
-        if (std::sscanf(v->c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x' || w < 32 || h < 24)
-            throw ArgumentError(where + ": size=" + *v + " is not WxH (at least 32x24)");
-        c.size = {w, h};
+        const auto x = v->find('x');
+        if (x == std::string::npos)
+            throw ArgumentError(where + ": size=" + *v + " is not WxH (32x24 to 4096x4096)");
+        c.size = {wholeNumberIn(where, "size width", v->substr(0, x), 32, kMaxSyntheticSide),
+                  wholeNumberIn(where, "size height", v->substr(x + 1), 24, kMaxSyntheticSide)};
     }
     return c;
 }

@@ -11,6 +11,7 @@
 #include "eye_source_parsing.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/csv_tables.hpp"
+#include "option_parsing.hpp"
 #include "sim/synthetic_eye.hpp"
 #include "stop_request.hpp"
 
@@ -19,12 +20,10 @@ namespace gt::app {
 namespace {
 
 cv::Size parseSize(const std::string& s) {
-    int w = 0, h = 0;
-    char x = 0;
-    if (std::sscanf(s.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x' || w < 32 || h < 24 ||
-        w > 4096 || h > 4096)
+    const auto size = parseSizeText(s);
+    if (!size || size->first < 32 || size->second < 24 || size->first > 4096 || size->second > 4096)
         throw ArgumentError("--size " + s + ": expected WxH between 32x24 and 4096x4096");
-    return {w, h};
+    return {static_cast<int>(size->first), static_cast<int>(size->second)};
 }
 
 // The clip's configuration from the options, each checked.

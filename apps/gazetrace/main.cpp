@@ -7,9 +7,11 @@
 #include <CLI/CLI.hpp>
 
 #include "commands/command.hpp"
+#include "commands/shared_options.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "stop_request.hpp"
+#include "vulkan_failure.hpp"
 
 namespace {
 
@@ -39,6 +41,7 @@ int main(int argc, char** argv) {
     for (const auto& command : commands) {
         command->registerOptions(app);
     }
+    gt::app::addNumberChecks(app);
 
     try {
         app.parse(argc, argv);
@@ -60,6 +63,8 @@ int main(int argc, char** argv) {
         }
     } catch (const gt::app::Interrupted& e) {
         return interrupted(app, e);
+    } catch (const gt::VulkanError& e) {
+        return fail(gt::app::vulkanFailureMessage(e));
     } catch (const gt::Error& e) {
         return fail(e.what());
     } catch (const std::exception& e) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -64,6 +65,38 @@ double parseSlope(const std::string& text) {
         throw ArgumentError("--slope: '" + text + "' (A, B or a positive MAR slope such as 0.03)");
     }
     return v;
+}
+
+std::string finiteNumberProblem(const std::string& text) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size()) return "'" + text + "' is not a number";
+    if (!std::isfinite(v)) return "'" + text + "' is not a finite number";
+    return "";
+}
+
+std::string nonNegativeIntegerProblem(const std::string& text) {
+    const auto first = text.find_first_not_of(" \t");
+    if (first != std::string::npos && text[first] == '-') {
+        return "'" + text + "' is negative (expected 0 or more)";
+    }
+    return "";
+}
+
+std::optional<uint32_t> parseWholeNumber(const std::string& text) {
+    uint32_t v = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (text.empty() || ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+    return v;
+}
+
+std::optional<std::pair<uint32_t, uint32_t>> parseSizeText(const std::string& text) {
+    const auto x = text.find('x');
+    if (x == std::string::npos) return std::nullopt;
+    const auto w = parseWholeNumber(text.substr(0, x));
+    const auto h = parseWholeNumber(text.substr(x + 1));
+    if (!w || !h) return std::nullopt;
+    return std::pair{*w, *h};
 }
 
 render::PresentMode parsePresentMode(const std::string& name) {
@@ -136,11 +169,21 @@ std::uint64_t limitFromEnv(const char* name, std::uint64_t fallback, std::uint64
 
 vk::DeviceRequest parseDeviceRequest(const std::string& text) {
     vk::DeviceRequest r;
-    const bool numeric = !text.empty() && text.size() < 10 &&
-                         std::all_of(text.begin(), text.end(),
-                                     [](unsigned char ch) { return std::isdigit(ch) != 0; });
-    if (numeric) {
-        r.index = std::stoul(text);
+    const auto isDigit = [](unsigned char ch) { return std::isdigit(ch) != 0; };
+    const bool numeric = !text.empty() && std::all_of(text.begin(), text.end(), isDigit);
+    const bool negative =
+        text.size() > 1 && text[0] == '-' && std::all_of(text.begin() + 1, text.end(), isDigit);
+    if (numeric || negative) {
+        // Every digit is read: a long number is an index out of range, not part of a name.
+        std::size_t index = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), index);
+        if (negative || ec != std::errc() || end != text.data() + text.size() ||
+            index > kMaxDeviceIndex) {
+            throw ArgumentError("GAZETRACE_DEVICE=" + text + ": expected a device index 0.." +
+                                std::to_string(kMaxDeviceIndex) +
+                                " or part of a device's name (gazetrace devices lists them)");
+        }
+        r.index = index;
     } else {
         r.nameContains = text;
     }

@@ -3,7 +3,9 @@
 // settings (renderer/settings.hpp and the structs below): every string an option or variable
 // takes becomes an enum, a number or a struct here, and only here. A bad option value throws
 // ArgumentError naming the option and the values it takes.
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +27,16 @@ namespace gt::app {
 [[nodiscard]] render::Reconstruction parseReconstruction(const std::string& name);
 // --slope: "A", "B" (Guenter et al. 2012's quality levels) or a positive MAR slope.
 [[nodiscard]] double parseSlope(const std::string& text);
+// Every numeric option's text, checked before CLI11 converts it (commands/shared_options.cpp
+// applies these to every option of every command): "" when acceptable, else why not. CLI11's
+// conversion takes "nan", "inf" and "1e400" (infinite as a double), and turns "-5" into
+// 2^64 - 5 for a 64-bit unsigned option; its ranges let NaN through.
+[[nodiscard]] std::string finiteNumberProblem(const std::string& text);
+[[nodiscard]] std::string nonNegativeIntegerProblem(const std::string& text);
+// A whole number of digits only (no sign, no blanks), or nullopt: sscanf's %d and %u wrapped
+// 4294967328 to 32. "WxH" as two of them.
+[[nodiscard]] std::optional<uint32_t> parseWholeNumber(const std::string& text);
+[[nodiscard]] std::optional<std::pair<uint32_t, uint32_t>> parseSizeText(const std::string& text);
 // --present fifo | mailbox | immediate.
 [[nodiscard]] render::PresentMode parsePresentMode(const std::string& name);
 
@@ -42,7 +54,9 @@ namespace gt::app {
 [[nodiscard]] std::filesystem::path defaultCacheDir();
 
 // GAZETRACE_DEVICE: a decimal index among the Vulkan devices or a substring of a device's
-// name; unset or empty: the automatic choice.
+// name; unset or empty: the automatic choice. A number past kMaxDeviceIndex (no machine has
+// that many devices) or a negative one is an ArgumentError naming the variable.
+inline constexpr std::size_t kMaxDeviceIndex = 9999;
 [[nodiscard]] vk::DeviceRequest deviceRequest();
 [[nodiscard]] vk::DeviceRequest parseDeviceRequest(const std::string& text);
 

@@ -3,12 +3,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <optional>
 
 #include <unistd.h>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/progress.hpp"
 #include "display/display_space.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "option_parsing.hpp"
@@ -19,9 +21,13 @@ namespace gt::app {
 
 namespace {
 
-// A progress bar on stderr, only when it is a terminal.
+// A progress bar on stderr when it is a terminal; else a line every few seconds once the
+// generation has run for a while (a log file or a test's pipe).
 foveation::PointSet::Progress progressBar() {
-    if (!isatty(STDERR_FILENO)) return {};
+    if (!isatty(STDERR_FILENO)) {
+        auto step = std::make_shared<progress::Step>("pointset: generating the point set", 1000);
+        return [step](double f) { (void)step->reach(f); };
+    }
     return [](double f) {
         const int width = 40, filled = static_cast<int>(f * width);
         std::fprintf(stderr, "\rgenerating point set [%.*s%*s] %3d%%", filled,

@@ -18,6 +18,7 @@
 #include "capture/frame_source.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/progress.hpp"
 #include "display/hmd_profile.hpp"
 #include "eccentricity_layers.hpp"
 #include "eye_source_parsing.hpp"
@@ -413,6 +414,7 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
     composite.place("right", {{static_cast<int32_t>(w), 0}, {w, h}});
     render::FrameResult last;
     std::vector<render::View> lastViews;
+    progress::Step frameProgress("render: frames", frameCount);
     FrameStages<render::StereoGaze> stages;
     stages.gaze = [&](const FrameTick& t) {
         return hmdGaze(trace, t.timeMs, rig, gazePx, o.vergenceM);
@@ -429,6 +431,7 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
     stages.done = [&](const FrameTick& t, const render::StereoGaze&,
                       std::span<const render::View> views, const render::FrameResult& result) {
         files.write(t.index, result, 2 * w, h, composite.pixels());
+        (void)frameProgress.advance();
         last = result;
         lastViews.assign(views.begin(), views.end());
         return true;
@@ -762,6 +765,7 @@ nlohmann::json runRender(const RenderOptions& o) {
     render::ReadbackTarget readback(renderer.context());
     render::FrameResult last;
     nlohmann::json gazes = nlohmann::json::array();
+    progress::Step frameProgress("render: frames", in.frameCount);
     FrameStages<FlatGazeSource::Gaze> stages;
     stages.gaze = [&](const FrameTick& t) { return gazeSource.at(t, view); };
     stages.views = [&](const FrameTick& t, const FlatGazeSource::Gaze& g) {
@@ -779,6 +783,7 @@ nlohmann::json runRender(const RenderOptions& o) {
     stages.done = [&](const FrameTick& t, const FlatGazeSource::Gaze&,
                       std::span<const render::View>, const render::FrameResult& result) {
         files.write(t.index, result, s.width, s.height, readback.pixels());
+        (void)frameProgress.advance();
         last = result;
         return true;
     };

@@ -31,6 +31,14 @@ std::optional<CameraArg> parseCamera(const std::string& text) {
     if (text.back() == ',' || v.size() != fields.size() || (v.size() != 6 && v.size() != 7)) {
         throw ArgumentError("--camera: expected X,Y,Z,TX,TY,TZ[,FOV_DEG], got '" + text + "'");
     }
+    // Past 1e7 a float's spacing exceeds a scene unit: such a camera cannot be placed in a scene
+    // (and 1e30 gave a NaN view direction).
+    for (std::size_t i = 0; i < 6; ++i) {
+        if (std::abs(v[i]) > kMaxCameraCoordinate) {
+            throw ArgumentError("--camera: " + fields[i] + " is beyond +-1e7 scene units in '" +
+                                text + "'");
+        }
+    }
     CameraArg c{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, std::nullopt};
     if (glm::length(c.target - c.eye) < 1e-6f) {
         throw ArgumentError("--camera: the eye and the target are the same point in '" + text +

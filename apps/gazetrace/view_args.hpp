@@ -19,6 +19,9 @@ struct CameraArg {
     [[nodiscard]] scene::Camera camera(float defaultYfov) const;
 };
 
+// The largest --camera coordinate, in scene units (a float's spacing reaches 1 unit there).
+inline constexpr float kMaxCameraCoordinate = 1e7f;
+
 // Empty text: no --camera. Throws ArgumentError naming --camera for anything malformed.
 [[nodiscard]] std::optional<CameraArg> parseCamera(const std::string& text);
 

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "core/error.hpp"
+#include "core/progress.hpp"
 
 namespace gt::foveation {
 
@@ -156,6 +157,18 @@ LayerPlan optimiseLayers(const LayerDisplay& display, const MarModel& mar, uint3
     std::vector<uint32_t> arg(layerCount - 1), cur(layerCount - 1);
     // Depth-first over every rising choice of radii on the grid: the plain brute force of
     // section 4.3 (no pruning: the outer layer's pixels fall as the inner radii grow).
+    // Four layers on a fine grid take minutes: progress over the innermost radius, each of its
+    // choices weighed by the choices beyond it, (steps - k)^(layers - 2).
+    auto beyond = [&](uint32_t k) {
+        std::uint64_t n = 1;
+        for (uint32_t i = 2; i < layerCount; ++i)
+            n *= steps - k;
+        return n;
+    };
+    std::uint64_t choices = 0;
+    for (uint32_t k = 1; k < steps; ++k)
+        choices += beyond(k);
+    progress::Step step("optimising the layer radii", choices);
     auto search = [&](auto& self, std::size_t depth, uint32_t in, double sum) -> void {
         if (depth == layerCount - 1) {
             const double total = sum + outer(in);
@@ -168,6 +181,7 @@ LayerPlan optimiseLayers(const LayerDisplay& display, const MarModel& mar, uint3
         for (uint32_t k = in + 1; k + (layerCount - 2 - depth) < steps; ++k) {
             cur[depth] = k;
             self(self, depth + 1, k, sum + inner(depth, in, k));
+            if (depth == 0) (void)step.advance(beyond(k));
         }
     };
     search(search, 0, 0, 0.0);

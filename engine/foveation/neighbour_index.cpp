@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "core/progress.hpp"
 #include "foveation/point_buckets.hpp"
 
 namespace gt::foveation {
@@ -18,11 +19,14 @@ NeighbourIndex::NeighbourIndex(const PointSet& set, uint32_t k)
     if (pts.size() <= k) throw ArgumentError("point set has too few points for k");
     const detail::PointBuckets buckets(pts, mWidth, mHeight, 4.0f);
     mNeighbours.assign(pts.size() * k, 0);
+    // Both passes in one step: the points' neighbours, then the canvas rows' nearest points.
+    progress::Step step("building the neighbour index", pts.size() / 1024 + mHeight);
     detail::parallelFor(static_cast<uint32_t>(pts.size()), [&](uint32_t i) {
         thread_local std::vector<std::pair<float, uint32_t>> found;
         buckets.kNearest(pts, pts[i].x, pts[i].y, k, i, found);
         for (uint32_t j = 0; j < k; ++j)
             mNeighbours[static_cast<std::size_t>(i) * k + j] = found[j].second;
+        if (i % 1024 == 0) step.advance();
     });
     mNearest.assign(static_cast<std::size_t>(mWidth) * mHeight, 0);
     detail::parallelFor(mHeight, [&](uint32_t y) {
@@ -32,6 +36,7 @@ NeighbourIndex::NeighbourIndex(const PointSet& set, uint32_t k)
                              ~0u, found);
             mNearest[static_cast<std::size_t>(y) * mWidth + x] = found[0].second;
         }
+        step.advance();
     });
     mSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

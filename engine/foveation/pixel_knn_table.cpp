@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "core/error.hpp"
+#include "core/progress.hpp"
 #include "foveation/point_buckets.hpp"
 
 namespace gt::foveation {
@@ -26,6 +27,7 @@ PixelKnnTable::PixelKnnTable(const PointSet& set, const NeighbourIndex& index, u
     const detail::PointBuckets coarse(pts, mWidth, mHeight, kCoarse);
     const uint32_t stored = index.k();
     mIndices.assign(static_cast<std::size_t>(mWidth) * mHeight * k, 0);
+    progress::Step step("building the per-pixel k-NN table", mHeight);
     detail::parallelFor(mHeight, [&](uint32_t y) {
         thread_local std::vector<Candidate> found;
         std::vector<float> bound(stored + 1);
@@ -52,6 +54,7 @@ PixelKnnTable::PixelKnnTable(const PointSet& set, const NeighbourIndex& index, u
                 mIndices[pixel * k + j] = found[j].second;
             }
         }
+        step.advance();
     });
     mSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

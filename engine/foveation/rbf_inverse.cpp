@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include "core/error.hpp"
+#include "core/progress.hpp"
 #include "foveation/point_buckets.hpp"
 
 namespace gt::foveation {
@@ -28,6 +29,7 @@ RbfInverse buildRbfInverse(const PointSet& set, const NeighbourIndex& index, uin
     constexpr uint32_t kChunk = 1024;
     const auto chunks = static_cast<uint32_t>((pts.size() + kChunk - 1) / kChunk);
     std::atomic<uint32_t> ill{0};
+    progress::Step step("inverting the per-point RBF systems", chunks);
     detail::parallelFor(chunks, [&](uint32_t chunk) {
         RbfSystem system(k);
         std::vector<glm::vec2> nb(k);
@@ -54,6 +56,7 @@ RbfInverse buildRbfInverse(const PointSet& set, const NeighbourIndex& index, uin
                 }
             }
         }
+        step.advance();
     });
     out.illConditioned = ill;
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

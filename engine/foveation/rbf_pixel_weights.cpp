@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/progress.hpp"
 #include "foveation/point_buckets.hpp"
 
 namespace gt::foveation {
@@ -24,6 +25,7 @@ RbfPixelWeights::RbfPixelWeights(const PointSet& set, const PixelKnnTable& table
     const uint32_t k = mK, width = table.canvasWidth();
     mWeights.resize(table.indices().size());
     std::atomic<uint64_t> factorisations{0}, ill{0};
+    progress::Step step("solving the per-pixel RBF weights", table.canvasHeight());
     detail::parallelFor(table.canvasHeight(), [&](uint32_t y) {
         RbfSystem system(k);
         std::vector<glm::vec2> nb(k);
@@ -69,6 +71,7 @@ RbfPixelWeights::RbfPixelWeights(const PointSet& set, const PixelKnnTable& table
         }
         factorisations += count;
         ill += illHere;
+        step.advance();
     });
     mFactorisations = factorisations;
     mIllConditioned = ill;

@@ -2,7 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+
+#include <glm/gtc/constants.hpp>
+
+#include "core/error.hpp"
 
 namespace gt::scene {
 
@@ -26,10 +31,26 @@ glm::vec3 Scene::boundsMax() const {
     return m;
 }
 
+// Every front end builds its camera here (--camera, camera paths, start views), so a camera that
+// gives no picture is refused here, once: a position or field of view that is not finite, or a
+// view direction that is not (eye and target at 1e30 and 0: the float difference squares to
+// infinity, and normalising it gave NaN). The direction is computed in double for that reason.
 Camera lookAt(glm::vec3 eye, glm::vec3 target, float yfov) {
+    const glm::dvec3 d = glm::dvec3(target) - glm::dvec3(eye);
+    const double length = glm::length(d);
+    const bool finite = std::isfinite(eye.x) && std::isfinite(eye.y) && std::isfinite(eye.z);
+    if (!finite || !std::isfinite(length) || !(length > 0.0) || !std::isfinite(yfov) ||
+        !(yfov > 0.0f && yfov < glm::pi<float>())) {
+        char text[256];
+        std::snprintf(text, sizeof text,
+                      "camera: eye (%g, %g, %g), target (%g, %g, %g) and field of view %g rad "
+                      "give no view",
+                      eye.x, eye.y, eye.z, target.x, target.y, target.z, yfov);
+        throw ArgumentError(text);
+    }
     Camera c;
     c.position = eye;
-    c.forward = glm::normalize(target - eye);
+    c.forward = glm::vec3(d / length);
     c.up =
         std::abs(c.forward.y) > 0.999f ? glm::vec3(0.0f, 0.0f, -1.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
     c.yfov = yfov;

@@ -127,6 +127,14 @@ bool Allocator::tryAllocateFrom(uint32_t blockIndex, const VkMemoryRequirements&
 
 Allocation Allocator::allocate(const VkMemoryRequirements& requirements, MemoryUsage usage) {
     const uint32_t type = findMemoryType(requirements.memoryTypeBits, usage);
+    // More than the whole heap can never succeed; some drivers answer such a request only after
+    // a long stall, or (overcommitting) not at all until the memory is touched.
+    const VkMemoryHeap& heap =
+        mMemoryProperties.memoryHeaps[mMemoryProperties.memoryTypes[type].heapIndex];
+    if (requirements.size > heap.size) {
+        throw VulkanError(VK_ERROR_OUT_OF_DEVICE_MEMORY, "a request larger than its memory heap",
+                          __FILE__, __LINE__);
+    }
     Allocation out;
     if (requirements.size <= kBlockSize / 2) {
         for (uint32_t i = 0; i < mBlocks.size(); ++i) {

@@ -1,6 +1,8 @@
 #include "vk/resources.hpp"
 
+#include <cstdio>
 #include <cstring>
+#include <string>
 #include <utility>
 
 #include "core/error.hpp"
@@ -21,6 +23,12 @@ Buffer::Buffer(Context& ctx, const BufferDesc& desc) : mCtx(&ctx), mSize(desc.si
         mAllocation = ctx.allocator().allocate(req, desc.memory);
         GT_VK_CHECK(
             vkBindBufferMemory(ctx.device(), mBuffer, mAllocation.memory, mAllocation.offset));
+    } catch (const VulkanError& e) {
+        reset();
+        char size[32];
+        std::snprintf(size, sizeof size, "%.1f GiB", static_cast<double>(desc.size) / (1u << 30));
+        const std::string what = "allocating the buffer '" + desc.name + "' (" + size + ")";
+        throw VulkanError(e.result(), what.c_str(), __FILE__, __LINE__);
     } catch (...) {
         reset();
         throw;
@@ -112,9 +120,26 @@ uint32_t bytesPerPixel(VkFormat format) {
     }
 }
 
+namespace {
+// "the 16384x16384 image 'hdr' (1.0 GiB)": what an allocation was for, in its failure's message.
+std::string imageWhat(const ImageDesc& desc, VkDeviceSize bytes) {
+    char size[32];
+    std::snprintf(size, sizeof size, "%.1f GiB", static_cast<double>(bytes) / (1u << 30));
+    return "the " + std::to_string(desc.width) + "x" + std::to_string(desc.height) + " image '" +
+           desc.name + "' (" + size + ")";
+}
+} // namespace
+
 Image::Image(Context& ctx, const ImageDesc& desc) : mCtx(&ctx), mDesc(desc) {
     if (desc.width == 0 || desc.height == 0) {
         throw Error("image '" + desc.name + "' has zero size");
+    }
+    // Larger than the device's largest image is invalid usage, not an error code: refused here.
+    const uint32_t maxSide = ctx.properties().limits.maxImageDimension2D;
+    if (desc.width > maxSide || desc.height > maxSide) {
+        throw Error("image '" + desc.name + "' of " + std::to_string(desc.width) + "x" +
+                    std::to_string(desc.height) + " pixels is larger than the device allows (" +
+                    std::to_string(maxSide) + " pixels a side)");
     }
     VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     info.imageType = VK_IMAGE_TYPE_2D;
@@ -127,8 +152,8 @@ Image::Image(Context& ctx, const ImageDesc& desc) : mCtx(&ctx), mDesc(desc) {
     info.usage = desc.usage;
     info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
     GT_VK_CHECK(vkCreateImage(ctx.device(), &info, nullptr, &mImage));
+    VkMemoryRequirements req{};
     try {
-        VkMemoryRequirements req{};
         vkGetImageMemoryRequirements(ctx.device(), mImage, &req);
         mAllocation = ctx.allocator().allocate(req, MemoryUsage::GpuOnly);
         GT_VK_CHECK(
@@ -146,6 +171,12 @@ Image::Image(Context& ctx, const ImageDesc& desc) : mCtx(&ctx), mDesc(desc) {
             view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
             GT_VK_CHECK(vkCreateImageView(ctx.device(), &view, nullptr, &mView));
         }
+    } catch (const VulkanError& e) {
+        reset();
+        // The same result, said with what was being allocated, so the app can tell the user
+        // which image did not fit.
+        const std::string what = "allocating " + imageWhat(desc, req.size);
+        throw VulkanError(e.result(), what.c_str(), __FILE__, __LINE__);
     } catch (...) {
         reset();
         throw;

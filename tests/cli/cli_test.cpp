@@ -624,6 +624,41 @@ TEST(Cli, CalibrateRefusesNanAndOverflowingScreens) {
 namespace gt {
 namespace {
 
+// Values that CLI11's conversions and ranges let through (NaN passes every range check, "-3"
+// wrapped to 2^64 - 3, 1e30 made a NaN camera, two sources meant one was silently ignored) each
+// ran to exit 0 with a wrong result; now each is one line naming the option or variable.
+TEST(Cli, HostileNumbersAreOneLineNamingTheOption) {
+    const auto dir = test::tempDir("cli_hostile_numbers");
+    const auto png = dir / "o.png";
+    const std::string render = "render --width 16 --height 16 --out " + png.string();
+    const std::string track2 = " --source-left 'synthetic:2?frames=2' --source-right "
+                               "'synthetic:3?frames=2'";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"soak --frames 1 --max-growth nan", "--max-growth"},
+        {"demo --frames 1 --vergence-m nan", "--vergence-m"},
+        {"render --vergence-m inf --hmd fove --width 16 --height 16 --out " + png.string(),
+         "--vergence-m"},
+        {render + " --rbf-c 1e400", "--rbf-c"},
+        {render + " --camera 1e30,0,0,0,0,0", "--camera"},
+        {"eyescore --frames 1 --sheet-every 0", "--sheet-every"},
+        {"eyescore --frames 1 --threshold nan", "--threshold"},
+        {"pointset --scale 8 --seed -2", "--seed"},
+        {"pointset --scale 8 --sweep 1 nan", "--sweep"},
+        {"eyesim --seed -3 --frames 1 --out " + (dir / "e.mkv").string() + " --truth " +
+             (dir / "e.csv").string(),
+         "--seed"},
+        {"track --source 'synthetic:1?frames=2'" + track2, "--source"},
+        {"track --source 'synthetic:1?fps=1e-300'", "fps=1e-300"},
+        {"track --source 'synthetic:1?frames=2' --ipd-mm -63", "--ipd-mm"},
+    };
+    for (const auto& [args, mention] : cases) {
+        SCOPED_TRACE(args);
+        expectCleanFailure(run(args), mention, png);
+    }
+    expectCleanFailure(test::runWith("GAZETRACE_DEVICE=99999999999999999999", render),
+                       "GAZETRACE_DEVICE", png);
+}
+
 // An unreadable video printed four OpenCV/GStreamer lines before gazetrace's own.
 TEST(Cli, UnreadableVideoIsOneLine) {
     const auto dir = test::tempDir("cli_badvideo");

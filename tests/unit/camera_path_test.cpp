@@ -1,4 +1,5 @@
 // Camera paths (demo records, render and demo play): parsing, interpolation, errors, round trip.
+#include <cmath>
 #include <fstream>
 #include <limits>
 
@@ -14,6 +15,20 @@
 
 namespace gt {
 namespace {
+
+// Every front end's camera comes from lookAt: eye and target far apart in floats (1e30 and 0)
+// gave a NaN view direction and a flat image; a camera that gives no view is refused.
+TEST(CameraPath, LookAtGivesAFiniteViewOrRefuses) {
+    const scene::Camera far = scene::lookAt({1e30f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 1.0f);
+    EXPECT_NEAR(far.forward.x, -1.0f, 1e-6f);
+    EXPECT_TRUE(std::isfinite(far.forward.y) && std::isfinite(far.forward.z));
+    const float nan = std::nanf("");
+    EXPECT_THROW((void)scene::lookAt({1, 2, 3}, {1, 2, 3}, 1.0f), ArgumentError);
+    EXPECT_THROW((void)scene::lookAt({nan, 0, 0}, {0, 0, 1}, 1.0f), ArgumentError);
+    EXPECT_THROW((void)scene::lookAt({0, 0, 0}, {0, 0, 1}, nan), ArgumentError);
+    // 1e30 + 1 is 1e30 in floats: the same point.
+    EXPECT_THROW((void)scene::lookAt({1e30f, 0, 0}, {1e30f + 1.0f, 0, 0}, 1.0f), ArgumentError);
+}
 
 TEST(CameraPath, InterpolatesClampsAndRoundTrips) {
     const auto dir = test::tempDir("camera_path");

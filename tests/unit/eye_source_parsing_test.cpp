@@ -39,7 +39,7 @@ TEST(EyeSourceParsing, V4l2OptionsBecomeTheConfig) {
     const auto plain = frameSourceConfig("v4l2:/dev/video0");
     EXPECT_EQ(std::get<et::V4l2Config>(plain).format, et::V4l2PixelFormat::FirstOffered);
     EXPECT_EQ(errorOf("v4l2:/dev/video2?fps=fast"),
-              "v4l2:/dev/video2: option fps=fast is not a positive number");
+              "v4l2:/dev/video2: option fps=fast is not a number in 1..10000");
     EXPECT_EQ(errorOf("v4l2:/dev/video2?format=rgb"),
               "v4l2: unknown format 'rgb' (grey | yuyv | mjpeg)");
     EXPECT_EQ(errorOf("v4l2:/dev/video2?gain=3"),
@@ -58,11 +58,12 @@ TEST(EyeSourceParsing, SyntheticOptionsBecomeTheSimulatorsConfig) {
     EXPECT_EQ(c->size, cv::Size(96, 72));
     EXPECT_EQ(c->glints, hard.glints);
     EXPECT_DOUBLE_EQ(c->noiseSigma, hard.noiseSigma);
-    EXPECT_EQ(errorOf("synthetic:abc"), "synthetic:abc: the seed must be a whole number");
+    EXPECT_EQ(errorOf("synthetic:abc"),
+              "synthetic:abc: the seed must be a whole number, 0 or more");
     EXPECT_EQ(errorOf("synthetic:1?frames=0"),
-              "synthetic:1: option frames=0 is not a positive number");
+              "synthetic:1: option frames=0 is not a whole number in 1..1000000");
     EXPECT_EQ(errorOf("synthetic:1?size=20x10"),
-              "synthetic:1: size=20x10 is not WxH (at least 32x24)");
+              "synthetic:1: option size width=20 is not a whole number in 32..4096");
     EXPECT_EQ(errorOf("synthetic:1?speed=2"),
               "synthetic:1: unknown option 'speed' (preset, frames, fps, size)");
     EXPECT_EQ(errorOf("synthetic:1?preset=soft"),
@@ -109,6 +110,30 @@ TEST(EyeSourceParsing, ModelsAndDetectorsByName) {
     }
     EXPECT_EQ(et::makePupilDetector(et::PupilDetectorKind::Blob)->name(), "blob");
     EXPECT_EQ(et::makePupilDetector(et::PupilDetectorKind::Starburst)->name(), "starburst");
+}
+
+// fps=1e-300 made a synthetic clip's schedule span 1e303 ms (3.2 GB before it ran); a huge
+// width reached the driver, and a negative seed wrapped to 2^64 - 1. Each is refused, naming
+// the source and the option.
+TEST(EyeSourceParsing, NumericOptionsAreBounded) {
+    for (const char* bad :
+         {"synthetic:1?fps=1e-300", "synthetic:1?fps=0.5", "synthetic:1?fps=1e9",
+          "synthetic:1?fps=nan", "synthetic:1?frames=2000000", "synthetic:1?frames=2.5",
+          "synthetic:1?size=99999x240", "synthetic:1?size=320x99999999999", "synthetic:1?size=320",
+          "synthetic:-1", "synthetic: 1", "v4l2:/dev/video0?width=1e300",
+          "v4l2:/dev/video0?height=9000", "v4l2:/dev/video0?fps=1e-300",
+          "v4l2:/dev/video0?fps=inf"}) {
+        const std::string message = errorOf(bad);
+        EXPECT_FALSE(message.empty()) << bad;
+        const std::string source = std::string(bad).substr(0, std::string(bad).find('?'));
+        EXPECT_EQ(message.rfind(source, 0), 0u) << message;
+    }
+    const auto c = std::get<et::EyeSimConfig>(
+        frameSourceConfig("synthetic:7?fps=2000&frames=1000000&size=4096x4096"));
+    EXPECT_EQ(c.seed, 7u);
+    EXPECT_EQ(c.frames, 1000000);
+    EXPECT_EQ(c.size, cv::Size(4096, 4096));
+    EXPECT_DOUBLE_EQ(c.fps, 2000.0);
 }
 
 TEST(EyeSourceParsing, EyeRegionsAreTwoRectangles) {

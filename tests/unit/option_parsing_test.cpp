@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "option_parsing.hpp"
 #include "support/bad_files.hpp"
+#include "vulkan_failure.hpp"
 
 namespace gt::app {
 namespace {
@@ -71,6 +72,62 @@ TEST(OptionParsing, DeviceRequestIsAnIndexOrANameSubstring) {
     EXPECT_FALSE(parseDeviceRequest("llvmpipe").index.has_value());
     EXPECT_EQ(parseDeviceRequest("llvmpipe").nameContains, "llvmpipe");
     EXPECT_TRUE(parseDeviceRequest("").automatic());
+}
+
+// A long number was taken as part of a device's name (or, before that, thrown as "stoul"); a
+// negative one as a name too. Both are refused with one line naming the variable.
+TEST(OptionParsing, DeviceRequestRefusesIndicesNoMachineHas) {
+    for (const char* bad : {"99999999999999999999999", "10000", "-1"}) {
+        const std::string message =
+            test::thrownMessage<ArgumentError>([&] { (void)parseDeviceRequest(bad); });
+        EXPECT_NE(message.find("GAZETRACE_DEVICE=" + std::string(bad)), std::string::npos)
+            << message;
+    }
+    EXPECT_EQ(parseDeviceRequest("9999").index, 9999u);
+}
+
+// CLI11 converts "nan", "inf" and "1e400" (infinite as a double) without complaint, and "-5"
+// to 2^64 - 5 for a 64-bit unsigned option: every numeric option is checked with these.
+TEST(OptionParsing, NumericOptionsMustBeFiniteAndSeedsNotNegative) {
+    for (const char* bad : {"nan", "NaN", "inf", "-inf", "1e400", "-1e999", "abc", ""}) {
+        EXPECT_FALSE(finiteNumberProblem(bad).empty()) << bad;
+    }
+    for (const char* good : {"0", "-3.5", "1e30", "0.001"}) {
+        EXPECT_EQ(finiteNumberProblem(good), "") << good;
+    }
+    EXPECT_NE(finiteNumberProblem("nan").find("'nan'"), std::string::npos);
+    for (const char* bad : {"-5", " -1", "-0"}) {
+        EXPECT_FALSE(nonNegativeIntegerProblem(bad).empty()) << bad;
+    }
+    EXPECT_EQ(nonNegativeIntegerProblem("42"), "");
+}
+
+// sscanf's %d read 4294967328 as 32: eyesim --size 4294967328x240 made a 32-pixel-wide clip.
+TEST(OptionParsing, SizesAreDigitsThatFit) {
+    EXPECT_EQ(parseSizeText("320x240"), (std::pair<uint32_t, uint32_t>{320, 240}));
+    for (const char* bad : {"4294967328x240", "320x-240", "-320x240", " 320x240", "320x", "x240",
+                            "320", "320x240x1", "3.5x240"}) {
+        EXPECT_FALSE(parseSizeText(bad).has_value()) << bad;
+    }
+    EXPECT_EQ(parseWholeNumber("4294967295"), 4294967295u);
+    EXPECT_FALSE(parseWholeNumber("4294967296").has_value());
+}
+
+// Out of memory and a lost device say what to try; other failures stay as they were.
+TEST(OptionParsing, VulkanFailuresSayWhatToTry) {
+    const VulkanError oom(VK_ERROR_OUT_OF_DEVICE_MEMORY,
+                          "allocating the 16384x16384 image 'hdr' (4.0 GiB)", "resources.cpp", 1);
+    const std::string m = vulkanFailureMessage(oom);
+    EXPECT_EQ(m.rfind("out of GPU memory: allocating the 16384x16384 image 'hdr' (4.0 GiB)", 0), 0u)
+        << m;
+    EXPECT_NE(m.find("try a smaller --width/--height"), std::string::npos);
+    EXPECT_EQ(m.find('\n'), std::string::npos);
+    const VulkanError lost(VK_ERROR_DEVICE_LOST, "vkQueueSubmit", "frame.cpp", 1);
+    EXPECT_NE(vulkanFailureMessage(lost).find("stopped responding"), std::string::npos);
+    const VulkanError host(VK_ERROR_OUT_OF_HOST_MEMORY, "vkCreateBuffer", "resources.cpp", 1);
+    EXPECT_EQ(vulkanFailureMessage(host).rfind("out of memory: ", 0), 0u);
+    const VulkanError other(VK_ERROR_INITIALIZATION_FAILED, "vkCreateDevice", "context.cpp", 1);
+    EXPECT_STREQ(vulkanFailureMessage(other).c_str(), other.what());
 }
 
 } // namespace

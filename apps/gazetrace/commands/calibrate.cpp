@@ -21,13 +21,18 @@ public:
     void registerOptions(CLI::App& app) override {
         mCommand = app.add_subcommand(
             "calibrate", "Fit pupil-to-screen calibration from a recording with known targets");
-        mCommand->add_option("--source-left", mOptions.sourceLeft,
-                             "Two eyes: the left eye's recording");
-        mCommand->add_option("--source-right", mOptions.sourceRight,
-                             "Two eyes: the right eye's recording");
-        mCommand->add_option("--regions", mOptions.regions,
-                             "Two eyes in one --source: X,Y,W,H;X,Y,W,H (left eye; right eye)");
-        mCommand->add_option("--source", mOptions.source, "Frame source of the recording");
+        CLI::Option* left = mCommand->add_option("--source-left", mOptions.sourceLeft,
+                                                 "Two eyes: the left eye's recording");
+        CLI::Option* right = mCommand->add_option("--source-right", mOptions.sourceRight,
+                                                  "Two eyes: the right eye's recording");
+        mCommand
+            ->add_option("--regions", mOptions.regions,
+                         "Two eyes in one --source: X,Y,W,H;X,Y,W,H (left eye; right eye)")
+            ->excludes(left)
+            ->excludes(right);
+        mCommand->add_option("--source", mOptions.source, "Frame source of the recording")
+            ->excludes(left)
+            ->excludes(right);
         mCommand->add_option("--detector", mOptions.detector, "Pupil detector: starburst or blob")
             ->capture_default_str();
         mCommand

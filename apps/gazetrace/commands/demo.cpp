@@ -42,10 +42,13 @@ public:
             "--calibrate", mOptions.calibrate,
             "Show 3x3 calibration and 4 validation targets, fit --gaze track:SOURCE, "
             "write --calibration");
-        mCommand->add_option("--frame-ms", mOptions.frameMs,
-                             "Advance trace and camera-path time this much per frame (default: "
-                             "wall clock)");
-        mCommand->add_option("--frames", mOptions.frames, "Render this many frames, then exit");
+        mCommand
+            ->add_option("--frame-ms", mOptions.frameMs,
+                         "Advance trace and camera-path time this much per frame (default: "
+                         "wall clock)")
+            ->check(CLI::Range(0.0, 10000.0));
+        mCommand->add_option("--frames", mOptions.frames, "Render this many frames, then exit")
+            ->check(CLI::Range(0u, 10000000u));
         mCommand->add_option("--screenshot", mOptions.screenshot,
                              "Save the last presented frame (PNG)");
         mCommand->add_option("--camera", mOptions.camera, "Start camera X,Y,Z,TX,TY,TZ[,FOV]");
@@ -56,6 +59,7 @@ public:
         mCommand
             ->add_option("--frames-in-flight", mOptions.framesInFlight,
                          "1..4; 0 = automatic (1 on a CPU driver, 2 on a GPU)")
+            ->check(CLI::Range(0u, 4u))
             ->capture_default_str();
         mCommand->add_flag("--validate", mOptions.validate, "Khronos validation layer");
         mCommand->add_option("--overlay", mOverlay, "on | off: the settings and timings overlay")
@@ -72,8 +76,10 @@ public:
         mCommand->add_flag("--no-distortion", mNoDistortion, "--hmd: no lens pre-distortion");
         mCommand->add_flag("--display-space", mOptions.displaySpace,
                            "--hmd: lay the point set on the panel after the lens");
-        mCommand->add_option("--vergence-m", mOptions.vergenceM,
-                             "--hmd: distance the eyes converge at in metres (0: infinity)");
+        mCommand
+            ->add_option("--vergence-m", mOptions.vergenceM,
+                         "--hmd: distance the eyes converge at in metres (0: infinity)")
+            ->check(CLI::Range(0.0, 1e6));
     }
 
     int run() override {

@@ -36,6 +36,7 @@ public:
         mCommand->add_option("--interp", mOptions.interp, "Foveated: nn | msm | rbf")
             ->capture_default_str();
         mCommand->add_option("--k", mOptions.k, "Foveated: neighbours for msm and rbf (1-20)")
+            ->check(CLI::Range(1u, 20u))
             ->capture_default_str();
         mCommand->add_option("--scale", mOptions.scale, "Foveated: point-set scaling value")
             ->check(CLI::Range(0.25, 8.0))
@@ -60,6 +61,7 @@ public:
         mCommand
             ->add_option("--edge-tolerance", mOptions.edgeTolerance,
                          "Foveated msm: geometry-aware weights, relative depth tolerance (0: off)")
+            ->check(CLI::Range(0.0, 100.0))
             ->capture_default_str();
         mCommand
             ->add_option("--range-sigma", mOptions.rangeSigma,

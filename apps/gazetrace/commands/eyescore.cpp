@@ -23,17 +23,23 @@ public:
             ->capture_default_str();
         mCommand->add_option("--seeds", mOptions.seeds, "Seed N or range A-B, one clip each")
             ->capture_default_str();
-        mCommand->add_option("--frames", mOptions.frames, "Frames per clip")->capture_default_str();
+        mCommand->add_option("--frames", mOptions.frames, "Frames per clip")
+            ->check(CLI::Range(1, 100000))
+            ->capture_default_str();
         mCommand
             ->add_option(
                 "--skip", mOptions.skip,
                 "Frames to skip first (default: into free viewing, with blinks and pursuit)")
+            ->check(CLI::Range(0, 1000000))
             ->capture_default_str();
         mCommand
             ->add_option("--radius", mOptions.radiusPx, "Right answers: within this many pixels")
+            ->check(CLI::Range(0.001, 1000.0))
             ->capture_default_str();
-        mCommand->add_option("--threshold", mOptions.threshold,
-                             "Confidence gate to report (default: the gaze filter's)");
+        mCommand
+            ->add_option("--threshold", mOptions.threshold,
+                         "Confidence gate to report (default: the gaze filter's)")
+            ->check(CLI::Range(0.0, 1.0));
         mCommand->add_option("--misses", mOptions.misses,
                              "CSV of the wrong answers and missed visible frames");
         mCommand->add_option(
@@ -43,6 +49,7 @@ public:
                              "CSV of every answer, right or not, with what its confidence weighed "
                              "(scripts/fit_answer_confidence.py)");
         mCommand->add_option("--sheet-every", mOptions.sheetEvery, "Misses between sheet tiles")
+            ->check(CLI::Range(1, 1000000))
             ->capture_default_str();
         mCommand->add_flag("--cold", mOptions.cold,
                            "Forget the detector's history before every frame (single images)");

@@ -48,14 +48,17 @@ public:
                              "Write the eye camera's intrinsics (JSON) for --model 3d");
         mCommand->add_option("--slip-mm", mOptions.slipMm,
                              "Headset slippage X,Y,Z in mm (camera frame), from --slip-at-ms on");
-        mCommand->add_option("--slip-deg", mOptions.slipDeg,
-                             "Headset turn with the slippage (degrees)");
-        mCommand->add_option("--slip-at-ms", mOptions.slipAtMs,
-                             "When the headset slips (default 0)");
+        mCommand
+            ->add_option("--slip-deg", mOptions.slipDeg, "Headset turn with the slippage (degrees)")
+            ->check(CLI::Range(-20.0, 20.0));
+        mCommand
+            ->add_option("--slip-at-ms", mOptions.slipAtMs, "When the headset slips (default 0)")
+            ->check(CLI::Range(0.0, 1e9));
         mCommand->add_option("--eye", mOptions.eye,
                              "left or right (binocular clips, one camera per eye), or both (one "
                              "frame with both eyes side by side; --truth-right for the right's)");
         mCommand->add_option("--ipd-mm", mOptions.ipdMm, "Interpupillary distance")
+            ->check(CLI::Range(40.0, 80.0))
             ->capture_default_str();
         mCommand->add_option("--depth-cm", mOptions.depthCm,
                              "Free viewing converges at this distance (0: on the screen)");

@@ -28,8 +28,10 @@ public:
                              "Draw every point into this PNG (Figure 12)");
         mCommand->add_option("--cache", mOptions.cacheDir,
                              "Cache folder (default $GAZETRACE_CACHE or ~/.cache/gazetrace)");
-        mCommand->add_option("--sweep", mOptions.sweep,
-                             "Scales to sweep, e.g. 1 1.5 2 2.5 3 (Figure 14)");
+        mCommand
+            ->add_option("--sweep", mOptions.sweep,
+                         "Scales to sweep, e.g. 1 1.5 2 2.5 3 (Figure 14)")
+            ->check(CLI::Range(0.01, 100.0));
         mCommand->add_flag("--json", mJson, "Print a JSON summary on stdout");
         mCommand->add_option("--hmd", mOptions.hmd,
                              "fove | vive | rift-cv1: where the rays go with the set laid in the "

@@ -112,8 +112,10 @@ public:
                            "--hmd: the eyes as rendered, no lens");
         mCommand->add_flag("--display-space", mOptions.displaySpace,
                            "--hmd, foveated: lay the point set on the panel after the lens");
-        mCommand->add_option("--vergence-m", mOptions.vergenceM,
-                             "--hmd: distance the eyes converge at in metres (0: infinity)");
+        mCommand
+            ->add_option("--vergence-m", mOptions.vergenceM,
+                         "--hmd: distance the eyes converge at in metres (0: infinity)")
+            ->check(CLI::Range(0.0, 1e6));
         mCommand
             ->add_option("--gaze-trace", mOptions.gazeTrace, "Foveated: gaze trace CSV (t_ms,x,y)")
             ->check(CLI::ExistingFile);

@@ -2,6 +2,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "option_parsing.hpp"
+
 namespace gt::app {
 
 void addSizeOptions(CLI::App* cmd, uint32_t& width, uint32_t& height, uint32_t min,
@@ -23,7 +25,9 @@ void addLiveMethodOptions(CLI::App* cmd, std::string& method, std::string& inter
         ->check(CLI::Range(1u, 4u))
         ->capture_default_str();
     cmd->add_option("--interp", interp, "nn | msm | rbf")->capture_default_str();
-    cmd->add_option("--k", k, "Neighbours for msm / rbf")->capture_default_str();
+    cmd->add_option("--k", k, "Neighbours for msm / rbf")
+        ->check(CLI::Range(1u, 20u))
+        ->capture_default_str();
     cmd->add_option("--scale", scale, "Point-set scaling value (sparser above 1)")
         ->check(CLI::Range(0.25, 8.0))
         ->capture_default_str();
@@ -44,6 +48,22 @@ void addReconstructionOption(CLI::App* cmd, std::string& reconstruction) {
            "Foveated: gazetrace | thesis (the thesis's interpolation and TAA as published)")
         ->check(CLI::IsMember({"gazetrace", "thesis"}))
         ->capture_default_str();
+}
+
+void addNumberChecks(CLI::App& app) {
+    // No description: --help and the README's options table stay as they were.
+    const CLI::Validator finite([](std::string& text) { return finiteNumberProblem(text); }, "",
+                                "FINITE");
+    const CLI::Validator notNegative(
+        [](std::string& text) { return nonNegativeIntegerProblem(text); }, "", "NOT_NEGATIVE");
+    for (CLI::Option* opt : app.get_options()) {
+        const std::string type = opt->get_type_name();
+        if (type.rfind("FLOAT", 0) == 0) opt->check(finite);
+        if (type.rfind("UINT", 0) == 0) opt->check(notNegative);
+    }
+    for (CLI::App* sub : app.get_subcommands({})) {
+        addNumberChecks(*sub);
+    }
 }
 
 } // namespace gt::app

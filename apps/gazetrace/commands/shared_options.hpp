@@ -18,6 +18,11 @@ void addLiveMethodOptions(CLI::App* cmd, std::string& method, std::string& inter
                           double& scale, uint32_t& raysPerPoint, uint32_t& spp, std::string& taa,
                           std::string& slope, uint32_t& layers);
 
+// Every numeric option of `app` and its subcommands, once all are registered: a FLOAT must be
+// a finite number and an unsigned integer must not be negative (CLI11 would wrap it), each
+// refused with one line naming the option. Ranges stay with each option.
+void addNumberChecks(CLI::App& app);
+
 // --reconstruction gazetrace | thesis, as render and xr take it.
 void addReconstructionOption(CLI::App* cmd, std::string& reconstruction);
 

@@ -23,6 +23,7 @@ public:
         mCommand->add_option("--slips-mm", mOptions.slipsMm, "Slippage magnitudes in mm, A,B,..")
             ->capture_default_str();
         mCommand->add_option("--slip-deg", mOptions.slipDeg, "Headset turn with each slip")
+            ->check(CLI::Range(-20.0, 20.0))
             ->capture_default_str();
         mCommand->add_option("--detector", mOptions.detector, "Pupil detector")
             ->capture_default_str();

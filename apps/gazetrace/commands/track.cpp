@@ -17,18 +17,23 @@ public:
     void registerOptions(CLI::App& app) override {
         mCommand = app.add_subcommand(
             "track", "Track the pupil (and gaze, when calibrated) from a frame source");
-        mCommand->add_option(
+        CLI::Option* source = mCommand->add_option(
             "--source", mOptions.source,
             "v4l2:/dev/videoN[?...] | video:FILE | images:DIR | synthetic:SEED[?...]");
-        mCommand->add_option("--source-left", mOptions.sourceLeft,
-                             "Two eyes: the left eye's camera");
-        mCommand->add_option("--source-right", mOptions.sourceRight,
-                             "Two eyes: the right eye's camera");
-        mCommand->add_option("--regions", mOptions.regions,
-                             "Two eyes in one --source: X,Y,W,H;X,Y,W,H (left eye; right eye)");
+        CLI::Option* left = mCommand->add_option("--source-left", mOptions.sourceLeft,
+                                                 "Two eyes: the left eye's camera");
+        CLI::Option* right = mCommand->add_option("--source-right", mOptions.sourceRight,
+                                                  "Two eyes: the right eye's camera");
+        mCommand
+            ->add_option("--regions", mOptions.regions,
+                         "Two eyes in one --source: X,Y,W,H;X,Y,W,H (left eye; right eye)")
+            ->excludes(left)
+            ->excludes(right);
+        source->excludes(left)->excludes(right);
         mCommand->add_option("--truth-right", mOptions.truthRight,
                              "Two eyes: the right eye's truth (--truth: the left's)");
         mCommand->add_option("--ipd-mm", mOptions.ipdMm, "Two eyes: interpupillary distance")
+            ->check(CLI::Range(40.0, 80.0))
             ->capture_default_str();
         mCommand->add_option("--detector", mOptions.detector, "Pupil detector: starburst or blob")
             ->capture_default_str();

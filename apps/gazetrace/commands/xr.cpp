@@ -34,6 +34,7 @@ public:
             "Degrees: the scene direction the viewer faces (default: the start view's)");
         mCommand
             ->add_option("--xr-scale", mOptions.worldScale, "Scene units per metre the head moves")
+            ->check(CLI::Range(1e-6, 1e6))
             ->capture_default_str();
         mCommand
             ->add_option("--xr-space", mOptions.space,
@@ -42,6 +43,7 @@ public:
         mCommand
             ->add_option("--resolution-scale", mOptions.resolutionScale,
                          "Eye image size as a share of the runtime's recommended size")
+            ->check(CLI::Range(0.05, 4.0))
             ->capture_default_str();
         addLiveMethodOptions(mCommand, mOptions.method, mOptions.interp, mOptions.k,
                              mOptions.pointScale, mOptions.raysPerPoint, mOptions.spp, mTaa,
@@ -57,6 +59,7 @@ public:
         mCommand
             ->add_option("--vergence-m", mOptions.vergenceM,
                          "Distance the eyes converge at in metres (0: infinity)")
+            ->check(CLI::Range(0.0, 1e6))
             ->capture_default_str();
         mCommand->add_flag("--no-runtime-gaze", mNoRuntimeGaze,
                            "Ignore XR_EXT_eye_gaze_interaction; use --gaze only");
@@ -72,6 +75,7 @@ public:
         mCommand
             ->add_option("--start-timeout", mOptions.startTimeoutS,
                          "Seconds the session may take to start running")
+            ->check(CLI::Range(0.001, 86400.0))
             ->capture_default_str();
         mCommand->add_flag("--validate", mOptions.validate, "Khronos validation layer");
         mCommand->add_option("--cache", mOptions.cacheDir, "Point-set cache folder");
