@@ -177,6 +177,17 @@ void replaceWith(const fs::path& temp, const fs::path& target) {
     if (::rename(temp.c_str(), target.c_str()) != 0) fail(target, "cannot replace it", errno);
 }
 
+// The path with its symlinks and "."/".." resolved as far as it exists; spelled out (absolute,
+// normalised) where it cannot be resolved, never empty: two outputs compare by it before either
+// exists.
+fs::path resolvedPath(const fs::path& path) {
+    std::error_code ec;
+    const fs::path absolute = fs::absolute(path, ec);
+    if (ec) return path.lexically_normal();
+    fs::path resolved = fs::weakly_canonical(absolute, ec);
+    return ec ? absolute.lexically_normal() : resolved;
+}
+
 } // namespace
 
 void checkOutputFile(const fs::path& path) {
@@ -215,14 +226,12 @@ void refuseOutputThatIsInput(std::span<const RunFile> outputs, std::span<const R
                                  ": refusing to overwrite an input");
             }
         }
-        std::error_code ec;
-        const fs::path resolved = fs::weakly_canonical(fs::absolute(out.path, ec), ec);
+        const fs::path resolved = resolvedPath(out.path);
         for (std::size_t j = i + 1; j < outputs.size(); ++j) {
             const RunFile& other = outputs[j];
             if (other.path.empty()) continue;
-            std::error_code ec2;
-            const bool same = sameFile(out.path, other.path) ||
-                              fs::weakly_canonical(fs::absolute(other.path, ec2), ec2) == resolved;
+            const bool same =
+                sameFile(out.path, other.path) || resolvedPath(other.path) == resolved;
             if (same) {
                 throw WriteError(named(out) + " and " + named(other) +
                                  " name the same file: give each output its own");
@@ -300,8 +309,8 @@ StagedFolder::StagedFolder(fs::path target) : mTarget(std::move(target)) {
     }
     // The folders above the target, made as a run that writes into out/eval always has; the
     // ones made here are removed again (if empty) when the run fails.
-    for (fs::path p = mTarget.parent_path(); !p.empty() && !fs::exists(p, ec);
-         p = p.parent_path()) {
+    for (fs::path p = mTarget.parent_path(); !p.empty(); p = p.parent_path()) {
+        if (fs::exists(p, ec) || ec) break; // there, or not ours to judge (not searchable)
         mCreatedParents.push_back(p);
         if (p == p.parent_path()) break;
     }

@@ -256,6 +256,8 @@ TEST(AtomicWrite, ReadOnlyFolderIsNamed) {
         dir / "ro", std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec |
                         std::filesystem::perms::others_read | std::filesystem::perms::others_exec |
                         std::filesystem::perms::group_read | std::filesystem::perms::group_exec);
+    std::filesystem::create_directory(dir / "private");
+    std::filesystem::permissions(dir / "private", std::filesystem::perms::owner_all);
     const auto tryAll = [&] {
         if (::geteuid() == 0 && (::setgid(65534) != 0 || ::setuid(65534) != 0)) std::exit(3);
         int named = 0;
@@ -274,6 +276,15 @@ TEST(AtomicWrite, ReadOnlyFolderIsNamed) {
                 else
                     std::cerr << m << "\n";
             }
+        }
+        // Outputs in a folder this user cannot search are still told apart.
+        const std::vector<io::RunFile> apart{{"--out", dir / "private" / "a.mkv"},
+                                             {"--truth", dir / "private" / "b.csv"}};
+        try {
+            io::refuseOutputThatIsInput(apart, {});
+        } catch (const io::WriteError& e) {
+            std::cerr << e.what() << "\n";
+            std::exit(2);
         }
         std::exit(named == 4 ? 0 : 1);
     };
