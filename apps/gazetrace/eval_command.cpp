@@ -433,7 +433,8 @@ private:
     bool mThesis; // --reconstruction thesis
     Geometry mGeometry;
     EvalInputs mInputs;
-    std::filesystem::path mOut;
+    io::StagedFolder mFolder;   // --out, replaced by the run's files only when it succeeds
+    std::filesystem::path mOut; // where the files go meanwhile: the staged folder
     std::optional<render::Renderer> mRenderer;
     std::optional<EvalProgress> mProgress;
     std::optional<Shooter> mShooter;
@@ -446,8 +447,7 @@ private:
 
 EvalRun::EvalRun(const EvalOptions& o)
     : mOptions(o), mThesis(checkedThesis(o)), mGeometry(evalGeometry(o)),
-      mInputs(evalInputs(o, mGeometry)), mOut(o.out) {
-    std::filesystem::create_directories(mOut);
+      mInputs(evalInputs(o, mGeometry)), mFolder(o.out), mOut(mFolder.temp()) {
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
     mRenderer.emplace(render::RendererOptions{.scene = o.scene,
                                               .validate = o.validate,
@@ -776,6 +776,7 @@ nlohmann::json EvalRun::run() {
     }
     if (mOptions.sweep) sweep(summary);
     io::writeFileAtomic(mOut / "eval.json", summary.dump(2) + "\n");
+    mFolder.commit();
     return summary;
 }
 

@@ -63,37 +63,6 @@ render::RendererOptions rendererOptions(const RenderOptions& o) {
             .sceneLoad = gltfLoadOptions()};
 }
 
-// What this run wrote: removed again unless the run succeeds, so a failed run (a full disk at
-// frame 7, a tracker clip cut short, validation errors at the end) leaves none of its outputs.
-bool prepareOutput(const std::filesystem::path& outPath, bool toFolder, const std::string& out,
-                   uint32_t frames);
-
-class RunOutputs {
-public:
-    // Checks --out before any work (prepareOutput); a folder it makes is this run's output too,
-    // removed again if it is empty after a failure.
-    RunOutputs(const std::filesystem::path& out, bool toFolder, const std::string& text,
-               uint32_t frames) {
-        if (prepareOutput(out, toFolder, text, frames)) add(out);
-    }
-    RunOutputs(const RunOutputs&) = delete;
-    RunOutputs& operator=(const RunOutputs&) = delete;
-    ~RunOutputs() {
-        if (mKeep) return;
-        // Newest first: the frames, then the folder they were written into (only if empty).
-        for (auto it = mFiles.rbegin(); it != mFiles.rend(); ++it) {
-            std::error_code ec;
-            std::filesystem::remove(*it, ec);
-        }
-    }
-    void add(const std::filesystem::path& f) { mFiles.push_back(f); }
-    void keep() noexcept { mKeep = true; }
-
-private:
-    std::vector<std::filesystem::path> mFiles;
-    bool mKeep = false;
-};
-
 // --out: a .png file (any case) for one frame, else a folder for frame_NNNN.png.
 bool outIsFolder(const std::filesystem::path& out) {
     std::string ext = out.extension().string();
@@ -124,9 +93,8 @@ nlohmann::json checkedPassTimes(const vk::Context& ctx, const std::optional<rg::
 }
 
 // Fail before any work when the output could not be written anyway.
-// Returns whether it created the output folder.
-bool prepareOutput(const std::filesystem::path& outPath, bool toFolder, const std::string& out,
-                   uint32_t frames) {
+void checkOutput(const std::filesystem::path& outPath, bool toFolder, const std::string& out,
+                 uint32_t frames) {
     if (!toFolder && frames > 1) {
         throw ArgumentError("--out: give a folder for --frames > 1");
     }
@@ -134,19 +102,6 @@ bool prepareOutput(const std::filesystem::path& outPath, bool toFolder, const st
     if (!toFolder && std::filesystem::is_directory(outPath, folderEc)) {
         throw ArgumentError("--out: " + out + " is a folder; give a file name ending in .png");
     }
-    const std::filesystem::path dir = toFolder                        ? outPath
-                                      : outPath.parent_path().empty() ? "."
-                                                                      : outPath.parent_path();
-    std::error_code ec;
-    const bool existed = std::filesystem::is_directory(dir, ec);
-    if (toFolder && !existed) {
-        std::filesystem::create_directories(dir, ec);
-    }
-    if (!std::filesystem::is_directory(dir, ec)) {
-        throw ArgumentError("--out: cannot write " + out + ": folder " + dir.string() +
-                            " does not exist");
-    }
-    return toFolder && !existed;
 }
 
 void writeText(const std::string& path, const std::string& text) {
@@ -223,26 +178,31 @@ foveation::GazeTrace loadGazeTrace(const RenderOptions& o, uint32_t w, uint32_t 
 }
 
 // A run's frames on disk: each frame's PNG as soon as it is rendered (--out: one file, or a
-// folder of frame_NNNN.png), the first frame's render graph (--graph); all removed again unless
-// the run succeeds (keep()).
+// folder of frame_NNNN.png), the first frame's render graph (--graph). Until commit() they are
+// staged beside their targets (io::StagedFile, io::StagedFolder): a run that fails or is
+// interrupted removes only what it wrote and leaves an earlier run's files as they were.
 class FrameFiles {
 public:
     FrameFiles(const RenderOptions& o, uint32_t frameCount)
-        : mGraphDot(o.graphDot), mOut(o.out), mToFolder(outIsFolder(mOut)),
-          mWritten(mOut, mToFolder, o.out, frameCount) {}
+        : mOut(o.out), mToFolder(outIsFolder(mOut)) {
+        checkOutput(mOut, mToFolder, o.out, frameCount);
+        if (!o.graphDot.empty()) mGraph.emplace(o.graphDot);
+        if (mToFolder) {
+            mFolder.emplace(mOut);
+        } else {
+            mFile.emplace(mOut);
+        }
+    }
     [[nodiscard]] render::FrameOptions options(uint32_t frame) const {
-        return {.graphviz = !mGraphDot.empty() && frame == 0};
+        return {.graphviz = mGraph.has_value() && frame == 0};
     }
     void write(uint32_t frame, const render::FrameResult& result, uint32_t w, uint32_t h,
                const std::vector<uint8_t>& pixels) {
         mFrameMs.push_back(result.wallMs);
-        if (options(frame).graphviz) {
-            writeText(mGraphDot, result.dot);
-            mWritten.add(mGraphDot);
-        }
+        if (options(frame).graphviz) writeText(mGraph->temp().string(), result.dot);
         const std::filesystem::path file = frameFile(mOut, mToFolder, frame);
-        image::writePngAtomic(file, w, h, pixels);
-        mWritten.add(file);
+        image::writePngAtomic(mToFolder ? mFolder->file(file.filename().string()) : mFile->temp(),
+                              w, h, pixels);
         mOutputs.push_back(file.string());
     }
     // The median wall time of a frame.
@@ -254,13 +214,19 @@ public:
     [[nodiscard]] std::string output() const {
         return mToFolder ? mOut.string() : mOutputs.front();
     }
-    void keep() noexcept { mWritten.keep(); }
+    // The run succeeded: its files replace the earlier run's.
+    void commit() {
+        if (mGraph) mGraph->commit();
+        if (mFolder) mFolder->commit();
+        if (mFile) mFile->commit();
+    }
 
 private:
-    std::string mGraphDot;
     std::filesystem::path mOut;
     bool mToFolder;
-    RunOutputs mWritten;
+    std::optional<io::StagedFile> mGraph;
+    std::optional<io::StagedFolder> mFolder;
+    std::optional<io::StagedFile> mFile;
     std::vector<double> mFrameMs;
     std::vector<std::string> mOutputs;
 };
@@ -438,7 +404,7 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
     };
     (void)runFrameLoop(renderer, FrameClock(o.frameMs), frameCount, stages);
     nlohmann::json j = hmdSummary(o, profile, renderer, last, lastViews, files, frameCount, head);
-    files.keep();
+    files.commit();
     return j;
 }
 
@@ -790,7 +756,7 @@ nlohmann::json runRender(const RenderOptions& o) {
     (void)runFrameLoop(renderer, FrameClock(o.frameMs), in.frameCount, stages);
     const FlatRun run{last, view, files, gazeSource, gazes, in.frameCount, in.trace.has_value()};
     nlohmann::json j = flatSummary(o, s, renderer, run);
-    files.keep();
+    files.commit();
     return j;
 }
 

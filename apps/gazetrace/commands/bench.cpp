@@ -5,6 +5,7 @@
 #include "bench_command.hpp"
 #include "command.hpp"
 #include "eye_commands.hpp"
+#include "shared_options.hpp"
 
 namespace gt::app {
 
@@ -30,6 +31,7 @@ public:
     }
 
     int run() override {
+        checkRunFiles({{"--json", mOptions.json}}, {{"--scene", mOptions.scene}});
         if (mSuite == "eye") {
             (void)runEyeBench();
         } else if (mSuite == "layers") {

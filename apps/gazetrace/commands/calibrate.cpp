@@ -11,6 +11,7 @@
 #include "command.hpp"
 #include "core/error.hpp"
 #include "eye_commands.hpp"
+#include "shared_options.hpp"
 
 namespace gt::app {
 
@@ -78,6 +79,11 @@ public:
                 throw ArgumentError(std::string(name) + ": expected 1..1000 cm, got " +
                                     std::to_string(value));
         }
+        checkRunFiles({{"--out", mOptions.out}}, {{"--source", mOptions.source},
+                                                  {"--source-left", mOptions.sourceLeft},
+                                                  {"--source-right", mOptions.sourceRight},
+                                                  {"--targets", mOptions.targets},
+                                                  {"--intrinsics", mOptions.camera.intrinsics}});
         const nlohmann::json result = runCalibrate(mOptions);
         std::cout << (mJson ? result.dump() : result.dump(2)) << std::endl;
         return 0;

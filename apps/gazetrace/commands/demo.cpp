@@ -88,6 +88,16 @@ public:
         mOptions.overlay = mOverlay == "on";
         mOptions.given = {mCommand->count("--interp") > 0, mCommand->count("--k") > 0,
                           mCommand->count("--scale") > 0, mCommand->count("--rays-per-point") > 0};
+        // --calibrate writes --calibration; otherwise the run reads it.
+        const std::string written = mOptions.calibrate ? mOptions.calibration : "";
+        const std::string read = mOptions.calibrate ? "" : mOptions.calibration;
+        checkRunFiles({{"--screenshot", mOptions.screenshot},
+                       {"--log", mOptions.log},
+                       {"--calibration", written}},
+                      {{"--scene", mOptions.scene},
+                       {"--gaze", mOptions.gaze},
+                       {"--calibration", read},
+                       {"--camera-path", mOptions.cameraPath}});
         const nlohmann::json result = runDemo(mOptions);
         if (mJson) std::cout << result.dump() << std::endl;
         return 0;

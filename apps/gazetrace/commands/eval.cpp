@@ -1,11 +1,14 @@
 // `gazetrace eval`: picture quality against a reference: its options and what it prints.
+#include <filesystem>
 #include <iostream>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "eval_command.hpp"
+#include "shared_options.hpp"
 
 namespace gt::app {
 
@@ -122,6 +125,23 @@ public:
     int run() override {
         mOptions.taa = mTaa == "on";
         mOptions.jitter = mJitter == "on";
+        // What the run writes into --out (reference.png only when it renders the reference):
+        // none of them may be one of its inputs.
+        std::vector<io::RunFile> written;
+        for (const char* name :
+             {"eval.json", "foveated.png", "flip_foveated.png", "bands.png", "curves.png",
+              "uniform_bilinear.png", "flip_uniform_bilinear.png", "uniform_catmull_rom.png",
+              "flip_uniform_catmull_rom.png", "full_resolution.png", "flip_full_resolution.png"}) {
+            written.push_back({"--out", std::filesystem::path(mOptions.out) / name});
+        }
+        if (mOptions.reference.empty()) {
+            written.push_back({"--out", std::filesystem::path(mOptions.out) / "reference.png"});
+        }
+        io::refuseOutputThatIsInput(
+            written, std::vector<io::RunFile>{inputFile("--scene", mOptions.scene),
+                                              inputFile("--reference", mOptions.reference),
+                                              inputFile("--camera-path", mOptions.cameraPath),
+                                              inputFile("--pursuit", mOptions.pursuit)});
         const nlohmann::json result = runEval(mOptions);
         std::cout << (mJson ? result.dump() : evalText(result)) << std::flush;
         return 0;

@@ -7,6 +7,7 @@
 
 #include "command.hpp"
 #include "eye_commands.hpp"
+#include "shared_options.hpp"
 
 namespace gt::app {
 
@@ -57,6 +58,10 @@ public:
     }
 
     int run() override {
+        checkRunFiles({{"--misses", mOptions.misses},
+                       {"--misses-sheet", mOptions.missesSheet},
+                       {"--answers", mOptions.answers}},
+                      {});
         const nlohmann::json result = runEyescore(mOptions);
         std::cout << (mJson ? result.dump() : result.dump(2)) << std::endl;
         return 0;

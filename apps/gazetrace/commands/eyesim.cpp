@@ -6,6 +6,7 @@
 
 #include "command.hpp"
 #include "eye_commands.hpp"
+#include "shared_options.hpp"
 
 namespace gt::app {
 
@@ -68,6 +69,11 @@ public:
     }
 
     int run() override {
+        checkRunFiles({{"--out", mOptions.out},
+                       {"--truth", mOptions.truth},
+                       {"--truth-right", mOptions.truthRight},
+                       {"--intrinsics-out", mOptions.intrinsicsOut}},
+                      {});
         const nlohmann::json result = runEyesim(mOptions);
         if (mJson) std::cout << result.dump() << std::endl;
         return 0;

@@ -6,6 +6,7 @@
 
 #include "command.hpp"
 #include "pointset_command.hpp"
+#include "shared_options.hpp"
 
 namespace gt::app {
 
@@ -39,6 +40,7 @@ public:
     }
 
     int run() override {
+        checkRunFiles({{"--out", mOptions.out}, {"--image", mOptions.image}}, {});
         const nlohmann::json result = runPointSet(mOptions);
         std::cout << (mJson ? result.dump() : result.dump(2)) << std::endl;
         return 0;

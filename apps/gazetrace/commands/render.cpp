@@ -1,4 +1,6 @@
 // `gazetrace render`: one frame or a sequence headless to PNGs: its options and what it prints.
+#include <cctype>
+#include <filesystem>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -149,6 +151,17 @@ public:
         mOptions.distortion = !mNoDistortion;
         mOptions.framesGiven = mCommand->count("--frames") > 0;
         mOptions.sizeGiven = mCommand->count("--width") + mCommand->count("--height") > 0;
+        // --out is one PNG, or else a folder of frames (which the run stages itself).
+        std::string ext = std::filesystem::path(mOptions.out).extension().string();
+        for (char& c : ext)
+            c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        checkRunFiles(
+            {{"--out", ext == ".png" ? mOptions.out : ""}, {"--graph", mOptions.graphDot}},
+            {{"--scene", mOptions.scene},
+             {"--camera-path", mOptions.cameraPath},
+             {"--gaze-trace", mOptions.gazeTrace},
+             {"--gaze-source", mOptions.gazeSource},
+             {"--calibration", mOptions.calibration}});
         const nlohmann::json result = runRender(mOptions);
         if (mJson)
             std::cout << result.dump() << std::endl;

@@ -1,5 +1,7 @@
 #include "shared_options.hpp"
 
+#include <vector>
+
 #include <CLI/CLI.hpp>
 
 #include "option_parsing.hpp"
@@ -63,6 +65,34 @@ void addNumberChecks(CLI::App& app) {
     }
     for (CLI::App* sub : app.get_subcommands({})) {
         addNumberChecks(*sub);
+    }
+}
+
+io::RunFile inputFile(const std::string& option, const std::string& value) {
+    std::string v = value;
+    for (bool stripped = true; stripped;) {
+        stripped = false;
+        for (const char* scheme : {"track:", "trace:", "video:", "images:"}) {
+            if (v.rfind(scheme, 0) == 0) {
+                v.erase(0, std::string(scheme).size());
+                stripped = true;
+            }
+        }
+    }
+    for (const char* none : {"builtin:", "synthetic:", "v4l2:", "udp:", "fixed:"}) {
+        if (v.rfind(none, 0) == 0) return {option, {}};
+    }
+    return {option, v};
+}
+
+void checkRunFiles(const std::vector<io::RunFile>& outputs,
+                   std::initializer_list<std::pair<const char*, std::string>> inputs) {
+    std::vector<io::RunFile> in;
+    for (const auto& [option, value] : inputs)
+        in.push_back(inputFile(option, value));
+    io::refuseOutputThatIsInput(outputs, in);
+    for (const io::RunFile& out : outputs) {
+        if (!out.path.empty()) io::checkOutputFile(out.path);
     }
 }
 

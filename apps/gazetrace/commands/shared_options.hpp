@@ -1,7 +1,12 @@
 #pragma once
 // Options more than one subcommand registers the same way.
 #include <cstdint>
+#include <initializer_list>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include "atomic_write.hpp"
 
 namespace CLI {
 class App;
@@ -25,5 +30,16 @@ void addNumberChecks(CLI::App& app);
 
 // --reconstruction gazetrace | thesis, as render and xr take it.
 void addReconstructionOption(CLI::App* cmd, std::string& reconstruction);
+
+// The file a value reads, for io::refuseOutputThatIsInput: a path, or the FILE of video:FILE,
+// images:DIR, trace:FILE and track:SOURCE; none (an empty path) for builtin: scenes, synthetic:
+// and v4l2: sources and the gaze inputs that read no file.
+[[nodiscard]] io::RunFile inputFile(const std::string& option, const std::string& value);
+
+// Before any work: every output file passes io::checkOutputFile (a long run does not find out
+// at its end that it cannot write), and io::refuseOutputThatIsInput holds over the outputs and
+// the inputs ({option, value} pairs, read as inputFile() reads them). Throws io::WriteError.
+void checkRunFiles(const std::vector<io::RunFile>& outputs,
+                   std::initializer_list<std::pair<const char*, std::string>> inputs);
 
 } // namespace gt::app

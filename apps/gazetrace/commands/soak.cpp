@@ -38,6 +38,7 @@ public:
 
     int run() override {
         mOptions.quiet = mQuiet;
+        checkRunFiles({{"--json-file", mOptions.json}}, {{"--scene", mOptions.scene}});
         const nlohmann::json result = runSoak(mOptions);
         if (mJson) std::cout << result.dump() << std::endl;
         return 0;

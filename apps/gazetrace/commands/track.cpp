@@ -7,6 +7,7 @@
 #include "command.hpp"
 #include "core/error.hpp"
 #include "eye_commands.hpp"
+#include "shared_options.hpp"
 
 namespace gt::app {
 
@@ -74,6 +75,16 @@ public:
     int run() override {
         if (mOptions.source.empty() && mOptions.sourceLeft.empty() && mOptions.sourceRight.empty())
             throw ArgumentError("track: --source (or --source-left and --source-right)");
+        checkRunFiles({{"--out", mOptions.out},
+                       {"--pupils", mOptions.pupils},
+                       {"--contact-sheet", mOptions.contactSheet}},
+                      {{"--source", mOptions.source},
+                       {"--source-left", mOptions.sourceLeft},
+                       {"--source-right", mOptions.sourceRight},
+                       {"--calibration", mOptions.calibration},
+                       {"--truth", mOptions.truth},
+                       {"--truth-right", mOptions.truthRight},
+                       {"--intrinsics", mOptions.camera.intrinsics}});
         const nlohmann::json result = runTrack(mOptions);
         std::cout << (mJson ? result.dump() : result.dump(2)) << std::endl;
         return 0;

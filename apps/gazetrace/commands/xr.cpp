@@ -89,6 +89,10 @@ public:
             mOptions.screenshotEye = mScreenshotEye[0];
             mOptions.screenshot = mScreenshotEye[1];
         }
+        checkRunFiles({{"--screenshot-eye", mOptions.screenshot}},
+                      {{"--scene", mOptions.scene},
+                       {"--gaze", mOptions.gaze},
+                       {"--calibration", mOptions.calibration}});
         const nlohmann::json result = runXr(mOptions);
         if (mJson) std::cout << result.dump() << std::endl;
         return 0;
