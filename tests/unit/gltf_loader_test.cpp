@@ -689,5 +689,35 @@ TEST(GltfLoader, DecodedTexturesHaveABudget) {
                   {.maxTextureBytes = 40 * 1024});
 }
 
+// A camera on a node scaled by 0 (or by a singular matrix, or 1e30) had NaN or zero axes: the
+// render wrote a flat image and exited 0. Such a camera is refused naming its node; a large
+// but invertible scale keeps its direction.
+TEST(GltfLoader, ACameraWithoutAViewDirectionIsRefused) {
+    const auto dir = test::tempDir("camera_axes");
+    const std::string base = test::quadJsonBesideBin(dir);
+    const std::string light = R"({"translation": [0, 2, 0], "extensions")";
+    const auto withCamera = [&](const std::string& transform) {
+        std::string json = base;
+        json.replace(json.find(light), light.size(),
+                     R"({"camera": 0, )" + transform + R"(, "extensions")");
+        json.insert(json.rfind('}'), R"(, "cameras": [{"type": "perspective",
+            "perspective": {"yfov": 1.0, "znear": 0.1}}])");
+        return json;
+    };
+    for (const std::string& transform :
+         {std::string(R"("scale": [0, 0, 0])"), std::string(R"("scale": [1, 0, 1])"),
+          std::string(R"("matrix": [0,0,0,0, 0,0,0,0, 0,0,0,0, 0,2,0,1])")}) {
+        test::writeFile(dir / "cam.gltf", withCamera(transform).data(),
+                        withCamera(transform).size());
+        expectRefused(dir / "cam.gltf", "nodes[1] holds the camera, but its world transform "
+                                        "leaves the camera no view direction");
+    }
+    const std::string huge = withCamera(R"("translation": [0, 2, 0], "scale": [1e30, 1e30, 1e30])");
+    test::writeFile(dir / "huge.gltf", huge.data(), huge.size());
+    const Scene s = loadGltf(dir / "huge.gltf");
+    EXPECT_NEAR(s.camera.forward.z, -1.0f, 1e-6f);
+    EXPECT_NEAR(s.camera.up.y, 1.0f, 1e-6f);
+}
+
 } // namespace
 } // namespace gt::scene
