@@ -32,11 +32,9 @@ namespace {
 
 constexpr uint32_t kMaxTextureSize = 2048; // larger base-colour textures are box-filtered down
 
-std::string oneLine(std::string s) {
-    std::replace(s.begin(), s.end(), '\n', ' ');
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\r'))
-        s.pop_back();
-    return s;
+// tinygltf quotes the whole URI it failed on: a 100 MB data: URI made a 100 MB error line.
+std::string oneLine(const std::string& s) {
+    return messageLine(s);
 }
 
 struct ImageLoaderState {

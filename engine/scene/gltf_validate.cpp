@@ -1,5 +1,6 @@
 #include "scene/gltf_validate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -605,6 +606,31 @@ void checkJsonText(std::string_view json, const std::string& file) {
     }
 }
 
+std::string messageLine(std::string_view text) {
+    constexpr std::size_t kLongRun = 120, kKept = 100;
+    std::string line;
+    std::size_t i = 0;
+    while (i < text.size()) {
+        const std::size_t end = std::min(text.find_first_of(" \t\r\n", i), text.size());
+        if (end == i) {
+            line += ' ';
+            ++i;
+            continue;
+        }
+        const std::string_view run = text.substr(i, end - i);
+        if (run.size() > kLongRun) {
+            line.append(run.substr(0, kKept));
+            line += "...(" + std::to_string(run.size()) + " characters)";
+        } else {
+            line.append(run);
+        }
+        i = end;
+    }
+    while (!line.empty() && line.back() == ' ')
+        line.pop_back();
+    return line;
+}
+
 GltfDocumentFacts validateGltfJson(std::string_view text, const std::string& file) {
     json root;
     try {
@@ -612,7 +638,7 @@ GltfDocumentFacts validateGltfJson(std::string_view text, const std::string& fil
     } catch (const json::exception& e) {
         std::string what = e.what();
         if (const auto at = what.find("] "); at != std::string::npos) what = what.substr(at + 2);
-        throw LoadError(file + ": not valid JSON (" + what + ")");
+        throw LoadError(file + ": not valid JSON (" + messageLine(what) + ")");
     }
     return DocumentChecker(root, file).check();
 }

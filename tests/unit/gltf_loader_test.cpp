@@ -719,5 +719,35 @@ TEST(GltfLoader, ACameraWithoutAViewDirectionIsRefused) {
     EXPECT_NEAR(s.camera.up.y, 1.0f, 1e-6f);
 }
 
+// tinygltf and the JSON parser quote what they failed on: a buffer's data: URI with a bad
+// base64 character made an error line as long as the URI (a 200 MB line for a 200 MB file), an
+// unterminated string or a 5000-digit number one as long as those. The line keeps the start of
+// such a run and its length.
+TEST(GltfLoader, ErrorLinesStayShortWhateverTheyQuote) {
+    const auto dir = test::tempDir("long_quote");
+    const std::string base = test::quadJsonBesideBin(dir);
+    const std::string longRun(1 << 20, 'A');
+    for (const auto& [name, from, to, mention] :
+         {std::tuple{"data_uri.gltf", std::string(R"("uri": "quad.bin")"),
+                     R"("uri": "data:application/octet-stream;base64,@@@@)" + longRun + "\"",
+                     std::string("...(1048617 characters) in Buffer")},
+          std::tuple{"number.gltf", std::string(R"("count": 4,)"),
+                     R"("count": 9)" + std::string(5000, '9') + ",",
+                     std::string("number overflow parsing '999")},
+          std::tuple{"string.gltf", std::string(R"("uri": "quad.bin")"),
+                     R"("uri": "quad.bin)" + longRun, std::string("characters)")}}) {
+        const auto file = writeEdited(dir, name, base, from, to);
+        std::string e;
+        try {
+            (void)loadGltf(file);
+        } catch (const LoadError& x) {
+            e = x.what();
+        }
+        EXPECT_NE(e.find(file.string() + ": "), std::string::npos) << e.substr(0, 300);
+        EXPECT_NE(e.find(mention), std::string::npos) << e.substr(0, 300);
+        EXPECT_LT(e.size(), 600u) << e.substr(0, 300);
+    }
+}
+
 } // namespace
 } // namespace gt::scene
