@@ -100,6 +100,7 @@ public:
             mCount[name] = objects(mRoot, name, name).size();
         }
         mCount["lights"] = lightList().size();
+        checkAsset();
         checkBuffers();
         checkBufferViews();
         checkAccessors();
@@ -116,6 +117,20 @@ public:
 private:
     [[noreturn]] void refuse(const std::string& field, const std::string& what) const {
         throw LoadError(mFile + ": " + field + " " + what);
+    }
+
+    // glTF 2.0, 3.2 "Asset": the version is "major.minor", and a 2.0 reader reads major 2 only
+    // (a "3.0" file loaded as if it were 2.0). A missing asset is tinygltf's to report.
+    void checkAsset() const {
+        const json* asset = member(mRoot, "asset");
+        if (!asset || !asset->is_object()) return;
+        const json* version = member(*asset, "version");
+        if (!version) refuse("asset.version", "is missing");
+        const std::string text = version->is_string() ? version->get<std::string>() : "";
+        if (text.rfind("2.", 0) != 0 || text.size() < 3 ||
+            text.find_first_not_of("0123456789", 2) != std::string::npos) {
+            refuse("asset.version", "is " + describe(*version) + ", must be 2.x (glTF 2.0)");
+        }
     }
 
     // The elements of an optional array of objects (empty when absent).

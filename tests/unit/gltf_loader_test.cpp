@@ -587,7 +587,12 @@ TEST(GltfLoader, WhatTheSpecificationForbidsIsRefusedNamingTheField) {
                      "must be 0 <= inner < outer <= pi/2"},
           std::tuple{std::string(R"("count": 6, "type": "SCALAR")"),
                      std::string(R"("count": 0, "type": "SCALAR")"),
-                     "accessors[1].count is 0, must be >= 1"}}) {
+                     "accessors[1].count is 0, must be >= 1"},
+          // A "3.0" asset loaded as 2.0.
+          std::tuple{std::string(R"("version": "2.0")"), std::string(R"("version": "3.0")"),
+                     "asset.version is \"3.0\", must be 2.x"},
+          std::tuple{std::string(R"("version": "2.0")"), std::string(R"("version": 2)"),
+                     "asset.version is 2, must be 2.x"}}) {
         expectRefused(writeEdited(dir, "must.gltf", base, from, to), mention);
     }
 }
