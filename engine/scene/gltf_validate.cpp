@@ -590,11 +590,18 @@ GltfDocumentFacts DocumentChecker::facts() {
         }
     }
     const auto files = [&](const char* list, std::vector<std::string>& out) {
+        std::size_t i = 0;
         for (const json* o : objects(mRoot, list, list)) {
             const json* uri = member(*o, "uri");
             if (uri && uri->get<std::string>().rfind("data:", 0) != 0) {
                 out.push_back(percentDecoded(uri->get<std::string>()));
+                // A %00 ended the name where the system reads it: "quad.bin%00.png" read
+                // quad.bin, and a name past the NUL passed the folder check for another file.
+                if (out.back().find('\0') != std::string::npos) {
+                    refuse(at(list, i) + ".uri", "holds %00 (a NUL), which no file name can");
+                }
             }
+            ++i;
         }
     };
     files("buffers", f.bufferFiles);

@@ -588,6 +588,10 @@ TEST(GltfLoader, WhatTheSpecificationForbidsIsRefusedNamingTheField) {
           std::tuple{std::string(R"("count": 6, "type": "SCALAR")"),
                      std::string(R"("count": 0, "type": "SCALAR")"),
                      "accessors[1].count is 0, must be >= 1"},
+          // "quad.bin%00.png" read quad.bin.
+          std::tuple{std::string(R"("uri": "quad.bin")"),
+                     std::string(R"("uri": "quad.bin%00.png")"),
+                     "buffers[0].uri holds %00 (a NUL), which no file name can"},
           // A "3.0" asset loaded as 2.0.
           std::tuple{std::string(R"("version": "2.0")"), std::string(R"("version": "3.0")"),
                      "asset.version is \"3.0\", must be 2.x"},
