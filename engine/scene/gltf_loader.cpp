@@ -32,11 +32,9 @@ namespace {
 
 constexpr uint32_t kMaxTextureSize = 2048; // larger base-colour textures are box-filtered down
 
-std::string oneLine(std::string s) {
-    std::replace(s.begin(), s.end(), '\n', ' ');
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\r'))
-        s.pop_back();
-    return s;
+// tinygltf quotes the whole URI it failed on: a 100 MB data: URI made a 100 MB error line.
+std::string oneLine(const std::string& s) {
+    return messageLine(s);
 }
 
 struct ImageLoaderState {
@@ -649,6 +647,23 @@ private:
         }
     }
 
+    // The camera looks down its node's -Z with +Y up. Normalised in double: a scale of 1e30 made
+    // the float length overflow to infinity and both axes zero. A scale of 0 or a singular matrix
+    // on the node or a parent leaves no direction at all: normalize gave NaN axes and a flat
+    // image that still "rendered", so it is refused naming the node.
+    void placeCameraAxes(const glm::mat4& world, int nodeIndex) {
+        const glm::dvec3 forward(glm::dmat4(world) * glm::dvec4(0, 0, -1, 0));
+        const glm::dvec3 up(glm::dmat4(world) * glm::dvec4(0, 1, 0, 0));
+        const double across = glm::length(glm::cross(forward, up));
+        if (!(across > 1e-12 * glm::length(forward) * glm::length(up)) || !std::isfinite(across)) {
+            fail("nodes[" + std::to_string(nodeIndex) +
+                 "] holds the camera, but its world transform leaves the camera no view "
+                 "direction (a scale of 0 or a singular matrix)");
+        }
+        mScene.camera.forward = glm::vec3(glm::normalize(forward));
+        mScene.camera.up = glm::vec3(glm::normalize(up));
+    }
+
     void visit(int nodeIndex, const glm::mat4& parent, int depth) {
         if (nodeIndex < 0 || static_cast<std::size_t>(nodeIndex) >= mModel.nodes.size()) {
             fail("node index " + std::to_string(nodeIndex) + " out of range");
@@ -666,8 +681,7 @@ private:
             static_cast<std::size_t>(node.camera) < mModel.cameras.size()) {
             const tinygltf::Camera& c = mModel.cameras[node.camera];
             mScene.camera.position = glm::vec3(world[3]);
-            mScene.camera.forward = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
-            mScene.camera.up = glm::normalize(glm::vec3(world * glm::vec4(0, 1, 0, 0)));
+            placeCameraAxes(world, nodeIndex);
             if (c.type == "perspective" && c.perspective.yfov > 0.0) {
                 mScene.camera.yfov = factor(c.perspective.yfov, 1e-6, 3.14159,
                                             "camera " + std::to_string(node.camera) + " yfov");

@@ -1,5 +1,6 @@
 #include "scene/gltf_validate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -99,6 +100,7 @@ public:
             mCount[name] = objects(mRoot, name, name).size();
         }
         mCount["lights"] = lightList().size();
+        checkAsset();
         checkBuffers();
         checkBufferViews();
         checkAccessors();
@@ -115,6 +117,20 @@ public:
 private:
     [[noreturn]] void refuse(const std::string& field, const std::string& what) const {
         throw LoadError(mFile + ": " + field + " " + what);
+    }
+
+    // glTF 2.0, 3.2 "Asset": the version is "major.minor", and a 2.0 reader reads major 2 only
+    // (a "3.0" file loaded as if it were 2.0). A missing asset is tinygltf's to report.
+    void checkAsset() const {
+        const json* asset = member(mRoot, "asset");
+        if (!asset || !asset->is_object()) return;
+        const json* version = member(*asset, "version");
+        if (!version) refuse("asset.version", "is missing");
+        const std::string text = version->is_string() ? version->get<std::string>() : "";
+        if (text.rfind("2.", 0) != 0 || text.size() < 3 ||
+            text.find_first_not_of("0123456789", 2) != std::string::npos) {
+            refuse("asset.version", "is " + describe(*version) + ", must be 2.x (glTF 2.0)");
+        }
     }
 
     // The elements of an optional array of objects (empty when absent).
@@ -574,11 +590,18 @@ GltfDocumentFacts DocumentChecker::facts() {
         }
     }
     const auto files = [&](const char* list, std::vector<std::string>& out) {
+        std::size_t i = 0;
         for (const json* o : objects(mRoot, list, list)) {
             const json* uri = member(*o, "uri");
             if (uri && uri->get<std::string>().rfind("data:", 0) != 0) {
                 out.push_back(percentDecoded(uri->get<std::string>()));
+                // A %00 ended the name where the system reads it: "quad.bin%00.png" read
+                // quad.bin, and a name past the NUL passed the folder check for another file.
+                if (out.back().find('\0') != std::string::npos) {
+                    refuse(at(list, i) + ".uri", "holds %00 (a NUL), which no file name can");
+                }
             }
+            ++i;
         }
     };
     files("buffers", f.bufferFiles);
@@ -605,6 +628,31 @@ void checkJsonText(std::string_view json, const std::string& file) {
     }
 }
 
+std::string messageLine(std::string_view text) {
+    constexpr std::size_t kLongRun = 120, kKept = 100;
+    std::string line;
+    std::size_t i = 0;
+    while (i < text.size()) {
+        const std::size_t end = std::min(text.find_first_of(" \t\r\n", i), text.size());
+        if (end == i) {
+            line += ' ';
+            ++i;
+            continue;
+        }
+        const std::string_view run = text.substr(i, end - i);
+        if (run.size() > kLongRun) {
+            line.append(run.substr(0, kKept));
+            line += "...(" + std::to_string(run.size()) + " characters)";
+        } else {
+            line.append(run);
+        }
+        i = end;
+    }
+    while (!line.empty() && line.back() == ' ')
+        line.pop_back();
+    return line;
+}
+
 GltfDocumentFacts validateGltfJson(std::string_view text, const std::string& file) {
     json root;
     try {
@@ -612,7 +660,7 @@ GltfDocumentFacts validateGltfJson(std::string_view text, const std::string& fil
     } catch (const json::exception& e) {
         std::string what = e.what();
         if (const auto at = what.find("] "); at != std::string::npos) what = what.substr(at + 2);
-        throw LoadError(file + ": not valid JSON (" + what + ")");
+        throw LoadError(file + ": not valid JSON (" + messageLine(what) + ")");
     }
     return DocumentChecker(root, file).check();
 }

@@ -36,4 +36,9 @@ struct GlbLayout {
 };
 [[nodiscard]] GlbLayout glbLayout(std::string_view bytes, const std::string& file);
 
+// `text` (a parser's message, which quotes what it read) as one line of bounded length: line
+// breaks become spaces and a run of more than 120 characters without a space (a data: URI, a
+// 5000-digit number, an unterminated string) keeps its first 100 and says how long it was.
+[[nodiscard]] std::string messageLine(std::string_view text);
+
 } // namespace gt::scene

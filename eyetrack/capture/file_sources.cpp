@@ -174,6 +174,17 @@ std::optional<Frame> ImageFolderSource::next() {
         throw CaptureError(std::string(e.what()) + " (after " + std::to_string(mNext) +
                            " good frames)");
     }
+    // A frame of another size (another camera's, or a resized export) was tracked as if it were
+    // this camera's: its pupil positions are in other pixels, and the calibration maps them to
+    // the wrong place on the screen.
+    if (mNext == 0) mFrameSize = image.size();
+    if (image.size() != mFrameSize) {
+        throw CaptureError("images: " + mFiles[mNext].string() + ": " + std::to_string(image.cols) +
+                           "x" + std::to_string(image.rows) + ", but the folder's first frame " +
+                           mFiles.front().string() + " is " + std::to_string(mFrameSize.width) +
+                           "x" + std::to_string(mFrameSize.height) +
+                           " (one camera's frames have one size)");
+    }
     Frame f;
     f.grey = toGrey(image);
     f.sequence = mNext;

@@ -57,6 +57,7 @@ private:
     std::vector<std::filesystem::path> mFiles;
     double mFps;
     std::size_t mNext = 0;
+    cv::Size mFrameSize; // the first frame's: every frame of one camera has it
 };
 
 class SyntheticSource final : public FrameSource {

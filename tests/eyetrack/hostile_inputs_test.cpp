@@ -389,6 +389,19 @@ TEST(HostileImages, SizeFromTheHeaderAndCutFilesAreOneLine) {
     EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
     EXPECT_MENTIONS(cutJpeg, "cut.jpg: truncated JPEG");
 
+    // Frames of another size were tracked as the same camera's (pupils in other pixels).
+    fs::create_directories(dir / "mixed");
+    write(dir / "mixed" / "a.png", pngWithSize(2, 2));
+    write(dir / "mixed" / "b.png", pngWithSize(2, 2));
+    std::vector<uchar> wider;
+    cv::imencode(".png", cv::Mat(3, 4, CV_8U, cv::Scalar(7)), wider);
+    write(dir / "mixed" / "c.png", std::string(wider.begin(), wider.end()));
+    auto mixed = openFrameSource(ImageFolderConfig{(dir / "mixed").string(), 30.0});
+    EXPECT_TRUE(mixed->next().has_value());
+    EXPECT_TRUE(mixed->next().has_value());
+    EXPECT_MENTIONS(errorOf<CaptureError>([&] { (void)mixed->next(); }),
+                    "c.png: 4x3, but the folder's first frame");
+
     // A FIFO among the frames blocked the folder source forever.
     fs::create_directories(dir / "fifo");
     ASSERT_EQ(::mkfifo((dir / "fifo" / "a.png").c_str(), 0600), 0);

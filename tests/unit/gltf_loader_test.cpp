@@ -587,7 +587,16 @@ TEST(GltfLoader, WhatTheSpecificationForbidsIsRefusedNamingTheField) {
                      "must be 0 <= inner < outer <= pi/2"},
           std::tuple{std::string(R"("count": 6, "type": "SCALAR")"),
                      std::string(R"("count": 0, "type": "SCALAR")"),
-                     "accessors[1].count is 0, must be >= 1"}}) {
+                     "accessors[1].count is 0, must be >= 1"},
+          // "quad.bin%00.png" read quad.bin.
+          std::tuple{std::string(R"("uri": "quad.bin")"),
+                     std::string(R"("uri": "quad.bin%00.png")"),
+                     "buffers[0].uri holds %00 (a NUL), which no file name can"},
+          // A "3.0" asset loaded as 2.0.
+          std::tuple{std::string(R"("version": "2.0")"), std::string(R"("version": "3.0")"),
+                     "asset.version is \"3.0\", must be 2.x"},
+          std::tuple{std::string(R"("version": "2.0")"), std::string(R"("version": 2)"),
+                     "asset.version is 2, must be 2.x"}}) {
         expectRefused(writeEdited(dir, "must.gltf", base, from, to), mention);
     }
 }
@@ -687,6 +696,66 @@ TEST(GltfLoader, DecodedTexturesHaveABudget) {
                   "decoded textures reach 49152 bytes at image 2 (64x64), over the limit of "
                   "40960 bytes (40 KiB;",
                   {.maxTextureBytes = 40 * 1024});
+}
+
+// A camera on a node scaled by 0 (or by a singular matrix, or 1e30) had NaN or zero axes: the
+// render wrote a flat image and exited 0. Such a camera is refused naming its node; a large
+// but invertible scale keeps its direction.
+TEST(GltfLoader, ACameraWithoutAViewDirectionIsRefused) {
+    const auto dir = test::tempDir("camera_axes");
+    const std::string base = test::quadJsonBesideBin(dir);
+    const std::string light = R"({"translation": [0, 2, 0], "extensions")";
+    const auto withCamera = [&](const std::string& transform) {
+        std::string json = base;
+        json.replace(json.find(light), light.size(),
+                     R"({"camera": 0, )" + transform + R"(, "extensions")");
+        json.insert(json.rfind('}'), R"(, "cameras": [{"type": "perspective",
+            "perspective": {"yfov": 1.0, "znear": 0.1}}])");
+        return json;
+    };
+    for (const std::string& transform :
+         {std::string(R"("scale": [0, 0, 0])"), std::string(R"("scale": [1, 0, 1])"),
+          std::string(R"("matrix": [0,0,0,0, 0,0,0,0, 0,0,0,0, 0,2,0,1])")}) {
+        test::writeFile(dir / "cam.gltf", withCamera(transform).data(),
+                        withCamera(transform).size());
+        expectRefused(dir / "cam.gltf", "nodes[1] holds the camera, but its world transform "
+                                        "leaves the camera no view direction");
+    }
+    const std::string huge = withCamera(R"("translation": [0, 2, 0], "scale": [1e30, 1e30, 1e30])");
+    test::writeFile(dir / "huge.gltf", huge.data(), huge.size());
+    const Scene s = loadGltf(dir / "huge.gltf");
+    EXPECT_NEAR(s.camera.forward.z, -1.0f, 1e-6f);
+    EXPECT_NEAR(s.camera.up.y, 1.0f, 1e-6f);
+}
+
+// tinygltf and the JSON parser quote what they failed on: a buffer's data: URI with a bad
+// base64 character made an error line as long as the URI (a 200 MB line for a 200 MB file), an
+// unterminated string or a 5000-digit number one as long as those. The line keeps the start of
+// such a run and its length.
+TEST(GltfLoader, ErrorLinesStayShortWhateverTheyQuote) {
+    const auto dir = test::tempDir("long_quote");
+    const std::string base = test::quadJsonBesideBin(dir);
+    const std::string longRun(1 << 20, 'A');
+    for (const auto& [name, from, to, mention] :
+         {std::tuple{"data_uri.gltf", std::string(R"("uri": "quad.bin")"),
+                     R"("uri": "data:application/octet-stream;base64,@@@@)" + longRun + "\"",
+                     std::string("...(1048617 characters) in Buffer")},
+          std::tuple{"number.gltf", std::string(R"("count": 4,)"),
+                     R"("count": 9)" + std::string(5000, '9') + ",",
+                     std::string("number overflow parsing '999")},
+          std::tuple{"string.gltf", std::string(R"("uri": "quad.bin")"),
+                     R"("uri": "quad.bin)" + longRun, std::string("characters)")}}) {
+        const auto file = writeEdited(dir, name, base, from, to);
+        std::string e;
+        try {
+            (void)loadGltf(file);
+        } catch (const LoadError& x) {
+            e = x.what();
+        }
+        EXPECT_NE(e.find(file.string() + ": "), std::string::npos) << e.substr(0, 300);
+        EXPECT_NE(e.find(mention), std::string::npos) << e.substr(0, 300);
+        EXPECT_LT(e.size(), 600u) << e.substr(0, 300);
+    }
 }
 
 } // namespace
