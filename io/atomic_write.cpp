@@ -17,6 +17,8 @@
 
 #include "input_file.hpp"
 
+#include "file_kind.hpp"
+
 namespace gt::io {
 
 namespace {
@@ -70,15 +72,6 @@ fs::path folderOf(const fs::path& path) {
     return path.parent_path().empty() ? fs::path(".") : path.parent_path();
 }
 
-std::string kindOf(mode_t mode) {
-    if (S_ISDIR(mode)) return "a folder";
-    if (S_ISFIFO(mode)) return "a FIFO";
-    if (S_ISSOCK(mode)) return "a socket";
-    if (S_ISCHR(mode)) return "a character device";
-    if (S_ISBLK(mode)) return "a block device";
-    return "not a regular file";
-}
-
 // What is at `path` itself (a symlink is not followed): nothing, a regular file or a symlink
 // may be replaced by rename(); anything else is refused.
 void requireReplaceable(const fs::path& path) {
@@ -86,7 +79,7 @@ void requireReplaceable(const fs::path& path) {
     if (::lstat(path.c_str(), &st) != 0) return; // nothing there yet (or the folder fails later)
     if (S_ISREG(st.st_mode) || S_ISLNK(st.st_mode)) return;
     if (S_ISDIR(st.st_mode)) fail(path, "it is a folder", 0);
-    fail(path, "it is " + kindOf(st.st_mode) + ", not a regular file; refusing to replace it", 0);
+    fail(path, "it is " + fileKind(st.st_mode) + ", not a regular file; refusing to replace it", 0);
 }
 
 void requireWritableFolder(const fs::path& path, const fs::path& folder) {
@@ -303,7 +296,7 @@ StagedFolder::StagedFolder(fs::path target) : mTarget(std::move(target)) {
     struct stat st {};
     if (::stat(mTarget.c_str(), &st) == 0 && !S_ISDIR(st.st_mode)) {
         fail(mTarget,
-             "it is " + (S_ISREG(st.st_mode) ? std::string("a file") : kindOf(st.st_mode)) +
+             "it is " + (S_ISREG(st.st_mode) ? std::string("a file") : fileKind(st.st_mode)) +
                  ", not a folder",
              0);
     }

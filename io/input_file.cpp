@@ -10,21 +10,14 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "file_kind.hpp"
+
 namespace gt::io {
 
 namespace {
 
 [[noreturn]] void refuse(const std::filesystem::path& path, const std::string& why) {
     throw InputError(path.string() + ": " + why);
-}
-
-std::string kindOf(mode_t mode) {
-    if (S_ISDIR(mode)) return "a folder";
-    if (S_ISFIFO(mode)) return "a FIFO";
-    if (S_ISSOCK(mode)) return "a socket";
-    if (S_ISCHR(mode)) return "a character device";
-    if (S_ISBLK(mode)) return "a block device";
-    return "not a plain file";
 }
 
 // An open descriptor closed on every path out.
@@ -56,7 +49,7 @@ Fd openChecked(const std::filesystem::path& path, std::uint64_t maxBytes, struct
     if (::fstat(fd.get(), &st) != 0) {
         refuse(path, std::string("cannot read its status (") + std::strerror(errno) + ")");
     }
-    if (!S_ISREG(st.st_mode)) refuse(path, kindOf(st.st_mode) + ", not a regular file");
+    if (!S_ISREG(st.st_mode)) refuse(path, fileKind(st.st_mode) + ", not a regular file");
     const auto size = static_cast<std::uint64_t>(st.st_size);
     if (size > maxBytes) {
         refuse(path, describeBytes(size) + " is over the " + describeBytes(maxBytes) +
