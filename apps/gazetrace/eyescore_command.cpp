@@ -98,8 +98,8 @@ std::pair<std::uint64_t, std::uint64_t> parseSeedRange(const std::string& s) {
     return {a, b};
 }
 
-nlohmann::json runEyescore(const EyescoreOptions& o) {
-    cv::setNumThreads(1); // the detector's budget is one core
+// The values the options parser cannot check alone; the gate threshold to score at.
+double checkedThreshold(const EyescoreOptions& o) {
     if (o.frames < 1 || o.frames > 100000) {
         throw ArgumentError("--frames " + std::to_string(o.frames) + ": expected 1..100000");
     }
@@ -109,30 +109,37 @@ nlohmann::json runEyescore(const EyescoreOptions& o) {
     if (!(o.radiusPx > 0.0) || o.radiusPx > 1000.0) {
         throw ArgumentError("--radius: expected a positive number of pixels");
     }
-    const auto [first, last] = parseSeedRange(o.seeds);
     const double threshold =
         o.threshold >= 0.0 ? o.threshold : eyetrack::GazeFilterConfig{}.minConfidence;
     if (threshold > 1.0) {
         throw ArgumentError("--threshold: expected 0..1");
     }
+    return threshold;
+}
 
-    std::unique_ptr<eyetrack::AtomicFile> misses;
-    if (!o.misses.empty()) {
-        misses = std::make_unique<eyetrack::AtomicFile>(o.misses);
-        // Semi-axes beside the centres: a fit off by a few pixels is often one too large or too
-        // small for the arc it saw.
-        misses->stream() << "seed,frame,visibility,truth_x,truth_y,found_x,found_y,error_px,"
-                            "confidence,truth_major,truth_minor,found_major,found_minor\n";
-    }
-    std::unique_ptr<eyetrack::AtomicFile> answers;
-    if (!o.answers.empty()) {
-        answers = std::make_unique<eyetrack::AtomicFile>(o.answers);
-        answers->stream() << "seed,frame,visibility,error_px,right,confidence,product,"
-                             "visible_support,fill,axis_ratio,score,rival_score,inlier_share,"
-                             "contrast,semi_major,eye_axis_ratio,size_factor,size_known,"
-                             "last_distance,level_excess,support_all,ranked_product,"
-                             "ranked_score,ranked_rival_score,earlier_frames\n";
-    }
+// A CSV named by an option, started with its header; none when the option was not given.
+std::unique_ptr<eyetrack::AtomicFile> startCsv(const std::string& file, const char* header) {
+    if (file.empty()) return nullptr;
+    auto csv = std::make_unique<eyetrack::AtomicFile>(file);
+    csv->stream() << header;
+    return csv;
+}
+
+nlohmann::json runEyescore(const EyescoreOptions& o) {
+    cv::setNumThreads(1); // the detector's budget is one core
+    const double threshold = checkedThreshold(o);
+    const auto [first, last] = parseSeedRange(o.seeds);
+    // Semi-axes beside the centres: a fit off by a few pixels is often one too large or too
+    // small for the arc it saw.
+    const auto misses =
+        startCsv(o.misses, "seed,frame,visibility,truth_x,truth_y,found_x,found_y,error_px,"
+                           "confidence,truth_major,truth_minor,found_major,found_minor\n");
+    const auto answers =
+        startCsv(o.answers, "seed,frame,visibility,error_px,right,confidence,product,"
+                            "visible_support,fill,axis_ratio,score,rival_score,inlier_share,"
+                            "contrast,semi_major,eye_axis_ratio,size_factor,size_known,"
+                            "last_distance,level_excess,support_all,ranked_product,"
+                            "ranked_score,ranked_rival_score,earlier_frames\n");
     std::optional<eyetrack::ContactSheet> sheet;
     if (!o.missesSheet.empty()) {
         sheet.emplace(o.missesSheet, o.sheetEvery);
