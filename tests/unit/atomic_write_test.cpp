@@ -136,7 +136,10 @@ TEST(AtomicWrite, OutputThatIsNotARegularFileIsRefused) {
     nodes.emplace_back(dir / "fifo", "a FIFO");
     std::filesystem::create_directory(dir / "folder");
     nodes.emplace_back(dir / "folder", "a folder");
-    for (const auto& [node, kind] : nodes) {
+    for (const auto& entry : nodes) {
+        // Plain references: clang does not let a lambda capture a structured binding.
+        const std::filesystem::path& node = entry.first;
+        const std::string& kind = entry.second;
         for (const auto& write : std::vector<std::function<void()>>{
                  [&] { io::writeFileAtomic(node, std::string("452 KB")); },
                  [&] { io::AtomicFile f(node); }, [&] { io::StagedFile f(node); }}) {
