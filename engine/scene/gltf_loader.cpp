@@ -740,6 +740,18 @@ private:
     // areas overflow a float (a node at 3.4e38 crashed the build).
     static constexpr float kMaxCoordinate = 1e12f;
 
+    // A NaN or infinite texture coordinate (in the buffer, or made by a texture transform that
+    // carries a huge one past the float range) samples nothing: refused, as a position is.
+    void checkTexCoords(const std::vector<float>& uv, const std::string& mesh,
+                        const std::string& set) const {
+        for (std::size_t i = 0; i < uv.size(); ++i) {
+            if (!std::isfinite(uv[i])) {
+                fail("mesh '" + mesh + "': " + set + " of vertex " + std::to_string(i / 2) +
+                     " is not a finite number (NaN or infinity, after any texture transform)");
+            }
+        }
+    }
+
     void checkWorldPosition(const glm::vec3& w, int nodeIndex) {
         if (std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z) &&
             std::abs(w.x) <= kMaxCoordinate && std::abs(w.y) <= kMaxCoordinate &&
@@ -844,6 +856,7 @@ private:
                 if (uv.size() / 2 != vertexCount)
                     fail("mesh '" + mesh.name + "': " + uvSet + " count differs from POSITION");
                 uvt.apply(uv);
+                checkTexCoords(uv, mesh.name, uvSet);
             }
             std::vector<uint32_t> idx;
             if (prim.indices >= 0) {

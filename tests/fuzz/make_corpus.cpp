@@ -326,6 +326,10 @@ void gltf() {
     // Found by fuzzing: a light colour of 1.7e117 became an infinite float.
     put(t, "regressions", "light_color_1.7e117.gltf",
         replaced(featureful(), R"("color": [1, 0.5, 0.2])", R"("color": [1.7e117, 0.5, 0.2])"));
+    // Found by fuzzing: a texture coordinate of NaN (float bits 0x7F8D0000) in the buffer loaded
+    // into a vertex.
+    put(t, "regressions", "texcoord_nan.gltf",
+        replaced(featureful(), "gD8AAIA/AAAAAAAAgD8=", "gD8AAI1/AAAAAAAAgD8="));
     // Found by fuzzing (UBSan): a light reference of 1.5e44 went through tinygltf's int cast.
     put(t, "regressions", "light_index_1.5e44.gltf",
         replaced(quad, R"("KHR_lights_punctual": {"light": 0})",
