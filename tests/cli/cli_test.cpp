@@ -624,9 +624,9 @@ TEST(Cli, CalibrateRefusesNanAndOverflowingScreens) {
 namespace gt {
 namespace {
 
-// Values that CLI11's conversions and ranges let through (NaN passes every range check, "-3"
-// wrapped to 2^64 - 3, 1e30 made a NaN camera, two sources meant one was silently ignored) each
-// ran to exit 0 with a wrong result; now each is one line naming the option or variable.
+// Values that CLI11's conversions and ranges alone let through (NaN passes every range check,
+// "-3" wraps to 2^64 - 3, 1e30 makes a NaN camera, of two sources one would be ignored) are each
+// one line naming the option or variable, never a run that exits 0 with a wrong result.
 TEST(Cli, HostileNumbersAreOneLineNamingTheOption) {
     const auto dir = test::tempDir("cli_hostile_numbers");
     const auto png = dir / "o.png";
@@ -729,9 +729,9 @@ TEST(Cli, ReadmeOptionsTableIsGeneratedFromTheOptions) {
 namespace gt {
 namespace {
 
-// A POSITION count of (2^64 + 2) / 3 wrapped count x 3 to 2 floats and the loader wrote past
-// them: render and eval died of SIGSEGV. Both now refuse it with one line naming the accessor;
-// a GAZETRACE_MAX_TRIANGLES that is not a whole number was silently ignored.
+// A POSITION count of (2^64 + 2) / 3 wraps count x 3 to 2 floats, so an unchecked bounds test
+// passes and the loader writes past them: render and eval refuse it with one line naming the
+// accessor, and a GAZETRACE_MAX_TRIANGLES that is not a whole number with one naming it.
 TEST(Cli, GltfSizesThatWrapAroundAndBadLimitsAreRefused) {
     const auto dir = test::tempDir("cli_wrap");
     std::string json = test::quadJsonBesideBin(dir);

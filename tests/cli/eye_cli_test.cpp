@@ -244,8 +244,9 @@ TEST(EyeCli, BadInputsAreOneLine) {
 }
 
 // Hostile files at the command line: each run ends in one line naming the file, a non-zero exit
-// and no output file — a FIFO calibration used to hang, a playlist named .mkv to read the files
-// it listed, a clip cut by one frame to end cleanly, a damaged calibration or truth to be read.
+// and no output file: a FIFO calibration must not block, a playlist named .mkv must not make
+// FFmpeg read the files it lists, a clip cut by one frame must not end cleanly, and a damaged
+// calibration or truth must not be read.
 TEST(EyeCli, HostileFilesAreOneLine) {
     const auto dir = freshDir("eye_hostile");
     const std::string clip = (dir / "c.avi").string(), truth = (dir / "c.csv").string();

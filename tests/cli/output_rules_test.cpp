@@ -99,9 +99,9 @@ TEST(OutputRules, ADeviceNodeOutputIsRefused) {
     EXPECT_FALSE(std::filesystem::exists(dir / "c.mkv"));
 }
 
-// A render into a frame folder that failed at frame 1 (a folder in the way) deleted the frame 0
-// it had just replaced, losing the earlier run's. The run now writes into a folder of its own
-// beside the target: the earlier frames stay as they were, and nothing of the run is left.
+// A render into a frame folder that fails at frame 1 (a folder in the way) must not lose the
+// earlier run's frame 0: the run writes into a folder of its own beside the target, so the
+// earlier frames stay as they were and nothing of the run is left.
 TEST(OutputRules, AFailedFolderRunKeepsTheEarlierFrames) {
     const auto dir = test::tempDir("cli_folder_run");
     const auto frames = dir / "frames";
@@ -132,8 +132,8 @@ TEST(OutputRules, NamesOfNameMaxBytesAreWritten) {
     EXPECT_GT(std::filesystem::file_size(truth), 0u);
 }
 
-// A read-only folder gave "cannot open a lossless FFV1 writer": it is named now. Root writes
-// anywhere, so the run is made as nobody.
+// A read-only folder is named as such, not reported as "cannot open a lossless FFV1 writer".
+// Root writes anywhere, so the run is made as nobody.
 TEST(OutputRules, AReadOnlyFolderIsNamed) {
     const auto dir = test::tempDir("cli_read_only");
     const auto ro = dir / "ro";

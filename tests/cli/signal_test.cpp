@@ -170,7 +170,7 @@ void expectInterrupted(const test::Result& r, const std::string& command, int si
     EXPECT_TRUE(r.out.empty()) << r.out;
 }
 
-// The campaign's case: SIGINT in the middle of a folder of frames left a third of them.
+// SIGINT in the middle of a folder of frames must leave none of them.
 TEST(Signals, RenderInterruptedLeavesNoFramesAndKeepsWhatWasThere) {
     const auto dir = test::tempDir("signal_render");
     const auto work = dir / "work", logs = dir / "logs";

@@ -136,8 +136,8 @@ TEST(OptionParsing, VulkanFailuresSayWhatToTry) {
 namespace gt::app {
 namespace {
 
-// GAZETRACE_MAX_TRIANGLES=1e99, -5, 0 or 20M was silently ignored: the default limit applied
-// and nothing said why. A value that is not a whole number from 1 up is refused, naming the
+// GAZETRACE_MAX_TRIANGLES=1e99, -5, 0 or 20M must not be ignored in favour of the default
+// limit without a word: a value that is not a whole number from 1 up is refused, naming the
 // variable and the value.
 TEST(OptionParsing, GltfLimitsFromTheEnvironmentAreParsedStrictly) {
     const auto with = [](const char* name, const char* value) {

@@ -126,7 +126,7 @@ TEST(RadianceHdr, OldStyleRunsRepeatThePreviousPixel) {
 }
 
 // The shipped skies decode as stb_image decodes them, and a truncated one is refused by
-// loadEnvironment (it used to hang).
+// loadEnvironment rather than read without end.
 TEST(RadianceHdr, SharedSkiesMatchStbAndTruncatedOnesFail) {
     const auto content = test::sharedContent();
     if (content.empty()) {
