@@ -34,7 +34,9 @@ Fault& fault() {
     static Fault f;
     static const bool fromEnvironment = [] {
         const char* e = std::getenv("GAZETRACE_WRITE_FAULT");
-        if (e != nullptr && std::strcmp(e, "enospc") == 0) f.error = ENOSPC;
+        if (e != nullptr && std::strcmp(e, "enospc") == 0) {
+            f.error = ENOSPC;
+        }
         return true;
     }();
     (void)fromEnvironment;
@@ -54,15 +56,21 @@ int writeAll(int fd, const std::byte* data, std::size_t size) {
         const int injected = fault().error.load();
         if (injected != 0) {
             const std::size_t ok = fault().okBytes.load();
-            if (done >= ok) return injected;
+            if (done >= ok) {
+                return injected;
+            }
             chunk = std::min(chunk, ok - done);
         }
         const ssize_t n = ::write(fd, data + done, chunk);
         if (n < 0) {
-            if (errno == EINTR) continue;
+            if (errno == EINTR) {
+                continue;
+            }
             return errno;
         }
-        if (n == 0) return EIO;
+        if (n == 0) {
+            return EIO;
+        }
         done += static_cast<std::size_t>(n);
     }
     return 0;
@@ -76,16 +84,23 @@ fs::path folderOf(const fs::path& path) {
 // may be replaced by rename(); anything else is refused.
 void requireReplaceable(const fs::path& path) {
     struct stat st {};
-    if (::lstat(path.c_str(), &st) != 0) return; // nothing there yet (or the folder fails later)
-    if (S_ISREG(st.st_mode) || S_ISLNK(st.st_mode)) return;
-    if (S_ISDIR(st.st_mode)) fail(path, "it is a folder", 0);
+    if (::lstat(path.c_str(), &st) != 0) {
+        return; // nothing there yet (or the folder fails later)
+    }
+    if (S_ISREG(st.st_mode) || S_ISLNK(st.st_mode)) {
+        return;
+    }
+    if (S_ISDIR(st.st_mode)) {
+        fail(path, "it is a folder", 0);
+    }
     fail(path, "it is " + fileKind(st.st_mode) + ", not a regular file; refusing to replace it", 0);
 }
 
 void requireWritableFolder(const fs::path& path, const fs::path& folder) {
     std::error_code ec;
-    if (!fs::is_directory(folder, ec))
+    if (!fs::is_directory(folder, ec)) {
         fail(path, "folder " + folder.string() + " does not exist", 0);
+    }
     if (::access(folder.c_str(), W_OK | X_OK) != 0) {
         fail(path, "folder " + folder.string() + " is not writable", errno);
     }
@@ -96,8 +111,9 @@ std::string randomHex() {
     std::array<std::uint8_t, 8> bytes{};
     if (::getrandom(bytes.data(), bytes.size(), 0) != static_cast<ssize_t>(bytes.size())) {
         std::random_device device;
-        for (auto& b : bytes)
+        for (auto& b : bytes) {
             b = static_cast<std::uint8_t>(device());
+        }
     }
     static constexpr char kHex[] = "0123456789abcdef";
     std::string s;
@@ -115,13 +131,18 @@ fs::path temporaryName(const fs::path& target) {
     const std::string suffix = ".tmp-" + randomHex();
     std::string stem = target.stem().string();
     std::string ext = target.extension().string();
-    if (suffix.size() + ext.size() + 1 > NAME_MAX) ext.clear();
-    if (stem.empty() && ext.empty()) stem = target.filename().string();
+    if (suffix.size() + ext.size() + 1 > NAME_MAX) {
+        ext.clear();
+    }
+    if (stem.empty() && ext.empty()) {
+        stem = target.filename().string();
+    }
     const std::size_t room = NAME_MAX - suffix.size() - ext.size();
     if (stem.size() > room) {
         std::size_t cut = room;
-        while (cut > 0 && (static_cast<unsigned char>(stem[cut]) & 0xC0U) == 0x80U)
+        while (cut > 0 && (static_cast<unsigned char>(stem[cut]) & 0xC0U) == 0x80U) {
             --cut;
+        }
         stem.resize(cut);
     }
     return target.parent_path() / (stem + suffix + ext);
@@ -134,7 +155,9 @@ int createTemporary(const fs::path& target, fs::path& temp) {
         temp = temporaryName(target);
         const int fd =
             ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-        if (fd >= 0) return fd;
+        if (fd >= 0) {
+            return fd;
+        }
         if (errno != EEXIST) {
             const int e = errno;
             const fs::path folder = folderOf(target);
@@ -153,7 +176,9 @@ class TemporaryGuard {
 public:
     explicit TemporaryGuard(const fs::path& temp) : mTemp(temp) {}
     ~TemporaryGuard() {
-        if (mArmed) ::unlink(mTemp.c_str());
+        if (mArmed) {
+            ::unlink(mTemp.c_str());
+        }
     }
     TemporaryGuard(const TemporaryGuard&) = delete;
     TemporaryGuard& operator=(const TemporaryGuard&) = delete;
@@ -167,7 +192,9 @@ private:
 // rename() of a finished temporary over the target, the target checked once more right before.
 void replaceWith(const fs::path& temp, const fs::path& target) {
     requireReplaceable(target);
-    if (::rename(temp.c_str(), target.c_str()) != 0) fail(target, "cannot replace it", errno);
+    if (::rename(temp.c_str(), target.c_str()) != 0) {
+        fail(target, "cannot replace it", errno);
+    }
 }
 
 // The path with its symlinks and "."/".." resolved as far as it exists; spelled out (absolute,
@@ -176,7 +203,9 @@ void replaceWith(const fs::path& temp, const fs::path& target) {
 fs::path resolvedPath(const fs::path& path) {
     std::error_code ec;
     const fs::path absolute = fs::absolute(path, ec);
-    if (ec) return path.lexically_normal();
+    if (ec) {
+        return path.lexically_normal();
+    }
     fs::path resolved = fs::weakly_canonical(absolute, ec);
     return ec ? absolute.lexically_normal() : resolved;
 }
@@ -197,9 +226,15 @@ void writeFileAtomic(const fs::path& path, std::span<const std::byte> bytes) {
         ::close(fd);
         fail(path, what, error);
     };
-    if (const int e = writeAll(fd, bytes.data(), bytes.size()); e != 0) abandon("write failed", e);
-    if (::fsync(fd) != 0) abandon("fsync failed", errno);
-    if (::close(fd) != 0) fail(path, "close failed", errno);
+    if (const int e = writeAll(fd, bytes.data(), bytes.size()); e != 0) {
+        abandon("write failed", e);
+    }
+    if (::fsync(fd) != 0) {
+        abandon("fsync failed", errno);
+    }
+    if (::close(fd) != 0) {
+        fail(path, "close failed", errno);
+    }
     replaceWith(temp, path);
     guard.release();
 }
@@ -212,7 +247,9 @@ void refuseOutputThatIsInput(std::span<const RunFile> outputs, std::span<const R
     auto named = [](const RunFile& f) { return f.option + " " + f.path.string(); };
     for (std::size_t i = 0; i < outputs.size(); ++i) {
         const RunFile& out = outputs[i];
-        if (out.path.empty()) continue;
+        if (out.path.empty()) {
+            continue;
+        }
         for (const RunFile& in : inputs) {
             if (!in.path.empty() && sameFile(out.path, in.path)) {
                 throw WriteError(named(out) + " is the same file as " + named(in) +
@@ -222,7 +259,9 @@ void refuseOutputThatIsInput(std::span<const RunFile> outputs, std::span<const R
         const fs::path resolved = resolvedPath(out.path);
         for (std::size_t j = i + 1; j < outputs.size(); ++j) {
             const RunFile& other = outputs[j];
-            if (other.path.empty()) continue;
+            if (other.path.empty()) {
+                continue;
+            }
             const bool same =
                 sameFile(out.path, other.path) || resolvedPath(other.path) == resolved;
             if (same) {
@@ -238,7 +277,9 @@ AtomicFile::AtomicFile(fs::path target) : mTarget(std::move(target)) {
 }
 
 void AtomicFile::commit() {
-    if (mCommitted) return;
+    if (mCommitted) {
+        return;
+    }
     writeFileAtomic(mTarget, std::string_view(mText.view()));
     mCommitted = true;
 }
@@ -252,18 +293,24 @@ StagedFile::StagedFile(fs::path target) : mTarget(std::move(target)) {
 }
 
 StagedFile::~StagedFile() {
-    if (mCommitted || mTemp.empty()) return;
+    if (mCommitted || mTemp.empty()) {
+        return;
+    }
     ::unlink(mTemp.c_str());
 }
 
 void StagedFile::commit() {
-    if (mCommitted) return;
+    if (mCommitted) {
+        return;
+    }
     auto abandon = [&](const std::string& what, int error) {
         ::unlink(mTemp.c_str());
         fail(mTarget, what, error);
     };
     const int fd = ::open(mTemp.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
-    if (fd < 0) abandon("cannot open " + mTemp.string(), errno);
+    if (fd < 0) {
+        abandon("cannot open " + mTemp.string(), errno);
+    }
     struct stat st {};
     if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size == 0) {
         ::close(fd);
@@ -280,7 +327,9 @@ void StagedFile::commit() {
         ::close(fd);
         abandon("fsync failed", e);
     }
-    if (::close(fd) != 0) abandon("close failed", errno);
+    if (::close(fd) != 0) {
+        abandon("close failed", errno);
+    }
     try {
         replaceWith(mTemp, mTarget);
     } catch (const WriteError&) {
@@ -291,7 +340,9 @@ void StagedFile::commit() {
 }
 
 StagedFolder::StagedFolder(fs::path target) : mTarget(std::move(target)) {
-    if (!mTarget.has_filename()) mTarget = mTarget.parent_path(); // "out/frames/"
+    if (!mTarget.has_filename()) {
+        mTarget = mTarget.parent_path(); // "out/frames/"
+    }
     std::error_code ec;
     struct stat st {};
     if (::stat(mTarget.c_str(), &st) == 0 && !S_ISDIR(st.st_mode)) {
@@ -303,9 +354,13 @@ StagedFolder::StagedFolder(fs::path target) : mTarget(std::move(target)) {
     // The folders above the target, made as a run that writes into out/eval always has; the
     // ones made here are removed again (if empty) when the run fails.
     for (fs::path p = mTarget.parent_path(); !p.empty(); p = p.parent_path()) {
-        if (fs::exists(p, ec) || ec) break; // there, or not ours to judge (not searchable)
+        if (fs::exists(p, ec) || ec) {
+            break; // there, or not ours to judge (not searchable)
+        }
         mCreatedParents.push_back(p);
-        if (p == p.parent_path()) break;
+        if (p == p.parent_path()) {
+            break;
+        }
     }
     if (!mCreatedParents.empty()) {
         fs::create_directories(mTarget.parent_path(), ec);
@@ -317,12 +372,17 @@ StagedFolder::StagedFolder(fs::path target) : mTarget(std::move(target)) {
     const fs::path folder = folderOf(mTarget);
     for (int attempt = 0; attempt < 100; ++attempt) {
         mTemp = temporaryName(mTarget);
-        if (::mkdir(mTemp.c_str(), 0777) == 0) return;
-        if (errno == EEXIST) continue;
+        if (::mkdir(mTemp.c_str(), 0777) == 0) {
+            return;
+        }
+        if (errno == EEXIST) {
+            continue;
+        }
         const int e = errno;
         mTemp.clear();
-        for (const fs::path& p : mCreatedParents)
+        for (const fs::path& p : mCreatedParents) {
             fs::remove(p, ec);
+        }
         if (e == EACCES || e == EROFS || e == EPERM) {
             fail(mTarget, "folder " + folder.string() + " is not writable", e);
         }
@@ -332,34 +392,51 @@ StagedFolder::StagedFolder(fs::path target) : mTarget(std::move(target)) {
 }
 
 StagedFolder::~StagedFolder() {
-    if (mCommitted) return;
+    if (mCommitted) {
+        return;
+    }
     std::error_code ec;
-    if (!mTemp.empty()) fs::remove_all(mTemp, ec); // this run's folder: only what it wrote
-    for (const fs::path& p : mCreatedParents)
+    if (!mTemp.empty()) {
+        fs::remove_all(mTemp, ec); // this run's folder: only what it wrote
+    }
+    for (const fs::path& p : mCreatedParents) {
         fs::remove(p, ec); // only while empty
+    }
 }
 
 void StagedFolder::commit() {
-    if (mCommitted) return;
+    if (mCommitted) {
+        return;
+    }
     struct stat st {};
     if (::lstat(mTarget.c_str(), &st) != 0) {
-        if (::rename(mTemp.c_str(), mTarget.c_str()) != 0) fail(mTarget, "cannot create it", errno);
+        if (::rename(mTemp.c_str(), mTarget.c_str()) != 0) {
+            fail(mTarget, "cannot create it", errno);
+        }
         mCommitted = true;
         return;
     }
     std::error_code ec;
-    if (!fs::is_directory(mTarget, ec)) fail(mTarget, "it is no longer a folder", 0);
+    if (!fs::is_directory(mTarget, ec)) {
+        fail(mTarget, "it is no longer a folder", 0);
+    }
     std::vector<fs::path> names;
-    for (const auto& entry : fs::directory_iterator(mTemp, ec))
+    for (const auto& entry : fs::directory_iterator(mTemp, ec)) {
         names.push_back(entry.path().filename());
-    if (ec) fail(mTarget, "cannot list " + mTemp.string(), ec.value());
+    }
+    if (ec) {
+        fail(mTarget, "cannot list " + mTemp.string(), ec.value());
+    }
     std::sort(names.begin(), names.end());
-    for (const fs::path& name : names)
+    for (const fs::path& name : names) {
         requireReplaceable(mTarget / name);
+    }
     for (const fs::path& name : names) {
         const fs::path from = mTemp / name;
         const fs::path to = mTarget / name;
-        if (::rename(from.c_str(), to.c_str()) != 0) fail(to, "cannot replace it", errno);
+        if (::rename(from.c_str(), to.c_str()) != 0) {
+            fail(to, "cannot replace it", errno);
+        }
     }
     ::rmdir(mTemp.c_str());
     mCommitted = true;

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "file_kind.hpp"
+#include "limits.hpp"
 
 namespace gt::io {
 
@@ -25,7 +26,9 @@ class Fd {
 public:
     explicit Fd(int fd) noexcept : mFd(fd) {}
     ~Fd() {
-        if (mFd >= 0) ::close(mFd);
+        if (mFd >= 0) {
+            ::close(mFd);
+        }
     }
     Fd(Fd&& o) noexcept : mFd(std::exchange(o.mFd, -1)) {}
     Fd(const Fd&) = delete;
@@ -43,13 +46,17 @@ Fd openChecked(const std::filesystem::path& path, std::uint64_t maxBytes, struct
     Fd fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY));
     if (fd.get() < 0) {
         const int e = errno;
-        if (e == ENOENT) refuse(path, "no such file");
+        if (e == ENOENT) {
+            refuse(path, "no such file");
+        }
         refuse(path, std::string("cannot open it (") + std::strerror(e) + ")");
     }
     if (::fstat(fd.get(), &st) != 0) {
         refuse(path, std::string("cannot read its status (") + std::strerror(errno) + ")");
     }
-    if (!S_ISREG(st.st_mode)) refuse(path, fileKind(st.st_mode) + ", not a regular file");
+    if (!S_ISREG(st.st_mode)) {
+        refuse(path, fileKind(st.st_mode) + ", not a regular file");
+    }
     const auto size = static_cast<std::uint64_t>(st.st_size);
     if (size > maxBytes) {
         refuse(path, describeBytes(size) + " is over the " + describeBytes(maxBytes) +
@@ -58,13 +65,15 @@ Fd openChecked(const std::filesystem::path& path, std::uint64_t maxBytes, struct
     // A sparse file reads as zeros where nothing is allocated: refuse one that is mostly holes
     // rather than read gigabytes of nothing.
     const auto allocated = static_cast<std::uint64_t>(st.st_blocks) * 512U;
-    if (size > 16 * 1024 * 1024 && allocated < size / 8) {
+    if (size > 16 * limits::kMiB && allocated < size / 8) {
         refuse(path, "a sparse file (" + describeBytes(size) + " long, " +
                          describeBytes(allocated) + " on disk)");
     }
     // Reads block normally from here on (a regular file never would anyway).
     const int flags = ::fcntl(fd.get(), F_GETFL);
-    if (flags >= 0) (void)::fcntl(fd.get(), F_SETFL, flags & ~O_NONBLOCK);
+    if (flags >= 0) {
+        (void)::fcntl(fd.get(), F_SETFL, flags & ~O_NONBLOCK);
+    }
     return fd;
 }
 
@@ -72,7 +81,9 @@ Fd openChecked(const std::filesystem::path& path, std::uint64_t maxBytes, struct
 
 std::string describeBytes(std::uint64_t bytes) {
     constexpr std::array<const char*, 4> units{"KiB", "MiB", "GiB", "TiB"};
-    if (bytes < 1024) return std::to_string(bytes) + (bytes == 1 ? " byte" : " bytes");
+    if (bytes < 1024) {
+        return std::to_string(bytes) + (bytes == 1 ? " byte" : " bytes");
+    }
     double v = static_cast<double>(bytes) / 1024.0;
     std::size_t u = 0;
     while (v >= 1024.0 && u + 1 < units.size()) {
@@ -93,10 +104,14 @@ std::string readInputFile(const std::filesystem::path& path, std::uint64_t maxBy
     for (;;) {
         const ssize_t n = ::read(fd.get(), chunk.data(), chunk.size());
         if (n < 0) {
-            if (errno == EINTR) continue;
+            if (errno == EINTR) {
+                continue;
+            }
             refuse(path, std::string("read failed (") + std::strerror(errno) + ")");
         }
-        if (n == 0) break;
+        if (n == 0) {
+            break;
+        }
         if (bytes.size() + static_cast<std::size_t>(n) > maxBytes) {
             refuse(path, "grew past the " + describeBytes(maxBytes) + " limit while being read");
         }
@@ -114,7 +129,9 @@ std::uint64_t checkInputFile(const std::filesystem::path& path, std::uint64_t ma
 bool sameFile(const std::filesystem::path& a, const std::filesystem::path& b) {
     struct stat sa {};
     struct stat sb {};
-    if (::stat(a.c_str(), &sa) != 0 || ::stat(b.c_str(), &sb) != 0) return false;
+    if (::stat(a.c_str(), &sa) != 0 || ::stat(b.c_str(), &sb) != 0) {
+        return false;
+    }
     return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 

@@ -31,8 +31,12 @@ void onStopSignal(int signal) {
 }
 
 std::string signalName(int signal) {
-    if (signal == SIGINT) return "SIGINT";
-    if (signal == SIGTERM) return "SIGTERM";
+    if (signal == SIGINT) {
+        return "SIGINT";
+    }
+    if (signal == SIGTERM) {
+        return "SIGTERM";
+    }
     return "signal " + std::to_string(signal);
 }
 
@@ -43,7 +47,9 @@ void installStopHandlers() {
         // A signal ignored on entry stays ignored: a shell starts background jobs with SIGINT
         // ignored, so that Ctrl-C at the terminal does not reach them, and nohup does the same.
         struct sigaction now {};
-        if (sigaction(signal, nullptr, &now) == 0 && now.sa_handler == SIG_IGN) continue;
+        if (sigaction(signal, nullptr, &now) == 0 && now.sa_handler == SIG_IGN) {
+            continue;
+        }
         setDisposition(signal, onStopSignal);
     }
 }
@@ -56,11 +62,15 @@ Interrupted::Interrupted(int signal)
     : mSignal(signal), mWhat("interrupted (" + signalName(signal) + ")") {}
 
 void throwIfStopRequested() {
-    if (const int signal = stopSignal(); signal != 0) throw Interrupted(signal);
+    if (const int signal = stopSignal(); signal != 0) {
+        throw Interrupted(signal);
+    }
 }
 
 bool liveRunEnds(bool live) {
-    if (!live) throwIfStopRequested();
+    if (!live) {
+        throwIfStopRequested();
+    }
     return stopRequested();
 }
 

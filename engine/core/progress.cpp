@@ -32,10 +32,14 @@ std::optional<std::string> Step::reach(double fraction) {
 
 std::optional<std::string> Step::report(std::uint64_t done) {
     const double now = mClock();
-    if (now < mNextLine.load(std::memory_order_relaxed)) return std::nullopt;
+    if (now < mNextLine.load(std::memory_order_relaxed)) {
+        return std::nullopt;
+    }
     // One thread prints; the others carry on rather than wait.
     const std::unique_lock lock(mPrinting, std::try_to_lock);
-    if (!lock.owns_lock() || now < mNextLine.load(std::memory_order_relaxed)) return std::nullopt;
+    if (!lock.owns_lock() || now < mNextLine.load(std::memory_order_relaxed)) {
+        return std::nullopt;
+    }
     mNextLine.store(now + kEverySeconds, std::memory_order_relaxed);
     done = std::min(done, mTotal);
     char percent[16];

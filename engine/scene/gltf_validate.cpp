@@ -26,26 +26,42 @@ using nlohmann::json;
 std::size_t utf8Sequence(std::string_view s, std::size_t i) {
     const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
     const unsigned char c = byte(i);
-    if (c < 0x80) return 1;
+    if (c < 0x80) {
+        return 1;
+    }
     std::size_t n = 0;
     unsigned char lo = 0x80, hi = 0xBF; // the allowed range of the second byte
     if (c >= 0xC2 && c <= 0xDF) {
         n = 2;
     } else if (c >= 0xE0 && c <= 0xEF) {
         n = 3;
-        if (c == 0xE0) lo = 0xA0;
-        if (c == 0xED) hi = 0x9F;
+        if (c == 0xE0) {
+            lo = 0xA0;
+        }
+        if (c == 0xED) {
+            hi = 0x9F;
+        }
     } else if (c >= 0xF0 && c <= 0xF4) {
         n = 4;
-        if (c == 0xF0) lo = 0x90;
-        if (c == 0xF4) hi = 0x8F;
+        if (c == 0xF0) {
+            lo = 0x90;
+        }
+        if (c == 0xF4) {
+            hi = 0x8F;
+        }
     } else {
         return 0;
     }
-    if (s.size() - i < n) return 0;
-    if (byte(i + 1) < lo || byte(i + 1) > hi) return 0;
+    if (s.size() - i < n) {
+        return 0;
+    }
+    if (byte(i + 1) < lo || byte(i + 1) > hi) {
+        return 0;
+    }
     for (std::size_t k = 2; k < n; ++k) {
-        if (byte(i + k) < 0x80 || byte(i + k) > 0xBF) return 0;
+        if (byte(i + k) < 0x80 || byte(i + k) > 0xBF) {
+            return 0;
+        }
     }
     return n;
 }
@@ -54,9 +70,15 @@ std::string percentDecoded(const std::string& uri) {
     std::string out;
     for (std::size_t i = 0; i < uri.size(); ++i) {
         const auto hex = [](char c) -> int {
-            if (c >= '0' && c <= '9') return c - '0';
-            if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-            if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+            if (c >= '0' && c <= '9') {
+                return c - '0';
+            }
+            if (c >= 'a' && c <= 'f') {
+                return c - 'a' + 10;
+            }
+            if (c >= 'A' && c <= 'F') {
+                return c - 'A' + 10;
+            }
             return -1;
         };
         if (uri[i] == '%' && i + 2 < uri.size() && hex(uri[i + 1]) >= 0 && hex(uri[i + 2]) >= 0) {
@@ -93,7 +115,9 @@ public:
     DocumentChecker(const json& root, std::string file) : mRoot(root), mFile(std::move(file)) {}
 
     GltfDocumentFacts check() {
-        if (!mRoot.is_object()) refuse("the document", "is not a JSON object");
+        if (!mRoot.is_object()) {
+            refuse("the document", "is not a JSON object");
+        }
         for (const char* name :
              {"accessors", "animations", "buffers", "bufferViews", "cameras", "images", "materials",
               "meshes", "nodes", "samplers", "scenes", "skins", "textures"}) {
@@ -123,9 +147,13 @@ private:
     // (a "3.0" file loaded as if it were 2.0). A missing asset is tinygltf's to report.
     void checkAsset() const {
         const json* asset = member(mRoot, "asset");
-        if (!asset || !asset->is_object()) return;
+        if (!asset || !asset->is_object()) {
+            return;
+        }
         const json* version = member(*asset, "version");
-        if (!version) refuse("asset.version", "is missing");
+        if (!version) {
+            refuse("asset.version", "is missing");
+        }
         const std::string text = version->is_string() ? version->get<std::string>() : "";
         if (text.rfind("2.", 0) != 0 || text.size() < 3 ||
             text.find_first_not_of("0123456789", 2) != std::string::npos) {
@@ -137,9 +165,13 @@ private:
     std::vector<const json*> objects(const json& o, const char* key, const std::string& where) {
         std::vector<const json*> out;
         const json* a = array(o, key, where);
-        if (!a) return out;
+        if (!a) {
+            return out;
+        }
         for (std::size_t i = 0; i < a->size(); ++i) {
-            if (!(*a)[i].is_object()) refuse(at(where, i), "is not a JSON object");
+            if (!(*a)[i].is_object()) {
+                refuse(at(where, i), "is not a JSON object");
+            }
             out.push_back(&(*a)[i]);
         }
         return out;
@@ -150,12 +182,16 @@ private:
     }
     const json* array(const json& o, const char* key, const std::string& where) const {
         const json* v = member(o, key);
-        if (v && !v->is_array()) refuse(where, "is not an array");
+        if (v && !v->is_array()) {
+            refuse(where, "is not an array");
+        }
         return v;
     }
     const json* object(const json& o, const char* key, const std::string& where) const {
         const json* v = member(o, key);
-        if (v && !v->is_object()) refuse(where, "is not a JSON object");
+        if (v && !v->is_object()) {
+            refuse(where, "is not a JSON object");
+        }
         return v;
     }
 
@@ -168,26 +204,36 @@ private:
             n = v.get<std::uint64_t>();
         } else if (v.is_number_integer()) {
             const auto s = io::nonNegative(v.get<std::int64_t>());
-            if (!s) refuse(where, "is " + describe(v) + ", must be >= " + std::to_string(lo));
+            if (!s) {
+                refuse(where, "is " + describe(v) + ", must be >= " + std::to_string(lo));
+            }
             n = *s;
         } else {
             refuse(where, "is " + describe(v) + ", must be an integer");
         }
-        if (n < lo) refuse(where, "is " + std::to_string(n) + ", must be >= " + std::to_string(lo));
-        if (n > hi) refuse(where, "is " + std::to_string(n) + ", must be <= " + std::to_string(hi));
+        if (n < lo) {
+            refuse(where, "is " + std::to_string(n) + ", must be >= " + std::to_string(lo));
+        }
+        if (n > hi) {
+            refuse(where, "is " + std::to_string(n) + ", must be <= " + std::to_string(hi));
+        }
         return n;
     }
     std::optional<std::uint64_t> integer(const json& o, const char* key, const std::string& where,
                                          std::uint64_t lo = 0,
                                          std::uint64_t hi = UINT64_MAX) const {
         const json* v = member(o, key);
-        if (!v) return std::nullopt;
+        if (!v) {
+            return std::nullopt;
+        }
         return integer(*v, where + "." + key, lo, hi);
     }
     std::uint64_t required(const json& o, const char* key, const std::string& where,
                            std::uint64_t lo = 0, std::uint64_t hi = UINT64_MAX) const {
         const auto v = integer(o, key, where, lo, hi);
-        if (!v) refuse(where + "." + key, "is missing");
+        if (!v) {
+            refuse(where + "." + key, "is missing");
+        }
         return *v;
     }
     // An index into the top-level list `list`.
@@ -205,21 +251,31 @@ private:
     std::optional<std::uint64_t> index(const json& o, const char* key, const std::string& where,
                                        const char* list) const {
         const json* v = member(o, key);
-        if (!v) return std::nullopt;
+        if (!v) {
+            return std::nullopt;
+        }
         return indexValue(*v, where + "." + key, list);
     }
     std::optional<double> number(const json& o, const char* key, const std::string& where) const {
         const json* v = member(o, key);
-        if (!v) return std::nullopt;
-        if (!v->is_number()) refuse(where + "." + key, "is " + describe(*v) + ", not a number");
+        if (!v) {
+            return std::nullopt;
+        }
+        if (!v->is_number()) {
+            refuse(where + "." + key, "is " + describe(*v) + ", not a number");
+        }
         const double d = v->get<double>();
-        if (!std::isfinite(d)) refuse(where + "." + key, "is not a finite number");
+        if (!std::isfinite(d)) {
+            refuse(where + "." + key, "is not a finite number");
+        }
         return d;
     }
     // An array of exactly `n` finite numbers.
     void numbers(const json& o, const char* key, const std::string& where, std::size_t n) const {
         const json* a = array(o, key, where + "." + key);
-        if (!a) return;
+        if (!a) {
+            return;
+        }
         if (a->size() != n) {
             refuse(where + "." + key,
                    "has " + std::to_string(a->size()) + " numbers, must have " + std::to_string(n));
@@ -268,7 +324,9 @@ void DocumentChecker::checkBuffers() {
 void DocumentChecker::checkBufferViews() {
     for (const json* v : objects(mRoot, "bufferViews", "bufferViews")) {
         const std::string where = at("bufferViews", mView.size());
-        if (!member(*v, "buffer")) refuse(where + ".buffer", "is missing");
+        if (!member(*v, "buffer")) {
+            refuse(where + ".buffer", "is missing");
+        }
         const std::uint64_t buffer = *index(*v, "buffer", where, "buffers");
         const std::uint64_t offset = integer(*v, "byteOffset", where).value_or(0);
         const std::uint64_t length = required(*v, "byteLength", where, 1);
@@ -324,9 +382,13 @@ void DocumentChecker::checkAccessors() {
         }
         const std::uint64_t count = required(*a, "count", where, 1);
         const json* t = member(*a, "type");
-        if (!t) refuse(where + ".type", "is missing");
+        if (!t) {
+            refuse(where + ".type", "is missing");
+        }
         const std::uint64_t components = t->is_string() ? componentCount(t->get<std::string>()) : 0;
-        if (components == 0) refuse(where + ".type", "is " + describe(*t) + ", not a glTF type");
+        if (components == 0) {
+            refuse(where + ".type", "is " + describe(*t) + ", not a glTF type");
+        }
         if (const json* n = member(*a, "normalized"); n && !n->is_boolean()) {
             refuse(where + ".normalized", "is not true or false");
         }
@@ -357,10 +419,16 @@ void DocumentChecker::checkSparse(const json& sparse, const std::string& where, 
     const std::uint64_t n = required(sparse, "count", where, 1, count);
     const json* indices = object(sparse, "indices", where + ".indices");
     const json* values = object(sparse, "values", where + ".values");
-    if (!indices) refuse(where + ".indices", "is missing");
-    if (!values) refuse(where + ".values", "is missing");
+    if (!indices) {
+        refuse(where + ".indices", "is missing");
+    }
+    if (!values) {
+        refuse(where + ".values", "is missing");
+    }
     const auto part = [&](const json& o, const std::string& name, std::uint64_t size) {
-        if (!member(o, "bufferView")) refuse(name + ".bufferView", "is missing");
+        if (!member(o, "bufferView")) {
+            refuse(name + ".bufferView", "is missing");
+        }
         const std::uint64_t view = *index(o, "bufferView", name, "bufferViews");
         const std::uint64_t offset = integer(o, "byteOffset", name).value_or(0);
         const auto bytes = io::checkedMul(n, size);
@@ -382,7 +450,9 @@ void DocumentChecker::checkSparse(const json& sparse, const std::string& where, 
 
 void DocumentChecker::checkPrimitive(const json& p, const std::string& where) {
     const json* attributes = object(p, "attributes", where + ".attributes");
-    if (!attributes) refuse(where + ".attributes", "is missing");
+    if (!attributes) {
+        refuse(where + ".attributes", "is missing");
+    }
     for (const auto& [name, v] : attributes->items()) {
         indexValue(v, where + ".attributes." + name, "accessors");
     }
@@ -429,12 +499,16 @@ void DocumentChecker::checkNodes() {
         const json* ext = object(*n, "extensions", where + ".extensions");
         const std::string lightWhere = where + ".extensions.KHR_lights_punctual";
         const json* light = ext ? object(*ext, "KHR_lights_punctual", lightWhere) : nullptr;
-        if (light) index(*light, "light", lightWhere, "lights");
+        if (light) {
+            index(*light, "light", lightWhere, "lights");
+        }
     }
 }
 
 void DocumentChecker::checkScenes() {
-    if (const json* s = member(mRoot, "scene")) indexValue(*s, "scene", "scenes");
+    if (const json* s = member(mRoot, "scene")) {
+        indexValue(*s, "scene", "scenes");
+    }
     std::size_t i = 0;
     for (const json* s : objects(mRoot, "scenes", "scenes")) {
         const std::string where = at("scenes", i++);
@@ -450,7 +524,9 @@ std::vector<const json*> DocumentChecker::lightList() {
     const json* ext = object(mRoot, "extensions", "extensions");
     const json* punctual =
         ext ? object(*ext, "KHR_lights_punctual", "extensions.KHR_lights_punctual") : nullptr;
-    if (!punctual) return {};
+    if (!punctual) {
+        return {};
+    }
     return objects(*punctual, "lights", "extensions.KHR_lights_punctual.lights");
 }
 
@@ -459,14 +535,20 @@ void DocumentChecker::checkLights() {
     for (const json* l : lightList()) {
         const std::string where = at("extensions.KHR_lights_punctual.lights", i++);
         const json* type = member(*l, "type");
-        if (!type) refuse(where + ".type", "is missing");
+        if (!type) {
+            refuse(where + ".type", "is missing");
+        }
         if (!type->is_string() || (*type != "point" && *type != "spot" && *type != "directional")) {
             refuse(where + ".type", "is " + describe(*type) + ", not point, spot or directional");
         }
         numbers(*l, "color", where, 3);
-        if (*type != "spot") continue;
+        if (*type != "spot") {
+            continue;
+        }
         const json* spot = object(*l, "spot", where + ".spot");
-        if (!spot) refuse(where + ".spot", "is missing for a spot light");
+        if (!spot) {
+            refuse(where + ".spot", "is missing for a spot light");
+        }
         // KHR_lights_punctual: 0 <= innerConeAngle < outerConeAngle <= pi / 2.
         const double inner = number(*spot, "innerConeAngle", where + ".spot").value_or(0.0);
         const double outer =
@@ -488,7 +570,9 @@ void DocumentChecker::checkCameras() {
         const std::string where = at("cameras", i++);
         if (const json* p = object(*c, "perspective", where + ".perspective")) {
             const auto yfov = number(*p, "yfov", where + ".perspective");
-            if (!yfov) refuse(where + ".perspective.yfov", "is missing");
+            if (!yfov) {
+                refuse(where + ".perspective.yfov", "is missing");
+            }
             if (!(*yfov > 0.0)) {
                 refuse(where + ".perspective.yfov",
                        "is " + describe((*p)["yfov"]) + ", must be > 0");
@@ -533,7 +617,9 @@ void DocumentChecker::checkSkinsAndAnimations() {
 
 void DocumentChecker::checkTextureInfo(const json& o, const char* key, const std::string& where) {
     if (const json* info = object(o, key, where + "." + key)) {
-        if (!member(*info, "index")) refuse(where + "." + key + ".index", "is missing");
+        if (!member(*info, "index")) {
+            refuse(where + "." + key + ".index", "is missing");
+        }
         index(*info, "index", where + "." + key, "textures");
         integer(*info, "texCoord", where + "." + key);
     }
@@ -583,7 +669,9 @@ GltfDocumentFacts DocumentChecker::facts() {
         const json* pbr = member(*m, "pbrMetallicRoughness");
         const json* info = pbr ? member(*pbr, "baseColorTexture") : nullptr;
         const json* t = info ? member(*info, "index") : nullptr;
-        if (!t) continue;
+        if (!t) {
+            continue;
+        }
         const json& texture = (*textures)[t->get<std::size_t>()];
         if (const json* source = member(texture, "source")) {
             f.baseColourImage[source->get<std::size_t>()] = true;
@@ -648,8 +736,9 @@ std::string messageLine(std::string_view text) {
         }
         i = end;
     }
-    while (!line.empty() && line.back() == ' ')
+    while (!line.empty() && line.back() == ' ') {
         line.pop_back();
+    }
     return line;
 }
 
@@ -659,7 +748,9 @@ GltfDocumentFacts validateGltfJson(std::string_view text, const std::string& fil
         root = json::parse(text.begin(), text.end());
     } catch (const json::exception& e) {
         std::string what = e.what();
-        if (const auto at = what.find("] "); at != std::string::npos) what = what.substr(at + 2);
+        if (const auto at = what.find("] "); at != std::string::npos) {
+            what = what.substr(at + 2);
+        }
         throw LoadError(file + ": not valid JSON (" + messageLine(what) + ")");
     }
     return DocumentChecker(root, file).check();
@@ -672,9 +763,13 @@ GlbLayout glbLayout(std::string_view bytes, const std::string& file) {
         return std::uint64_t{v};
     };
     const auto fail = [&](const std::string& why) { throw LoadError(file + ": " + why); };
-    if (bytes.size() < 12 || u32(0) != 0x46546C67u) fail("not a GLB (no \"glTF\" header)");
+    if (bytes.size() < 12 || u32(0) != 0x46546C67u) {
+        fail("not a GLB (no \"glTF\" header)");
+    }
     // glTF 2.0, 4.4.2: version 2; version 1 is the old glTF 1.0 binary extension.
-    if (u32(4) != 2) fail("GLB header version is " + std::to_string(u32(4)) + ", must be 2");
+    if (u32(4) != 2) {
+        fail("GLB header version is " + std::to_string(u32(4)) + ", must be 2");
+    }
     const std::uint64_t length = u32(8);
     if (length > bytes.size()) {
         fail("GLB header length is " + std::to_string(length) + " bytes, but the file has " +
@@ -685,20 +780,28 @@ GlbLayout glbLayout(std::string_view bytes, const std::string& file) {
     std::uint64_t offset = 12;
     for (int chunk = 0; offset < length; ++chunk) {
         const std::string name = "GLB chunk " + std::to_string(chunk);
-        if (!io::rangeFits(offset, 8, length)) fail(name + " header runs past the GLB length");
+        if (!io::rangeFits(offset, 8, length)) {
+            fail(name + " header runs past the GLB length");
+        }
         const std::uint64_t chunkLength = u32(offset), type = u32(offset + 4);
         if (!io::rangeFits(offset + 8, chunkLength, length)) {
             fail(name + " length " + std::to_string(chunkLength) + " at byte " +
                  std::to_string(offset) + " runs past the GLB length " + std::to_string(length));
         }
         if (chunk == 0) {
-            if (type != 0x4E4F534Au) fail("GLB chunk 0 is not JSON");
-            if (chunkLength == 0) fail("GLB JSON chunk is empty");
+            if (type != 0x4E4F534Au) {
+                fail("GLB chunk 0 is not JSON");
+            }
+            if (chunkLength == 0) {
+                fail("GLB JSON chunk is empty");
+            }
             out = {offset + 8, chunkLength};
         }
         offset += 8 + chunkLength; // cannot wrap: both lie inside `length` (< 2^32)
     }
-    if (out.jsonLength == 0) fail("GLB has no JSON chunk");
+    if (out.jsonLength == 0) {
+        fail("GLB has no JSON chunk");
+    }
     return out;
 }
 

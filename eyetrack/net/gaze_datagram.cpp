@@ -39,13 +39,19 @@ std::optional<std::size_t> firstNonUtf8(std::string_view s) {
         } else {
             return i;
         }
-        if (s.size() - i < length) return i;
+        if (s.size() - i < length) {
+            return i;
+        }
         for (std::size_t k = 1; k < length; ++k) {
             const auto t = static_cast<std::uint8_t>(s[i + k]);
-            if ((t & 0xC0) != 0x80) return i;
+            if ((t & 0xC0) != 0x80) {
+                return i;
+            }
             cp = (cp << 6) | (t & 0x3Fu);
         }
-        if (cp < least || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return i;
+        if (cp < least || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) {
+            return i;
+        }
         i += length;
     }
     return std::nullopt;
@@ -92,8 +98,12 @@ const Json* field(const Json& object, const char* key) {
 std::optional<double> number(const Json& o, const char* key, double lo, double hi,
                              bool open = false) {
     const Json* v = field(o, key);
-    if (!v) return std::nullopt;
-    if (!v->is_number()) wrongType(key, *v, "a number");
+    if (!v) {
+        return std::nullopt;
+    }
+    if (!v->is_number()) {
+        wrongType(key, *v, "a number");
+    }
     const double d = v->get<double>();
     const bool inside = open ? (d > lo && d < hi) : (d >= lo && d <= hi);
     if (!std::isfinite(d) || !inside) {
@@ -108,15 +118,23 @@ template <std::size_t N>
 std::optional<std::size_t> oneOf(const Json& o, const char* key, const char* const (&names)[N],
                                  const char* wanted) {
     const Json* v = field(o, key);
-    if (!v) return std::nullopt;
-    if (!v->is_string()) wrongType(key, *v, "a string");
+    if (!v) {
+        return std::nullopt;
+    }
+    if (!v->is_string()) {
+        wrongType(key, *v, "a string");
+    }
     const auto& s = v->get_ref<const std::string&>();
     for (std::size_t i = 0; i < N; ++i) {
-        if (s == names[i]) return i;
+        if (s == names[i]) {
+            return i;
+        }
     }
     // Shown escaped and cut short: the bytes are anyone's.
     std::string quoted = Json(s).dump(-1, ' ', true, Json::error_handler_t::replace);
-    if (quoted.size() > 40) quoted = quoted.substr(0, 36) + "...\"";
+    if (quoted.size() > 40) {
+        quoted = quoted.substr(0, 36) + "...\"";
+    }
     refuse(std::string("field ") + key + " is " + quoted + ", must be " + wanted);
 }
 
@@ -129,22 +147,30 @@ std::optional<cv::Point2d> pair(const Json& o, const char* a, const char* b, dou
         refuse(std::string("field ") + (first ? b : a) + " is missing (" + a + " and " + b +
                " come together)");
     }
-    if (!first) return std::nullopt;
+    if (!first) {
+        return std::nullopt;
+    }
     return cv::Point2d(*first, *second);
 }
 
 std::optional<cv::Size> screenSize(const Json& o) {
     const Json* v = field(o, "screen");
-    if (!v) return std::nullopt;
+    if (!v) {
+        return std::nullopt;
+    }
     if (!v->is_array() || v->size() != 2) {
-        if (!v->is_array()) wrongType("screen", *v, "an array [width, height]");
+        if (!v->is_array()) {
+            wrongType("screen", *v, "an array [width, height]");
+        }
         refuse("field screen has " + std::to_string(v->size()) +
                " entries, must be [width, height]");
     }
     int side[2] = {0, 0};
     for (int i = 0; i < 2; ++i) {
         const Json& s = (*v)[static_cast<std::size_t>(i)];
-        if (!s.is_number_integer()) wrongType("screen", s, "[width, height] in whole pixels");
+        if (!s.is_number_integer()) {
+            wrongType("screen", s, "[width, height] in whole pixels");
+        }
         // A negative integer is no unsigned one.
         if (!s.is_number_unsigned() || s.get<std::uint64_t>() < 1 ||
             s.get<std::uint64_t>() > kMaxGazeScreenSidePx) {
@@ -157,7 +183,9 @@ std::optional<cv::Size> screenSize(const Json& o) {
 }
 
 GazeDatagram fields(const Json& o) {
-    if (!o.is_object()) refuse("the datagram is " + typeOf(o) + ", must be a JSON object");
+    if (!o.is_object()) {
+        refuse("the datagram is " + typeOf(o) + ", must be a JSON object");
+    }
     GazeDatagram d;
     d.tMs = number(o, "t_ms", -kMaxGazeTimeMs, kMaxGazeTimeMs).value_or(0.0);
     static const char* const eyes[] = {"both", "left", "right"};
@@ -175,7 +203,9 @@ GazeDatagram fields(const Json& o) {
         d.event = static_cast<GazeEvent>(*e);
     }
     if (const Json* s = field(o, "saccade_onset")) {
-        if (!s->is_boolean()) wrongType("saccade_onset", *s, "a boolean");
+        if (!s->is_boolean()) {
+            wrongType("saccade_onset", *s, "a boolean");
+        }
         d.saccadeOnset = s->get<bool>();
     }
     d.vergenceDeg = number(o, "vergence_deg", 0.0, 180.0);

@@ -20,7 +20,9 @@ DatagramDropLog::DatagramDropLog(std::string source, Warn warn)
 }
 
 void DatagramDropLog::drop(const std::string& reason) {
-    if (mDropped == 0) mFirst = reason;
+    if (mDropped == 0) {
+        mFirst = reason;
+    }
     ++mDropped;
     if (mDropped == mNextReport) {
         report();
@@ -33,7 +35,9 @@ void DatagramDropLog::note(const std::string& what) {
 }
 
 void DatagramDropLog::flush() {
-    if (mDropped != mReported) report();
+    if (mDropped != mReported) {
+        report();
+    }
 }
 
 void DatagramDropLog::report() {
@@ -61,7 +65,9 @@ UdpGazeReceiver::UdpGazeReceiver(const UdpEndpoint& at, std::string label, Warn 
         throw bad("host must be an IPv4 address or localhost");
     }
     mSocket = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-    if (mSocket < 0) throw bad(std::strerror(errno));
+    if (mSocket < 0) {
+        throw bad(std::strerror(errno));
+    }
     socklen_t length = sizeof(addr);
     if (::bind(mSocket, reinterpret_cast<const sockaddr*>(&addr), sizeof(addr)) != 0 ||
         ::getsockname(mSocket, reinterpret_cast<sockaddr*>(&addr), &length) != 0) {
@@ -94,7 +100,9 @@ std::optional<GazeDatagram> UdpGazeReceiver::next() {
         // MSG_TRUNC: the datagram's own length, though only the buffer's worth is copied.
         const ssize_t n = ::recv(mSocket, buffer, sizeof(buffer), MSG_TRUNC);
         if (n < 0) {
-            if (errno == EINTR) continue;
+            if (errno == EINTR) {
+                continue;
+            }
             break; // EAGAIN: drained (or an error the next poll meets again)
         }
         ++mReadThisPoll;
