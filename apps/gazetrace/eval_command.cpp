@@ -21,8 +21,6 @@
 #include "frame_loop.hpp"
 #include "full_resolution.hpp"
 #include "gaze_view.hpp"
-#include "input_file.hpp"
-#include "limits.hpp"
 #include "method_choice.hpp"
 #include "option_parsing.hpp"
 #include "output_target.hpp"
@@ -383,15 +381,8 @@ EvalInputs evalInputs(const EvalOptions& o, const Geometry& g) {
         }
     }
     if (!o.reference.empty()) {
-        // Through the shared reader: a FIFO or a device as --reference blocked forever.
-        std::string bytes;
-        try {
-            bytes = io::readInputFile(o.reference, io::limits::kImageFileBytes);
-        } catch (const io::InputError& e) {
-            throw LoadError(e.what());
-        }
-        const image::DecodedImage d = image::decode(
-            {reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}, o.reference);
+        // image::readPng reads through the shared input rule (regular files of bounded size).
+        const image::DecodedImage d = image::readPng(o.reference);
         if (d.width != g.width || d.height != g.height) {
             throw LoadError(o.reference + ": the reference is " + std::to_string(d.width) + "x" +
                             std::to_string(d.height) + ", the view " + std::to_string(g.width) +

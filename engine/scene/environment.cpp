@@ -7,13 +7,14 @@
 #include <numbers>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <stb_image.h>
 
 #include "checked_size.hpp"
 #include "core/error.hpp"
-#include "input_file.hpp"
 #include "limits.hpp"
+#include "scene/image_io.hpp"
 #include "scene/radiance_hdr.hpp"
 
 namespace gt::scene {
@@ -23,15 +24,9 @@ namespace {
 // Radiance pictures go through gt's strict reader (radiance_hdr.hpp explains why), anything
 // else through stb_image.
 RgbImage loadFloat(const std::filesystem::path& p) {
-    // A regular file of bounded size only: a FIFO blocked forever, /dev/zero grew without end.
-    std::string text;
-    try {
-        text = io::readInputFile(p, io::limits::kImageFileBytes);
-    } catch (const io::InputError& e) {
-        throw LoadError(e.what());
-    }
-    const std::span<const std::uint8_t> bytes(reinterpret_cast<const std::uint8_t*>(text.data()),
-                                              text.size());
+    // Through the shared input rule: a regular file of bounded size only.
+    const std::vector<std::uint8_t> file = image::readFileBytes(p);
+    const std::span<const std::uint8_t> bytes(file);
     if (isRadianceHdr(bytes)) {
         return decodeRadianceHdr(bytes, p.string());
     }
