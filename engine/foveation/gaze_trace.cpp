@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "input_file.hpp"
+#include "core/input.hpp"
 #include "limits.hpp"
 
 namespace gt::foveation {
@@ -47,12 +47,7 @@ glm::vec2 interpolate(const std::vector<GazeTraceSample>& v, double tMs) {
 
 GazeTrace GazeTrace::load(const std::filesystem::path& file) {
     // A regular file of bounded size only: a FIFO blocked forever, /dev/zero grew without end.
-    std::istringstream in;
-    try {
-        in.str(io::readInputFile(file, io::limits::kTextTableBytes));
-    } catch (const io::InputError& e) {
-        throw LoadError(e.what());
-    }
+    std::istringstream in(readInput(file, io::limits::kTextTableBytes));
     std::string line;
     std::vector<GazeTraceSample> samples;
     int lineNo = 0;

@@ -10,7 +10,7 @@
 
 #include "atomic_write.hpp"
 #include "core/error.hpp"
-#include "input_file.hpp"
+#include "core/input.hpp"
 #include "limits.hpp"
 
 namespace gt::scene {
@@ -89,12 +89,7 @@ CameraPath CameraPath::fromKeys(std::vector<CameraKey> keys) {
 
 CameraPath CameraPath::load(const std::filesystem::path& file) {
     // A regular file of bounded size only: a FIFO blocked forever, /dev/zero grew without end.
-    std::string text;
-    try {
-        text = io::readInputFile(file, io::limits::kTextTableBytes);
-    } catch (const io::InputError& e) {
-        throw LoadError(e.what());
-    }
+    const std::string text = readInput(file, io::limits::kTextTableBytes);
     std::vector<CameraKey> keys;
     int number = 0;
     bool header = false;

@@ -10,7 +10,7 @@
 
 #include "atomic_write.hpp"
 #include "core/error.hpp"
-#include "input_file.hpp"
+#include "core/input.hpp"
 #include "limits.hpp"
 
 namespace gt::image {
@@ -76,12 +76,8 @@ DecodedImage decode(std::span<const uint8_t> bytes, const std::string& what) {
 }
 
 std::vector<uint8_t> readFileBytes(const std::filesystem::path& path) {
-    try {
-        const std::string bytes = io::readInputFile(path, io::limits::kImageFileBytes);
-        return {bytes.begin(), bytes.end()};
-    } catch (const io::InputError& e) {
-        throw LoadError(e.what());
-    }
+    const std::string bytes = readInput(path, io::limits::kImageFileBytes);
+    return {bytes.begin(), bytes.end()};
 }
 
 DecodedImage readPng(const std::filesystem::path& path) {
