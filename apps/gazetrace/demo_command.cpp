@@ -190,7 +190,7 @@ public:
         : mChoice(r, cacheDir), mDisplaySpace(displaySpace), mLayerSettings(std::move(layers)),
           mDesktop(foveation::displayProfile(foveation::DisplayModel::Desktop)) {
         if (!hmd.empty()) {
-            mHmdDisplay = displayProfile(hmdProfile(hmd).pointSetProfile);
+            mHmdDisplay = hmdProfile(hmd).pointSetProfile;
         }
     }
     render::FoveationMethod& forHmd(const LiveSettings& s) {

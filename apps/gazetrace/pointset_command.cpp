@@ -91,7 +91,7 @@ nlohmann::json runPointSet(const PointSetOptions& o) {
     foveation::PointSetParams params;
     std::optional<display::HmdProfile> hmd;
     if (!o.hmd.empty()) hmd = hmdProfile(o.hmd);
-    params.display = hmd ? displayProfile(hmd->pointSetProfile) : displayProfile(o.profile);
+    params.display = hmd ? hmd->pointSetProfile : displayProfile(o.profile);
     params.seed = o.seed;
     const std::filesystem::path dir =
         o.cacheDir.empty() ? defaultCacheDir() : std::filesystem::path(o.cacheDir);

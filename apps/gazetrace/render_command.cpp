@@ -263,7 +263,7 @@ render::FoveationMethod& hmdMethod(const RenderOptions& o, const display::HmdPro
     }
     if (o.method != "foveated") return methods.reference({o.spp, o.seed});
     foveation::PointSetParams params;
-    params.display = displayProfile(profile.pointSetProfile);
+    params.display = profile.pointSetProfile;
     params.scale = o.scale;
     if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
         throw ArgumentError("--k must be 1..20");

@@ -118,7 +118,7 @@ nlohmann::json runStereoBench(const BenchOptions& o) {
         // A CPU driver takes seconds per stereo frame: fewer of them.
         const uint32_t warm = cpu ? 1 : 30, frames = o.quick ? 2 : (cpu ? 3 : 120);
         foveation::PointSetParams eyeParams;
-        eyeParams.display = displayProfile(hmd.pointSetProfile);
+        eyeParams.display = hmd.pointSetProfile;
         render::PointSetMethod eyes(r.methodContext(), eyeParams, cache);
         eyes.settings.raysPerPoint = o.quick ? 1 : 8;
         eyes.settings.interpolation.method = passes::Interpolation::Nearest;

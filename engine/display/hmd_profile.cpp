@@ -76,7 +76,7 @@ HmdProfile hmdProfile(HmdModel model) {
         setFov(p, 52.0f, 48.0f, 53.0f);
         p.ipdM = 0.064f;
         p.name = "fove";
-        p.pointSetProfile = foveation::DisplayModel::Fove;
+        p.pointSetProfile = foveation::displayProfile(foveation::DisplayModel::Fove);
         p.sources = {"resolution, FOV: FOVE 0 specification (vendor)",
                      "refresh: 90 Hz as in the thesis's experiments",
                      "IPD: 64 mm, the adult mean (Dodgson 2004)",
@@ -91,7 +91,7 @@ HmdProfile hmdProfile(HmdModel model) {
         setFov(p, 56.0f, 50.0f, 55.0f);
         p.ipdM = 0.064f;
         p.name = "vive";
-        p.pointSetProfile = foveation::DisplayModel::Vive;
+        p.pointSetProfile = foveation::displayProfile(foveation::DisplayModel::Vive);
         p.sources = {"resolution, refresh, FOV: HTC Vive specification (vendor)",
                      "IPD: 64 mm, the adult mean (Dodgson 2004)",
                      "lens: Oculus SDK 0.2 DK1 coefficients (each Vive stores its own in its "
@@ -106,7 +106,7 @@ HmdProfile hmdProfile(HmdModel model) {
         setFov(p, 49.0f, 45.0f, 46.5f);
         p.ipdM = 0.0635f;
         p.name = "rift-cv1";
-        p.pointSetProfile = foveation::DisplayModel::Vive;
+        p.pointSetProfile = foveation::displayProfile(foveation::DisplayModel::Vive);
         p.sources = {"resolution, refresh: Oculus Rift CV1 specification (vendor)",
                      "FOV: about 94 x 93 degrees per eye (measured by reviewers; approximate)",
                      "IPD: 63.5 mm, the Rift's default",

@@ -45,8 +45,10 @@ struct HmdProfile {
     float tanLeft = -1.0f, tanRight = 1.0f, tanUp = 1.0f, tanDown = -1.0f;
     float ipdM = 0.064f;
     LensModel lens;
-    // The display profile its point sets are built for.
-    foveation::DisplayModel pointSetProfile = foveation::DisplayModel::Fove;
+    // The display its point sets are built for: pixels per eye and the viewing distance v of
+    // thesis eq. (1) in eye-image widths.
+    foveation::DisplayProfile pointSetProfile =
+        foveation::displayProfile(foveation::DisplayModel::Fove);
     std::vector<std::string> sources; // where each value comes from
 };
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
+#include <utility>
 
 #include "core/error.hpp"
 
@@ -32,6 +34,17 @@ DisplayProfile windowProfile(const DisplayProfile& screen, uint32_t width, uint3
     if (width == screen.width && height == screen.height) return screen;
     return {screen.name + "-" + std::to_string(width) + "x" + std::to_string(height), width, height,
             screen.viewingDistance * static_cast<double>(screen.width) / width};
+}
+
+DisplayProfile fovDisplayProfile(std::string name, uint32_t width, uint32_t height,
+                                 double horizontalFovDeg) {
+    if (width == 0 || height == 0) throw ArgumentError("a display of zero size");
+    if (!(horizontalFovDeg > 0.0 && horizontalFovDeg < 180.0)) {
+        throw ArgumentError("a horizontal field of view of " + std::to_string(horizontalFovDeg) +
+                            " degrees (expected more than 0 and less than 180)");
+    }
+    const double halfRad = 0.5 * horizontalFovDeg * std::numbers::pi / 180.0;
+    return {std::move(name), width, height, 1.0 / (2.0 * std::tan(halfRad))};
 }
 
 double ContrastSensitivity::eccentricityDeg(double distancePx, double displayWidthPx,

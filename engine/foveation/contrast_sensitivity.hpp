@@ -28,6 +28,11 @@ enum class DisplayModel { Fove, Vive, Desktop };
 // A window of `width` x `height` pixels on the screen of `screen` (same pixel pitch, same viewing
 // distance): the profile a point set for that window needs, with the screen's pixels per degree.
 // v is in display widths, so it grows as the window narrows: v = v_screen * N_screen / N_window.
+// A display whose `width` pixels span `horizontalFovDeg` about its centre, as a headset's eye
+// image does: at the image's edge (d = N / 2) thesis eq. (1) must give half the field of view,
+// so v = 1 / (2 tan(HFOV / 2)) image widths. Throws gt::ArgumentError unless 0 < HFOV < 180.
+[[nodiscard]] DisplayProfile fovDisplayProfile(std::string name, uint32_t width, uint32_t height,
+                                               double horizontalFovDeg);
 [[nodiscard]] DisplayProfile windowProfile(const DisplayProfile& screen, uint32_t width,
                                            uint32_t height);
 

@@ -26,7 +26,7 @@ TEST(HmdProfile, EveryProfileParsesWithSourcesAndAPlausibleOptics) {
         EXPECT_FALSE(name.empty());
         EXPECT_GT(p.eyeWidth, 0u);
         EXPECT_FALSE(p.sources.empty()) << name;
-        EXPECT_NO_THROW((void)foveation::displayProfile(p.pointSetProfile)) << name;
+        EXPECT_GT(p.pointSetProfile.viewingDistance, 0.0) << name;
         // The left eye's nasal side (right) is the narrower one; the right eye mirrors it.
         const auto l = display::eyeTangents(p, 0), r = display::eyeTangents(p, 1);
         EXPECT_LT(l.right, -l.left) << name;
