@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <utility>
+
+#include "core/error.hpp"
 
 namespace gt::display {
 
@@ -47,8 +51,8 @@ namespace {
 // The Oculus SDK 0.2 (2013) DK1 lens: K = (1.0, 0.22, 0.24), chromatic scales 0.996 (red) and
 // 1.014 (blue) — the last distortion coefficients a vendor published. Current HMDs keep theirs in
 // each device's firmware or calibration file (Monado's Vive and Rift drivers read them at run
-// time), so the three profiles below use this published lens as the model, scaled to each
-// HMD's field of view through the normalised radius.
+// time), so every profile below uses this published lens as the model, scaled to each HMD's
+// field of view through the normalised radius.
 constexpr LensModel kPublishedLens{0.22f, 0.24f, {0.996f, 1.0f, 1.014f}};
 
 // The left eye's field of view from its half-angles: temporal (left), nasal (right), and
@@ -58,6 +62,113 @@ void setFov(HmdProfile& p, float temporalDeg, float nasalDeg, float verticalDeg)
     p.tanRight = std::tan(glm::radians(nasalDeg));
     p.tanUp = std::tan(glm::radians(verticalDeg));
     p.tanDown = -p.tanUp;
+}
+
+// A point set whose v comes from the eye's horizontal field of view (v = 1 / (2 tan(HFOV / 2)),
+// fovDisplayProfile), not the fitted v of fove and vive.
+void setFovPointSet(HmdProfile& p, double horizontalDeg) {
+    p.pointSetProfile =
+        foveation::fovDisplayProfile(p.name, p.eyeWidth, p.eyeHeight, horizontalDeg);
+}
+
+// A headset whose vendor states one horizontal field of view per eye: split evenly about the
+// optical axis (no vendor publishes the split) and, where no vertical one is stated either,
+// the vertical extent the panel's aspect gives at the same pixels per tangent (square pixels
+// in the image plane). The point set follows the stated field.
+void setSymmetricFov(HmdProfile& p, double horizontalDeg, double verticalDeg = 0.0) {
+    setFovPointSet(p, horizontalDeg);
+    const double tanH = std::tan(0.5 * horizontalDeg * std::numbers::pi / 180.0);
+    const double tanV = verticalDeg > 0.0 ? std::tan(0.5 * verticalDeg * std::numbers::pi / 180.0)
+                                          : tanH * p.eyeHeight / p.eyeWidth;
+    p.tanLeft = static_cast<float>(-tanH);
+    p.tanRight = static_cast<float>(tanH);
+    p.tanUp = static_cast<float>(tanV);
+    p.tanDown = -p.tanUp;
+}
+
+constexpr const char* kMeanIpd = "IPD: 64 mm, the adult mean (Dodgson 2004)";
+constexpr const char* kScaledLens =
+    "lens: Oculus SDK 0.2 DK1 coefficients scaled to the field of view (the vendor publishes "
+    "none); approximate";
+constexpr const char* kFovPointSet =
+    "point set: v = 1 / (2 tan(HFOV / 2)) from the horizontal field of view";
+
+// Eye-tracked headsets on sale after the thesis: pixels per eye, refresh (the highest the
+// vendor lists) and field of view from the sources each names.
+void setCurrentHeadset(HmdProfile& p, HmdModel model) {
+    switch (model) {
+    case HmdModel::ViveProEye:
+        // HTC Vive Pro Eye: 2880x1600, 1440x1600 per eye, 90 Hz, 110 degrees (vendor).
+        p = {"vive-pro-eye", 1440, 1600, 90.0};
+        setSymmetricFov(p, 110.0);
+        p.sources = {"resolution, refresh: HTC Vive Pro Eye specification (vendor)",
+                     "FOV: 110 degrees (vendor), taken as each eye's horizontal field, split "
+                     "evenly; vertical from the panel's aspect; approximate"};
+        break;
+    case HmdModel::QuestPro:
+        // Meta Quest Pro: 1800x1920 per eye, 90 Hz, 106 x 96 degrees (vendor).
+        p = {"quest-pro", 1800, 1920, 90.0};
+        setSymmetricFov(p, 106.0, 96.0);
+        p.sources = {"resolution, refresh, FOV (106 x 96 degrees): Meta Quest Pro technical "
+                     "specifications (vendor)",
+                     "FOV split evenly about the optical axis; approximate"};
+        break;
+    case HmdModel::Psvr2:
+        // Sony PlayStation VR2: 2000x2040 per eye, 90/120 Hz, about 110 degrees (vendor).
+        p = {"psvr2", 2000, 2040, 120.0};
+        setSymmetricFov(p, 110.0);
+        p.sources = {"resolution, refresh (90 or 120 Hz): PlayStation VR2 specification "
+                     "(PlayStation Blog, 2022)",
+                     "FOV: approximately 110 degrees (vendor), taken as each eye's horizontal "
+                     "field, split evenly; vertical from the panel's aspect; approximate"};
+        break;
+    case HmdModel::PimaxCrystal:
+        // Pimax Crystal: 2880x2880 per eye, 72/90/120 Hz (vendor). Pimax quotes a diagonal
+        // field of view; the frustum its runtime reports (hmdq, Pimax Crystal at 120 Hz) is
+        // left -1.264092, right 0.889501, up and down 1.274264: 93.3 x 103.8 degrees.
+        p = {"pimax-crystal", 2880, 2880, 120.0};
+        p.tanLeft = -1.264092f;
+        p.tanRight = 0.889501f;
+        p.tanUp = 1.274264f;
+        p.tanDown = -1.274264f;
+        setFovPointSet(p, horizontalFovDeg(p));
+        p.sources = {"resolution, refresh: Pimax Crystal specification (vendor)",
+                     "FOV: the runtime's frustum as recorded by hmdq (HMD Geometry Database, "
+                     "risa2000.github.io/hmdgdb, PimaxCrystal_Native_R120); the vendor's "
+                     "125-140 degrees are diagonal"};
+        break;
+    case HmdModel::VarjoXr4:
+        // Varjo XR-4: 3840x3744 per eye, 90 Hz, 120 x 105 degrees (vendor).
+        p = {"varjo-xr4", 3840, 3744, 90.0};
+        setSymmetricFov(p, 120.0, 105.0);
+        p.sources = {"resolution, refresh, FOV (120 x 105 degrees): Varjo XR-4 specification "
+                     "(vendor, 2023)",
+                     "FOV split evenly about the optical axis; approximate",
+                     "the vendor's 51 pixels per degree at the centre come from its lens's "
+                     "variable magnification; the pinhole model here spreads the pixels evenly "
+                     "in tangent"};
+        break;
+    case HmdModel::VisionPro:
+        // Apple Vision Pro class: 23 million pixels (vendor), about 3660x3200 per eye and about
+        // 100 degrees horizontally (iFixit's teardown estimates), 90/96/100 Hz (vendor).
+        p = {"vision-pro", 3660, 3200, 100.0};
+        setSymmetricFov(p, 100.0);
+        p.sources = {"resolution: 3660x3200 per eye, iFixit teardown estimate (Apple states 23 "
+                     "million pixels in all); approximate",
+                     "refresh: 90, 96 or 100 Hz (vendor)",
+                     "FOV: about 100 degrees horizontally (iFixit estimate), split evenly; "
+                     "vertical from the panel's aspect; approximate"};
+        break;
+    case HmdModel::Fove:
+    case HmdModel::Vive:
+    case HmdModel::RiftCv1:
+        return; // the thesis's time: hmdProfile sets them
+    }
+    p.ipdM = 0.064f;
+    p.lens = kPublishedLens;
+    p.sources.emplace_back(kMeanIpd);
+    p.sources.emplace_back(kScaledLens);
+    p.sources.emplace_back(kFovPointSet);
 }
 } // namespace
 
@@ -114,8 +225,47 @@ HmdProfile hmdProfile(HmdModel model) {
                      "unpublished); approximate",
                      "point set: the vive profile's (same 1080x1200 panel per eye)"};
         break;
+    case HmdModel::ViveProEye:
+    case HmdModel::QuestPro:
+    case HmdModel::Psvr2:
+    case HmdModel::PimaxCrystal:
+    case HmdModel::VarjoXr4:
+    case HmdModel::VisionPro:
+        setCurrentHeadset(p, model);
+        break;
     }
     return p;
+}
+
+HmdProfile customHmdProfile(std::string name, uint32_t width, uint32_t height, double hfovDeg,
+                            double vfovDeg, double refreshHz) {
+    if (!(vfovDeg > 0.0 && vfovDeg < 180.0)) {
+        throw ArgumentError("a vertical field of view of " + std::to_string(vfovDeg) +
+                            " degrees (expected more than 0 and less than 180)");
+    }
+    HmdProfile p{std::move(name), width, height, refreshHz};
+    setSymmetricFov(p, hfovDeg, vfovDeg);
+    p.lens = kPublishedLens;
+    p.sources = {"resolution, FOV, refresh: as given on the command line; FOV symmetric about "
+                 "the optical axis",
+                 kMeanIpd, kScaledLens, kFovPointSet};
+    return p;
+}
+
+double horizontalFovDeg(const HmdProfile& p) {
+    return (std::atan(static_cast<double>(p.tanRight)) -
+            std::atan(static_cast<double>(p.tanLeft))) *
+           180.0 / std::numbers::pi;
+}
+
+double verticalFovDeg(const HmdProfile& p) {
+    return (std::atan(static_cast<double>(p.tanUp)) - std::atan(static_cast<double>(p.tanDown))) *
+           180.0 / std::numbers::pi;
+}
+
+double centrePixelsPerDegree(const HmdProfile& p) {
+    const foveation::DisplayProfile& d = p.pointSetProfile;
+    return std::numbers::pi * d.width * d.viewingDistance / 180.0;
 }
 
 EyeTangents eyeTangents(const HmdProfile& p, int eye) {

@@ -52,11 +52,39 @@ struct HmdProfile {
     std::vector<std::string> sources; // where each value comes from
 };
 
-// The headsets gazetrace knows.
-enum class HmdModel { Fove, Vive, RiftCv1 };
-inline constexpr std::array<HmdModel, 3> kHmdModels{HmdModel::Fove, HmdModel::Vive,
-                                                    HmdModel::RiftCv1};
+// The headsets gazetrace knows: the thesis's FOVE and two of its time, then eye-tracked
+// headsets on sale since, whose point sets take v from their field of view (fovDisplayProfile).
+enum class HmdModel {
+    Fove,
+    Vive,
+    RiftCv1,
+    ViveProEye,
+    QuestPro,
+    Psvr2,
+    PimaxCrystal,
+    VarjoXr4,
+    VisionPro
+};
+inline constexpr std::array<HmdModel, 9> kHmdModels{
+    HmdModel::Fove,         HmdModel::Vive,     HmdModel::RiftCv1,
+    HmdModel::ViveProEye,   HmdModel::QuestPro, HmdModel::Psvr2,
+    HmdModel::PimaxCrystal, HmdModel::VarjoXr4, HmdModel::VisionPro};
 [[nodiscard]] HmdProfile hmdProfile(HmdModel model);
+
+// A headset known only by its eye image and field of view (--hmd custom:...): `width` x
+// `height` pixels per eye spanning `hfovDeg` x `vfovDeg` symmetrically about
+// the optical axis, the published lens, and the point set of that field of view. Throws
+// gt::ArgumentError for a size of 0 or a field of view outside (0, 180) degrees.
+[[nodiscard]] HmdProfile customHmdProfile(std::string name, uint32_t width, uint32_t height,
+                                          double hfovDeg, double vfovDeg, double refreshHz);
+
+// The eye image's full horizontal field of view in degrees (temporal plus nasal half-angle).
+[[nodiscard]] double horizontalFovDeg(const HmdProfile& p);
+[[nodiscard]] double verticalFovDeg(const HmdProfile& p);
+// Pixels per degree at the centre of the point set's display: thesis eq. (1) gives
+// de/dd = 180 / (pi N v) degrees per pixel at d = 0, so ppd = pi N v / 180 (twice the display
+// Nyquist fd of eq. (3)).
+[[nodiscard]] double centrePixelsPerDegree(const HmdProfile& p);
 
 // The eye's frustum tangents: left eye as stored, right eye mirrored about the nose.
 struct EyeTangents {
