@@ -106,19 +106,93 @@ render::PresentMode parsePresentMode(const std::string& name) {
     throw ArgumentError("--present: unknown mode '" + name + "' (known: fifo, mailbox, immediate)");
 }
 
+std::vector<std::string> hmdProfileNames() {
+    std::vector<std::string> names;
+    for (const display::HmdModel m : display::kHmdModels)
+        names.push_back(display::hmdProfile(m).name);
+    return names;
+}
+
+std::string hmdChoicesText(const char* separator) {
+    std::string text;
+    for (const std::string& name : hmdProfileNames())
+        text += name + separator;
+    return text + "custom:WxH@HFOVxVFOV[,HZ]";
+}
+
 render::HmdModel parseHmd(const std::string& name) {
-    if (name == "fove") return render::HmdModel::Fove;
-    if (name == "vive") return render::HmdModel::Vive;
-    if (name == "rift-cv1") return render::HmdModel::RiftCv1;
-    throw ArgumentError("--hmd: unknown profile '" + name + "' (known: fove, vive, rift-cv1)");
+    for (const display::HmdModel m : display::kHmdModels)
+        if (display::hmdProfile(m).name == name) return m;
+    throw ArgumentError("--hmd: unknown profile '" + name + "' (known: " + hmdChoicesText(", ") +
+                        ")");
+}
+
+namespace {
+// A number of the custom syntax: decimal digits with at most one point, nothing else (no sign,
+// no exponent, no blanks).
+std::optional<double> parseDecimal(const std::string& text) {
+    if (text.empty() || text.find_first_not_of("0123456789.") != std::string::npos) {
+        return std::nullopt;
+    }
+    double v = 0.0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+    return v;
+}
+
+// Splits `text` at the first `separator`: the part before it, and the part after (none when
+// the separator is absent).
+std::pair<std::string, std::optional<std::string>> splitAt(const std::string& text,
+                                                           char separator) {
+    const auto at = text.find(separator);
+    if (at == std::string::npos) return {text, std::nullopt};
+    return {text.substr(0, at), text.substr(at + 1)};
+}
+} // namespace
+
+display::HmdProfile parseCustomHmd(const std::string& text) {
+    const std::string what = "--hmd " + text + ": ";
+    const auto syntax = [&] {
+        return ArgumentError(what + "expected custom:WxH@HFOVxVFOV[,HZ], e.g. " +
+                             "custom:3840x3744@120x105,90");
+    };
+    if (text.rfind(kCustomHmdPrefix, 0) != 0) throw syntax();
+    const auto [size, rest] = splitAt(text.substr(std::string(kCustomHmdPrefix).size()), '@');
+    if (!rest) throw syntax();
+    const auto [fov, hzText] = splitAt(*rest, ',');
+    const auto [hText, vText] = splitAt(fov, 'x');
+    const auto pixels = parseSizeText(size);
+    const std::optional<double> hfov = parseDecimal(hText);
+    const std::optional<double> vfov = parseDecimal(vText.value_or(""));
+    const std::optional<double> hz = hzText ? parseDecimal(*hzText) : std::optional(90.0);
+    if (!pixels || !hfov || !vfov || !hz) throw syntax();
+    const auto checkSize = [&](const char* name, uint32_t v) {
+        if (v < kCustomHmdMinPixels || v > kCustomHmdMaxPixels) {
+            throw ArgumentError(what + name + " " + std::to_string(v) + " pixels is outside " +
+                                std::to_string(kCustomHmdMinPixels) + ".." +
+                                std::to_string(kCustomHmdMaxPixels));
+        }
+    };
+    checkSize("width", pixels->first);
+    checkSize("height", pixels->second);
+    const auto checkFov = [&](const char* name, const std::string& given, double v) {
+        if (!(v > 0.0 && v < kCustomHmdMaxFovDeg)) {
+            throw ArgumentError(what + name + " field of view " + given +
+                                " degrees is outside (0, " +
+                                std::to_string(static_cast<int>(kCustomHmdMaxFovDeg)) + ")");
+        }
+    };
+    checkFov("horizontal", hText, *hfov);
+    checkFov("vertical", vText.value_or(""), *vfov);
+    if (!(*hz > 0.0) || !std::isfinite(*hz)) {
+        throw ArgumentError(what + "refresh " + hzText.value_or("") + " Hz must be above 0");
+    }
+    return display::customHmdProfile(text, pixels->first, pixels->second, *hfov, *vfov, *hz);
 }
 
 display::HmdProfile hmdProfile(const std::string& name) {
+    if (name.rfind(kCustomHmdPrefix, 0) == 0) return parseCustomHmd(name);
     return display::hmdProfile(parseHmd(name));
-}
-
-std::vector<std::string> hmdProfileNames() {
-    return {"fove", "vive", "rift-cv1"};
 }
 
 render::DisplayModel parseDisplay(const std::string& name) {

@@ -40,10 +40,21 @@ namespace gt::app {
 // --present fifo | mailbox | immediate.
 [[nodiscard]] render::PresentMode parsePresentMode(const std::string& name);
 
-// --hmd: fove | vive | rift-cv1.
+// --hmd: a known headset (hmdProfileNames: fove, vive, rift-cv1, vive-pro-eye, quest-pro,
+// psvr2, pimax-crystal, varjo-xr4, vision-pro) or custom:WxH@HFOVxVFOV[,HZ] (parseCustomHmd).
 [[nodiscard]] render::HmdModel parseHmd(const std::string& name);
 [[nodiscard]] display::HmdProfile hmdProfile(const std::string& name);
 [[nodiscard]] std::vector<std::string> hmdProfileNames();
+// Every --hmd choice joined by `separator`, the custom syntax last (help and error texts).
+[[nodiscard]] std::string hmdChoicesText(const char* separator = " | ");
+// custom:WxH@HFOVxVFOV[,HZ], e.g. custom:3840x3744@120x105,90: W x H pixels per eye (16..16384)
+// spanning HFOV x VFOV degrees (each above 0 and below 170) symmetrically, at HZ (above 0;
+// 90 when left out). Numbers are decimal digits with an optional point. Anything else throws
+// ArgumentError naming the value.
+inline constexpr const char* kCustomHmdPrefix = "custom:";
+inline constexpr uint32_t kCustomHmdMinPixels = 16, kCustomHmdMaxPixels = 16384;
+inline constexpr double kCustomHmdMaxFovDeg = 170.0;
+[[nodiscard]] display::HmdProfile parseCustomHmd(const std::string& text);
 // --profile: fove | vive | desktop.
 [[nodiscard]] render::DisplayModel parseDisplay(const std::string& name);
 [[nodiscard]] foveation::DisplayProfile displayProfile(const std::string& name);

@@ -43,7 +43,7 @@ struct RenderOptions {
     std::string cacheDir;
     bool sizeGiven = false; // --width/--height were on the command line
     // The HMD path: both eyes of this profile in one graph, side by side.
-    std::string hmd;           // fove | vive | rift-cv1
+    std::string hmd;           // a known headset or custom:WxH@HFOVxVFOV[,HZ]
     bool distortion = true;    // --no-distortion: the eyes' images as rendered
     double vergenceM = 0.0;    // distance the eyes converge at; 0: infinity (parallel)
     bool displaySpace = false; // foveated --hmd: the point set laid on the panel after the lens

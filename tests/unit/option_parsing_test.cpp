@@ -4,6 +4,8 @@
 
 #include <cstdlib>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/error.hpp"
 #include "option_parsing.hpp"
@@ -26,7 +28,10 @@ TEST(OptionParsing, EveryListedProfileNameIsItsModel) {
     for (const std::string& name : hmdProfileNames()) {
         EXPECT_EQ(hmdProfile(name).name, name);
     }
+    EXPECT_EQ(hmdProfileNames().size(), display::kHmdModels.size());
     EXPECT_EQ(parseHmd("rift-cv1"), render::HmdModel::RiftCv1);
+    EXPECT_EQ(parseHmd("varjo-xr4"), render::HmdModel::VarjoXr4);
+    EXPECT_EQ(parseHmd("vision-pro"), render::HmdModel::VisionPro);
     EXPECT_NE(
         test::thrownMessage<ArgumentError>([] { (void)hmdProfile("oculus-dk9"); }).find("--hmd"),
         std::string::npos);
@@ -35,6 +40,64 @@ TEST(OptionParsing, EveryListedProfileNameIsItsModel) {
     }
     EXPECT_EQ(parseDisplay("desktop"), render::DisplayModel::Desktop);
     EXPECT_THROW((void)displayProfile("oculus"), ArgumentError);
+}
+
+// --hmd custom:WxH@HFOVxVFOV[,HZ]: the eye image, its field of view split evenly about the axis
+// and the refresh; anything else one line that names the value.
+TEST(OptionParsing, CustomHmdStrings) {
+    // 3840 x 3744 at 120 x 105 degrees, 90 Hz: tangents tan 60 = 1.732051 and
+    // tan 52.5 = 1.303225, v = 1 / (2 tan 60) = 0.2886751, ppd = pi 3840 v / 180 = 19.34719.
+    const display::HmdProfile xr4 = hmdProfile("custom:3840x3744@120x105,90");
+    EXPECT_EQ(xr4.name, "custom:3840x3744@120x105,90");
+    EXPECT_EQ(xr4.eyeWidth, 3840u);
+    EXPECT_EQ(xr4.eyeHeight, 3744u);
+    EXPECT_DOUBLE_EQ(xr4.refreshHz, 90.0);
+    EXPECT_NEAR(xr4.tanLeft, -1.732051f, 1e-5f);
+    EXPECT_NEAR(xr4.tanRight, 1.732051f, 1e-5f);
+    EXPECT_NEAR(xr4.tanUp, 1.303225f, 1e-5f);
+    EXPECT_NEAR(xr4.tanDown, -1.303225f, 1e-5f);
+    EXPECT_NEAR(xr4.pointSetProfile.viewingDistance, 0.2886751, 1e-7);
+    EXPECT_EQ(xr4.pointSetProfile.width, 3840u);
+    EXPECT_NEAR(display::centrePixelsPerDegree(xr4), 19.34719, 1e-4);
+    EXPECT_GT(xr4.lens.k1, 0.0f); // the published lens
+    // Decimal degrees and Hz; the refresh defaults to 90. 640 x 480 at 90 x 73.7398 degrees:
+    // tan 45 = 1, tan 36.8699 = 0.75, v = 0.5.
+    const display::HmdProfile small = parseCustomHmd("custom:640x480@90x73.7398");
+    EXPECT_DOUBLE_EQ(small.refreshHz, 90.0);
+    EXPECT_NEAR(small.tanUp, 0.75f, 1e-5f);
+    EXPECT_NEAR(small.pointSetProfile.viewingDistance, 0.5, 1e-12);
+    EXPECT_DOUBLE_EQ(parseCustomHmd("custom:16x16384@1x169.5,59.94").refreshHz, 59.94);
+
+    // Each bad string: an ArgumentError whose one line names --hmd, the value and what is wrong.
+    const std::vector<std::pair<std::string, std::string>> bad = {
+        {"custom:", "expected custom:WxH@HFOVxVFOV"},
+        {"custom:3840x3744", "expected custom:WxH@HFOVxVFOV"},
+        {"custom:3840x3744@120", "expected custom:WxH@HFOVxVFOV"},
+        {"custom:3840@120x105", "expected custom:WxH@HFOVxVFOV"},
+        {"custom:3840x3744@120x105,", "expected custom:WxH@HFOVxVFOV"},
+        {"custom:3840x3744@-120x105", "expected custom:WxH@HFOVxVFOV"},
+        {"custom:3840x3744@1e2x105", "expected custom:WxH@HFOVxVFOV"},
+        {"custom:3840x3744@120x105,90,1", "expected custom:WxH@HFOVxVFOV"},
+        {"custom: 3840x3744@120x105", "expected custom:WxH@HFOVxVFOV"},
+        {"custom:15x3744@120x105", "width 15 pixels is outside 16..16384"},
+        {"custom:3840x16385@120x105", "height 16385 pixels is outside 16..16384"},
+        {"custom:3840x3744@0x105", "horizontal field of view 0 degrees is outside (0, 170)"},
+        {"custom:3840x3744@170x105", "horizontal field of view 170 degrees is outside (0, 170)"},
+        {"custom:3840x3744@120x180", "vertical field of view 180 degrees is outside (0, 170)"},
+        {"custom:3840x3744@120x105,0", "refresh 0 Hz must be above 0"},
+        {"custom:3840x3744@120x105,0.0", "refresh 0.0 Hz must be above 0"},
+    };
+    for (const auto& [text, why] : bad) {
+        const std::string m = test::thrownMessage<ArgumentError>([&] { (void)hmdProfile(text); });
+        EXPECT_NE(m.find("--hmd " + text + ": " + why), std::string::npos) << text << ": " << m;
+        EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    }
+    // An unknown name lists every choice, the custom syntax included.
+    const std::string unknown =
+        test::thrownMessage<ArgumentError>([] { (void)hmdProfile("varjo-xr5"); });
+    for (const std::string& name : hmdProfileNames())
+        EXPECT_NE(unknown.find(name), std::string::npos) << name;
+    EXPECT_NE(unknown.find("custom:WxH@HFOVxVFOV[,HZ]"), std::string::npos);
 }
 
 TEST(OptionParsing, InterpolationChoices) {

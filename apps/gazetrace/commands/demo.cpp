@@ -6,6 +6,7 @@
 
 #include "command.hpp"
 #include "demo_command.hpp"
+#include "option_parsing.hpp"
 #include "shared_options.hpp"
 
 namespace gt::app {
@@ -70,9 +71,9 @@ public:
         mCommand->add_flag("--json", mJson, "Print a JSON summary");
         mCommand->add_option("--resize", mOptions.resize,
                              "FRAME:WxH: resize the window then (tests)");
-        mCommand->add_option(
-            "--hmd", mOptions.hmd,
-            "HMD path: fove | vive | rift-cv1, both eyes side by side in the window");
+        mCommand->add_option("--hmd", mOptions.hmd,
+                             "HMD path: " + hmdChoicesText() +
+                                 ", both eyes side by side in the window");
         mCommand->add_flag("--no-distortion", mNoDistortion, "--hmd: no lens pre-distortion");
         mCommand->add_flag("--display-space", mOptions.displaySpace,
                            "--hmd: lay the point set on the panel after the lens");

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "option_parsing.hpp"
 #include "pointset_command.hpp"
 #include "shared_options.hpp"
 
@@ -35,8 +36,9 @@ public:
             ->check(CLI::Range(0.01, 100.0));
         mCommand->add_flag("--json", mJson, "Print a JSON summary on stdout");
         mCommand->add_option("--hmd", mOptions.hmd,
-                             "fove | vive | rift-cv1: where the rays go with the set laid in the "
-                             "eye's image and laid on the panel after the lens");
+                             hmdChoicesText() +
+                                 ": the headset's point set, and where the rays go with the set "
+                                 "laid in the eye's image and laid on the panel after the lens");
     }
 
     int run() override {

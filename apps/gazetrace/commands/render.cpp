@@ -8,6 +8,7 @@
 
 #include "command.hpp"
 #include "core/log.hpp"
+#include "option_parsing.hpp"
 #include "render_command.hpp"
 #include "shared_options.hpp"
 
@@ -108,8 +109,9 @@ public:
             "Camera path CSV t_ms,ex,ey,ez,tx,ty,tz (demo's R records one): a frame "
             "every --frame-ms along it");
         mCommand->add_option("--hmd", mOptions.hmd,
-                             "HMD path: fove | vive | rift-cv1 (both eyes, side by side, lens "
-                             "pre-distortion; --gaze is a pixel of the left eye's image)");
+                             "HMD path: " + hmdChoicesText() +
+                                 " (both eyes, side by side, lens pre-distortion; --gaze is a "
+                                 "pixel of the left eye's image)");
         mCommand->add_flag("--no-distortion", mNoDistortion,
                            "--hmd: the eyes as rendered, no lens");
         mCommand->add_flag("--display-space", mOptions.displaySpace,
