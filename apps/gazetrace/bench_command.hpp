@@ -12,10 +12,11 @@ struct BenchOptions {
     bool quick = false; // smoke test: fewer frames, no 32-ray frames
     std::string scene = "builtin:market";
     std::string cacheDir;
+    std::string hmd = "fove"; // --suite stereo: the headset whose eyes are measured
 };
 
 nlohmann::json runBench(const BenchOptions& options);
-// --suite stereo: the HMD frame (both fove eyes) and the desktop demo's frame, one frame in
+// --suite stereo: the HMD frame (both eyes of --hmd) and the desktop demo's frame, one frame in
 // flight against two (apps/gazetrace/stereo_bench.cpp).
 nlohmann::json runStereoBench(const BenchOptions& options);
 // Eccentricity layers only (Guenter et al. 2012): the predictions and the measured ratios against

@@ -104,7 +104,7 @@ nlohmann::json toJson(const Series& s) {
 nlohmann::json runStereoBench(const BenchOptions& o) {
     const std::filesystem::path cache =
         o.cacheDir.empty() ? defaultCacheDir() : std::filesystem::path(o.cacheDir);
-    const display::HmdProfile hmd = hmdProfile(display::HmdModel::Fove);
+    const display::HmdProfile hmd = hmdProfile(o.hmd);
     std::vector<Series> all;
     std::string deviceName, deviceType;
     for (const uint32_t inFlight : {1u, 2u}) {
@@ -127,7 +127,7 @@ nlohmann::json runStereoBench(const BenchOptions& o) {
         scene::Camera head = r.scene().camera;
         for (const bool foveated : {true, false}) {
             Series s;
-            s.name = foveated ? "stereo/fove/foveated" : "stereo/fove/reference";
+            s.name = "stereo/" + hmd.name + (foveated ? "/foveated" : "/reference");
             s.framesInFlight = r.framesInFlight();
             render::PostSettings post;
             post.taa = foveated;

@@ -4,7 +4,9 @@
 
 #include "bench_command.hpp"
 #include "command.hpp"
+#include "core/error.hpp"
 #include "eye_commands.hpp"
+#include "option_parsing.hpp"
 #include "shared_options.hpp"
 
 namespace gt::app {
@@ -28,10 +30,16 @@ public:
                          "stereo | layers (Guenter et al. 2012 only)")
             ->check(CLI::IsMember({"render", "eye", "stereo", "layers"}))
             ->capture_default_str();
+        mCommand
+            ->add_option("--hmd", mOptions.hmd, "--suite stereo: the headset, " + hmdChoicesText())
+            ->capture_default_str();
     }
 
     int run() override {
         checkRunFiles({{"--json", mOptions.json}}, {{"--scene", mOptions.scene}});
+        if (mSuite != "stereo" && mCommand->count("--hmd") > 0) {
+            throw ArgumentError("--hmd: only --suite stereo measures a headset");
+        }
         if (mSuite == "eye") {
             (void)runEyeBench();
         } else if (mSuite == "layers") {
