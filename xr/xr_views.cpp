@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace gt::xr {
 
@@ -50,13 +51,10 @@ trace::FrustumTangents tangentsOfFov(const XrFovf& fov) {
 }
 
 foveation::DisplayProfile eyeDisplay(const XrFovf& fov, uint32_t width, uint32_t height) {
-    const trace::FrustumTangents t = tangentsOfFov(fov);
-    foveation::DisplayProfile d;
-    d.name = "xr";
-    d.width = width;
-    d.height = height;
-    d.viewingDistance = 1.0 / static_cast<double>(t.right - t.left);
-    return d;
+    const double hfovDeg =
+        (static_cast<double>(fov.angleRight) - static_cast<double>(fov.angleLeft)) * 180.0 /
+        std::numbers::pi;
+    return foveation::fovDisplayProfile("xr", width, height, hfovDeg);
 }
 
 namespace {

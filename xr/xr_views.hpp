@@ -36,8 +36,10 @@ struct ScenePlacement {
 [[nodiscard]] scene::Camera cameraOfPose(const XrPosef& pose, const ScenePlacement& placement);
 // XrFovf's angles as the tangents the tracing passes take.
 [[nodiscard]] trace::FrustumTangents tangentsOfFov(const XrFovf& fov);
-// The point-set display of an eye image: its pixels, seen from 1 / (tan right - tan left)
-// image widths (the image plane at unit distance from the eye), the thesis's v.
+// The point-set display of an eye image: its pixels (the size the runtime recommends, times
+// --resolution-scale) spanning the runtime's horizontal field of view HFOV = angleRight -
+// angleLeft, so v = 1 / (2 tan(HFOV / 2)) image widths (foveation::fovDisplayProfile), as for
+// the headset profiles. Throws gt::ArgumentError unless 0 < HFOV < 180 degrees.
 [[nodiscard]] foveation::DisplayProfile eyeDisplay(const XrFovf& fov, uint32_t width,
                                                    uint32_t height);
 

@@ -95,6 +95,11 @@ TEST(XrViews, FovBecomesTangentsAndTheDisplayDistance) {
     const foveation::DisplayProfile d = xr::eyeDisplay(fovDeg(-45, 45, 45, -45), 640, 640);
     EXPECT_NEAR(d.viewingDistance, 0.5, 1e-6);
     EXPECT_EQ(d.width, 640u);
+    // The runtime's field of view, not its tangents' span: -45 to 30 degrees is HFOV = 75, so
+    // v = 1 / (2 tan 37.5) = 0.6516127 (1 / (tan 30 + tan 45) would be 0.6339746).
+    const foveation::DisplayProfile a = xr::eyeDisplay(fovDeg(-45, 30, 40, -50), 1000, 900);
+    EXPECT_NEAR(a.viewingDistance, 0.6516127, 1e-6);
+    EXPECT_EQ(a.height, 900u);
 }
 
 TEST(XrViews, GazeAheadLandsOnTheAxisAndVergenceShiftsEachEyeInward) {
