@@ -51,6 +51,16 @@ PointSetMethod::PointSetMethod(const MethodContext& mc, const foveation::PointSe
     mNeighbourMb = static_cast<double>(mNeighbours.bytes()) / 1e6;
 }
 
+PointSetMethod::PointSetMethod(const MethodContext& mc, foveation::PointSet points,
+                               double pointSetMs)
+    : mMc(mc), mPoints(std::move(points)),
+      mNeighbours(mPoints, foveation::NeighbourIndex::kMaxNeighbours),
+      mGpuPoints(mc.ctx, mPoints, mNeighbours), mPointSample(mc.ctx), mInterpolate(mc.ctx),
+      mRbfSolve(mc.ctx), mPointSetMs(pointSetMs) {
+    mNeighbourMs = mNeighbours.buildSeconds() * 1e3;
+    mNeighbourMb = static_cast<double>(mNeighbours.bytes()) / 1e6;
+}
+
 PointSetMethod::~PointSetMethod() = default;
 
 std::size_t PointSetMethod::pointsSampled(glm::vec2 gaze) const {

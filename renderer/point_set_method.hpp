@@ -78,6 +78,9 @@ public:
     // neighbour index. Views must have the size of params.display.
     PointSetMethod(const MethodContext& mc, const foveation::PointSetParams& params,
                    const std::filesystem::path& cacheDir);
+    // The same from a set already loaded or generated (`pointSetMs` it took), e.g. off the frame
+    // thread: builds its neighbour index and GPU buffers here.
+    PointSetMethod(const MethodContext& mc, foveation::PointSet points, double pointSetMs);
     ~PointSetMethod() override;
 
     [[nodiscard]] std::string_view name() const override { return "foveated"; }

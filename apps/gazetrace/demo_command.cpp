@@ -182,13 +182,17 @@ DemoSettings wordsOf(const LiveSettings& s) {
 
 // The foveation method for the current window size: a point set per size, built on first use
 // and cached on disk like the command line's (desktop screen, same pixels per degree); with an
-// HMD, the point set of its eyes' display, shared by both eyes.
+// HMD, the point set of its eyes' display, shared by both eyes. With `background` (an open-ended
+// run), a set is generated off the frame thread and the full-resolution reference is shown until
+// it is ready, so a resize never stalls the window; a run of --frames N waits for it, so its
+// frames do not depend on how fast the set was made.
 class DemoMethods {
 public:
     DemoMethods(render::Renderer& r, const std::string& cacheDir, bool displaySpace,
-                render::EccentricityLayerSettings layers, const std::string& hmd)
+                render::EccentricityLayerSettings layers, const std::string& hmd, bool background)
         : mChoice(r, cacheDir), mDisplaySpace(displaySpace), mLayerSettings(std::move(layers)),
-          mDesktop(foveation::displayProfile(foveation::DisplayModel::Desktop)) {
+          mDesktop(foveation::displayProfile(foveation::DisplayModel::Desktop)),
+          mBackground(background) {
         if (!hmd.empty()) {
             mHmdDisplay = hmdProfile(hmd).pointSetProfile;
         }
@@ -223,14 +227,20 @@ private:
         foveation::PointSetParams params;
         params.display = display;
         params.scale = s.scale;
-        render::PointSetMethod& pointSet =
-            mChoice.pointSet(params, [this, &params](render::PointSetMethod&, double ms) {
-                mBuildMs = ms;
-                log::info("point set for " + std::to_string(params.display.width) + "x" +
-                          std::to_string(params.display.height) + " at scale " +
-                          std::to_string(params.scale) + " ready in " +
-                          std::to_string(static_cast<int>(mBuildMs)) + " ms");
-            });
+        const auto built = [this, &params](render::PointSetMethod&, double ms) {
+            mBuildMs = ms;
+            log::info("point set for " + std::to_string(params.display.width) + "x" +
+                      std::to_string(params.display.height) + " at scale " +
+                      std::to_string(params.scale) + " ready in " +
+                      std::to_string(static_cast<int>(mBuildMs)) + " ms");
+        };
+        render::PointSetMethod* const ready =
+            mBackground ? mChoice.pointSetIfReady(params, built) : &mChoice.pointSet(params, built);
+        if (!ready) {
+            mCurrent = nullptr;
+            return mChoice.reference({s.raysPerPoint, 0});
+        }
+        render::PointSetMethod& pointSet = *ready;
         // The interpolation and rays follow the settings every frame (nothing to rebuild
         // except the k-NN table, which the method builds when k changes).
         passes::InterpolateSettings interp;
@@ -246,6 +256,7 @@ private:
     render::EccentricityLayerSettings mLayerSettings;
     foveation::DisplayProfile mDesktop;
     std::optional<foveation::DisplayProfile> mHmdDisplay;
+    bool mBackground;
     const render::PointSetMethod* mCurrent = nullptr;
     double mBuildMs = 0.0;
 };
@@ -404,7 +415,7 @@ DemoRun::DemoRun(const DemoOptions& o)
     log::info("demo defaults: " + mDefaults.label + " (options given on the command line win)");
     mSettings = liveSettingsOf(words);
     mMethods.emplace(*mRenderer, o.cacheDir, o.displaySpace && !o.hmd.empty() && o.distortion,
-                     layerSettings(o.slope, o.layers, o.spp), o.hmd);
+                     layerSettings(o.slope, o.layers, o.spp), o.hmd, o.frames == 0);
     if (o.overlay || mCalibration) {
         mOverlay.emplace(*mWindow, ctx, mSwapchain->format(), mSwapchain->imageCount());
         if (mCalibration) mOverlay->toggle(); // the targets only: the panel would hide some

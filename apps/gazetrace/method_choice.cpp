@@ -2,7 +2,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
+#include <string>
+#include <utility>
 
+#include "core/log.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "method_factory.hpp"
 #include "option_parsing.hpp"
@@ -58,9 +62,11 @@ MethodChoice::layers(const render::EccentricityLayerSettings& settings) {
 render::PointSetMethod&
 MethodChoice::pointSet(const foveation::PointSetParams& params,
                        const std::function<void(render::PointSetMethod&, double ms)>& built) {
-    const foveation::DisplayProfile& d = params.display;
-    auto& slot =
-        mPointSets[{d.width, d.height, std::lround(d.viewingDistance * 1e4), params.scale}];
+    if (mBackground.pending(params)) {
+        // Asked for off the frame thread before: wait for that one rather than make it twice.
+        return adopt(params, *mBackground.take(params, true), built);
+    }
+    auto& slot = mPointSets[pointSetKey(params)];
     if (!slot) {
         const auto t = std::chrono::steady_clock::now();
         slot = makePointSetMethod(mRenderer, params, mCacheDir);
@@ -68,6 +74,44 @@ MethodChoice::pointSet(const foveation::PointSetParams& params,
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
         if (built) built(*slot, ms);
     }
+    return *slot;
+}
+
+render::PointSetMethod* MethodChoice::pointSetIfReady(
+    const foveation::PointSetParams& params,
+    const std::function<void(render::PointSetMethod&, double ms)>& built) {
+    const PointSetKey key = pointSetKey(params);
+    if (const auto it = mPointSets.find(key); it != mPointSets.end()) return it->second.get();
+    const bool first = mAsked.emplace(key, std::chrono::steady_clock::now()).second;
+    std::optional<foveation::CachedPointSet> ready = mBackground.take(params);
+    if (!ready) {
+        if (first) {
+            log::info("point set for " + std::to_string(params.display.width) + "x" +
+                      std::to_string(params.display.height) + " at scale " +
+                      std::to_string(params.scale) +
+                      " is being generated off the frame thread; the full-resolution reference "
+                      "is shown until it is ready");
+        }
+        return nullptr;
+    }
+    return &adopt(params, std::move(*ready), built);
+}
+
+render::PointSetMethod&
+MethodChoice::adopt(const foveation::PointSetParams& params, foveation::CachedPointSet ready,
+                    const std::function<void(render::PointSetMethod&, double ms)>& built) {
+    const PointSetKey key = pointSetKey(params);
+    if (!ready.warning.empty()) log::warn(ready.warning);
+    auto& slot = mPointSets[key];
+    slot = std::make_unique<render::PointSetMethod>(mRenderer.methodContext(), std::move(ready.set),
+                                                    ready.seconds * 1e3);
+    const auto now = std::chrono::steady_clock::now();
+    const auto asked = mAsked.find(key);
+    const double ms = std::chrono::duration<double, std::milli>(
+                          now - (asked != mAsked.end() ? asked->second : now))
+                          .count();
+    if (asked != mAsked.end()) mAsked.erase(asked);
+    if (built) built(*slot, ms);
     return *slot;
 }
 

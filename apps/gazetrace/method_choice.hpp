@@ -3,6 +3,7 @@
 // display and kept while the run lasts: the thesis's point set (one per display and scale, cached
 // on disk), Guenter et al. 2012's eccentricity layers (one per screen geometry) and the
 // full-resolution reference. `render`, `demo`, `xr` and `eval` choose through here.
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -12,6 +13,7 @@
 #include <string>
 #include <tuple>
 
+#include "background_point_sets.hpp"
 #include "eccentricity_layers.hpp"
 #include "foveation/contrast_sensitivity.hpp"
 #include "foveation/point_set.hpp"
@@ -43,7 +45,8 @@ makePointSetMethod(render::Renderer& renderer, const foveation::PointSetParams& 
 class MethodChoice {
 public:
     MethodChoice(render::Renderer& renderer, std::string cacheDir)
-        : mRenderer(renderer), mCacheDir(std::move(cacheDir)) {}
+        : mRenderer(renderer), mCacheDir(std::move(cacheDir)), mBackground(cacheFolder(mCacheDir)) {
+    }
 
     // The reference with these settings (built on first use).
     render::FullResolution& reference(const passes::ReferenceSettings& settings);
@@ -55,18 +58,32 @@ public:
     render::PointSetMethod&
     pointSet(const foveation::PointSetParams& params,
              const std::function<void(render::PointSetMethod&, double ms)>& built = {});
+    // The same without waiting for the set: null until it is ready. The first call starts
+    // generating it (or loading it from the cache) on a worker thread and says so once on
+    // stderr; the call that finds it ready builds the method (neighbour index, GPU buffers) on
+    // the caller's thread. `built` hears of it with the milliseconds from the first call.
+    render::PointSetMethod*
+    pointSetIfReady(const foveation::PointSetParams& params,
+                    const std::function<void(render::PointSetMethod&, double ms)>& built = {});
 
 private:
+    // The method of a set generated off the frame thread, built here and kept.
+    render::PointSetMethod&
+    adopt(const foveation::PointSetParams& params, foveation::CachedPointSet ready,
+          const std::function<void(render::PointSetMethod&, double ms)>& built);
+
     render::Renderer& mRenderer;
     std::string mCacheDir;
     std::unique_ptr<render::FullResolution> mReference;
     std::map<std::optional<std::pair<uint32_t, uint32_t>>,
              std::unique_ptr<render::EccentricityLayers>>
         mLayers;
-    // Viewing distance to 1e-4 display widths: a runtime's per-frame float noise in an eye's
-    // field of view must not rebuild the set.
-    std::map<std::tuple<uint32_t, uint32_t, long, double>, std::unique_ptr<render::PointSetMethod>>
-        mPointSets;
+    std::map<PointSetKey, std::unique_ptr<render::PointSetMethod>> mPointSets;
+    // When each set generated off the frame thread was asked for.
+    std::map<PointSetKey, std::chrono::steady_clock::time_point> mAsked;
+    // Declared last, so destroyed first: it waits for a set still being generated while the
+    // rest stands.
+    BackgroundPointSets mBackground;
 };
 
 } // namespace gt::app

@@ -99,8 +99,12 @@ void checkOptions(const XrOptions& o) {
     }
 }
 
-// The foveation method of an eye image (its size and field of view), built on first use and
-// shared by every eye with the same display; the reference method for --method reference.
+// The foveation method of an eye image (its size and field of view as the runtime reports them),
+// built on first use and shared by every eye with the same display; the reference method for
+// --method reference. An open-ended session generates the point set off the frame thread and
+// shows the full-resolution reference until it is ready, so the first frames reach the headset
+// at once; a run of --frames N waits for it. The layers follow each view's frustum (XrFovf) and
+// size.
 class EyeMethods {
 public:
     EyeMethods(render::Renderer& r, const XrOptions& o)
@@ -116,7 +120,7 @@ public:
         foveation::PointSetParams params;
         params.display = xr::eyeDisplay(fov, size.width, size.height);
         params.scale = mOptions.pointScale;
-        return mChoice.pointSet(params, [&](render::PointSetMethod& m, double ms) {
+        const auto built = [&](render::PointSetMethod& m, double ms) {
             m.settings = {mOptions.raysPerPoint, mInterp, false};
             if (mThesis) {
                 passes::TaaSettings unused; // the views' TAA follows in eyeViews
@@ -126,7 +130,11 @@ public:
                       std::to_string(size.height) +
                       " eyes (v = " + std::to_string(params.display.viewingDistance) +
                       " widths) ready in " + std::to_string(static_cast<int>(ms)) + " ms");
-        });
+        };
+        if (mOptions.frames != 0) return mChoice.pointSet(params, built);
+        render::PointSetMethod* const ready = mChoice.pointSetIfReady(params, built);
+        return ready ? static_cast<render::FoveationMethod&>(*ready)
+                     : mChoice.reference({mOptions.spp, 0});
     }
     // --reconstruction thesis: the thesis's TAA in the views too.
     [[nodiscard]] bool thesis() const noexcept { return mThesis; }
