@@ -449,6 +449,45 @@ TEST(Cli, HmdWritesBothEyesSideBySide) {
                        "broken.json", bad);
 }
 
+// --hmd custom:WxH@HFOVxVFOV[,HZ] works wherever --hmd does: 64 x 48 pixels per eye at 90 x
+// 73.7398 degrees has tangents tan 45 = 1 and tan 36.8699 = 0.75, and v = 1 / (2 tan 45) = 0.5.
+TEST(Cli, CustomHeadsetRendersAndBadValuesAreOneLine) {
+    const auto dir = test::tempDir("cli_custom_hmd");
+    const std::string hmd = "custom:64x48@90x73.7398,72";
+    const std::string cache = " --cache " + (dir / "cache").string();
+    for (const char* method : {"reference", "foveated", "layers"}) {
+        const auto png = dir / (std::string(method) + ".png");
+        const Result r = run("render --hmd " + hmd + " --method " + method +
+                             " --scene builtin:cornell --spp 1 --rays-per-point 1 --validate "
+                             "--json --out " +
+                             png.string() + cache);
+        ASSERT_EQ(r.status, 0) << method << ": " << r.err;
+        const auto j = nlohmann::json::parse(r.out);
+        EXPECT_EQ(j["hmd"], hmd);
+        EXPECT_EQ(j["width"], 128);
+        EXPECT_EQ(j["height"], 48);
+        EXPECT_GT(j["rays"].get<uint64_t>(), 0u) << method;
+        const auto& t = j["eyes"][0]["tangents"];
+        EXPECT_NEAR(t[0].get<double>(), -1.0, 1e-5);
+        EXPECT_NEAR(t[1].get<double>(), 1.0, 1e-5);
+        EXPECT_NEAR(t[2].get<double>(), 0.75, 1e-5);
+        EXPECT_EQ(image::readPng(png).width, 128u);
+    }
+    const Result ps = run("pointset --json --hmd " + hmd + cache);
+    ASSERT_EQ(ps.status, 0) << ps.err;
+    const auto j = nlohmann::json::parse(ps.out);
+    EXPECT_EQ(j["hmd"], hmd);
+    EXPECT_EQ(j["width"], 64);
+    EXPECT_NEAR(j["viewing_distance"].get<double>(), 0.5, 1e-9);
+    const auto bad = dir / "bad.png";
+    expectCleanFailure(run("render --hmd custom:64x48@90x170 --out " + bad.string()),
+                       "vertical field of view 170 degrees", bad);
+    expectCleanFailure(run("demo --hmd custom:64x48@90 --screenshot " + bad.string()),
+                       "custom:WxH@HFOVxVFOV", bad);
+    expectCleanFailure(run("bench --suite stereo --hmd custom:8x48@90x60 --json " + bad.string()),
+                       "width 8 pixels", bad);
+}
+
 // `layers` prints the paper's optimisation; `render --method layers` traces the layers
 // (alone and per HMD eye) and reports what it traced; bad values are one line.
 TEST(Cli, LayersPlanAndRender) {
