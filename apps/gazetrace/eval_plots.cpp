@@ -242,7 +242,7 @@ std::string raysText(double v) {
 } // namespace
 
 quality::RgbaImage curvesImage(const std::vector<std::vector<std::pair<double, double>>>& series,
-                               const std::vector<std::string>& names) {
+                               const std::vector<std::string>& names, const CurveAxes& axes) {
     double x0 = 1e300, x1 = 0.0, y1 = 0.0;
     for (const auto& s : series) {
         for (const auto& [x, y] : s) {
@@ -254,9 +254,8 @@ quality::RgbaImage curvesImage(const std::vector<std::vector<std::pair<double, d
     const PlotLayout l = curvesLayout(names, y1);
     quality::RgbaImage img =
         canvas(static_cast<uint32_t>(l.width), static_cast<uint32_t>(l.height));
-    drawFrame(img, l, "mean FLIP against rays (lower is better)", "mean FLIP (0..1)", "%.3g");
-    textCentred(img, (l.area.x0 + l.area.x1) / 2, l.area.y1 + 30,
-                "primary rays per frame (log scale)", kBlack);
+    drawFrame(img, l, axes.title, axes.yTitle, "%.3g");
+    textCentred(img, (l.area.x0 + l.area.x1) / 2, l.area.y1 + 30, axes.xTitle, kBlack);
     if (x1 <= 0.0 || y1 <= 0.0) {
         return img;
     }
@@ -286,8 +285,8 @@ quality::RgbaImage curvesImage(const std::vector<std::vector<std::pair<double, d
                 line(img, px(series[s][i - 1].first), py(series[s][i - 1].second), px(x), py(y),
                      seriesColour(s));
             }
-            text(img, static_cast<int>(px(x)) + 6, static_cast<int>(py(y)) - 14, number(y, "%.3f"),
-                 seriesColour(s));
+            text(img, static_cast<int>(px(x)) + 6, static_cast<int>(py(y)) - 14,
+                 number(y, axes.valueFormat.c_str()), seriesColour(s));
         }
     }
     return img;
