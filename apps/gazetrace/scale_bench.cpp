@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <new>
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -372,6 +373,7 @@ nlohmann::json writePlot(const std::string& path, const nlohmann::json& profiles
     std::map<std::string, std::vector<std::array<double, 3>>> byCase; // x, time, rays
     std::vector<std::string> names;
     for (const auto& p : profiles) {
+        if (!p.contains("rows")) continue; // failed
         for (const auto& r : p["rows"]) {
             if (r["method"] == "reference") continue;
             const auto rays = r["rays_per_sample"].get<uint32_t>();
@@ -451,18 +453,35 @@ nlohmann::json runScaleBench(const ScaleBenchOptions& o) {
                                             : std::filesystem::path(o.common.cacheDir);
     const auto start = Clock::now();
     nlohmann::json profiles = nlohmann::json::array();
-    std::string device, deviceType;
+    std::string device, deviceType, failed;
     for (const display::HmdProfile& hmd : hmds) {
-        ProfileRun run(o, hmd, cache);
-        if (device.empty()) {
-            device = run.renderer().context().deviceName();
-            deviceType = run.renderer().context().deviceDescription();
-            std::printf("gazetrace bench --suite scale on %s (%s), %s, %u timed frame(s) per "
-                        "case:\n",
-                        device.c_str(), deviceType.c_str(), o.common.scene.c_str(), o.frames);
+        // A profile the device or memory cannot hold (a table past a texel-buffer limit) is
+        // reported and the others still run; a stop request (not a gt::Error) ends the run.
+        // Profiles run smallest first, so a failure is most likely a large profile's own.
+        try {
+            ProfileRun run(o, hmd, cache);
+            if (device.empty()) {
+                device = run.renderer().context().deviceName();
+                deviceType = run.renderer().context().deviceDescription();
+                std::printf("gazetrace bench --suite scale on %s, %s, %u timed frame(s) per "
+                            "case:\n",
+                            deviceType.c_str(), o.common.scene.c_str(), o.frames);
+            }
+            profiles.push_back(run.run());
+            printProfile(profiles.back());
+        } catch (const std::exception& e) {
+            // The first profile failing is the scene's or the device's problem, not its own.
+            const bool own =
+                dynamic_cast<const Error*>(&e) || dynamic_cast<const std::bad_alloc*>(&e);
+            if (!own || profiles.empty()) throw;
+            std::fprintf(stderr, "gazetrace: %s: %s\n", hmd.name.c_str(), e.what());
+            profiles.push_back(
+                {{"profile", hmd.name},
+                 {"eye", {hmd.eyeWidth, hmd.eyeHeight}},
+                 {"pixels_per_eye", static_cast<double>(hmd.eyeWidth) * hmd.eyeHeight},
+                 {"error", e.what()}});
+            failed += (failed.empty() ? "" : ", ") + hmd.name;
         }
-        profiles.push_back(run.run());
-        printProfile(profiles.back());
     }
     nlohmann::json result = {
         {"suite", "scale"},        {"device", device},         {"device_type", deviceType},
@@ -473,6 +492,10 @@ nlohmann::json runScaleBench(const ScaleBenchOptions& o) {
     }
     if (!o.common.json.empty()) writeJsonFile(o.common.json, result);
     std::printf("%zu profile(s) in %.0f s\n", profiles.size(), result["wall_s"].get<double>());
+    if (!failed.empty()) {
+        throw Error("bench --suite scale: " + failed + " failed (the others are measured" +
+                    (o.common.json.empty() ? "" : " in " + o.common.json) + ")");
+    }
     return result;
 }
 
