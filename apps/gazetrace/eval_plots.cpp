@@ -266,14 +266,25 @@ quality::RgbaImage curvesImage(const std::vector<std::vector<std::pair<double, d
         return l.area.x0 + (std::log(x) - lx0) / (lx1 - lx0) * (l.area.x1 - l.area.x0);
     };
     auto py = [&](double y) { return static_cast<double>(yPixel(l, y)); };
-    // Ticks at 1, 2 and 5 times the powers of ten inside the axis.
-    for (double p = std::pow(10.0, std::floor(lx0 / std::log(10.0))); p < std::exp(lx1); p *= 10) {
-        for (const double m : {1.0, 2.0, 5.0}) {
-            const double v = m * p;
-            if (std::log(v) < lx0 || std::log(v) > lx1) continue;
-            const int x = static_cast<int>(std::lround(px(v)));
-            fill(img, x, l.area.y1, x + 1, l.area.y1 + 5, kBlack);
-            textCentred(img, x, l.area.y1 + 8, raysText(v), kBlack);
+    auto tick = [&](double v) {
+        const int x = static_cast<int>(std::lround(px(v)));
+        fill(img, x, l.area.y1, x + 1, l.area.y1 + 5, kBlack);
+        textCentred(img, x, l.area.y1 + 8, raysText(v), kBlack);
+    };
+    if (axes.ticksAtData) {
+        for (const auto& s : series) {
+            for (const auto& point : s)
+                tick(point.first);
+        }
+    } else {
+        // Ticks at 1, 2 and 5 times the powers of ten inside the axis.
+        for (double p = std::pow(10.0, std::floor(lx0 / std::log(10.0))); p < std::exp(lx1);
+             p *= 10) {
+            for (const double m : {1.0, 2.0, 5.0}) {
+                const double v = m * p;
+                if (std::log(v) < lx0 || std::log(v) > lx1) continue;
+                tick(v);
+            }
         }
     }
     for (std::size_t s = 0; s < series.size(); ++s) {

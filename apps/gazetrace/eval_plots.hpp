@@ -62,6 +62,9 @@ struct CurveAxes {
     std::string yTitle = "mean FLIP (0..1)";
     std::string xTitle = "primary rays per frame (log scale)";
     std::string valueFormat = "%.3f"; // each point's value, printed beside it
+    // x ticks at the data's x values instead of at 1, 2 and 5 times the powers of ten (a few
+    // values close together, as headsets' pixels per eye, may have none of those between them).
+    bool ticksAtData = false;
 };
 
 // Polylines of (x, value) per series; x logarithmic (rays per frame), y linear from 0 (mean

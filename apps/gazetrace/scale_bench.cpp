@@ -396,10 +396,11 @@ nlohmann::json writePlot(const std::string& path, const nlohmann::json& profiles
         }
     }
     const std::string x = "pixels per eye (log scale)";
-    const quality::RgbaImage time = curvesImage(
-        series[0], names, {"time ratio: reference GPU time / method's", "time ratio", x, "%.2f"});
+    const quality::RgbaImage time =
+        curvesImage(series[0], names,
+                    {"time ratio: reference GPU time / method's", "time ratio", x, "%.2f", true});
     const quality::RgbaImage rays = curvesImage(
-        series[1], names, {"ray ratio: reference rays / method's", "ray ratio", x, "%.2f"});
+        series[1], names, {"ray ratio: reference rays / method's", "ray ratio", x, "%.2f", true});
     quality::RgbaImage both{time.width, time.height + rays.height, time.pixels};
     both.pixels.insert(both.pixels.end(), rays.pixels.begin(), rays.pixels.end());
     image::writePngAtomic(path, both.width, both.height, both.pixels);
