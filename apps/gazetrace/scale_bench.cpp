@@ -50,7 +50,9 @@ constexpr std::array<uint32_t, 2> kRays{1, 8};
 constexpr uint32_t kShepardK = 10;
 
 double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
+    if (v.empty()) {
+        return 0.0;
+    }
     std::sort(v.begin(), v.end());
     const std::size_t n = v.size();
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
@@ -75,11 +77,13 @@ double gpuUsedMb(vk::Context& ctx) {
 std::vector<display::HmdProfile> profilesOf(const ScaleBenchOptions& o) {
     std::vector<display::HmdProfile> out;
     if (o.profiles.empty()) {
-        for (const display::HmdModel m : display::kHmdModels)
+        for (const display::HmdModel m : display::kHmdModels) {
             out.push_back(display::hmdProfile(m));
+        }
     } else {
-        for (const std::string& name : o.profiles)
+        for (const std::string& name : o.profiles) {
             out.push_back(hmdProfile(name));
+        }
     }
     for (display::HmdProfile& p : out) {
         if (o.eyeSize) {
@@ -87,7 +91,9 @@ std::vector<display::HmdProfile> profilesOf(const ScaleBenchOptions& o) {
             p.pointSetProfile.width = o.eyeSize->first;
             p.pointSetProfile.height = o.eyeSize->second;
         }
-        if (o.eyeDistance) p.pointSetProfile.viewingDistance = *o.eyeDistance;
+        if (o.eyeDistance) {
+            p.pointSetProfile.viewingDistance = *o.eyeDistance;
+        }
         // The eye's image is its point set's display (a point set is built for one size).
         p.eyeWidth = p.pointSetProfile.width;
         p.eyeHeight = p.pointSetProfile.height;
@@ -204,11 +210,13 @@ void ProfileRun::setUp(Slot& s, const std::function<void()>& construct) {
 // Rounds of one frame (or sample) per method, the reference first.
 std::vector<Row> ProfileRun::measure(uint32_t rays, const std::vector<Slot>& slots) {
     std::vector<Row> rows;
-    for (const Slot& s : slots)
+    for (const Slot& s : slots) {
         rows.push_back({s.label, rays, {}, {}, {}});
+    }
     for (uint32_t i = 0; i < mOptions.frames; ++i) {
-        for (std::size_t m = 0; m < slots.size(); ++m)
+        for (std::size_t m = 0; m < slots.size(); ++m) {
             rows[m].samples.push_back(sample(slots[m]));
+        }
         const Sample& ref = rows.front().samples.back();
         for (Row& r : rows) {
             const Sample& x = r.samples.back();
@@ -231,8 +239,9 @@ nlohmann::json ProfileRun::rowJson(const Row& r, const Slot& s, const Row& refer
         rays.push_back(x.rays);
     }
     std::vector<double> refRays;
-    for (const Sample& x : reference.samples)
+    for (const Sample& x : reference.samples) {
         refRays.push_back(x.rays);
+    }
     const double raysMedian = median(rays);
     const double rayRatio = raysMedian > 0.0 ? median(refRays) / raysMedian : 0.0;
     const double timeRatio = median(r.timeRatio);
@@ -316,12 +325,14 @@ nlohmann::json ProfileRun::run() {
             mLayers.reset();
             mLayers.emplace(mc, layerSettings);
             slots[3].method = &*mLayers;
-            for (const Slot& s : slots)
+            for (const Slot& s : slots) {
                 warmUp(s);
+            }
         }
         const std::vector<Row> measured = measure(rays, slots);
-        for (std::size_t m = 0; m < slots.size(); ++m)
+        for (std::size_t m = 0; m < slots.size(); ++m) {
             rows.push_back(rowJson(measured[m], slots[m], measured.front()));
+        }
     }
     const double pixels = static_cast<double>(mHmd.eyeWidth) * mHmd.eyeHeight;
     const foveation::DisplayProfile& d = mHmd.pointSetProfile;
@@ -373,13 +384,19 @@ nlohmann::json writePlot(const std::string& path, const nlohmann::json& profiles
     std::map<std::string, std::vector<std::array<double, 3>>> byCase; // x, time, rays
     std::vector<std::string> names;
     for (const auto& p : profiles) {
-        if (!p.contains("rows")) continue; // failed
+        if (!p.contains("rows")) {
+            continue; // failed
+        }
         for (const auto& r : p["rows"]) {
-            if (r["method"] == "reference") continue;
+            if (r["method"] == "reference") {
+                continue;
+            }
             const auto rays = r["rays_per_sample"].get<uint32_t>();
             const std::string name = r["method"].get<std::string>() + ", " + std::to_string(rays) +
                                      (rays == 1 ? " ray" : " rays");
-            if (!byCase.contains(name)) names.push_back(name);
+            if (!byCase.contains(name)) {
+                names.push_back(name);
+            }
             byCase[name].push_back({p["pixels_per_eye"].get<double>(),
                                     r["time_ratio"].get<double>(), r["ray_ratio"].get<double>()});
         }
@@ -391,8 +408,9 @@ nlohmann::json writePlot(const std::string& path, const nlohmann::json& profiles
                          [](const auto& a, const auto& b) { return a[0] < b[0]; });
         for (std::size_t k = 0; k < 2; ++k) {
             series[k].emplace_back();
-            for (const auto& pt : points)
+            for (const auto& pt : points) {
                 series[k].back().emplace_back(pt[0], pt[k + 1]);
+            }
         }
     }
     const std::string x = "pixels per eye (log scale)";
@@ -405,8 +423,9 @@ nlohmann::json writePlot(const std::string& path, const nlohmann::json& profiles
     both.pixels.insert(both.pixels.end(), rays.pixels.begin(), rays.pixels.end());
     image::writePngAtomic(path, both.width, both.height, both.pixels);
     nlohmann::json legend = nlohmann::json::array();
-    for (std::size_t i = 0; i < names.size(); ++i)
+    for (std::size_t i = 0; i < names.size(); ++i) {
         legend.push_back({{"name", names[i]}, {"colour", seriesColourHex(i)}});
+    }
     return {{"file", path}, {"series", legend}};
 }
 
@@ -433,8 +452,12 @@ private:
 } // namespace
 
 std::string scalePlotPath(const ScaleBenchOptions& o) {
-    if (!o.plot.empty()) return o.plot;
-    if (o.common.json.empty()) return {};
+    if (!o.plot.empty()) {
+        return o.plot;
+    }
+    if (o.common.json.empty()) {
+        return {};
+    }
     std::filesystem::path p(o.common.json);
     p.replace_extension(".png");
     if (p == std::filesystem::path(o.common.json)) {
@@ -444,10 +467,14 @@ std::string scalePlotPath(const ScaleBenchOptions& o) {
 }
 
 nlohmann::json runScaleBench(const ScaleBenchOptions& o) {
-    if (o.frames < 1) throw ArgumentError("--frames: at least 1");
+    if (o.frames < 1) {
+        throw ArgumentError("--frames: at least 1");
+    }
     const std::vector<display::HmdProfile> hmds = profilesOf(o);
     std::optional<TemporaryCache> fresh;
-    if (o.generateSets) fresh.emplace();
+    if (o.generateSets) {
+        fresh.emplace();
+    }
     const std::filesystem::path cache = fresh ? fresh->path()
                                         : o.common.cacheDir.empty()
                                             ? defaultCacheDir()
@@ -474,7 +501,9 @@ nlohmann::json runScaleBench(const ScaleBenchOptions& o) {
             // The first profile failing is the scene's or the device's problem, not its own.
             const bool own =
                 dynamic_cast<const Error*>(&e) || dynamic_cast<const std::bad_alloc*>(&e);
-            if (!own || profiles.empty()) throw;
+            if (!own || profiles.empty()) {
+                throw;
+            }
             std::fprintf(stderr, "gazetrace: %s: %s\n", hmd.name.c_str(), e.what());
             profiles.push_back(
                 {{"profile", hmd.name},
@@ -491,7 +520,9 @@ nlohmann::json runScaleBench(const ScaleBenchOptions& o) {
     if (const std::string plot = scalePlotPath(o); !plot.empty()) {
         result["plot"] = writePlot(plot, profiles);
     }
-    if (!o.common.json.empty()) writeJsonFile(o.common.json, result);
+    if (!o.common.json.empty()) {
+        writeJsonFile(o.common.json, result);
+    }
     std::printf("%zu profile(s) in %.0f s\n", profiles.size(), result["wall_s"].get<double>());
     if (!failed.empty()) {
         throw Error("bench --suite scale: " + failed + " failed (the others are measured" +

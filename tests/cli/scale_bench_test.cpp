@@ -27,8 +27,9 @@ std::string smallEye(const std::filesystem::path& dir) {
 }
 
 void expectFields(const nlohmann::json& j, std::initializer_list<const char*> keys) {
-    for (const char* k : keys)
+    for (const char* k : keys) {
         EXPECT_TRUE(j.contains(k)) << k << " missing from " << j.dump();
+    }
 }
 
 TEST(CliScaleBench, EveryMethodAtBothRayCountsWithItsFigures) {
@@ -117,8 +118,9 @@ TEST(CliScaleBench, EveryMethodAtBothRayCountsWithItsFigures) {
     EXPECT_EQ(png.width, 880u);
     EXPECT_EQ(png.height, 860u);
     // The console table names every method.
-    for (const char* m : {"reference", "nn", "msm", "layers"})
+    for (const char* m : {"reference", "nn", "msm", "layers"}) {
         EXPECT_NE(r.out.find(m), std::string::npos) << m;
+    }
 }
 
 TEST(CliScaleBench, ScaleOptionsBelongToTheScaleSuite) {
