@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -105,6 +106,13 @@ std::vector<display::HmdProfile> profilesOf(const ScaleBenchOptions& o) {
     return out;
 }
 
+// What a profile or method too large for the device or memory throws (a stop request is no
+// gt::Error and ends the run).
+bool outOfReach(const std::exception& e) {
+    return dynamic_cast<const Error*>(&e) != nullptr ||
+           dynamic_cast<const std::bad_alloc*>(&e) != nullptr;
+}
+
 struct Sample {
     double gpuMs = 0.0, wallMs = 0.0, rays = 0.0;
 };
@@ -116,6 +124,7 @@ struct Slot {
     bool taa = false;
     int framesPerSample = 1;
     double gpuMb = 0.0; // allocator growth from its construction through its warm-up frames
+    std::string error;  // why it could not be set up; then it is not measured
 };
 
 // One row: a method at one ray count, its samples and the reference's of the same rounds.
@@ -144,8 +153,12 @@ private:
     Sample frame(const Slot& s);
     Sample sample(const Slot& s);
     void warmUp(const Slot& s);
-    void setUp(Slot& s, const std::function<void()>& construct);
+    void setUp(Slot& s, const std::function<void()>& construct,
+               const std::function<void()>& release);
+    void setUpAll(std::vector<Slot>& slots, const foveation::PointSetParams& params);
+    void setRays(uint32_t rays, std::vector<Slot>& slots);
     std::vector<Row> measure(uint32_t rays, const std::vector<Slot>& slots);
+    [[nodiscard]] nlohmann::json buildJson() const;
     [[nodiscard]] nlohmann::json rowJson(const Row& r, const Slot& s, const Row& reference) const;
 
     const ScaleBenchOptions& mOptions;
@@ -157,6 +170,7 @@ private:
     std::optional<render::FullResolution> mReference;
     std::optional<render::PointSetMethod> mNearest, mShepard;
     std::optional<render::EccentricityLayers> mLayers;
+    render::EccentricityLayerSettings mLayerSettings;
     // The point set as loadOrGenerate gave it before the methods loaded it from the cache:
     // the time it took, and whether it came from the cache.
     double mSetMs = 0.0;
@@ -200,14 +214,30 @@ void ProfileRun::warmUp(const Slot& s) {
 
 // Constructs a method and runs its warm-up frames (which build its tables), and records how much
 // device memory that took: its buffers, tables and its view's frame resources.
-void ProfileRun::setUp(Slot& s, const std::function<void()>& construct) {
+void ProfileRun::setUp(Slot& s, const std::function<void()>& construct,
+                       const std::function<void()>& release) {
     const double before = gpuUsedMb(mRenderer.context());
-    construct();
-    warmUp(s);
+    try {
+        construct();
+        warmUp(s);
+    } catch (const std::exception& e) {
+        // A method the device or memory cannot hold (a table past a texel-buffer limit) is
+        // left out and said so; the others still run. Without the reference nothing can be.
+        if (s.label == "reference" || !outOfReach(e)) {
+            throw;
+        }
+        release();
+        s.method = nullptr;
+        s.error = e.what();
+        std::fprintf(stderr, "gazetrace: %s, %s: %s\n", mHmd.name.c_str(), s.label.c_str(),
+                     e.what());
+        return;
+    }
     s.gpuMb = gpuUsedMb(mRenderer.context()) - before;
 }
 
-// Rounds of one frame (or sample) per method, the reference first.
+// Rounds of one frame (or sample) per method, the reference first; a method left out at set-up
+// has no samples.
 std::vector<Row> ProfileRun::measure(uint32_t rays, const std::vector<Slot>& slots) {
     std::vector<Row> rows;
     for (const Slot& s : slots) {
@@ -215,10 +245,15 @@ std::vector<Row> ProfileRun::measure(uint32_t rays, const std::vector<Slot>& slo
     }
     for (uint32_t i = 0; i < mOptions.frames; ++i) {
         for (std::size_t m = 0; m < slots.size(); ++m) {
-            rows[m].samples.push_back(sample(slots[m]));
+            if (slots[m].method != nullptr) {
+                rows[m].samples.push_back(sample(slots[m]));
+            }
         }
         const Sample& ref = rows.front().samples.back();
         for (Row& r : rows) {
+            if (r.samples.size() <= i) {
+                continue;
+            }
             const Sample& x = r.samples.back();
             r.timeRatio.push_back(x.gpuMs > 0.0 ? ref.gpuMs / x.gpuMs : 0.0);
             r.wallRatio.push_back(x.wallMs > 0.0 ? ref.wallMs / x.wallMs : 0.0);
@@ -232,6 +267,9 @@ nlohmann::json nullable(bool measured, double v) {
 }
 
 nlohmann::json ProfileRun::rowJson(const Row& r, const Slot& s, const Row& reference) const {
+    if (!s.error.empty()) {
+        return {{"method", r.label}, {"rays_per_sample", r.rays}, {"error", s.error}};
+    }
     std::vector<double> gpu, wall, rays;
     for (const Sample& x : r.samples) {
         gpu.push_back(x.gpuMs);
@@ -274,9 +312,83 @@ nlohmann::json ProfileRun::rowJson(const Row& r, const Slot& s, const Row& refer
             {"method_mb", setMb + indexMb + tableMb + s.gpuMb}};
 }
 
+// Each method built and warmed up in turn at the first ray count.
+void ProfileRun::setUpAll(std::vector<Slot>& slots, const foveation::PointSetParams& params) {
+    const render::MethodContext mc = mRenderer.methodContext();
+    mLayerSettings.display = mHmd.pointSetProfile;
+    mLayerSettings.raysPerPixel = kRays.front();
+    setUp(
+        slots[0],
+        [&] {
+            mReference.emplace(mc, passes::ReferenceSettings{kRays.front(), 0});
+            slots[0].method = &*mReference;
+        },
+        [&] { mReference.reset(); });
+    setUp(
+        slots[1],
+        [&] {
+            mNearest.emplace(mc, params, mCache);
+            mNearest->settings.raysPerPoint = kRays.front();
+            mNearest->settings.interpolation.method = passes::Interpolation::Nearest;
+            slots[1].method = &*mNearest;
+        },
+        [&] { mNearest.reset(); });
+    setUp(
+        slots[2],
+        [&] {
+            mShepard.emplace(mc, params, mCache);
+            mShepard->settings.raysPerPoint = kRays.front();
+            mShepard->settings.interpolation.method = passes::Interpolation::Shepard;
+            mShepard->settings.interpolation.k = kShepardK;
+            slots[2].method = &*mShepard;
+        },
+        [&] { mShepard.reset(); });
+    setUp(
+        slots[3],
+        [&] {
+            mLayers.emplace(mc, mLayerSettings);
+            slots[3].method = &*mLayers;
+        },
+        [&] { mLayers.reset(); });
+}
+
+// The methods at another ray count (the layers' is a setting of their construction), warmed up.
+void ProfileRun::setRays(uint32_t rays, std::vector<Slot>& slots) {
+    mReference->settings = {rays, 0};
+    for (std::optional<render::PointSetMethod>* m : {&mNearest, &mShepard}) {
+        if (m->has_value()) {
+            (*m)->settings.raysPerPoint = rays;
+        }
+    }
+    if (mLayers) {
+        mLayerSettings.raysPerPixel = rays;
+        mLayers.reset();
+        mLayers.emplace(mRenderer.methodContext(), mLayerSettings);
+        slots[3].method = &*mLayers;
+    }
+    for (const Slot& s : slots) {
+        if (s.method != nullptr) {
+            warmUp(s);
+        }
+    }
+}
+
+nlohmann::json ProfileRun::buildJson() const {
+    // The set and its index from whichever foveated method could be set up.
+    const render::PointSetMethod* set = mNearest ? &*mNearest : mShepard ? &*mShepard : nullptr;
+    const bool table = mShepard.has_value();
+    return {{"point_set_ms", mSetMs},
+            {"point_set_from_cache", mSetCached},
+            {"points", set ? nlohmann::json(set->pointSet().points().size()) : nullptr},
+            {"neighbour_index_ms", nullable(set, set ? set->neighbourIndexMs() : 0.0)},
+            {"neighbour_index_mb", nullable(set, set ? set->neighbourIndexMb() : 0.0)},
+            {"knn_table_k", kShepardK},
+            {"knn_table_ms", nullable(table, table ? mShepard->knnTablePrepared().ms : 0.0)},
+            {"knn_table_mb", nullable(table, table ? mShepard->knnTablePrepared().mb : 0.0)}};
+}
+
 nlohmann::json ProfileRun::run() {
     const auto start = Clock::now();
-    const render::MethodContext mc = mRenderer.methodContext();
     foveation::PointSetParams params;
     params.display = mHmd.pointSetProfile;
     {
@@ -290,84 +402,52 @@ nlohmann::json ProfileRun::run() {
                                {"nn", nullptr, true, 1},
                                {"msm", nullptr, true, 1},
                                {"layers", nullptr, false, 2}};
-    // Set up at the first ray count: each method built and warmed up in turn.
-    render::EccentricityLayerSettings layerSettings;
-    layerSettings.display = mHmd.pointSetProfile;
-    layerSettings.raysPerPixel = kRays.front();
-    setUp(slots[0], [&] {
-        mReference.emplace(mc, passes::ReferenceSettings{kRays.front(), 0});
-        slots[0].method = &*mReference;
-    });
-    setUp(slots[1], [&] {
-        mNearest.emplace(mc, params, mCache);
-        mNearest->settings.raysPerPoint = kRays.front();
-        mNearest->settings.interpolation.method = passes::Interpolation::Nearest;
-        slots[1].method = &*mNearest;
-    });
-    setUp(slots[2], [&] {
-        mShepard.emplace(mc, params, mCache);
-        mShepard->settings.raysPerPoint = kRays.front();
-        mShepard->settings.interpolation.method = passes::Interpolation::Shepard;
-        mShepard->settings.interpolation.k = kShepardK;
-        slots[2].method = &*mShepard;
-    });
-    setUp(slots[3], [&] {
-        mLayers.emplace(mc, layerSettings);
-        slots[3].method = &*mLayers;
-    });
+    setUpAll(slots, params);
     nlohmann::json rows = nlohmann::json::array();
     for (const uint32_t rays : kRays) {
         if (rays != kRays.front()) {
-            mReference->settings = {rays, 0};
-            mNearest->settings.raysPerPoint = rays;
-            mShepard->settings.raysPerPoint = rays;
-            layerSettings.raysPerPixel = rays;
-            mLayers.reset();
-            mLayers.emplace(mc, layerSettings);
-            slots[3].method = &*mLayers;
-            for (const Slot& s : slots) {
-                warmUp(s);
-            }
+            setRays(rays, slots);
         }
         const std::vector<Row> measured = measure(rays, slots);
         for (std::size_t m = 0; m < slots.size(); ++m) {
             rows.push_back(rowJson(measured[m], slots[m], measured.front()));
         }
     }
-    const double pixels = static_cast<double>(mHmd.eyeWidth) * mHmd.eyeHeight;
-    const foveation::DisplayProfile& d = mHmd.pointSetProfile;
     return {{"profile", mHmd.name},
             {"eye", {mHmd.eyeWidth, mHmd.eyeHeight}},
-            {"pixels_per_eye", pixels},
-            {"viewing_distance", d.viewingDistance},
-            {"build",
-             {{"point_set_ms", mSetMs},
-              {"point_set_from_cache", mSetCached},
-              {"points", mNearest->pointSet().points().size()},
-              {"neighbour_index_ms", mNearest->neighbourIndexMs()},
-              {"neighbour_index_mb", mNearest->neighbourIndexMb()},
-              {"knn_table_k", kShepardK},
-              {"knn_table_ms", mShepard->knnTablePrepared().ms},
-              {"knn_table_mb", mShepard->knnTablePrepared().mb}}},
+            {"pixels_per_eye", static_cast<double>(mHmd.eyeWidth) * mHmd.eyeHeight},
+            {"viewing_distance", mHmd.pointSetProfile.viewingDistance},
+            {"build", buildJson()},
             {"rows", rows},
             {"peak_rss_mb", peakRssMb()},
             {"wall_s", secondsSince(start)}};
 }
 
+// A figure, or NaN (printed "nan") where it is null: not measured.
+double num(const nlohmann::json& j) {
+    return j.is_number() ? j.get<double>() : std::nan("");
+}
+
 void printProfile(const nlohmann::json& p) {
     const auto& b = p["build"];
-    std::printf("%s, left eye %ux%u (%.2f Mpx): %zu points; set %.0f ms (%s), neighbour index "
+    std::printf("%s, left eye %ux%u (%.2f Mpx): %.0f points; set %.0f ms (%s), neighbour index "
                 "%.0f ms, k-NN table (k=%u) %.0f ms, %.0f MB; peak RSS %.0f MB; %.0f s\n",
                 p["profile"].get<std::string>().c_str(), p["eye"][0].get<uint32_t>(),
                 p["eye"][1].get<uint32_t>(), p["pixels_per_eye"].get<double>() / 1e6,
-                b["points"].get<std::size_t>(), b["point_set_ms"].get<double>(),
+                num(b["points"]), b["point_set_ms"].get<double>(),
                 b["point_set_from_cache"].get<bool>() ? "loaded" : "generated",
-                b["neighbour_index_ms"].get<double>(), b["knn_table_k"].get<uint32_t>(),
-                b["knn_table_ms"].get<double>(), b["knn_table_mb"].get<double>(),
-                p["peak_rss_mb"].get<double>(), p["wall_s"].get<double>());
+                num(b["neighbour_index_ms"]), b["knn_table_k"].get<uint32_t>(),
+                num(b["knn_table_ms"]), num(b["knn_table_mb"]), p["peak_rss_mb"].get<double>(),
+                p["wall_s"].get<double>());
     std::printf("  %-9s %4s %10s %11s %9s %9s %9s %9s %6s %9s\n", "method", "rays", "points",
                 "rays/frame", "ray ratio", "GPU ms", "wall ms", "time rat.", "eff.", "method MB");
     for (const auto& r : p["rows"]) {
+        if (r.contains("error")) {
+            std::printf("  %-9s %4u left out: %s\n", r["method"].get<std::string>().c_str(),
+                        r["rays_per_sample"].get<uint32_t>(),
+                        r["error"].get<std::string>().c_str());
+            continue;
+        }
         std::printf("  %-9s %4u %10.0f %11.0f %9.2f %9.1f %9.1f %9.2f %6.2f %9.0f\n",
                     r["method"].get<std::string>().c_str(), r["rays_per_sample"].get<uint32_t>(),
                     r["points"].get<double>(), r["rays"].get<double>(),
@@ -388,7 +468,7 @@ nlohmann::json writePlot(const std::string& path, const nlohmann::json& profiles
             continue; // failed
         }
         for (const auto& r : p["rows"]) {
-            if (r["method"] == "reference") {
+            if (r["method"] == "reference" || r.contains("error")) {
                 continue;
             }
             const auto rays = r["rays_per_sample"].get<uint32_t>();
@@ -497,11 +577,15 @@ nlohmann::json runScaleBench(const ScaleBenchOptions& o) {
             }
             profiles.push_back(run.run());
             printProfile(profiles.back());
+            for (const auto& r : profiles.back()["rows"]) {
+                if (r.contains("error") && r["rays_per_sample"] == kRays.front()) {
+                    failed += (failed.empty() ? "" : ", ") + hmd.name + " " +
+                              r["method"].get<std::string>();
+                }
+            }
         } catch (const std::exception& e) {
             // The first profile failing is the scene's or the device's problem, not its own.
-            const bool own =
-                dynamic_cast<const Error*>(&e) || dynamic_cast<const std::bad_alloc*>(&e);
-            if (!own || profiles.empty()) {
+            if (!outOfReach(e) || profiles.empty()) {
                 throw;
             }
             std::fprintf(stderr, "gazetrace: %s: %s\n", hmd.name.c_str(), e.what());
