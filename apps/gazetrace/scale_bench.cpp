@@ -240,6 +240,7 @@ void ProfileRun::setUp(Slot& s, const std::function<void()>& construct,
 // has no samples.
 std::vector<Row> ProfileRun::measure(uint32_t rays, const std::vector<Slot>& slots) {
     std::vector<Row> rows;
+    rows.reserve(slots.size());
     for (const Slot& s : slots) {
         rows.push_back({s.label, rays, {}, {}, {}});
     }
