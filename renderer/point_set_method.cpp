@@ -43,13 +43,16 @@ void useThesisReconstruction(PointSetSettings& settings, passes::TaaSettings& ta
 
 PointSetMethod::PointSetMethod(const MethodContext& mc, const foveation::PointSetParams& params,
                                const std::filesystem::path& cacheDir)
-    : mMc(mc), mPoints(loadPointSet(params, cacheDir, mPointSetMs)),
-      mNeighbours(mPoints, foveation::NeighbourIndex::kMaxNeighbours),
-      mGpuPoints(mc.ctx, mPoints, mNeighbours), mPointSample(mc.ctx), mInterpolate(mc.ctx),
-      mRbfSolve(mc.ctx) {
-    mNeighbourMs = mNeighbours.buildSeconds() * 1e3;
-    mNeighbourMb = static_cast<double>(mNeighbours.bytes()) / 1e6;
-}
+    : PointSetMethod(mc, [&] {
+          // Timed here and handed on: a member written while mPoints is built would be reset
+          // by its own initialiser afterwards.
+          TimedSet t{.set = {}, .ms = 0.0};
+          t.set = loadPointSet(params, cacheDir, t.ms);
+          return t;
+      }()) {}
+
+PointSetMethod::PointSetMethod(const MethodContext& mc, TimedSet loaded)
+    : PointSetMethod(mc, std::move(loaded.set), loaded.ms) {}
 
 PointSetMethod::PointSetMethod(const MethodContext& mc, foveation::PointSet points,
                                double pointSetMs)

@@ -107,6 +107,11 @@ public:
     [[nodiscard]] Prepared knnTablePrepared() const noexcept { return mKnnTablePrepared; }
 
 private:
+    struct TimedSet {
+        foveation::PointSet set;
+        double ms = 0.0;
+    };
+    PointSetMethod(const MethodContext& mc, TimedSet loaded);
     passes::InterpolateInputs tableInputs(const passes::InterpolateSettings& s);
     const foveation::GpuRbfInverse& inverseFor(const passes::InterpolateSettings& s);
     passes::InterpolatedImage

@@ -242,7 +242,7 @@ std::string raysText(double v) {
 } // namespace
 
 quality::RgbaImage curvesImage(const std::vector<std::vector<std::pair<double, double>>>& series,
-                               const std::vector<std::string>& names) {
+                               const std::vector<std::string>& names, const CurveAxes& axes) {
     double x0 = 1e300, x1 = 0.0, y1 = 0.0;
     for (const auto& s : series) {
         for (const auto& [x, y] : s) {
@@ -254,9 +254,8 @@ quality::RgbaImage curvesImage(const std::vector<std::vector<std::pair<double, d
     const PlotLayout l = curvesLayout(names, y1);
     quality::RgbaImage img =
         canvas(static_cast<uint32_t>(l.width), static_cast<uint32_t>(l.height));
-    drawFrame(img, l, "mean FLIP against rays (lower is better)", "mean FLIP (0..1)", "%.3g");
-    textCentred(img, (l.area.x0 + l.area.x1) / 2, l.area.y1 + 30,
-                "primary rays per frame (log scale)", kBlack);
+    drawFrame(img, l, axes.title, axes.yTitle, "%.3g");
+    textCentred(img, (l.area.x0 + l.area.x1) / 2, l.area.y1 + 30, axes.xTitle, kBlack);
     if (x1 <= 0.0 || y1 <= 0.0) {
         return img;
     }
@@ -267,14 +266,25 @@ quality::RgbaImage curvesImage(const std::vector<std::vector<std::pair<double, d
         return l.area.x0 + (std::log(x) - lx0) / (lx1 - lx0) * (l.area.x1 - l.area.x0);
     };
     auto py = [&](double y) { return static_cast<double>(yPixel(l, y)); };
-    // Ticks at 1, 2 and 5 times the powers of ten inside the axis.
-    for (double p = std::pow(10.0, std::floor(lx0 / std::log(10.0))); p < std::exp(lx1); p *= 10) {
-        for (const double m : {1.0, 2.0, 5.0}) {
-            const double v = m * p;
-            if (std::log(v) < lx0 || std::log(v) > lx1) continue;
-            const int x = static_cast<int>(std::lround(px(v)));
-            fill(img, x, l.area.y1, x + 1, l.area.y1 + 5, kBlack);
-            textCentred(img, x, l.area.y1 + 8, raysText(v), kBlack);
+    auto tick = [&](double v) {
+        const int x = static_cast<int>(std::lround(px(v)));
+        fill(img, x, l.area.y1, x + 1, l.area.y1 + 5, kBlack);
+        textCentred(img, x, l.area.y1 + 8, raysText(v), kBlack);
+    };
+    if (axes.ticksAtData) {
+        for (const auto& s : series) {
+            for (const auto& point : s)
+                tick(point.first);
+        }
+    } else {
+        // Ticks at 1, 2 and 5 times the powers of ten inside the axis.
+        for (double p = std::pow(10.0, std::floor(lx0 / std::log(10.0))); p < std::exp(lx1);
+             p *= 10) {
+            for (const double m : {1.0, 2.0, 5.0}) {
+                const double v = m * p;
+                if (std::log(v) < lx0 || std::log(v) > lx1) continue;
+                tick(v);
+            }
         }
     }
     for (std::size_t s = 0; s < series.size(); ++s) {
@@ -286,8 +296,8 @@ quality::RgbaImage curvesImage(const std::vector<std::vector<std::pair<double, d
                 line(img, px(series[s][i - 1].first), py(series[s][i - 1].second), px(x), py(y),
                      seriesColour(s));
             }
-            text(img, static_cast<int>(px(x)) + 6, static_cast<int>(py(y)) - 14, number(y, "%.3f"),
-                 seriesColour(s));
+            text(img, static_cast<int>(px(x)) + 6, static_cast<int>(py(y)) - 14,
+                 number(y, axes.valueFormat.c_str()), seriesColour(s));
         }
     }
     return img;

@@ -55,11 +55,23 @@ struct PlotLayout {
 bandBars(const std::vector<std::array<double, quality::kBands>>& series, double maxValue,
          const std::vector<std::string>& names);
 
-// Polylines of (rays, value) per series; x logarithmic over the rays per frame, y mean FLIP
-// linear from 0.
+// The words of a curves plot: eval's quality-against-rays curves by default; `bench --suite
+// scale` puts ratios against pixels per eye on the same axes.
+struct CurveAxes {
+    std::string title = "mean FLIP against rays (lower is better)";
+    std::string yTitle = "mean FLIP (0..1)";
+    std::string xTitle = "primary rays per frame (log scale)";
+    std::string valueFormat = "%.3f"; // each point's value, printed beside it
+    // x ticks at the data's x values instead of at 1, 2 and 5 times the powers of ten (a few
+    // values close together, as headsets' pixels per eye, may have none of those between them).
+    bool ticksAtData = false;
+};
+
+// Polylines of (x, value) per series; x logarithmic (rays per frame), y linear from 0 (mean
+// FLIP).
 [[nodiscard]] PlotLayout curvesLayout(const std::vector<std::string>& names, double maxValue);
 [[nodiscard]] quality::RgbaImage
 curvesImage(const std::vector<std::vector<std::pair<double, double>>>& series,
-            const std::vector<std::string>& names);
+            const std::vector<std::string>& names, const CurveAxes& axes = {});
 
 } // namespace gt::app

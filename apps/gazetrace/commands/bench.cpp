@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "eye_commands.hpp"
 #include "option_parsing.hpp"
+#include "scale_bench.hpp"
 #include "shared_options.hpp"
 
 namespace gt::app {
@@ -27,15 +28,24 @@ public:
         mCommand
             ->add_option("--suite", mSuite,
                          "render (thesis tables, headline, layers) | eye (pupil detection speed) | "
-                         "stereo | layers (Guenter et al. 2012 only)")
-            ->check(CLI::IsMember({"render", "eye", "stereo", "layers"}))
+                         "stereo | layers (Guenter et al. 2012 only) | scale (every headset)")
+            ->check(CLI::IsMember({"render", "eye", "stereo", "layers", "scale"}))
             ->capture_default_str();
         mCommand
             ->add_option("--hmd", mOptions.hmd, "--suite stereo: the headset, " + hmdChoicesText())
             ->capture_default_str();
+        registerScaleOptions();
     }
 
     int run() override {
+        if (mSuite == "scale") {
+            return runScale();
+        }
+        for (const CLI::Option* o : mScaleOnly) {
+            if (o->count() > 0) {
+                throw ArgumentError(o->get_name() + ": only with --suite scale");
+            }
+        }
         checkRunFiles({{"--json", mOptions.json}}, {{"--scene", mOptions.scene}});
         if (mSuite != "stereo" && mCommand->count("--hmd") > 0) {
             throw ArgumentError("--hmd: only --suite stereo measures a headset");
@@ -53,8 +63,57 @@ public:
     }
 
 private:
+    void registerScaleOptions() {
+        mScaleOnly = {
+            mCommand
+                ->add_option("--profiles", mScale.profiles,
+                             "scale: these headsets only (--hmd names, comma-separated); default "
+                             "every one")
+                ->delimiter(','),
+            mCommand
+                ->add_option("--frames", mScale.frames,
+                             "scale: timed frames per case after the warm-up (--quick: 1)")
+                ->check(CLI::Range(1u, 1000u)),
+            mCommand->add_option("--plot", mScale.plot,
+                                 "scale: the PNG of time and ray ratios against pixels per eye "
+                                 "(default: beside --json, extension .png)"),
+            mCommand->add_flag("--generate-sets", mScale.generateSets,
+                               "scale: generate every point set, timed, instead of loading it "
+                               "from the cache"),
+            // For tests: every eye at this size, its field of view kept.
+            mCommand->add_option("--eye-size", mEyeSize)->group(""),
+            mCommand->add_option("--eye-distance", mEyeDistance)
+                ->check(CLI::Range(0.01, 1000.0))
+                ->group("")};
+    }
+
+    int runScale() {
+        mScale.common = mOptions;
+        if (mOptions.quick && mScaleOnly[1]->count() == 0) {
+            mScale.frames = 1;
+        }
+        if (!mEyeSize.empty()) {
+            mScale.eyeSize = parseSizeText(mEyeSize);
+            if (!mScale.eyeSize || mScale.eyeSize->first < 16 || mScale.eyeSize->second < 16 ||
+                mScale.eyeSize->first > 8192 || mScale.eyeSize->second > 8192) {
+                throw ArgumentError("--eye-size: WxH, 16 to 8192 each");
+            }
+        }
+        if (mScaleOnly[5]->count() > 0) {
+            mScale.eyeDistance = mEyeDistance;
+        }
+        checkRunFiles({{"--json", mOptions.json}, {"--plot", scalePlotPath(mScale)}},
+                      {{"--scene", mOptions.scene}});
+        (void)runScaleBench(mScale);
+        return 0;
+    }
+
     BenchOptions mOptions;
     std::string mSuite = "render";
+    ScaleBenchOptions mScale;
+    std::string mEyeSize;
+    double mEyeDistance = 1.0;
+    std::vector<CLI::Option*> mScaleOnly;
 };
 
 } // namespace

@@ -1,0 +1,136 @@
+// `gazetrace bench --suite scale` end to end on one small eye: a narrow field at many pixels per
+// degree (128 x 144 pixels, v = 50 eye widths), where the thesis's point set is sparser than the
+// pixels, one timed frame per case, so the suite runs in seconds on lavapipe.
+#include <map>
+#include <set>
+#include <string>
+#include <utility>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "scene/image_io.hpp"
+#include "support/cli_run.hpp"
+#include "support/gpu_test_context.hpp"
+
+namespace gt {
+namespace {
+
+using test::Result;
+using test::run;
+
+constexpr uint32_t kW = 128, kH = 144;
+
+std::string smallEye(const std::filesystem::path& dir) {
+    return "bench --suite scale --profiles fove --eye-size " + std::to_string(kW) + "x" +
+           std::to_string(kH) + " --eye-distance 50 --frames 1 --cache " + (dir / "cache").string();
+}
+
+void expectFields(const nlohmann::json& j, std::initializer_list<const char*> keys) {
+    for (const char* k : keys) {
+        EXPECT_TRUE(j.contains(k)) << k << " missing from " << j.dump();
+    }
+}
+
+TEST(CliScaleBench, EveryMethodAtBothRayCountsWithItsFigures) {
+    const auto dir = test::tempDir("cli_scale");
+    const Result r = run(smallEye(dir) + " --json " + (dir / "scale.json").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(test::slurp(dir / "scale.json"));
+    expectFields(j, {"suite", "device", "device_type", "scene", "gaze", "reconstruction", "frames",
+                     "profiles", "plot", "wall_s"});
+    EXPECT_EQ(j["suite"], "scale");
+    EXPECT_EQ(j["frames"], 1);
+    ASSERT_EQ(j["profiles"].size(), 1u);
+    const auto& p = j["profiles"][0];
+    expectFields(p, {"profile", "eye", "pixels_per_eye", "viewing_distance", "build", "rows",
+                     "peak_rss_mb", "wall_s"});
+    EXPECT_EQ(p["profile"], "fove");
+    EXPECT_EQ(p["eye"], nlohmann::json({kW, kH}));
+    EXPECT_EQ(p["pixels_per_eye"].get<double>(), kW * kH);
+    EXPECT_GT(p["peak_rss_mb"].get<double>(), 0.0);
+    const auto& b = p["build"];
+    expectFields(b, {"point_set_ms", "point_set_from_cache", "points", "neighbour_index_ms",
+                     "neighbour_index_mb", "knn_table_k", "knn_table_ms", "knn_table_mb"});
+    EXPECT_FALSE(b["point_set_from_cache"].get<bool>()); // a fresh cache folder
+    EXPECT_GT(b["point_set_ms"].get<double>(), 0.0);
+    EXPECT_GT(b["knn_table_ms"].get<double>(), 0.0);
+    EXPECT_GT(b["knn_table_mb"].get<double>(), 0.0);
+    EXPECT_EQ(b["knn_table_k"], 10);
+
+    std::set<std::pair<std::string, uint32_t>> seen;
+    std::map<uint32_t, double> foveatedPoints; // nn and msm trace the same points
+    for (const auto& row : p["rows"]) {
+        expectFields(row, {"method", "k", "rays_per_sample", "points", "rays", "ray_ratio",
+                           "gpu_ms", "wall_ms", "time_ratio", "wall_time_ratio", "efficiency",
+                           "frames", "frames_per_sample", "set_mb", "neighbour_index_mb",
+                           "knn_table_mb", "gpu_mb", "method_mb"});
+        const std::string method = row["method"];
+        const auto rays = row["rays_per_sample"].get<uint32_t>();
+        SCOPED_TRACE(method + " " + std::to_string(rays));
+        seen.insert({method, rays});
+        EXPECT_EQ(row["rays"].get<double>(), row["points"].get<double>() * rays);
+        EXPECT_GT(row["gpu_ms"].get<double>(), 0.0);
+        EXPECT_GT(row["time_ratio"].get<double>(), 0.0);
+        EXPECT_GT(row["method_mb"].get<double>(), 0.0);
+        EXPECT_EQ(row["frames"], 1);
+        const double ratio = row["ray_ratio"].get<double>();
+        EXPECT_NEAR(ratio, kW * kH * rays / row["rays"].get<double>(), 1e-9 * ratio);
+        if (method == "reference") {
+            EXPECT_EQ(row["rays"].get<double>(), kW * kH * rays);
+            EXPECT_EQ(row["time_ratio"].get<double>(), 1.0);
+            continue;
+        }
+        // Never more rays than the reference at the same rays per pixel.
+        EXPECT_GE(ratio, 1.0);
+        EXPECT_NEAR(row["efficiency"].get<double>(), row["time_ratio"].get<double>() / ratio, 1e-9);
+        if (method == "layers") {
+            EXPECT_EQ(row["frames_per_sample"], 2); // half-rate layers: two frames a sample
+            EXPECT_TRUE(row["set_mb"].is_null());
+            continue;
+        }
+        const double parts = row["set_mb"].get<double>() + row["neighbour_index_mb"].get<double>() +
+                             (method == "msm" ? row["knn_table_mb"].get<double>() : 0.0) +
+                             row["gpu_mb"].get<double>();
+        EXPECT_NEAR(row["method_mb"].get<double>(), parts, 1e-6);
+        if (method == "msm") {
+            EXPECT_EQ(row["knn_table_mb"].get<double>(), b["knn_table_mb"].get<double>());
+        } else {
+            EXPECT_TRUE(row["knn_table_mb"].is_null());
+        }
+        const double points = row["points"].get<double>();
+        EXPECT_LT(points, b["points"].get<double>()); // the on-screen share of the set
+        if (const auto it = foveatedPoints.find(rays); it != foveatedPoints.end()) {
+            EXPECT_EQ(points, it->second);
+        }
+        foveatedPoints[rays] = points;
+    }
+    const std::set<std::pair<std::string, uint32_t>> expected{
+        {"reference", 1}, {"nn", 1}, {"msm", 1}, {"layers", 1},
+        {"reference", 8}, {"nn", 8}, {"msm", 8}, {"layers", 8}};
+    EXPECT_EQ(seen, expected);
+    EXPECT_EQ(p["rows"].size(), expected.size());
+
+    // The plot beside the JSON: time ratio above ray ratio, one series per method and rays.
+    EXPECT_EQ(j["plot"]["file"], (dir / "scale.png").string());
+    EXPECT_EQ(j["plot"]["series"].size(), 6u);
+    const image::DecodedImage png = image::readPng(dir / "scale.png");
+    EXPECT_EQ(png.width, 880u);
+    EXPECT_EQ(png.height, 860u);
+    // The console table names every method.
+    for (const char* m : {"reference", "nn", "msm", "layers"}) {
+        EXPECT_NE(r.out.find(m), std::string::npos) << m;
+    }
+}
+
+TEST(CliScaleBench, ScaleOptionsBelongToTheScaleSuite) {
+    const auto dir = test::tempDir("cli_scale_options");
+    const auto out = dir / "b.json";
+    const Result r = run("bench --suite layers --frames 2 --json " + out.string());
+    test::expectCleanFailure(r, "--frames", out);
+    const Result p = run("bench --suite scale --profiles fove,nope --json " + out.string());
+    test::expectCleanFailure(p, "nope", out);
+}
+
+} // namespace
+} // namespace gt
