@@ -3,6 +3,7 @@
 // nearest-point searches (NeighbourIndex, PixelKnnTable), and the parallel loop every CPU
 // build here uses (also the RBF inverses and pixel weights).
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <thread>
@@ -114,8 +115,16 @@ struct PointBuckets {
     }
 };
 
+// Threads every build here uses; 0 (the default): one per core. For measurements.
+inline std::atomic<unsigned>& buildThreads() {
+    static std::atomic<unsigned> threads{0};
+    return threads;
+}
+inline void setBuildThreads(unsigned threads) { buildThreads() = threads; }
+
 template <typename Fn> void parallelFor(uint32_t n, Fn fn) {
-    const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+    const unsigned threads = buildThreads() != 0 ? buildThreads().load()
+                                                 : std::max(1u, std::thread::hardware_concurrency());
     std::vector<std::thread> pool;
     for (unsigned t = 0; t < threads; ++t) {
         pool.emplace_back([&, t] {
