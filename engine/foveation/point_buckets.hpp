@@ -120,11 +120,14 @@ inline std::atomic<unsigned>& buildThreads() {
     static std::atomic<unsigned> threads{0};
     return threads;
 }
-inline void setBuildThreads(unsigned threads) { buildThreads() = threads; }
+inline void setBuildThreads(unsigned threads) {
+    buildThreads() = threads;
+}
 
 template <typename Fn> void parallelFor(uint32_t n, Fn fn) {
-    const unsigned threads = buildThreads() != 0 ? buildThreads().load()
-                                                 : std::max(1u, std::thread::hardware_concurrency());
+    const unsigned threads = buildThreads() != 0
+                                 ? buildThreads().load()
+                                 : std::max(1u, std::thread::hardware_concurrency());
     std::vector<std::thread> pool;
     for (unsigned t = 0; t < threads; ++t) {
         pool.emplace_back([&, t] {
