@@ -54,10 +54,23 @@ void measure(const DisplayProfile& display, bool rbfPixelWeights, std::vector<ui
     report(eye, "neighbour index k=20", index.buildSeconds(), index.bytes());
     const RbfInverse inverse = buildRbfInverse(set, index, 10, RbfKernelType::Multiquadric, 1.0f);
     report(eye, "rbf inverse k=10", inverse.seconds, inverse.inverse.size() * sizeof(float));
+    const std::size_t canvas = std::size_t{set.canvasWidth()} * set.canvasHeight();
     for (uint32_t k : ks) {
         const PixelKnnTable table(set, index, k);
         report(eye, "pixel knn table k=" + std::to_string(k), table.buildSeconds(), table.bytes());
-        if (rbfPixelWeights && k == 10) {
+        std::printf("%-10s   %zu rows, %zu candidates, %u-byte slots; flat: %.1f MB\n", eye.c_str(),
+                    table.rows(), table.candidates().size(), table.slotBytes(),
+                    static_cast<double>(table.flatBytes()) / 1e6);
+        if (k == 10) {
+            // Modified Shepard with the table, CPU and GPU together: the set and the index
+            // (CPU), the points (RGBA32F), nearest point per pixel, lists and table (GPU).
+            const std::size_t n = set.points().size();
+            const std::size_t total = n * sizeof(Point) + index.bytes() + n * 16 + canvas * 4 +
+                                      index.neighbours().size() * 4 + table.bytes();
+            report(eye, "msm k=10 method memory", index.buildSeconds() + table.buildSeconds(),
+                   total);
+        }
+        if ((rbfPixelWeights || std::getenv("GT_SCALE_RBF") != nullptr) && k == 10) {
             const RbfPixelWeights weights(set, table, RbfKernelType::Multiquadric, 1.0f);
             report(eye, "rbf pixel weights k=10", weights.buildSeconds(), weights.bytes());
         }
@@ -69,7 +82,7 @@ TEST(TableScaling, DISABLED_Fove) {
 }
 
 TEST(TableScaling, DISABLED_Varjo3840x3744) {
-    measure(fovDisplayProfile("varjo-xr4", 3840, 3744, 120.0), false, {10u});
+    measure(fovDisplayProfile("varjo-xr4", 3840, 3744, 120.0), false, {10u, 20u});
 }
 
 } // namespace
