@@ -24,12 +24,12 @@ NeighbourIndex::NeighbourIndex(const PointSet& set, uint32_t k)
       mNearest(set, 1) {
     const auto start = std::chrono::steady_clock::now();
     const auto& pts = set.points();
-    const detail::PointBuckets buckets(pts, mWidth, mHeight, 4.0f);
+    const detail::PointGrids grids(pts, mWidth, mHeight);
     mNeighbours.assign(pts.size() * k, 0);
     progress::Step step("building the neighbour lists", pts.size() / 1024 + 1);
     detail::parallelFor(static_cast<uint32_t>(pts.size()), [&](uint32_t i) {
         thread_local std::vector<std::pair<float, uint32_t>> found;
-        buckets.kNearest(pts, pts[i].x, pts[i].y, k, i, found);
+        grids.around(pts[i].x, pts[i].y).kNearest(pts, pts[i].x, pts[i].y, k, i, found);
         for (uint32_t j = 0; j < k; ++j)
             mNeighbours[static_cast<std::size_t>(i) * k + j] = found[j].second;
         if (i % 1024 == 0) step.advance();

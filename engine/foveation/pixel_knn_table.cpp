@@ -18,21 +18,7 @@ namespace {
 using Candidate = std::pair<float, uint32_t>; // squared distance, point index
 constexpr uint32_t kTile = PixelKnnTable::kTile;
 
-// Two grids: fine where points are dense (the fovea), coarse where a search radius spans many
-// fine cells (the periphery, spacing up to tens of pixels).
-struct Grids {
-    detail::PointBuckets fine, coarse;
-
-    // The grid whose ring search around (x, y) visits fewest cells and points: the coarse one
-    // unless its cell there already holds many points.
-    [[nodiscard]] const detail::PointBuckets& around(float x, float y) const {
-        const std::size_t c = coarse.index(x, y);
-        return coarse.start[c + 1] - coarse.start[c] >= 64 ? fine : coarse;
-    }
-    [[nodiscard]] const detail::PointBuckets& within(float radius) const {
-        return radius <= 6.0f * fine.cell ? fine : coarse;
-    }
-};
+using detail::PointGrids;
 
 // Squared distance from a point to a pixel centre, the one expression every search here uses,
 // so that equal distances (and so the order of ties) agree between them.
@@ -44,9 +30,9 @@ inline float distance2(const Point& p, float x, float y) {
 // Every point that can be among the k nearest of a pixel centre in the block
 // [x0, x1) x [y0, y1): if the block's centre c has its k-th nearest point at R, every pixel
 // centre within h of c has its k nearest within R + h of it, so within R + 2h of c.
-void blockCandidates(const Grids& grids, const std::vector<Point>& pts, uint32_t x0, uint32_t y0,
-                     uint32_t x1, uint32_t y1, uint32_t k, std::vector<Candidate>& scratch,
-                     std::vector<uint32_t>& out) {
+void blockCandidates(const PointGrids& grids, const std::vector<Point>& pts, uint32_t x0,
+                     uint32_t y0, uint32_t x1, uint32_t y1, uint32_t k,
+                     std::vector<Candidate>& scratch, std::vector<uint32_t>& out) {
     const float cx = 0.5f * static_cast<float>(x0 + x1), cy = 0.5f * static_cast<float>(y0 + y1);
     const float h =
         std::hypot(0.5f * static_cast<float>(x1 - x0 - 1), 0.5f * static_cast<float>(y1 - y0 - 1));
@@ -61,13 +47,47 @@ void blockCandidates(const Grids& grids, const std::vector<Point>& pts, uint32_t
     }
 }
 
+// A quarter tile's candidates, positions and indices side by side for the per-pixel search.
+struct Block {
+    std::vector<float> x, y;
+    std::vector<uint32_t> index;
+};
+
+// Narrows a tile's candidates to those of the block [x0, x1) x [y0, y1) inside it, by the same
+// bound from the block's centre (its k nearest are among the tile's candidates, and so is
+// everything within its bound: R_q + 2 h_q + |q - c| <= R_c + 2 h_c).
+void narrow(const std::vector<Point>& pts, const std::vector<uint32_t>& tile, uint32_t x0,
+            uint32_t y0, uint32_t x1, uint32_t y1, uint32_t k, std::vector<float>& d2,
+            std::vector<float>& kth, Block& out) {
+    const float cx = 0.5f * static_cast<float>(x0 + x1), cy = 0.5f * static_cast<float>(y0 + y1);
+    const float h =
+        std::hypot(0.5f * static_cast<float>(x1 - x0 - 1), 0.5f * static_cast<float>(y1 - y0 - 1));
+    d2.clear();
+    for (const uint32_t i : tile) {
+        d2.push_back(distance2(pts[i], cx, cy));
+    }
+    kth = d2;
+    std::nth_element(kth.begin(), kth.begin() + (k - 1), kth.end());
+    const float r = std::sqrt(kth[k - 1]) + 2.0f * h + 0.5f;
+    out.x.clear();
+    out.y.clear();
+    out.index.clear();
+    for (std::size_t j = 0; j < tile.size(); ++j) {
+        if (d2[j] <= r * r) {
+            out.x.push_back(pts[tile[j]].x);
+            out.y.push_back(pts[tile[j]].y);
+            out.index.push_back(tile[j]);
+        }
+    }
+}
+
 // The k smallest (distance, index) of `block` from the pixel centre (px, py), nearest first.
-void kNearestOf(const std::vector<Point>& pts, const std::vector<uint32_t>& block, float px,
-                float py, uint32_t k, uint32_t* out) {
+void kNearestOf(const Block& block, float px, float py, uint32_t k, uint32_t* out) {
     std::array<Candidate, PixelKnnTable::kMaxK> best;
     uint32_t n = 0;
-    for (const uint32_t i : block) {
-        const Candidate c{distance2(pts[i], px, py), i};
+    for (std::size_t j = 0; j < block.index.size(); ++j) {
+        const float dx = block.x[j] - px, dy = block.y[j] - py; // as distance2
+        const Candidate c{dx * dx + dy * dy, block.index[j]};
         if (n == k && !(c < best[k - 1])) {
             continue;
         }
@@ -176,12 +196,6 @@ uint32_t joinBands(std::vector<Band>& bands, uint32_t perRow, std::vector<uint32
     return slotBytes;
 }
 
-// Above this many block candidates, a tile's pixels search its quarters' candidates instead
-// (in the fovea the candidates of a whole tile run to hundreds).
-uint32_t splitAbove(uint32_t k) {
-    return 96 + 8 * k;
-}
-
 } // namespace
 
 PixelKnnTable::PixelKnnTable(const PointSet& set, uint32_t k)
@@ -194,7 +208,7 @@ PixelKnnTable::PixelKnnTable(const PointSet& set, uint32_t k)
         throw ArgumentError("k-NN table: the point set has fewer than k points");
     }
     const auto start = std::chrono::steady_clock::now();
-    const Grids grids{{pts, mWidth, mHeight, 4.0f}, {pts, mWidth, mHeight, 32.0f}};
+    const PointGrids grids(pts, mWidth, mHeight);
     const uint32_t tx = tilesX(), ty = tilesY(), perRow = slotsPerRow();
     mPixelRows.assign(static_cast<std::size_t>(mWidth) * mHeight, 0);
     std::vector<Band> bands(ty);
@@ -202,25 +216,25 @@ PixelKnnTable::PixelKnnTable(const PointSet& set, uint32_t k)
     detail::parallelFor(ty, [&](uint32_t band) {
         TileEncoder encoder(k, perRow);
         std::vector<Candidate> scratch;
-        std::vector<uint32_t> block;
+        std::vector<uint32_t> tile;
+        std::vector<float> d2, kth;
+        Block block;
         std::array<uint32_t, kMaxK> nearest{};
         const uint32_t y0 = band * kTile, y1 = std::min(mHeight, y0 + kTile);
         for (uint32_t t = 0; t < tx; ++t) {
             const uint32_t x0 = t * kTile, x1 = std::min(mWidth, x0 + kTile);
             encoder.begin();
-            blockCandidates(grids, pts, x0, y0, x1, y1, k, scratch, block);
-            const bool split = block.size() > splitAbove(k);
-            // Quarters (or the whole tile), each with its own candidates.
-            const uint32_t side = split ? kTile / 2 : kTile;
+            blockCandidates(grids, pts, x0, y0, x1, y1, k, scratch, tile);
+            // Quarters, each with its own candidates: a bound from nearer its pixels admits
+            // fewer points than the tile's.
+            constexpr uint32_t side = kTile / 2;
             for (uint32_t qy = y0; qy < y1; qy += side) {
                 for (uint32_t qx = x0; qx < x1; qx += side) {
                     const uint32_t qx1 = std::min(x1, qx + side), qy1 = std::min(y1, qy + side);
-                    if (split) {
-                        blockCandidates(grids, pts, qx, qy, qx1, qy1, k, scratch, block);
-                    }
+                    narrow(pts, tile, qx, qy, qx1, qy1, k, d2, kth, block);
                     for (uint32_t y = qy; y < qy1; ++y) {
                         for (uint32_t x = qx; x < qx1; ++x) {
-                            kNearestOf(pts, block, static_cast<float>(x) + 0.5f,
+                            kNearestOf(block, static_cast<float>(x) + 0.5f,
                                        static_cast<float>(y) + 0.5f, k, nearest.data());
                             mPixelRows[static_cast<std::size_t>(y) * mWidth + x] =
                                 encoder.add(nearest.data());

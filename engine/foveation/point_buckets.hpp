@@ -115,6 +115,24 @@ struct PointBuckets {
     }
 };
 
+// Two grids: fine where points are dense (the fovea), coarse where a search radius spans many
+// fine cells (the periphery, spacing up to tens of pixels).
+struct PointGrids {
+    PointBuckets fine, coarse;
+
+    PointGrids(const std::vector<Point>& pts, uint32_t w, uint32_t h)
+        : fine(pts, w, h, 4.0f), coarse(pts, w, h, 32.0f) {}
+    // The grid whose ring search around (x, y) visits fewest cells and points: the coarse one
+    // unless its cell there already holds many points.
+    [[nodiscard]] const PointBuckets& around(float x, float y) const {
+        const std::size_t c = coarse.index(x, y);
+        return coarse.start[c + 1] - coarse.start[c] >= 64 ? fine : coarse;
+    }
+    [[nodiscard]] const PointBuckets& within(float radius) const {
+        return radius <= 6.0f * fine.cell ? fine : coarse;
+    }
+};
+
 // Threads every build here uses; 0 (the default): one per core. For measurements.
 inline std::atomic<unsigned>& buildThreads() {
     static std::atomic<unsigned> threads{0};

@@ -86,10 +86,11 @@ uvec2 knnRow(ivec2 c) {
     return uvec2(tile.x, row * pc.table.x);
 }
 
-// The j-th of a k-NN table row's points, in ascending index order.
-uint knnEntry(uvec2 row, uint j) {
-    uint slot = texelFetch(uKnnSlots, int(row.y + (j >> 2u)))[j & 3u];
-    return texelFetch(uKnnCandidates, int(row.x + slot)).r;
+// The j-th of a k-NN table row's points, in ascending index order; `slots` holds the row's
+// slots j & ~3 .. j | 3, fetched when j % 4 == 0.
+uint knnEntry(uvec2 row, uint j, inout uvec4 slots) {
+    if ((j & 3u) == 0u) slots = texelFetch(uKnnSlots, int(row.y + (j >> 2u)));
+    return texelFetch(uKnnCandidates, int(row.x + slots[j & 3u])).r;
 }
 
 // The table's own order (pixel_knn_table.hpp): squared distance from the canvas pixel centre
@@ -101,11 +102,13 @@ float tableDistance2(vec2 point, ivec2 canvasPixel) {
     return d2;
 }
 
-// Whether candidate a (distance^2 this frame dd, table distance^2 td, index i) goes before b:
-// by distance this frame; with the table, ties in the table's order, which the flat table's
-// rows were sorted in.
-bool before(float ddA, float tdA, uint iA, float ddB, float tdB, uint iB, bool table) {
+// Whether candidate a (squared distance this frame dd, point index i) goes before b: by
+// distance this frame; with the table, equal distances in the table's order, which the flat
+// table's rows were sorted in (rare: only then are the points fetched again).
+bool before(float ddA, uint iA, float ddB, uint iB, bool table, ivec2 canvasPixel) {
     if (ddA != ddB || !table) return ddA < ddB;
+    float tdA = tableDistance2(texelFetch(uPoints, int(iA)).xy, canvasPixel);
+    float tdB = tableDistance2(texelFetch(uPoints, int(iB)).xy, canvasPixel);
     return tdA < tdB || (tdA == tdB && iA < iB);
 }
 
@@ -145,10 +148,11 @@ void main() {
         int wrow = pixel * int(pc.table.z);
         // The row nearest first, as the weights were stored.
         uvec2 row = knnRow(c);
+        uvec4 slots = uvec4(0u);
         uint ordered[kMaxK];
         float orderedD2[kMaxK];
         for (uint j = 0u; j < k; ++j) {
-            uint i = knnEntry(row, j);
+            uint i = knnEntry(row, j, slots);
             float td = tableDistance2(texelFetch(uPoints, int(i)).xy, c);
             uint m = j;
             while (m > 0u && (td < orderedD2[m - 1u] || (td == orderedD2[m - 1u] && i < ordered[m - 1u]))) {
@@ -211,33 +215,30 @@ void main() {
     // the margin) are left out.
     uint idx[kMaxK + 1];
     float d2[kMaxK + 1];
-    float td2[kMaxK + 1]; // with the table: the table's distance^2, for its ties
     vec2 site0 = vec2(0.0); // where the nearest one sits this frame, and its spacing
     float spacing0 = -1.0;
     uint n = 0u;
     const bool table = kUseTable && !fallBackToLists;
     uvec2 row = table ? knnRow(c) : uvec2(0u);
+    uvec4 slots = uvec4(0u);
     uint candidates = table ? pc.table.y : pc.canvas.z + 1u;
     for (uint j = 0u; j < candidates; ++j) {
-        uint i = table ? knnEntry(row, j)
+        uint i = table ? knnEntry(row, j, slots)
                        : (j == 0u ? q : texelFetch(uNeighbours, int(q * pc.canvas.z + j - 1u)).r);
         vec4 pt = texelFetch(uPoints, int(i));
         vec2 s = pt.xy + offset + siteJitter(i, siteFrame, pt.z, pc.site.x);
         if (any(lessThan(s, vec2(-margin))) || any(greaterThanEqual(s, vec2(size) + margin))) continue;
         vec2 d = s - pos;
         float dd = dot(d, d);
-        float td = table ? tableDistance2(pt.xy, c) : 0.0;
-        if (n == k && !before(dd, td, i, d2[n - 1u], td2[n - 1u], idx[n - 1u], table)) continue;
+        if (n == k && !before(dd, i, d2[n - 1u], idx[n - 1u], table, c)) continue;
         uint m = min(n, k - 1u);
-        while (m > 0u && before(dd, td, i, d2[m - 1u], td2[m - 1u], idx[m - 1u], table)) {
+        while (m > 0u && before(dd, i, d2[m - 1u], idx[m - 1u], table, c)) {
             idx[m] = idx[m - 1u];
             d2[m] = d2[m - 1u];
-            td2[m] = td2[m - 1u];
             --m;
         }
         idx[m] = i;
         d2[m] = dd;
-        td2[m] = td;
         if (m == 0u) {
             site0 = s;
             spacing0 = pt.z;
