@@ -48,8 +48,11 @@ void blockCandidates(const PointGrids& grids, const std::vector<Point>& pts, uin
 }
 
 // A quarter tile's candidates, positions and indices side by side for the per-pixel search.
+// Sorted by distance from the block's centre, with the least squared distance each can have
+// from a pixel centre of the block, so that a pixel's search stops once the rest cannot come
+// nearer than its k-th.
 struct Block {
-    std::vector<float> x, y;
+    std::vector<float> x, y, least2;
     std::vector<uint32_t> index;
 };
 
@@ -69,15 +72,25 @@ void narrow(const std::vector<Point>& pts, const std::vector<uint32_t>& tile, ui
     kth = d2;
     std::nth_element(kth.begin(), kth.begin() + (k - 1), kth.end());
     const float r = std::sqrt(kth[k - 1]) + 2.0f * h + 0.5f;
-    out.x.clear();
-    out.y.clear();
-    out.index.clear();
+    thread_local std::vector<std::pair<float, std::size_t>> order;
+    order.clear();
     for (std::size_t j = 0; j < tile.size(); ++j) {
         if (d2[j] <= r * r) {
-            out.x.push_back(pts[tile[j]].x);
-            out.y.push_back(pts[tile[j]].y);
-            out.index.push_back(tile[j]);
+            order.emplace_back(d2[j], j);
         }
+    }
+    std::sort(order.begin(), order.end());
+    out.x.clear();
+    out.y.clear();
+    out.least2.clear();
+    out.index.clear();
+    for (const auto& [dist2, j] : order) {
+        out.x.push_back(pts[tile[j]].x);
+        out.y.push_back(pts[tile[j]].y);
+        out.index.push_back(tile[j]);
+        // |p - s| >= |q - s| - h; a hundredth of a pixel absorbs the rounding.
+        const float least = std::sqrt(dist2) - h - 0.01f;
+        out.least2.push_back(least > 0.0f ? least * least : 0.0f);
     }
 }
 
@@ -86,6 +99,9 @@ void kNearestOf(const Block& block, float px, float py, uint32_t k, uint32_t* ou
     std::array<Candidate, PixelKnnTable::kMaxK> best;
     uint32_t n = 0;
     for (std::size_t j = 0; j < block.index.size(); ++j) {
+        if (n == k && block.least2[j] > best[k - 1].first) {
+            break;
+        }
         const float dx = block.x[j] - px, dy = block.y[j] - py; // as distance2
         const Candidate c{dx * dx + dy * dy, block.index[j]};
         if (n == k && !(c < best[k - 1])) {
