@@ -22,7 +22,8 @@ GpuPointSet::GpuPointSet(vk::Context& ctx, const PointSet& set, const NeighbourI
         buffer.upload(std::span(static_cast<const std::byte*>(data), bytes));
     };
     make(mPoints, pts.data(), pts.size() * sizeof(glm::vec4), "pointset.points");
-    make(mNearest, index.nearest().data(), index.nearest().size() * 4, "pointset.nearest");
+    const std::vector<uint32_t> nearest = index.nearestPerPixel();
+    make(mNearest, nearest.data(), nearest.size() * 4, "pointset.nearest");
     make(mNeighbours, index.neighbours().data(), index.neighbours().size() * 4,
          "pointset.neighbours");
     mPointsView = vk::BufferView(ctx, mPoints, VK_FORMAT_R32G32B32A32_SFLOAT);
@@ -64,9 +65,24 @@ GpuRbfInverse::GpuRbfInverse(vk::Context& ctx, const RbfInverse& inverse)
                               VK_FORMAT_R32G32B32A32_SFLOAT, "rbf.inverse", mBuffer, mView);
 }
 
-GpuPixelKnnTable::GpuPixelKnnTable(vk::Context& ctx, const PixelKnnTable& table) : mK(table.k()) {
-    mStride = uploadTexelRows(ctx, std::span<const uint32_t>(table.indices()), mK,
-                              VK_FORMAT_R32G32B32A32_UINT, "pointset.knn_table", mBuffer, mView);
+GpuPixelKnnTable::GpuPixelKnnTable(vk::Context& ctx, const PixelKnnTable& table)
+    : mK(table.k()), mTexelsPerRow(table.slotsPerRow() / 4), mBytes(table.bytes()) {
+    auto make = [&](vk::Buffer& buffer, vk::BufferView& view, std::span<const std::byte> bytes,
+                    VkFormat format, const char* name) {
+        buffer = vk::Buffer(ctx, {bytes.size(), VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
+                                  vk::MemoryUsage::GpuOnly, name});
+        buffer.upload(bytes);
+        view = vk::BufferView(ctx, buffer, format);
+    };
+    make(mTiles, mTilesView, std::as_bytes(std::span(table.tiles())), VK_FORMAT_R32G32_UINT,
+         "pointset.knn_tiles");
+    make(mCandidates, mCandidatesView, std::as_bytes(std::span(table.candidates())),
+         VK_FORMAT_R32_UINT, "pointset.knn_candidates");
+    make(mSlots, mSlotsView, std::as_bytes(std::span(table.slots())),
+         table.slotBytes() == 1 ? VK_FORMAT_R8G8B8A8_UINT : VK_FORMAT_R16G16B16A16_UINT,
+         "pointset.knn_slots");
+    make(mPixelRows, mPixelRowsView, std::as_bytes(std::span(table.pixelRows())), VK_FORMAT_R8_UINT,
+         "pointset.knn_pixel_rows");
 }
 
 GpuRbfPixelWeights::GpuRbfPixelWeights(vk::Context& ctx, const RbfPixelWeights& weights)

@@ -52,20 +52,25 @@ private:
     float mShape;
 };
 
-// The thesis's per-canvas-pixel k-NN table on the GPU: ceil(k / 4) RGBA32UI texels per pixel
-// (590 MB at k = 20 for fove is 147 M single-index texels, over lavapipe's 128 M limit; packed
-// four to a texel it is 37 M).
+// The thesis's per-canvas-pixel k-NN table on the GPU, in its compact layout
+// (pixel_knn_table.hpp): per tile (candidate base, row base) as RG32UI, the candidates as R32UI,
+// the rows' slots as RGBA8UI or RGBA16UI (four slots a texel), the pixels' rows as R8UI.
 class GpuPixelKnnTable {
 public:
     GpuPixelKnnTable(vk::Context& ctx, const PixelKnnTable& table);
-    [[nodiscard]] VkBufferView view() const noexcept { return mView.handle(); }
+    [[nodiscard]] VkBufferView tiles() const noexcept { return mTilesView.handle(); }
+    [[nodiscard]] VkBufferView candidates() const noexcept { return mCandidatesView.handle(); }
+    [[nodiscard]] VkBufferView slots() const noexcept { return mSlotsView.handle(); }
+    [[nodiscard]] VkBufferView pixelRows() const noexcept { return mPixelRowsView.handle(); }
     [[nodiscard]] uint32_t k() const noexcept { return mK; }
-    [[nodiscard]] uint32_t texelsPerPixel() const noexcept { return mStride; }
+    [[nodiscard]] uint32_t texelsPerRow() const noexcept { return mTexelsPerRow; }
+    [[nodiscard]] std::size_t bytes() const noexcept { return mBytes; }
 
 private:
-    vk::Buffer mBuffer;
-    vk::BufferView mView;
-    uint32_t mK, mStride = 0;
+    vk::Buffer mTiles, mCandidates, mSlots, mPixelRows;
+    vk::BufferView mTilesView, mCandidatesView, mSlotsView, mPixelRowsView;
+    uint32_t mK, mTexelsPerRow;
+    std::size_t mBytes;
 };
 
 // The per-pixel RBF weights on the GPU, laid out as the k-NN table they belong to: ceil(k / 4)

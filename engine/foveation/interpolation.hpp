@@ -14,9 +14,10 @@ enum class Interpolation { Nearest, Shepard, Rbf, ViewPoints, ViewCells, ViewSpa
 using RbfKernel = RbfKernelType;
 // Where Modified Shepard and RBF find a pixel's k nearest points. PixelTable (the default): the
 // thesis's table of the k nearest per canvas pixel, exact, 2-2.5x faster per frame than the
-// lists on lavapipe, but 29.5 MB per neighbour (590 MB at k = 20) and seconds to build; RBF
-// adds as much again for its per-pixel weights (rbf_pixel_weights.hpp) and then costs no more
-// than Modified Shepard. NeighbourLists: the nearest point per canvas pixel plus that point's
+// lists on lavapipe, stored compactly (pixel_knn_table.hpp: 64 MB at k = 10 and 124 MB at
+// k = 20 for fove, where flat it took 29.5 MB per neighbour) and seconds to build; RBF
+// adds k floats per canvas pixel for its per-pixel weights (rbf_pixel_weights.hpp) and then
+// costs no more than Modified Shepard. NeighbourLists: the nearest point per canvas pixel plus that point's
 // 20 neighbours (75.6 MB for fove), exact at k <= 7 and close at k = 20; RBF then solves per
 // point each frame (rbf_solve). Nearest neighbour always uses the nearest-point array (the
 // thesis's table at k = 1).

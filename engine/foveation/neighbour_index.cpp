@@ -11,41 +11,48 @@
 
 namespace gt::foveation {
 
+namespace {
+uint32_t checkedK(const PointSet& set, uint32_t k) {
+    if (k == 0 || k > NeighbourIndex::kMaxNeighbours) throw ArgumentError("k must be 1..20");
+    if (set.points().size() <= k) throw ArgumentError("point set has too few points for k");
+    return k;
+}
+} // namespace
+
 NeighbourIndex::NeighbourIndex(const PointSet& set, uint32_t k)
-    : mSet(&set), mK(k), mWidth(set.canvasWidth()), mHeight(set.canvasHeight()) {
-    if (k == 0 || k > kMaxNeighbours) throw ArgumentError("k must be 1..20");
+    : mSet(&set), mK(checkedK(set, k)), mWidth(set.canvasWidth()), mHeight(set.canvasHeight()),
+      mNearest(set, 1) {
     const auto start = std::chrono::steady_clock::now();
     const auto& pts = set.points();
-    if (pts.size() <= k) throw ArgumentError("point set has too few points for k");
-    const detail::PointBuckets buckets(pts, mWidth, mHeight, 4.0f);
+    const detail::PointGrids grids(pts, mWidth, mHeight);
     mNeighbours.assign(pts.size() * k, 0);
-    // Both passes in one step: the points' neighbours, then the canvas rows' nearest points.
-    progress::Step step("building the neighbour index", pts.size() / 1024 + mHeight);
+    progress::Step step("building the neighbour lists", pts.size() / 1024 + 1);
     detail::parallelFor(static_cast<uint32_t>(pts.size()), [&](uint32_t i) {
         thread_local std::vector<std::pair<float, uint32_t>> found;
-        buckets.kNearest(pts, pts[i].x, pts[i].y, k, i, found);
+        grids.around(pts[i].x, pts[i].y).kNearest(pts, pts[i].x, pts[i].y, k, i, found);
         for (uint32_t j = 0; j < k; ++j)
             mNeighbours[static_cast<std::size_t>(i) * k + j] = found[j].second;
         if (i % 1024 == 0) step.advance();
     });
-    mNearest.assign(static_cast<std::size_t>(mWidth) * mHeight, 0);
+    mSeconds = mNearest.buildSeconds() +
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::vector<uint32_t> NeighbourIndex::nearestPerPixel() const {
+    std::vector<uint32_t> out(static_cast<std::size_t>(mWidth) * mHeight);
     detail::parallelFor(mHeight, [&](uint32_t y) {
-        thread_local std::vector<std::pair<float, uint32_t>> found;
         for (uint32_t x = 0; x < mWidth; ++x) {
-            buckets.kNearest(pts, static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f, 1,
-                             ~0u, found);
-            mNearest[static_cast<std::size_t>(y) * mWidth + x] = found[0].second;
+            out[static_cast<std::size_t>(y) * mWidth + x] = mNearest.entry(x, y, 0);
         }
-        step.advance();
     });
-    mSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return out;
 }
 
 std::vector<uint32_t> NeighbourIndex::query(float x, float y, uint32_t k) const {
     const auto& pts = mSet->points();
     const uint32_t cx = std::min(mWidth - 1, static_cast<uint32_t>(std::max(0.0f, x)));
     const uint32_t cy = std::min(mHeight - 1, static_cast<uint32_t>(std::max(0.0f, y)));
-    const uint32_t q = mNearest[static_cast<std::size_t>(cy) * mWidth + cx];
+    const uint32_t q = mNearest.entry(cx, cy, 0);
     std::vector<std::pair<float, uint32_t>> cand;
     auto add = [&](uint32_t i) {
         const float dx = pts[i].x - x, dy = pts[i].y - y;

@@ -3,7 +3,8 @@
 // for every canvas pixel, the indices of its 20 nearest points: 2W x 2H x 20 x 4 B = 590 MB
 // for the fove profile, more than a quarter of lavapipe's heap and beyond one storage buffer
 // (docs/lavapipe.md). gazetrace stores instead
-//   - nearest: for every canvas pixel, its nearest point (2W x 2H x 4 B = 29.5 MB), and
+//   - nearest: for every canvas pixel, its nearest point (the k = 1 table, pixel_knn_table.hpp:
+//     about a byte per canvas pixel; 2W x 2H x 4 B = 29.5 MB for fove on the GPU), and
 //   - neighbours: for every point, its kMax nearest other points (N x kMax x 4 B, 46 MB),
 // and a pixel takes its k nearest among {nearest point} + that point's neighbour list. Because
 // the set only shifts with the gaze (by whole pixels), both tables are built once per set.
@@ -13,6 +14,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "foveation/pixel_knn_table.hpp"
 #include "foveation/point_set.hpp"
 
 namespace gt::foveation {
@@ -26,10 +28,13 @@ public:
     [[nodiscard]] uint32_t k() const noexcept { return mK; }
     [[nodiscard]] uint32_t canvasWidth() const noexcept { return mWidth; }
     [[nodiscard]] uint32_t canvasHeight() const noexcept { return mHeight; }
-    [[nodiscard]] const std::vector<uint32_t>& nearest() const noexcept { return mNearest; }
+    // The nearest point of every canvas pixel.
+    [[nodiscard]] const PixelKnnTable& nearest() const noexcept { return mNearest; }
+    // The same, one index per canvas pixel (row-major), as the GPU reads it.
+    [[nodiscard]] std::vector<uint32_t> nearestPerPixel() const;
     [[nodiscard]] const std::vector<uint32_t>& neighbours() const noexcept { return mNeighbours; }
     [[nodiscard]] std::size_t bytes() const noexcept {
-        return (mNearest.size() + mNeighbours.size()) * sizeof(uint32_t);
+        return mNearest.bytes() + mNeighbours.size() * sizeof(uint32_t);
     }
     [[nodiscard]] double buildSeconds() const noexcept { return mSeconds; }
     // Bytes the thesis's per-pixel table would take for this set and k.
@@ -43,7 +48,7 @@ public:
 private:
     const PointSet* mSet;
     uint32_t mK, mWidth, mHeight;
-    std::vector<uint32_t> mNearest;
+    PixelKnnTable mNearest;
     std::vector<uint32_t> mNeighbours;
     double mSeconds = 0.0;
 };

@@ -3,6 +3,7 @@
 // nearest-point searches (NeighbourIndex, PixelKnnTable), and the parallel loop every CPU
 // build here uses (also the RBF inverses and pixel weights).
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <thread>
@@ -114,8 +115,37 @@ struct PointBuckets {
     }
 };
 
+// Two grids: fine where points are dense (the fovea), coarse where a search radius spans many
+// fine cells (the periphery, spacing up to tens of pixels).
+struct PointGrids {
+    PointBuckets fine, coarse;
+
+    PointGrids(const std::vector<Point>& pts, uint32_t w, uint32_t h)
+        : fine(pts, w, h, 4.0f), coarse(pts, w, h, 32.0f) {}
+    // The grid whose ring search around (x, y) visits fewest cells and points: the coarse one
+    // unless its cell there already holds many points.
+    [[nodiscard]] const PointBuckets& around(float x, float y) const {
+        const std::size_t c = coarse.index(x, y);
+        return coarse.start[c + 1] - coarse.start[c] >= 64 ? fine : coarse;
+    }
+    [[nodiscard]] const PointBuckets& within(float radius) const {
+        return radius <= 6.0f * fine.cell ? fine : coarse;
+    }
+};
+
+// Threads every build here uses; 0 (the default): one per core. For measurements.
+inline std::atomic<unsigned>& buildThreads() {
+    static std::atomic<unsigned> threads{0};
+    return threads;
+}
+inline void setBuildThreads(unsigned threads) {
+    buildThreads() = threads;
+}
+
 template <typename Fn> void parallelFor(uint32_t n, Fn fn) {
-    const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+    const unsigned threads = buildThreads() != 0
+                                 ? buildThreads().load()
+                                 : std::max(1u, std::thread::hardware_concurrency());
     std::vector<std::thread> pool;
     for (unsigned t = 0; t < threads; ++t) {
         pool.emplace_back([&, t] {

@@ -23,13 +23,14 @@ RbfPixelWeights::RbfPixelWeights(const PointSet& set, const PixelKnnTable& table
     const auto start = std::chrono::steady_clock::now();
     const auto& pts = set.points();
     const uint32_t k = mK, width = table.canvasWidth();
-    mWeights.resize(table.indices().size());
+    mWeights.resize(static_cast<std::size_t>(width) * table.canvasHeight() * k);
     std::atomic<uint64_t> factorisations{0}, ill{0};
     progress::Step step("solving the per-pixel RBF weights", table.canvasHeight());
     detail::parallelFor(table.canvasHeight(), [&](uint32_t y) {
         RbfSystem system(k);
         std::vector<glm::vec2> nb(k);
         std::vector<double> w(k);
+        std::vector<uint32_t> idx(k);
         // The pixel's neighbours in index order, with their places in the table row: the
         // system is factored in this order, so that pixels with the same k points in another
         // distance order (most of a run) share it.
@@ -38,7 +39,7 @@ RbfPixelWeights::RbfPixelWeights(const PointSet& set, const PixelKnnTable& table
         uint64_t count = 0, illHere = 0;
         for (uint32_t x = 0; x < width; ++x) {
             const std::size_t row = (static_cast<std::size_t>(y) * width + x) * k;
-            const uint32_t* idx = &table.indices()[row];
+            table.decode(x, y, idx);
             for (uint32_t j = 0; j < k; ++j) {
                 order[j] = {idx[j], j};
             }

@@ -19,7 +19,8 @@ InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
         VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
         VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-        VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+        VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER};
     const std::pair<uint32_t, bool> variants[] = {
         {sh::kMethodNearest, false}, {sh::kMethodShepard, false}, {sh::kMethodShepard, true},
         {sh::kMethodRbf, false},     {sh::kMethodRbf, true},      {sh::kViewPoints, false},
@@ -91,7 +92,7 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
         glm::uvec4(points.canvasWidth(), points.canvasHeight(), points.storedNeighbours(),
                    s.kernel == RbfKernel::Gaussian ? sh::kKernelGaussian : sh::kKernelMultiquadric),
         glm::vec4(s.rbfShape, s.displayExposure, s.edgeTolerance, s.rangeSigma),
-        useTable ? glm::uvec4(table->texelsPerPixel(), table->k(), (s.k + 3) / 4, s.siteFrame)
+        useTable ? glm::uvec4(table->texelsPerRow(), table->k(), (s.k + 3) / 4, s.siteFrame)
                  : glm::uvec4(0u, 0u, 0u, s.siteFrame),
         glm::vec4(s.siteJitter, 0.0f, 0.0f, 0.0f)};
     struct Data {
@@ -124,7 +125,10 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
                 .texelBuffer(sh::kBindingNeighbours, pts->neighbours())
                 // A variant never reads the table or the pixel weights it was not given:
                 // buffers of the same descriptor type stand in.
-                .texelBuffer(sh::kBindingKnnTable, knn ? knn->view() : pts->neighbours())
+                .texelBuffer(sh::kBindingKnnTable, knn ? knn->slots() : pts->neighbours())
+                .texelBuffer(sh::kBindingKnnTiles, knn ? knn->tiles() : pts->neighbours())
+                .texelBuffer(sh::kBindingKnnCandidates, knn ? knn->candidates() : pts->neighbours())
+                .texelBuffer(sh::kBindingKnnPixelRows, knn ? knn->pixelRows() : pts->neighbours())
                 .texelBuffer(sh::kBindingRbfPixelWeights,
                              rbfWeights ? rbfWeights->view() : pts->points())
                 .storageImage(sh::kBindingInterpOutput, r.texture(d.output).view)

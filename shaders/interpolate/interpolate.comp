@@ -14,7 +14,10 @@ layout(set = 0, binding = kBindingInterpPoints) uniform samplerBuffer uPoints;
 layout(std430, set = 0, binding = kBindingInterpSamples) readonly buffer Samples { vec4 samples[]; };
 layout(set = 0, binding = kBindingNearest) uniform usamplerBuffer uNearest;
 layout(set = 0, binding = kBindingNeighbours) uniform usamplerBuffer uNeighbours;
-layout(set = 0, binding = kBindingKnnTable) uniform usamplerBuffer uKnnTable;
+layout(set = 0, binding = kBindingKnnTable) uniform usamplerBuffer uKnnSlots;
+layout(set = 0, binding = kBindingKnnTiles) uniform usamplerBuffer uKnnTiles;
+layout(set = 0, binding = kBindingKnnCandidates) uniform usamplerBuffer uKnnCandidates;
+layout(set = 0, binding = kBindingKnnPixelRows) uniform usamplerBuffer uKnnPixelRows;
 layout(set = 0, binding = kBindingRbfPixelWeights) uniform samplerBuffer uRbfPixelWeights;
 layout(set = 0, binding = kBindingInterpOutput, rgba32f) uniform writeonly image2D uOutput;
 layout(set = 0, binding = kBindingInterpSupport, r32f) uniform writeonly image2D uSupport;
@@ -73,6 +76,42 @@ void store(ivec2 px, vec4 colour, vec2 site, float p) {
     imageStore(uSupport, px, vec4(s));
 }
 
+// Canvas pixel c's row of the k-NN table (pixel_knn_table.hpp): its tile's first candidate,
+// and the first texel of the row's slots.
+uvec2 knnRow(ivec2 c) {
+    int canvasWidth = int(pc.canvas.x);
+    int tilesX = (canvasWidth + int(kKnnTile) - 1) / int(kKnnTile);
+    uvec2 tile = texelFetch(uKnnTiles, (c.y / int(kKnnTile)) * tilesX + c.x / int(kKnnTile)).xy;
+    uint row = tile.y + texelFetch(uKnnPixelRows, c.y * canvasWidth + c.x).r;
+    return uvec2(tile.x, row * pc.table.x);
+}
+
+// The j-th of a k-NN table row's points, in ascending index order; `slots` holds the row's
+// slots j & ~3 .. j | 3, fetched when j % 4 == 0.
+uint knnEntry(uvec2 row, uint j, inout uvec4 slots) {
+    if ((j & 3u) == 0u) slots = texelFetch(uKnnSlots, int(row.y + (j >> 2u)));
+    return texelFetch(uKnnCandidates, int(row.x + slots[j & 3u])).r;
+}
+
+// The table's own order (pixel_knn_table.hpp): squared distance from the canvas pixel centre
+// in float, as the table's build computes it (so `precise`: no fused multiply-add), then index.
+float tableDistance2(vec2 point, ivec2 canvasPixel) {
+    precise float dx = point.x - (float(canvasPixel.x) + 0.5);
+    precise float dy = point.y - (float(canvasPixel.y) + 0.5);
+    precise float d2 = dx * dx + dy * dy;
+    return d2;
+}
+
+// Whether candidate a (squared distance this frame dd, point index i) goes before b: by
+// distance this frame; with the table, equal distances in the table's order, which the flat
+// table's rows were sorted in (rare: only then are the points fetched again).
+bool before(float ddA, uint iA, float ddB, uint iB, bool table, ivec2 canvasPixel) {
+    if (ddA != ddB || !table) return ddA < ddB;
+    float tdA = tableDistance2(texelFetch(uPoints, int(iA)).xy, canvasPixel);
+    float tdB = tableDistance2(texelFetch(uPoints, int(iB)).xy, canvasPixel);
+    return tdA < tdB || (tdA == tdB && iA < iB);
+}
+
 // RBF (thesis, eq. 7): s(x) = sum lambda_i phi(|x - x_i|) over the neighbourhood of the
 // pixel's nearest point q, with the weights rbf_solve computed for q.
 vec3 evaluateRbf(uint q, vec2 pos) {
@@ -106,21 +145,38 @@ void main() {
         // per-pixel solve of eq. 8, done once: rbf_pixel_weights.hpp). Neighbours beyond the
         // sampled margin take the colour of the nearest sampled one.
         int pixel = c.y * int(pc.canvas.x) + c.x;
-        int row = pixel * int(pc.table.x), wrow = pixel * int(pc.table.z);
+        int wrow = pixel * int(pc.table.z);
+        // The row nearest first, as the weights were stored.
+        uvec2 row = knnRow(c);
+        uvec4 slots = uvec4(0u);
+        uint ordered[kMaxK];
+        float orderedD2[kMaxK];
+        for (uint j = 0u; j < k; ++j) {
+            uint i = knnEntry(row, j, slots);
+            float td = tableDistance2(texelFetch(uPoints, int(i)).xy, c);
+            uint m = j;
+            while (m > 0u && (td < orderedD2[m - 1u] || (td == orderedD2[m - 1u] && i < ordered[m - 1u]))) {
+                ordered[m] = ordered[m - 1u];
+                orderedD2[m] = orderedD2[m - 1u];
+                --m;
+            }
+            ordered[m] = i;
+            orderedD2[m] = td;
+        }
         uint first = k;
         for (uint j = 0u; j < k; ++j) {
-            uint i = texelFetch(uKnnTable, row + int(j >> 2u))[j & 3u];
+            uint i = ordered[j];
             if (isSampled(texelFetch(uPoints, int(i)).xy, offset, vec2(size), margin)) {
                 first = j;
                 break;
             }
         }
         if (first < k) {
-            uint nearestIndex = texelFetch(uKnnTable, row + int(first >> 2u))[first & 3u];
+            uint nearestIndex = ordered[first];
             vec4 nearest = samples[nearestIndex];
             vec3 sum = vec3(0.0);
             for (uint j = 0u; j < k; ++j) {
-                uint i = texelFetch(uKnnTable, row + int(j >> 2u))[j & 3u];
+                uint i = ordered[j];
                 float w = texelFetch(uRbfPixelWeights, wrow + int(j >> 2u))[j & 3u];
                 vec2 at = texelFetch(uPoints, int(i)).xy;
                 bool sampled = j == first || (j > first && isSampled(at, offset, vec2(size), margin));
@@ -154,7 +210,7 @@ void main() {
         }
     }
 
-    // Candidates, kept sorted by distance: the canvas pixel's row of the k-NN table (thesis),
+    // Candidates, kept sorted by distance: the canvas pixel's set of the k-NN table (thesis),
     // or the nearest point and its stored neighbours. Points that point_sample skipped (beyond
     // the margin) are left out.
     uint idx[kMaxK + 1];
@@ -163,19 +219,20 @@ void main() {
     float spacing0 = -1.0;
     uint n = 0u;
     const bool table = kUseTable && !fallBackToLists;
-    int row = (c.y * int(pc.canvas.x) + c.x) * int(pc.table.x);
+    uvec2 row = table ? knnRow(c) : uvec2(0u);
+    uvec4 slots = uvec4(0u);
     uint candidates = table ? pc.table.y : pc.canvas.z + 1u;
     for (uint j = 0u; j < candidates; ++j) {
-        uint i = table ? texelFetch(uKnnTable, row + int(j >> 2u))[j & 3u]
+        uint i = table ? knnEntry(row, j, slots)
                        : (j == 0u ? q : texelFetch(uNeighbours, int(q * pc.canvas.z + j - 1u)).r);
         vec4 pt = texelFetch(uPoints, int(i));
         vec2 s = pt.xy + offset + siteJitter(i, siteFrame, pt.z, pc.site.x);
         if (any(lessThan(s, vec2(-margin))) || any(greaterThanEqual(s, vec2(size) + margin))) continue;
         vec2 d = s - pos;
         float dd = dot(d, d);
-        if (n == k && dd >= d2[n - 1u]) continue;
+        if (n == k && !before(dd, i, d2[n - 1u], idx[n - 1u], table, c)) continue;
         uint m = min(n, k - 1u);
-        while (m > 0u && d2[m - 1u] > dd) {
+        while (m > 0u && before(dd, i, d2[m - 1u], idx[m - 1u], table, c)) {
             idx[m] = idx[m - 1u];
             d2[m] = d2[m - 1u];
             --m;
@@ -187,9 +244,9 @@ void main() {
             spacing0 = pt.z;
         }
         n = min(n + 1u, k);
-        // The table is sorted, and the index's nearest point is exact: nothing closer follows
-        // (with the sites moved, the rest of the candidates may still hold a closer one).
-        if (siteFrame == 0u && n == k && (table || j == 0u)) break;
+        // The index's nearest point is exact: nothing closer follows (with the sites moved, the
+        // rest of the candidates may still hold a closer one). A table row is a set: all of it.
+        if (siteFrame == 0u && n == k && !table && j == 0u) break;
     }
     vec3 colour = vec3(0.0);
     float depth = 1.0 / 0.0; // first-hit distance of the nearest sample, for TAA

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <span>
 
 #include <gtest/gtest.h>
 
@@ -11,6 +12,7 @@
 #include "foveation/contrast_sensitivity.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/pixel_knn_table.hpp"
+#include "foveation/point_buckets.hpp"
 #include "foveation/point_set.hpp"
 #include "foveation/rbf_pixel_weights.hpp"
 #include "support/point_fixtures.hpp"
@@ -141,15 +143,15 @@ TEST(PixelKnnTable, MatchesBruteForceOnAPerceptualSet) {
     const NeighbourIndex index(set, NeighbourIndex::kMaxNeighbours);
     for (uint32_t k : {1u, 7u, 20u}) {
         const PixelKnnTable table(set, index, k);
-        ASSERT_EQ(table.bytes(), std::size_t{320} * 288 * k * 4);
+        ASSERT_EQ(table.flatBytes(), std::size_t{320} * 288 * k * 4);
         std::size_t checked = 0, listsExact = 0;
         for (uint32_t y = 1; y < 288; y += 7) {
             for (uint32_t x = 3; x < 320; x += 7) {
                 const float px = static_cast<float>(x) + 0.5f, py = static_cast<float>(y) + 0.5f;
                 const std::vector<uint32_t> truth = bruteForceKnn(set, px, py, k);
-                const std::size_t row = (static_cast<std::size_t>(y) * 320 + x) * k;
-                for (uint32_t j = 0; j < k; ++j)
-                    ASSERT_EQ(table.indices()[row + j], truth[j]) << x << "," << y << " k=" << k;
+                std::vector<uint32_t> row(k);
+                table.decode(x, y, row);
+                ASSERT_EQ(row, truth) << x << "," << y << " k=" << k;
                 listsExact += index.query(px, py, k) == truth ? 1 : 0;
                 ++checked;
             }
@@ -161,6 +163,80 @@ TEST(PixelKnnTable, MatchesBruteForceOnAPerceptualSet) {
                        std::to_string(listsExact) + "/" + std::to_string(checked));
     }
     EXPECT_THROW(PixelKnnTable(set, index, 22), ArgumentError);
+}
+
+// Every canvas pixel's k nearest by a ring search per pixel (what the flat table stored):
+// nearest first, ties to the lower index.
+std::vector<uint32_t> flatKnnRows(const PointSet& set, uint32_t k) {
+    const detail::PointBuckets buckets(set.points(), set.canvasWidth(), set.canvasHeight(), 4.0f);
+    std::vector<uint32_t> rows;
+    std::vector<std::pair<float, uint32_t>> found;
+    for (uint32_t y = 0; y < set.canvasHeight(); ++y) {
+        for (uint32_t x = 0; x < set.canvasWidth(); ++x) {
+            buckets.kNearest(set.points(), static_cast<float>(x) + 0.5f,
+                             static_cast<float>(y) + 0.5f, k, ~0u, found);
+            for (const auto& f : found)
+                rows.push_back(f.second);
+        }
+    }
+    return rows;
+}
+
+std::vector<uint32_t> decodeAll(const PixelKnnTable& table) {
+    std::vector<uint32_t> rows(table.flatBytes() / sizeof(uint32_t));
+    for (uint32_t y = 0; y < table.canvasHeight(); ++y) {
+        for (uint32_t x = 0; x < table.canvasWidth(); ++x) {
+            table.decode(x, y,
+                         std::span(rows).subspan(
+                             (static_cast<std::size_t>(y) * table.canvasWidth() + x) * table.k(),
+                             table.k()));
+        }
+    }
+    return rows;
+}
+
+// The compact table decodes, at every canvas pixel, to exactly the k nearest in the flat
+// table's order: on a perceptual set, on a lattice of pixel-centre points (ties everywhere:
+// they go to the lower index), and on a set four times denser than pixels, whose tiles hold
+// over 256 candidates at k = 20 (two-byte slots).
+TEST(PixelKnnTable, DecodesToTheFlatTablesRowsAtEveryPixel) {
+    PointSetParams p;
+    p.display = {"small", 160, 144, 0.85};
+    PointSetParams dense;
+    dense.display = {"dense", 24, 16, 1.0};
+    std::vector<Point> quarters;
+    for (uint32_t y = 0; y < 64; ++y) {
+        for (uint32_t x = 0; x < 96; ++x)
+            quarters.push_back(
+                {0.5f * static_cast<float>(x) + 0.25f, 0.5f * static_cast<float>(y) + 0.25f, 0.3f});
+    }
+    const PointSet sets[] = {PointSet::generate(p), test::pixelCentreGrid(),
+                             PointSet::fromPoints(dense, quarters)};
+    for (const PointSet& set : sets) {
+        for (uint32_t k : {1u, 10u, 20u}) {
+            const PixelKnnTable table(set, k);
+            EXPECT_EQ(decodeAll(table), flatKnnRows(set, k)) << set.params().display.name << k;
+            if (set.params().display.name == "dense" && k == 20) {
+                EXPECT_EQ(table.slotBytes(), 2u);
+            }
+        }
+    }
+}
+
+// The build runs in row bands over threads; the table is the same for any number of them.
+TEST(PixelKnnTable, ParallelBuildEqualsSerial) {
+    PointSetParams p;
+    p.display = {"small", 160, 144, 0.85};
+    const PointSet set = PointSet::generate(p);
+    detail::setBuildThreads(1);
+    const PixelKnnTable serial(set, 10);
+    detail::setBuildThreads(3);
+    const PixelKnnTable parallel(set, 10);
+    detail::setBuildThreads(0);
+    EXPECT_EQ(serial.tiles(), parallel.tiles());
+    EXPECT_EQ(serial.candidates(), parallel.candidates());
+    EXPECT_EQ(serial.slots(), parallel.slots());
+    EXPECT_EQ(serial.pixelRows(), parallel.pixelRows());
 }
 
 // The per-pixel weights solve eq. (8) for the pixel's own k table neighbours: A w = phi(x),
@@ -176,14 +252,15 @@ TEST(RbfPixelWeights, SolveEachPixelsSystem) {
         const PixelKnnTable table(set, index, k);
         for (auto kernel : {RbfKernelType::Multiquadric, RbfKernelType::Gaussian}) {
             const RbfPixelWeights weights(set, table, kernel, 1.0f);
-            ASSERT_EQ(weights.bytes(), table.bytes());
+            ASSERT_EQ(weights.bytes(), table.flatBytes());
             EXPECT_GT(weights.factorisations(), 0u);
             EXPECT_LE(weights.factorisations(), uint64_t{320} * 288);
             double worst = 0.0;
             for (uint32_t y = 0; y < 288; y += 5) {
                 for (uint32_t x = 0; x < 320; ++x) {
                     const std::size_t row = (static_cast<std::size_t>(y) * 320 + x) * k;
-                    const uint32_t* idx = &table.indices()[row];
+                    std::vector<uint32_t> idx(k);
+                    table.decode(x, y, idx);
                     const float* w = &weights.weights()[row];
                     const double c = pts[idx[0]].spacing;
                     for (uint32_t a = 0; a < k; ++a) {
