@@ -19,12 +19,16 @@ double msSince(Clock::time_point t) {
 foveation::PointSet loadPointSet(const foveation::PointSetParams& params,
                                  const std::filesystem::path& cacheDir, double& ms) {
     const auto t = Clock::now();
-    // Generating a set for a large display takes minutes; loading one from the cache does not.
+    // Generating a set for a large display takes seconds; loading one from the cache does not.
+    // A view never traces more points than its screen has pixels (point_set_cap.hpp).
     progress::Step step("generating the point set", 1000);
     foveation::CachedPointSet c =
-        foveation::loadOrGenerate(cacheDir, params, [&](double f) { (void)step.reach(f); });
+        foveation::loadOrGenerateForView(cacheDir, params, [&](double f) { (void)step.reach(f); });
     if (!c.warning.empty()) {
         log::warn(c.warning);
+    }
+    if (!c.thinned.empty()) {
+        log::info(c.thinned);
     }
     ms = msSince(t);
     return std::move(c.set);

@@ -68,21 +68,23 @@ void drawPoints(const foveation::PointSet& set, const std::string& path) {
 nlohmann::json describe(const foveation::CachedPointSet& c) {
     const foveation::PointSetStats s = c.set.stats(10.0f); // 10-pixel margin, thesis 4.2
     const double total = static_cast<double>(s.total);
-    return {{"profile", c.set.params().display.name},
-            {"width", c.set.params().display.width},
-            {"height", c.set.params().display.height},
-            {"scale", c.set.params().scale},
-            {"seed", c.set.params().seed},
-            {"viewing_distance", c.set.params().display.viewingDistance},
-            {"total", s.total},
-            {"on_screen_centre", s.onScreenCentre},
-            {"on_screen_corner", s.onScreenCorner},
-            {"on_screen_centre_percent",
-             total > 0 ? 100.0 * static_cast<double>(s.onScreenCentre) / total : 0.0},
-            {"on_screen_corner_percent",
-             total > 0 ? 100.0 * static_cast<double>(s.onScreenCorner) / total : 0.0},
-            {"from_cache", c.fromCache},
-            {"seconds", c.seconds}};
+    nlohmann::json j = {{"profile", c.set.params().display.name},
+                        {"width", c.set.params().display.width},
+                        {"height", c.set.params().display.height},
+                        {"scale", c.set.params().scale},
+                        {"seed", c.set.params().seed},
+                        {"viewing_distance", c.set.params().display.viewingDistance},
+                        {"total", s.total},
+                        {"on_screen_centre", s.onScreenCentre},
+                        {"on_screen_corner", s.onScreenCorner},
+                        {"on_screen_centre_percent",
+                         total > 0 ? 100.0 * static_cast<double>(s.onScreenCentre) / total : 0.0},
+                        {"on_screen_corner_percent",
+                         total > 0 ? 100.0 * static_cast<double>(s.onScreenCorner) / total : 0.0},
+                        {"from_cache", c.fromCache},
+                        {"seconds", c.seconds}};
+    if (c.set.params().minSpacing > 0.0) j["spacing_floor"] = c.set.params().minSpacing;
+    return j;
 }
 
 } // namespace
@@ -108,8 +110,11 @@ nlohmann::json runPointSet(const PointSetOptions& o) {
         if (!(scale > 0.0) || scale > 100.0) throw ArgumentError("--scale must be in (0, 100]");
         throwIfStopRequested(); // each set of a sweep is a step of its own
         params.scale = scale;
-        foveation::CachedPointSet c = foveation::loadOrGenerate(dir, params, progressBar());
+        // The set a view of this display traces: thinned where the display is coarser than the
+        // acuity model (point_set_cap.hpp).
+        foveation::CachedPointSet c = foveation::loadOrGenerateForView(dir, params, progressBar());
         if (!c.warning.empty()) log::warn(c.warning);
+        if (!c.thinned.empty()) log::info(c.thinned);
         return c;
     };
     if (!o.sweep.empty()) {

@@ -5,27 +5,11 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "foveation/dart_throwing.hpp"
 
 namespace gt::foveation {
 
 namespace {
-
-// SplitMix64: a small, well-mixed, platform-independent generator (the set must be identical
-// for a given seed everywhere, which std::uniform_real_distribution does not promise).
-class SplitMix64 {
-public:
-    explicit SplitMix64(uint64_t seed) : mState(seed) {}
-    uint64_t next() {
-        uint64_t z = (mState += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    double uniform() { return static_cast<double>(next() >> 11) * (1.0 / 9007199254740992.0); }
-
-private:
-    uint64_t mState;
-};
 
 // A hierarchy of uniform grids (cell sizes 1, 2, 4, ... px). Every point is linked into each
 // level; a query of radius r scans the 3x3 cells of the first level whose cells are >= r, so
@@ -103,35 +87,27 @@ uint32_t mortonCode(uint32_t x, uint32_t y) noexcept {
     return spread(x) | (spread(y) << 1);
 }
 
-PointSet PointSet::generate(const PointSetParams& params, const Progress& progress) {
+PointSetGenerator resolvedGenerator(const PointSetParams& params) noexcept {
+    if (params.generator != PointSetGenerator::Auto) return params.generator;
+    // The desktop profile's 3840 x 2160 canvas, the largest of the thesis-era displays.
+    constexpr uint64_t kSequentialCanvasPixels = 3840ull * 2160ull;
+    const uint64_t canvas = 4ull * params.display.width * params.display.height;
+    return canvas <= kSequentialCanvasPixels ? PointSetGenerator::Sequential
+                                             : PointSetGenerator::Tiled;
+}
+
+namespace {
+
+// The thesis's generator: every dart in turn over the whole canvas, first series then second.
+std::vector<Point> throwDartsSequentially(const PointSetParams& params,
+                                          const detail::SpacingTable& spacing,
+                                          const PointSet::Progress& progress) {
     const DisplayProfile& d = params.display;
-    if (d.width == 0 || d.height == 0 || d.width > 16384 || d.height > 16384) {
-        throw ArgumentError("point set: display size must be 1..16384 pixels");
-    }
-    if (!(params.scale > 0.0) || params.scale > 100.0) {
-        throw ArgumentError("point set: scale must be in (0, 100]");
-    }
     const float cw = 2.0f * static_cast<float>(d.width), ch = 2.0f * static_cast<float>(d.height);
     const double cx = d.width, cy = d.height;
-    // Spacing as a function of distance, tabulated every 1/8 px (it depends on distance only).
-    const ContrastSensitivity csf;
-    const double maxDist = std::hypot(cx, cy) + 2.0;
-    constexpr double kStep = 0.125;
-    std::vector<float> table(static_cast<std::size_t>(maxDist / kStep) + 2);
-    for (std::size_t i = 0; i < table.size(); ++i) {
-        table[i] = static_cast<float>(csf.spacing(static_cast<double>(i) * kStep, d, params.scale));
-    }
-    const float maxRadius = *std::max_element(table.begin(), table.end());
-    auto spacingAt = [&](double x, double y) {
-        const double t = std::hypot(x - cx, y - cy) / kStep;
-        const auto i = static_cast<std::size_t>(t);
-        const auto f = static_cast<float>(t - static_cast<double>(i));
-        return table[i] + f * (table[i + 1] - table[i]);
-    };
-
-    MultiGrid grid(static_cast<uint32_t>(cw), static_cast<uint32_t>(ch), maxRadius);
+    MultiGrid grid(static_cast<uint32_t>(cw), static_cast<uint32_t>(ch), spacing.maxSpacing());
     std::vector<Point> pts;
-    SplitMix64 rng(params.seed);
+    detail::SplitMix64 rng(params.seed);
     struct Series {
         double x0, y0, w, h;
         uint64_t darts;
@@ -154,13 +130,34 @@ PointSet PointSet::generate(const PointSetParams& params, const Progress& progre
             }
             const double x = s.x0 + rng.uniform() * s.w;
             const double y = s.y0 + rng.uniform() * s.h;
-            const float p = spacingAt(x, y);
+            const float p = spacing.at(x, y);
             const auto fx = static_cast<float>(x), fy = static_cast<float>(y);
             if (fx >= cw || fy >= ch || grid.anyWithin(pts, fx, fy, p)) continue;
             grid.insert(static_cast<int32_t>(pts.size()), fx, fy);
             pts.push_back({fx, fy, p});
         }
     }
+    return pts;
+}
+
+} // namespace
+
+PointSet PointSet::generate(const PointSetParams& params, const Progress& progress,
+                            unsigned threads) {
+    const DisplayProfile& d = params.display;
+    if (d.width == 0 || d.height == 0 || d.width > 16384 || d.height > 16384) {
+        throw ArgumentError("point set: display size must be 1..16384 pixels");
+    }
+    if (!(params.scale > 0.0) || params.scale > 100.0) {
+        throw ArgumentError("point set: scale must be in (0, 100]");
+    }
+    if (!(params.minSpacing >= 0.0) || params.minSpacing > 2.0 * (d.width + d.height)) {
+        throw ArgumentError("point set: the spacing floor must be in [0, canvas size]");
+    }
+    const detail::SpacingTable spacing(params);
+    std::vector<Point> pts = resolvedGenerator(params) == PointSetGenerator::Tiled
+                                 ? detail::throwDartsTiled(params, spacing, progress, threads)
+                                 : throwDartsSequentially(params, spacing, progress);
     if (progress) progress(1.0);
     return fromPoints(params, std::move(pts));
 }

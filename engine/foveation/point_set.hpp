@@ -34,13 +34,30 @@ struct Point {
     float spacing = 0.0f; // p, thesis eq. (4)
 };
 
+// How the darts are thrown (docs/point-set.md, "Generators"). `Sequential` is the thesis's: one
+// dart after another over the whole canvas. `Tiled` spreads the same intensity of darts over
+// square tiles at least the largest spacing wide and fills them in parallel, a quarter of them
+// at a time (tiles of one parity class never hold conflicting darts), in rounds; where the
+// sequential series throw more darts per disc than saturation needs it throws fewer. `Auto`
+// picks `Sequential` up to the canvas of the `desktop` profile (every set of the thesis's
+// displays stays as it was) and `Tiled` above.
+enum class PointSetGenerator : uint32_t { Auto = 0, Sequential = 1, Tiled = 2 };
+
 struct PointSetParams {
     DisplayProfile display;
     double scale = 1.0;
     uint64_t seed = 1;
     double dartsPerCanvasPixel = 4.0; // first series, over the 2W x 2H canvas
     double dartsPerCentrePixel = 8.0; // second series, over 0.8 x screen around the centre
+    // A floor under eq. (4)'s spacing, in pixels (0: none): thins a set whose display is coarser
+    // than the acuity model, so that no gaze traces more points than the screen has pixels
+    // (point_set_cap.hpp).
+    double minSpacing = 0.0;
+    PointSetGenerator generator = PointSetGenerator::Auto;
 };
+
+// The generator `Auto` stands for with these parameters (never `Auto`).
+[[nodiscard]] PointSetGenerator resolvedGenerator(const PointSetParams& params) noexcept;
 
 struct PointSetStats {
     std::size_t total = 0;
@@ -52,8 +69,10 @@ class PointSet {
 public:
     using Progress = std::function<void(double fraction)>;
 
+    // `threads` (0: one per core) is used by the tiled generator; its output is the same for
+    // any number of threads.
     [[nodiscard]] static PointSet generate(const PointSetParams& params,
-                                           const Progress& progress = {});
+                                           const Progress& progress = {}, unsigned threads = 0);
 
     [[nodiscard]] const std::vector<Point>& points() const noexcept { return mPoints; }
     [[nodiscard]] const PointSetParams& params() const noexcept { return mParams; }

@@ -11,6 +11,7 @@
 #include "atomic_write.hpp"
 #include "core/error.hpp"
 #include "foveation/neighbour_index.hpp"
+#include "foveation/point_set_cap.hpp"
 #include "input_file.hpp"
 #include "limits.hpp"
 
@@ -19,6 +20,8 @@ namespace gt::foveation {
 namespace {
 
 constexpr char kMagic[4] = {'G', 'T', 'P', 'S'};
+constexpr uint32_t kSpacingFloorTag = 0x524F4C46; // "FLOR"
+constexpr uint32_t kGeneratorTag = 0x524E4547;    // "GENR"
 
 uint64_t fnv1a(const uint8_t* data, std::size_t n, uint64_t h = 1469598103934665603ull) {
     for (std::size_t i = 0; i < n; ++i) {
@@ -66,6 +69,16 @@ void putParams(Writer& w, const PointSetParams& p) {
     w.put(csf.ct0);
     w.put(csf.alpha);
     w.put(csf.e2);
+    // Inputs added since: written only when they differ from what every earlier set was made
+    // with, so those sets keep their file names and bytes. Each behind a tag of its own.
+    if (p.minSpacing > 0.0) {
+        w.put(kSpacingFloorTag);
+        w.put(p.minSpacing);
+    }
+    if (const PointSetGenerator g = resolvedGenerator(p); g != PointSetGenerator::Sequential) {
+        w.put(kGeneratorTag);
+        w.put(static_cast<uint32_t>(g));
+    }
 }
 
 } // namespace
@@ -217,6 +230,102 @@ CachedPointSet loadOrGenerate(const std::filesystem::path& dir, const PointSetPa
         out.warning += (out.warning.empty() ? "" : "; ") + std::string(e.what());
     }
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return out;
+}
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// `params`' set from the cache when its file is there, sound, and keeps to the cap. A sound
+// file over the cap is handed back in `overCap` (no need to generate it again).
+std::optional<PointSet> cachedWithinCap(const std::filesystem::path& dir,
+                                        const PointSetParams& params, std::size_t cap,
+                                        std::string& warning, std::optional<PointSet>* overCap) {
+    const std::filesystem::path file = cacheFile(dir, params);
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec)) return std::nullopt;
+    CacheLoad loaded = loadPointSet(file, params);
+    if (!loaded.set) {
+        warning += (warning.empty() ? "" : "; ") + loaded.problem + "; regenerating";
+        return std::nullopt;
+    }
+    if (maxPointsTraced(*loaded.set).count <= cap) return std::move(loaded.set);
+    if (overCap) *overCap = std::move(loaded.set);
+    return std::nullopt;
+}
+
+std::string thinningNote(const PointSet& set, std::size_t cap, std::optional<std::size_t> before) {
+    const DisplayProfile& d = set.params().display;
+    const TracedPoints traced = maxPointsTraced(set);
+    char line[400];
+    std::snprintf(line, sizeof(line),
+                  "point set for %ux%u thinned (the display is coarser than the acuity model): "
+                  "spacing at least %.3f px, %zu points, at most %zu traced at any gaze, within "
+                  "the screen's %zu pixels",
+                  d.width, d.height, set.params().minSpacing, set.points().size(), traced.count,
+                  cap);
+    std::string note = line;
+    if (before) note += " (" + std::to_string(*before) + " traced without the floor)";
+    return note;
+}
+
+} // namespace
+
+CachedPointSet loadOrGenerateForView(const std::filesystem::path& dir, const PointSetParams& params,
+                                     const PointSet::Progress& progress) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t cap = screenPointCap(params.display);
+    CachedPointSet out;
+    std::optional<PointSet> unthinned;
+    if (auto set = cachedWithinCap(dir, params, cap, out.warning, &unthinned)) {
+        out.set = std::move(*set);
+        out.fromCache = true;
+        out.seconds = secondsSince(start);
+        return out;
+    }
+    const std::vector<double> floors = spacingFloors(params, cap);
+    PointSetParams thin = params;
+    for (const double floor : floors) {
+        thin.minSpacing = floor;
+        if (auto set = cachedWithinCap(dir, thin, cap, out.warning, nullptr)) {
+            out.set = std::move(*set);
+            out.fromCache = true;
+            out.thinned = thinningNote(out.set, cap, std::nullopt);
+            out.seconds = secondsSince(start);
+            return out;
+        }
+    }
+    if (!unthinned) unthinned = PointSet::generate(params, progress);
+    const std::size_t before = maxPointsTraced(*unthinned).count;
+    std::optional<PointSet> chosen;
+    if (before <= cap) {
+        chosen = std::move(unthinned);
+    } else {
+        for (const double floor : floors) {
+            thin.minSpacing = floor;
+            PointSet set = PointSet::generate(thin, progress);
+            if (maxPointsTraced(set).count <= cap) {
+                chosen = std::move(set);
+                out.thinned = thinningNote(*chosen, cap, before);
+                break;
+            }
+        }
+    }
+    if (!chosen) {
+        throw Error("point set: no spacing floor up to " + std::to_string(floors.back()) +
+                    " px keeps the points traced within the screen's " + std::to_string(cap) +
+                    " pixels");
+    }
+    out.set = std::move(*chosen);
+    try {
+        savePointSet(cacheFile(dir, out.set.params()), out.set);
+    } catch (const Error& e) {
+        out.warning += (out.warning.empty() ? "" : "; ") + std::string(e.what());
+    }
+    out.seconds = secondsSince(start);
     return out;
 }
 

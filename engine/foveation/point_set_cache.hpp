@@ -38,10 +38,20 @@ struct CachedPointSet {
     bool fromCache = false;
     std::string warning; // set when an existing cache file was rejected
     double seconds = 0.0;
+    std::string thinned; // loadOrGenerateForView: set when the set was thinned, and how
 };
 
 [[nodiscard]] CachedPointSet loadOrGenerate(const std::filesystem::path& dir,
                                             const PointSetParams& params,
                                             const PointSet::Progress& progress = {});
+
+// The set a view of params.display traces (point_set_cap.hpp): `params`' own set when no
+// whole-pixel gaze traces more of its points than the screen has pixels, else the same set
+// thinned by the first of spacingFloors() whose set keeps to that. Each set is cached under
+// its own parameters (a thinned set's include its floor), so a thinned set is never taken for
+// the unthinned one, and a set that keeps to the cap keeps its file.
+[[nodiscard]] CachedPointSet loadOrGenerateForView(const std::filesystem::path& dir,
+                                                   const PointSetParams& params,
+                                                   const PointSet::Progress& progress = {});
 
 } // namespace gt::foveation

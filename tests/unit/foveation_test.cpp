@@ -14,7 +14,10 @@
 #include "foveation/pixel_knn_table.hpp"
 #include "foveation/point_buckets.hpp"
 #include "foveation/point_set.hpp"
+#include "foveation/point_set_cache.hpp"
+#include "foveation/point_set_cap.hpp"
 #include "foveation/rbf_pixel_weights.hpp"
+#include "support/gpu_test_context.hpp"
 #include "support/point_fixtures.hpp"
 
 namespace gt::foveation {
@@ -131,6 +134,112 @@ TEST(PointSet, ReproducesThesisTable1) {
     EXPECT_NEAR(100.0 * static_cast<double>(s.onScreenCentre) / total, 72.86, 3.0);
     EXPECT_NEAR(100.0 * static_cast<double>(s.onScreenCorner) / total, 26.68, 3.0);
     RecordProperty("total", std::to_string(s.total));
+}
+
+// The tiled generator keeps the acceptance rule (no two points closer than the smaller of their
+// spacings), the sequential generator's density ring by ring, and its output does not depend
+// on the number of threads. Scale 3 makes the periphery sparse enough (p up to ~5 px) that the
+// tiled generator's cap on darts per disc is in play.
+TEST(PointSet, TiledGeneratorMatchesTheSequentialOne) {
+    PointSetParams p;
+    p.display = fovDisplayProfile("small-60", 320, 240, 60.0);
+    p.scale = 3.0;
+    p.generator = PointSetGenerator::Sequential;
+    const PointSet seq = PointSet::generate(p);
+    p.generator = PointSetGenerator::Tiled;
+    const PointSet one = PointSet::generate(p, {}, 1), two = PointSet::generate(p, {}, 2);
+    ASSERT_EQ(one.points().size(), two.points().size());
+    for (std::size_t i = 0; i < one.points().size(); ++i) {
+        ASSERT_EQ(one.points()[i].x, two.points()[i].x) << i;
+        ASSERT_EQ(one.points()[i].y, two.points()[i].y) << i;
+    }
+    // Acceptance rule, by brute force over a grid of the points.
+    const auto& pts = two.points();
+    std::vector<Point> byX = pts;
+    std::sort(byX.begin(), byX.end(), [](const Point& a, const Point& b) { return a.x < b.x; });
+    float maxSpacing = 0.0f;
+    for (const Point& q : pts)
+        maxSpacing = std::max(maxSpacing, q.spacing);
+    for (std::size_t i = 0; i < byX.size(); ++i) {
+        for (std::size_t j = i + 1; j < byX.size() && byX[j].x - byX[i].x < maxSpacing; ++j) {
+            const float dx = byX[i].x - byX[j].x, dy = byX[i].y - byX[j].y;
+            ASSERT_GE(std::sqrt(dx * dx + dy * dy),
+                      std::min(byX[i].spacing, byX[j].spacing) * 0.9999f);
+        }
+    }
+    // Density per ring of equal area share, out to the canvas corner.
+    constexpr int kRings = 6;
+    auto rings = [&](const PointSet& s) {
+        std::vector<double> n(kRings, 0.0);
+        const double far = std::hypot(320.0, 240.0);
+        for (const Point& q : s.points()) {
+            const double d = std::hypot(q.x - 320.0, q.y - 240.0) / far;
+            n[std::min(kRings - 1, static_cast<int>(std::sqrt(d) * kRings))] += 1.0;
+        }
+        return n;
+    };
+    const std::vector<double> a = rings(seq), b = rings(two);
+    for (int r = 0; r < kRings; ++r) {
+        if (a[r] < 2000.0) continue; // too few points for a per-cent comparison
+        EXPECT_NEAR(b[r] / a[r], 1.0, 0.03) << "ring " << r << ": " << a[r] << " vs " << b[r];
+    }
+    EXPECT_NEAR(static_cast<double>(pts.size()) / static_cast<double>(seq.points().size()), 1.0,
+                0.02);
+}
+
+// The exact maximum of points traced agrees with counting at every gaze, and the thinned set
+// for a display coarser than the acuity model keeps to the screen's pixels at every gaze.
+TEST(PointSetCap, CoarseDisplayNeverTracesMorePointsThanPixels) {
+    PointSetParams p;
+    p.display = fovDisplayProfile("coarse", 320, 240, 85.0);
+    const PointSet full = PointSet::generate(p);
+    const TracedPoints most = maxPointsTraced(full);
+    std::size_t brute = 0;
+    for (uint32_t gy = 0; gy <= 240; gy += 4) {
+        for (uint32_t gx = 0; gx <= 320; gx += 4) {
+            brute = std::max(brute, full.countOnScreen(static_cast<float>(gx),
+                                                       static_cast<float>(gy), kSampleMargin));
+        }
+    }
+    EXPECT_GE(most.count, brute);
+    EXPECT_EQ(most.count, full.countOnScreen(static_cast<float>(most.gazeX),
+                                             static_cast<float>(most.gazeY), kSampleMargin));
+    EXPECT_GT(most.count, screenPointCap(p.display)) << "the unthinned set must exceed the cap";
+
+    const auto dir = test::tempDir("coarse_cap");
+    const CachedPointSet view = loadOrGenerateForView(dir, p);
+    EXPECT_GT(view.set.params().minSpacing, 0.0);
+    EXPECT_FALSE(view.thinned.empty());
+    const TracedPoints thinned = maxPointsTraced(view.set);
+    EXPECT_LE(thinned.count, screenPointCap(p.display));
+    // Exhaustively: every whole-pixel gaze on a coarse grid of the screen, and the corners.
+    for (uint32_t gy = 0; gy <= 240; gy += 8) {
+        for (uint32_t gx = 0; gx <= 320; gx += 8) {
+            ASSERT_LE(view.set.countOnScreen(static_cast<float>(gx), static_cast<float>(gy),
+                                             kSampleMargin),
+                      thinned.count);
+        }
+    }
+    // Cached under its own name: the unthinned set's file is not written, and a second load
+    // finds the thinned one.
+    EXPECT_FALSE(std::filesystem::exists(cacheFile(dir, p)));
+    const CachedPointSet again = loadOrGenerateForView(dir, p);
+    EXPECT_TRUE(again.fromCache);
+    EXPECT_EQ(again.set.points().size(), view.set.points().size());
+}
+
+// A set that already keeps to the cap is the set asked for, under its own file.
+TEST(PointSetCap, ASetWithinTheCapIsLeftAsItIs) {
+    PointSetParams p;
+    p.display = fovDisplayProfile("fine", 320, 240, 6.0); // 53 px per degree
+    const auto dir = test::tempDir("within_cap");
+    const CachedPointSet view = loadOrGenerateForView(dir, p);
+    EXPECT_EQ(view.set.params().minSpacing, 0.0);
+    EXPECT_TRUE(view.thinned.empty());
+    EXPECT_TRUE(std::filesystem::exists(cacheFile(dir, p)));
+    const PointSet plain = PointSet::generate(p);
+    ASSERT_EQ(plain.points().size(), view.set.points().size());
+    EXPECT_EQ(plain.points()[123].x, view.set.points()[123].x);
 }
 
 // The thesis's per-pixel table is exact: every sampled canvas pixel's row equals a brute-force
