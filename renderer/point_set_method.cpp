@@ -149,9 +149,11 @@ passes::InterpolatedImage PointSetMethod::addImage(rg::RenderGraph& graph,
     const bool moveSites = frame > 0 && s.method == passes::Interpolation::Shepard;
     s.siteFrame = moveSites ? frame : 0u;
     s.siteJitter = moveSites ? siteJitter : 0.0f;
-    const rg::BufferId samples = mPointSample.add(graph, mMc.scene, camera, mGpuPoints, gaze, rays,
-                                                  lanes, warp ? &*warp : nullptr, settings.lod,
-                                                  frame, s.siteJitter, !settings.pixelRays);
+    const rg::BufferId samples = mPointSample.add(
+        graph, mMc.scene, camera, mGpuPoints, gaze, rays, lanes, warp ? &*warp : nullptr,
+        settings.lod, frame, s.siteJitter, !settings.pixelRays,
+        settings.onScreenChunks ? passes::PointDispatch::OnScreenChunks
+                                : passes::PointDispatch::WholeSet);
     passes::InterpolateInputs in = prepared;
     if (passes::usesRbfSolve(s)) {
         in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), samples, gaze, s);

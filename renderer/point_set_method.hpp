@@ -64,6 +64,9 @@ struct PointSetSettings {
     // Rays within 0.6 px of each point's site (point_sample.comp, kRayDiscMaxPx); false:
     // anywhere in the point's disc of radius p, as the thesis.
     bool pixelRays = true;
+    // Dispatch only the chunks of the set that can land on screen (passes::PointDispatch);
+    // false: a thread for every point of the canvas set. The same points and rays either way.
+    bool onScreenChunks = true;
 };
 
 // The thesis's reconstruction exactly as the thesis did it, for comparison: linear radiance,
