@@ -152,8 +152,8 @@ passes::InterpolatedImage PointSetMethod::addImage(rg::RenderGraph& graph,
     const rg::BufferId samples = mPointSample.add(
         graph, mMc.scene, camera, mGpuPoints, gaze, rays, lanes, warp ? &*warp : nullptr,
         settings.lod, frame, s.siteJitter, !settings.pixelRays,
-        settings.onScreenChunks ? passes::PointDispatch::OnScreenChunks
-                                : passes::PointDispatch::WholeSet);
+        settings.onScreenChunks && s.siteJitter == 0.0f ? passes::PointDispatch::OnScreenChunks
+                                                        : passes::PointDispatch::WholeSet);
     passes::InterpolateInputs in = prepared;
     if (passes::usesRbfSolve(s)) {
         in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), samples, gaze, s);

@@ -64,8 +64,11 @@ struct PointSetSettings {
     // Rays within 0.6 px of each point's site (point_sample.comp, kRayDiscMaxPx); false:
     // anywhere in the point's disc of radius p, as the thesis.
     bool pixelRays = true;
-    // Dispatch only the chunks of the set that can land on screen (passes::PointDispatch);
-    // false: a thread for every point of the canvas set. The same points and rays either way.
+    // Dispatch only the chunks of the set that can land on screen (passes::PointDispatch) while
+    // the sites stay put (no Modified Shepard site moves this frame); false: a thread for every
+    // point of the canvas set. With moving sites the whole set is dispatched: there the chunks
+    // changed RendererTest.PoolingFramesBySupportBeatsTheirPlainMean's 9-frame result although
+    // every point within reach of the screen is traced (PointChunks tests), cause not yet found.
     bool onScreenChunks = true;
 };
 
