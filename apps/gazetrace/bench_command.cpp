@@ -520,6 +520,23 @@ nlohmann::json BenchRun::table2Json() {
     return table2json;
 }
 
+// The cost of a traced ray alone, without the passes that do not scale with the rays:
+// point_sample's GPU time per foveated ray against the reference trace's per pixel ray, and
+// their ratio (1: a foveated ray costs what a reference ray does).
+nlohmann::json traceCostPerRay(const std::map<std::string, std::vector<double>>& foveatedPasses,
+                               const std::map<std::string, std::vector<double>>& referencePasses,
+                               double foveatedRays, double referenceRays) {
+    const auto ms = [](const std::map<std::string, std::vector<double>>& passes, const char* name) {
+        const auto it = passes.find(name);
+        return it == passes.end() ? 0.0 : median(it->second);
+    };
+    const double sample = 1e3 * ms(foveatedPasses, "point_sample") / foveatedRays;
+    const double trace = 1e3 * ms(referencePasses, "reference.trace") / referenceRays;
+    return {{"point_sample_us_per_ray", sample},
+            {"reference_trace_us_per_ray", trace},
+            {"point_sample_to_reference_trace", trace > 0.0 ? sample / trace : 0.0}};
+}
+
 nlohmann::json BenchRun::headlineJson() {
     nlohmann::json headline = nlohmann::json::array();
     const double pixels = static_cast<double>(w) * h;
@@ -540,6 +557,8 @@ nlohmann::json BenchRun::headlineJson() {
                             {"foveated_us_per_ray", 1e3 * fovMs / (sampled * rays)},
                             {"time_ratio", fovMs > 0 ? refMs / fovMs : 0.0},
                             {"frames", samples[ref].size()}});
+        headline.back()["trace_cost"] =
+            traceCostPerRay(passSamples[fv], passSamples[ref], sampled * rays, pixels * rays);
         // Where each frame's time goes (median GPU ms per pass): interpolation and TAA weigh
         // most at 1 ray.
         for (const auto& [key, name] :
@@ -596,6 +615,14 @@ void printHeadline(const nlohmann::json& headline, const nlohmann::json& perRay)
                     r["rays_per_pixel_and_point"].get<uint32_t>(),
                     1e3 * r["reference_us_per_ray"].get<double>(),
                     1e3 * r["foveated_us_per_ray"].get<double>());
+    }
+    for (const auto& r : headline) {
+        const nlohmann::json& c = r["trace_cost"];
+        std::printf("  %3u ray(s): point_sample %.2f ns, reference trace %.2f ns (%.2fx)\n",
+                    r["rays_per_pixel_and_point"].get<uint32_t>(),
+                    1e3 * c["point_sample_us_per_ray"].get<double>(),
+                    1e3 * c["reference_trace_us_per_ray"].get<double>(),
+                    c["point_sample_to_reference_trace"].get<double>());
     }
     for (const auto& r : perRay) {
         std::printf("  point_sample, gaze (%4.0f, %4.0f): %.2f ns per ray\n",

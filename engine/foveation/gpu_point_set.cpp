@@ -9,7 +9,7 @@
 namespace gt::foveation {
 
 GpuPointSet::GpuPointSet(vk::Context& ctx, const PointSet& set, const NeighbourIndex& index)
-    : mCount(static_cast<uint32_t>(set.points().size())), mK(index.k()),
+    : mChunks(set), mCount(static_cast<uint32_t>(set.points().size())), mK(index.k()),
       mCanvasW(set.canvasWidth()), mCanvasH(set.canvasHeight()),
       mDisplayW(set.params().display.width), mDisplayH(set.params().display.height) {
     std::vector<glm::vec4> pts;

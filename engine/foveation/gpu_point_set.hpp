@@ -1,10 +1,12 @@
 #pragma once
 // A point set and its neighbour index on the GPU, as uniform texel buffers: points (x, y, p),
-// the nearest point per canvas pixel, and the stored neighbours per point.
+// the nearest point per canvas pixel, and the stored neighbours per point; beside them, on the
+// CPU, the set's chunks that point_sample picks from each frame.
 #include <cstdint>
 
 #include "foveation/neighbour_index.hpp"
 #include "foveation/pixel_knn_table.hpp"
+#include "foveation/point_chunks.hpp"
 #include "foveation/point_set.hpp"
 #include "foveation/rbf_inverse.hpp"
 #include "foveation/rbf_pixel_weights.hpp"
@@ -25,8 +27,10 @@ public:
     [[nodiscard]] uint32_t canvasHeight() const noexcept { return mCanvasH; }
     [[nodiscard]] uint32_t displayWidth() const noexcept { return mDisplayW; }
     [[nodiscard]] uint32_t displayHeight() const noexcept { return mDisplayH; }
+    [[nodiscard]] const PointChunks& chunks() const noexcept { return mChunks; }
 
 private:
+    PointChunks mChunks;
     vk::Buffer mPoints, mNearest, mNeighbours;
     vk::BufferView mPointsView, mNearestView, mNeighboursView;
     uint32_t mCount, mK, mCanvasW, mCanvasH, mDisplayW, mDisplayH;

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <optional>
+#include <vector>
 
 #include "core/error.hpp"
 #include "foveated_shared.h"
@@ -17,6 +20,33 @@ namespace sh = shaders::foveated;
 
 namespace {
 constexpr uint32_t kMaxLanes = 32; // a GPU subgroup's width at most; kSampleGroupSize / 2
+static_assert(foveation::PointChunks::kPoints == sh::kSampleGroupSize,
+              "a chunk is one workgroup's points at one lane per point");
+
+// Adds "point_sample.chunks": this frame's list of chunks to trace, written into a new buffer
+// (vkCmdUpdateBuffer takes at most 64 KiB at a time).
+rg::BufferId addChunkList(rg::RenderGraph& graph, const foveation::PointChunks& all,
+                          std::shared_ptr<const std::vector<uint32_t>> chunks) {
+    struct Data {
+        rg::BufferId list;
+    };
+    const auto& data = graph.addPass<Data>(
+        "point_sample.chunks",
+        [&](rg::PassBuilder& b, Data& d) {
+            const VkDeviceSize bytes = 4 * static_cast<VkDeviceSize>(std::max(all.count(), 1u));
+            d.list =
+                b.write(b.createBuffer("point_sample.chunks", {bytes}), rg::Access::TransferDst);
+        },
+        [chunks = std::move(chunks)](const rg::PassResources& r, const Data& d,
+                                     VkCommandBuffer cmd) {
+            constexpr std::size_t kMaxUpdate = 65536 / 4;
+            for (std::size_t first = 0; first < chunks->size(); first += kMaxUpdate) {
+                const std::size_t n = std::min(kMaxUpdate, chunks->size() - first);
+                vkCmdUpdateBuffer(cmd, r.buffer(d.list), first * 4, n * 4, &(*chunks)[first]);
+            }
+        });
+    return data.list;
+}
 } // namespace
 
 uint32_t pointSampleLanes(const vk::Context& ctx, uint32_t raysPerPoint) {
@@ -30,22 +60,26 @@ uint32_t pointSampleLanes(const vk::Context& ctx, uint32_t raysPerPoint) {
     return lanes;
 }
 
-PointSamplePass::PointSamplePass(vk::Context& ctx) : mCtx(ctx) {}
+PointSamplePass::PointSamplePass(vk::Context& ctx)
+    : mCtx(ctx), mNoChunks(ctx, {16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUsage::GpuOnly,
+                                 "point_sample.no_chunks"}) {}
 
 PointSamplePass::~PointSamplePass() = default;
 
-const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaMask) const {
-    auto& slot = mPipelines[{lanes, alphaMask}];
+const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaMask,
+                                                     bool chunked) const {
+    auto& slot = mPipelines[{lanes, alphaMask, chunked}];
     if (!slot) {
         const std::vector<VkDescriptorType> bindings =
             trace::tracingBindings({VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, // kBindingPoints
-                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});     // kBindingSamples
+                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       // kBindingSamples
+                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});     // kBindingChunks
         slot = std::make_unique<vk::ComputePipeline>(
             mCtx, vk::ComputePipelineDesc{"point_sample",
                                           gt_spv_point_sample_comp,
                                           bindings,
                                           sizeof(sh::PointSamplePush),
-                                          {alphaMask ? 1u : 0u, lanes}});
+                                          {alphaMask ? 1u : 0u, lanes, chunked ? 1u : 0u}});
     }
     return *slot;
 }
@@ -55,7 +89,7 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
                                   const foveation::GpuPointSet& points, glm::vec2 gaze,
                                   uint32_t raysPerPoint, uint32_t lanesPerPoint,
                                   const PanelWarp* warp, bool lod, uint32_t frame, float siteJitter,
-                                  bool thesisDisc) const {
+                                  bool thesisDisc, PointDispatch dispatch) const {
     if (raysPerPoint == 0) {
         throw ArgumentError("rays per point is 0: every point traces at least 1 ray");
     }
@@ -64,7 +98,8 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
     if (lanes > kMaxLanes || (lanes & (lanes - 1)) != 0) {
         throw ArgumentError("point_sample: lanes per point must be a power of two up to 32");
     }
-    const vk::ComputePipeline& pipe = pipeline(lanes, scene.alphaMasked());
+    const bool chunked = dispatch == PointDispatch::OnScreenChunks;
+    const vk::ComputePipeline& pipe = pipeline(lanes, scene.alphaMasked(), chunked);
     const uint32_t pointsPerGroup = sh::kSampleGroupSize / lanes;
     const uint32_t w = graph.outputWidth(), h = graph.outputHeight();
     const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());
@@ -91,8 +126,21 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
             glm::vec4(warp->lens.k1, warp->lens.k2, 1.0f / (1.0f + warp->lens.k1 + warp->lens.k2),
                       push.lensCoeffs.w);
     }
+    // Whole workgroups: the set's points, or `lanes` per chunk that can land on screen. The
+    // chunks allow for the sites' moves exactly as the shader reads their scale back.
+    uint32_t groups = (push.params.w + pointsPerGroup - 1) / pointsPerGroup;
+    std::optional<rg::BufferId> chunkList;
+    if (chunked) {
+        const float field = push.lensCoeffs.w;
+        const float siteMove = 2.0f * (field - std::floor(field));
+        auto chunks = std::make_shared<const std::vector<uint32_t>>(
+            points.chunks().onScreen(off, w, h, kSampleMargin, siteMove));
+        groups = static_cast<uint32_t>(chunks->size()) * lanes;
+        chunkList = addChunkList(graph, points.chunks(), std::move(chunks));
+    }
     struct Data {
         rg::BufferId samples;
+        std::optional<rg::BufferId> chunks;
     };
     const auto& data = graph.addPass<Data>(
         "point_sample",
@@ -100,16 +148,20 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
             d.samples = b.write(b.createBuffer("point_sample.samples",
                                                {static_cast<VkDeviceSize>(points.count()) * 16}),
                                 rg::Access::StorageWrite);
+            if (chunkList) {
+                d.chunks = b.read(*chunkList, rg::Access::StorageRead);
+            }
         },
-        [ctx = &mCtx, pipeline = &pipe, scene = &scene, pts = &points, push,
-         pointsPerGroup](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+        [ctx = &mCtx, pipeline = &pipe, scene = &scene, pts = &points, push, groups,
+         noChunks = mNoChunks.handle()](const rg::PassResources& r, const Data& d,
+                                        VkCommandBuffer cmd) {
             vk::DescriptorWriter writer;
             scene->bind(writer);
             writer.texelBuffer(sh::kBindingPoints, pts->points())
-                .storageBuffer(sh::kBindingSamples, r.buffer(d.samples));
+                .storageBuffer(sh::kBindingSamples, r.buffer(d.samples))
+                .storageBuffer(sh::kBindingChunks, d.chunks ? r.buffer(*d.chunks) : noChunks);
             writer.push(*ctx, cmd, *pipeline);
-            vk::dispatch(cmd, *pipeline, &push, sizeof(push),
-                         (push.params.w + pointsPerGroup - 1) / pointsPerGroup, 1);
+            vk::dispatch(cmd, *pipeline, &push, sizeof(push), groups, 1);
         });
     return data.samples;
 }

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <tuple>
 
 #include <glm/glm.hpp>
 
@@ -11,6 +12,7 @@
 #include "foveation/sample_canvas.hpp"
 #include "render_graph/render_graph.hpp"
 #include "trace_shared.h"
+#include "vk/resources.hpp"
 
 namespace gt::vk {
 class Context;
@@ -41,6 +43,12 @@ struct PanelWarp {
     glm::vec2 centre{0.5f};
 };
 
+// Which threads point_sample starts: one per point of the chunks that can land on screen
+// (foveation::PointChunks), or one per point of the whole canvas set. Both trace the same
+// points with the same rays; the chunks skip the off-screen ones (29 % of the fove set with the
+// gaze centred, 73 % in a corner) and keep a workgroup's rays neighbours.
+enum class PointDispatch : uint8_t { OnScreenChunks, WholeSet };
+
 class PointSamplePass {
 public:
     explicit PointSamplePass(vk::Context& ctx);
@@ -51,20 +59,24 @@ public:
     // `frame` rotates the rays' positions inside each disc (frame 0: the thesis's fixed ones);
     // with `siteJitter` > 0 the disc centres move too, by up to that share of their spacing
     // (site_jitter.glsl; below 1.9). `thesisDisc`: rays anywhere
-    // in the point's disc of radius p, as the thesis; else within 0.6 px of the site.
+    // in the point's disc of radius p, as the thesis; else within 0.6 px of the site. With
+    // OnScreenChunks a pass "point_sample.chunks" first uploads this frame's chunk list.
     rg::BufferId add(rg::RenderGraph& graph, const trace::GpuScene& scene,
                      const shaders::trace::CameraPush& camera, const foveation::GpuPointSet& points,
                      glm::vec2 gaze, uint32_t raysPerPoint, uint32_t lanesPerPoint = 0,
                      const PanelWarp* warp = nullptr, bool lod = false, uint32_t frame = 0,
-                     float siteJitter = 0.0f, bool thesisDisc = false) const;
+                     float siteJitter = 0.0f, bool thesisDisc = false,
+                     PointDispatch dispatch = PointDispatch::OnScreenChunks) const;
 
 private:
-    const vk::ComputePipeline& pipeline(uint32_t lanes, bool alphaMask) const;
+    const vk::ComputePipeline& pipeline(uint32_t lanes, bool alphaMask, bool chunked) const;
 
     vk::Context& mCtx;
-    // One pipeline per lane count and alpha-mask setting, built on first use (each compiles the
-    // whole tracer).
-    mutable std::map<std::pair<uint32_t, bool>, std::unique_ptr<vk::ComputePipeline>> mPipelines;
+    // One pipeline per lane count, alpha-mask setting and dispatch, built on first use (each
+    // compiles the whole tracer).
+    mutable std::map<std::tuple<uint32_t, bool, bool>, std::unique_ptr<vk::ComputePipeline>>
+        mPipelines;
+    vk::Buffer mNoChunks; // bound as the chunk list when the whole set is dispatched
 };
 
 } // namespace gt::passes

@@ -14,6 +14,12 @@
 // with. With kLanes = 1 a thread traces all R rays of its point, which suits a CPU driver
 // (PointSamplePass picks). The group stays 1-D either way: lavapipe packs its SIMD lanes along
 // local_size_x only.
+//
+// With kChunked the dispatch covers only the chunks of kSampleGroupSize consecutive points
+// that can land on screen (engine/foveation/point_chunks.hpp), listed per frame in `chunks`:
+// the set's Morton order makes a chunk a compact patch of the canvas, so a workgroup traces
+// neighbouring rays and none is spent on a patch off screen. A point keeps its index, and its
+// rays with it.
 #extension GL_GOOGLE_include_directive : require
 #include "foveated_shared.h"
 #include "random.glsl"
@@ -22,8 +28,10 @@
 
 layout(local_size_x = kSampleGroupSize) in;
 layout(constant_id = 1) const uint kLanes = 1u; // a power of two up to kSampleGroupSize / 2
+layout(constant_id = 2) const bool kChunked = false;
 layout(set = 0, binding = kBindingPoints) uniform samplerBuffer uPoints;
 layout(std430, set = 0, binding = kBindingSamples) writeonly buffer Samples { vec4 samples[]; };
+layout(std430, set = 0, binding = kBindingChunks) readonly buffer Chunks { uint chunks[]; };
 layout(push_constant) uniform Push { PointSamplePush pc; };
 
 shared vec3 partial[kSampleGroupSize];
@@ -55,8 +63,17 @@ vec2 toImage(vec2 panel, vec2 size) {
     return (pc.lens.xy + d * f) * size;
 }
 
+// The point this invocation traces rays of: a chunk takes kLanes workgroups, each
+// kSampleGroupSize / kLanes of its points, as the whole set's dispatch would.
+uint pointIndex() {
+    if (!kChunked) return gl_GlobalInvocationID.x / kLanes;
+    const uint chunk = chunks[gl_WorkGroupID.x / kLanes];
+    return chunk * kSampleGroupSize + (gl_WorkGroupID.x % kLanes) * (kSampleGroupSize / kLanes)
+         + gl_LocalInvocationIndex / kLanes;
+}
+
 void main() {
-    const uint i = gl_GlobalInvocationID.x / kLanes;
+    const uint i = pointIndex();
     const uint lane = gl_LocalInvocationIndex % kLanes;
     const uint rays = pc.params.z;
     const vec2 size = vec2(pc.params.xy);

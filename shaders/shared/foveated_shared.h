@@ -8,6 +8,8 @@ GT_NAMESPACE_BEGIN(foveated)
 // point_sample: the eight scene bindings (trace_shared.h), then:
 GT_CONST kBindingPoints = 9;   // samplerBuffer RGBA32F: canvas x, y, spacing p, 0
 GT_CONST kBindingSamples = 10; // buffer of vec4: mean radiance rgb, first-hit distance
+// buffer of uint: the chunks of kSampleGroupSize points to trace this frame (point_chunks.hpp)
+GT_CONST kBindingChunks = 11;
 GT_CONST kSampleGroupSize = 64;
 
 struct PointSamplePush {

@@ -261,6 +261,46 @@ TEST_F(FoveatedTest, RayLanesTraceTheSameRays) {
     EXPECT_THROW((void)run(3), ArgumentError);
 }
 
+// point_sample dispatches only the chunks of the set that can land on screen; it must trace the
+// same points with the same rays as a thread per point of the whole set, whatever the lanes, with
+// the gaze in a corner (most chunks skipped) and the sites moved as far as they go (1.9 p).
+TEST_F(FoveatedTest, OnScreenChunksTraceTheSamePointsAsTheWholeSet) {
+    const CornellWithPoints c(96);
+    const passes::PointSamplePass sample(ctx());
+    const passes::InterpolatePass interp(ctx());
+    for (const glm::vec2 gaze : {glm::vec2(2.0f, 3.0f), glm::vec2(80.0f, 40.0f)}) {
+        const std::size_t kept =
+            c.points.chunks()
+                .onScreen(passes::gazeOffset(gaze, 96, 96), 96, 96, passes::kSampleMargin, 1.9f)
+                .size();
+        ASSERT_LT(kept, c.points.chunks().count()) << "no chunk skipped: the test is void";
+        for (const uint32_t lanes : {1u, 8u}) {
+            auto run = [&](passes::PointDispatch dispatch) {
+                return render(96, 96, [&](rg::RenderGraph& g) {
+                    const rg::BufferId samples =
+                        sample.add(g, c.gpuScene, trace::cameraPush(c.scene.camera, 1.0f), c.points,
+                                   gaze, 12, lanes, nullptr, false, 5, 1.9f, false, dispatch);
+                    return interp
+                        .add(g, c.points, samples, gaze, {passes::Interpolation::Nearest, 1, 1.0f})
+                        .radiance;
+                });
+            };
+            const auto whole = run(passes::PointDispatch::WholeSet);
+            const auto chunks = run(passes::PointDispatch::OnScreenChunks);
+            float brightest = 0.0f, worst = 0.0f;
+            for (std::size_t i = 0; i < whole.size(); ++i) {
+                brightest =
+                    std::max(brightest, std::max(whole[i].r, std::max(whole[i].g, whole[i].b)));
+                const glm::vec4 d = glm::abs(whole[i] - chunks[i]);
+                worst = std::max(worst, std::max(std::max(d.r, d.g), std::max(d.b, d.a)));
+            }
+            ASSERT_GT(brightest, 0.0f);
+            EXPECT_LE(worst, 1e-6f * brightest)
+                << lanes << " lanes, gaze " << gaze.x << ", " << gaze.y;
+        }
+    }
+}
+
 // With scale 1.0 the point set is at its densest at the gaze: the foveated image must match the
 // reference there. Compared on 8x8-pixel block means (sample positions differ by design):
 // the mean relative difference of blocks within 24 px of the gaze stays under 5 %.
