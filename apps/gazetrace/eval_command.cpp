@@ -21,6 +21,8 @@
 #include "frame_loop.hpp"
 #include "full_resolution.hpp"
 #include "gaze_view.hpp"
+#include "layers_command.hpp"
+#include "match_search.hpp"
 #include "method_choice.hpp"
 #include "option_parsing.hpp"
 #include "output_target.hpp"
@@ -75,6 +77,7 @@ public:
                   render::FoveationMethod& m,
                   const std::function<void(const FrameTick&, RgbaImage, uint64_t)>& frame) {
         // The gaze source is the view's own gaze (a fixed point, or a pursuit trace's sample).
+        mGpuMs.clear();
         render::View current;
         FrameStages<glm::vec2> stages;
         stages.gaze = [&](const FrameTick& t) {
@@ -92,14 +95,29 @@ public:
         stages.done = [&](const FrameTick& t, const glm::vec2&, std::span<const render::View> v,
                           const render::FrameResult& f) {
             RgbaImage img{v[0].width, v[0].height, mReadback.takePixels()};
+            mGpuMs.push_back(renderedGpuMs(f));
             mProgress.frame(v[0].name);
             frame(t, std::move(img), f.views.front().rays);
             return true;
         };
         (void)runFrameLoop(mRenderer, FrameClock(), frames, stages);
     }
+    // The GPU time of each frame of the last sequence, the readback to the host left out.
+    [[nodiscard]] const std::vector<double>& gpuMs() const noexcept { return mGpuMs; }
 
 private:
+    static double renderedGpuMs(const render::FrameResult& f) {
+        if (!f.timings) {
+            return 0.0;
+        }
+        double readback = 0.0;
+        for (const auto& p : f.timings->passes) {
+            readback += p.name.starts_with("readback.") ? p.gpuMs : 0.0;
+        }
+        return f.timings->gpuMs - readback;
+    }
+
+    std::vector<double> mGpuMs;
     render::Renderer& mRenderer;
     render::ReadbackTarget mReadback;
     EvalProgress& mProgress;
@@ -339,6 +357,15 @@ void checkEvalOptions(const EvalOptions& o) {
     if (o.baseline != "uniform" && o.baseline != "none") {
         throw ArgumentError("--baseline: expected uniform or none, got '" + o.baseline + "'");
     }
+    if (o.method != "points" && o.method != "layers") {
+        throw ArgumentError("--method: expected points or layers, got '" + o.method + "'");
+    }
+    if (o.method == "layers" && o.sweep) {
+        throw ArgumentError("--sweep: point-set scales; not with --method layers");
+    }
+    if (!o.match.empty() && o.match != "uniform" && o.match != "full") {
+        throw ArgumentError("--match: expected uniform or full, got '" + o.match + "'");
+    }
 }
 
 // The options checked; whether --reconstruction is the thesis's.
@@ -400,6 +427,52 @@ struct Baselines {
     uint32_t uw = 0, uh = 0, fullSpp = 0;
 };
 
+// What --match compares: the foveated frame's, or a uniform candidate's, rays, settled GPU
+// time and flip_ecc per band.
+struct MatchEntry {
+    uint32_t width = 0, height = 0, raysPerPixel = 0; // the render's (a candidate's)
+    uint64_t rays = 0;
+    double gpuMs = 0.0;
+    std::array<double, kBands> flipEcc{};
+    bool matches = false;
+};
+
+nlohmann::json matchEntryJson(const MatchEntry& e) {
+    return {
+        {"size", {e.width, e.height}}, {"rays_per_pixel", e.raysPerPixel}, {"rays", e.rays},
+        {"gpu_ms_median", e.gpuMs},    {"flip_ecc", bandsJson(e.flipEcc)}, {"matches", e.matches}};
+}
+
+// The largest of a candidate's per-band flip_ecc over the target's: at most 1 where it matches.
+double worstBandRatio(const MatchEntry& c, const MatchEntry& target) {
+    double worst = 0.0;
+    for (std::size_t b = 0; b < kBands; ++b) {
+        worst = std::max(worst, c.flipEcc[b] / std::max(target.flipEcc[b], 1e-12));
+    }
+    return worst;
+}
+
+// A settled frame's GPU time: the median over a sequence's frames after the first (which
+// compiles pipelines and builds tables). `pairs`: of the means of consecutive frames, for
+// layers at half rate, whose frames alternate between two costs.
+double settledGpuMs(const std::vector<double>& ms, bool pairs) {
+    std::vector<double> v;
+    const std::size_t first = ms.size() > 1 ? 1 : 0;
+    for (std::size_t i = first; i < ms.size(); ++i) {
+        if (!pairs) {
+            v.push_back(ms[i]);
+        } else if (i + 1 < ms.size()) {
+            v.push_back(0.5 * (ms[i] + ms[i + 1]));
+        }
+    }
+    if (v.empty()) {
+        return ms.empty() ? 0.0 : ms.back();
+    }
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
 // One eval run: the renderer, the view every measure shares, the reference, and the frames
 // and sequences of each method against it.
 class EvalRun {
@@ -409,7 +482,8 @@ public:
 
 private:
     std::unique_ptr<render::PointSetMethod> makeFoveated(double scale);
-    RgbaImage foveatedFrame(render::PointSetMethod& m, const std::string& name, uint64_t& rays);
+    std::unique_ptr<render::EccentricityLayers> makeLayers();
+    RgbaImage foveatedFrame(render::FoveationMethod& m, const std::string& name, uint64_t& rays);
     Baselines baselines(uint64_t rays);
     nlohmann::json summaryHead();
     void stillFrame(nlohmann::json& summary);
@@ -417,6 +491,9 @@ private:
     nlohmann::json movingSequence();
     nlohmann::json pursuitSequence();
     void sweep(nlohmann::json& summary);
+    MatchEntry matchCandidate(uint32_t width, uint32_t height, uint32_t raysPerPixel,
+                              RgbaImage& picture);
+    void match(nlohmann::json& summary);
     // Scores of a frame against the reference.
     Scores scored(const RgbaImage& img) const { return score(img, mRef, mGeometry, mBleedMask); }
 
@@ -433,7 +510,8 @@ private:
     render::View mBase;
     RgbaImage mRef;
     std::vector<uint8_t> mBleedMask;
-    std::unique_ptr<render::PointSetMethod> mFoveated;
+    std::unique_ptr<render::FoveationMethod> mFoveated;
+    MatchEntry mTarget; // the foveated still frame, for --match
 };
 
 EvalRun::EvalRun(const EvalOptions& o)
@@ -498,19 +576,37 @@ std::unique_ptr<render::PointSetMethod> EvalRun::makeFoveated(double scale) {
     return m;
 }
 
-// The foveated frame after `frames` frames of the same view (TAA settled).
-RgbaImage EvalRun::foveatedFrame(render::PointSetMethod& m, const std::string& name,
+// Guenter et al. 2012's eccentricity layers on the eval display (its bands' geometry), at
+// slope A with three layers, --rays-per-point rays per layer pixel, their own per-layer history
+// with --taa, and the outer layers at half rate (section 4.3).
+std::unique_ptr<render::EccentricityLayers> EvalRun::makeLayers() {
+    render::EccentricityLayerSettings s = layerSettings("A", 3, mOptions.raysPerPoint);
+    s.jitter = mOptions.jitter;
+    s.temporal = mOptions.taa;
+    s.lod = mOptions.lod;
+    s.display = mGeometry.display;
+    return std::make_unique<render::EccentricityLayers>(mRenderer->methodContext(), s);
+}
+
+// The foveated frame after `frames` frames of the same view (TAA settled). Layers trace their
+// outer layers every other frame: their rays are the mean of the last two frames.
+RgbaImage EvalRun::foveatedFrame(render::FoveationMethod& m, const std::string& name,
                                  uint64_t& rays) {
     render::View v = mBase;
     v.name = name;
     v.post.taa = mOptions.taa;
     RgbaImage img;
+    uint64_t previous = 0;
+    const uint32_t frames = std::max(1u, mOptions.frames);
     mShooter->sequence(
-        std::max(1u, mOptions.frames), [&](const FrameTick&) { return v; }, m,
+        frames, [&](const FrameTick&) { return v; }, m,
         [&](const FrameTick&, RgbaImage shot, uint64_t r) {
             img = std::move(shot);
-            rays = r;
+            previous = std::exchange(rays, r);
         });
+    if (mOptions.method == "layers" && frames > 1) {
+        rays = (rays + previous) / 2;
+    }
     return img;
 }
 
@@ -560,9 +656,15 @@ nlohmann::json EvalRun::summaryHead() {
 void EvalRun::stillFrame(nlohmann::json& summary) {
     const EvalOptions& o = mOptions;
     const Geometry& g = mGeometry;
-    mFoveated = makeFoveated(o.scale);
+    const bool layers = o.method == "layers";
+    if (layers) {
+        mFoveated = makeLayers();
+    } else {
+        mFoveated = makeFoveated(o.scale);
+    }
     uint64_t rays = 0;
     const RgbaImage fov = foveatedFrame(*mFoveated, "foveated", rays);
+    mTarget = {g.width, g.height, o.raysPerPoint, rays, settledGpuMs(mShooter->gpuMs(), layers)};
     writePng(mOut / "foveated.png", fov);
     nlohmann::json methods = nlohmann::json::object();
     std::vector<std::array<double, kBands>> bars;
@@ -571,6 +673,7 @@ void EvalRun::stillFrame(nlohmann::json& summary) {
         mProgress->step("scoring foveated (FLIP, PSNR, SSIM per band)");
         Scores s = scored(fov);
         s.json["rays"] = rays;
+        mTarget.flipEcc = s.flipEcc;
         s.json["settings"] = {{"reconstruction", o.reconstruction},
                               {"interp", o.interp},
                               {"k", o.k},
@@ -585,6 +688,13 @@ void EvalRun::stillFrame(nlohmann::json& summary) {
                               {"still_clip", o.stillClipGamma},
                               {"eccentric_radius", o.eccentricRadius},
                               {"jitter", o.jitter}};
+        if (layers) {
+            const auto& ls = dynamic_cast<render::EccentricityLayers&>(*mFoveated).settings();
+            s.json["settings"] = {{"method", "layers"},       {"slope", ls.slope},
+                                  {"layers", ls.layers},      {"rays_per_pixel", ls.raysPerPixel},
+                                  {"half_rate", ls.halfRate}, {"taa", o.taa},
+                                  {"frames", o.frames},       {"jitter", o.jitter}};
+        }
         methods["foveated"] = s.json;
         writePng(mOut / "flip_foveated.png", errorMapImage(s.flip, g.width, g.height));
         bars.push_back(s.flipBands);
@@ -754,6 +864,117 @@ void EvalRun::sweep(nlohmann::json& summary) {
         "mean FLIP against rays (log): foveated (series 0) and uniform bilinear (series 1)";
 }
 
+// One --match candidate: the uniform render of width x height at `raysPerPixel`, settled with
+// the foveated frame's TAA over as many frames (the ray seed changes every frame, as render's
+// sequences do, so the history averages new rays), upscaled bilinearly as the uniform_bilinear
+// baseline is, and scored against the reference. `picture` receives the upscaled frame.
+MatchEntry EvalRun::matchCandidate(uint32_t width, uint32_t height, uint32_t raysPerPixel,
+                                   RgbaImage& picture) {
+    const Geometry& g = mGeometry;
+    render::FullResolution uniform(mRenderer->methodContext(), {raysPerPixel, kSeed});
+    render::View v = mBase;
+    v.name = "match_" + std::to_string(width) + "x" + std::to_string(height) + "_" +
+             std::to_string(raysPerPixel);
+    v.width = width;
+    v.height = height;
+    v.post.taa = mOptions.taa;
+    MatchEntry c{width, height, raysPerPixel};
+    mShooter->sequence(
+        std::max(1u, mOptions.frames),
+        [&](const FrameTick& t) {
+            uniform.settings.frameSeed = kSeed + t.index;
+            return v;
+        },
+        uniform,
+        [&](const FrameTick&, RgbaImage shot, uint64_t r) {
+            picture = std::move(shot);
+            c.rays = r;
+        });
+    c.gpuMs = settledGpuMs(mShooter->gpuMs(), false);
+    if (width != g.width || height != g.height) {
+        picture = quality::upscale(picture, g.width, g.height, quality::Upscale::Bilinear);
+    }
+    mProgress->step("scoring " + v.name);
+    c.flipEcc = scored(picture).flipEcc;
+    c.matches = noWorseInEveryBand(c.flipEcc, mTarget.flipEcc);
+    return c;
+}
+
+// The speed-up at equal picture quality: the cheapest uniform render whose flip_ecc is no higher
+// than the foveated frame's in every band, found by findLowestMatch over its width (uniform: at
+// the foveated rays per point, from the size that spends the foveated rays up to full size, to
+// 2 % in pixels) or its rays per pixel at full size (full: exact), at most 8 candidates.
+void EvalRun::match(nlohmann::json& summary) {
+    const EvalOptions& o = mOptions;
+    const Geometry& g = mGeometry;
+    const bool full = o.match == "full";
+    MatchSearchLimits limits{.maxTries = 8};
+    if (full) {
+        const double equal =
+            static_cast<double>(mTarget.rays) / (static_cast<double>(g.width) * g.height);
+        limits.highest = o.raysPerPoint;
+        limits.start =
+            std::clamp<uint32_t>(static_cast<uint32_t>(std::lround(equal)), 1, o.raysPerPoint);
+        limits.tolerance = 0.0;
+    } else {
+        limits.highest = g.width;
+        limits.start =
+            std::min(g.width, uniformSize(mTarget.rays, o.raysPerPoint, g.width, g.height).first);
+        limits.tolerance = std::sqrt(1.02) - 1.0; // 2 % in pixels
+    }
+    std::vector<MatchEntry> tried;
+    RgbaImage picture, matched;
+    const MatchSearchResult r = findLowestMatch(limits, [&](uint32_t n) {
+        const uint32_t h = std::max<uint32_t>(
+            1, static_cast<uint32_t>(std::lround(static_cast<double>(n) * g.height / g.width)));
+        tried.push_back(full ? matchCandidate(g.width, g.height, n, picture)
+                             : matchCandidate(n, h, o.raysPerPoint, picture));
+        if (tried.back().matches) {
+            matched = std::move(picture); // the search's last match is its answer
+        }
+        return tried.back().matches;
+    });
+    nlohmann::json m = {{"against", o.match},
+                        {"criterion", "flip_ecc no higher in every band"},
+                        {"upscale", full ? "none" : "bilinear"},
+                        {"foveated",
+                         {{"method", o.method},
+                          {"rays", mTarget.rays},
+                          {"gpu_ms_median", mTarget.gpuMs},
+                          {"flip_ecc", bandsJson(mTarget.flipEcc)}}},
+                        {"tried", nlohmann::json::array()},
+                        {"converged", r.converged},
+                        {"match", nullptr},
+                        {"below", nullptr},
+                        {"ray_ratio", nullptr},
+                        {"time_ratio", nullptr}};
+    const auto entryOf = [&](uint32_t n) {
+        return *std::find_if(tried.begin(), tried.end(), [&](const MatchEntry& e) {
+            return (full ? e.raysPerPixel : e.width) == n;
+        });
+    };
+    for (const MatchEntry& e : tried) {
+        m["tried"].push_back(matchEntryJson(e));
+    }
+    if (r.below != 0) {
+        m["below"] = matchEntryJson(entryOf(r.below));
+    }
+    if (r.match) {
+        const MatchEntry e = entryOf(*r.match);
+        m["match"] = matchEntryJson(e);
+        m["ray_ratio"] = static_cast<double>(e.rays) / static_cast<double>(mTarget.rays);
+        m["time_ratio"] = mTarget.gpuMs > 0.0 ? nlohmann::json(e.gpuMs / mTarget.gpuMs) : nullptr;
+        writePng(mOut / ("match_" + o.match + ".png"), matched);
+    } else {
+        // No match: the candidate that came closest, by its worst band.
+        m["best"] = matchEntryJson(*std::min_element(
+            tried.begin(), tried.end(), [&](const MatchEntry& a, const MatchEntry& b) {
+                return worstBandRatio(a, mTarget) < worstBandRatio(b, mTarget);
+            }));
+    }
+    summary["match"] = m;
+}
+
 nlohmann::json EvalRun::run() {
     nlohmann::json summary = summaryHead();
     stillFrame(summary);
@@ -766,9 +987,58 @@ nlohmann::json EvalRun::run() {
         summary["temporal"] = temporal;
     }
     if (mOptions.sweep) sweep(summary);
+    if (!mOptions.match.empty()) match(summary);
     io::writeFileAtomic(mOut / "eval.json", summary.dump(2) + "\n");
     mFolder.commit();
     return summary;
+}
+
+// A --match entry as "W x H at R rays/px: N M rays, T ms GPU".
+std::string matchEntryText(const nlohmann::json& e) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%ux%u at %u rays/px: %.3f M rays, %.3f ms GPU",
+                  e["size"][0].get<uint32_t>(), e["size"][1].get<uint32_t>(),
+                  e["rays_per_pixel"].get<uint32_t>(),
+                  static_cast<double>(e["rays"].get<uint64_t>()) * 1e-6,
+                  e["gpu_ms_median"].get<double>());
+    return buf;
+}
+
+// --match for people: the sizes tried, both frames, and the ratios, or that none matched.
+std::string matchText(const nlohmann::json& m) {
+    std::ostringstream t;
+    const bool full = m["against"] == "full";
+    t << "match " << m["against"].get<std::string>() << " (" << m["criterion"].get<std::string>()
+      << (full ? ", full size" : ", upscaled bilinearly") << "), tried:";
+    for (const auto& e : m["tried"]) {
+        t << " " << e["size"][0].get<uint32_t>() << "x" << e["size"][1].get<uint32_t>() << "@"
+          << e["rays_per_pixel"].get<uint32_t>() << (e["matches"].get<bool>() ? " yes," : " no,");
+    }
+    t << (m["converged"].get<bool>() ? " converged" : " not converged (8 candidates)") << "\n";
+    const auto& f = m["foveated"];
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.3f M rays, %.3f ms GPU",
+                  static_cast<double>(f["rays"].get<uint64_t>()) * 1e-6,
+                  f["gpu_ms_median"].get<double>());
+    t << "  foveated: " << buf << "\n";
+    if (m["match"].is_null()) {
+        t << "  no match: even full resolution at the foveated rays per point has a higher "
+             "flip_ecc in some band; the closest: "
+          << matchEntryText(m["best"]) << "\n";
+        return t.str();
+    }
+    t << "  uniform:  " << matchEntryText(m["match"]) << "\n";
+    if (!m["below"].is_null()) {
+        t << "  (not matching just below: " << matchEntryText(m["below"]) << ")\n";
+    }
+    const double rays = m["ray_ratio"].get<double>();
+    const double time = m["time_ratio"].is_null() ? 0.0 : m["time_ratio"].get<double>();
+    std::snprintf(buf, sizeof buf, "%.2f", rays);
+    t << "the foveated frame needs " << buf << " x fewer rays and ";
+    std::snprintf(buf, sizeof buf, "%.2f", time);
+    t << buf << " x less time for the same picture"
+      << (rays < 1.0 || time < 1.0 ? " (below 1: the uniform frame is the cheaper)" : "") << "\n";
+    return t.str();
 }
 
 } // namespace
@@ -807,6 +1077,9 @@ std::string evalText(const nlohmann::json& s) {
         for (const auto& [name, v] : s["temporal"].items()) {
             t << "temporal " << name << ": " << v.dump() << "\n";
         }
+    }
+    if (s.contains("match")) {
+        t << matchText(s["match"]);
     }
     return t.str();
 }

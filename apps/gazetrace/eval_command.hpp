@@ -19,6 +19,7 @@ struct EvalOptions {
     uint32_t width = 0, height = 0; // 0: the profile's; else a window on its screen
     std::string gaze;               // X,Y pixels; empty: the centre
     // The foveated frame.
+    std::string method = "points"; // points (the thesis's point set) | layers (Guenter et al.)
     std::string interp = "msm";
     uint32_t k = 10;
     double scale = 1.0;
@@ -43,7 +44,11 @@ struct EvalOptions {
     std::string pursuit;              // gaze trace CSV over a still scene
     uint32_t sequenceFrames = 12;     // frames of each temporal sequence
     bool sweep = false;               // quality against rays: scales 1, 1.5, 2, 3
-    std::string out = "out/eval";     // folder for eval.json and the PNGs
+    // The speed-up at equal picture quality: the cheapest uniform render whose flip_ecc is no
+    // higher than the foveated frame's in every band. "" (off) | uniform (the lowest resolution
+    // at the same rays per pixel, upscaled) | full (the fewest rays per pixel at full size).
+    std::string match;
+    std::string out = "out/eval"; // folder for eval.json and the PNGs
     std::string cacheDir;
     bool lod = true;
     bool validate = false; // Khronos validation layer

@@ -17,7 +17,8 @@ uint32_t evalFrameCount(const EvalOptions& o, bool referenceGiven, std::size_t p
     if (!o.pursuit.empty()) {
         n += settled - 1 + static_cast<uint32_t>(std::min<std::size_t>(pursuitSamples, sequence));
     }
-    if (o.sweep) n += 4 * (settled + 2); // four scales, each with its uniform baselines
+    if (o.sweep) n += 4 * (settled + 2);    // four scales, each with its uniform baselines
+    if (!o.match.empty()) n += 8 * settled; // at most 8 candidates, each settled
     return n;
 }
 

@@ -112,6 +112,73 @@ TEST(Eval, SweepTracesFewerRaysAtSparserScales) {
     EXPECT_TRUE(std::filesystem::exists(dir / "e" / "curves.png"));
 }
 
+// Equal picture quality: the cheapest uniform render whose flip_ecc is no higher in every band.
+// Without TAA, one frame, and the reference's rays per pixel, the full-size candidate is the
+// reference itself (flip_ecc 0), so a match always exists.
+TEST(Eval, MatchNamesTheCheapestUniformRenderNoWorseInEveryBand) {
+    const auto dir = test::tempDir("cli_eval_match");
+    const std::string base = "eval --scene builtin:market --profile fove --width 96 --height 108 "
+                             "--gaze 4,4 --reference-spp 4 --rays-per-point 4 --taa off "
+                             "--frames 1 --baseline none --cache " +
+                             (dir / "cache").string();
+    Result r = run(base + " --match uniform --json --out " + (dir / "u").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    const auto& m = j["match"];
+    EXPECT_EQ(m["against"], "uniform");
+    EXPECT_EQ(m["upscale"], "bilinear");
+    const auto& fov = m["foveated"];
+    EXPECT_EQ(fov["rays"], j["methods"]["foveated"]["rays"]);
+    EXPECT_GT(fov["gpu_ms_median"].get<double>(), 0.0);
+    ASSERT_FALSE(m["match"].is_null()) << m.dump();
+    const auto noWorse = [&](const nlohmann::json& e) {
+        bool all = true;
+        for (const char* band : {"0-5", "5-10", "10-20", "20+"}) {
+            all = all && e["flip_ecc"][band].get<double>() <= fov["flip_ecc"][band].get<double>();
+        }
+        return all;
+    };
+    // Every candidate says whether it matched; the first spends the foveated rays (or is the
+    // full size, when those are more); at most 8 were rendered.
+    ASSERT_GE(m["tried"].size(), 1u);
+    EXPECT_LE(m["tried"].size(), 8u);
+    for (const auto& e : m["tried"]) {
+        EXPECT_EQ(e["matches"].get<bool>(), noWorse(e)) << e.dump();
+        const uint32_t w = e["size"][0], h = e["size"][1];
+        EXPECT_LE(w, 96u);
+        EXPECT_EQ(e["rays"].get<uint64_t>(), 4ull * w * h);
+        EXPECT_NEAR(static_cast<double>(w) / h, 96.0 / 108.0, 0.03);
+    }
+    const auto& first = m["tried"][0];
+    EXPECT_NEAR(static_cast<double>(std::min(fov["rays"].get<uint64_t>(), uint64_t{4 * 96 * 108})),
+                static_cast<double>(first["rays"].get<uint64_t>()),
+                0.05 * static_cast<double>(first["rays"].get<uint64_t>()));
+    const auto& match = m["match"];
+    EXPECT_TRUE(noWorse(match));
+    EXPECT_TRUE(match["matches"].get<bool>());
+    EXPECT_DOUBLE_EQ(m["ray_ratio"].get<double>(),
+                     static_cast<double>(match["rays"].get<uint64_t>()) /
+                         static_cast<double>(fov["rays"].get<uint64_t>()));
+    EXPECT_NEAR(m["time_ratio"].get<double>(),
+                match["gpu_ms_median"].get<double>() / fov["gpu_ms_median"].get<double>(), 1e-9);
+    // The largest candidate under it, if any, was worse in some band and smaller.
+    if (!m["below"].is_null()) {
+        EXPECT_FALSE(noWorse(m["below"]));
+        EXPECT_LT(m["below"]["size"][0].get<uint32_t>(), match["size"][0].get<uint32_t>());
+    }
+    EXPECT_TRUE(std::filesystem::exists(dir / "u" / "match_uniform.png"));
+    EXPECT_EQ(nlohmann::json::parse(slurp(dir / "u" / "eval.json"))["match"], m);
+
+    // Full size with fewer rays per pixel, as text: the candidates and the sentence.
+    r = run(base + " --match full --out " + (dir / "f").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("match full"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("96x108@"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(" yes,"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("the foveated frame needs "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(" x less time for the same picture"), std::string::npos) << r.out;
+}
+
 TEST(Eval, BadInputsAreOneLine) {
     const auto dir = test::tempDir("cli_eval_bad");
     const auto out = dir / "never";
@@ -119,6 +186,9 @@ TEST(Eval, BadInputsAreOneLine) {
     expectCleanFailure(run(base + "--profile nonsense"), "--profile", out);
     expectCleanFailure(run(base + "--blend sideways"), "--blend", out);
     expectCleanFailure(run(base + "--baseline lanczos"), "--baseline", out);
+    expectCleanFailure(run(base + "--match lower"), "--match", out);
+    expectCleanFailure(run(base + "--method grid"), "--method", out);
+    expectCleanFailure(run(base + "--method layers --sweep"), "--sweep", out);
     expectCleanFailure(run(base + "--gaze 500,5"), "--gaze", out);
     expectCleanFailure(run(base + "--camera-path " + (dir / "none.csv").string()), "none.csv", out);
     expectCleanFailure(run(base + "--pursuit " + (dir / "none.csv").string()), "none.csv", out);

@@ -36,6 +36,11 @@ public:
             ->add_option("--height", mOptions.height, "A window this high on the profile's screen")
             ->check(CLI::Range(16u, 16384u));
         mCommand->add_option("--gaze", mOptions.gaze, "X,Y in pixels (default: the centre)");
+        mCommand
+            ->add_option("--method", mOptions.method,
+                         "Foveated: points (the thesis's point set) | layers (Guenter et al. "
+                         "2012, slope A, 3 layers)")
+            ->capture_default_str();
         mCommand->add_option("--interp", mOptions.interp, "Foveated: nn | msm | rbf")
             ->capture_default_str();
         mCommand->add_option("--k", mOptions.k, "Foveated: neighbours for msm and rbf (1-20)")
@@ -115,6 +120,10 @@ public:
             ->capture_default_str();
         mCommand->add_flag("--sweep", mOptions.sweep,
                            "Quality against rays: point-set scales 1, 1.5, 2, 3");
+        mCommand->add_option("--match", mOptions.match,
+                             "Equal picture quality: the cheapest uniform render whose flip_ecc is "
+                             "no higher in every band: uniform (lowest resolution, upscaled) | "
+                             "full (fewest rays per pixel at full size)");
         mCommand->add_option("--out", mOptions.out, "Folder for eval.json and the PNGs")
             ->capture_default_str();
         mCommand->add_option("--cache", mOptions.cacheDir, "Point-set cache folder");
@@ -131,7 +140,8 @@ public:
         for (const char* name :
              {"eval.json", "foveated.png", "flip_foveated.png", "bands.png", "curves.png",
               "uniform_bilinear.png", "flip_uniform_bilinear.png", "uniform_catmull_rom.png",
-              "flip_uniform_catmull_rom.png", "full_resolution.png", "flip_full_resolution.png"}) {
+              "flip_uniform_catmull_rom.png", "full_resolution.png", "flip_full_resolution.png",
+              "match_uniform.png", "match_full.png"}) {
             written.push_back({"--out", std::filesystem::path(mOptions.out) / name});
         }
         if (mOptions.reference.empty()) {
