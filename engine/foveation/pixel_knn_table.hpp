@@ -11,7 +11,8 @@
 // kTile x kTile tiles, and each tile keeps
 //   - its candidates: the points that are among some pixel's k nearest, by index,
 //   - its rows: the distinct sets of k nearest of its pixels, each k slots into the
-//     candidates in ascending order (one byte per slot where every tile has at most 256
+//     candidates, nearest to the tile's centre first, so that a pixel reads its set nearly in
+//     its own order and sorts it in few steps (one byte per slot where every tile has at most 256
 //     candidates, else two), and
 //   - per pixel, one byte: which of the tile's rows is the pixel's.
 // A pixel's set is candidates[tile.base + slot[tile.row + row(pixel)][j]], j < k; sorted by
@@ -44,8 +45,8 @@ public:
     [[nodiscard]] uint32_t tilesX() const noexcept { return (mWidth + kTile - 1) / kTile; }
     [[nodiscard]] uint32_t tilesY() const noexcept { return (mHeight + kTile - 1) / kTile; }
 
-    // The j-th (j < k) of canvas pixel (x, y)'s k nearest points in ascending index order;
-    // for k = 1 its nearest point.
+    // The j-th (j < k) of canvas pixel (x, y)'s k nearest points, in the order stored (nearest
+    // to the centre of the pixel's 8x8 tile first); for k = 1 its nearest point.
     [[nodiscard]] uint32_t entry(uint32_t x, uint32_t y, uint32_t j) const noexcept {
         const std::size_t tile = static_cast<std::size_t>(y / kTile) * tilesX() + x / kTile;
         const std::size_t row =

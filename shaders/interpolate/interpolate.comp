@@ -86,8 +86,8 @@ uvec2 knnRow(ivec2 c) {
     return uvec2(tile.x, row * pc.table.x);
 }
 
-// The j-th of a k-NN table row's points, in ascending index order; `slots` holds the row's
-// slots j & ~3 .. j | 3, fetched when j % 4 == 0.
+// The j-th of a k-NN table row's points, nearest to its tile's centre first; `slots` holds
+// the row's slots j & ~3 .. j | 3, fetched when j % 4 == 0.
 uint knnEntry(uvec2 row, uint j, inout uvec4 slots) {
     if ((j & 3u) == 0u) slots = texelFetch(uKnnSlots, int(row.y + (j >> 2u)));
     return texelFetch(uKnnCandidates, int(row.x + slots[j & 3u])).r;
