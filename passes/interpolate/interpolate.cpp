@@ -37,10 +37,10 @@ InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
 
 InterpolatePass::~InterpolatePass() = default;
 
-InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
-                                       rg::BufferId samples, glm::vec2 gaze,
-                                       const InterpolateSettings& s,
-                                       const InterpolateInputs& in) const {
+namespace {
+// What the settings need from the inputs: one line naming the missing or mismatched one.
+void checkInputs(const foveation::GpuPointSet& points, const InterpolateSettings& s,
+                 const InterpolateInputs& in) {
     if (usesRbfSolve(s) && !in.lambdas) {
         throw ArgumentError("RBF over the neighbour lists needs the rbf_solve pass's weights");
     }
@@ -61,6 +61,18 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
         throw ArgumentError("RBF with the k-NN table needs per-pixel weights and a table built "
                             "for the same k, kernel and shape");
     }
+}
+} // namespace
+
+InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
+                                       rg::BufferId samples, glm::vec2 gaze,
+                                       const InterpolateSettings& s,
+                                       const InterpolateInputs& in) const {
+    checkInputs(points, s, in);
+    const bool useTable = usesPixelTable(s);
+    const foveation::GpuPixelKnnTable* table = useTable ? in.table : nullptr;
+    const bool pixelWeights = useTable && s.method == Interpolation::Rbf;
+    const foveation::GpuRbfPixelWeights* rbfWeights = pixelWeights ? in.rbfWeights : nullptr;
     const glm::vec2 off =
         foveation::gazeOffset(gaze, points.displayWidth(), points.displayHeight());
     uint32_t method = sh::kMethodNearest;

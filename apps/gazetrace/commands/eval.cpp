@@ -105,30 +105,7 @@ public:
         mCommand->add_option(
             "--reference", mOptions.reference,
             "A reference PNG of the same view rendered before (skips rendering it)");
-        mCommand->add_option("--baseline", mOptions.baseline, "uniform | none")
-            ->capture_default_str();
-        mCommand->add_flag("--temporal", mOptions.temporal,
-                           "Also the frame-to-frame change of a still view");
-        mCommand->add_option(
-            "--camera-path", mOptions.cameraPath,
-            "A moving camera (CSV t_ms,ex,ey,ez,tx,ty,tz): change after reprojection");
-        mCommand->add_option("--pursuit", mOptions.pursuit,
-                             "A gaze trace in pixels (CSV t_ms,x,y) followed over the still scene");
-        mCommand
-            ->add_option("--sequence-frames", mOptions.sequenceFrames, "Frames of each sequence")
-            ->check(CLI::Range(2u, 10000u))
-            ->capture_default_str();
-        mCommand->add_flag("--sweep", mOptions.sweep,
-                           "Quality against rays: point-set scales 1, 1.5, 2, 3");
-        mCommand->add_option("--match", mOptions.match,
-                             "Equal picture quality: the cheapest uniform render whose flip_ecc is "
-                             "no higher in every band: uniform (lowest resolution, upscaled) | "
-                             "full (fewest rays per pixel at full size)");
-        mCommand->add_option("--out", mOptions.out, "Folder for eval.json and the PNGs")
-            ->capture_default_str();
-        mCommand->add_option("--cache", mOptions.cacheDir, "Point-set cache folder");
-        mCommand->add_flag("--validate", mOptions.validate, "Enable the Khronos validation layer");
-        mCommand->add_flag("--json", mJson, "Print the JSON summary instead of the table");
+        registerComparisonOptions();
     }
 
     int run() override {
@@ -158,6 +135,34 @@ public:
     }
 
 private:
+    // What the foveated frame is compared with, and where the results go.
+    void registerComparisonOptions() {
+        mCommand->add_option("--baseline", mOptions.baseline, "uniform | none")
+            ->capture_default_str();
+        mCommand->add_flag("--temporal", mOptions.temporal,
+                           "Also the frame-to-frame change of a still view");
+        mCommand->add_option(
+            "--camera-path", mOptions.cameraPath,
+            "A moving camera (CSV t_ms,ex,ey,ez,tx,ty,tz): change after reprojection");
+        mCommand->add_option("--pursuit", mOptions.pursuit,
+                             "A gaze trace in pixels (CSV t_ms,x,y) followed over the still scene");
+        mCommand
+            ->add_option("--sequence-frames", mOptions.sequenceFrames, "Frames of each sequence")
+            ->check(CLI::Range(2u, 10000u))
+            ->capture_default_str();
+        mCommand->add_flag("--sweep", mOptions.sweep,
+                           "Quality against rays: point-set scales 1, 1.5, 2, 3");
+        mCommand->add_option("--match", mOptions.match,
+                             "Equal picture quality: the cheapest uniform render whose flip_ecc is "
+                             "no higher in every band: uniform (lowest resolution, upscaled) | "
+                             "full (fewest rays per pixel at full size)");
+        mCommand->add_option("--out", mOptions.out, "Folder for eval.json and the PNGs")
+            ->capture_default_str();
+        mCommand->add_option("--cache", mOptions.cacheDir, "Point-set cache folder");
+        mCommand->add_flag("--validate", mOptions.validate, "Enable the Khronos validation layer");
+        mCommand->add_flag("--json", mJson, "Print the JSON summary instead of the table");
+    }
+
     EvalOptions mOptions;
     bool mJson = false;
     std::string mTaa = "on";
