@@ -88,7 +88,8 @@ TEST(OptionParsing, CustomHmdStrings) {
         {"custom:3840x3744@120x105,0.0", "refresh 0.0 Hz must be above 0"},
     };
     for (const auto& [text, why] : bad) {
-        const std::string m = test::thrownMessage<ArgumentError>([&] { (void)hmdProfile(text); });
+        const std::string& name = text; // a structured binding cannot be captured (clang)
+        const std::string m = test::thrownMessage<ArgumentError>([&] { (void)hmdProfile(name); });
         EXPECT_NE(m.find("--hmd " + text + ": " + why), std::string::npos) << text << ": " << m;
         EXPECT_EQ(m.find('\n'), std::string::npos) << m;
     }
