@@ -1,4 +1,5 @@
 #include "bench_command.hpp"
+#include "bench_timing.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -34,28 +35,6 @@ namespace {
 // The many-ray headline pairs: as many as fit in this time, at least 2 (1 with --quick).
 constexpr double kHeadlinePairBudgetS = 60.0;
 constexpr int kHeadlineMaxPairs = 15;
-
-// Unmeasured frames before each measured series, until this much wall time has passed (at
-// least one frame): a GPU left idle while the CPU built a table clocks down, and its first
-// short frames measured up to 5x slower than the same frames once busy (H100: TAA 0.31 ms
-// cold, 0.06 ms warm). On lavapipe this is one frame.
-constexpr double kWarmUpMs = 500.0;
-
-template <typename Frame> void warmUp(Frame&& frame) {
-    double ms = 0.0;
-    do {
-        ms += frame();
-    } while (ms < kWarmUpMs);
-}
-
-double median(std::vector<double> v) {
-    if (v.empty()) {
-        return 0.0;
-    }
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // What one bench frame measures: the GPU times per pass and the wall time.
 struct Frame {

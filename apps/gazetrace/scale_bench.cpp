@@ -9,6 +9,7 @@
 // and outer layers at half rate (Guenter et al. 2012, section 4.3): each of their samples is the
 // mean of two consecutive frames.
 #include "scale_bench.hpp"
+#include "bench_timing.hpp"
 
 #include <algorithm>
 #include <array>
@@ -45,19 +46,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// As `bench`: unmeasured frames until this much wall time has passed, at least one.
-constexpr double kWarmUpMs = 500.0;
 constexpr std::array<uint32_t, 2> kRays{1, 8};
 constexpr uint32_t kShepardK = 10;
-
-double median(std::vector<double> v) {
-    if (v.empty()) {
-        return 0.0;
-    }
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 double secondsSince(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();

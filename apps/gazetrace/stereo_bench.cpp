@@ -14,6 +14,7 @@
 #include <optional>
 
 #include "bench_command.hpp"
+#include "bench_timing.hpp"
 #include "core/error.hpp"
 #include "display/hmd_profile.hpp"
 #include "foveation/point_set_cache.hpp"
@@ -31,13 +32,6 @@ namespace gt::app {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 struct Series {
     std::string name;

@@ -17,9 +17,9 @@ using RbfKernel = RbfKernelType;
 // lists on lavapipe, stored compactly (pixel_knn_table.hpp: 64 MB at k = 10 and 124 MB at
 // k = 20 for fove, where flat it took 29.5 MB per neighbour) and seconds to build; RBF
 // adds k floats per canvas pixel for its per-pixel weights (rbf_pixel_weights.hpp) and then
-// costs no more than Modified Shepard. NeighbourLists: the nearest point per canvas pixel plus that point's
-// 20 neighbours (75.6 MB for fove), exact at k <= 7 and close at k = 20; RBF then solves per
-// point each frame (rbf_solve). Nearest neighbour always uses the nearest-point array (the
+// costs no more than Modified Shepard. NeighbourLists: the nearest point per canvas pixel plus that
+// point's 20 neighbours (75.6 MB for fove), exact at k <= 7 and close at k = 20; RBF then solves
+// per point each frame (rbf_solve). Nearest neighbour always uses the nearest-point array (the
 // thesis's table at k = 1).
 enum class KnnIndex { NeighbourLists, PixelTable };
 
