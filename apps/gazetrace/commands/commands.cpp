@@ -18,6 +18,7 @@ std::unique_ptr<Command> makeSlippageCommand();
 std::unique_ptr<Command> makeCalibrateCommand();
 std::unique_ptr<Command> makeDemoCommand();
 std::unique_ptr<Command> makeXrCommand();
+std::unique_ptr<Command> makeStudyCommand();
 std::unique_ptr<Command> makeDevicesCommand();
 std::unique_ptr<Command> makeScenesCommand();
 std::unique_ptr<Command> makeOptionsCommand();
@@ -41,6 +42,7 @@ std::vector<std::unique_ptr<Command>> allCommands(const bool& quiet) {
     c.push_back(makeCalibrateCommand());
     c.push_back(makeDemoCommand());
     c.push_back(makeXrCommand());
+    c.push_back(makeStudyCommand());
     c.push_back(makeDevicesCommand());
     c.push_back(makeScenesCommand());
     c.push_back(makeOptionsCommand());

@@ -1,0 +1,3 @@
+#include "analysis.hpp"
+
+namespace gt::study {} // namespace gt::study

@@ -1,0 +1,57 @@
+#pragma once
+// `gazetrace study analyse`: the journals of one design's runs read back, a psychometric function
+// fitted per participant and condition (maximum likelihood with a lapse rate, bootstrap
+// intervals), the thesis series' and Guenter et al. 2012's own threshold rules beside it, and the
+// participants pooled per condition.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "psychometric.hpp"
+
+namespace gt::study {
+
+struct ParticipantCondition {
+    std::string participant;
+    std::string condition;
+    std::string parameter;
+    std::vector<LevelCount> counts; // practice trials left out
+    PsychometricFit fit;
+    // The procedure's own rule, where it has one: the thesis series' mean of counted reversals,
+    // the pair test's lowest quality judged equal or better, the ramp test's lowest quality
+    // mislabelled, the slider's mean recorded level.
+    std::optional<double> ruleThreshold;
+    uint32_t flaggedTrials = 0; // dropped frames or lost gaze (kept, counted)
+};
+
+struct ConditionSummary {
+    std::string condition;
+    std::string parameter;
+    GroupThreshold group;
+    std::optional<double> ruleMean; // mean of the participants' rule thresholds
+    std::optional<double> ruleSd;
+};
+
+struct Analysis {
+    std::string design;
+    std::vector<ParticipantCondition> participants;
+    std::vector<ConditionSummary> conditions;
+};
+
+struct AnalysisSettings {
+    bool excludeFlagged = false; // leave out trials with dropped frames or lost gaze
+    uint32_t bootstrap = 400;
+    uint64_t seed = 1;
+};
+
+// Throws JournalError naming the file; the journals must share one design (its name and hash).
+[[nodiscard]] Analysis analyseJournals(std::span<const std::filesystem::path> journals,
+                                       const AnalysisSettings& settings);
+[[nodiscard]] nlohmann::json toJson(const Analysis& analysis);
+
+} // namespace gt::study

@@ -1,0 +1,3 @@
+#include "design.hpp"
+
+namespace gt::study {} // namespace gt::study

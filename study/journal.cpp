@@ -1,0 +1,3 @@
+#include "journal.hpp"
+
+namespace gt::study {} // namespace gt::study

@@ -1,0 +1,3 @@
+#include "observer.hpp"
+
+namespace gt::study {} // namespace gt::study

@@ -1,0 +1,3 @@
+#include "placement.hpp"
+
+namespace gt::study {} // namespace gt::study

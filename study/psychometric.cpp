@@ -1,0 +1,3 @@
+#include "psychometric.hpp"
+
+namespace gt::study {} // namespace gt::study

@@ -1,0 +1,3 @@
+#include "session.hpp"
+
+namespace gt::study {} // namespace gt::study
