@@ -164,16 +164,17 @@ FitSettings fitSettingsFor(const StudyDesign& design, const Condition& condition
 } // namespace
 
 // The thesis's series (its 6.2): a reversal is a trial whose answer differs from the trial
-// before (the staircase turns there); the first is not counted, the next `counted` are averaged
+// before (the staircase turns there; the ascending start counts as "no", so a first "yes" is
+// the first reversal); the first is not counted, the next `counted` are averaged
 // ("until each subject reported four threshold values per setting"). Catch trials do not move
 // the series and are skipped. Empty without a counted reversal.
 std::optional<double> seriesThreshold(const std::vector<TrialRecord>& trials, uint32_t counted) {
     std::vector<double> reversals;
-    const TrialRecord* previous = nullptr;
+    bool previous = false; // the series ascends until the first "yes"
     for (const TrialRecord& t : trials) {
         if (t.catchTrial) continue;
-        if (previous != nullptr && t.positive != previous->positive) reversals.push_back(t.level);
-        previous = &t;
+        if (t.positive != previous) reversals.push_back(t.level);
+        previous = t.positive;
     }
     if (reversals.size() < 2) return std::nullopt;
     const auto first = reversals.begin() + 1;
