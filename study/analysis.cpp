@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <memory>
 #include <numeric>
 #include <random>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 
 #include "design.hpp"
 #include "journal.hpp"
@@ -25,20 +25,6 @@ struct RunStart {
     std::string designHash;
     StudyDesign design;
 };
-
-// FNV-1a 64 of the design as JSON, for journals whose start line carries no hash of its own.
-// The seed is left out: runs of one design file differ in it when the file leaves it random.
-std::string hashOfDesign(json design) {
-    design.erase("seed");
-    uint64_t h = 1469598103934665603ull;
-    for (const char c : design.dump()) {
-        h ^= static_cast<uint8_t>(c);
-        h *= 1099511628211ull;
-    }
-    char text[17];
-    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
-    return text;
-}
 
 std::string lineType(const json& line) {
     const auto it = line.find("type");
@@ -66,7 +52,7 @@ RunStart readStart(const std::vector<json>& lines, const std::filesystem::path& 
     run.designName = run.design.name;
     const auto hash = start.find("design_hash");
     run.designHash = hash != start.end() && hash->is_string() ? hash->get<std::string>()
-                                                              : hashOfDesign(start.at("design"));
+                                                              : designHash(run.design);
     return run;
 }
 
@@ -114,46 +100,46 @@ void collectTrials(const std::vector<json>& lines, const RunStart& run,
     }
 }
 
-// Yes/no: the false-alarm rate of the catch trials is the guess rate gamma (Kingdom & Prins,
-// ch. 4: in yes/no, gamma is the rate of "yes" with no signal), capped at one half; a design
-// without catch trials assumes none. Clamped away from 0 and 1 it would bias nothing here: a
-// participant who never says yes to the reference has gamma = 0.
-double falseAlarmRate(const std::vector<TrialRecord>& trials) {
+// Yes/no catch trials (the reference shown alone): how many, how many answered "yes".
+std::pair<uint32_t, uint32_t> catchCounts(const std::vector<TrialRecord>& trials) {
     uint32_t n = 0, yes = 0;
     for (const TrialRecord& t : trials) {
         if (!t.catchTrial) continue;
         ++n;
         yes += t.positive ? 1u : 0u;
     }
-    return n == 0 ? 0.0 : std::min(0.5, static_cast<double>(yes) / n);
+    return {n, yes};
 }
 
 std::vector<LevelCount> countsOf(const std::vector<TrialRecord>& trials) {
     std::vector<double> levels;
+    std::vector<bool> positive;
     for (const TrialRecord& t : trials) {
-        if (!t.catchTrial) levels.push_back(t.level);
+        if (t.catchTrial) continue;
+        levels.push_back(t.level);
+        positive.push_back(t.positive);
     }
-    // std::vector<bool> is not contiguous: the answers go into a plain array for the span.
-    const auto positive = std::make_unique<bool[]>(levels.size());
-    std::size_t i = 0;
-    for (const TrialRecord& t : trials) {
-        if (!t.catchTrial) positive[i++] = t.positive;
-    }
-    return countByLevel(levels, std::span<const bool>(positive.get(), levels.size()));
+    return countByLevel(levels, positive);
 }
 
 // The fit's guess rate per procedure: two-interval forced choice 0.5 (a blind pick is right
-// half the time); yes/no the catch trials' false-alarm rate; the pair and ramp tests 0 (their
-// positive answer, "the reference was better" or "the ramp went this way", is a detection that
-// a participant who sees no difference does not give: they answer "same"); the slider has no
-// fit (its rule is the threshold).
-FitSettings fitSettingsFor(const StudyDesign& design, const Condition& condition, double guess,
-                           const AnalysisSettings& settings, uint64_t seed) {
+// half the time); yes/no the false-alarm rate, fitted with the function from the catch trials'
+// "yes" answers (Kingdom & Prins, ch. 4: in yes/no, gamma is the rate of "yes" with no signal;
+// without catch trials it is fitted from the levels alone, within [0, 0.5]); the pair and ramp
+// tests 0 (their positive answer, "the reference was better" or "the ramp went this way", is a
+// detection that a participant who sees no difference does not give: they answer "same"); the
+// slider has no fit (its rule is the threshold).
+FitSettings fitSettingsFor(const StudyDesign& design, const Condition& condition,
+                           const std::vector<TrialRecord>& trials, const AnalysisSettings& settings,
+                           uint64_t seed) {
     FitSettings fit;
     fit.shape = condition.placement.shape;
     fit.increasing = infoOf(condition.vary).higherFoveatesMore;
-    fit.guess = design.procedure == Procedure::ForcedChoice ? 0.5 : guess;
-    fit.fitGuess = false;
+    fit.guess = design.procedure == Procedure::ForcedChoice ? 0.5 : 0.0;
+    if (design.procedure == Procedure::YesNo) {
+        fit.fitGuess = true;
+        std::tie(fit.catchTrials, fit.catchPositive) = catchCounts(trials);
+    }
     fit.levelMin = condition.placement.grid.min;
     fit.levelMax = condition.placement.grid.max;
     fit.bootstrap = settings.bootstrap;
@@ -240,10 +226,9 @@ ParticipantCondition analyseCell(const Cell& cell, const StudyDesign& design,
     pc.parameter = std::string(infoOf(condition.vary).name);
     pc.counts = countsOf(cell.trials);
     pc.flaggedTrials = cell.flagged;
-    const double guess = design.procedure == Procedure::YesNo ? falseAlarmRate(cell.trials) : 0.0;
     if (design.procedure != Procedure::Slider && !pc.counts.empty()) {
-        pc.fit =
-            fitPsychometric(pc.counts, fitSettingsFor(design, condition, guess, settings, seed));
+        pc.fit = fitPsychometric(pc.counts,
+                                 fitSettingsFor(design, condition, cell.trials, settings, seed));
         pc.fitted = true;
     }
     pc.ruleThreshold = ruleThreshold(design, condition, cell.trials, pc.counts);
@@ -312,9 +297,8 @@ ConditionSummary summarise(const Condition& condition, const StudyDesign& design
         summary.ruleSd = sampleSd(rules);
     }
     if (!fits.empty()) {
-        const double guess = design.procedure == Procedure::YesNo ? falseAlarmRate(allTrials) : 0.0;
-        summary.group = poolParticipants(fits, counts,
-                                         fitSettingsFor(design, condition, guess, settings, seed));
+        summary.group = poolParticipants(
+            fits, counts, fitSettingsFor(design, condition, allTrials, settings, seed));
         summary.fitted = true;
     } else if (!rules.empty()) {
         summary.group = groupOfRules(rules, settings.bootstrap, seed);
