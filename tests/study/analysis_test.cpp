@@ -1,8 +1,13 @@
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <random>
 
+#include <unistd.h>
+
 #include "analysis.hpp"
+#include "design.hpp"
+#include "observer.hpp"
 #include "placement.hpp"
 
 namespace gt::study {
@@ -80,6 +85,159 @@ TEST(AnalysisRules, SliderIsTheMeanRecordedLevel) {
     trials[1].sliderLevel = 0.03;
     EXPECT_NEAR(*sliderThreshold(trials), 0.025, 1e-12);
     EXPECT_FALSE(sliderThreshold(std::vector<TrialRecord>(2)).has_value());
+}
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+StudyDesign designOf(const std::string& procedure, double catchRate = 0.0) {
+    json d{{"name", "analysis-test"},
+           {"procedure", procedure},
+           {"conditions",
+            {{{"name", "nn"},
+              {"vary", "scale"},
+              {"levels", {{"min", 1.0}, {"max", 3.0}, {"step", 0.1}}},
+              {"placement", {{"kind", "constant"}, {"repeats", 20}}}}}}};
+    if (catchRate > 0.0) d["catch_rate"] = catchRate;
+    return parseDesign(d, "analysis-test.json");
+}
+
+// A journal as the session writes it: the start line, then one line per trial answered by a
+// simulated observer at every grid level `repeats` times (plus practice, flagged and catch
+// trials where asked).
+struct JournalPlan {
+    std::string participant;
+    PsychometricFunction observer;
+    uint32_t repeats = 20;
+    uint32_t practice = 0;
+    uint32_t flaggedEvery = 0; // every n-th trial flagged (0: none)
+    uint32_t catchTrials = 0;
+};
+
+void writeJournal(const fs::path& path, const StudyDesign& design, const JournalPlan& plan,
+                  uint64_t seed) {
+    Journal journal(path);
+    journal.append({{"type", "start"},
+                    {"design", designToJson(design)},
+                    {"design_hash", designHash(design)},
+                    {"seed", seed},
+                    {"participant", plan.participant},
+                    {"run", "0123456789abcdef"}});
+    SimulatedObserver observer(plan.observer, seed);
+    uint32_t index = 0;
+    auto add = [&](double level, bool practice, bool catchTrial) {
+        TrialRecord t;
+        t.trial = index++;
+        t.practice = practice;
+        t.condition = "nn";
+        t.parameter = "scale";
+        t.level = level;
+        t.catchTrial = catchTrial;
+        t.positive = catchTrial ? observer.answerCatch() : observer.answer(level);
+        t.response = t.positive ? "yes" : "no";
+        if (plan.flaggedEvery > 0 && index % plan.flaggedEvery == 0) t.flags = {"dropped_frame"};
+        journal.append(toJson(t));
+    };
+    for (uint32_t i = 0; i < plan.practice; ++i)
+        add(3.0, true, false);
+    for (uint32_t r = 0; r < plan.repeats; ++r) {
+        for (const double level : design.conditions[0].placement.grid.all())
+            add(level, false, false);
+    }
+    for (uint32_t i = 0; i < plan.catchTrials; ++i)
+        add(0.0, false, true);
+    journal.append({{"type", "end"}});
+}
+
+class AnalyseJournals : public ::testing::Test {
+protected:
+    void SetUp() override {
+        mDir = fs::temp_directory_path() /
+               ("gt-analysis-" + std::to_string(::getpid()) + "-" +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(mDir);
+        fs::create_directories(mDir);
+    }
+    void TearDown() override { fs::remove_all(mDir); }
+    fs::path mDir;
+};
+
+TEST_F(AnalyseJournals, RecoversEachParticipantsThresholdAndPoolsThem) {
+    const StudyDesign design = designOf("forced-choice");
+    const std::vector<double> planted{1.6, 2.2};
+    std::vector<fs::path> journals;
+    for (std::size_t i = 0; i < planted.size(); ++i) {
+        JournalPlan plan;
+        plan.participant = "P0" + std::to_string(i + 1);
+        plan.observer = {PsychometricShape::Logistic, planted[i], 8.0, 0.5, 0.0, true};
+        plan.practice = 5;
+        plan.flaggedEvery = 10;
+        journals.push_back(mDir / (plan.participant + ".jsonl"));
+        writeJournal(journals.back(), design, plan, 7 + i);
+    }
+    const Analysis a = analyseJournals(journals, {false, 200, 3});
+    EXPECT_EQ(a.design, "analysis-test");
+    ASSERT_EQ(a.participants.size(), 2u);
+    for (std::size_t i = 0; i < planted.size(); ++i) {
+        const ParticipantCondition& pc = a.participants[i];
+        EXPECT_EQ(pc.participant, "P0" + std::to_string(i + 1));
+        EXPECT_EQ(pc.parameter, "scale");
+        ASSERT_TRUE(pc.fitted);
+        EXPECT_EQ(pc.fit.trials, 21u * 20u) << "practice trials are left out";
+        EXPECT_EQ(pc.counts.size(), 21u);
+        EXPECT_EQ(pc.flaggedTrials, 42u);
+        EXPECT_DOUBLE_EQ(pc.fit.function.guess, 0.5);
+        EXPECT_NEAR(pc.fit.function.threshold, planted[i], 0.15);
+        EXPECT_LT(pc.fit.thresholdLow, pc.fit.function.threshold);
+        EXPECT_GT(pc.fit.thresholdHigh, pc.fit.function.threshold);
+        EXPECT_FALSE(pc.ruleThreshold.has_value()) << "2IFC with constant stimuli has no rule";
+    }
+    ASSERT_EQ(a.conditions.size(), 1u);
+    EXPECT_EQ(a.conditions[0].group.participants, 2u);
+    EXPECT_NEAR(
+        a.conditions[0].group.mean,
+        (a.participants[0].fit.function.threshold + a.participants[1].fit.function.threshold) / 2.0,
+        1e-9);
+    const json j = toJson(a);
+    EXPECT_EQ(j.at("participants").size(), 2u);
+    EXPECT_EQ(j.at("conditions")[0].at("participants"), 2);
+    EXPECT_TRUE(j.at("conditions")[0].at("rule_mean").is_null());
+
+    const Analysis excluded = analyseJournals(journals, {true, 200, 3});
+    EXPECT_EQ(excluded.participants[0].fit.trials, 21u * 20u - 42u);
+    EXPECT_EQ(excluded.participants[0].flaggedTrials, 42u);
+}
+
+TEST_F(AnalyseJournals, YesNoFitsTheGuessRateFromTheCatchTrials) {
+    const StudyDesign design = designOf("yes-no", 0.2);
+    JournalPlan plan;
+    plan.participant = "P01";
+    plan.observer = {PsychometricShape::Logistic, 1.8, 8.0, 0.3, 0.0, true};
+    plan.catchTrials = 200;
+    const fs::path journal = mDir / "p01.jsonl";
+    writeJournal(journal, design, plan, 11);
+    const Analysis a = analyseJournals(std::vector<fs::path>{journal}, {false, 100, 3});
+    ASSERT_EQ(a.participants.size(), 1u);
+    EXPECT_NEAR(a.participants[0].fit.function.guess, 0.3, 0.06);
+    EXPECT_NEAR(a.participants[0].fit.function.threshold, 1.8, 0.2);
+}
+
+TEST_F(AnalyseJournals, RefusesJournalsOfAnotherDesignNamingTheFile) {
+    JournalPlan plan;
+    plan.participant = "P01";
+    plan.repeats = 1;
+    writeJournal(mDir / "a.jsonl", designOf("forced-choice"), plan, 1);
+    writeJournal(mDir / "b.jsonl", designOf("yes-no"), plan, 2);
+    try {
+        (void)analyseJournals(std::vector<fs::path>{mDir / "a.jsonl", mDir / "b.jsonl"}, {});
+        FAIL() << "journals of two designs were pooled";
+    } catch (const JournalError& e) {
+        EXPECT_NE(std::string(e.what()).find("b.jsonl"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("a.jsonl"), std::string::npos) << e.what();
+    }
+    Journal notAStudy(mDir / "c.jsonl");
+    notAStudy.append({{"type", "trial"}, {"trial", 0}});
+    EXPECT_THROW((void)analyseJournals(std::vector<fs::path>{mDir / "c.jsonl"}, {}), JournalError);
 }
 
 } // namespace
