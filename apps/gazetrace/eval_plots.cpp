@@ -303,4 +303,88 @@ quality::RgbaImage curvesImage(const std::vector<std::vector<std::pair<double, d
     return img;
 }
 
+namespace {
+
+constexpr int kLegendRows = 12; // more participants than this are summed up in one line
+
+void disc(quality::RgbaImage& img, double cx, double cy, double r, std::array<uint8_t, 3> c) {
+    const int x0 = static_cast<int>(std::floor(cx - r)), x1 = static_cast<int>(std::ceil(cx + r));
+    const int y0 = static_cast<int>(std::floor(cy - r)), y1 = static_cast<int>(std::ceil(cy + r));
+    for (int y = y0; y <= y1; ++y) {
+        for (int x = x0; x <= x1; ++x) {
+            if ((x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r) put(img, x, y, c);
+        }
+    }
+}
+
+quality::RgbaImage psychometricPanel(const PsychometricPanel& panel) {
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < panel.series.size() && i < kLegendRows; ++i)
+        names.push_back(panel.series[i].name);
+    if (panel.series.size() > kLegendRows) {
+        names.push_back("+" + std::to_string(panel.series.size() - kLegendRows) + " more");
+    }
+    PlotLayout l = frame(names, 1.0);
+    if (panel.series.size() > kLegendRows) l.legend.back().colour = {255, 255, 255};
+    quality::RgbaImage img =
+        canvas(static_cast<uint32_t>(l.width), static_cast<uint32_t>(l.height));
+    // A margin of a twentieth of the span each side, so the end levels are not on the axes.
+    const double span = std::max(panel.xMax - panel.xMin, 1e-12);
+    const double x0 = panel.xMin - 0.05 * span, x1 = panel.xMax + 0.05 * span;
+    auto px = [&](double x) {
+        return l.area.x0 + (x - x0) / (x1 - x0) * static_cast<double>(l.area.x1 - l.area.x0);
+    };
+    auto py = [&](double y) { return static_cast<double>(yPixel(l, y)); };
+    if (panel.group) {
+        const auto& [mean, low, high] = *panel.group;
+        fill(img, static_cast<int>(px(low)), l.area.y0, static_cast<int>(px(high)) + 1, l.area.y1,
+             {225, 225, 225});
+    }
+    drawFrame(img, l, panel.title, "proportion positive", "%.1f");
+    textCentred(img, (l.area.x0 + l.area.x1) / 2, l.area.y1 + 30, panel.xTitle, kBlack);
+    const double tickStep = roundUp(span / 6.0);
+    for (double v = std::ceil(panel.xMin / tickStep - 1e-9) * tickStep;
+         v <= panel.xMax + 1e-9 * span; v += tickStep) {
+        const int x = static_cast<int>(std::lround(px(v)));
+        fill(img, x, l.area.y1, x + 1, l.area.y1 + 5, kBlack);
+        textCentred(img, x, l.area.y1 + 8, number(v, "%.4g"), kBlack);
+    }
+    for (std::size_t s = 0; s < panel.series.size(); ++s) {
+        const PsychometricSeries& series = panel.series[s];
+        const auto colour = seriesColour(s);
+        for (std::size_t i = 1; i < series.curve.size(); ++i) {
+            line(img, px(series.curve[i - 1].first), py(series.curve[i - 1].second),
+                 px(series.curve[i].first), py(series.curve[i].second), colour);
+        }
+        for (const auto& [level, proportion, trials] : series.points)
+            disc(img, px(level), py(proportion), std::min(10.0, 1.5 + std::sqrt(trials)), colour);
+    }
+    if (panel.group) {
+        const auto& [mean, low, high] = *panel.group;
+        const int x = static_cast<int>(std::lround(px(mean)));
+        fill(img, x - 1, l.area.y0, x + 2, l.area.y1, kBlack);
+        text(img, l.area.x0 + 6, l.area.y0 + 4,
+             "group threshold " + number(mean, "%.4g") + "  95% [" + number(low, "%.4g") + ", " +
+                 number(high, "%.4g") + "]",
+             kBlack);
+    }
+    return img;
+}
+
+} // namespace
+
+quality::RgbaImage psychometricImage(const std::vector<PsychometricPanel>& panels) {
+    std::vector<quality::RgbaImage> parts;
+    for (const PsychometricPanel& panel : panels)
+        parts.push_back(psychometricPanel(panel));
+    if (parts.empty()) parts.push_back(canvas(kPlotW, kPlotH));
+    quality::RgbaImage img = canvas(kPlotW, static_cast<uint32_t>(kPlotH * parts.size()));
+    std::size_t offset = 0;
+    for (const quality::RgbaImage& part : parts) {
+        std::copy(part.pixels.begin(), part.pixels.end(), img.pixels.begin() + offset);
+        offset += part.pixels.size();
+    }
+    return img;
+}
+
 } // namespace gt::app

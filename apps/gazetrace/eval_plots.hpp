@@ -5,6 +5,7 @@
 // series in its colour, in a small built-in bitmap font (stb_easy_font); the colours are also
 // listed in the JSON (`plots`).
 #include <array>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -73,5 +74,24 @@ struct CurveAxes {
 [[nodiscard]] quality::RgbaImage
 curvesImage(const std::vector<std::vector<std::pair<double, double>>>& series,
             const std::vector<std::string>& names, const CurveAxes& axes = {});
+
+// `study analyse`'s psychometric plot, one panel per condition: each participant's proportion of
+// positive answers per level (a dot whose area grows with the level's trials) and fitted curve in
+// the participant's colour, and the group threshold (a black line) with its interval (grey).
+struct PsychometricSeries {
+    std::string name;                             // the participant's code
+    std::vector<std::array<double, 3>> points;    // level, proportion positive, trials
+    std::vector<std::pair<double, double>> curve; // the fit sampled: level, probability
+};
+
+struct PsychometricPanel {
+    std::string title;  // the condition
+    std::string xTitle; // the parameter
+    double xMin = 0.0, xMax = 1.0;
+    std::vector<PsychometricSeries> series;
+    std::optional<std::array<double, 3>> group; // mean, low, high
+};
+
+[[nodiscard]] quality::RgbaImage psychometricImage(const std::vector<PsychometricPanel>& panels);
 
 } // namespace gt::app
