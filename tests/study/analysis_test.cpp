@@ -9,6 +9,7 @@
 #include "design.hpp"
 #include "observer.hpp"
 #include "placement.hpp"
+#include "simulation.hpp"
 
 namespace gt::study {
 namespace {
@@ -238,6 +239,53 @@ TEST_F(AnalyseJournals, RefusesJournalsOfAnotherDesignNamingTheFile) {
     Journal notAStudy(mDir / "c.jsonl");
     notAStudy.append({{"type", "trial"}, {"trial", 0}});
     EXPECT_THROW((void)analyseJournals(std::vector<fs::path>{mDir / "c.jsonl"}, {}), JournalError);
+}
+
+// Every design shipped in content/studies parses.
+TEST(ContentStudies, EveryDesignParses) {
+    const fs::path folder = fs::path(GT_SOURCE_DIR) / "content" / "studies";
+    uint32_t designs = 0;
+    for (const fs::directory_entry& e : fs::directory_iterator(folder)) {
+        if (e.path().extension() != ".json") continue;
+        SCOPED_TRACE(e.path().filename().string());
+        const StudyDesign d = loadDesign(e.path());
+        EXPECT_EQ(d.name, e.path().stem().string()) << "a design is named as its file";
+        EXPECT_FALSE(d.description.empty());
+        ++designs;
+    }
+    EXPECT_GE(designs, 5u);
+}
+
+// The thesis's experiment run by simulated observers through the real session: the fits and
+// the thesis's own rule (the mean of the counted reversals) come back near the planted
+// threshold in every condition, and the journals hold every answered trial.
+TEST_F(AnalyseJournals, SimulatedThesisScaleRecoversThePlantedThreshold) {
+    const StudyDesign design =
+        loadDesign(fs::path(GT_SOURCE_DIR) / "content" / "studies" / "thesis-scale.json");
+    DesignSimulationSettings settings;
+    settings.observers = 10;
+    settings.threshold = 1.75; // the thesis's Table 3, NN
+    settings.slope = 10.0;     // 25 % to 75 % detection over 0.22 of scale
+    settings.seed = 5;
+    const DesignSimulation sim = simulateDesign(design, settings, mDir);
+    ASSERT_EQ(sim.journals.size(), 10u);
+    ASSERT_EQ(sim.conditions.size(), 3u);
+    for (const ConditionRecovery& c : sim.conditions) {
+        SCOPED_TRACE(c.condition);
+        EXPECT_DOUBLE_EQ(c.planted.threshold, 1.75);
+        EXPECT_EQ(c.fitted, 10u);
+        ASSERT_TRUE(c.errorMedian && c.ruleErrorMedian && c.trialsMedian);
+        EXPECT_LT(*c.errorMedian, 0.15);
+        EXPECT_LT(*c.ruleErrorMedian, 0.15);
+        EXPECT_GE(*c.trialsMedian, 6.0); // an ascent from 1.0 and four counted reversals
+    }
+    // The journals analyse again to the same fits (study analyse DIR/*.jsonl).
+    const Analysis again = analyseJournals(sim.journals, {false, 200, 5});
+    ASSERT_EQ(again.participants.size(), sim.analysis.participants.size());
+    EXPECT_DOUBLE_EQ(again.participants[0].fit.function.threshold,
+                     sim.analysis.participants[0].fit.function.threshold);
+    EXPECT_THROW((void)simulateDesign(design, settings, mDir), JournalError)
+        << "a simulation never appends to an earlier run's journals";
 }
 
 } // namespace
