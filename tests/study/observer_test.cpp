@@ -14,8 +14,8 @@ namespace {
 // its threshold, a slope that takes it from chance to near certainty over about half a scale
 // unit (F from 0.1 to 0.9 over 2 ln 9 / 8 = 0.55), and a lapse rate of 0.02 (Wichmann & Hill
 // 2001's typical observer).
-PsychometricFunction plantedObserver() {
-    return {PsychometricShape::Logistic, 1.75, 8.0, 0.5, 0.02, true};
+PsychometricFunction plantedObserver(double threshold = 1.75) {
+    return {PsychometricShape::Logistic, threshold, 8.0, 0.5, 0.02, true};
 }
 constexpr double kPlanted = 1.75;
 constexpr int kObservers = 100;
@@ -63,10 +63,11 @@ SimulationSettings questPlus() {
     return s;
 }
 
-std::vector<SimulatedRun> runObservers(const SimulationSettings& settings) {
+std::vector<SimulatedRun> runObservers(const SimulationSettings& settings,
+                                       double threshold = kPlanted) {
     std::vector<SimulatedRun> runs;
     for (int i = 0; i < kObservers; ++i) {
-        SimulatedObserver observer(plantedObserver(), 1000 + i);
+        SimulatedObserver observer(plantedObserver(threshold), 1000 + i);
         runs.push_back(simulateRun(observer, settings, 5000 + i));
     }
     return runs;
@@ -174,18 +175,29 @@ TEST(SimulatedRunAcceptance, StaircaseIntervalsCoverThePlantedThreshold) {
 
 // QUEST+ (Watson 2017) gets the threshold within 0.2 scale units (two grid steps), and keeps it
 // there, in fewer trials than the staircase's fitted threshold, for the same 100 observers and
-// 80 trials each.
+// 80 trials each; and again for observers whose threshold (1.3) is far from the middle of the
+// grid, where an estimate that stayed near its prior would not pass.
 TEST(SimulatedRunAcceptance, QuestPlusReachesTheToleranceInFewerTrials) {
     SimulationSettings stairs = staircase();
     stairs.placement.reversals = 1000; // run to maxTrials, as QUEST+ does
     stairs.placement.maxTrials = 80;
     stairs.fit.bootstrap = 0;
-    const double staircaseTrials = medianTrialsToTolerance(runObservers(stairs));
-    const double questTrials = medianTrialsToTolerance(runObservers(questPlus()));
-    RecordProperty("staircase_median_trials", std::to_string(staircaseTrials));
-    RecordProperty("quest_median_trials", std::to_string(questTrials));
-    EXPECT_LT(questTrials, staircaseTrials);
-    EXPECT_LT(staircaseTrials, 81.0); // both get there
+    for (const double threshold : {kPlanted, 1.3}) {
+        const std::string tag = std::to_string(threshold).substr(0, 4);
+        const double staircaseTrials = medianTrialsToTolerance(runObservers(stairs, threshold));
+        const std::vector<SimulatedRun> quest = runObservers(questPlus(), threshold);
+        const double questTrials = medianTrialsToTolerance(quest);
+        std::vector<double> errors;
+        for (const SimulatedRun& run : quest) {
+            errors.push_back(std::abs(*run.estimates.back() - threshold));
+        }
+        RecordProperty("staircase_median_trials_" + tag, std::to_string(staircaseTrials));
+        RecordProperty("quest_median_trials_" + tag, std::to_string(questTrials));
+        RecordProperty("quest_median_final_error_" + tag, std::to_string(median(errors)));
+        EXPECT_LT(questTrials, staircaseTrials) << threshold;
+        EXPECT_LT(staircaseTrials, 81.0) << threshold; // both get there
+        EXPECT_LT(median(errors), 0.08) << threshold;
+    }
 }
 
 } // namespace
