@@ -65,7 +65,8 @@ struct FitSettings {
 struct PsychometricFit {
     PsychometricFunction function;
     double logLikelihood = 0.0;
-    double thresholdLow = 0.0; // the bootstrap's percentile interval for alpha
+    double thresholdLow = 0.0; // the bootstrap's percentile interval for alpha (widened by the
+                               // sensitivity analysis when FitSettings::sensitivity)
     double thresholdHigh = 0.0;
     double slopeLow = 0.0;
     double slopeHigh = 0.0;
