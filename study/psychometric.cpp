@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
@@ -162,8 +161,7 @@ SearchBox searchBox(const FitSettings& s) {
     const bool weibull = s.shape == PsychometricShape::Weibull;
     const double alphaLow = weibull ? std::max(s.levelMin, 1e-9 * s.levelMax) : s.levelMin;
     const double betaLow = weibull ? 0.5 : 0.5 / range;
-    const double betaHigh =
-        weibull ? 50.0 : (std::getenv("BHI") ? std::atof(std::getenv("BHI")) : 500.0 / range);
+    const double betaHigh = weibull ? 50.0 : 500.0 / range;
     box.low = {alphaLow, std::log(betaLow), 0.0, 0.0};
     box.high = {s.levelMax, std::log(betaHigh), s.maxLapse, kMaxGuess};
     box.dimensions = s.fitGuess ? 4 : 3;
