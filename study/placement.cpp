@@ -251,8 +251,8 @@ private:
 
 // Watson 2017's QUEST+ for one binary answer: a posterior over a grid of psychometric functions
 // (thresholds at the grid's levels x questSlopes x questLapses, a uniform prior), each trial at
-// the grid level whose two possible answers leave the least expected posterior entropy (its
-// "Method"), or, with questThresholdEntropy, the least expected entropy of the threshold's
+// the grid level whose two possible answers leave the least expected posterior entropy, or,
+// with questThresholdEntropy, the least expected entropy of the threshold's
 // marginal posterior, slope and lapse treated as nuisance parameters (the `marginalize` option
 // of Brainard's mQUESTPlus implementation). The estimate is the posterior mean of the threshold
 // (marginalised over slope and lapse), which moves smoothly where the marginal mode would jump
