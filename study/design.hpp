@@ -38,8 +38,9 @@
 //     {"name": "scale",              required, unique; [A-Za-z0-9_.-], 1-64
 //      "vary": "scale",              required: scale | rays-per-point | k | slope | layers
 //      "levels": {"min": 1.0, "max": 3.0, "step": 0.1},   required: within the parameter's
-//                                    range (stimulus.hpp), min < max; step 0: continuous
-//                                    (default 1 for whole-number parameters, else 0); or a
+//                                    range (stimulus.hpp), min < max; step 0: continuous, 64
+//                                    levels (quest-plus and constant only: a staircase needs a
+//                                    step); default 1 for whole-number parameters, else 0; or a
 //                                    list of levels [1.0, 1.5, 2.0]; whole numbers where the
 //                                    parameter is one
 //      "method": "foveated",         foveated | layers; default: layers when vary is slope or

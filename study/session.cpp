@@ -870,7 +870,10 @@ void StudySession::State::resume() {
     planner = std::make_unique<Planner>(design, seed);
     for (std::size_t i = 1; i < lines.size(); ++i)
         replay(lines[i], i + 1);
-    journal.append({{"type", "resume"}, {"time", nowUtc()}, {"trials_done", trialsDone}});
+    // A run that is already complete stays as it is.
+    if (planner->next(planner->slots())) {
+        journal.append({{"type", "resume"}, {"time", nowUtc()}, {"trials_done", trialsDone}});
+    }
 }
 
 StudySession::StudySession(StudyDesign design, SessionSettings settings, Journal& journal)
