@@ -26,6 +26,10 @@ public:
 
 // What a participant can answer; which ones a trial takes depends on the procedure.
 enum class Response { First, Second, Same, Yes, No, Up, Down, Reference, Accept, Continue };
+// "first", "second", "same", "yes", "no", "up", "down", "reference", "accept", "continue": the
+// journal's words, and what a front end's key or controller map may name.
+[[nodiscard]] std::string responseName(Response response);
+[[nodiscard]] std::optional<Response> responseNamed(std::string_view name);
 
 // One frame's gaze, as visual angles from the view's centre (degrees; +x right, +y up), or empty
 // when the tracker has none this frame.

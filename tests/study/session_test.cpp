@@ -637,5 +637,15 @@ TEST_F(SessionTest, NoAnswerBeforeTheTimeoutRepeatsTheTrial) {
     EXPECT_EQ(trials[0]["trial"], 1u);
 }
 
+TEST(Responses, NamesRoundTrip) {
+    for (const Response r : {Response::First, Response::Second, Response::Same, Response::Yes,
+                             Response::No, Response::Up, Response::Down, Response::Reference,
+                             Response::Accept, Response::Continue}) {
+        EXPECT_EQ(responseNamed(responseName(r)), r) << responseName(r);
+    }
+    EXPECT_EQ(responseName(Response::First), "first");
+    EXPECT_FALSE(responseNamed("1"));
+}
+
 } // namespace
 } // namespace gt::study
