@@ -60,7 +60,8 @@
 //        "target": 0.75,             weighted staircase, (0, 1); forced-choice: above 0.5
 //        "reversals": 8, "skip_reversals": 2,   skip below reversals
 //        "max_trials": 80,           1-10000
-//        "repeats": 2,               constant: trials per level; slider: trials
+//        "repeats": 2,               constant: trials per level (max_trials caps the
+//                                    total); slider: slider trials per condition
 //        "quest_slopes": [2, 4, 8, 16], "quest_lapses": [0, 0.02, 0.04],
 //        "guess": 0.5,               [0, 1); default 0.5 for forced-choice, else 0
 //        "shape": "logistic"}}]      logistic | cumulative-normal | weibull

@@ -56,7 +56,10 @@ enum class Phase { Instructions, Break, Fixation, Interval, Blank, Response, Don
 //  - Fixation (fixationMs; with a fixation radius, the gaze inside it for that long) ->
 //    Interval -> Blank -> Interval ... -> Response; ForcedChoice and Pair show two intervals,
 //    YesNo one, Ramp rampSteps; Slider goes from Fixation to Response, where the condition is
-//    shown, and Reference shows the comparison for one interval (intervalMs) and goes back;
+//    shown from its most foveated level, Up / Down move it one level towards less / more
+//    foveation, and Reference shows the comparison for one interval (intervalMs) and goes back;
+//  - a trial's practice and its slider start are at the most foveated level (the easiest to
+//    tell); practice and catch trials never reach the placement;
 //  - an answer ends the trial on the frame it arrives, which begins the next trial's Fixation
 //    (or a Break, or Done); answers a phase does not accept are ignored;
 //  - during an Interval, the gaze outside the fixation radius or an angular speed above
