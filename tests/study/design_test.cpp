@@ -163,6 +163,10 @@ TEST(Design, ConditionNamesAreUniqueAndNotEmpty) {
     j["conditions"].push_back(j["conditions"][0]);
     EXPECT_EQ(errorOf(j), "t.json: conditions[1].name: 'scale' names an earlier condition too");
     j = minimalDesign();
+    j["conditions"][0]["name"] = "two\nlines";
+    EXPECT_EQ(errorOf(j), "t.json: conditions[0].name: 'two\\x0alines' is not 1-64 letters, "
+                          "digits, '_', '.', '-'");
+    j = minimalDesign();
     j["conditions"][0]["name"] = "";
     EXPECT_EQ(errorOf(j).rfind("t.json: conditions[0].name: '' is not", 0), 0u);
 }
