@@ -76,11 +76,11 @@ SimulatedRun simulateRun(SimulatedObserver& observer, const SimulationSettings& 
     run.fit = fitPsychometric(countByLevel(run.levels, run.positive), fit);
     // QUEST+ is judged by its own posterior estimate (Watson 2017); the other placements by the
     // fit an analysis would make of their answers.
-    const std::vector<std::optional<double>> estimates =
-        settings.placement.kind == PlacementKind::QuestPlus ? placementEstimates
-                                                            : fittedPerTrial(run, settings.fit);
+    run.estimates = settings.placement.kind == PlacementKind::QuestPlus
+                        ? std::move(placementEstimates)
+                        : fittedPerTrial(run, settings.fit);
     run.trialsToTolerance =
-        trialsToTolerance(estimates, observer.function().threshold, settings.tolerance);
+        trialsToTolerance(run.estimates, observer.function().threshold, settings.tolerance);
     return run;
 }
 

@@ -34,6 +34,9 @@ struct SimulatedRun {
     std::vector<bool> positive;
     PsychometricFit fit;
     std::optional<double> placementEstimate;
+    // The threshold estimate after each trial (QUEST+: its posterior's; the others: a fit of the
+    // answers so far), the curve trialsToTolerance reads.
+    std::vector<std::optional<double>> estimates;
     // Trials after which the fitted (or QUEST+ posterior) threshold stayed within `tolerance` of
     // the observer's for the rest of the run; 0 when it never did.
     uint32_t trialsToTolerance = 0;

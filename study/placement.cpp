@@ -251,9 +251,12 @@ private:
 
 // Watson 2017's QUEST+ for one binary answer: a posterior over a grid of psychometric functions
 // (thresholds at the grid's levels x questSlopes x questLapses, a uniform prior), each trial at
-// the grid level whose two possible answers leave the least expected posterior entropy (its
-// eq. 8-11). The estimate is the posterior mean of the threshold (marginalised over slope and
-// lapse), which moves smoothly where the marginal mode would jump between grid levels.
+// the grid level whose two possible answers leave the least expected posterior entropy, or,
+// with questThresholdEntropy, the least expected entropy of the threshold's
+// marginal posterior, slope and lapse treated as nuisance parameters (the `marginalize` option
+// of Brainard's mQUESTPlus implementation). The estimate is the posterior mean of the threshold
+// (marginalised over slope and lapse), which moves smoothly where the marginal mode would jump
+// between grid levels.
 class QuestPlus final : public LevelPlacement {
 public:
     explicit QuestPlus(const PlacementSettings& settings)
@@ -265,6 +268,9 @@ public:
                                           settings.higherFoveatesMore});
                 }
             }
+        }
+        if (settings.questThresholdEntropy) {
+            mBlock = settings.questSlopes.size() * settings.questLapses.size();
         }
         mPosterior.assign(mFunctions.size(), 1.0 / static_cast<double>(mFunctions.size()));
         mLikelihood.reserve(mStimuli.size() * mFunctions.size());
@@ -309,17 +315,29 @@ public:
     [[nodiscard]] uint32_t trials() const override { return mTrials; }
 
 private:
-    static double entropy(std::span<const double> weights, double total) {
+    // The entropy of the posterior the weights (summing to `total`) make; over the thresholds
+    // alone when the settings marginalise slope and lapse (blocks of `mBlock` functions share a
+    // threshold).
+    [[nodiscard]] double entropy(std::span<const double> weights, double total) const {
         double h = 0.0;
-        for (double w : weights) {
-            const double p = w / total;
+        for (std::size_t start = 0; start < weights.size(); start += mBlock) {
+            const std::size_t end = std::min(start + mBlock, weights.size());
+            if (mBlock == 1) {
+                const double p = weights[start] / total;
+                if (p > 0.0) h -= p * std::log(p);
+                continue;
+            }
+            double p = 0.0;
+            for (std::size_t j = start; j < end; ++j)
+                p += weights[j];
+            p /= total;
             if (p > 0.0) h -= p * std::log(p);
         }
         return h;
     }
 
     // The stimulus minimising the expected entropy of the next posterior; ties go to the first.
-    [[nodiscard]] double bestStimulus() {
+    [[nodiscard]] double bestStimulus() const {
         const std::size_t n = mFunctions.size();
         std::vector<double> yes(n);
         std::vector<double> no(n);
@@ -348,6 +366,7 @@ private:
     std::vector<PsychometricFunction> mFunctions;
     std::vector<double> mPosterior;
     std::vector<double> mLikelihood; // [stimulus][function]: psi
+    std::size_t mBlock = 1;          // functions per entropy term: 1, or all that share a threshold
     uint32_t mLimit;
     uint32_t mTrials = 0;
     double mNext = 0.0;

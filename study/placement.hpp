@@ -55,6 +55,9 @@ struct PlacementSettings {
     // QUEST+: the grid of psychometric functions (thresholds from `grid`).
     std::vector<double> questSlopes{2.0, 4.0, 8.0, 16.0};
     std::vector<double> questLapses{0.0, 0.02, 0.04};
+    // QUEST+: choose levels for what they tell about the threshold alone (the expected entropy
+    // of its marginal posterior) rather than about threshold, slope and lapse together.
+    bool questThresholdEntropy = false;
     double guess = 0.5; // QUEST+ likelihoods (2IFC 0.5; yes/no the catch-trial rate)
     PsychometricShape shape = PsychometricShape::Logistic;
 };

@@ -262,11 +262,12 @@ SearchResult nelderMead(const Objective& f, Point start, const Point& scale) {
 
 // A coarse grid over the box (alpha x log beta x lapse x guess) to start the simplex near the
 // global maximum: the likelihood of a few levels can have more than one local maximum.
-SearchResult coarseStart(const Objective& f) {
+// A bootstrap refit, which has its generating function to start from, takes a coarser grid.
+SearchResult coarseStart(const Objective& f, bool coarser) {
     const SearchBox& box = f.box;
-    constexpr int kAlphas = 21;
-    constexpr int kBetas = 10;
-    const int lapses = box.high[2] > 0.0 ? 3 : 1;
+    const int kAlphas = coarser ? 9 : 21;
+    const int kBetas = coarser ? 5 : 10;
+    const int lapses = box.high[2] > 0.0 ? (coarser ? 2 : 3) : 1;
     const int guesses = box.dimensions == 4 ? 4 : 1;
     const auto at = [&](std::size_t axis, int i, int count) {
         return count == 1 ? box.low[axis]
@@ -288,11 +289,16 @@ SearchResult coarseStart(const Objective& f) {
     return best;
 }
 
-// The maximum likelihood parameters of `counts` (Wichmann & Hill 2001): the coarse grid's best
-// point refined by the simplex, whose steps start at a grid cell.
-SearchResult maximumLikelihood(std::span<const LevelCount> counts, const FitSettings& settings) {
+// The maximum likelihood parameters of `counts` (Wichmann & Hill 2001): the best of a coarse
+// grid (and of `hint`, when given) refined by the simplex, whose steps start at a grid cell.
+SearchResult maximumLikelihood(std::span<const LevelCount> counts, const FitSettings& settings,
+                               const Point* hint = nullptr) {
     const Objective f{counts, settings, searchBox(settings)};
-    const SearchResult start = coarseStart(f);
+    SearchResult start = coarseStart(f, hint != nullptr);
+    if (hint != nullptr) {
+        const double v = f(*hint);
+        if (v < start.value) start = {clampToBox(*hint, f.box), v, false};
+    }
     Point scale{};
     for (std::size_t i = 0; i < 4; ++i)
         scale[i] = (f.box.high[i] - f.box.low[i]) / 20.0;
@@ -336,36 +342,74 @@ uint32_t binomialDraw(uint32_t trials, double p, std::mt19937_64& random) {
     return positive;
 }
 
-// The parametric bootstrap (Wichmann & Hill 2001b): simulated observers that follow the fitted
-// function answer the same number of trials at the observed levels (and catch trials at its
-// guess rate); each data set is refitted, and the percentiles of the refitted alphas and betas
-// are the intervals.
-void bootstrapIntervals(PsychometricFit& fit, std::span<const LevelCount> counts,
-                        const FitSettings& settings) {
-    fit.thresholdLow = fit.thresholdHigh = fit.function.threshold;
-    fit.slopeLow = fit.slopeHigh = fit.function.slope;
-    if (settings.bootstrap == 0) return;
-    std::mt19937_64 random(mixSeed(settings.seed, 0xB007));
-    std::vector<LevelCount> resample(counts.begin(), counts.end());
-    FitSettings refit = settings;
+// One parametric bootstrap set (Wichmann & Hill 2001b): simulated observers that follow
+// `generating` answer the same number of trials at the observed levels (and the catch trials at
+// its guess rate); each data set is refitted. Returns the refitted alphas and betas, sorted.
+struct BootstrapSet {
     std::vector<double> alphas;
     std::vector<double> betas;
+};
+
+BootstrapSet bootstrapSet(const PsychometricFunction& generating,
+                          std::span<const LevelCount> counts, const FitSettings& settings,
+                          std::mt19937_64& random) {
+    std::vector<LevelCount> resample(counts.begin(), counts.end());
+    FitSettings refit = settings;
+    const Point hint{generating.threshold, std::log(generating.slope), generating.lapse,
+                     generating.guess};
+    BootstrapSet set;
     for (uint32_t b = 0; b < settings.bootstrap; ++b) {
         for (LevelCount& c : resample) {
-            c.positive = binomialDraw(c.trials, fit.function.probability(c.level), random);
+            c.positive = binomialDraw(c.trials, generating.probability(c.level), random);
         }
-        refit.catchPositive = binomialDraw(settings.catchTrials, fit.function.guess, random);
-        const SearchResult r = maximumLikelihood(resample, refit);
-        alphas.push_back(r.point[0]);
-        betas.push_back(std::exp(r.point[1]));
+        refit.catchPositive = binomialDraw(settings.catchTrials, generating.guess, random);
+        const SearchResult r = maximumLikelihood(resample, refit, &hint);
+        set.alphas.push_back(r.point[0]);
+        set.betas.push_back(std::exp(r.point[1]));
     }
-    std::ranges::sort(alphas);
-    std::ranges::sort(betas);
+    std::ranges::sort(set.alphas);
+    std::ranges::sort(set.betas);
+    return set;
+}
+
+// The percentile intervals of the bootstrap from the fitted function, widened by Wichmann &
+// Hill 2001b's sensitivity analysis of the "bootstrap bridging assumption": the spread of the
+// refits depends on the generating function, and a fitted slope steeper than the observer's
+// (common when an adaptive run puts its trials near threshold) gives intervals too narrow. So
+// further sets are drawn from functions at the corners of the first set's 68 % region of alpha
+// and beta, each set's spread around its generating values is laid around the fit, and the
+// widest extent on each side is the interval.
+void bootstrapIntervals(PsychometricFit& fit, std::span<const LevelCount> counts,
+                        const FitSettings& settings) {
+    const PsychometricFunction fitted = fit.function;
+    fit.thresholdLow = fit.thresholdHigh = fitted.threshold;
+    fit.slopeLow = fit.slopeHigh = fitted.slope;
+    if (settings.bootstrap == 0) return;
+    std::mt19937_64 random(mixSeed(settings.seed, 0xB007));
     const double tail = (1.0 - settings.confidence) / 2.0;
-    fit.thresholdLow = quantile(alphas, tail);
-    fit.thresholdHigh = quantile(alphas, 1.0 - tail);
-    fit.slopeLow = quantile(betas, tail);
-    fit.slopeHigh = quantile(betas, 1.0 - tail);
+    const auto widen = [&](const BootstrapSet& set, const PsychometricFunction& generating) {
+        fit.thresholdLow = std::min(fit.thresholdLow, fitted.threshold - generating.threshold +
+                                                          quantile(set.alphas, tail));
+        fit.thresholdHigh = std::max(fit.thresholdHigh, fitted.threshold - generating.threshold +
+                                                            quantile(set.alphas, 1.0 - tail));
+        // Slopes spread in proportion to their size: their deviations are ratios.
+        const double ratio = fitted.slope / generating.slope;
+        fit.slopeLow = std::min(fit.slopeLow, ratio * quantile(set.betas, tail));
+        fit.slopeHigh = std::max(fit.slopeHigh, ratio * quantile(set.betas, 1.0 - tail));
+    };
+    const BootstrapSet first = bootstrapSet(fitted, counts, settings, random);
+    widen(first, fitted);
+    if (!settings.sensitivity) return;
+    constexpr double kRegion = 0.68;
+    const double lowQ = (1.0 - kRegion) / 2.0;
+    for (const double qa : {lowQ, 1.0 - lowQ}) {
+        for (const double qb : {lowQ, 1.0 - lowQ}) {
+            PsychometricFunction generating = fitted;
+            generating.threshold = quantile(first.alphas, qa);
+            generating.slope = quantile(first.betas, qb);
+            widen(bootstrapSet(generating, counts, settings, random), generating);
+        }
+    }
 }
 
 } // namespace

@@ -55,6 +55,9 @@ struct FitSettings {
     double levelMin = 0.0;  // alpha is searched over the design's range
     double levelMax = 1.0;
     uint32_t bootstrap = 400; // parametric bootstrap resamples for the intervals
+    // Wichmann & Hill 2001b's sensitivity analysis: four more bootstrap sets from functions at
+    // the corners of the first set's 68 % region, the widest extent kept (5x the refits).
+    bool sensitivity = true;
     double confidence = 0.95;
     uint64_t seed = 1;
 };
@@ -62,7 +65,8 @@ struct FitSettings {
 struct PsychometricFit {
     PsychometricFunction function;
     double logLikelihood = 0.0;
-    double thresholdLow = 0.0; // the bootstrap's percentile interval for alpha
+    double thresholdLow = 0.0; // the bootstrap's percentile interval for alpha (widened by the
+                               // sensitivity analysis when FitSettings::sensitivity)
     double thresholdHigh = 0.0;
     double slopeLow = 0.0;
     double slopeHigh = 0.0;

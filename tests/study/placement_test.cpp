@@ -171,6 +171,52 @@ TEST(ConstantStimuli, EveryLevelRepeatsInASeededShuffle) {
     }
 }
 
+// Watson 2017's rule on a case small enough to work by hand: levels and thresholds {1, 2, 3}, a
+// step-like function (psi = 1 above the threshold, 0.5 at it, 0 below; guess and lapse 0) and a
+// uniform prior. Expected entropies after one trial: at 1 and 3, 5/6 * H(0.2, 0.4, 0.4) = 0.879;
+// at 2, H(2/3, 1/3) = 0.637: the first trial is at 2. After a "yes" there the posterior is
+// (2/3, 1/3, 0): at 1, 2/3 * ln 2 = 0.462; at 2, 5/6 * H(0.8, 0.2) = 0.417; at 3, 0.637.
+TEST(QuestPlus, ChoosesTheLevelOfLeastExpectedEntropy) {
+    PlacementSettings s;
+    s.kind = PlacementKind::QuestPlus;
+    s.grid = {1.0, 3.0, 0.0, {1.0, 2.0, 3.0}};
+    s.questSlopes = {1000.0};
+    s.questLapses = {0.0};
+    s.guess = 0.0;
+    s.maxTrials = 2;
+    const auto placement = makePlacement(s, 1);
+    EXPECT_FALSE(placement->estimate().has_value());
+    EXPECT_DOUBLE_EQ(placement->next(), 2.0);
+    placement->record(2.0, true);
+    ASSERT_TRUE(placement->estimate().has_value());
+    EXPECT_NEAR(*placement->estimate(), 4.0 / 3.0, 1e-9); // the posterior mean
+    EXPECT_DOUBLE_EQ(placement->next(), 2.0);
+    EXPECT_FALSE(placement->finished());
+    placement->record(2.0, false);
+    EXPECT_TRUE(placement->finished());
+    // "No" at 2 is impossible for threshold 1 (psi = 1 there): only threshold 2 is left.
+    EXPECT_NEAR(*placement->estimate(), 2.0, 1e-9);
+    EXPECT_TRUE(placement->reversals().empty());
+}
+
+// A threshold near the top of the range: the placement follows the observer there.
+TEST(QuestPlus, ConvergesOnADeterministicObserversThreshold) {
+    PlacementSettings s;
+    s.kind = PlacementKind::QuestPlus;
+    s.grid = {1.0, 3.0, 0.1, {}};
+    s.maxTrials = 30;
+    for (const bool marginal : {false, true}) {
+        s.questThresholdEntropy = marginal;
+        const auto placement = makePlacement(s, 1);
+        while (!placement->finished()) {
+            const double level = placement->next();
+            placement->record(level, level > 2.55);
+        }
+        EXPECT_NEAR(*placement->estimate(), 2.55, 0.1) << marginal;
+        EXPECT_EQ(placement->trials(), 30u);
+    }
+}
+
 void expectThrowNaming(const PlacementSettings& s, const std::string& setting) {
     try {
         (void)makePlacement(s, 1);

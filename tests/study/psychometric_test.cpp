@@ -156,6 +156,7 @@ TEST(FitPsychometric, DegenerateDataGiveFiniteFitsWithinTheRange) {
 TEST(FitPsychometric, BootstrapIntervalsContainTheFitAndNarrowWithMoreTrials) {
     FitSettings s = scaleFit();
     s.bootstrap = 200;
+    s.sensitivity = false;
     const PsychometricFit few = fitPsychometric(expectedCounts(planted(), 20), s);
     const PsychometricFit many = fitPsychometric(expectedCounts(planted(), 400), s);
     for (const PsychometricFit& fit : {few, many}) {
@@ -175,6 +176,40 @@ TEST(FitPsychometric, BootstrapIntervalsContainTheFitAndNarrowWithMoreTrials) {
     // The same seed gives the same interval.
     s.confidence = 0.95;
     EXPECT_EQ(fitPsychometric(expectedCounts(planted(), 400), s).thresholdLow, many.thresholdLow);
+}
+
+// With many trials the refitted alphas are nearly normal around the fit: the percentile interval
+// is about symmetric, and the 95 % one is 1.96 / 0.99 = 1.97 times as wide as the 68 % one.
+TEST(FitPsychometric, PercentileIntervalsHaveTheNormalShapeForLargeCounts) {
+    FitSettings s = scaleFit();
+    s.bootstrap = 1000;
+    s.sensitivity = false;
+    const std::vector<LevelCount> counts = expectedCounts(planted(), 400);
+    const PsychometricFit wide = fitPsychometric(counts, s);
+    s.confidence = 0.68;
+    const PsychometricFit narrow = fitPsychometric(counts, s);
+    const double below = wide.function.threshold - wide.thresholdLow;
+    const double above = wide.thresholdHigh - wide.function.threshold;
+    EXPECT_NEAR(below / above, 1.0, 0.25);
+    const double ratio =
+        (wide.thresholdHigh - wide.thresholdLow) / (narrow.thresholdHigh - narrow.thresholdLow);
+    EXPECT_NEAR(ratio, 1.97, 0.25);
+}
+
+// The sensitivity analysis only widens the first set's interval.
+TEST(FitPsychometric, SensitivityAnalysisWidensTheInterval) {
+    FitSettings s = scaleFit();
+    s.bootstrap = 200;
+    s.sensitivity = false;
+    const std::vector<LevelCount> counts{{1.5, 6, 3}, {1.7, 10, 6}, {1.9, 8, 7}, {2.1, 4, 4}};
+    const PsychometricFit plain = fitPsychometric(counts, s);
+    s.sensitivity = true;
+    const PsychometricFit widened = fitPsychometric(counts, s);
+    EXPECT_EQ(widened.function.threshold, plain.function.threshold);
+    EXPECT_LE(widened.thresholdLow, plain.thresholdLow);
+    EXPECT_GE(widened.thresholdHigh, plain.thresholdHigh);
+    EXPECT_GT(widened.thresholdHigh - widened.thresholdLow,
+              plain.thresholdHigh - plain.thresholdLow);
 }
 
 void expectThrowNaming(const std::vector<LevelCount>& counts, const FitSettings& s,
@@ -213,6 +248,7 @@ TEST(PoolParticipants, MeanSdBootstrapAndPooledFit) {
         fits.push_back(fitPsychometric(counts.back(), s));
     }
     s.bootstrap = 500;
+    s.sensitivity = false; // the pooled fit's own interval is not under test here
     const GroupThreshold group = poolParticipants(fits, counts, s);
     EXPECT_EQ(group.participants, 3u);
     EXPECT_NEAR(group.mean, 1.75, 0.002);
