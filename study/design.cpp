@@ -71,6 +71,22 @@ std::string num(double v) {
     return s;
 }
 
+// A message stays on one line whatever the file holds: control characters in a name or a key
+// are written as \xNN.
+std::string oneLine(const std::string& text) {
+    std::string out;
+    for (const char c : text) {
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+            std::array<char, 8> hex{};
+            std::snprintf(hex.data(), hex.size(), "\\x%02x", static_cast<unsigned char>(c));
+            out += hex.data();
+        } else {
+            out += c;
+        }
+    }
+    return out;
+}
+
 std::string child(const std::string& path, std::string_view key) {
     return path.empty() ? std::string(key) : path + "." + std::string(key);
 }
@@ -103,7 +119,7 @@ public:
     explicit Reader(std::string source) : mSource(std::move(source)) {}
 
     [[noreturn]] void fail(const std::string& path, const std::string& what) const {
-        throw DesignError(mSource + ": " + (path.empty() ? "" : path + ": ") + what);
+        throw DesignError(oneLine(mSource + ": " + (path.empty() ? "" : path + ": ") + what));
     }
 
     void requireObject(const json& j, const std::string& path) const {
@@ -496,6 +512,13 @@ Condition readCondition(const Reader& r, const json& j, const std::string& path,
     const LevelGrid grid = readLevels(r, j["levels"], child(path, "levels"), info);
     c.placement =
         readPlacement(r, field(j, "placement"), child(path, "placement"), procedure, grid, info);
+    const PlacementKind kind = c.placement.kind;
+    if (grid.values.empty() && grid.step == 0.0 && kind != PlacementKind::QuestPlus &&
+        kind != PlacementKind::ConstantStimuli) {
+        r.fail(child(path, "levels.step"), "a " + placementKindName(kind) +
+                                               " moves on a grid: give a step > 0 (every level's "
+                                               "point set is built before the first trial)");
+    }
     if (const json* f = field(j, "comparison")) {
         const std::string cp = child(path, "comparison");
         r.requireObject(*f, cp);
@@ -659,7 +682,7 @@ StudyDesign loadDesign(const std::filesystem::path& path) {
         std::string what = e.what();
         const auto close = what.find("] ");
         if (close != std::string::npos) what = what.substr(close + 2);
-        throw DesignError(path.string() + ": not JSON: " + what);
+        throw DesignError(oneLine(path.string() + ": not JSON: " + what));
     }
     return parseDesign(doc, path.string());
 }

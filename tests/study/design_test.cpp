@@ -163,6 +163,10 @@ TEST(Design, ConditionNamesAreUniqueAndNotEmpty) {
     j["conditions"].push_back(j["conditions"][0]);
     EXPECT_EQ(errorOf(j), "t.json: conditions[1].name: 'scale' names an earlier condition too");
     j = minimalDesign();
+    j["conditions"][0]["name"] = "two\nlines";
+    EXPECT_EQ(errorOf(j), "t.json: conditions[0].name: 'two\\x0alines' is not 1-64 letters, "
+                          "digits, '_', '.', '-'");
+    j = minimalDesign();
     j["conditions"][0]["name"] = "";
     EXPECT_EQ(errorOf(j).rfind("t.json: conditions[0].name: '' is not", 0), 0u);
 }
@@ -196,6 +200,12 @@ TEST(Design, CombinationsThatCannotWork) {
     j["conditions"][0]["scale"] = 2.0;
     EXPECT_EQ(errorOf(j), "t.json: conditions[0].scale: is the varied parameter: its levels come "
                           "from \"levels\"");
+    j = minimalDesign();
+    j["conditions"][0]["levels"].erase("step");
+    EXPECT_EQ(errorOf(j), "t.json: conditions[0].levels.step: a staircase moves on a grid: give a "
+                          "step > 0 (every level's point set is built before the first trial)");
+    j["conditions"][0]["placement"] = {{"kind", "quest-plus"}};
+    EXPECT_EQ(errorOf(j), "");
     j = minimalDesign();
     j["catch_rate"] = 0.1;
     EXPECT_EQ(errorOf(j), "t.json: catch_rate: only the yes-no procedure has catch trials");
