@@ -247,5 +247,61 @@ TEST(Study, WindowRunsTrialsUnderXvfb) {
     }
 }
 
+// A long plan (200 trials) a signal interrupts after a few seconds.
+std::filesystem::path longDesign(const std::filesystem::path& dir) {
+    nlohmann::json d = tinyDesign();
+    d["conditions"][0]["placement"]["max_trials"] = 200;
+    d["conditions"][0]["placement"]["reversals"] = 200;
+    return writeDesign(dir, d, "long.json");
+}
+
+// SIGINT ends a window run as Esc does: after the frame shown, exit 0, every trial answered in
+// the journal, and the run resumes from there.
+TEST(Study, SigintEndsAWindowRunWithItsJournalComplete) {
+    if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) {
+        GTEST_SKIP() << "xvfb-run is not installed";
+    }
+    const auto dir = test::tempDir("study_sigint_window");
+    const auto design = longDesign(dir);
+    const auto journal = dir / "p01.jsonl";
+    const Result r = test::runWith(
+        "xvfb-run -a -s '-screen 0 1280x720x24' timeout --preserve-status -s INT 6",
+        "study --design " + design.string() + " --participant P01 --journal " + journal.string() +
+            " --display window --gaze fixed:80,45" + cacheArg() + " --observer level:2,3");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto summary = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(summary["ended_early"].get<bool>());
+    const auto trials = trialsOf(journalLines(journal));
+    ASSERT_GE(trials.size(), 1u) << "no trial in six seconds";
+    EXPECT_EQ(summary["trials_journaled"], trials.size());
+    const Result more = test::run(studyArgs(design, journal,
+                                            "--observer level:2,3 --resume "
+                                            "--max-trials 2"));
+    ASSERT_EQ(more.status, 0) << more.err;
+    const auto all = trialsOf(journalLines(journal));
+    ASSERT_EQ(all.size(), trials.size() + 2);
+    for (uint32_t i = 0; i < all.size(); ++i) {
+        EXPECT_EQ(all[i]["trial"], i);
+    }
+}
+
+// SIGINT interrupts a headless run (exit 130, as other fixed-length runs) and keeps every trial
+// answered before it.
+TEST(Study, SigintInterruptsAHeadlessRunAndKeepsItsTrials) {
+    const auto dir = test::tempDir("study_sigint_headless");
+    const auto design = longDesign(dir);
+    const auto journal = dir / "p01.jsonl";
+    const Result r =
+        test::runWith("timeout --preserve-status -s INT 4",
+                      studyArgs(design, journal, "--observer level:2,3 --frame-ms 200"));
+    EXPECT_EQ(r.status, 130) << r.err;
+    EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+    const auto trials = trialsOf(journalLines(journal));
+    ASSERT_GE(trials.size(), 1u) << "no trial in four seconds";
+    for (uint32_t i = 0; i < trials.size(); ++i) {
+        EXPECT_EQ(trials[i]["trial"], i);
+    }
+}
+
 } // namespace
 } // namespace gt
