@@ -67,6 +67,11 @@ StudyView studyView(const StudyOptions& o, const study::StudyDesign& d) {
         v.stimuli = {v.hmd->pointSetProfile, std::nullopt, false};
         v.refreshHz = v.hmd->refreshHz;
     } else {
+        for (const uint32_t size : {o.width, o.height}) {
+            if (size != 0 && (size < 16 || size > 16384)) {
+                throw ArgumentError("--width/--height: 16 to 16384 pixels (0: the design's)");
+            }
+        }
         v.width = o.width != 0 ? o.width : d.width;
         v.height = o.height != 0 ? o.height : d.height;
         v.stimuli = desktopStimulusDisplay(v.width, v.height);

@@ -185,6 +185,8 @@ TEST(Study, BadInputsFailInOneLineAndWriteNoJournal) {
                              "--participant", journal);
     test::expectCleanFailure(test::run(studyArgs(good, journal, level + " --resume")), "--resume",
                              journal);
+    test::expectCleanFailure(test::run(studyArgs(good, journal, level + " --width 8")), "--width",
+                             journal);
     nlohmann::json camera = tinyDesign();
     camera["scenes"] = nlohmann::json::array({{{"scene", "builtin:market"}, {"camera", "1,2,3"}}});
     test::expectCleanFailure(
