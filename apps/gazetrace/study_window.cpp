@@ -59,32 +59,6 @@ constexpr std::array<KeyResponse, 12> kKeys{{{GLFW_KEY_1, Response::First, "1"},
                                              {GLFW_KEY_ENTER, Response::Accept, "Enter"},
                                              {GLFW_KEY_SPACE, Response::Continue, "Space"}}};
 
-const char* responseWord(Response r) {
-    switch (r) {
-    case Response::First:
-        return "first";
-    case Response::Second:
-        return "second";
-    case Response::Same:
-        return "same";
-    case Response::Yes:
-        return "yes";
-    case Response::No:
-        return "no";
-    case Response::Up:
-        return "up";
-    case Response::Down:
-        return "down";
-    case Response::Reference:
-        return "reference";
-    case Response::Accept:
-        return "accept";
-    case Response::Continue:
-        break;
-    }
-    return "continue";
-}
-
 // The answer a key gives, when the phase takes it.
 std::optional<Response> responseOfKey(int key, const std::vector<Response>& accepted) {
     for (const KeyResponse& k : kKeys) {
@@ -104,7 +78,7 @@ std::string keyLegend(const std::vector<Response>& accepted) {
         for (const KeyResponse& k : kKeys) {
             if (k.response == r) keys += (keys.empty() ? "" : "/") + std::string(k.label);
         }
-        legend += (legend.empty() ? "" : "   ") + keys + ": " + responseWord(r);
+        legend += (legend.empty() ? "" : "   ") + keys + ": " + study::responseName(r);
     }
     return legend;
 }
