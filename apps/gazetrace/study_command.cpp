@@ -294,7 +294,8 @@ nlohmann::json HeadlessRun::run() {
         idle = mSession.trialsDone() != lastDone ? 0 : idle + 1;
         lastDone = mSession.trialsDone();
         if (idle > maxIdleFrames) {
-            throw Error("study: no trial ended in " + std::to_string(maxIdleFrames) + " frames");
+            throw Error("study: no trial ended in " + std::to_string(maxIdleFrames) +
+                        " frames (a gaze source that never holds the fixation region?)");
         }
     }
     nlohmann::json j = sessionSummary(mSetup, mSession, atStart);
