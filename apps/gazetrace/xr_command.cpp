@@ -12,6 +12,7 @@
 #include <thread>
 #include <tuple>
 
+#include "action_sets.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "eccentricity_layers.hpp"
@@ -329,6 +330,8 @@ private:
     std::optional<render::Renderer> mRenderer;
     std::optional<xr::Session> mSession;
     xr::ScenePlacement mPlacement;
+    // Before the inputs whose actions it holds: they go first.
+    std::optional<xr::ActionSets> mActions;
     std::optional<xr::EyeGaze> mEyeGaze;
     std::string mEyeGazeStatus = "not offered by the runtime";
     std::optional<EyeMethods> mMethods;
@@ -401,7 +404,9 @@ void XrRun::openSession(const StartArgs& args) {
     } else if (mRuntime->eyeGazeOffered() && !mRuntime->eyeGazeSupported()) {
         mEyeGazeStatus = "offered, but the system reports no eye tracker";
     } else if (mRuntime->eyeGazeSupported()) {
-        mEyeGaze.emplace(*mSession);
+        mActions.emplace(*mSession);
+        mEyeGaze.emplace(*mActions);
+        mActions->attach();
         mEyeGazeStatus = "offered";
     }
 }
@@ -446,6 +451,7 @@ FrameStart XrRun::begin(const FrameTick& t) {
 }
 
 HeadGaze XrRun::gaze() {
+    if (mActions) mActions->sync();
     const std::optional<xr::EyeGazeSample> sample =
         mEyeGaze ? mEyeGaze->locate(mFrame.displayTime) : std::nullopt;
     mRuntimeGazeFrames += sample ? 1 : 0;
@@ -555,8 +561,9 @@ nlohmann::json XrRun::summary(uint32_t rendered) {
             mEyeGazeStatus = "offered, but no valid gaze pose was reported";
         }
     }
-    // The action set before the session it belongs to.
+    // The action sets before the session they belong to.
     mEyeGaze.reset();
+    mActions.reset();
     mSession.reset();
     checkOwnValidation(ctx);
     if (mOptions.frames != 0 && rendered < mOptions.frames && !stopRequested()) {

@@ -10,18 +10,26 @@
 #include <fstream>
 #include <thread>
 
+#include <unistd.h>
+
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "action_sets.hpp"
+#include "core/error.hpp"
+#include "eye_gaze.hpp"
 #include "foveation/contrast_sensitivity.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
+#include "response_actions.hpp"
 #include "scene/image_io.hpp"
 #include "support/cli_run.hpp"
 #include "support/gpu_test_context.hpp"
+#include "xr_runtime.hpp"
+#include "xr_session.hpp"
 
 namespace gt {
 namespace {
@@ -69,6 +77,26 @@ double meanAbsDiff(const image::DecodedImage& a, const std::vector<uint8_t>& b, 
 
 glm::vec3 vec3(const nlohmann::json& j) {
     return {j[0].get<float>(), j[1].get<float>(), j[2].get<float>()};
+}
+
+// A private Monado service in its own runtime dir `xdg` (so the fixture's lives on for the other
+// tests), `env` set for it (its simulated devices); the service's pid, empty when it failed.
+std::string startPrivateMonado(const std::filesystem::path& xdg, const std::string& env) {
+    std::filesystem::create_directories(xdg);
+    std::filesystem::permissions(xdg, std::filesystem::perms::owner_all);
+    const std::string script = std::string(GT_SOURCE_DIR) + "/../shared/tools/monado.sh";
+    const auto envFile = xdg.parent_path() / "monado.env";
+    if (std::system((env + " XDG_RUNTIME_DIR=" + xdg.string() + " bash " + script + " start " +
+                     GT_MONADO_DIR + " > " + envFile.string())
+                        .c_str()) != 0) {
+        return {};
+    }
+    std::ifstream in(envFile);
+    std::string line, pid;
+    while (std::getline(in, line)) {
+        if (line.rfind("export MONADO_PID=", 0) == 0) pid = line.substr(18);
+    }
+    return pid;
 }
 
 // Reaches FOCUSED, renders both eyes for N frames with zero validation errors, ends the session
@@ -212,26 +240,10 @@ TEST(Xr, LayersRenderBothEyes) {
 // A runtime that exits mid-session (its service killed): a clear one-line error, no hang.
 TEST(Xr, RuntimeThatDiesMidSessionEndsWithOneLine) {
     REQUIRE_MONADO();
-    const std::string monadoDir = GT_MONADO_DIR;
     const auto dir = test::tempDir("xr_killed");
     // A private service (its own runtime dir), so the shared one lives on for the other tests.
     const auto xdg = dir / "xdg";
-    std::filesystem::create_directories(xdg);
-    std::filesystem::permissions(xdg, std::filesystem::perms::owner_all);
-    const std::string script = std::string(GT_SOURCE_DIR) + "/../shared/tools/monado.sh";
-    const auto envFile = dir / "monado.env";
-    ASSERT_EQ(std::system(("XDG_RUNTIME_DIR=" + xdg.string() + " bash " + script + " start " +
-                           monadoDir + " > " + envFile.string())
-                              .c_str()),
-              0);
-    std::string pid;
-    {
-        std::ifstream in(envFile);
-        std::string line;
-        while (std::getline(in, line)) {
-            if (line.rfind("export MONADO_PID=", 0) == 0) pid = line.substr(18);
-        }
-    }
+    const std::string pid = startPrivateMonado(xdg, "");
     ASSERT_FALSE(pid.empty());
     const auto err = dir / "err.txt";
     const auto status = dir / "status.txt";
@@ -269,6 +281,84 @@ TEST(Xr, RuntimeThatDiesMidSessionEndsWithOneLine) {
     const std::string message = text.substr(last);
     EXPECT_EQ(test::lines(message), 1) << message;
     EXPECT_NE(message.find("OpenXR runtime"), std::string::npos) << message;
+}
+
+// The answer buttons and eye gaze in one session: their action sets attached in one call (a
+// second xrAttachSessionActionSets would fail), every set synced once a frame, and no press
+// reported while nobody touches a controller. A private service with Monado's simulated simple
+// controllers in both hands, so the buttons are bound (and read from a synced set).
+TEST(XrActions, ButtonsAndEyeGazeAttachTogetherSyncEveryFrameAndReportNoPress) {
+    REQUIRE_MONADO();
+    // A short path: the service's socket path must fit a sockaddr_un (108 bytes).
+    const auto xdg = std::filesystem::temp_directory_path() /
+                     ("gt_xr_actions_" + std::to_string(getpid())) / "xdg";
+    const std::string pid = startPrivateMonado(xdg, "SIMULATED_LEFT=simple SIMULATED_RIGHT=simple");
+    ASSERT_FALSE(pid.empty());
+    struct Restore {
+        std::string pid;
+        std::filesystem::path xdg;
+        ~Restore() {
+            setenv("XDG_RUNTIME_DIR", GT_XR_RUNTIME_DIR, 1);
+            (void)std::system(("kill " + pid).c_str());
+            std::filesystem::remove_all(xdg.parent_path());
+        }
+    } restore{pid, xdg};
+    setenv("XDG_RUNTIME_DIR", xdg.c_str(), 1); // the in-process client connects here
+    xr::RuntimeOptions rto;
+    rto.runtimeManifest = monadoRuntime();
+    xr::Runtime runtime(rto);
+    render::RendererOptions ro;
+    ro.validate = true;
+    ro.framesInFlight = 1;
+    ro.display = runtime.vulkanHooks();
+    render::Renderer renderer(ro);
+    xr::Session session(runtime, renderer.context(), xr::SessionOptions{false, 0.25});
+    {
+        xr::ActionSets sets(session);
+        // Monado offers the extension without an eye tracker: its binding is still suggested.
+        ASSERT_TRUE(runtime.eyeGazeOffered());
+        xr::EyeGaze gaze(sets);
+        xr::ResponseActions buttons(sets);
+        sets.attach();
+        sets.attach(); // once per session: a second call does nothing
+        EXPECT_TRUE(sets.attached());
+        EXPECT_EQ(sets.setCount(), 2u);
+        EXPECT_THROW((void)sets.createSet("late", "late"), Error);
+        const auto& suggested = sets.suggestedProfiles();
+        for (const char* profile : {"/interaction_profiles/khr/simple_controller",
+                                    "/interaction_profiles/ext/eye_gaze_interaction"}) {
+            EXPECT_NE(std::find(suggested.begin(), suggested.end(), profile), suggested.end())
+                << profile;
+        }
+
+        uint32_t frames = 0, focusedFrames = 0, maxActive = 0;
+        const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+        while (session.pollEvents() && std::chrono::steady_clock::now() < end) {
+            if (!session.running()) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(5));
+                continue;
+            }
+            const xr::FrameInfo frame = session.beginFrame();
+            const bool focused = sets.syncs() == frames && sets.sync();
+            ++frames;
+            focusedFrames += focused ? 1 : 0;
+            EXPECT_TRUE(buttons.pressed().empty());
+            maxActive = std::max(maxActive, buttons.activeButtons());
+            (void)gaze.locate(frame.displayTime);
+            session.endFrame(frame, false);
+            if (focusedFrames == 20 && !session.lifecycle().isExitRequested()) {
+                session.requestExit();
+            }
+        }
+        EXPECT_EQ(session.lifecycle().history().back(), "EXITING");
+        EXPECT_GE(focusedFrames, 20u);
+        EXPECT_EQ(sets.syncs(), frames); // one xrSyncActions a frame, both sets in it
+        EXPECT_EQ(sets.focusedSyncs(), focusedFrames);
+        EXPECT_EQ(buttons.presses(), 0u);
+        // The simple controllers' select and menu: every button, through the synced set.
+        EXPECT_EQ(maxActive, xr::ResponseActions::kButtons);
+    }
+    EXPECT_EQ(renderer.context().validationErrors(), 0u);
 }
 
 // No runtime, or a runtime whose service is not running: one line naming the problem and what
