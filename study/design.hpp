@@ -1,8 +1,69 @@
 #pragma once
-// A study design: a JSON file (docs/study.md has the schema and content/studies/ examples) read
+// A study design: a JSON file (docs/study.md explains it; content/studies/ has examples) read
 // into typed values. Every field is checked as it is read; a bad one is a DesignError whose one
 // line names the file and the field's path ("thesis.json: conditions[1].vary: unknown parameter
 // 'scal' (one of: scale, rays-per-point, k, slope, layers)").
+//
+// The schema. Keys are snake_case, except a condition's render settings, which carry the render
+// command's option names so a design reads like a command line. A key not listed here is an
+// error that lists the allowed ones; so is a wrong type or a value out of range.
+// {
+//   "name": "thesis-scale",          required; [A-Za-z0-9_-], 1-64 (journal file names use it)
+//   "description": "...",            optional text
+//   "procedure": "yes-no",           required: forced-choice | yes-no | pair | ramp | slider
+//   "seed": 0,                       unsigned; 0: a random seed, written in the journal
+//   "practice_trials": 0,            per condition, at the easiest (most foveated) level
+//   "break_every": 0,                trials between breaks, 0: none
+//   "break_between_conditions": false,  true: conditions one after another, a break between
+//                                    (the thesis); false: interleaved at random
+//   "catch_rate": 0.0,               yes-no only: share of catch trials, [0, 0.5]
+//   "ramp_steps": 5,                 ramp: intervals per ramp, 2-20
+//   "fixation_x": 0.5, "fixation_y": 0.5,  the fixation point, fraction of the view, [0, 1]
+//   "hmd": "",                       a headset profile as --hmd takes it; "" the window
+//   "width": 1280, "height": 720,    the window's size, 16-16384
+//   "timing": {                      milliseconds; each optional
+//     "fixation_ms": 500, "interval_ms": 1000, "blank_ms": 500,   [0, 600000], interval > 0
+//     "response_timeout_ms": 0,      0: wait for the answer
+//     "refresh_hz": 0 },             0: the display's, else [1, 1000]
+//   "gaze": {                        the gaze-contingent rules; each optional
+//     "fixation_radius_deg": 0,      0: off, else (0, 90]
+//     "repeat_on_saccade": false, "saccade_deg_per_s": 100,   (0, 10000]
+//     "max_repeats": 3,              0-100
+//     "gaze_lost_ms": 100 },         (0, 600000]
+//   "scenes": [                      optional, default [{"scene": "builtin:market"}]; trials
+//     {"scene": "builtin:market",    cycle through them per condition; a string is a scene
+//      "camera": "x,y,z,tx,ty,tz",   optional
+//      "camera_path": "FILE.csv"}],  optional; paths as the command line takes them
+//   "conditions": [                  required, at least one
+//     {"name": "scale",              required, unique; [A-Za-z0-9_.-], 1-64
+//      "vary": "scale",              required: scale | rays-per-point | k | slope | layers
+//      "levels": {"min": 1.0, "max": 3.0, "step": 0.1},   required: within the parameter's
+//                                    range (stimulus.hpp), min < max; step 0: continuous
+//                                    (default 1 for whole-number parameters, else 0); or a
+//                                    list of levels [1.0, 1.5, 2.0]; whole numbers where the
+//                                    parameter is one
+//      "method": "foveated",         foveated | layers; default: layers when vary is slope or
+//                                    layers, else foveated (the parameter must be the method's)
+//      "scale": 1.0, "rays-per-point": 1, "interp": "nn", "k": 10,   the settings not varied
+//      "slope": 0.0275, "layers": 3, "spp": 1, "taa": true,         ("slope" also "A" | "B";
+//                                    "interp": nn | msm | rbf); the varied one may not be set
+//      "comparison": {...},          optional: the render settings above (method may be
+//                                    "reference") over the condition's; absent: the reference
+//      "placement": {                optional
+//        "kind": "staircase",        staircase | weighted-staircase | thesis-series |
+//                                    quest-plus | constant (slider: constant only)
+//        "start": ...,               within the levels; default: the thesis series' least
+//                                    foveated level, else the most foveated (easiest) one
+//        "step": ..., "final_step": ...,   default 2 and 1 grid steps; not below one grid step
+//        "down": 2, "up": 1,         1-10
+//        "target": 0.75,             weighted staircase, (0, 1); forced-choice: above 0.5
+//        "reversals": 8, "skip_reversals": 2,   skip below reversals
+//        "max_trials": 80,           1-10000
+//        "repeats": 2,               constant: trials per level; slider: trials
+//        "quest_slopes": [2, 4, 8, 16], "quest_lapses": [0, 0.02, 0.04],
+//        "guess": 0.5,               [0, 1); default 0.5 for forced-choice, else 0
+//        "shape": "logistic"}}]      logistic | cumulative-normal | weibull
+// }
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -93,6 +154,12 @@ struct StudyDesign {
     uint32_t height = 720;
 };
 
+// The names the schema uses ("forced-choice", "quest-plus", "foveated", "msm").
+[[nodiscard]] std::string procedureName(Procedure procedure);
+[[nodiscard]] std::string placementKindName(PlacementKind kind);
+[[nodiscard]] std::string methodName(Method method);
+[[nodiscard]] std::string interpolationName(Interpolation interp);
+
 // Throws DesignError naming `source` and the field.
 [[nodiscard]] StudyDesign parseDesign(const nlohmann::json& json, const std::string& source);
 // Reads and parses a design file (io::readInputFile's checks: missing, too large, not a file).
@@ -100,5 +167,11 @@ struct StudyDesign {
 // The design back as JSON (every field, defaults filled in): written into the journal's first
 // line so a run's analysis never needs the file again.
 [[nodiscard]] nlohmann::json designToJson(const StudyDesign& design);
+// 16 hex digits (FNV-1a of designToJson's compact text): a journal is resumed, and journals are
+// pooled, only under the design that wrote them.
+[[nodiscard]] std::string designHash(const StudyDesign& design);
+// The comparison a condition's trials show: its `comparison`, or the reference at the
+// condition's spp.
+[[nodiscard]] RenderChoice comparisonOf(const Condition& condition);
 
 } // namespace gt::study

@@ -4,8 +4,23 @@
 // pulled plug) keeps every trial answered so far and can resume. The first line ("start") holds
 // the design, the seed, the participant's code and the run's id; then one line per ended trial
 // ("trial"), per repeated trial ("repeat": why), per resumption ("resume"), and "end".
-// A torn last line (no newline: the write was cut) is dropped when the journal is reopened.
+// A torn last line (no newline: the write was cut) is dropped when the journal is reopened: the
+// file is cut back to its last newline, so the next line appended starts on a line of its own.
+//
+// The journal is the one file gazetrace appends to instead of replacing (io/atomic_write.hpp):
+// a run that is killed between two trials must leave every trial before it on disk, and
+// rewriting the whole file through a temporary after every trial would cost a copy per trial
+// for nothing a line written whole with O_APPEND and fsync'd does not already give. The rules
+// for the path follow io's otherwise:
+//  - a missing file is created (0644), and its folder fsync'd so the new name survives a crash;
+//  - only a regular file is appended to: a FIFO, a socket, a device or a folder is refused,
+//    checked with fstat() on the open descriptor (a name swapped after a check cannot pass);
+//  - a symlink is refused (O_NOFOLLOW): appending through it would write into whatever it names;
+//  - an existing file must read as a journal (every complete line a JSON object) before
+//    anything is cut or appended, so a wrongly named file is refused, not truncated;
+//  - the file is locked (flock, exclusive) while open: two runs never append to one journal.
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -40,6 +55,7 @@ struct TrialRecord {
     bool practice = false;
     std::string condition;
     std::string parameter; // the varied parameter's name
+    uint32_t scene = 0;    // index into the design's scenes
     double level = 0.0;
     bool catchTrial = false;
     bool conditionFirst = true;
@@ -60,8 +76,9 @@ public:
     Journal(const Journal&) = delete;
     Journal& operator=(const Journal&) = delete;
 
-    // The lines already there when it was opened (a torn last line dropped).
+    // The lines already there when it was opened (a torn last line dropped), and whether one was.
     [[nodiscard]] const std::vector<nlohmann::json>& existing() const noexcept;
+    [[nodiscard]] bool droppedTornLine() const noexcept { return mDroppedTorn; }
     // Appends one line, written whole and fsync'd. Throws JournalError (a full disk) naming the
     // file; the journal is then left as it was before the call.
     void append(const nlohmann::json& line);
@@ -71,12 +88,23 @@ private:
     std::filesystem::path mPath;
     std::vector<nlohmann::json> mExisting;
     int mFd = -1;
+    bool mDroppedTorn = false;
 };
 
 [[nodiscard]] nlohmann::json toJson(const TrialRecord& record);
 [[nodiscard]] TrialRecord trialFromJson(const nlohmann::json& line); // throws JournalError
 
-// Reads a journal without opening it for writing (study analyse).
+// Reads a journal without opening it for writing (study analyse); a torn last line is left out,
+// a line that is not a JSON object in the middle is a JournalError naming the file and the line.
 [[nodiscard]] std::vector<nlohmann::json> readJournal(const std::filesystem::path& path);
+
+// The journal's fault seam for tests: while set, append() fails with `error` (e.g. ENOSPC) after
+// `okBytes` bytes of the line. GAZETRACE_WRITE_FAULT=enospc in the environment sets it for a
+// whole process, as it does for io's writers. syncs() counts the fsync() calls append() made.
+namespace testing {
+void failJournalWrites(int error, std::size_t okBytes = 0);
+void clearJournalFaults();
+[[nodiscard]] uint64_t journalSyncs();
+} // namespace testing
 
 } // namespace gt::study

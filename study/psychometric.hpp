@@ -39,12 +39,18 @@ struct LevelCount {
 // Groups single trials (level, positive) by level.
 [[nodiscard]] std::vector<LevelCount> countByLevel(std::span<const double> levels,
                                                    std::span<const bool> positive);
+// The same for answers kept as a std::vector<bool> (SimulatedRun, journals), which no span views.
+[[nodiscard]] std::vector<LevelCount> countByLevel(std::span<const double> levels,
+                                                   const std::vector<bool>& positive);
 
 struct FitSettings {
     PsychometricShape shape = PsychometricShape::Logistic;
     bool increasing = true;
     double guess = 0.5; // fixed (2IFC), or fitted when fitGuess (yes/no with catch trials)
     bool fitGuess = false;
+    // Yes/no catch trials (the reference alone): their "yes" answers inform the guess rate only.
+    uint32_t catchTrials = 0;
+    uint32_t catchPositive = 0;
     double maxLapse = 0.06; // lambda in [0, maxLapse] (Wichmann & Hill 2001)
     double levelMin = 0.0;  // alpha is searched over the design's range
     double levelMax = 1.0;
