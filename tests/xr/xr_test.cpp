@@ -28,6 +28,8 @@
 #include "scene/image_io.hpp"
 #include "support/cli_run.hpp"
 #include "support/gpu_test_context.hpp"
+#include "vk/resources.hpp"
+#include "xr_eye_fill.hpp"
 #include "xr_runtime.hpp"
 #include "xr_session.hpp"
 
@@ -283,9 +285,44 @@ TEST(Xr, RuntimeThatDiesMidSessionEndsWithOneLine) {
     EXPECT_NE(message.find("OpenXR runtime"), std::string::npos) << message;
 }
 
+// An eye's swapchain image read back (RGBA or BGRA bytes as the format has them); it stays in
+// COLOR_ATTACHMENT_OPTIMAL, as OpenXR wants it released.
+std::vector<uint8_t> readEye(vk::Context& ctx, const xr::EyeImage& img) {
+    const VkDeviceSize bytes = VkDeviceSize(img.extent.width) * img.extent.height * 4;
+    vk::Buffer buffer(ctx, {bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUsage::Readback,
+                            "test.eye_readback"});
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+        b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+        b.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        b.oldLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+        b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        b.image = img.image;
+        b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, 1, &b);
+        VkBufferImageCopy c{};
+        c.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        c.imageExtent = {img.extent.width, img.extent.height, 1};
+        vkCmdCopyImageToBuffer(cmd, img.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                               buffer.handle(), 1, &c);
+        std::swap(b.oldLayout, b.newLayout);
+        b.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        b.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0, nullptr, 0,
+                             nullptr, 1, &b);
+    });
+    std::vector<uint8_t> px(bytes);
+    buffer.download(std::as_writable_bytes(std::span(px)));
+    return px;
+}
+
 // The answer buttons and eye gaze in one session: their action sets attached in one call (a
 // second xrAttachSessionActionSets would fail), every set synced once a frame, and no press
-// reported while nobody touches a controller. A private service with Monado's simulated simple
+// reported while nobody touches a controller. Each frame is a study's fixation frame (EyeFill),
+// submitted to the runtime and read back once. A private service with Monado's simulated simple
 // controllers in both hands, so the buttons are bound (and read from a synced set).
 TEST(XrActions, ButtonsAndEyeGazeAttachTogetherSyncEveryFrameAndReportNoPress) {
     REQUIRE_MONADO();
@@ -332,6 +369,8 @@ TEST(XrActions, ButtonsAndEyeGazeAttachTogetherSyncEveryFrameAndReportNoPress) {
         }
 
         uint32_t frames = 0, focusedFrames = 0, maxActive = 0;
+        app::EyeFill fill(renderer.context());
+        std::array<std::pair<std::vector<uint8_t>, VkExtent2D>, 2> eyes;
         const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
         while (session.pollEvents() && std::chrono::steady_clock::now() < end) {
             if (!session.running()) {
@@ -345,7 +384,16 @@ TEST(XrActions, ButtonsAndEyeGazeAttachTogetherSyncEveryFrameAndReportNoPress) {
             EXPECT_TRUE(buttons.pressed().empty());
             maxActive = std::max(maxActive, buttons.activeButtons());
             (void)gaze.locate(frame.displayTime);
-            session.endFrame(frame, false);
+            // A fixation frame: the left eye black with a cross at (40, 30), the right black.
+            for (uint32_t e = 0; e < 2 && frame.shouldRender; ++e) {
+                const xr::EyeImage img = session.acquire(e);
+                const std::optional<app::FixationCross> cross =
+                    e == 0 ? std::optional(app::FixationCross{{40.0f, 30.0f}, 6, 2}) : std::nullopt;
+                fill.fill({img.image, img.format, img.extent, 0}, cross);
+                if (focusedFrames == 20) eyes[e] = {readEye(renderer.context(), img), img.extent};
+                session.release(e);
+            }
+            session.endFrame(frame, frame.shouldRender);
             if (focusedFrames == 20 && !session.lifecycle().isExitRequested()) {
                 session.requestExit();
             }
@@ -357,6 +405,21 @@ TEST(XrActions, ButtonsAndEyeGazeAttachTogetherSyncEveryFrameAndReportNoPress) {
         EXPECT_EQ(buttons.presses(), 0u);
         // The simple controllers' select and menu: every button, through the synced set.
         EXPECT_EQ(maxActive, xr::ResponseActions::kButtons);
+
+        // The fixation frame as written: white on the cross's arms and centre, black elsewhere.
+        const auto at = [&](uint32_t e, uint32_t x, uint32_t y) {
+            return eyes[e].first.at((static_cast<std::size_t>(y) * eyes[e].second.width + x) * 4);
+        };
+        ASSERT_FALSE(eyes[0].first.empty());
+        ASSERT_GE(eyes[0].second.width, 60u);
+        EXPECT_EQ(at(0, 40, 30), 255);
+        EXPECT_EQ(at(0, 46, 30), 255); // the arm's end
+        EXPECT_EQ(at(0, 40, 24), 255);
+        EXPECT_EQ(at(0, 47, 30), 0); // past it
+        EXPECT_EQ(at(0, 44, 34), 0); // between the arms
+        EXPECT_EQ(at(0, 0, 0), 0);
+        for (std::size_t i = 0; i < eyes[1].first.size(); i += 4)
+            ASSERT_EQ(eyes[1].first[i], 0) << i / 4;
     }
     EXPECT_EQ(renderer.context().validationErrors(), 0u);
 }
