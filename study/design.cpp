@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
 #include <string_view>
 #include <utility>
 
@@ -443,6 +444,11 @@ PlacementSettings readPlacement(const Reader& r, const json* j, const std::strin
         }
     }
     checkPlacement(r, path, procedure, s);
+    try {
+        (void)makePlacement(s, 1); // what the placement itself refuses, named here
+    } catch (const std::invalid_argument& e) {
+        r.fail(path, e.what());
+    }
     return s;
 }
 

@@ -8,13 +8,21 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "design.hpp"
 #include "journal.hpp"
 
 namespace gt::study {
+
+// A run that cannot start: a participant code that is not one.
+class SessionError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
 
 // What a participant can answer; which ones a trial takes depends on the procedure.
 enum class Response { First, Second, Same, Yes, No, Up, Down, Reference, Accept, Continue };
@@ -31,9 +39,35 @@ struct FrameInput {
     std::optional<GazeAngles> gaze;
     double latencyMs = 0.0; // the previous frame's gaze-to-finished latency, 0 when unknown
     std::optional<Response> response; // given since the previous frame
+    // When it was given on the frame clock (a key event's time stamp); empty: this frame's time.
+    std::optional<double> responseTimeMs;
 };
 
 enum class Phase { Instructions, Break, Fixation, Interval, Blank, Response, Done };
+
+// The phases of a trial and the frame clock:
+//  - a phase that begins on the frame at time t0 and lasts D ms shows on the frames with
+//    t - t0 < D - half a refresh period, so at a steady refresh it holds round(D / period)
+//    frames; the frame after it begins the next phase;
+//  - Fixation (fixationMs; with a fixation radius, the gaze inside it for that long) ->
+//    Interval -> Blank -> Interval ... -> Response; ForcedChoice and Pair show two intervals,
+//    YesNo one, Ramp rampSteps; Slider goes from Fixation to Response, where the condition is
+//    shown, and Reference shows the comparison for one interval (intervalMs) and goes back;
+//  - an answer ends the trial on the frame it arrives, which begins the next trial's Fixation
+//    (or a Break, or Done); answers a phase does not accept are ignored;
+//  - during an Interval, the gaze outside the fixation radius or an angular speed above
+//    saccadeDegPerS between two consecutive frames (repeatOnSaccade) ends the trial at once:
+//    a "repeat" line, and the same condition is planned again one to three trials later (at
+//    once when nothing else is left); after maxRepeats repeats it is kept, flagged
+//    "max_repeats". A response timeout repeats the trial the same way, without a limit (there
+//    is no answer to keep). The slider's display has no gaze rules: the participant looks
+//    around it;
+//  - a frame that begins more than 1.5 refresh periods after the one before counts as a
+//    dropped frame of the interval that frame was shown in; the latency a frame reports is the
+//    previous frame's, and is counted there too.
+// Every random choice of a trial (its condition, the interval order, a catch trial, the ramp's
+// direction, a repeat's delay) is drawn from an engine seeded from (seed, trial index) alone, so
+// replaying a journal's lines rebuilds the same plan.
 
 // What to show this frame.
 struct FrameShow {
@@ -48,7 +82,9 @@ struct FrameShow {
 struct SessionSettings {
     std::string participant; // an experimenter's code: [A-Za-z0-9_-]{1,32}, nothing personal
     double refreshHz = 60.0; // the display's, unless the design sets one
-    // Any answer (a simulated observer, a test) replaces a key press; set by headless runs.
+    // Where the design's fixation point lies as angles from the view's centre (the front end
+    // knows the projection); the fixation radius is measured from it.
+    GazeAngles fixationDeg{};
 };
 
 class StudySession {
@@ -69,7 +105,12 @@ public:
     [[nodiscard]] std::vector<Response> accepted() const;
     [[nodiscard]] uint64_t seed() const;
     [[nodiscard]] uint32_t trialsDone() const;
-    [[nodiscard]] uint32_t trialsPlanned() const; // grows when trials are repeated
+    // Trials so far (answered and repeated) plus the most the plan may still hold: adaptive
+    // placements may end sooner. Grows when trials are repeated.
+    [[nodiscard]] uint32_t trialsPlanned() const;
+    // A condition's placement (its next level, estimate, reversals); null for a slider
+    // condition or an unknown name.
+    [[nodiscard]] const LevelPlacement* placement(std::string_view condition) const;
 
     // The trial in progress, for a simulated observer: the condition's level, whether the first
     // interval holds the condition (ForcedChoice, Pair), whether it is a catch trial, the ramp's
