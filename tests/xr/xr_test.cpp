@@ -319,6 +319,26 @@ std::vector<uint8_t> readEye(vk::Context& ctx, const xr::EyeImage& img) {
     return px;
 }
 
+using EyePixels = std::array<std::pair<std::vector<uint8_t>, VkExtent2D>, 2>;
+
+// The fixation frame as written: in the left eye white on the arms and centre of the cross at
+// (40, 30) with arms of 6 pixels, black elsewhere; the right eye black.
+void expectFixationFrame(const EyePixels& eyes) {
+    const auto at = [&](uint32_t e, uint32_t x, uint32_t y) {
+        return eyes[e].first.at((static_cast<std::size_t>(y) * eyes[e].second.width + x) * 4);
+    };
+    ASSERT_FALSE(eyes[0].first.empty());
+    ASSERT_GE(eyes[0].second.width, 60u);
+    EXPECT_EQ(at(0, 40, 30), 255);
+    EXPECT_EQ(at(0, 46, 30), 255); // the arm's end
+    EXPECT_EQ(at(0, 40, 24), 255);
+    EXPECT_EQ(at(0, 47, 30), 0); // past it
+    EXPECT_EQ(at(0, 44, 34), 0); // between the arms
+    EXPECT_EQ(at(0, 0, 0), 0);
+    for (std::size_t i = 0; i < eyes[1].first.size(); i += 4)
+        ASSERT_EQ(eyes[1].first[i], 0) << i / 4;
+}
+
 // The answer buttons and eye gaze in one session: their action sets attached in one call (a
 // second xrAttachSessionActionSets would fail), every set synced once a frame, and no press
 // reported while nobody touches a controller. Each frame is a study's fixation frame (EyeFill),
@@ -370,7 +390,7 @@ TEST(XrActions, ButtonsAndEyeGazeAttachTogetherSyncEveryFrameAndReportNoPress) {
 
         uint32_t frames = 0, focusedFrames = 0, maxActive = 0;
         app::EyeFill fill(renderer.context());
-        std::array<std::pair<std::vector<uint8_t>, VkExtent2D>, 2> eyes;
+        EyePixels eyes;
         const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
         while (session.pollEvents() && std::chrono::steady_clock::now() < end) {
             if (!session.running()) {
@@ -406,22 +426,78 @@ TEST(XrActions, ButtonsAndEyeGazeAttachTogetherSyncEveryFrameAndReportNoPress) {
         // The simple controllers' select and menu: every button, through the synced set.
         EXPECT_EQ(maxActive, xr::ResponseActions::kButtons);
 
-        // The fixation frame as written: white on the cross's arms and centre, black elsewhere.
-        const auto at = [&](uint32_t e, uint32_t x, uint32_t y) {
-            return eyes[e].first.at((static_cast<std::size_t>(y) * eyes[e].second.width + x) * 4);
-        };
-        ASSERT_FALSE(eyes[0].first.empty());
-        ASSERT_GE(eyes[0].second.width, 60u);
-        EXPECT_EQ(at(0, 40, 30), 255);
-        EXPECT_EQ(at(0, 46, 30), 255); // the arm's end
-        EXPECT_EQ(at(0, 40, 24), 255);
-        EXPECT_EQ(at(0, 47, 30), 0); // past it
-        EXPECT_EQ(at(0, 44, 34), 0); // between the arms
-        EXPECT_EQ(at(0, 0, 0), 0);
-        for (std::size_t i = 0; i < eyes[1].first.size(); i += 4)
-            ASSERT_EQ(eyes[1].first[i], 0) << i / 4;
+        expectFixationFrame(eyes);
     }
     EXPECT_EQ(renderer.context().validationErrors(), 0u);
+}
+
+// A perception study in the headset: two trials of a forced choice on the point-set scale,
+// answered by a simulated observer (Monado gives no button presses), every stimulus built for
+// the runtime's eye images first, each trial journaled with its intervals' frames. The buttons'
+// action set is synced on every frame the runtime paced and reported no press.
+TEST(XrStudy, AShortRunInTheHeadsetJournalsItsTrials) {
+    REQUIRE_MONADO();
+    const auto dir = test::tempDir("xr_study");
+    const auto design = dir / "design.json";
+    std::ofstream(design) << R"({
+        "name": "xr_tiny", "procedure": "forced-choice", "seed": 11,
+        "width": 160, "height": 120,
+        "timing": {"fixation_ms": 50, "interval_ms": 100, "blank_ms": 50},
+        "conditions": [{"name": "scale", "vary": "scale",
+                        "levels": {"min": 1.0, "max": 2.0, "step": 1.0},
+                        "placement": {"kind": "staircase", "max_trials": 4}}]
+    })";
+    const auto journal = dir / "journal.jsonl";
+    // `timeout` turns a run that never ends its trials into status 124.
+    const Result r =
+        test::runWith("timeout 300", "study --display xr --validate --design " + design.string() +
+                                         " --participant P01 --journal " + journal.string() +
+                                         " --observer level:1.5 --max-trials 2 --cache " +
+                                         (dir / "cache").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["display"], "xr");
+    EXPECT_NE(j["runtime"].get<std::string>().find("Monado"), std::string::npos);
+    EXPECT_EQ(j["trials_done"], 2);
+    EXPECT_EQ(j["trials_journaled"], 2);
+    EXPECT_EQ(j["validation_errors"], 0);
+    EXPECT_EQ(j["session_states"].back(), "EXITING");
+    EXPECT_LE(j["eye"][0].get<int>(), 160); // fitted into the design's view
+    EXPECT_LE(j["eye"][1].get<int>(), 120);
+    EXPECT_GT(j["frames_stimulus"].get<int>(), 0);
+    EXPECT_GT(j["frames_fixation"].get<int>(), 0);
+    EXPECT_GT(j["frames_blank"].get<int>(), 0);
+    const auto& a = j["responses"];
+    // One xrSyncActions on every frame the runtime paced, shown or not.
+    EXPECT_EQ(a["syncs"].get<int>(), j["frames"].get<int>() + j["frames_not_shown"].get<int>());
+    EXPECT_GT(a["focused_syncs"].get<int>(), 0);
+    EXPECT_EQ(a["button_presses"], 0);
+    EXPECT_EQ(a["button_answers"], 0);
+    EXPECT_GE(a["observer_answers"].get<int>(), 2);
+    const auto profiles = a["profiles"].get<std::vector<std::string>>();
+    EXPECT_NE(
+        std::find(profiles.begin(), profiles.end(), "/interaction_profiles/khr/simple_controller"),
+        profiles.end());
+
+    // The journal: both trials, each interval's frames counted, answered first or second.
+    std::ifstream in(journal);
+    int trials = 0;
+    for (std::string line; std::getline(in, line);) {
+        const auto t = nlohmann::json::parse(line);
+        if (t.value("type", "") != "trial") continue;
+        ++trials;
+        const std::string response = t["response"];
+        EXPECT_TRUE(response == "first" || response == "second") << line;
+        ASSERT_EQ(t["intervals"].size(), 2u) << line;
+        for (const auto& interval : t["intervals"]) {
+            EXPECT_GT(interval["frames"].get<int>(), 0) << line;
+            // The frame clock is the runtime's display time: an interval never holds more
+            // frames than its length at the display's refresh.
+            EXPECT_LE(interval["frames"].get<int>(), interval["expected_frames"].get<int>())
+                << line;
+        }
+    }
+    EXPECT_EQ(trials, 2);
 }
 
 // No runtime, or a runtime whose service is not running: one line naming the problem and what
