@@ -445,7 +445,9 @@ nlohmann::json StudyXrDisplay::Run::summary() {
          {"frames_with_runtime_gaze", mCounts.runtimeGazeFrames},
          {"frames_gaze_lost", mCounts.gazeLostFrames},
          {"responses", responses},
-         {"stimuli", mStimuli->summary()}});
+         {"stimuli", {{mScene, mStimuli->summary()}}},
+         // A stop request or the runtime ended it before the plan or --max-trials did.
+         {"ended_early", trialsLeft()}});
     // The action sets before the session they belong to.
     mEyeGaze.reset();
     mButtons.reset();

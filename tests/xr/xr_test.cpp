@@ -500,6 +500,40 @@ TEST(XrStudy, AShortRunInTheHeadsetJournalsItsTrials) {
     EXPECT_EQ(trials, 2);
 }
 
+// SIGINT during a study in the headset: the runtime is asked to end the session, which ends
+// cleanly; every trial answered so far is journaled, and the summary says the run ended early.
+TEST(XrStudy, SigintEndsTheSessionWithItsJournalComplete) {
+    REQUIRE_MONADO();
+    const auto dir = test::tempDir("xr_study_sigint");
+    const auto design = dir / "design.json";
+    std::ofstream(design) << R"({
+        "name": "xr_long", "procedure": "forced-choice", "seed": 5,
+        "width": 160, "height": 120,
+        "timing": {"fixation_ms": 200, "interval_ms": 500, "blank_ms": 200},
+        "conditions": [{"name": "scale", "vary": "scale",
+                        "levels": {"min": 1.0, "max": 2.0, "step": 1.0},
+                        "placement": {"kind": "staircase", "max_trials": 400}}]
+    })";
+    const auto journal = dir / "journal.jsonl";
+    const Result r = test::runWith("timeout --preserve-status -s INT 10",
+                                   "study --display xr --design " + design.string() +
+                                       " --participant P01 --journal " + journal.string() +
+                                       " --observer level:1.5 --cache " + (dir / "cache").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(j["ended_early"].get<bool>());
+    EXPECT_FALSE(j["finished"].get<bool>());
+    EXPECT_EQ(j["session_states"].back(), "EXITING");
+    std::ifstream in(journal);
+    int trials = 0;
+    for (std::string line; std::getline(in, line);) {
+        trials += nlohmann::json::parse(line).value("type", "") == "trial" ? 1 : 0;
+    }
+    EXPECT_GT(trials, 0);
+    EXPECT_EQ(j["trials_journaled"], trials);
+    EXPECT_EQ(j["trials_done"], trials);
+}
+
 // No runtime, or a runtime whose service is not running: one line naming the problem and what
 // to install or set.
 TEST(Xr, MissingRuntimeIsOneLine) {
