@@ -68,6 +68,7 @@ struct XrStudyCounts {
     uint32_t stimulusFrames = 0, fixationFrames = 0, blankFrames = 0;
     uint32_t runtimeGazeFrames = 0, gazeLostFrames = 0;
     uint32_t buttonAnswers = 0, observerAnswers = 0;
+    uint32_t buttonsBound = 0; // the most buttons bound to a controller at once
 };
 
 } // namespace
@@ -230,6 +231,7 @@ bool StudyXrDisplay::Run::step() {
     const xr::FrameInfo frame = mXr->beginFrame();
     mActions->sync(); // the frame's one xrSyncActions: eye gaze and the buttons
     const std::vector<uint32_t> pressed = mButtons->pressed();
+    mCounts.buttonsBound = std::max(mCounts.buttonsBound, mButtons->activeButtons());
     if (mExitAsked || !frame.shouldRender || !frame.posesValid) {
         mXr->endFrame(frame, false);
         ++mCounts.notShown;
@@ -396,6 +398,7 @@ double StudyXrDisplay::Run::refreshHz() {
         const xr::FrameInfo frame = mXr->beginFrame();
         mActions->sync();
         (void)mButtons->pressed();
+        mCounts.buttonsBound = std::max(mCounts.buttonsBound, mButtons->activeButtons());
         mXr->endFrame(frame, false);
         ++mCounts.notShown;
         mDisplayPeriod = frame.displayPeriod;
@@ -422,7 +425,7 @@ nlohmann::json StudyXrDisplay::Run::summary() {
                                 {"profiles_skipped", mActions->skippedProfiles()},
                                 {"syncs", mActions->syncs()},
                                 {"focused_syncs", mActions->focusedSyncs()},
-                                {"buttons_bound", mButtons->activeButtons()},
+                                {"buttons_bound", mCounts.buttonsBound},
                                 {"button_presses", mButtons->presses()},
                                 {"button_answers", mCounts.buttonAnswers},
                                 {"observer_answers", mCounts.observerAnswers}};

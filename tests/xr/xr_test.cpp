@@ -434,9 +434,24 @@ TEST(XrActions, ButtonsAndEyeGazeAttachTogetherSyncEveryFrameAndReportNoPress) {
 // A perception study in the headset: two trials of a forced choice on the point-set scale,
 // answered by a simulated observer (Monado gives no button presses), every stimulus built for
 // the runtime's eye images first, each trial journaled with its intervals' frames. The buttons'
-// action set is synced on every frame the runtime paced and reported no press.
+// action set is synced on every frame the runtime paced, bound to Monado's simulated simple
+// controllers, and reported no press.
 TEST(XrStudy, AShortRunInTheHeadsetJournalsItsTrials) {
     REQUIRE_MONADO();
+    // Its own service with simulated controllers, so the buttons are bound (a short path: the
+    // socket's must fit a sockaddr_un).
+    const auto xdg = std::filesystem::temp_directory_path() /
+                     ("gt_xr_study_" + std::to_string(getpid())) / "xdg";
+    const std::string pid = startPrivateMonado(xdg, "SIMULATED_LEFT=simple SIMULATED_RIGHT=simple");
+    ASSERT_FALSE(pid.empty());
+    struct Stop {
+        std::string pid;
+        std::filesystem::path xdg;
+        ~Stop() {
+            (void)std::system(("kill " + pid).c_str());
+            std::filesystem::remove_all(xdg.parent_path());
+        }
+    } stop{pid, xdg};
     const auto dir = test::tempDir("xr_study");
     const auto design = dir / "design.json";
     std::ofstream(design) << R"({
@@ -449,11 +464,11 @@ TEST(XrStudy, AShortRunInTheHeadsetJournalsItsTrials) {
     })";
     const auto journal = dir / "journal.jsonl";
     // `timeout` turns a run that never ends its trials into status 124.
-    const Result r =
-        test::runWith("timeout 300", "study --display xr --validate --design " + design.string() +
-                                         " --participant P01 --journal " + journal.string() +
-                                         " --observer level:1.5 --max-trials 2 --cache " +
-                                         (dir / "cache").string());
+    const Result r = test::runWith("env XDG_RUNTIME_DIR=" + xdg.string() + " timeout 300",
+                                   "study --display xr --validate --design " + design.string() +
+                                       " --participant P01 --journal " + journal.string() +
+                                       " --observer level:1.5 --max-trials 2 --cache " +
+                                       (dir / "cache").string());
     ASSERT_EQ(r.status, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["display"], "xr");
@@ -471,6 +486,7 @@ TEST(XrStudy, AShortRunInTheHeadsetJournalsItsTrials) {
     // One xrSyncActions on every frame the runtime paced, shown or not.
     EXPECT_EQ(a["syncs"].get<int>(), j["frames"].get<int>() + j["frames_not_shown"].get<int>());
     EXPECT_GT(a["focused_syncs"].get<int>(), 0);
+    EXPECT_EQ(a["buttons_bound"], 4); // read from the synced set on the controllers
     EXPECT_EQ(a["button_presses"], 0);
     EXPECT_EQ(a["button_answers"], 0);
     EXPECT_GE(a["observer_answers"].get<int>(), 2);
