@@ -496,6 +496,13 @@ Condition readCondition(const Reader& r, const json& j, const std::string& path,
     const LevelGrid grid = readLevels(r, j["levels"], child(path, "levels"), info);
     c.placement =
         readPlacement(r, field(j, "placement"), child(path, "placement"), procedure, grid, info);
+    const PlacementKind kind = c.placement.kind;
+    if (grid.values.empty() && grid.step == 0.0 && kind != PlacementKind::QuestPlus &&
+        kind != PlacementKind::ConstantStimuli) {
+        r.fail(child(path, "levels.step"), "a " + placementKindName(kind) +
+                                               " moves on a grid: give a step > 0 (every level's "
+                                               "point set is built before the first trial)");
+    }
     if (const json* f = field(j, "comparison")) {
         const std::string cp = child(path, "comparison");
         r.requireObject(*f, cp);

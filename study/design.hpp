@@ -38,8 +38,9 @@
 //     {"name": "scale",              required, unique; [A-Za-z0-9_.-], 1-64
 //      "vary": "scale",              required: scale | rays-per-point | k | slope | layers
 //      "levels": {"min": 1.0, "max": 3.0, "step": 0.1},   required: within the parameter's
-//                                    range (stimulus.hpp), min < max; step 0: continuous
-//                                    (default 1 for whole-number parameters, else 0); or a
+//                                    range (stimulus.hpp), min < max; step 0: continuous, 64
+//                                    levels (quest-plus and constant only: a staircase needs a
+//                                    step); default 1 for whole-number parameters, else 0; or a
 //                                    list of levels [1.0, 1.5, 2.0]; whole numbers where the
 //                                    parameter is one
 //      "method": "foveated",         foveated | layers; default: layers when vary is slope or
@@ -59,7 +60,8 @@
 //        "target": 0.75,             weighted staircase, (0, 1); forced-choice: above 0.5
 //        "reversals": 8, "skip_reversals": 2,   skip below reversals
 //        "max_trials": 80,           1-10000
-//        "repeats": 2,               constant: trials per level; slider: trials
+//        "repeats": 2,               constant: trials per level (max_trials caps the
+//                                    total); slider: slider trials per condition
 //        "quest_slopes": [2, 4, 8, 16], "quest_lapses": [0, 0.02, 0.04],
 //        "guess": 0.5,               [0, 1); default 0.5 for forced-choice, else 0
 //        "shape": "logistic"}}]      logistic | cumulative-normal | weibull

@@ -204,32 +204,6 @@ private:
 // ---------------------------------------------------------------------------------------------
 // Small helpers.
 
-std::string responseName(Response r) {
-    switch (r) {
-    case Response::First:
-        return "first";
-    case Response::Second:
-        return "second";
-    case Response::Same:
-        return "same";
-    case Response::Yes:
-        return "yes";
-    case Response::No:
-        return "no";
-    case Response::Up:
-        return "up";
-    case Response::Down:
-        return "down";
-    case Response::Reference:
-        return "reference";
-    case Response::Accept:
-        return "accept";
-    case Response::Continue:
-        return "continue";
-    }
-    return "?";
-}
-
 std::string nowUtc() {
     const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
     std::tm tm{};
@@ -265,6 +239,10 @@ void addFlag(std::vector<std::string>& flags, const std::string& flag) {
     if (std::ranges::find(flags, flag) == flags.end()) flags.push_back(flag);
 }
 
+constexpr std::array<Response, 10> kResponses{
+    Response::First, Response::Second, Response::Same,      Response::Yes,    Response::No,
+    Response::Up,    Response::Down,   Response::Reference, Response::Accept, Response::Continue};
+
 // What one interval of a trial shows.
 struct IntervalPlan {
     std::string shown;
@@ -287,6 +265,39 @@ struct LatencySum {
 } // namespace
 
 // ---------------------------------------------------------------------------------------------
+
+std::string responseName(Response r) {
+    switch (r) {
+    case Response::First:
+        return "first";
+    case Response::Second:
+        return "second";
+    case Response::Same:
+        return "same";
+    case Response::Yes:
+        return "yes";
+    case Response::No:
+        return "no";
+    case Response::Up:
+        return "up";
+    case Response::Down:
+        return "down";
+    case Response::Reference:
+        return "reference";
+    case Response::Accept:
+        return "accept";
+    case Response::Continue:
+        return "continue";
+    }
+    return "?";
+}
+
+std::optional<Response> responseNamed(std::string_view name) {
+    for (const Response r : kResponses) {
+        if (responseName(r) == name) return r;
+    }
+    return std::nullopt;
+}
 
 struct StudySession::State {
     StudyDesign design;
@@ -870,7 +881,10 @@ void StudySession::State::resume() {
     planner = std::make_unique<Planner>(design, seed);
     for (std::size_t i = 1; i < lines.size(); ++i)
         replay(lines[i], i + 1);
-    journal.append({{"type", "resume"}, {"time", nowUtc()}, {"trials_done", trialsDone}});
+    // A run that is already complete stays as it is.
+    if (planner->next(planner->slots())) {
+        journal.append({{"type", "resume"}, {"time", nowUtc()}, {"trials_done", trialsDone}});
+    }
 }
 
 StudySession::StudySession(StudyDesign design, SessionSettings settings, Journal& journal)

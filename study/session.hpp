@@ -26,6 +26,10 @@ public:
 
 // What a participant can answer; which ones a trial takes depends on the procedure.
 enum class Response { First, Second, Same, Yes, No, Up, Down, Reference, Accept, Continue };
+// "first", "second", "same", "yes", "no", "up", "down", "reference", "accept", "continue": the
+// journal's words, and what a front end's key or controller map may name.
+[[nodiscard]] std::string responseName(Response response);
+[[nodiscard]] std::optional<Response> responseNamed(std::string_view name);
 
 // One frame's gaze, as visual angles from the view's centre (degrees; +x right, +y up), or empty
 // when the tracker has none this frame.
@@ -52,7 +56,10 @@ enum class Phase { Instructions, Break, Fixation, Interval, Blank, Response, Don
 //  - Fixation (fixationMs; with a fixation radius, the gaze inside it for that long) ->
 //    Interval -> Blank -> Interval ... -> Response; ForcedChoice and Pair show two intervals,
 //    YesNo one, Ramp rampSteps; Slider goes from Fixation to Response, where the condition is
-//    shown, and Reference shows the comparison for one interval (intervalMs) and goes back;
+//    shown from its most foveated level, Up / Down move it one level towards less / more
+//    foveation, and Reference shows the comparison for one interval (intervalMs) and goes back;
+//  - a trial's practice and its slider start are at the most foveated level (the easiest to
+//    tell); practice and catch trials never reach the placement;
 //  - an answer ends the trial on the frame it arrives, which begins the next trial's Fixation
 //    (or a Break, or Done); answers a phase does not accept are ignored;
 //  - during an Interval, the gaze outside the fixation radius or an angular speed above

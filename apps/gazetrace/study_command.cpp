@@ -68,6 +68,11 @@ StudyView studyView(const StudyOptions& o, const study::StudyDesign& d) {
         v.stimuli = {v.hmd->pointSetProfile, std::nullopt, false};
         v.refreshHz = v.hmd->refreshHz;
     } else {
+        for (const uint32_t size : {o.width, o.height}) {
+            if (size != 0 && (size < 16 || size > 16384)) {
+                throw ArgumentError("--width/--height: 16 to 16384 pixels (0: the design's)");
+            }
+        }
         v.width = o.width != 0 ? o.width : d.width;
         v.height = o.height != 0 ? o.height : d.height;
         v.stimuli = desktopStimulusDisplay(v.width, v.height);
@@ -290,7 +295,8 @@ nlohmann::json HeadlessRun::run() {
         idle = mSession.trialsDone() != lastDone ? 0 : idle + 1;
         lastDone = mSession.trialsDone();
         if (idle > maxIdleFrames) {
-            throw Error("study: no trial ended in " + std::to_string(maxIdleFrames) + " frames");
+            throw Error("study: no trial ended in " + std::to_string(maxIdleFrames) +
+                        " frames (a gaze source that never holds the fixation region?)");
         }
     }
     nlohmann::json j = sessionSummary(mSetup, mSession, atStart);

@@ -59,32 +59,6 @@ constexpr std::array<KeyResponse, 12> kKeys{{{GLFW_KEY_1, Response::First, "1"},
                                              {GLFW_KEY_ENTER, Response::Accept, "Enter"},
                                              {GLFW_KEY_SPACE, Response::Continue, "Space"}}};
 
-const char* responseWord(Response r) {
-    switch (r) {
-    case Response::First:
-        return "first";
-    case Response::Second:
-        return "second";
-    case Response::Same:
-        return "same";
-    case Response::Yes:
-        return "yes";
-    case Response::No:
-        return "no";
-    case Response::Up:
-        return "up";
-    case Response::Down:
-        return "down";
-    case Response::Reference:
-        return "reference";
-    case Response::Accept:
-        return "accept";
-    case Response::Continue:
-        break;
-    }
-    return "continue";
-}
-
 // The answer a key gives, when the phase takes it.
 std::optional<Response> responseOfKey(int key, const std::vector<Response>& accepted) {
     for (const KeyResponse& k : kKeys) {
@@ -104,7 +78,7 @@ std::string keyLegend(const std::vector<Response>& accepted) {
         for (const KeyResponse& k : kKeys) {
             if (k.response == r) keys += (keys.empty() ? "" : "/") + std::string(k.label);
         }
-        legend += (legend.empty() ? "" : "   ") + keys + ": " + responseWord(r);
+        legend += (legend.empty() ? "" : "   ") + keys + ": " + study::responseName(r);
     }
     return legend;
 }
@@ -286,8 +260,10 @@ std::vector<render::View> StudyWindowRun::views(const FrameTick& t,
 // the prompt with its keys.
 void StudyWindowRun::drawUi() {
     mUi->newFrame();
-    ImGui::NewFrame();
     const ImVec2 size = ImGui::GetIO().DisplaySize;
+    // Text that reads alike from a small window to a full screen.
+    ImGui::GetIO().FontGlobalScale = std::max(1.0f, size.y / 540.0f);
+    ImGui::NewFrame();
     if (!mShow.stimulus) {
         const ImU32 colour = mShow.phase == study::Phase::Blank ? IM_COL32(0, 0, 0, 255)
                                                                 : IM_COL32(128, 128, 128, 255);
@@ -307,11 +283,14 @@ void StudyWindowRun::drawUi() {
     std::string text = mShow.prompt;
     if (!accepted.empty()) text += (text.empty() ? "" : "\n") + keyLegend(accepted);
     if (!text.empty()) {
-        const ImVec2 t = ImGui::CalcTextSize(text.c_str());
+        // Wrapped to the window, centred near its bottom, on a dark band.
+        const float wrap = 0.9f * size.x;
+        const ImVec2 t = ImGui::CalcTextSize(text.c_str(), nullptr, false, wrap);
         const ImVec2 at(0.5f * (size.x - t.x), size.y - t.y - 0.06f * size.y);
         d->AddRectFilled(ImVec2(at.x - 8, at.y - 6), ImVec2(at.x + t.x + 8, at.y + t.y + 6),
                          IM_COL32(0, 0, 0, 200));
-        d->AddText(at, IM_COL32(255, 255, 255, 255), text.c_str());
+        d->AddText(ImGui::GetFont(), ImGui::GetFontSize(), at, IM_COL32(255, 255, 255, 255),
+                   text.c_str(), nullptr, wrap);
     }
     ImGui::Render();
 }

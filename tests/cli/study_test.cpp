@@ -185,6 +185,8 @@ TEST(Study, BadInputsFailInOneLineAndWriteNoJournal) {
                              "--participant", journal);
     test::expectCleanFailure(test::run(studyArgs(good, journal, level + " --resume")), "--resume",
                              journal);
+    test::expectCleanFailure(test::run(studyArgs(good, journal, level + " --width 8")), "--width",
+                             journal);
     nlohmann::json camera = tinyDesign();
     camera["scenes"] = nlohmann::json::array({{{"scene", "builtin:market"}, {"camera", "1,2,3"}}});
     test::expectCleanFailure(
@@ -245,6 +247,42 @@ TEST(Study, WindowRunsTrialsUnderXvfb) {
             EXPECT_LT(std::abs(interval["gaze"][0][2].get<double>()), 0.05) << interval;
         }
     }
+}
+
+// The gaze from a trace, in the session's angles: a gaze that leaves the fixation region (1 deg)
+// during an interval repeats the trial; the trials kept saw it inside.
+TEST(Study, GazeLeavingTheFixationRegionRepeatsTheTrial) {
+    const auto dir = test::tempDir("study_gaze");
+    nlohmann::json d = tinyDesign();
+    d["gaze"] = {{"fixation_radius_deg", 1.0}, {"max_repeats", 2}};
+    const auto design = writeDesign(dir, d);
+    // On the view's centre, except every fourth 50 ms, when it is 70 px to the left (2 deg).
+    const auto trace = dir / "gaze.csv";
+    {
+        std::ofstream out(trace);
+        out << "t_ms,x,y\n";
+        for (int i = 0; i < 400; ++i) {
+            const int x = i % 4 == 3 ? 10 : 80;
+            out << i * 50 << "," << x << ",45\n" << i * 50 + 49 << "," << x << ",45\n";
+        }
+    }
+    const auto journal = dir / "p01.jsonl";
+    const Result r = test::run(studyArgs(
+        design, journal, "--observer level:2,3 --max-trials 4 --gaze trace:" + trace.string()));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto lines = journalLines(journal);
+    int repeats = 0;
+    for (const auto& l : lines) {
+        if (l.value("type", "") == "repeat") ++repeats;
+        if (l.value("type", "") != "trial") continue;
+        for (const auto& interval : l["intervals"]) {
+            for (const auto& g : interval["gaze"]) {
+                EXPECT_LT(std::hypot(g[1].get<double>(), g[2].get<double>()), 1.0) << g;
+            }
+        }
+    }
+    EXPECT_GE(repeats, 1);
+    EXPECT_EQ(trialsOf(lines).size(), 4u);
 }
 
 // A long plan (200 trials) a signal interrupts after a few seconds.

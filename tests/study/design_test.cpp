@@ -197,6 +197,12 @@ TEST(Design, CombinationsThatCannotWork) {
     EXPECT_EQ(errorOf(j), "t.json: conditions[0].scale: is the varied parameter: its levels come "
                           "from \"levels\"");
     j = minimalDesign();
+    j["conditions"][0]["levels"].erase("step");
+    EXPECT_EQ(errorOf(j), "t.json: conditions[0].levels.step: a staircase moves on a grid: give a "
+                          "step > 0 (every level's point set is built before the first trial)");
+    j["conditions"][0]["placement"] = {{"kind", "quest-plus"}};
+    EXPECT_EQ(errorOf(j), "");
+    j = minimalDesign();
     j["catch_rate"] = 0.1;
     EXPECT_EQ(errorOf(j), "t.json: catch_rate: only the yes-no procedure has catch trials");
 }

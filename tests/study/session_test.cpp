@@ -2,6 +2,7 @@
 
 #include "session.hpp"
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -567,6 +568,83 @@ TEST_F(SessionTest, RampShowsItsStepsInTheDrawnDirection) {
         EXPECT_EQ(from, level);
         EXPECT_EQ(to, "condition@1");
     }
+}
+
+TEST_F(SessionTest, ConditionsOneAfterAnotherWithABreakBetween) {
+    json j = interleaved();
+    j["break_between_conditions"] = true;
+    j["break_every"] = 0;
+    j["gaze"] = json::object();
+    for (json& c : j["conditions"])
+        c["placement"]["max_trials"] = 3;
+    Journal journal(journalPath());
+    StudySession session(designOf(j), participant(), journal);
+    Player player;
+    player.responseFrames = 1;
+    player.untilDone(session);
+    std::string order;
+    for (const json& t : linesOfType(journalPath(), "trial")) {
+        order += t["condition"].get<std::string>() + (t["practice"].get<bool>() ? "p" : "");
+    }
+    EXPECT_EQ(order, "apaaabpbbb");
+    const auto breaks = std::ranges::count_if(
+        player.runs, [](const auto& run) { return run.first == Phase::Break; });
+    EXPECT_EQ(breaks, 1);
+}
+
+TEST_F(SessionTest, BreaksEveryNTrials) {
+    json j = interleaved();
+    j["break_every"] = 4;
+    j["practice_trials"] = 0;
+    j["gaze"] = json::object();
+    for (json& c : j["conditions"])
+        c["placement"]["max_trials"] = 5;
+    Journal journal(journalPath());
+    StudySession session(designOf(j), participant(), journal);
+    Player player;
+    player.responseFrames = 1;
+    player.untilDone(session);
+    ASSERT_EQ(linesOfType(journalPath(), "trial").size(), 10u);
+    const auto breaks = std::ranges::count_if(
+        player.runs, [](const auto& run) { return run.first == Phase::Break; });
+    EXPECT_EQ(breaks, 2); // after trials 4 and 8
+}
+
+TEST_F(SessionTest, NoAnswerBeforeTheTimeoutRepeatsTheTrial) {
+    json j = forcedChoice(1);
+    j["timing"] = {
+        {"fixation_ms", 0}, {"interval_ms", 50}, {"blank_ms", 0}, {"response_timeout_ms", 200}};
+    Journal journal(journalPath());
+    StudySession session(designOf(j), participant(), journal);
+    Player player;
+    player.responseFrames = 1000;
+    for (int i = 0; i < 100 && linesOfType(journalPath(), "repeat").empty(); ++i) {
+        player.step(session);
+    }
+    ASSERT_EQ(linesOfType(journalPath(), "repeat").size(), 1u);
+    // 200 ms at 60 Hz: 12 frames of the response phase, the 13th begins the repeat (the two
+    // 50 ms intervals, 3 frames each with no blank between, log as one run).
+    const std::vector<std::pair<Phase, int>> expected{{Phase::Instructions, 1},
+                                                      {Phase::Interval, 6},
+                                                      {Phase::Response, 12},
+                                                      {Phase::Interval, 1}};
+    EXPECT_EQ(player.runs, expected);
+    EXPECT_EQ(linesOfType(journalPath(), "repeat")[0]["why"], "timeout");
+    player.responseFrames = 1;
+    player.untilDone(session);
+    const auto trials = linesOfType(journalPath(), "trial");
+    ASSERT_EQ(trials.size(), 1u);
+    EXPECT_EQ(trials[0]["trial"], 1u);
+}
+
+TEST(Responses, NamesRoundTrip) {
+    for (const Response r : {Response::First, Response::Second, Response::Same, Response::Yes,
+                             Response::No, Response::Up, Response::Down, Response::Reference,
+                             Response::Accept, Response::Continue}) {
+        EXPECT_EQ(responseNamed(responseName(r)), r) << responseName(r);
+    }
+    EXPECT_EQ(responseName(Response::First), "first");
+    EXPECT_FALSE(responseNamed("1"));
 }
 
 } // namespace
