@@ -22,32 +22,6 @@ constexpr std::array<std::array<std::optional<Response>, 3>, 4> kAnswers = {{
 constexpr std::array<const char*, 4> kButtonNames = {"left trigger", "right trigger",
                                                      "A/X (trackpad)", "B/Y (menu)"};
 
-const char* responseName(Response r) {
-    switch (r) {
-    case Response::First:
-        return "first";
-    case Response::Second:
-        return "second";
-    case Response::Same:
-        return "same";
-    case Response::Yes:
-        return "yes";
-    case Response::No:
-        return "no";
-    case Response::Up:
-        return "up";
-    case Response::Down:
-        return "down";
-    case Response::Reference:
-        return "reference";
-    case Response::Accept:
-        return "accept";
-    case Response::Continue:
-        return "continue";
-    }
-    return "?";
-}
-
 bool takes(std::span<const Response> accepted, Response r) {
     return std::find(accepted.begin(), accepted.end(), r) != accepted.end();
 }
@@ -70,7 +44,7 @@ std::string buttonPrompt(std::span<const Response> accepted) {
     for (uint32_t b = 0; b < kAnswers.size(); ++b) {
         if (const auto r = responseOfButton(b, accepted)) {
             if (!prompt.empty()) prompt += "  ";
-            prompt += std::string(kButtonNames[b]) + ": " + responseName(*r);
+            prompt += std::string(kButtonNames[b]) + ": " + study::responseName(*r);
         }
     }
     return prompt;
