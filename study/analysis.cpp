@@ -227,6 +227,7 @@ ParticipantCondition analyseCell(const Cell& cell, const StudyDesign& design,
     pc.counts = countsOf(cell.trials);
     pc.flaggedTrials = cell.flagged;
     if (design.procedure != Procedure::Slider && !pc.counts.empty()) {
+        if (settings.beforeFit) settings.beforeFit();
         pc.fit = fitPsychometric(pc.counts,
                                  fitSettingsFor(design, condition, cell.trials, settings, seed));
         pc.fitted = true;
@@ -297,6 +298,7 @@ ConditionSummary summarise(const Condition& condition, const StudyDesign& design
         summary.ruleSd = sampleSd(rules);
     }
     if (!fits.empty()) {
+        if (settings.beforeFit) settings.beforeFit();
         summary.group = poolParticipants(
             fits, counts, fitSettingsFor(design, condition, allTrials, settings, seed));
         summary.fitted = true;

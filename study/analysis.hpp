@@ -5,6 +5,7 @@
 // participants pooled per condition.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -50,6 +51,8 @@ struct AnalysisSettings {
     bool excludeFlagged = false; // leave out trials with dropped frames or lost gaze
     uint32_t bootstrap = 400;
     uint64_t seed = 1;
+    // Called before each fit (a fit with its bootstrap takes a while): the app's stop check.
+    std::function<void()> beforeFit;
 };
 
 // The procedures' own rules, on one participant's trials of one condition (practice left out, in

@@ -190,11 +190,13 @@ DesignSimulation simulateDesign(const StudyDesign& design, const DesignSimulatio
         }
     }
     for (uint32_t i = 0; i < settings.observers; ++i) {
+        if (settings.beforeParticipant) settings.beforeParticipant();
         SimulatedParticipant participant(design, planted, settings.seed * 100003 + i);
         Journal journal(sim.journals[i]);
         runSimulatedParticipant(design, codes[i], journal, participant);
     }
-    sim.analysis = analyseJournals(sim.journals, {false, settings.bootstrap, settings.seed});
+    sim.analysis = analyseJournals(
+        sim.journals, {false, settings.bootstrap, settings.seed, settings.beforeParticipant});
     for (std::size_t c = 0; c < design.conditions.size(); ++c)
         sim.conditions.push_back(recovery(sim.analysis, design.conditions[c], planted[c]));
     return sim;

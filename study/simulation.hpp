@@ -6,6 +6,7 @@
 // often the fits' 95 % intervals hold the planted threshold, in how many trials, how close.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -62,6 +63,9 @@ struct DesignSimulationSettings {
     double lapse = 0.02;
     uint64_t seed = 1;
     uint32_t bootstrap = 200; // per fit: enough for a 95 % percentile interval
+    // Called before each participant's run and each fit: the app's stop check (SIGINT throws
+    // from there).
+    std::function<void()> beforeParticipant;
 };
 
 // How well one condition's planted threshold came back.

@@ -20,6 +20,7 @@
 #include "journal.hpp"
 #include "scene/image_io.hpp"
 #include "simulation.hpp"
+#include "stop_request.hpp"
 
 namespace gt::app {
 
@@ -146,8 +147,8 @@ nlohmann::json runStudyAnalyse(const StudyAnalyseOptions& options) {
         outputs.push_back({"--out", fs::path(options.out) / name});
     io::refuseOutputThatIsInput(outputs, inputs);
 
-    const study::Analysis analysis =
-        study::analyseJournals(journals, {options.excludeFlagged, options.bootstrap, options.seed});
+    const study::Analysis analysis = study::analyseJournals(
+        journals, {options.excludeFlagged, options.bootstrap, options.seed, throwIfStopRequested});
     json result = study::toJson(analysis);
     result["journals"] = options.journals;
     result["exclude_flagged"] = options.excludeFlagged;
@@ -210,11 +211,15 @@ nlohmann::json runStudySimulate(const StudySimulateOptions& options) {
         folder = options.journals;
         fs::create_directories(folder);
     }
-    const study::DesignSimulation sim =
-        study::simulateDesign(design,
-                              {options.observers, options.threshold, options.slope, options.lapse,
-                               options.seed, kSimulateBootstrap},
-                              folder);
+    study::DesignSimulationSettings settings;
+    settings.observers = options.observers;
+    settings.threshold = options.threshold;
+    settings.slope = options.slope;
+    settings.lapse = options.lapse;
+    settings.seed = options.seed;
+    settings.bootstrap = kSimulateBootstrap;
+    settings.beforeParticipant = throwIfStopRequested; // SIGINT: the scratch folder goes
+    const study::DesignSimulation sim = study::simulateDesign(design, settings, folder);
     json conditions = json::array();
     for (const study::ConditionRecovery& c : sim.conditions)
         conditions.push_back(study::toJson(design, c));
