@@ -106,6 +106,8 @@ public:
     StudySession(const StudySession&) = delete;
     StudySession& operator=(const StudySession&) = delete;
 
+    // Throws JournalError when a line cannot be written (a full disk): the journal then holds
+    // every trial before it, and the run stops there.
     [[nodiscard]] FrameShow frame(const FrameInput& input);
     [[nodiscard]] bool finished() const;
     // Every stimulus the plan may show (each condition at every grid level, its comparison, each
