@@ -303,14 +303,14 @@ TEST(Study, SigintEndsAWindowRunWithItsJournalComplete) {
     const auto design = longDesign(dir);
     const auto journal = dir / "p01.jsonl";
     const Result r = test::runWith(
-        "xvfb-run -a -s '-screen 0 1280x720x24' timeout --preserve-status -s INT 6",
+        "xvfb-run -a -s '-screen 0 1280x720x24' timeout --preserve-status -s INT 10",
         "study --design " + design.string() + " --participant P01 --journal " + journal.string() +
             " --display window --gaze fixed:80,45" + cacheArg() + " --observer level:2,3");
     ASSERT_EQ(r.status, 0) << r.err;
     const auto summary = nlohmann::json::parse(r.out);
     EXPECT_TRUE(summary["ended_early"].get<bool>());
     const auto trials = trialsOf(journalLines(journal));
-    ASSERT_GE(trials.size(), 1u) << "no trial in six seconds";
+    ASSERT_GE(trials.size(), 1u) << "no trial in ten seconds";
     EXPECT_EQ(summary["trials_journaled"], trials.size());
     const Result more = test::run(studyArgs(design, journal,
                                             "--observer level:2,3 --resume "
