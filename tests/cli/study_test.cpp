@@ -308,9 +308,9 @@ TEST(Study, SigintEndsAWindowRunWithItsJournalComplete) {
             " --display window --gaze fixed:80,45" + cacheArg() + " --observer level:2,3");
     ASSERT_EQ(r.status, 0) << r.err;
     const auto summary = nlohmann::json::parse(r.out);
-    EXPECT_TRUE(summary["ended_early"].get<bool>());
+    EXPECT_TRUE(summary["ended_early"].get<bool>()) << r.out;
     const auto trials = trialsOf(journalLines(journal));
-    ASSERT_GE(trials.size(), 1u) << "no trial in ten seconds";
+    ASSERT_GE(trials.size(), 1u) << "no trial in ten seconds: " << r.err;
     EXPECT_EQ(summary["trials_journaled"], trials.size());
     const Result more = test::run(studyArgs(design, journal,
                                             "--observer level:2,3 --resume "
