@@ -6,8 +6,6 @@
 #include <cstdio>
 
 #include <imgui.h>
-#include <imgui_impl_glfw.h>
-#include <imgui_impl_vulkan.h>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -20,10 +18,6 @@ namespace gt::app {
 
 namespace {
 constexpr std::size_t kHistory = 120;
-
-void checkVk(VkResult r) {
-    if (r != VK_SUCCESS) log::error("overlay: Vulkan call failed with " + std::to_string(r));
-}
 
 template <typename T> void push(std::deque<T>& d, T v) {
     d.push_back(v);
@@ -51,47 +45,12 @@ float desktopPixelsPerDegree() {
 } // namespace
 
 DemoOverlay::DemoOverlay(Window& window, vk::Context& ctx, VkFormat format, uint32_t imageCount)
-    : mCtx(ctx), mPass(ctx, format) {
-    const std::array<VkDescriptorPoolSize, 1> sizes = {
-        VkDescriptorPoolSize{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 16}};
-    VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pi.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
-    pi.maxSets = 16;
-    pi.poolSizeCount = static_cast<uint32_t>(sizes.size());
-    pi.pPoolSizes = sizes.data();
-    GT_VK_CHECK(vkCreateDescriptorPool(ctx.device(), &pi, nullptr, &mPool));
-    IMGUI_CHECKVERSION();
-    ImGui::CreateContext();
-    ImGui::GetIO().IniFilename = nullptr; // no imgui.ini left in the working folder
-    ImGui::StyleColorsDark();
-    ImGui_ImplGlfw_InitForVulkan(window.handle(), true);
-    ImGui_ImplVulkan_InitInfo info{};
-    info.Instance = ctx.instance();
-    info.PhysicalDevice = ctx.physicalDevice();
-    info.Device = ctx.device();
-    info.QueueFamily = ctx.queueFamily();
-    info.Queue = ctx.queue();
-    info.DescriptorPool = mPool;
-    info.MinImageCount = std::max(2u, imageCount);
-    info.ImageCount = std::max(2u, imageCount);
-    info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
-    info.CheckVkResultFn = checkVk;
-    ImGui_ImplVulkan_Init(&info, mPass.renderPass());
-    ctx.submitAndWait([](VkCommandBuffer cmd) { ImGui_ImplVulkan_CreateFontsTexture(cmd); });
-    ImGui_ImplVulkan_DestroyFontUploadObjects();
-}
+    : mLayer(window, ctx, format, imageCount) {}
 
-DemoOverlay::~DemoOverlay() {
-    vkDeviceWaitIdle(mCtx.device());
-    ImGui_ImplVulkan_Shutdown();
-    ImGui_ImplGlfw_Shutdown();
-    ImGui::DestroyContext();
-    vkDestroyDescriptorPool(mCtx.device(), mPool, nullptr);
-}
+DemoOverlay::~DemoOverlay() = default;
 
 void DemoOverlay::swapchainRecreated(uint32_t imageCount) {
-    mPass.releaseFramebuffers();
-    ImGui_ImplVulkan_SetMinImageCount(std::max(2u, imageCount));
+    mLayer.swapchainRecreated(imageCount);
 }
 
 void DemoOverlay::addTimings(const rg::FrameTimings& t) {
@@ -101,8 +60,7 @@ void DemoOverlay::addTimings(const rg::FrameTimings& t) {
 }
 
 bool DemoOverlay::build(DemoSettings& s, const DemoStats& stats, std::optional<glm::vec2> target) {
-    ImGui_ImplVulkan_NewFrame();
-    ImGui_ImplGlfw_NewFrame();
+    mLayer.newFrame();
     // The panel's place and the font's scale before the frame (NewFrame takes the scale).
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     const glm::vec2 window(display.x, display.y);
@@ -195,11 +153,7 @@ bool DemoOverlay::panel(DemoSettings& s, const DemoStats& stats) {
 }
 
 rg::TextureId DemoOverlay::add(rg::RenderGraph& graph, rg::TextureId image) {
-    return mPass.add(graph, image, [](VkCommandBuffer cmd) {
-        if (ImDrawData* d = ImGui::GetDrawData(); d != nullptr && d->CmdListsCount > 0) {
-            ImGui_ImplVulkan_RenderDrawData(d, cmd);
-        }
-    });
+    return mLayer.add(graph, image);
 }
 
 } // namespace gt::app

@@ -17,6 +17,7 @@
 #include <vulkan/vulkan.h>
 
 #include "demo_settings.hpp"
+#include "imgui_layer.hpp"
 #include "overlay_layout.hpp"
 #include "render_graph/render_graph.hpp"
 #include "ui_overlay.hpp"
@@ -52,9 +53,7 @@ private:
     // The settings and timings panel; returns true when the user changed a setting.
     bool panel(DemoSettings& settings, const DemoStats& stats);
 
-    vk::Context& mCtx;
-    render::UiOverlay mPass;
-    VkDescriptorPool mPool = VK_NULL_HANDLE;
+    ImGuiLayer mLayer;
     bool mVisible = true;
     OverlayLayout mLayout{.corner = -1}; // kept in its corner while it clears the gaze
     std::deque<float> mGpuHistory;
