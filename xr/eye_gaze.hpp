@@ -1,14 +1,16 @@
 #pragma once
 // Eye gaze from the runtime (XR_EXT_eye_gaze_interaction): one pose action bound to
-// /user/eyes_ext/input/gaze_ext/pose, synced each frame and located in the head's VIEW space at
-// the frame's predicted display time. Its position is between the eyes and its -Z axis is the
-// combined gaze ray. The runtime may offer the extension and still report no valid pose (a
+// /user/eyes_ext/input/gaze_ext/pose, in its own action set among the session's (action_sets.hpp:
+// attached with the others, synced once a frame by the caller) and located in the head's VIEW
+// space at the frame's predicted display time. Its position is between the eyes and its -Z axis is
+// the combined gaze ray. The runtime may offer the extension and still report no valid pose (a
 // headset without a tracker, Monado's simulated HMD, the user not looking): locate() is then
 // empty and the caller falls back to its own gaze source.
 #include <optional>
 
 #include <glm/glm.hpp>
 
+#include "action_sets.hpp"
 #include "openxr.hpp"
 #include "xr_session.hpp"
 
@@ -22,21 +24,19 @@ struct EyeGazeSample {
 
 class EyeGaze {
 public:
-    // Creates and attaches the action set (once per session, before the first xrSyncActions).
-    // Only where the runtime supports eye gaze (Runtime::eyeGazeSupported()); `session` must
-    // outlive this.
-    explicit EyeGaze(Session& session);
+    // Creates its action set and binding in `sets` (before sets.attach()). Only where the
+    // runtime supports eye gaze (Runtime::eyeGazeSupported()); `sets` must outlive this.
+    explicit EyeGaze(ActionSets& sets);
     ~EyeGaze();
     EyeGaze(const EyeGaze&) = delete;
     EyeGaze& operator=(const EyeGaze&) = delete;
 
     // The gaze at `displayTime` in the session's VIEW space, or empty when the runtime has no
-    // valid pose.
+    // valid pose. After this frame's ActionSets::sync().
     [[nodiscard]] std::optional<EyeGazeSample> locate(XrTime displayTime);
 
 private:
     Session& mSession;
-    XrActionSet mActionSet = XR_NULL_HANDLE;
     XrAction mAction = XR_NULL_HANDLE;
     XrSpace mSpace = XR_NULL_HANDLE;
 };

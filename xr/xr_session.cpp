@@ -121,8 +121,15 @@ void Session::createSwapchains(const SessionOptions& options) {
         Eye& eye = mEyes[e];
         const XrViewConfigurationView& v = views[e];
         eye.recommended = {v.recommendedImageRectWidth, v.recommendedImageRectHeight};
+        double scale = options.resolutionScale;
+        if (options.maxWidth != 0) {
+            scale = std::min(scale, options.maxWidth / double(v.recommendedImageRectWidth));
+        }
+        if (options.maxHeight != 0) {
+            scale = std::min(scale, options.maxHeight / double(v.recommendedImageRectHeight));
+        }
         const auto scaled = [&](uint32_t rec, uint32_t max) {
-            const double s = std::round(rec * options.resolutionScale);
+            const double s = std::round(rec * scale);
             return std::clamp<uint32_t>(static_cast<uint32_t>(std::max(s, 16.0)), 16u,
                                         std::max(max, 16u));
         };

@@ -21,6 +21,8 @@ namespace gt::xr {
 struct SessionOptions {
     bool stageSpace = false;      // STAGE (floor-level origin) where offered, else LOCAL
     double resolutionScale = 1.0; // of the runtime's recommended eye image size
+    // At most this size (the recommended size scaled down further, its aspect kept); 0: no limit.
+    uint32_t maxWidth = 0, maxHeight = 0;
 };
 
 // One frame as the runtime paces it.

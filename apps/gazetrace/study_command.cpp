@@ -22,6 +22,7 @@
 #include "scene/camera_path.hpp"
 #include "session.hpp"
 #include "study_run.hpp"
+#include "study_xr.hpp"
 #include "view_args.hpp"
 #include "vk/context.hpp"
 
@@ -340,7 +341,6 @@ nlohmann::json sessionSummary(const StudySetup& setup, const study::StudySession
 }
 
 nlohmann::json runStudy(const StudyOptions& options) {
-    if (options.display == "xr") throw ArgumentError("--display xr: not available yet");
     const StudySetup setup = studySetup(options);
     JournalGuard guard(setup.journal);
     study::Journal journal(setup.journal);
@@ -348,12 +348,20 @@ nlohmann::json runStudy(const StudyOptions& options) {
     settings.participant = setup.participant;
     settings.refreshHz = setup.view.refreshHz;
     settings.fixationDeg = anglesOfViewPixel(setup.view, setup.view.fixationPx);
+    // OpenXR: the headset is opened first, so the session counts frames at its refresh.
+    std::optional<StudyXrDisplay> xr;
+    if (options.display == "xr") {
+        xr.emplace(setup);
+        settings.refreshHz = xr->refreshHz();
+    }
     study::StudySession session(setup.design, settings, journal);
     const uint32_t atStart = session.trialsDone();
     try {
         nlohmann::json summary;
         if (options.display == "window") {
             summary = runStudyWindow(setup, session);
+        } else if (xr) {
+            summary = xr->run(session);
         } else {
             HeadlessRun run(setup, session);
             summary = run.run();

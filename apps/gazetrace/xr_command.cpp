@@ -12,6 +12,7 @@
 #include <thread>
 #include <tuple>
 
+#include "action_sets.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "eccentricity_layers.hpp"
@@ -32,6 +33,7 @@
 #include "stop_request.hpp"
 #include "view_args.hpp"
 #include "xr_error.hpp"
+#include "xr_gaze.hpp"
 #include "xr_run_stats.hpp"
 #include "xr_runtime.hpp"
 #include "xr_session.hpp"
@@ -148,61 +150,6 @@ private:
     bool mThesis;
 };
 
-// The gaze of one frame in the head frame (OpenXR axes): a fixation point, or a direction
-// when the eyes look at infinity.
-struct HeadGaze {
-    glm::vec3 point{0.0f, 0.0f, -1.0f}; // straight ahead
-    bool atInfinity = true;
-    // Each tracked eye's own direction (per-eye angle traces, UDP): replaces `point` for it.
-    std::optional<glm::vec3> eyeDirection[2];
-    bool saccade = false;
-    std::optional<Clock::time_point> sampled; // when the sample was taken
-};
-
-// The gaze ray from `origin` along `direction`, fixated at `vergenceM` (0: infinity).
-HeadGaze fixation(const glm::vec3& origin, const glm::vec3& direction, double vergenceM) {
-    HeadGaze g;
-    g.atInfinity = vergenceM <= 0.0;
-    g.point = g.atInfinity ? direction : origin + direction * static_cast<float>(vergenceM);
-    return g;
-}
-
-// gazetrace's own angles (yaw right, pitch up; +Z ahead) in OpenXR's axes (-Z ahead).
-glm::vec3 xrDirectionOfAngles(glm::vec2 anglesDeg) {
-    const glm::vec3 d = render::directionOfAngles(anglesDeg);
-    return {d.x, d.y, -d.z};
-}
-
-HeadGaze runtimeHeadGaze(const xr::EyeGazeSample& s, double vergenceM, const xr::Runtime& rt) {
-    HeadGaze g = fixation(s.origin, s.direction, vergenceM);
-    if (s.time != 0) {
-        g.sampled = rt.fromXrTime(s.time);
-    }
-    return g;
-}
-
-// From one of gazetrace's sources (none: straight ahead). Pixels are the left eye's image's.
-HeadGaze ownHeadGaze(GazeInput* input, double tMs, const xr::FrameInfo& frame, VkExtent2D left,
-                     double vergenceM) {
-    const std::optional<GazeReading> r = input ? input->read(tMs) : std::nullopt;
-    if (!r) {
-        return {};
-    }
-    const glm::vec3 dir =
-        r->anglesDeg ? xrDirectionOfAngles(*r->anglesDeg)
-                     : xr::directionOfPixel(r->screenPx, frame.headViews[0].pose,
-                                            frame.headViews[0].fov, left.width, left.height);
-    HeadGaze g = fixation(glm::vec3(0.0f), dir, vergenceM);
-    for (int e = 0; e < 2; ++e) {
-        if (r->eyeAnglesDeg[e]) {
-            g.eyeDirection[e] = xrDirectionOfAngles(*r->eyeAnglesDeg[e]);
-        }
-    }
-    g.saccade = r->saccade;
-    g.sampled = r->sampled;
-    return g;
-}
-
 // Both eyes' views of a frame: each eye's reported pose through the scene placement, its own
 // field of view, and the gaze seen through that eye.
 std::array<render::View, 2> eyeViews(const xr::FrameInfo& frame, const HeadGaze& gaze,
@@ -214,17 +161,7 @@ std::array<render::View, 2> eyeViews(const xr::FrameInfo& frame, const HeadGaze&
         render::View& v = views[e];
         const XrView& eye = frame.views[e];
         const VkExtent2D size = session.eyeExtent(e);
-        v.name = e == 0 ? "left" : "right";
-        v.camera = xr::cameraOfPose(eye.pose, placement);
-        v.camera.yfov = eye.fov.angleUp - eye.fov.angleDown;
-        v.frustum = xr::tangentsOfFov(eye.fov);
-        v.width = size.width;
-        v.height = size.height;
-        const bool own = gaze.eyeDirection[e].has_value();
-        v.gaze =
-            xr::gazePixel(own ? *gaze.eyeDirection[e] : gaze.point, own || gaze.atInfinity,
-                          frame.headViews[e].pose, frame.headViews[e].fov, size.width, size.height);
-        v.saccade = gaze.saccade;
+        v = eyeView(frame, e, gaze, placement, size);
         v.method = &methods.forEye(eye.fov, size);
         v.post.taa = taa;
         if (thesis) {
@@ -329,6 +266,8 @@ private:
     std::optional<render::Renderer> mRenderer;
     std::optional<xr::Session> mSession;
     xr::ScenePlacement mPlacement;
+    // Before the inputs whose actions it holds: they go first.
+    std::optional<xr::ActionSets> mActions;
     std::optional<xr::EyeGaze> mEyeGaze;
     std::string mEyeGazeStatus = "not offered by the runtime";
     std::optional<EyeMethods> mMethods;
@@ -401,7 +340,9 @@ void XrRun::openSession(const StartArgs& args) {
     } else if (mRuntime->eyeGazeOffered() && !mRuntime->eyeGazeSupported()) {
         mEyeGazeStatus = "offered, but the system reports no eye tracker";
     } else if (mRuntime->eyeGazeSupported()) {
-        mEyeGaze.emplace(*mSession);
+        mActions.emplace(*mSession);
+        mEyeGaze.emplace(*mActions);
+        mActions->attach();
         mEyeGazeStatus = "offered";
     }
 }
@@ -446,12 +387,14 @@ FrameStart XrRun::begin(const FrameTick& t) {
 }
 
 HeadGaze XrRun::gaze() {
+    if (mActions) mActions->sync();
     const std::optional<xr::EyeGazeSample> sample =
         mEyeGaze ? mEyeGaze->locate(mFrame.displayTime) : std::nullopt;
     mRuntimeGazeFrames += sample ? 1 : 0;
     if (sample) return runtimeHeadGaze(*sample, mOptions.vergenceM, *mRuntime);
     return ownHeadGaze(mOwnGaze.get(), msSince(mT0, mRenderStart), mFrame, mSession->eyeExtent(0),
-                       mOptions.vergenceM);
+                       mOptions.vergenceM)
+        .value_or(HeadGaze{});
 }
 
 std::vector<render::OutputTarget*> XrRun::targets(const FrameTick& t) {
@@ -555,8 +498,9 @@ nlohmann::json XrRun::summary(uint32_t rendered) {
             mEyeGazeStatus = "offered, but no valid gaze pose was reported";
         }
     }
-    // The action set before the session it belongs to.
+    // The action sets before the session they belong to.
     mEyeGaze.reset();
+    mActions.reset();
     mSession.reset();
     checkOwnValidation(ctx);
     if (mOptions.frames != 0 && rendered < mOptions.frames && !stopRequested()) {

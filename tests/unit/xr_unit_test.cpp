@@ -1,10 +1,15 @@
-// The OpenXR parts that need no runtime: the session life cycle's decisions and the conversions
-// from what the runtime reports (poses, XrFovf, gaze rays) to the renderer's views.
+// The OpenXR parts that need no runtime: the session life cycle's decisions, the answer buttons'
+// press edges and bindings, and the conversions from what the runtime reports (poses, XrFovf,
+// gaze rays) to the renderer's views.
 #include <cmath>
+#include <map>
+#include <set>
+#include <string>
 
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
+#include "response_actions.hpp"
 #include "session_lifecycle.hpp"
 #include "xr_error.hpp"
 #include "xr_views.hpp"
@@ -146,6 +151,55 @@ TEST(XrViews, PlacementPutsTheViewerAtTheStartViewFacingItsTarget) {
     const scene::Camera left = xr::cameraOfPose(
         pose({0, 0, 0}, glm::angleAxis(glm::radians(90.0f), glm::vec3(0, 1, 0))), p);
     EXPECT_NEAR(left.forward.z, -1.0f, 1e-5f);
+}
+
+XrActionStateBoolean buttonState(bool active, bool changed, bool down) {
+    XrActionStateBoolean s{XR_TYPE_ACTION_STATE_BOOLEAN};
+    s.isActive = active ? XR_TRUE : XR_FALSE;
+    s.changedSinceLastSync = changed ? XR_TRUE : XR_FALSE;
+    s.currentState = down ? XR_TRUE : XR_FALSE;
+    return s;
+}
+
+TEST(XrResponseButtons, APressIsReportedOnceOnItsRisingEdge) {
+    // A button held over four syncs, then released: down, held, held, up.
+    const XrActionStateBoolean frames[] = {
+        buttonState(true, true, true), buttonState(true, false, true),
+        buttonState(true, false, true), buttonState(true, true, false)};
+    int presses = 0;
+    for (const auto& f : frames)
+        presses += xr::pressBegan(f) ? 1 : 0;
+    EXPECT_EQ(presses, 1);
+    EXPECT_TRUE(xr::pressBegan(frames[0]));
+    EXPECT_FALSE(xr::pressBegan(frames[3])); // a release is no press
+    // Inactive (no controller, not focused): nothing, whatever the other fields say.
+    EXPECT_FALSE(xr::pressBegan(buttonState(false, true, true)));
+}
+
+TEST(XrResponseButtons, EveryButtonIsBoundOnEveryProfileToAHandInput) {
+    std::map<std::string, std::set<uint32_t>> buttons;
+    std::set<std::pair<std::string, std::string>> seen;
+    for (const xr::ButtonBinding& b : xr::ResponseActions::bindings()) {
+        const std::string profile(b.profile), path(b.path);
+        EXPECT_LT(b.button, xr::ResponseActions::kButtons);
+        EXPECT_EQ(profile.rfind("/interaction_profiles/", 0), 0u) << profile;
+        EXPECT_TRUE(path.rfind("/user/hand/left/input/", 0) == 0 ||
+                    path.rfind("/user/hand/right/input/", 0) == 0)
+            << path;
+        // Only click and value components: a boolean action reads them as presses.
+        EXPECT_TRUE(path.ends_with("/click") || path.ends_with("/value")) << path;
+        EXPECT_TRUE(seen.insert({profile, path}).second) << "bound twice: " << path;
+        buttons[profile].insert(b.button);
+    }
+    EXPECT_EQ(buttons.size(), 4u);
+    for (const auto& [profile, bound] : buttons) {
+        EXPECT_EQ(bound.size(), xr::ResponseActions::kButtons) << profile;
+    }
+    // The two main answers are the two hands' index fingers on every profile.
+    for (const xr::ButtonBinding& b : xr::ResponseActions::bindings()) {
+        if (b.button == 0) EXPECT_NE(b.path.find("/left/"), std::string_view::npos) << b.path;
+        if (b.button == 1) EXPECT_NE(b.path.find("/right/"), std::string_view::npos) << b.path;
+    }
 }
 
 } // namespace

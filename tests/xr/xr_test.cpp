@@ -10,18 +10,28 @@
 #include <fstream>
 #include <thread>
 
+#include <unistd.h>
+
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "action_sets.hpp"
+#include "core/error.hpp"
+#include "eye_gaze.hpp"
 #include "foveation/contrast_sensitivity.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
 #include "renderer.hpp"
+#include "response_actions.hpp"
 #include "scene/image_io.hpp"
 #include "support/cli_run.hpp"
 #include "support/gpu_test_context.hpp"
+#include "vk/resources.hpp"
+#include "xr_eye_fill.hpp"
+#include "xr_runtime.hpp"
+#include "xr_session.hpp"
 
 namespace gt {
 namespace {
@@ -69,6 +79,26 @@ double meanAbsDiff(const image::DecodedImage& a, const std::vector<uint8_t>& b, 
 
 glm::vec3 vec3(const nlohmann::json& j) {
     return {j[0].get<float>(), j[1].get<float>(), j[2].get<float>()};
+}
+
+// A private Monado service in its own runtime dir `xdg` (so the fixture's lives on for the other
+// tests), `env` set for it (its simulated devices); the service's pid, empty when it failed.
+std::string startPrivateMonado(const std::filesystem::path& xdg, const std::string& env) {
+    std::filesystem::create_directories(xdg);
+    std::filesystem::permissions(xdg, std::filesystem::perms::owner_all);
+    const std::string script = std::string(GT_SOURCE_DIR) + "/../shared/tools/monado.sh";
+    const auto envFile = xdg.parent_path() / "monado.env";
+    if (std::system((env + " XDG_RUNTIME_DIR=" + xdg.string() + " bash " + script + " start " +
+                     GT_MONADO_DIR + " > " + envFile.string())
+                        .c_str()) != 0) {
+        return {};
+    }
+    std::ifstream in(envFile);
+    std::string line, pid;
+    while (std::getline(in, line)) {
+        if (line.rfind("export MONADO_PID=", 0) == 0) pid = line.substr(18);
+    }
+    return pid;
 }
 
 // Reaches FOCUSED, renders both eyes for N frames with zero validation errors, ends the session
@@ -212,26 +242,10 @@ TEST(Xr, LayersRenderBothEyes) {
 // A runtime that exits mid-session (its service killed): a clear one-line error, no hang.
 TEST(Xr, RuntimeThatDiesMidSessionEndsWithOneLine) {
     REQUIRE_MONADO();
-    const std::string monadoDir = GT_MONADO_DIR;
     const auto dir = test::tempDir("xr_killed");
     // A private service (its own runtime dir), so the shared one lives on for the other tests.
     const auto xdg = dir / "xdg";
-    std::filesystem::create_directories(xdg);
-    std::filesystem::permissions(xdg, std::filesystem::perms::owner_all);
-    const std::string script = std::string(GT_SOURCE_DIR) + "/../shared/tools/monado.sh";
-    const auto envFile = dir / "monado.env";
-    ASSERT_EQ(std::system(("XDG_RUNTIME_DIR=" + xdg.string() + " bash " + script + " start " +
-                           monadoDir + " > " + envFile.string())
-                              .c_str()),
-              0);
-    std::string pid;
-    {
-        std::ifstream in(envFile);
-        std::string line;
-        while (std::getline(in, line)) {
-            if (line.rfind("export MONADO_PID=", 0) == 0) pid = line.substr(18);
-        }
-    }
+    const std::string pid = startPrivateMonado(xdg, "");
     ASSERT_FALSE(pid.empty());
     const auto err = dir / "err.txt";
     const auto status = dir / "status.txt";
@@ -269,6 +283,271 @@ TEST(Xr, RuntimeThatDiesMidSessionEndsWithOneLine) {
     const std::string message = text.substr(last);
     EXPECT_EQ(test::lines(message), 1) << message;
     EXPECT_NE(message.find("OpenXR runtime"), std::string::npos) << message;
+}
+
+// An eye's swapchain image read back (RGBA or BGRA bytes as the format has them); it stays in
+// COLOR_ATTACHMENT_OPTIMAL, as OpenXR wants it released.
+std::vector<uint8_t> readEye(vk::Context& ctx, const xr::EyeImage& img) {
+    const VkDeviceSize bytes = VkDeviceSize(img.extent.width) * img.extent.height * 4;
+    vk::Buffer buffer(ctx, {bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUsage::Readback,
+                            "test.eye_readback"});
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+        b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+        b.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        b.oldLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+        b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        b.image = img.image;
+        b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, 1, &b);
+        VkBufferImageCopy c{};
+        c.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        c.imageExtent = {img.extent.width, img.extent.height, 1};
+        vkCmdCopyImageToBuffer(cmd, img.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                               buffer.handle(), 1, &c);
+        std::swap(b.oldLayout, b.newLayout);
+        b.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        b.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0, nullptr, 0,
+                             nullptr, 1, &b);
+    });
+    std::vector<uint8_t> px(bytes);
+    buffer.download(std::as_writable_bytes(std::span(px)));
+    return px;
+}
+
+using EyePixels = std::array<std::pair<std::vector<uint8_t>, VkExtent2D>, 2>;
+
+// The fixation frame as written: in the left eye white on the arms and centre of the cross at
+// (40, 30) with arms of 6 pixels, black elsewhere; the right eye black.
+void expectFixationFrame(const EyePixels& eyes) {
+    const auto at = [&](uint32_t e, uint32_t x, uint32_t y) {
+        return eyes[e].first.at((static_cast<std::size_t>(y) * eyes[e].second.width + x) * 4);
+    };
+    ASSERT_FALSE(eyes[0].first.empty());
+    ASSERT_GE(eyes[0].second.width, 60u);
+    EXPECT_EQ(at(0, 40, 30), 255);
+    EXPECT_EQ(at(0, 46, 30), 255); // the arm's end
+    EXPECT_EQ(at(0, 40, 24), 255);
+    EXPECT_EQ(at(0, 47, 30), 0); // past it
+    EXPECT_EQ(at(0, 44, 34), 0); // between the arms
+    EXPECT_EQ(at(0, 0, 0), 0);
+    for (std::size_t i = 0; i < eyes[1].first.size(); i += 4)
+        ASSERT_EQ(eyes[1].first[i], 0) << i / 4;
+}
+
+// The answer buttons and eye gaze in one session: their action sets attached in one call (a
+// second xrAttachSessionActionSets would fail), every set synced once a frame, and no press
+// reported while nobody touches a controller. Each frame is a study's fixation frame (EyeFill),
+// submitted to the runtime and read back once. A private service with Monado's simulated simple
+// controllers in both hands, so the buttons are bound (and read from a synced set).
+TEST(XrActions, ButtonsAndEyeGazeAttachTogetherSyncEveryFrameAndReportNoPress) {
+    REQUIRE_MONADO();
+    // A short path: the service's socket path must fit a sockaddr_un (108 bytes).
+    const auto xdg = std::filesystem::temp_directory_path() /
+                     ("gt_xr_actions_" + std::to_string(getpid())) / "xdg";
+    const std::string pid = startPrivateMonado(xdg, "SIMULATED_LEFT=simple SIMULATED_RIGHT=simple");
+    ASSERT_FALSE(pid.empty());
+    struct Restore {
+        std::string pid;
+        std::filesystem::path xdg;
+        ~Restore() {
+            setenv("XDG_RUNTIME_DIR", GT_XR_RUNTIME_DIR, 1);
+            (void)std::system(("kill " + pid).c_str());
+            std::filesystem::remove_all(xdg.parent_path());
+        }
+    } restore{pid, xdg};
+    setenv("XDG_RUNTIME_DIR", xdg.c_str(), 1); // the in-process client connects here
+    xr::RuntimeOptions rto;
+    rto.runtimeManifest = monadoRuntime();
+    xr::Runtime runtime(rto);
+    render::RendererOptions ro;
+    ro.validate = true;
+    ro.framesInFlight = 1;
+    ro.display = runtime.vulkanHooks();
+    render::Renderer renderer(ro);
+    xr::Session session(runtime, renderer.context(), xr::SessionOptions{false, 0.25});
+    {
+        xr::ActionSets sets(session);
+        // Monado offers the extension without an eye tracker: its binding is still suggested.
+        ASSERT_TRUE(runtime.eyeGazeOffered());
+        xr::EyeGaze gaze(sets);
+        xr::ResponseActions buttons(sets);
+        sets.attach();
+        sets.attach(); // once per session: a second call does nothing
+        EXPECT_TRUE(sets.attached());
+        EXPECT_EQ(sets.setCount(), 2u);
+        EXPECT_THROW((void)sets.createSet("late", "late"), Error);
+        const auto& suggested = sets.suggestedProfiles();
+        for (const char* profile : {"/interaction_profiles/khr/simple_controller",
+                                    "/interaction_profiles/ext/eye_gaze_interaction"}) {
+            EXPECT_NE(std::find(suggested.begin(), suggested.end(), profile), suggested.end())
+                << profile;
+        }
+
+        uint32_t frames = 0, focusedFrames = 0, maxActive = 0;
+        app::EyeFill fill(renderer.context());
+        EyePixels eyes;
+        const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+        while (session.pollEvents() && std::chrono::steady_clock::now() < end) {
+            if (!session.running()) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(5));
+                continue;
+            }
+            const xr::FrameInfo frame = session.beginFrame();
+            const bool focused = sets.syncs() == frames && sets.sync();
+            ++frames;
+            focusedFrames += focused ? 1 : 0;
+            EXPECT_TRUE(buttons.pressed().empty());
+            maxActive = std::max(maxActive, buttons.activeButtons());
+            (void)gaze.locate(frame.displayTime);
+            // A fixation frame: the left eye black with a cross at (40, 30), the right black.
+            for (uint32_t e = 0; e < 2 && frame.shouldRender; ++e) {
+                const xr::EyeImage img = session.acquire(e);
+                const std::optional<app::FixationCross> cross =
+                    e == 0 ? std::optional(app::FixationCross{{40.0f, 30.0f}, 6, 2}) : std::nullopt;
+                fill.fill({img.image, img.format, img.extent, 0}, cross);
+                if (focusedFrames == 20) eyes[e] = {readEye(renderer.context(), img), img.extent};
+                session.release(e);
+            }
+            session.endFrame(frame, frame.shouldRender);
+            if (focusedFrames == 20 && !session.lifecycle().isExitRequested()) {
+                session.requestExit();
+            }
+        }
+        EXPECT_EQ(session.lifecycle().history().back(), "EXITING");
+        EXPECT_GE(focusedFrames, 20u);
+        EXPECT_EQ(sets.syncs(), frames); // one xrSyncActions a frame, both sets in it
+        EXPECT_EQ(sets.focusedSyncs(), focusedFrames);
+        EXPECT_EQ(buttons.presses(), 0u);
+        // The simple controllers' select and menu: every button, through the synced set.
+        EXPECT_EQ(maxActive, xr::ResponseActions::kButtons);
+
+        expectFixationFrame(eyes);
+    }
+    EXPECT_EQ(renderer.context().validationErrors(), 0u);
+}
+
+// A perception study in the headset: two trials of a forced choice on the point-set scale,
+// answered by a simulated observer (Monado gives no button presses), every stimulus built for
+// the runtime's eye images first, each trial journaled with its intervals' frames. The buttons'
+// action set is synced on every frame the runtime paced, bound to Monado's simulated simple
+// controllers, and reported no press.
+TEST(XrStudy, AShortRunInTheHeadsetJournalsItsTrials) {
+    REQUIRE_MONADO();
+    // Its own service with simulated controllers, so the buttons are bound (a short path: the
+    // socket's must fit a sockaddr_un).
+    const auto xdg = std::filesystem::temp_directory_path() /
+                     ("gt_xr_study_" + std::to_string(getpid())) / "xdg";
+    const std::string pid = startPrivateMonado(xdg, "SIMULATED_LEFT=simple SIMULATED_RIGHT=simple");
+    ASSERT_FALSE(pid.empty());
+    struct Stop {
+        std::string pid;
+        std::filesystem::path xdg;
+        ~Stop() {
+            (void)std::system(("kill " + pid).c_str());
+            std::filesystem::remove_all(xdg.parent_path());
+        }
+    } stop{pid, xdg};
+    const auto dir = test::tempDir("xr_study");
+    const auto design = dir / "design.json";
+    std::ofstream(design) << R"({
+        "name": "xr_tiny", "procedure": "forced-choice", "seed": 11,
+        "width": 160, "height": 120,
+        "timing": {"fixation_ms": 50, "interval_ms": 100, "blank_ms": 50},
+        "conditions": [{"name": "scale", "vary": "scale",
+                        "levels": {"min": 1.0, "max": 2.0, "step": 1.0},
+                        "placement": {"kind": "staircase", "max_trials": 4}}]
+    })";
+    const auto journal = dir / "journal.jsonl";
+    // `timeout` turns a run that never ends its trials into status 124.
+    const Result r = test::runWith("env XDG_RUNTIME_DIR=" + xdg.string() + " timeout 300",
+                                   "study --display xr --validate --design " + design.string() +
+                                       " --participant P01 --journal " + journal.string() +
+                                       " --observer level:1.5 --max-trials 2 --cache " +
+                                       (dir / "cache").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["display"], "xr");
+    EXPECT_NE(j["runtime"].get<std::string>().find("Monado"), std::string::npos);
+    EXPECT_EQ(j["trials_done"], 2);
+    EXPECT_EQ(j["trials_journaled"], 2);
+    EXPECT_EQ(j["validation_errors"], 0);
+    EXPECT_EQ(j["session_states"].back(), "EXITING");
+    EXPECT_LE(j["eye"][0].get<int>(), 160); // fitted into the design's view
+    EXPECT_LE(j["eye"][1].get<int>(), 120);
+    EXPECT_GT(j["frames_stimulus"].get<int>(), 0);
+    EXPECT_GT(j["frames_fixation"].get<int>(), 0);
+    EXPECT_GT(j["frames_blank"].get<int>(), 0);
+    const auto& a = j["responses"];
+    // One xrSyncActions on every frame the runtime paced, shown or not.
+    EXPECT_EQ(a["syncs"].get<int>(), j["frames"].get<int>() + j["frames_not_shown"].get<int>());
+    EXPECT_GT(a["focused_syncs"].get<int>(), 0);
+    EXPECT_EQ(a["buttons_bound"], 4); // read from the synced set on the controllers
+    EXPECT_EQ(a["button_presses"], 0);
+    EXPECT_EQ(a["button_answers"], 0);
+    EXPECT_GE(a["observer_answers"].get<int>(), 2);
+    const auto profiles = a["profiles"].get<std::vector<std::string>>();
+    EXPECT_NE(
+        std::find(profiles.begin(), profiles.end(), "/interaction_profiles/khr/simple_controller"),
+        profiles.end());
+
+    // The journal: both trials, each interval's frames counted, answered first or second.
+    std::ifstream in(journal);
+    int trials = 0;
+    for (std::string line; std::getline(in, line);) {
+        const auto t = nlohmann::json::parse(line);
+        if (t.value("type", "") != "trial") continue;
+        ++trials;
+        const std::string response = t["response"];
+        EXPECT_TRUE(response == "first" || response == "second") << line;
+        ASSERT_EQ(t["intervals"].size(), 2u) << line;
+        for (const auto& interval : t["intervals"]) {
+            EXPECT_GT(interval["frames"].get<int>(), 0) << line;
+            // The frame clock is the runtime's display time: an interval never holds more
+            // frames than its length at the display's refresh.
+            EXPECT_LE(interval["frames"].get<int>(), interval["expected_frames"].get<int>())
+                << line;
+        }
+    }
+    EXPECT_EQ(trials, 2);
+}
+
+// SIGINT during a study in the headset: the runtime is asked to end the session, which ends
+// cleanly; every trial answered so far is journaled, and the summary says the run ended early.
+TEST(XrStudy, SigintEndsTheSessionWithItsJournalComplete) {
+    REQUIRE_MONADO();
+    const auto dir = test::tempDir("xr_study_sigint");
+    const auto design = dir / "design.json";
+    std::ofstream(design) << R"({
+        "name": "xr_long", "procedure": "forced-choice", "seed": 5,
+        "width": 160, "height": 120,
+        "timing": {"fixation_ms": 200, "interval_ms": 500, "blank_ms": 200},
+        "conditions": [{"name": "scale", "vary": "scale",
+                        "levels": {"min": 1.0, "max": 2.0, "step": 1.0},
+                        "placement": {"kind": "staircase", "max_trials": 400}}]
+    })";
+    const auto journal = dir / "journal.jsonl";
+    const Result r = test::runWith("timeout --preserve-status -s INT 10",
+                                   "study --display xr --design " + design.string() +
+                                       " --participant P01 --journal " + journal.string() +
+                                       " --observer level:1.5 --cache " + (dir / "cache").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(j["ended_early"].get<bool>());
+    EXPECT_FALSE(j["finished"].get<bool>());
+    EXPECT_EQ(j["session_states"].back(), "EXITING");
+    std::ifstream in(journal);
+    int trials = 0;
+    for (std::string line; std::getline(in, line);) {
+        trials += nlohmann::json::parse(line).value("type", "") == "trial" ? 1 : 0;
+    }
+    EXPECT_GT(trials, 0);
+    EXPECT_EQ(j["trials_journaled"], trials);
+    EXPECT_EQ(j["trials_done"], trials);
 }
 
 // No runtime, or a runtime whose service is not running: one line naming the problem and what
