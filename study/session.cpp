@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <map>
 #include <random>
 #include <utility>
 
@@ -67,9 +69,9 @@ public:
     [[nodiscard]] std::optional<PlannedTrial> next(uint32_t slot) const {
         std::mt19937_64 random(mixSeed(mSeed, slot));
         const uint64_t pick = random();
-        const bool first = (random() & 1U) != 0;
+        bool first = (random() & 1U) != 0;
         const double catchDraw = uniform01(random);
-        const bool rampUp = (random() & 1U) != 0;
+        bool rampUp = (random() & 1U) != 0;
         const auto delay = static_cast<uint32_t>(1 + uniformIndex(random, 3));
 
         PlannedTrial t;
@@ -81,6 +83,11 @@ public:
         // Practice and the slider's start: the easiest level, the most foveated.
         t.level = t.practice || p == Procedure::Slider ? mostFoveated(c)
                                                        : mPlacements[t.condition]->next();
+        if (const std::optional<bool> b = balanced(t)) {
+            // Guenter et al. 2012: each pair "in both orders", each ramp "in both directions".
+            first = *b;
+            rampUp = *b;
+        }
         t.conditionFirst = p == Procedure::ForcedChoice || p == Procedure::Pair ? first : true;
         t.catchTrial = p == Procedure::YesNo && !t.practice && catchDraw < mDesign.catchRate;
         t.rampUp = p == Procedure::Ramp ? rampUp : true;
@@ -98,6 +105,7 @@ public:
             mPlacements[t.condition]->record(level, positive);
         }
         ++mEnded[t.condition];
+        if (!t.practice) ++mShownAt[{t.condition, t.level}];
         mSlots = t.index + 1;
     }
 
@@ -132,6 +140,18 @@ public:
     }
 
 private:
+    // Constant stimuli: the order (or direction) alternates over a level's presentations,
+    // starting from a coin drawn per condition and level, so two repeats show both.
+    [[nodiscard]] std::optional<bool> balanced(const PlannedTrial& t) const {
+        const PlacementSettings& s = mDesign.conditions[t.condition].placement;
+        if (t.practice || s.kind != PlacementKind::ConstantStimuli) return std::nullopt;
+        const auto it = mShownAt.find({t.condition, t.level});
+        const uint64_t shown = it == mShownAt.end() ? 0 : it->second;
+        const uint64_t coin =
+            mixSeed(mSeed ^ std::bit_cast<uint64_t>(t.level), 0xBA1A + t.condition) & 1U;
+        return (shown + coin) % 2 == 0;
+    }
+
     [[nodiscard]] bool mainLeft(std::size_t c) const {
         return mPlacements[c] == nullptr ? mSliderDone[c] < mDesign.conditions[c].placement.repeats
                                          : !mPlacements[c]->finished();
@@ -197,6 +217,7 @@ private:
     std::vector<uint32_t> mPracticeLeft;
     std::vector<uint32_t> mSliderDone;
     std::vector<uint64_t> mEnded;
+    std::map<std::pair<std::size_t, double>, uint64_t> mShownAt; // non-practice trials per level
     std::vector<Deferred> mDeferred;
     uint32_t mSlots = 0;
 };

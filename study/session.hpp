@@ -74,7 +74,10 @@ enum class Phase { Instructions, Break, Fixation, Interval, Blank, Response, Don
 //    previous frame's, and is counted there too.
 // Every random choice of a trial (its condition, the interval order, a catch trial, the ramp's
 // direction, a repeat's delay) is drawn from an engine seeded from (seed, trial index) alone, so
-// replaying a journal's lines rebuilds the same plan.
+// replaying a journal's lines rebuilds the same plan. With constant stimuli the interval order
+// (ForcedChoice, Pair) and the ramp's direction alternate over a level's presentations instead,
+// from a coin per level, so two repeats show both (Guenter et al. 2012: "in both orders", "in
+// both directions").
 
 // What to show this frame.
 struct FrameShow {
@@ -103,6 +106,8 @@ public:
     StudySession(const StudySession&) = delete;
     StudySession& operator=(const StudySession&) = delete;
 
+    // Throws JournalError when a line cannot be written (a full disk): the journal then holds
+    // every trial before it, and the run stops there.
     [[nodiscard]] FrameShow frame(const FrameInput& input);
     [[nodiscard]] bool finished() const;
     // Every stimulus the plan may show (each condition at every grid level, its comparison, each

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <set>
 #include <string>
 #include <utility>
@@ -541,7 +542,7 @@ TEST_F(SessionTest, RampShowsItsStepsInTheDrawnDirection) {
     json j = forcedChoice(1);
     j["procedure"] = "ramp";
     j["ramp_steps"] = 5;
-    j["conditions"][0]["placement"] = {{"kind", "constant"}, {"repeats", 1}};
+    j["conditions"][0]["placement"] = {{"kind", "constant"}, {"repeats", 2}};
     j["conditions"][0]["levels"] = json::array({1.0, 2.0, 3.0});
     j["timing"] = {{"fixation_ms", 0}, {"interval_ms", 50}, {"blank_ms", 0}};
     Journal journal(journalPath());
@@ -554,9 +555,11 @@ TEST_F(SessionTest, RampShowsItsStepsInTheDrawnDirection) {
     };
     player.untilDone(session);
     const auto trials = linesOfType(journalPath(), "trial");
-    ASSERT_EQ(trials.size(), 3u);
+    ASSERT_EQ(trials.size(), 6u);
+    std::map<double, std::string> directions; // each level once up, once down
     for (const json& line : trials) {
         const TrialRecord r = trialFromJson(line);
+        directions[r.level] += r.response == "up" ? "u" : "d";
         EXPECT_TRUE(r.positive);
         ASSERT_EQ(r.intervals.size(), 5u);
         // From the trial's level to the least foveated level (1) when quality goes up.
@@ -567,6 +570,11 @@ TEST_F(SessionTest, RampShowsItsStepsInTheDrawnDirection) {
         std::snprintf(level, sizeof level, "condition@%g", r.level);
         EXPECT_EQ(from, level);
         EXPECT_EQ(to, "condition@1");
+    }
+    ASSERT_EQ(directions.size(), 3u);
+    for (auto [level, d] : directions) {
+        std::ranges::sort(d);
+        EXPECT_EQ(d, "du") << level;
     }
 }
 

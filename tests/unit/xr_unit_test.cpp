@@ -197,8 +197,12 @@ TEST(XrResponseButtons, EveryButtonIsBoundOnEveryProfileToAHandInput) {
     }
     // The two main answers are the two hands' index fingers on every profile.
     for (const xr::ButtonBinding& b : xr::ResponseActions::bindings()) {
-        if (b.button == 0) EXPECT_NE(b.path.find("/left/"), std::string_view::npos) << b.path;
-        if (b.button == 1) EXPECT_NE(b.path.find("/right/"), std::string_view::npos) << b.path;
+        if (b.button == 0) {
+            EXPECT_NE(b.path.find("/left/"), std::string_view::npos) << b.path;
+        }
+        if (b.button == 1) {
+            EXPECT_NE(b.path.find("/right/"), std::string_view::npos) << b.path;
+        }
     }
 }
 

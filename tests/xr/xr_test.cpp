@@ -464,6 +464,8 @@ TEST(XrStudy, AShortRunInTheHeadsetJournalsItsTrials) {
     })";
     const auto journal = dir / "journal.jsonl";
     // `timeout` turns a run that never ends its trials into status 124.
+    // --foreground: timeout signals gazetrace alone; without it, it signals its process group
+    // too, and a second SIGINT arriving after the first was handled kills the run (exit 130).
     const Result r = test::runWith("env XDG_RUNTIME_DIR=" + xdg.string() + " timeout 300",
                                    "study --display xr --validate --design " + design.string() +
                                        " --participant P01 --journal " + journal.string() +
@@ -531,7 +533,7 @@ TEST(XrStudy, SigintEndsTheSessionWithItsJournalComplete) {
                         "placement": {"kind": "staircase", "max_trials": 400}}]
     })";
     const auto journal = dir / "journal.jsonl";
-    const Result r = test::runWith("timeout --preserve-status -s INT 10",
+    const Result r = test::runWith("timeout --foreground --preserve-status -s INT 10",
                                    "study --display xr --design " + design.string() +
                                        " --participant P01 --journal " + journal.string() +
                                        " --observer level:1.5 --cache " + (dir / "cache").string());
