@@ -73,7 +73,9 @@ bool flagged(const TrialRecord& t) {
 const Condition& conditionNamed(const StudyDesign& design, const std::string& name,
                                 const std::string& journal) {
     for (const Condition& c : design.conditions) {
-        if (c.name == name) return c;
+        if (c.name == name) {
+            return c;
+        }
     }
     throw JournalError(journal + ": a trial of condition '" + name + "', which the design lacks");
 }
@@ -85,16 +87,22 @@ void collectTrials(const std::vector<json>& lines, const RunStart& run,
     const std::string name = path.filename().string();
     std::set<uint32_t> seen; // a trial journaled twice (a resumed run) counts once
     for (const json& line : lines) {
-        if (lineType(line) != "trial") continue;
+        if (lineType(line) != "trial") {
+            continue;
+        }
         TrialRecord t = trialFromJson(line);
-        if (t.practice || !seen.insert(t.trial).second) continue;
+        if (t.practice || !seen.insert(t.trial).second) {
+            continue;
+        }
         const Condition& condition = conditionNamed(run.design, t.condition, name);
         Cell& cell = cells[{run.participant, condition.name}];
         cell.participant = run.participant;
         cell.condition = condition.name;
         if (flagged(t)) {
             ++cell.flagged;
-            if (settings.excludeFlagged) continue;
+            if (settings.excludeFlagged) {
+                continue;
+            }
         }
         cell.trials.push_back(std::move(t));
     }
@@ -104,7 +112,9 @@ void collectTrials(const std::vector<json>& lines, const RunStart& run,
 std::pair<uint32_t, uint32_t> catchCounts(const std::vector<TrialRecord>& trials) {
     uint32_t n = 0, yes = 0;
     for (const TrialRecord& t : trials) {
-        if (!t.catchTrial) continue;
+        if (!t.catchTrial) {
+            continue;
+        }
         ++n;
         yes += t.positive ? 1u : 0u;
     }
@@ -115,7 +125,9 @@ std::vector<LevelCount> countsOf(const std::vector<TrialRecord>& trials) {
     std::vector<double> levels;
     std::vector<bool> positive;
     for (const TrialRecord& t : trials) {
-        if (t.catchTrial) continue;
+        if (t.catchTrial) {
+            continue;
+        }
         levels.push_back(t.level);
         positive.push_back(t.positive);
     }
@@ -158,11 +170,17 @@ std::optional<double> seriesThreshold(const std::vector<TrialRecord>& trials, ui
     std::vector<double> reversals;
     bool previous = false; // the series ascends until the first "yes"
     for (const TrialRecord& t : trials) {
-        if (t.catchTrial) continue;
-        if (t.positive != previous) reversals.push_back(t.level);
+        if (t.catchTrial) {
+            continue;
+        }
+        if (t.positive != previous) {
+            reversals.push_back(t.level);
+        }
         previous = t.positive;
     }
-    if (reversals.size() < 2) return std::nullopt;
+    if (reversals.size() < 2) {
+        return std::nullopt;
+    }
     const auto first = reversals.begin() + 1;
     const auto last = reversals.begin() + std::min<std::size_t>(reversals.size(), 1u + counted);
     return std::accumulate(first, last, 0.0) / static_cast<double>(last - first);
@@ -177,8 +195,12 @@ std::optional<double> lowestQualityJudgedEqual(std::span<const LevelCount> count
                                                bool higherFoveatesMore) {
     std::optional<double> found;
     for (const LevelCount& c : counts) {
-        if (c.trials == 0 || 2 * c.positive > c.trials) continue;
-        if (!found || (higherFoveatesMore ? c.level > *found : c.level < *found)) found = c.level;
+        if (c.trials == 0 || 2 * c.positive > c.trials) {
+            continue;
+        }
+        if (!found || (higherFoveatesMore ? c.level > *found : c.level < *found)) {
+            found = c.level;
+        }
     }
     return found;
 }
@@ -189,7 +211,9 @@ std::optional<double> sliderThreshold(const std::vector<TrialRecord>& trials) {
     double sum = 0.0;
     uint32_t n = 0;
     for (const TrialRecord& t : trials) {
-        if (!t.sliderLevel) continue;
+        if (!t.sliderLevel) {
+            continue;
+        }
         sum += *t.sliderLevel;
         ++n;
     }
@@ -227,7 +251,9 @@ ParticipantCondition analyseCell(const Cell& cell, const StudyDesign& design,
     pc.counts = countsOf(cell.trials);
     pc.flaggedTrials = cell.flagged;
     if (design.procedure != Procedure::Slider && !pc.counts.empty()) {
-        if (settings.beforeFit) settings.beforeFit();
+        if (settings.beforeFit) {
+            settings.beforeFit();
+        }
         pc.fit = fitPsychometric(pc.counts,
                                  fitSettingsFor(design, condition, cell.trials, settings, seed));
         pc.fitted = true;
@@ -242,11 +268,14 @@ double mean(std::span<const double> v) {
 
 // The sample standard deviation (n - 1); 0 for one value.
 double sampleSd(std::span<const double> v) {
-    if (v.size() < 2) return 0.0;
+    if (v.size() < 2) {
+        return 0.0;
+    }
     const double m = mean(v);
     double ss = 0.0;
-    for (const double x : v)
+    for (const double x : v) {
         ss += (x - m) * (x - m);
+    }
     return std::sqrt(ss / static_cast<double>(v.size() - 1));
 }
 
@@ -262,8 +291,9 @@ GroupThreshold groupOfRules(std::span<const double> rules, uint32_t resamples, u
     std::vector<double> means(std::max(1u, resamples));
     for (double& m : means) {
         double sum = 0.0;
-        for (std::size_t i = 0; i < rules.size(); ++i)
+        for (std::size_t i = 0; i < rules.size(); ++i) {
             sum += rules[pick(random)];
+        }
         m = sum / static_cast<double>(rules.size());
     }
     std::sort(means.begin(), means.end());
@@ -291,14 +321,18 @@ ConditionSummary summarise(const Condition& condition, const StudyDesign& design
             fits.push_back(pc.fit);
             counts.push_back(pc.counts);
         }
-        if (pc.ruleThreshold) rules.push_back(*pc.ruleThreshold);
+        if (pc.ruleThreshold) {
+            rules.push_back(*pc.ruleThreshold);
+        }
     }
     if (!rules.empty()) {
         summary.ruleMean = mean(rules);
         summary.ruleSd = sampleSd(rules);
     }
     if (!fits.empty()) {
-        if (settings.beforeFit) settings.beforeFit();
+        if (settings.beforeFit) {
+            settings.beforeFit();
+        }
         summary.group = poolParticipants(
             fits, counts, fitSettingsFor(design, condition, allTrials, settings, seed));
         summary.fitted = true;
@@ -312,7 +346,9 @@ ConditionSummary summarise(const Condition& condition, const StudyDesign& design
 
 Analysis analyseJournals(std::span<const std::filesystem::path> journals,
                          const AnalysisSettings& settings) {
-    if (journals.empty()) throw JournalError("study analyse: no journal given");
+    if (journals.empty()) {
+        throw JournalError("study analyse: no journal given");
+    }
     std::optional<RunStart> first;
     std::string firstName;
     std::map<std::pair<std::string, std::string>, Cell> cells;
@@ -338,7 +374,9 @@ Analysis analyseJournals(std::span<const std::filesystem::path> journals,
         const std::size_t begin = analysis.participants.size();
         std::vector<TrialRecord> allTrials;
         for (const auto& [key, cell] : cells) {
-            if (key.second != condition.name) continue;
+            if (key.second != condition.name) {
+                continue;
+            }
             analysis.participants.push_back(analyseCell(cell, design, condition, settings, seed++));
             allTrials.insert(allTrials.end(), cell.trials.begin(), cell.trials.end());
         }
@@ -391,8 +429,9 @@ json toJson(const Analysis& analysis) {
     json participants = json::array();
     for (const ParticipantCondition& pc : analysis.participants) {
         json counts = json::array();
-        for (const LevelCount& c : pc.counts)
+        for (const LevelCount& c : pc.counts) {
             counts.push_back({{"level", c.level}, {"trials", c.trials}, {"positive", c.positive}});
+        }
         participants.push_back({{"participant", pc.participant},
                                 {"condition", pc.condition},
                                 {"parameter", pc.parameter},

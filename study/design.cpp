@@ -51,7 +51,9 @@ constexpr double kSlopeB = 0.0220;
 template <typename E, std::size_t N>
 std::string nameOf(const std::array<Named<E>, N>& table, E value) {
     for (const auto& n : table) {
-        if (n.value == value) return std::string(n.name);
+        if (n.value == value) {
+            return std::string(n.name);
+        }
     }
     return "?";
 }
@@ -67,7 +69,9 @@ template <typename E, std::size_t N> std::string namesOf(const std::array<Named<
 // The shortest text that reads back as the same double ("0.1", not "0.10000000000000001").
 std::string num(double v) {
     std::string s = json(v).dump();
-    if (s.size() > 2 && s.compare(s.size() - 2, 2, ".0") == 0) s.resize(s.size() - 2);
+    if (s.size() > 2 && s.compare(s.size() - 2, 2, ".0") == 0) {
+        s.resize(s.size() - 2);
+    }
     return s;
 }
 
@@ -96,16 +100,28 @@ std::string item(const std::string& path, std::size_t i) {
 }
 
 std::string typeName(const json& j) {
-    if (j.is_number()) return "a number";
-    if (j.is_string()) return "a string";
-    if (j.is_boolean()) return "true or false";
-    if (j.is_array()) return "a list";
-    if (j.is_object()) return "an object";
+    if (j.is_number()) {
+        return "a number";
+    }
+    if (j.is_string()) {
+        return "a string";
+    }
+    if (j.is_boolean()) {
+        return "true or false";
+    }
+    if (j.is_array()) {
+        return "a list";
+    }
+    if (j.is_object()) {
+        return "an object";
+    }
     return "null";
 }
 
 bool namePattern(const std::string& s, std::string_view extra, std::size_t maxLength) {
-    if (s.empty() || s.size() > maxLength) return false;
+    if (s.empty() || s.size() > maxLength) {
+        return false;
+    }
     return std::all_of(s.begin(), s.end(), [&](char c) {
         return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
                extra.find(c) != std::string_view::npos;
@@ -123,23 +139,30 @@ public:
     }
 
     void requireObject(const json& j, const std::string& path) const {
-        if (!j.is_object()) fail(path, "must be an object, not " + typeName(j));
+        if (!j.is_object()) {
+            fail(path, "must be an object, not " + typeName(j));
+        }
     }
 
     void checkKeys(const json& j, const std::string& path,
                    std::initializer_list<std::string_view> allowed) const {
         for (const auto& [key, value] : j.items()) {
-            if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+            if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) {
+                continue;
+            }
             std::string list;
-            for (std::string_view a : allowed)
+            for (std::string_view a : allowed) {
                 list += (list.empty() ? "" : ", ") + std::string(a);
+            }
             fail(child(path, key), "unknown key (allowed: " + list + ")");
         }
     }
 
     [[nodiscard]] double number(const json& j, const std::string& path, double min,
                                 double max) const {
-        if (!j.is_number()) fail(path, "must be a number, not " + typeName(j));
+        if (!j.is_number()) {
+            fail(path, "must be a number, not " + typeName(j));
+        }
         const double v = j.get<double>();
         if (!std::isfinite(v) || v < min || v > max) {
             fail(path, num(v) + " is outside [" + num(min) + ", " + num(max) + "]");
@@ -158,17 +181,23 @@ public:
             return v;
         }
         const double v = number(j, path, static_cast<double>(min), static_cast<double>(max));
-        if (v != std::floor(v)) fail(path, num(v) + " is not a whole number");
+        if (v != std::floor(v)) {
+            fail(path, num(v) + " is not a whole number");
+        }
         return static_cast<uint64_t>(v);
     }
 
     [[nodiscard]] bool boolean(const json& j, const std::string& path) const {
-        if (!j.is_boolean()) fail(path, "must be true or false, not " + typeName(j));
+        if (!j.is_boolean()) {
+            fail(path, "must be true or false, not " + typeName(j));
+        }
         return j.get<bool>();
     }
 
     [[nodiscard]] std::string text(const json& j, const std::string& path) const {
-        if (!j.is_string()) fail(path, "must be a string, not " + typeName(j));
+        if (!j.is_string()) {
+            fail(path, "must be a string, not " + typeName(j));
+        }
         return j.get<std::string>();
     }
 
@@ -177,7 +206,9 @@ public:
                            const std::array<Named<E>, N>& table) const {
         const std::string s = text(j, path);
         for (const auto& n : table) {
-            if (n.name == s) return n.value;
+            if (n.name == s) {
+                return n.value;
+            }
         }
         fail(path, "unknown value '" + s + "' (one of: " + namesOf(table) + ")");
     }
@@ -199,18 +230,23 @@ void readTiming(const Reader& r, const json& j, const std::string& path, Timing&
     r.checkKeys(j, path,
                 {"fixation_ms", "interval_ms", "blank_ms", "response_timeout_ms", "refresh_hz"});
     constexpr double kMaxMs = 600000.0;
-    if (const json* f = field(j, "fixation_ms"))
+    if (const json* f = field(j, "fixation_ms")) {
         t.fixationMs = r.number(*f, child(path, "fixation_ms"), 0, kMaxMs);
-    if (const json* f = field(j, "interval_ms"))
+    }
+    if (const json* f = field(j, "interval_ms")) {
         t.intervalMs = r.number(*f, child(path, "interval_ms"), 1, kMaxMs);
-    if (const json* f = field(j, "blank_ms"))
+    }
+    if (const json* f = field(j, "blank_ms")) {
         t.blankMs = r.number(*f, child(path, "blank_ms"), 0, kMaxMs);
+    }
     if (const json* f = field(j, "response_timeout_ms")) {
         t.responseTimeoutMs = r.number(*f, child(path, "response_timeout_ms"), 0, kMaxMs);
     }
     if (const json* f = field(j, "refresh_hz")) {
         t.refreshHz = r.number(*f, child(path, "refresh_hz"), 0, 1000);
-        if (t.refreshHz > 0 && t.refreshHz < 1) r.fail(child(path, "refresh_hz"), "0 or [1, 1000]");
+        if (t.refreshHz > 0 && t.refreshHz < 1) {
+            r.fail(child(path, "refresh_hz"), "0 or [1, 1000]");
+        }
     }
 }
 
@@ -237,8 +273,12 @@ void readGaze(const Reader& r, const json& j, const std::string& path, GazeRules
 }
 
 std::vector<SceneChoice> readScenes(const Reader& r, const json& j, const std::string& path) {
-    if (!j.is_array()) r.fail(path, "must be a list, not " + typeName(j));
-    if (j.empty()) r.fail(path, "is empty (name at least one scene, or leave it out)");
+    if (!j.is_array()) {
+        r.fail(path, "must be a list, not " + typeName(j));
+    }
+    if (j.empty()) {
+        r.fail(path, "is empty (name at least one scene, or leave it out)");
+    }
     std::vector<SceneChoice> scenes;
     for (std::size_t i = 0; i < j.size(); ++i) {
         const std::string p = item(path, i);
@@ -249,14 +289,20 @@ std::vector<SceneChoice> readScenes(const Reader& r, const json& j, const std::s
             r.requireObject(j[i], p);
             r.checkKeys(j[i], p, {"scene", "camera", "camera_path"});
             const json* scene = field(j[i], "scene");
-            if (scene == nullptr) r.fail(child(p, "scene"), "missing");
+            if (scene == nullptr) {
+                r.fail(child(p, "scene"), "missing");
+            }
             s.scene = r.text(*scene, child(p, "scene"));
-            if (const json* f = field(j[i], "camera")) s.camera = r.text(*f, child(p, "camera"));
+            if (const json* f = field(j[i], "camera")) {
+                s.camera = r.text(*f, child(p, "camera"));
+            }
             if (const json* f = field(j[i], "camera_path")) {
                 s.cameraPath = r.text(*f, child(p, "camera_path"));
             }
         }
-        if (s.scene.empty()) r.fail(p, "the scene is empty");
+        if (s.scene.empty()) {
+            r.fail(p, "the scene is empty");
+        }
         scenes.push_back(std::move(s));
     }
     return scenes;
@@ -265,8 +311,12 @@ std::vector<SceneChoice> readScenes(const Reader& r, const json& j, const std::s
 double readSlope(const Reader& r, const json& j, const std::string& path) {
     if (j.is_string()) {
         const std::string s = j.get<std::string>();
-        if (s == "A") return kSlopeA;
-        if (s == "B") return kSlopeB;
+        if (s == "A") {
+            return kSlopeA;
+        }
+        if (s == "B") {
+            return kSlopeB;
+        }
         r.fail(path, "unknown value '" + s + "' (A, B or a number)");
     }
     const ParameterInfo& info = infoOf(Parameter::Slope);
@@ -278,7 +328,9 @@ void readRender(const Reader& r, const json& j, const std::string& path,
                 std::optional<Parameter> varied, RenderChoice& out) {
     for (const ParameterInfo& info : parameters()) {
         const json* f = field(j, info.name);
-        if (f == nullptr) continue;
+        if (f == nullptr) {
+            continue;
+        }
         const std::string p = child(path, info.name);
         if (varied == info.parameter) {
             r.fail(p, "is the varied parameter: its levels come from \"levels\"");
@@ -290,21 +342,27 @@ void readRender(const Reader& r, const json& j, const std::string& path,
                              : r.number(*f, p, info.min, info.max);
         out = withLevel(out, info.parameter, v);
     }
-    if (const json* f = field(j, "method"))
+    if (const json* f = field(j, "method")) {
         out.method = r.choice(*f, child(path, "method"), kMethods);
-    if (const json* f = field(j, "interp"))
+    }
+    if (const json* f = field(j, "interp")) {
         out.interp = r.choice(*f, child(path, "interp"), kInterps);
+    }
     if (const json* f = field(j, "spp")) {
         out.spp = static_cast<uint32_t>(r.whole(*f, child(path, "spp"), 1, 4096));
     }
-    if (const json* f = field(j, "taa")) out.taa = r.boolean(*f, child(path, "taa"));
+    if (const json* f = field(j, "taa")) {
+        out.taa = r.boolean(*f, child(path, "taa"));
+    }
 }
 
 LevelGrid readLevels(const Reader& r, const json& j, const std::string& path,
                      const ParameterInfo& info) {
     const std::string range = "[" + num(info.min) + ", " + num(info.max) + "]";
     auto level = [&](const json& v, const std::string& p) {
-        if (!v.is_number()) r.fail(p, "must be a number, not " + typeName(v));
+        if (!v.is_number()) {
+            r.fail(p, "must be a number, not " + typeName(v));
+        }
         const double x = v.get<double>();
         if (!std::isfinite(x) || x < info.min || x > info.max) {
             r.fail(p, num(x) + " is outside " + std::string(info.name) + "'s range " + range);
@@ -317,9 +375,12 @@ LevelGrid readLevels(const Reader& r, const json& j, const std::string& path,
     };
     LevelGrid grid;
     if (j.is_array()) {
-        if (j.empty()) r.fail(path, "the list of levels is empty");
-        for (std::size_t i = 0; i < j.size(); ++i)
+        if (j.empty()) {
+            r.fail(path, "the list of levels is empty");
+        }
+        for (std::size_t i = 0; i < j.size(); ++i) {
             grid.values.push_back(level(j[i], item(path, i)));
+        }
         std::sort(grid.values.begin(), grid.values.end());
         grid.values.erase(std::unique(grid.values.begin(), grid.values.end()), grid.values.end());
         grid.min = grid.values.front();
@@ -327,10 +388,14 @@ LevelGrid readLevels(const Reader& r, const json& j, const std::string& path,
         grid.step = 0.0;
         return grid;
     }
-    if (!j.is_object()) r.fail(path, "must be {\"min\", \"max\", \"step\"} or a list of levels");
+    if (!j.is_object()) {
+        r.fail(path, "must be {\"min\", \"max\", \"step\"} or a list of levels");
+    }
     r.checkKeys(j, path, {"min", "max", "step"});
     for (std::string_view key : {"min", "max"}) {
-        if (field(j, key) == nullptr) r.fail(child(path, key), "missing");
+        if (field(j, key) == nullptr) {
+            r.fail(child(path, key), "missing");
+        }
     }
     grid.min = level(j["min"], child(path, "min"));
     grid.max = level(j["max"], child(path, "max"));
@@ -378,18 +443,28 @@ void readPlacementNumbers(const Reader& r, const json& j, const std::string& pat
                                                   " leaves none of the " +
                                                   std::to_string(s.reversals) + " reversals");
     }
-    if (const json* f = field(j, "target"))
+    if (const json* f = field(j, "target")) {
         s.target = r.number(*f, child(path, "target"), 1e-3, 0.999);
-    if (const json* f = field(j, "guess")) s.guess = r.number(*f, child(path, "guess"), 0, 0.99);
-    if (const json* f = field(j, "shape")) s.shape = r.choice(*f, child(path, "shape"), kShapes);
+    }
+    if (const json* f = field(j, "guess")) {
+        s.guess = r.number(*f, child(path, "guess"), 0, 0.99);
+    }
+    if (const json* f = field(j, "shape")) {
+        s.shape = r.choice(*f, child(path, "shape"), kShapes);
+    }
     auto list = [&](std::string_view key, std::vector<double>& out, double min, double max) {
         const json* f = field(j, key);
-        if (f == nullptr) return;
+        if (f == nullptr) {
+            return;
+        }
         const std::string p = child(path, key);
-        if (!f->is_array() || f->empty()) r.fail(p, "must be a non-empty list of numbers");
+        if (!f->is_array() || f->empty()) {
+            r.fail(p, "must be a non-empty list of numbers");
+        }
         out.clear();
-        for (std::size_t i = 0; i < f->size(); ++i)
+        for (std::size_t i = 0; i < f->size(); ++i) {
             out.push_back(r.number((*f)[i], item(p, i), min, max));
+        }
     };
     list("quest_slopes", s.questSlopes, 1e-3, 1e4);
     list("quest_lapses", s.questLapses, 0, 0.5);
@@ -442,7 +517,9 @@ PlacementSettings readPlacement(const Reader& r, const json* j, const std::strin
                     {"kind", "start", "step", "final_step", "down", "up", "target", "reversals",
                      "skip_reversals", "max_trials", "repeats", "quest_slopes", "quest_lapses",
                      "guess", "shape"});
-        if (const json* f = field(*j, "kind")) s.kind = r.choice(*f, child(path, "kind"), kKinds);
+        if (const json* f = field(*j, "kind")) {
+            s.kind = r.choice(*f, child(path, "kind"), kKinds);
+        }
         readPlacementNumbers(r, *j, path, s);
     }
     const double mostFoveated = info.higherFoveatesMore ? grid.max : grid.min;
@@ -451,10 +528,12 @@ PlacementSettings readPlacement(const Reader& r, const json* j, const std::strin
     // A step as long as the whole range is allowed; the tolerance keeps 0.03 - 0.01 >= 0.02.
     const double span = (grid.max - grid.min) * (1.0 + 1e-9);
     if (j != nullptr) {
-        if (const json* f = field(*j, "start"))
+        if (const json* f = field(*j, "start")) {
             s.start = r.number(*f, child(path, "start"), -1e9, 1e9);
-        if (const json* f = field(*j, "step"))
+        }
+        if (const json* f = field(*j, "step")) {
             s.step = r.number(*f, child(path, "step"), 1e-9, span);
+        }
         if (const json* f = field(*j, "final_step")) {
             s.finalStep = r.number(*f, child(path, "final_step"), 1e-9, span);
         }
@@ -482,7 +561,9 @@ Condition readCondition(const Reader& r, const json& j, const std::string& path,
                  "rays-per-point", "interp", "k", "slope", "layers", "spp", "taa"});
     Condition c;
     for (std::string_view key : {"name", "vary", "levels"}) {
-        if (field(j, key) == nullptr) r.fail(child(path, key), "missing");
+        if (field(j, key) == nullptr) {
+            r.fail(child(path, key), "missing");
+        }
     }
     c.name = r.text(j["name"], child(path, "name"));
     if (!namePattern(c.name, "_.-", 64)) {
@@ -533,8 +614,12 @@ Condition readCondition(const Reader& r, const json& j, const std::string& path,
 }
 
 std::vector<Condition> readConditions(const Reader& r, const json& j, Procedure procedure) {
-    if (!j.is_array()) r.fail("conditions", "must be a list, not " + typeName(j));
-    if (j.empty()) r.fail("conditions", "the list of conditions is empty (at least one)");
+    if (!j.is_array()) {
+        r.fail("conditions", "must be a list, not " + typeName(j));
+    }
+    if (j.empty()) {
+        r.fail("conditions", "the list of conditions is empty (at least one)");
+    }
     std::vector<Condition> conditions;
     for (std::size_t i = 0; i < j.size(); ++i) {
         Condition c = readCondition(r, j[i], item("conditions", i), procedure);
@@ -550,8 +635,9 @@ std::vector<Condition> readConditions(const Reader& r, const json& j, Procedure 
 }
 
 void readSchedule(const Reader& r, const json& j, StudyDesign& d) {
-    if (const json* f = field(j, "seed"))
+    if (const json* f = field(j, "seed")) {
         d.seed = r.whole(*f, "seed", 0, std::numeric_limits<uint64_t>::max());
+    }
     if (const json* f = field(j, "practice_trials")) {
         d.practiceTrials = static_cast<uint32_t>(r.whole(*f, "practice_trials", 0, 1000));
     }
@@ -570,13 +656,21 @@ void readSchedule(const Reader& r, const json& j, StudyDesign& d) {
     if (const json* f = field(j, "ramp_steps")) {
         d.rampSteps = static_cast<uint32_t>(r.whole(*f, "ramp_steps", 2, 20));
     }
-    if (const json* f = field(j, "fixation_x")) d.fixationX = r.number(*f, "fixation_x", 0, 1);
-    if (const json* f = field(j, "fixation_y")) d.fixationY = r.number(*f, "fixation_y", 0, 1);
-    if (const json* f = field(j, "hmd")) d.hmd = r.text(*f, "hmd");
-    if (const json* f = field(j, "width"))
+    if (const json* f = field(j, "fixation_x")) {
+        d.fixationX = r.number(*f, "fixation_x", 0, 1);
+    }
+    if (const json* f = field(j, "fixation_y")) {
+        d.fixationY = r.number(*f, "fixation_y", 0, 1);
+    }
+    if (const json* f = field(j, "hmd")) {
+        d.hmd = r.text(*f, "hmd");
+    }
+    if (const json* f = field(j, "width")) {
         d.width = static_cast<uint32_t>(r.whole(*f, "width", 16, 16384));
-    if (const json* f = field(j, "height"))
+    }
+    if (const json* f = field(j, "height")) {
         d.height = static_cast<uint32_t>(r.whole(*f, "height", 16, 16384));
+    }
 }
 
 json renderToJson(const RenderChoice& c, std::optional<Parameter> varied) {
@@ -591,7 +685,9 @@ json renderToJson(const RenderChoice& c, std::optional<Parameter> varied) {
          {Parameter::Slope, c.slope},
          {Parameter::Layers, c.layers}}};
     for (const auto& [p, v] : values) {
-        if (p != varied) j[std::string(infoOf(p).name)] = v;
+        if (p != varied) {
+            j[std::string(infoOf(p).name)] = v;
+        }
     }
     return j;
 }
@@ -622,7 +718,9 @@ json conditionToJson(const Condition& c) {
     j["levels"] =
         g.values.empty() ? json{{"min", g.min}, {"max", g.max}, {"step", g.step}} : json(g.values);
     j["placement"] = placementToJson(c.placement);
-    if (c.comparison) j["comparison"] = renderToJson(*c.comparison, std::nullopt);
+    if (c.comparison) {
+        j["comparison"] = renderToJson(*c.comparison, std::nullopt);
+    }
     return j;
 }
 
@@ -643,26 +741,38 @@ std::string interpolationName(Interpolation interp) {
 
 StudyDesign parseDesign(const nlohmann::json& doc, const std::string& source) {
     const Reader r(source);
-    if (!doc.is_object()) r.fail("", "a design is a JSON object, not " + typeName(doc));
+    if (!doc.is_object()) {
+        r.fail("", "a design is a JSON object, not " + typeName(doc));
+    }
     r.checkKeys(doc, "",
                 {"name", "description", "procedure", "seed", "practice_trials", "break_every",
                  "break_between_conditions", "catch_rate", "ramp_steps", "fixation_x", "fixation_y",
                  "hmd", "width", "height", "timing", "gaze", "scenes", "conditions"});
     StudyDesign d;
     for (std::string_view key : {"name", "procedure", "conditions"}) {
-        if (field(doc, key) == nullptr) r.fail(std::string(key), "missing");
+        if (field(doc, key) == nullptr) {
+            r.fail(std::string(key), "missing");
+        }
     }
     d.name = r.text(doc["name"], "name");
     if (!namePattern(d.name, "_-", 64)) {
         r.fail("name", "'" + d.name + "' is not 1-64 letters, digits, '_' or '-'");
     }
-    if (const json* f = field(doc, "description")) d.description = r.text(*f, "description");
+    if (const json* f = field(doc, "description")) {
+        d.description = r.text(*f, "description");
+    }
     d.procedure = r.choice(doc["procedure"], "procedure", kProcedures);
     readSchedule(r, doc, d);
-    if (const json* f = field(doc, "timing")) readTiming(r, *f, "timing", d.timing);
-    if (const json* f = field(doc, "gaze")) readGaze(r, *f, "gaze", d.gaze);
+    if (const json* f = field(doc, "timing")) {
+        readTiming(r, *f, "timing", d.timing);
+    }
+    if (const json* f = field(doc, "gaze")) {
+        readGaze(r, *f, "gaze", d.gaze);
+    }
     d.scenes = {SceneChoice{}};
-    if (const json* f = field(doc, "scenes")) d.scenes = readScenes(r, *f, "scenes");
+    if (const json* f = field(doc, "scenes")) {
+        d.scenes = readScenes(r, *f, "scenes");
+    }
     d.conditions = readConditions(r, doc["conditions"], d.procedure);
     return d;
 }
@@ -681,7 +791,9 @@ StudyDesign loadDesign(const std::filesystem::path& path) {
         // nlohmann's text starts "[json.exception.parse_error.101] parse error at line 3, ...".
         std::string what = e.what();
         const auto close = what.find("] ");
-        if (close != std::string::npos) what = what.substr(close + 2);
+        if (close != std::string::npos) {
+            what = what.substr(close + 2);
+        }
         throw DesignError(oneLine(path.string() + ": not JSON: " + what));
     }
     return parseDesign(doc, path.string());
@@ -693,8 +805,9 @@ nlohmann::json designToJson(const StudyDesign& d) {
         scenes.push_back({{"scene", s.scene}, {"camera", s.camera}, {"camera_path", s.cameraPath}});
     }
     json conditions = json::array();
-    for (const Condition& c : d.conditions)
+    for (const Condition& c : d.conditions) {
         conditions.push_back(conditionToJson(c));
+    }
     return json{{"name", d.name},
                 {"description", d.description},
                 {"procedure", procedureName(d.procedure)},
@@ -737,7 +850,9 @@ std::string designHash(const StudyDesign& design) {
 }
 
 RenderChoice comparisonOf(const Condition& condition) {
-    if (condition.comparison) return *condition.comparison;
+    if (condition.comparison) {
+        return *condition.comparison;
+    }
     RenderChoice reference = condition.base;
     reference.method = Method::Reference;
     return reference;

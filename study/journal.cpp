@@ -37,7 +37,9 @@ Fault& fault() {
     static Fault f;
     static const bool fromEnvironment = [] {
         const char* e = std::getenv("GAZETRACE_WRITE_FAULT");
-        if (e != nullptr && std::strcmp(e, "enospc") == 0) f.error = ENOSPC;
+        if (e != nullptr && std::strcmp(e, "enospc") == 0) {
+            f.error = ENOSPC;
+        }
         return true;
     }();
     (void)fromEnvironment;
@@ -63,7 +65,9 @@ Parsed parseLines(const std::filesystem::path& path, std::string_view text) {
          begin = end + 1, end = text.find('\n', begin), ++number) {
         const std::string_view line = text.substr(begin, end - begin);
         json j = json::parse(line, nullptr, false);
-        if (j.is_discarded()) fail(path, "line " + std::to_string(number) + " is not JSON");
+        if (j.is_discarded()) {
+            fail(path, "line " + std::to_string(number) + " is not JSON");
+        }
         if (!j.is_object() || !j.contains("type") || !j["type"].is_string()) {
             fail(path, "line " + std::to_string(number) +
                            " is not a journal line (a JSON object with a \"type\")");
@@ -81,9 +85,15 @@ std::string readAll(const std::filesystem::path& path, int fd, uint64_t size) {
     while (done < text.size()) {
         const ssize_t n =
             ::pread(fd, text.data() + done, text.size() - done, static_cast<off_t>(done));
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) fail(path, "cannot read it", errno);
-        if (n == 0) break;
+        if (n < 0 && errno == EINTR) {
+            continue;
+        }
+        if (n < 0) {
+            fail(path, "cannot read it", errno);
+        }
+        if (n == 0) {
+            break;
+        }
         done += static_cast<std::size_t>(n);
     }
     text.resize(done);
@@ -97,13 +107,21 @@ int writeAll(int fd, std::string_view bytes) {
         std::size_t chunk = bytes.size() - done;
         if (const int injected = fault().error.load(); injected != 0) {
             const std::size_t ok = fault().okBytes.load();
-            if (done >= ok) return injected;
+            if (done >= ok) {
+                return injected;
+            }
             chunk = std::min(chunk, ok - done);
         }
         const ssize_t n = ::write(fd, bytes.data() + done, chunk);
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) return errno;
-        if (n == 0) return EIO;
+        if (n < 0 && errno == EINTR) {
+            continue;
+        }
+        if (n < 0) {
+            return errno;
+        }
+        if (n == 0) {
+            return EIO;
+        }
         done += static_cast<std::size_t>(n);
     }
     return 0;
@@ -113,7 +131,9 @@ void syncFolderOf(const std::filesystem::path& path) {
     const std::filesystem::path folder =
         path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
     const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (fd < 0) return; // the file itself is synced with every line; the name is best effort
+    if (fd < 0) {
+        return; // the file itself is synced with every line; the name is best effort
+    }
     (void)::fsync(fd);
     ::close(fd);
 }
@@ -128,14 +148,19 @@ Journal::Journal(std::filesystem::path path) : mPath(std::move(path)) {
                O_RDWR | O_APPEND | O_CREAT | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY, 0644);
     if (mFd < 0) {
         const int e = errno;
-        if (e == ELOOP)
+        if (e == ELOOP) {
             fail(mPath, "a symlink; a journal is appended in place, never through a link");
+        }
         fail(mPath, "cannot open the journal", e);
     }
     try {
         struct stat st {};
-        if (::fstat(mFd, &st) != 0) fail(mPath, "cannot read its status", errno);
-        if (!S_ISREG(st.st_mode)) fail(mPath, io::fileKind(st.st_mode) + ", not a regular file");
+        if (::fstat(mFd, &st) != 0) {
+            fail(mPath, "cannot read its status", errno);
+        }
+        if (!S_ISREG(st.st_mode)) {
+            fail(mPath, io::fileKind(st.st_mode) + ", not a regular file");
+        }
         if (::flock(mFd, LOCK_EX | LOCK_NB) != 0) {
             fail(mPath, "another run has this journal open", errno);
         }
@@ -151,11 +176,15 @@ Journal::Journal(std::filesystem::path path) : mPath(std::move(path)) {
             if (::ftruncate(mFd, static_cast<off_t>(parsed.completeBytes)) != 0) {
                 fail(mPath, "cannot drop its torn last line", errno);
             }
-            if (::fsync(mFd) != 0) fail(mPath, "cannot sync it", errno);
+            if (::fsync(mFd) != 0) {
+                fail(mPath, "cannot sync it", errno);
+            }
             mDroppedTorn = true;
         }
         mExisting = std::move(parsed.lines);
-        if (!existed) syncFolderOf(mPath);
+        if (!existed) {
+            syncFolderOf(mPath);
+        }
     } catch (...) {
         ::close(mFd);
         throw;
@@ -163,7 +192,9 @@ Journal::Journal(std::filesystem::path path) : mPath(std::move(path)) {
 }
 
 Journal::~Journal() {
-    if (mFd >= 0) ::close(mFd);
+    if (mFd >= 0) {
+        ::close(mFd);
+    }
 }
 
 const std::vector<nlohmann::json>& Journal::existing() const noexcept {
@@ -178,10 +209,14 @@ void Journal::append(const nlohmann::json& line) {
     // dump() escapes control characters in strings: the text has no newline of its own.
     const std::string text = line.dump() + "\n";
     struct stat st {};
-    if (::fstat(mFd, &st) != 0) fail(mPath, "cannot append to the journal", errno);
+    if (::fstat(mFd, &st) != 0) {
+        fail(mPath, "cannot append to the journal", errno);
+    }
     const off_t before = st.st_size;
     int error = writeAll(mFd, text);
-    if (error == 0 && ::fsync(mFd) != 0) error = errno;
+    if (error == 0 && ::fsync(mFd) != 0) {
+        error = errno;
+    }
     if (error == 0) {
         fault().syncs.fetch_add(1);
         return;
@@ -218,13 +253,17 @@ nlohmann::json toJson(const TrialRecord& r) {
            {"reaction_ms", r.reactionMs},
            {"intervals", intervals},
            {"flags", r.flags}};
-    if (r.sliderLevel) j["slider_level"] = *r.sliderLevel;
+    if (r.sliderLevel) {
+        j["slider_level"] = *r.sliderLevel;
+    }
     return j;
 }
 
 TrialRecord trialFromJson(const nlohmann::json& line) {
     try {
-        if (line.value("type", "") != "trial") throw JournalError("not a trial line");
+        if (line.value("type", "") != "trial") {
+            throw JournalError("not a trial line");
+        }
         TrialRecord r;
         r.trial = line.at("trial").get<uint32_t>();
         r.practice = line.at("practice").get<bool>();
@@ -250,7 +289,9 @@ TrialRecord trialFromJson(const nlohmann::json& line) {
             r.intervals.push_back(std::move(ir));
         }
         r.flags = line.at("flags").get<std::vector<std::string>>();
-        if (line.contains("slider_level")) r.sliderLevel = line["slider_level"].get<double>();
+        if (line.contains("slider_level")) {
+            r.sliderLevel = line["slider_level"].get<double>();
+        }
         return r;
     } catch (const JournalError& e) {
         throw JournalError(std::string("a trial line: ") + e.what());

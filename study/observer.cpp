@@ -34,7 +34,9 @@ std::vector<std::optional<double>> fittedPerTrial(const SimulatedRun& run,
         const double level = run.levels[t];
         auto at = std::ranges::find_if(
             counts, [level](const LevelCount& c) { return std::abs(c.level - level) <= 1e-12; });
-        if (at == counts.end()) at = counts.insert(counts.end(), {level, 0, 0});
+        if (at == counts.end()) {
+            at = counts.insert(counts.end(), {level, 0, 0});
+        }
         ++at->trials;
         at->positive += run.positive[t] ? 1 : 0;
         estimates.emplace_back(fitPsychometric(counts, quick).function.threshold);
@@ -49,7 +51,9 @@ uint32_t trialsToTolerance(const std::vector<std::optional<double>>& estimates, 
     uint32_t first = 0;
     for (std::size_t t = estimates.size(); t > 0; --t) {
         const std::optional<double>& e = estimates[t - 1];
-        if (!e || std::abs(*e - planted) > tolerance) break;
+        if (!e || std::abs(*e - planted) > tolerance) {
+            break;
+        }
         first = static_cast<uint32_t>(t);
     }
     return first;

@@ -29,19 +29,24 @@ double LevelGrid::snap(double level) const {
         return *nearest;
     }
     const double clamped = std::clamp(level, min, max);
-    if (step <= 0.0) return clamped;
+    if (step <= 0.0) {
+        return clamped;
+    }
     const double index =
         std::clamp(std::round((clamped - min) / step), 0.0, static_cast<double>(stepCount(*this)));
     return min + index * step;
 }
 
 std::vector<double> LevelGrid::all() const {
-    if (!values.empty()) return values;
+    if (!values.empty()) {
+        return values;
+    }
     std::vector<double> levels;
     if (step > 0.0) {
         const std::size_t n = stepCount(*this);
-        for (std::size_t i = 0; i <= n; ++i)
+        for (std::size_t i = 0; i <= n; ++i) {
             levels.push_back(min + static_cast<double>(i) * step);
+        }
         return levels;
     }
     constexpr int kContinuousLevels = 64;
@@ -60,8 +65,9 @@ template <typename T> std::string text(T value) {
 }
 
 void require(bool ok, const char* setting, const std::string& rule) {
-    if (!ok)
+    if (!ok) {
         throw std::invalid_argument(std::string("placement setting '") + setting + "' " + rule);
+    }
 }
 
 void checkGrid(const LevelGrid& grid) {
@@ -177,10 +183,13 @@ public:
     }
 
     [[nodiscard]] std::optional<double> estimate() const override {
-        if (counted() == 0) return std::nullopt;
+        if (counted() == 0) {
+            return std::nullopt;
+        }
         double sum = 0.0;
-        for (std::size_t i = mRules.skip; i < mReversals.size(); ++i)
+        for (std::size_t i = mRules.skip; i < mReversals.size(); ++i) {
             sum += mReversals[i];
+        }
         return sum / static_cast<double>(counted());
     }
 
@@ -197,7 +206,9 @@ private:
     }
 
     void move(int direction, double level) {
-        if (mLastMove != 0 && direction != mLastMove) mReversals.push_back(level);
+        if (mLastMove != 0 && direction != mLastMove) {
+            mReversals.push_back(level);
+        }
         mLastMove = direction;
         // The step shrinks once the skipped reversals are behind (Levitt 1971; the thesis 6.2:
         // 0.2 until its first reversal, then 0.1).
@@ -275,8 +286,9 @@ public:
         mPosterior.assign(mFunctions.size(), 1.0 / static_cast<double>(mFunctions.size()));
         mLikelihood.reserve(mStimuli.size() * mFunctions.size());
         for (double x : mStimuli) {
-            for (const PsychometricFunction& f : mFunctions)
+            for (const PsychometricFunction& f : mFunctions) {
                 mLikelihood.push_back(f.probability(x));
+            }
         }
         mNext = bestStimulus();
     }
@@ -294,8 +306,9 @@ public:
         // An answer every function calls impossible (lapse 0 at a level where psi is 0 or 1)
         // would empty the posterior: keep the prior belief rather than divide by zero.
         if (total > 0.0 && std::isfinite(total)) {
-            for (double& w : mPosterior)
+            for (double& w : mPosterior) {
                 w /= total;
+            }
         }
         mNext = bestStimulus();
     }
@@ -303,7 +316,9 @@ public:
     [[nodiscard]] bool finished() const override { return mTrials >= mLimit; }
 
     [[nodiscard]] std::optional<double> estimate() const override {
-        if (mTrials == 0) return std::nullopt;
+        if (mTrials == 0) {
+            return std::nullopt;
+        }
         double mean = 0.0;
         for (std::size_t j = 0; j < mFunctions.size(); ++j) {
             mean += mPosterior[j] * mFunctions[j].threshold;
@@ -324,14 +339,19 @@ private:
             const std::size_t end = std::min(start + mBlock, weights.size());
             if (mBlock == 1) {
                 const double p = weights[start] / total;
-                if (p > 0.0) h -= p * std::log(p);
+                if (p > 0.0) {
+                    h -= p * std::log(p);
+                }
                 continue;
             }
             double p = 0.0;
-            for (std::size_t j = start; j < end; ++j)
+            for (std::size_t j = start; j < end; ++j) {
                 p += weights[j];
+            }
             p /= total;
-            if (p > 0.0) h -= p * std::log(p);
+            if (p > 0.0) {
+                h -= p * std::log(p);
+            }
         }
         return h;
     }
@@ -352,8 +372,12 @@ private:
             }
             const double pNo = 1.0 - pYes;
             double expected = 0.0;
-            if (pYes > 0.0) expected += pYes * entropy(yes, pYes);
-            if (pNo > 0.0) expected += pNo * entropy(no, pNo);
+            if (pYes > 0.0) {
+                expected += pYes * entropy(yes, pYes);
+            }
+            if (pNo > 0.0) {
+                expected += pNo * entropy(no, pNo);
+            }
             if (expected < best - 1e-12) {
                 best = expected;
                 bestIndex = s;

@@ -23,7 +23,9 @@ double risingCore(PsychometricShape shape, double x, double alpha, double beta) 
     case PsychometricShape::CumulativeNormal:
         return 0.5 * std::erfc(-beta * (x - alpha) / std::sqrt(2.0));
     case PsychometricShape::Weibull:
-        if (x <= 0.0 || alpha <= 0.0) return 0.0;
+        if (x <= 0.0 || alpha <= 0.0) {
+            return 0.0;
+        }
         return 1.0 - std::exp(-std::log(2.0) * std::pow(x / alpha, beta));
     }
     return 0.5;
@@ -171,8 +173,9 @@ SearchBox searchBox(const FitSettings& s) {
 using Point = std::array<double, 4>;
 
 Point clampToBox(Point p, const SearchBox& box) {
-    for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t i = 0; i < 4; ++i) {
         p[i] = std::clamp(p[i], box.low[i], box.high[i]);
+    }
     return p;
 }
 
@@ -207,14 +210,17 @@ SearchResult nelderMead(const Objective& f, Point start, const Point& scale) {
     const std::size_t n = f.box.dimensions;
     std::vector<Point> simplex(n + 1, start);
     std::vector<double> values(n + 1);
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t i = 0; i < n; ++i) {
         simplex[i + 1][i] += scale[i];
-    for (std::size_t i = 0; i <= n; ++i)
+    }
+    for (std::size_t i = 0; i <= n; ++i) {
         values[i] = f(simplex[i]);
+    }
     const auto along = [&](const Point& from, const Point& to, double t) {
         Point p = from;
-        for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t i = 0; i < n; ++i) {
             p[i] = from[i] + t * (to[i] - from[i]);
+        }
         return p;
     };
     constexpr int kMaxIterations = 400;
@@ -224,11 +230,14 @@ SearchResult nelderMead(const Objective& f, Point start, const Point& scale) {
         std::ranges::sort(order, {}, [&](std::size_t i) { return values[i]; });
         const std::size_t best = order.front();
         const std::size_t worst = order.back();
-        if (values[worst] - values[best] < 1e-10) return {simplex[best], values[best], true};
+        if (values[worst] - values[best] < 1e-10) {
+            return {simplex[best], values[best], true};
+        }
         Point centroid{};
         for (std::size_t k = 0; k < n; ++k) {
-            for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t i = 0; i < n; ++i) {
                 centroid[i] += simplex[order[k]][i] / n;
+            }
         }
         const Point reflected = along(centroid, simplex[worst], -1.0);
         const double reflectedValue = f(reflected);
@@ -249,7 +258,9 @@ SearchResult nelderMead(const Objective& f, Point start, const Point& scale) {
                 values[worst] = contractedValue;
             } else {
                 for (std::size_t i = 0; i <= n; ++i) {
-                    if (i == best) continue;
+                    if (i == best) {
+                        continue;
+                    }
                     simplex[i] = along(simplex[best], simplex[i], 0.5);
                     values[i] = f(simplex[i]);
                 }
@@ -281,7 +292,9 @@ SearchResult coarseStart(const Objective& f, bool coarser) {
                     const Point p{at(0, a, kAlphas), at(1, b, kBetas), at(2, l, lapses),
                                   at(3, g, guesses)};
                     const double v = f(p);
-                    if (v < best.value) best = {p, v, false};
+                    if (v < best.value) {
+                        best = {p, v, false};
+                    }
                 }
             }
         }
@@ -297,13 +310,18 @@ SearchResult maximumLikelihood(std::span<const LevelCount> counts, const FitSett
     SearchResult start = coarseStart(f, hint != nullptr);
     if (hint != nullptr) {
         const double v = f(*hint);
-        if (v < start.value) start = {clampToBox(*hint, f.box), v, false};
+        if (v < start.value) {
+            start = {clampToBox(*hint, f.box), v, false};
+        }
     }
     Point scale{};
-    for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t i = 0; i < 4; ++i) {
         scale[i] = (f.box.high[i] - f.box.low[i]) / 20.0;
+    }
     SearchResult refined = nelderMead(f, start.point, scale);
-    if (!(refined.value <= start.value)) refined = {start.point, start.value, false};
+    if (!(refined.value <= start.value)) {
+        refined = {start.point, start.value, false};
+    }
     refined.point = clampToBox(refined.point, f.box);
     return refined;
 }
@@ -319,10 +337,18 @@ void checkFitSettings(const FitSettings& s) {
     if (!(std::isfinite(s.levelMin) && std::isfinite(s.levelMax) && s.levelMin < s.levelMax)) {
         fail("'levelMax' must be above 'levelMin'");
     }
-    if (!(s.maxLapse >= 0.0 && s.maxLapse < 0.5)) fail("'maxLapse' must be in [0, 0.5)");
-    if (!(s.guess >= 0.0 && s.guess < 1.0)) fail("'guess' must be in [0, 1)");
-    if (!(s.confidence > 0.0 && s.confidence < 1.0)) fail("'confidence' must be in (0, 1)");
-    if (s.catchPositive > s.catchTrials) fail("'catchPositive' exceeds 'catchTrials'");
+    if (!(s.maxLapse >= 0.0 && s.maxLapse < 0.5)) {
+        fail("'maxLapse' must be in [0, 0.5)");
+    }
+    if (!(s.guess >= 0.0 && s.guess < 1.0)) {
+        fail("'guess' must be in [0, 1)");
+    }
+    if (!(s.confidence > 0.0 && s.confidence < 1.0)) {
+        fail("'confidence' must be in (0, 1)");
+    }
+    if (s.catchPositive > s.catchTrials) {
+        fail("'catchPositive' exceeds 'catchTrials'");
+    }
 }
 
 // The q-quantile of sorted values, interpolated linearly between order statistics (Hyndman &
@@ -337,8 +363,9 @@ double quantile(const std::vector<double>& sorted, double q) {
 
 uint32_t binomialDraw(uint32_t trials, double p, std::mt19937_64& random) {
     uint32_t positive = 0;
-    for (uint32_t t = 0; t < trials; ++t)
+    for (uint32_t t = 0; t < trials; ++t) {
         positive += uniform01(random) < p ? 1 : 0;
+    }
     return positive;
 }
 
@@ -384,7 +411,9 @@ void bootstrapIntervals(PsychometricFit& fit, std::span<const LevelCount> counts
     const PsychometricFunction fitted = fit.function;
     fit.thresholdLow = fit.thresholdHigh = fitted.threshold;
     fit.slopeLow = fit.slopeHigh = fitted.slope;
-    if (settings.bootstrap == 0) return;
+    if (settings.bootstrap == 0) {
+        return;
+    }
     std::mt19937_64 random(mixSeed(settings.seed, 0xB007));
     const double tail = (1.0 - settings.confidence) / 2.0;
     const auto widen = [&](const BootstrapSet& set, const PsychometricFunction& generating) {
@@ -399,7 +428,9 @@ void bootstrapIntervals(PsychometricFit& fit, std::span<const LevelCount> counts
     };
     const BootstrapSet first = bootstrapSet(fitted, counts, settings, random);
     widen(first, fitted);
-    if (!settings.sensitivity) return;
+    if (!settings.sensitivity) {
+        return;
+    }
     constexpr double kRegion = 0.68;
     const double lowQ = (1.0 - kRegion) / 2.0;
     for (const double qa : {lowQ, 1.0 - lowQ}) {
@@ -423,7 +454,9 @@ PsychometricFit fitPsychometric(std::span<const LevelCount> counts, const FitSet
         }
         trials += c.trials;
     }
-    if (trials == 0) throw std::invalid_argument("fitPsychometric: no trials to fit");
+    if (trials == 0) {
+        throw std::invalid_argument("fitPsychometric: no trials to fit");
+    }
     const SearchResult best = maximumLikelihood(counts, settings);
     PsychometricFit fit;
     fit.function = functionAt(best.point, settings);
@@ -450,13 +483,16 @@ std::vector<LevelCount> mergeCounts(std::span<const std::vector<LevelCount>> cou
 GroupThreshold poolParticipants(std::span<const PsychometricFit> fits,
                                 std::span<const std::vector<LevelCount>> counts,
                                 const FitSettings& settings) {
-    if (fits.empty()) throw std::invalid_argument("poolParticipants: no participant's fit");
+    if (fits.empty()) {
+        throw std::invalid_argument("poolParticipants: no participant's fit");
+    }
     checkFitSettings(settings);
     GroupThreshold group;
     group.participants = static_cast<uint32_t>(fits.size());
     const double n = static_cast<double>(fits.size());
-    for (const PsychometricFit& f : fits)
+    for (const PsychometricFit& f : fits) {
         group.mean += f.function.threshold / n;
+    }
     double squares = 0.0;
     for (const PsychometricFit& f : fits) {
         squares += (f.function.threshold - group.mean) * (f.function.threshold - group.mean);
@@ -481,7 +517,9 @@ GroupThreshold poolParticipants(std::span<const PsychometricFit> fits,
         group.high = quantile(means, 1.0 - tail);
     }
     const std::vector<LevelCount> all = mergeCounts(counts);
-    if (!all.empty()) group.pooled = fitPsychometric(all, settings);
+    if (!all.empty()) {
+        group.pooled = fitPsychometric(all, settings);
+    }
     return group;
 }
 

@@ -77,7 +77,9 @@ public:
         PlannedTrial t;
         t.index = slot;
         t.repeatDelay = delay;
-        if (!choose(slot, pick, t)) return std::nullopt;
+        if (!choose(slot, pick, t)) {
+            return std::nullopt;
+        }
         const Condition& c = mDesign.conditions[t.condition];
         const Procedure p = mDesign.procedure;
         // Practice and the slider's start: the easiest level, the most foveated.
@@ -105,7 +107,9 @@ public:
             mPlacements[t.condition]->record(level, positive);
         }
         ++mEnded[t.condition];
-        if (!t.practice) ++mShownAt[{t.condition, t.level}];
+        if (!t.practice) {
+            ++mShownAt[{t.condition, t.level}];
+        }
         mSlots = t.index + 1;
     }
 
@@ -144,7 +148,9 @@ private:
     // starting from a coin drawn per condition and level, so two repeats show both.
     [[nodiscard]] std::optional<bool> balanced(const PlannedTrial& t) const {
         const PlacementSettings& s = mDesign.conditions[t.condition].placement;
-        if (t.practice || s.kind != PlacementKind::ConstantStimuli) return std::nullopt;
+        if (t.practice || s.kind != PlacementKind::ConstantStimuli) {
+            return std::nullopt;
+        }
         const auto it = mShownAt.find({t.condition, t.level});
         const uint64_t shown = it == mShownAt.end() ? 0 : it->second;
         const uint64_t coin =
@@ -169,14 +175,19 @@ private:
         const std::size_t n = mDesign.conditions.size();
         std::size_t block = 0;
         if (mDesign.breakBetweenConditions) {
-            while (block < n && !blockLeft(block))
+            while (block < n && !blockLeft(block)) {
                 ++block;
-            if (block == n) return false;
+            }
+            if (block == n) {
+                return false;
+            }
         }
         auto inScope = [&](std::size_t c) { return !mDesign.breakBetweenConditions || c == block; };
         t.block = block;
         for (const Deferred& d : mDeferred) {
-            if (inScope(d.condition) && d.due <= slot) return take(d, t);
+            if (inScope(d.condition) && d.due <= slot) {
+                return take(d, t);
+            }
         }
         bool practice = false;
         for (std::size_t c = 0; c < n; ++c) {
@@ -184,8 +195,12 @@ private:
         }
         std::vector<std::size_t> candidates;
         for (std::size_t c = 0; c < n; ++c) {
-            if (!inScope(c) || deferred(c)) continue;
-            if (practice ? mPracticeLeft[c] > 0 : mainLeft(c)) candidates.push_back(c);
+            if (!inScope(c) || deferred(c)) {
+                continue;
+            }
+            if (practice ? mPracticeLeft[c] > 0 : mainLeft(c)) {
+                candidates.push_back(c);
+            }
         }
         if (!candidates.empty()) {
             t.condition = candidates[pick % candidates.size()];
@@ -193,7 +208,9 @@ private:
             return true;
         }
         for (const Deferred& d : mDeferred) {
-            if (inScope(d.condition)) return take(d, t);
+            if (inScope(d.condition)) {
+                return take(d, t);
+            }
         }
         return false;
     }
@@ -257,7 +274,9 @@ double distanceDeg(const GazeAngles& a, const GazeAngles& b) {
 }
 
 void addFlag(std::vector<std::string>& flags, const std::string& flag) {
-    if (std::ranges::find(flags, flag) == flags.end()) flags.push_back(flag);
+    if (std::ranges::find(flags, flag) == flags.end()) {
+        flags.push_back(flag);
+    }
 }
 
 constexpr std::array<Response, 10> kResponses{
@@ -315,7 +334,9 @@ std::string responseName(Response r) {
 
 std::optional<Response> responseNamed(std::string_view name) {
     for (const Response r : kResponses) {
-        if (responseName(r) == name) return r;
+        if (responseName(r) == name) {
+            return r;
+        }
     }
     return std::nullopt;
 }
@@ -400,7 +421,9 @@ struct StudySession::State {
             const double v = level + (end - level) * f;
             levels.push_back(k == 0 ? level : k + 1 == n ? end : c.placement.grid.snap(v));
         }
-        if (!up) std::ranges::reverse(levels);
+        if (!up) {
+            std::ranges::reverse(levels);
+        }
         return levels;
     }
 
@@ -526,8 +549,12 @@ struct StudySession::State {
     void finishRecord() {
         for (std::size_t i = 0; i < record.intervals.size(); ++i) {
             IntervalRecord& r = record.intervals[i];
-            if (latency[i].count > 0) r.latencyMsMean = latency[i].sum / latency[i].count;
-            if (r.droppedFrames > 0) addFlag(record.flags, "dropped_frame");
+            if (latency[i].count > 0) {
+                r.latencyMsMean = latency[i].sum / latency[i].count;
+            }
+            if (r.droppedFrames > 0) {
+                addFlag(record.flags, "dropped_frame");
+            }
         }
     }
 
@@ -553,12 +580,18 @@ struct StudySession::State {
 
     // Why this interval frame breaks the gaze rules, or "".
     [[nodiscard]] std::string gazeBreak(const FrameInput& in) const {
-        if (!in.gaze) return "";
-        if (design.gaze.fixationRadiusDeg > 0 && !insideFixation(in.gaze)) return "fixation";
+        if (!in.gaze) {
+            return "";
+        }
+        if (design.gaze.fixationRadiusDeg > 0 && !insideFixation(in.gaze)) {
+            return "fixation";
+        }
         if (design.gaze.repeatOnSaccade && prevGaze && prevTime && in.timeMs > *prevTime) {
             const double speed =
                 distanceDeg(*in.gaze, *prevGaze) / ((in.timeMs - *prevTime) / 1000.0);
-            if (speed > design.gaze.saccadeDegPerS) return "saccade";
+            if (speed > design.gaze.saccadeDegPerS) {
+                return "saccade";
+            }
         }
         return "";
     }
@@ -580,10 +613,14 @@ struct StudySession::State {
 
     void startResponse(double t) {
         // The slider's reaction time runs from its first picture, across visits to the reference.
-        if (design.procedure != Procedure::Slider || phase == Phase::Fixation) responseStart = t;
+        if (design.procedure != Procedure::Slider || phase == Phase::Fixation) {
+            responseStart = t;
+        }
         phase = Phase::Response;
         phaseStart = t;
-        if (design.procedure == Procedure::Slider) openSlider();
+        if (design.procedure == Procedure::Slider) {
+            openSlider();
+        }
     }
 
     void openSlider() {
@@ -598,8 +635,12 @@ struct StudySession::State {
                 fixationHeldSince.reset();
                 return false;
             }
-            if (!fixationHeldSince) fixationHeldSince = t;
-            if (t - *fixationHeldSince < design.timing.fixationMs - half()) return false;
+            if (!fixationHeldSince) {
+                fixationHeldSince = t;
+            }
+            if (t - *fixationHeldSince < design.timing.fixationMs - half()) {
+                return false;
+            }
         } else if (!expired(t, design.timing.fixationMs)) {
             return false;
         }
@@ -614,9 +655,11 @@ struct StudySession::State {
     bool advanceInterval(double t, const FrameInput& in) {
         if (expired(t, design.timing.intervalMs)) {
             closeGazeGap(t);
-            if (design.procedure == Procedure::Slider) {
-                startResponse(t); // back to the condition after the reference
-            } else if (++interval < intervals.size()) {
+            // The slider's reference interval returns to its condition; other procedures go on
+            // to their next interval, or to the answer after the last.
+            const bool another =
+                design.procedure != Procedure::Slider && ++interval < intervals.size();
+            if (another) {
                 phase = Phase::Blank;
                 phaseStart = t;
             } else {
@@ -625,7 +668,9 @@ struct StudySession::State {
             return true;
         }
         const std::string why = design.procedure == Procedure::Slider ? "" : gazeBreak(in);
-        if (why.empty()) return false;
+        if (why.empty()) {
+            return false;
+        }
         if (trial->attempt < design.gaze.maxRepeats) {
             repeatTrial(t, why);
             return true;
@@ -656,7 +701,9 @@ struct StudySession::State {
         if (r == Response::Reference) {
             // Guenter et al. 2012: the first level at which the participant stopped raising
             // quality and compared it with the reference.
-            if (sliderLastUp && !sliderRecorded) sliderRecorded = sliderLevel;
+            if (sliderLastUp && !sliderRecorded) {
+                sliderRecorded = sliderLevel;
+            }
             sliderLastUp = false;
             closeGazeGap(t);
             phase = Phase::Interval;
@@ -702,7 +749,9 @@ struct StudySession::State {
         case Phase::Interval:
             return advanceInterval(t, in);
         case Phase::Blank:
-            if (!expired(t, design.timing.blankMs)) return false;
+            if (!expired(t, design.timing.blankMs)) {
+                return false;
+            }
             startInterval(t);
             return true;
         case Phase::Response:
@@ -747,9 +796,13 @@ struct StudySession::State {
 
     // The gap before this frame and the latency it reports belong to the previous frame.
     void attributePrevious(const FrameInput& in) {
-        if (!prevSegment || !prevTime || *prevSegment >= record.intervals.size()) return;
+        if (!prevSegment || !prevTime || *prevSegment >= record.intervals.size()) {
+            return;
+        }
         IntervalRecord& r = record.intervals[*prevSegment];
-        if (in.timeMs - *prevTime > 1.5 * periodMs + 1e-6) ++r.droppedFrames;
+        if (in.timeMs - *prevTime > 1.5 * periodMs + 1e-6) {
+            ++r.droppedFrames;
+        }
         if (in.latencyMs > 0) {
             latency[*prevSegment].sum += in.latencyMs;
             ++latency[*prevSegment].count;
@@ -770,7 +823,9 @@ struct StudySession::State {
                 r.gaze.push_back({in.timeMs - phaseStart, in.gaze->xDeg, in.gaze->yDeg});
             } else {
                 ++r.gazeLostFrames;
-                if (!gazeMissingSince) gazeMissingSince = in.timeMs;
+                if (!gazeMissingSince) {
+                    gazeMissingSince = in.timeMs;
+                }
             }
             prevSegment = k;
         }
@@ -837,7 +892,9 @@ FrameShow StudySession::State::show() const {
 
 void StudySession::State::begin() {
     seed = design.seed != 0 ? design.seed : randomWord();
-    if (seed == 0) seed = 1;
+    if (seed == 0) {
+        seed = 1;
+    }
     planner = std::make_unique<Planner>(design, seed);
     journal.append({{"type", "start"},
                     {"design", designToJson(design)},
@@ -852,7 +909,9 @@ void StudySession::State::begin() {
 void StudySession::State::replay(const json& line, std::size_t number) {
     const std::string where = journal.path().string() + ": line " + std::to_string(number) + ": ";
     const std::string type = line["type"].get<std::string>();
-    if (type == "resume" || type == "end") return;
+    if (type == "resume" || type == "end") {
+        return;
+    }
     if (type != "trial" && type != "repeat") {
         throw JournalError(where + "unknown line type '" + type + "'");
     }
@@ -900,8 +959,9 @@ void StudySession::State::resume() {
     }
     seed = start["seed"].get<uint64_t>();
     planner = std::make_unique<Planner>(design, seed);
-    for (std::size_t i = 1; i < lines.size(); ++i)
+    for (std::size_t i = 1; i < lines.size(); ++i) {
         replay(lines[i], i + 1);
+    }
     // A run that is already complete stays as it is.
     if (planner->next(planner->slots())) {
         journal.append({{"type", "resume"}, {"time", nowUtc()}, {"trials_done", trialsDone}});
@@ -927,7 +987,9 @@ StudySession::StudySession(StudyDesign design, SessionSettings settings, Journal
         s.resume();
     }
     s.trial = s.planner->next(s.planner->slots());
-    if (!s.trial) s.phase = Phase::Done;
+    if (!s.trial) {
+        s.phase = Phase::Done;
+    }
 }
 
 StudySession::~StudySession() = default;
@@ -936,7 +998,9 @@ FrameShow StudySession::frame(const FrameInput& input) {
     State& s = *mState;
     s.attributePrevious(input);
     Pending pending;
-    if (input.response) pending = {*input.response, true};
+    if (input.response) {
+        pending = {*input.response, true};
+    }
     // A frame may pass several phases (a zero blank, an answer that starts the next trial);
     // each phase has its own frames, so the chain is short.
     for (int i = 0; i < 16 && s.advance(input, pending); ++i) {
@@ -953,14 +1017,19 @@ std::vector<Stimulus> StudySession::allStimuli() const {
     const State& s = *mState;
     std::vector<Stimulus> all;
     auto add = [&all](Stimulus st) {
-        if (std::ranges::find(all, st) == all.end()) all.push_back(std::move(st));
+        if (std::ranges::find(all, st) == all.end()) {
+            all.push_back(std::move(st));
+        }
     };
     for (const Condition& c : s.design.conditions) {
         std::vector<double> levels = c.placement.grid.all();
-        if (s.design.procedure == Procedure::Ramp) levels.push_back(s.rampEnd(c));
+        if (s.design.procedure == Procedure::Ramp) {
+            levels.push_back(s.rampEnd(c));
+        }
         for (const SceneChoice& scene : s.design.scenes) {
-            for (double level : levels)
+            for (double level : levels) {
                 add({withLevel(c.base, c.vary, level), scene});
+            }
             add({comparisonOf(c), scene});
         }
     }
@@ -986,7 +1055,9 @@ uint32_t StudySession::trialsPlanned() const {
 const LevelPlacement* StudySession::placement(std::string_view condition) const {
     const State& s = *mState;
     for (std::size_t c = 0; c < s.design.conditions.size(); ++c) {
-        if (s.design.conditions[c].name == condition) return s.planner->placement(c);
+        if (s.design.conditions[c].name == condition) {
+            return s.planner->placement(c);
+        }
     }
     return nullptr;
 }

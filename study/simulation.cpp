@@ -57,11 +57,17 @@ std::optional<Response> SimulatedParticipant::answer(const FrameShow& show,
     if (show.phase == Phase::Instructions || show.phase == Phase::Break) {
         return accepts(Response::Continue) ? std::optional(Response::Continue) : std::nullopt;
     }
-    if (show.phase != Phase::Response) return std::nullopt;
+    if (show.phase != Phase::Response) {
+        return std::nullopt;
+    }
     const std::optional<StudySession::TrialInfo> t = session.currentTrial();
-    if (!t) return std::nullopt;
+    if (!t) {
+        return std::nullopt;
+    }
     SimulatedObserver& observer = mObservers.at(t->condition);
-    if (t->catchTrial) return observer.answerCatch() ? Response::Yes : Response::No;
+    if (t->catchTrial) {
+        return observer.answerCatch() ? Response::Yes : Response::No;
+    }
     switch (mProcedure) {
     case Procedure::ForcedChoice:
         return observer.answer(t->level) == t->conditionFirst ? Response::First : Response::Second;
@@ -69,10 +75,14 @@ std::optional<Response> SimulatedParticipant::answer(const FrameShow& show,
         return observer.answer(t->level) ? Response::Yes : Response::No;
     case Procedure::Pair:
         // Positive: the reference judged better; else the two look the same.
-        if (!observer.answer(t->level)) return Response::Same;
+        if (!observer.answer(t->level)) {
+            return Response::Same;
+        }
         return t->conditionFirst ? Response::Second : Response::First;
     case Procedure::Ramp:
-        if (!observer.answer(t->level)) return Response::Same;
+        if (!observer.answer(t->level)) {
+            return Response::Same;
+        }
         return t->rampUp ? Response::Up : Response::Down;
     case Procedure::Slider:
         return sliderAnswer(*t, observer, session.trialsDone());
@@ -90,8 +100,12 @@ Response SimulatedParticipant::sliderAnswer(const StudySession::TrialInfo& t,
         mSliderSteps = 0;
         mComparedReference = false;
     }
-    if (mComparedReference) return Response::Accept;
-    if (++mSliderSteps < kMaxSteps && observer.answer(t.level)) return Response::Up;
+    if (mComparedReference) {
+        return Response::Accept;
+    }
+    if (++mSliderSteps < kMaxSteps && observer.answer(t.level)) {
+        return Response::Up;
+    }
     mComparedReference = true;
     return Response::Reference;
 }
@@ -128,7 +142,9 @@ void runSimulatedParticipant(const StudyDesign& design, const std::string& parti
 namespace {
 
 std::optional<double> median(std::vector<double> v) {
-    if (v.empty()) return std::nullopt;
+    if (v.empty()) {
+        return std::nullopt;
+    }
     std::sort(v.begin(), v.end());
     const std::size_t n = v.size();
     return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
@@ -141,10 +157,13 @@ ConditionRecovery recovery(const Analysis& a, const Condition& condition,
     r.planted = planted;
     std::vector<double> trials, errors, ruleErrors, thresholds;
     for (const ParticipantCondition& pc : a.participants) {
-        if (pc.condition != condition.name) continue;
+        if (pc.condition != condition.name) {
+            continue;
+        }
         uint32_t n = 0;
-        for (const LevelCount& c : pc.counts)
+        for (const LevelCount& c : pc.counts) {
             n += c.trials;
+        }
         trials.push_back(n);
         if (pc.fitted) {
             ++r.fitted;
@@ -153,7 +172,9 @@ ConditionRecovery recovery(const Analysis& a, const Condition& condition,
             errors.push_back(std::abs(pc.fit.function.threshold - t));
             thresholds.push_back(pc.fit.function.threshold);
         }
-        if (pc.ruleThreshold) ruleErrors.push_back(std::abs(*pc.ruleThreshold - planted.threshold));
+        if (pc.ruleThreshold) {
+            ruleErrors.push_back(std::abs(*pc.ruleThreshold - planted.threshold));
+        }
     }
     r.trialsMedian = median(trials);
     r.thresholdMedian = median(thresholds);
@@ -190,22 +211,27 @@ DesignSimulation simulateDesign(const StudyDesign& design, const DesignSimulatio
         }
     }
     for (uint32_t i = 0; i < settings.observers; ++i) {
-        if (settings.beforeParticipant) settings.beforeParticipant();
+        if (settings.beforeParticipant) {
+            settings.beforeParticipant();
+        }
         SimulatedParticipant participant(design, planted, settings.seed * 100003 + i);
         Journal journal(sim.journals[i]);
         runSimulatedParticipant(design, codes[i], journal, participant);
     }
     sim.analysis = analyseJournals(
         sim.journals, {false, settings.bootstrap, settings.seed, settings.beforeParticipant});
-    for (std::size_t c = 0; c < design.conditions.size(); ++c)
+    for (std::size_t c = 0; c < design.conditions.size(); ++c) {
         sim.conditions.push_back(recovery(sim.analysis, design.conditions[c], planted[c]));
+    }
     return sim;
 }
 
 nlohmann::json toJson(const StudyDesign& design, const ConditionRecovery& r) {
     const Condition* condition = nullptr;
     for (const Condition& c : design.conditions) {
-        if (c.name == r.condition) condition = &c;
+        if (c.name == r.condition) {
+            condition = &c;
+        }
     }
     return {{"condition", r.condition},
             {"parameter", condition ? std::string(infoOf(condition->vary).name) : ""},

@@ -21,14 +21,18 @@ const std::vector<ParameterInfo>& parameters() {
 
 const ParameterInfo& infoOf(Parameter p) {
     for (const ParameterInfo& info : parameters()) {
-        if (info.parameter == p) return info;
+        if (info.parameter == p) {
+            return info;
+        }
     }
     throw std::invalid_argument("unknown study parameter");
 }
 
 std::optional<Parameter> parameterNamed(std::string_view name) {
     for (const ParameterInfo& info : parameters()) {
-        if (info.name == name) return info.parameter;
+        if (info.name == name) {
+            return info.parameter;
+        }
     }
     return std::nullopt;
 }
@@ -36,7 +40,9 @@ std::optional<Parameter> parameterNamed(std::string_view name) {
 std::string parameterNames() {
     std::string names;
     for (const ParameterInfo& info : parameters()) {
-        if (!names.empty()) names += ", ";
+        if (!names.empty()) {
+            names += ", ";
+        }
         names += info.name;
     }
     return names;

@@ -31,7 +31,9 @@ XrPath ActionSets::path(const std::string& text) const {
 }
 
 XrActionSet ActionSets::createSet(const std::string& name, const std::string& localizedName) {
-    if (mAttached) throw Error("OpenXR: action set '" + name + "' created after attaching");
+    if (mAttached) {
+        throw Error("OpenXR: action set '" + name + "' created after attaching");
+    }
     const auto scope = mSession.context().runtimeCalls();
     XrActionSetCreateInfo info{XR_TYPE_ACTION_SET_CREATE_INFO};
     copyName(info.actionSetName, XR_MAX_ACTION_SET_NAME_SIZE, name);
@@ -55,12 +57,16 @@ XrAction ActionSets::createAction(XrActionSet set, XrActionType type, const std:
 }
 
 void ActionSets::suggest(const std::string& profile, XrAction action, const std::string& binding) {
-    if (mAttached) throw Error("OpenXR: binding " + binding + " suggested after attaching");
+    if (mAttached) {
+        throw Error("OpenXR: binding " + binding + " suggested after attaching");
+    }
     mBindings[profile].push_back({action, path(binding)});
 }
 
 void ActionSets::attach() {
-    if (mAttached) return;
+    if (mAttached) {
+        return;
+    }
     const auto scope = mSession.context().runtimeCalls();
     for (const auto& [profile, bindings] : mBindings) {
         XrInteractionProfileSuggestedBinding suggested{
@@ -89,7 +95,9 @@ void ActionSets::attach() {
 }
 
 bool ActionSets::sync() {
-    if (mSets.empty()) return false;
+    if (mSets.empty()) {
+        return false;
+    }
     attach();
     const auto scope = mSession.context().runtimeCalls();
     std::vector<XrActiveActionSet> active;
@@ -103,7 +111,9 @@ bool ActionSets::sync() {
     const XrResult r = xrSyncActions(mSession.handle(), &info);
     GT_XR_CHECK(r);
     ++mSyncs;
-    if (r == XR_SESSION_NOT_FOCUSED) return false; // input goes elsewhere
+    if (r == XR_SESSION_NOT_FOCUSED) {
+        return false; // input goes elsewhere
+    }
     ++mFocusedSyncs;
     return true;
 }

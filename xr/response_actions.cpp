@@ -56,7 +56,9 @@ ResponseActions::ResponseActions(ActionSets& sets) : mSets(sets) {
 }
 
 std::vector<uint32_t> ResponseActions::pressed() {
-    if (!mSets.attached()) return {}; // nothing synced yet
+    if (!mSets.attached()) {
+        return {}; // nothing synced yet
+    }
     const auto scope = mSets.session().context().runtimeCalls();
     std::vector<uint32_t> down;
     mActive = 0;
@@ -66,7 +68,9 @@ std::vector<uint32_t> ResponseActions::pressed() {
         XrActionStateBoolean state{XR_TYPE_ACTION_STATE_BOOLEAN};
         GT_XR_CHECK(xrGetActionStateBoolean(mSets.session().handle(), &get, &state));
         mActive += state.isActive == XR_TRUE ? 1 : 0;
-        if (pressBegan(state)) down.push_back(b);
+        if (pressBegan(state)) {
+            down.push_back(b);
+        }
     }
     mPresses += static_cast<uint32_t>(down.size());
     return down;
