@@ -22,25 +22,50 @@ double msSince(Clock::time_point t) {
 }
 constexpr const char* kTaaHistory = "taa";
 constexpr const char* kTaaWeightHistory = "taa.weight";
-} // namespace
 
-Renderer::Renderer(const RendererOptions& o) {
-    const auto t0 = Clock::now();
+using CoarserLevels = std::vector<std::pair<scene::Scene, scene::Bvh>>;
+
+// The scene `spec` at full detail, and its coarser geometric LOD levels into `coarser`.
+scene::Scene loadLevels(const std::string& spec, const scene::GltfLoadOptions& load,
+                        CoarserLevels& coarser) {
     scene::GltfLoadReport report;
-    mScene = scene::loadScene(o.scene, &report, o.sceneLoad);
+    scene::Scene full = scene::loadScene(spec, &report, load);
     for (const std::string& w : report.warnings) {
-        log::warn(o.scene + ": " + w);
+        log::warn(spec + ": " + w);
     }
-    if (!mScene.cages.empty()) {
+    if (!full.cages.empty()) {
         // Geometric LOD (Guenter et al. 2012, 6): the cages refined once per level, a BVH per
         // level; the coarser levels hold geometry only, the full scene is refined in place last.
         for (std::size_t l = 1; l < scene::kLodRefinements.size(); ++l) {
-            scene::Scene level = scene::refinedGeometry(mScene, scene::kLodRefinements[l]);
+            scene::Scene level = scene::refinedGeometry(full, scene::kLodRefinements[l]);
             scene::Bvh bvh(level);
-            mCoarser.emplace_back(std::move(level), std::move(bvh));
+            coarser.emplace_back(std::move(level), std::move(bvh));
         }
-        scene::refineCages(mScene, scene::kLodRefinements[0]);
+        scene::refineCages(full, scene::kLodRefinements[0]);
     }
+    return full;
+}
+
+std::unique_ptr<trace::GpuScene> uploadLevels(vk::Context& ctx, const scene::Scene& full,
+                                              const scene::Bvh& bvh, const CoarserLevels& coarser) {
+    std::vector<trace::LodGeometry> levels{{&full, &bvh}};
+    for (const auto& [level, levelBvh] : coarser)
+        levels.push_back({&level, &levelBvh});
+    return std::make_unique<trace::GpuScene>(ctx, levels);
+}
+} // namespace
+
+// A scene added after the first: what the constructor keeps of scene 0, on the same device.
+struct Renderer::LoadedScene {
+    scene::Scene scene;
+    CoarserLevels coarser;
+    std::optional<scene::Bvh> bvh;
+    std::unique_ptr<trace::GpuScene> gpu;
+};
+
+Renderer::Renderer(const RendererOptions& o) {
+    const auto t0 = Clock::now();
+    mScene = loadLevels(o.scene, o.sceneLoad, mCoarser);
     mLoadMs = msSince(t0);
     const auto t1 = Clock::now();
     mBvh.emplace(mScene);
@@ -50,10 +75,7 @@ Renderer::Renderer(const RendererOptions& o) {
     co.synchronizationValidation = o.validate;
     co.deviceOverride = o.deviceOverride;
     mCtx = std::make_unique<vk::Context>(co);
-    std::vector<trace::LodGeometry> levels{{&mScene, &*mBvh}};
-    for (const auto& [level, bvh] : mCoarser)
-        levels.push_back({&level, &bvh});
-    mGpuScene = std::make_unique<trace::GpuScene>(*mCtx, levels);
+    mGpuScene = uploadLevels(*mCtx, mScene, *mBvh, mCoarser);
     mTaa = std::make_unique<passes::TaaPass>(*mCtx);
     mTonemap = std::make_unique<passes::TonemapPass>(*mCtx);
     mLens = std::make_unique<passes::LensPass>(*mCtx);
@@ -90,6 +112,27 @@ const scene::BvhBuildStats& Renderer::bvhStats() const noexcept {
 }
 MethodContext Renderer::methodContext() const noexcept {
     return {*mCtx, *mGpuScene, *mHistory};
+}
+
+Renderer::SceneId Renderer::addScene(const std::string& spec, const scene::GltfLoadOptions& load) {
+    auto loaded = std::make_unique<LoadedScene>();
+    loaded->scene = loadLevels(spec, load, loaded->coarser);
+    loaded->bvh.emplace(loaded->scene);
+    loaded->gpu = uploadLevels(*mCtx, loaded->scene, *loaded->bvh, loaded->coarser);
+    mMoreScenes.push_back(std::move(loaded));
+    return mMoreScenes.size();
+}
+
+const scene::Scene& Renderer::scene(SceneId id) const {
+    if (id == 0) return mScene;
+    if (id > mMoreScenes.size()) throw Error("renderer: no scene " + std::to_string(id));
+    return mMoreScenes[id - 1]->scene;
+}
+
+MethodContext Renderer::methodContext(SceneId id) const {
+    if (id == 0) return methodContext();
+    if (id > mMoreScenes.size()) throw Error("renderer: no scene " + std::to_string(id));
+    return {*mCtx, *mMoreScenes[id - 1]->gpu, *mHistory};
 }
 uint32_t Renderer::framesInFlight() const noexcept {
     return mRing->framesInFlight();

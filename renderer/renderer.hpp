@@ -82,6 +82,15 @@ public:
     // For constructing foveation methods on this renderer's device and scene.
     [[nodiscard]] MethodContext methodContext() const noexcept;
 
+    // Further scenes on the same device, each with its BVH, geometric LODs and GPU scene: a
+    // method built with methodContext(id) traces scene `id`, so one frame's views (or
+    // consecutive frames) may show different scenes. Scene 0 is RendererOptions::scene.
+    using SceneId = std::size_t;
+    SceneId addScene(const std::string& spec, const scene::GltfLoadOptions& load = {});
+    [[nodiscard]] std::size_t sceneCount() const noexcept { return 1 + mMoreScenes.size(); }
+    [[nodiscard]] const scene::Scene& scene(SceneId id) const;
+    [[nodiscard]] MethodContext methodContext(SceneId id) const;
+
     // One frame of every view in one graph. `targets[i]` receives view i (the same count).
     // Throws gt::Error (the history is then left as it was: the next frame reads the same).
     FrameResult renderFrame(std::span<const View> views, std::span<OutputTarget* const> targets,
@@ -104,6 +113,7 @@ private:
         uint32_t samples = 0; // frames the TAA history holds
         bool pooled = false;  // TAA wrote the weight sums of a support too (taa.glsl)
     };
+    struct LoadedScene;
     void runWarmUp(const WarmUp& warm);
 
     double mLoadMs = 0.0, mBvhMs = 0.0;
@@ -118,6 +128,7 @@ private:
     std::unique_ptr<rg::FrameRing> mRing;
     std::unique_ptr<rg::HistoryPool> mHistory;
     std::map<std::string, ViewHistory> mViewHistory;
+    std::vector<std::unique_ptr<LoadedScene>> mMoreScenes; // scenes 1..: released before mCtx
 };
 
 } // namespace gt::render

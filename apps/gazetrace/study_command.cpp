@@ -166,7 +166,7 @@ struct HeadlessScene {
                                            .framesInFlight = 1,
                                            .deviceOverride = deviceRequest(),
                                            .sceneLoad = gltfLoadOptions()}),
-          stimuli(renderer, scene, s.cacheDir), readback(renderer.context()) {}
+          stimuli(renderer, {scene}, s.cacheDir), readback(renderer.context()) {}
     render::Renderer renderer;
     StudyStimuli stimuli;
     render::ReadbackTarget readback;

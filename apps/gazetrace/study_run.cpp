@@ -60,7 +60,7 @@ render::View stimulusView(StudyStimuli& stimuli, const StudyView& view,
     render::FoveationMethod& method =
         stimuli.method(stimulus, view.stimuli, view.width, view.height);
     const auto eyes = rig.views(stimuli.camera(stimulus.scene, ms), gaze, method,
-                                StudyStimuli::post(stimulus), stimuli.renderer().scene().exposure);
+                                StudyStimuli::post(stimulus), stimuli.exposure(stimulus));
     return eyes[0];
 }
 

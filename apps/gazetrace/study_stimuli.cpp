@@ -130,15 +130,26 @@ std::vector<std::string> scenesOf(std::span<const study::Stimulus> stimuli) {
     return scenes;
 }
 
-StudyStimuli::StudyStimuli(render::Renderer& renderer, std::string scene, std::string cacheDir)
-    : mRenderer(renderer), mScene(std::move(scene)), mCacheDir(cacheFolder(cacheDir)) {}
+StudyStimuli::StudyStimuli(render::Renderer& renderer, std::vector<std::string> scenes,
+                           std::string cacheDir)
+    : mRenderer(renderer), mScenes(std::move(scenes)), mCacheDir(cacheFolder(cacheDir)) {}
 
 StudyStimuli::~StudyStimuli() = default;
+
+render::Renderer::SceneId StudyStimuli::sceneId(const std::string& spec) const {
+    const auto it = std::find(mScenes.begin(), mScenes.end(), spec);
+    if (it == mScenes.end()) throw Error("study: the renderer holds no scene " + spec);
+    return static_cast<render::Renderer::SceneId>(it - mScenes.begin());
+}
+
+float StudyStimuli::exposure(const study::Stimulus& stimulus) const {
+    return mRenderer.scene(sceneId(stimulus.scene.scene)).exposure;
+}
 
 render::FoveationMethod& StudyStimuli::method(const study::Stimulus& stimulus,
                                               const StimulusDisplay& display, uint32_t width,
                                               uint32_t height) {
-    const Key key{describe(stimulus.render), width, height};
+    const Key key{stimulus.scene.scene, describe(stimulus.render), width, height};
     auto it = mMethods.find(key);
     if (it == mMethods.end()) {
         // Point sets are built for the view's own size: a window on the display's screen.
@@ -147,7 +158,9 @@ render::FoveationMethod& StudyStimuli::method(const study::Stimulus& stimulus,
             sized.pointSets = foveation::windowProfile(display.pointSets, width, height);
         }
         const render::RenderSettings settings = renderSettingsOf(stimulus.render, sized, mCacheDir);
-        Built b{stimulus.render, render::makeMethod(settings.method, mRenderer.methodContext()), 0};
+        const render::MethodContext context =
+            mRenderer.methodContext(sceneId(stimulus.scene.scene));
+        Built b{stimulus.render, render::makeMethod(settings.method, context), 0};
         if (const auto* p = dynamic_cast<const render::PointSetMethod*>(b.method.get())) {
             b.points = p->pointSet().points().size();
             log::info("study: point set for " + describe(stimulus.render) + " at " +
@@ -166,7 +179,7 @@ render::PostSettings StudyStimuli::post(const study::Stimulus& stimulus) {
 }
 
 scene::Camera StudyStimuli::camera(const study::SceneChoice& scene, double ms) {
-    const scene::Camera own = fixedCamera(scene, mRenderer.scene().camera);
+    const scene::Camera own = fixedCamera(scene, mRenderer.scene(sceneId(scene.scene)).camera);
     if (scene.cameraPath.empty()) return own;
     auto it = mPaths.find(scene.cameraPath);
     if (it == mPaths.end()) {
@@ -183,7 +196,7 @@ render::View StudyStimuli::view(const study::Stimulus& stimulus, const StimulusD
     v.width = width;
     v.height = height;
     v.gaze = gazePx;
-    v.exposure = mRenderer.scene().exposure;
+    v.exposure = exposure(stimulus);
     v.method = &method(stimulus, display, width, height);
     v.post = post(stimulus);
     return v;
@@ -193,7 +206,9 @@ void StudyStimuli::prepare(std::span<const study::Stimulus> stimuli, const Stimu
                            uint32_t width, uint32_t height) {
     std::vector<const study::Stimulus*> mine;
     for (const study::Stimulus& s : stimuli) {
-        if (s.scene.scene == mScene) mine.push_back(&s);
+        if (std::find(mScenes.begin(), mScenes.end(), s.scene.scene) != mScenes.end()) {
+            mine.push_back(&s);
+        }
     }
     const auto start = std::chrono::steady_clock::now();
     progress::Step step("study: building the stimuli", mine.size());
@@ -210,20 +225,31 @@ void StudyStimuli::prepare(std::span<const study::Stimulus> stimuli, const Stimu
     mRenderer.resetHistory();
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    log::info("study: " + std::to_string(mine.size()) + " stimuli of " + mScene + " ready in " +
+    std::string names;
+    for (const std::string& spec : mScenes)
+        names += (names.empty() ? "" : ", ") + spec;
+    log::info("study: " + std::to_string(mine.size()) + " stimuli of " + names + " ready in " +
               std::to_string(static_cast<long>(ms)) + " ms");
 }
 
-nlohmann::json StudyStimuli::summary() const {
+nlohmann::json StudyStimuli::summary(const std::string& scene) const {
     nlohmann::json list = nlohmann::json::array();
     for (const auto& [key, b] : mMethods) {
-        nlohmann::json j{{"stimulus", std::get<0>(key)},
-                         {"width", std::get<1>(key)},
-                         {"height", std::get<2>(key)}};
+        if (!scene.empty() && std::get<0>(key) != scene) continue;
+        nlohmann::json j{{"stimulus", std::get<1>(key)},
+                         {"width", std::get<2>(key)},
+                         {"height", std::get<3>(key)}};
         if (b.choice.method == study::Method::Foveated) j["points"] = b.points;
         list.push_back(std::move(j));
     }
     return list;
+}
+
+nlohmann::json StudyStimuli::summaryByScene() const {
+    nlohmann::json byScene = nlohmann::json::object();
+    for (const std::string& spec : mScenes)
+        byScene[spec] = summary(spec);
+    return byScene;
 }
 
 } // namespace gt::app

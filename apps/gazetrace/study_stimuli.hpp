@@ -50,17 +50,18 @@ struct StimulusDisplay {
 // The scene specs the stimuli show, each once, in the order first shown.
 [[nodiscard]] std::vector<std::string> scenesOf(std::span<const study::Stimulus> stimuli);
 
-// The methods of one renderer and its scene (`scene`, the spec it was loaded from). Views of a
-// stimulus are rendered with view() (or method() and post()); a view of another size than
-// prepared builds its method on first use.
+// The methods of one renderer and its scenes (`scenes[i]`, the spec its scene i was loaded
+// from), each method built against the scene its stimulus shows. Views of a stimulus are
+// rendered with view() (or method() and post()); a view of another size than prepared builds
+// its method on first use.
 class StudyStimuli {
 public:
-    StudyStimuli(render::Renderer& renderer, std::string scene, std::string cacheDir);
+    StudyStimuli(render::Renderer& renderer, std::vector<std::string> scenes, std::string cacheDir);
     ~StudyStimuli();
     StudyStimuli(const StudyStimuli&) = delete;
     StudyStimuli& operator=(const StudyStimuli&) = delete;
 
-    // Builds the method of every stimulus of this renderer's scene (the others are left to
+    // Builds the method of every stimulus of this renderer's scenes (the others are left to
     // theirs) for
     // width x height views on `display`, and renders one frame of each (nothing shown, the
     // history dropped after), so the first trial's frames cost what every later one does.
@@ -79,14 +80,24 @@ public:
     [[nodiscard]] render::View view(const study::Stimulus& stimulus, const StimulusDisplay& display,
                                     uint32_t width, uint32_t height, glm::vec2 gazePx, double ms);
 
-    // Every prepared stimulus: its settings and, for point sets, the set's points.
-    [[nodiscard]] nlohmann::json summary() const;
+    // Every prepared stimulus (of `scene`; empty: of all scenes): its settings and, for point
+    // sets, the set's points.
+    [[nodiscard]] nlohmann::json summary(const std::string& scene = {}) const;
+    // summary() of each scene, keyed by its spec.
+    [[nodiscard]] nlohmann::json summaryByScene() const;
     [[nodiscard]] std::size_t methodCount() const noexcept { return mMethods.size(); }
     [[nodiscard]] render::Renderer& renderer() noexcept { return mRenderer; }
-    [[nodiscard]] const std::string& scene() const noexcept { return mScene; }
+    // The first scene's spec (scene 0 of the renderer).
+    [[nodiscard]] const std::string& scene() const noexcept { return mScenes.front(); }
+    [[nodiscard]] const std::vector<std::string>& scenes() const noexcept { return mScenes; }
+    // The renderer's scene loaded from `spec` (Error when it holds none).
+    [[nodiscard]] render::Renderer::SceneId sceneId(const std::string& spec) const;
+    // The exposure of the scene `stimulus` shows.
+    [[nodiscard]] float exposure(const study::Stimulus& stimulus) const;
 
 private:
-    using Key = std::tuple<std::string, uint32_t, uint32_t>; // describe(), width, height
+    // The scene's spec, describe(), width, height.
+    using Key = std::tuple<std::string, std::string, uint32_t, uint32_t>;
     struct Built {
         study::RenderChoice choice;
         std::unique_ptr<render::FoveationMethod> method;
@@ -94,7 +105,7 @@ private:
     };
 
     render::Renderer& mRenderer;
-    std::string mScene;
+    std::vector<std::string> mScenes;
     std::filesystem::path mCacheDir;
     std::map<Key, Built> mMethods;
     std::map<std::string, scene::CameraPath> mPaths;

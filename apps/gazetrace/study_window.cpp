@@ -136,10 +136,6 @@ StudyWindowRun::StudyWindowRun(const StudySetup& s, study::StudySession& session
     : mSetup(s), mSession(session), mAtStart(session.trialsDone()) {
     const std::vector<study::Stimulus> all = session.allStimuli();
     const std::vector<std::string> scenes = scenesOf(all);
-    if (scenes.size() != 1) {
-        throw ArgumentError("--display window: the design shows " + std::to_string(scenes.size()) +
-                            " scenes and the window one; run it headless or one design per scene");
-    }
     // The gaze source first: a bad one fails before a window opens.
     GazeInputContext gazeContext;
     gazeContext.calibration = s.calibration;
@@ -156,11 +152,15 @@ StudyWindowRun::StudyWindowRun(const StudySetup& s, study::StudySession& session
     ro.display.deviceExtensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
     ro.display.createSurface = [this](VkInstance i) { return mWindow->createSurface(i); };
     mRenderer.emplace(ro);
+    // Every further scene on the same device: a trial's stimulus names the one it shows.
+    for (std::size_t i = 1; i < scenes.size(); ++i) {
+        (void)mRenderer->addScene(scenes[i], ro.sceneLoad);
+    }
     vk::Context& ctx = mRenderer->context();
     mSwapchain.emplace(ctx, mWindow->framebufferSize(), parsePresentMode("fifo"));
     mTarget.emplace(ctx);
     mUi.emplace(*mWindow, ctx, mSwapchain->format(), mSwapchain->imageCount());
-    mStimuli.emplace(*mRenderer, scenes.front(), s.cacheDir);
+    mStimuli.emplace(*mRenderer, scenes, s.cacheDir);
     const StudyView v = viewNow();
     mStimuli->prepare(all, v.stimuli, v.width, v.height);
     if (s.observer) mObserver.emplace(*s.observer, s.design, s.view, StudyObserver::Shot{});
@@ -344,7 +344,7 @@ nlohmann::json StudyWindowRun::run() {
     j["frames_rendered"] = mRendered;
     j["ended_early"] = mClosed && !mSession.finished();
     j["gaze_source"] = mGaze->describe();
-    j["stimuli"] = {{mStimuli->scene(), mStimuli->summary()}};
+    j["stimuli"] = mStimuli->summaryByScene();
     return j;
 }
 

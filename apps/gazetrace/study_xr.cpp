@@ -46,20 +46,15 @@ constexpr double kExitTimeoutMs = 5000.0;
 constexpr double kCrossArmDeg = 0.4;
 constexpr double kCrossThickDeg = 0.08;
 
-// The one scene a run in the runtime's device shows.
-std::string onlyScene(const study::StudyDesign& design) {
+// The scenes a run shows, each once: the first the renderer's own, the others added to it.
+std::vector<std::string> scenesOf(const study::StudyDesign& design) {
     std::vector<std::string> scenes;
     for (const study::SceneChoice& c : design.scenes) {
         if (std::find(scenes.begin(), scenes.end(), c.scene) == scenes.end()) {
             scenes.push_back(c.scene);
         }
     }
-    if (scenes.size() != 1) {
-        throw ArgumentError("--display xr: the design shows " + std::to_string(scenes.size()) +
-                            " scenes; an OpenXR run shows one (run each scene's conditions as "
-                            "their own design)");
-    }
-    return scenes.front();
+    return scenes;
 }
 
 // What the frames of a run showed, and the answers given.
@@ -98,7 +93,7 @@ private:
     const StudySetup& mSetup;
     study::StudySession* mSession = nullptr;
     uint32_t mAtStart = 0;
-    const std::string mScene;
+    const std::vector<std::string> mScenes;
     std::unique_ptr<GazeInput> mOwnGaze;
     std::optional<xr::Runtime> mRuntime;
     std::optional<render::Renderer> mRenderer;
@@ -130,7 +125,7 @@ private:
 };
 
 StudyXrDisplay::Run::Run(const StudySetup& setup)
-    : mSetup(setup), mScene(onlyScene(setup.design)), mStarted(Clock::now()) {
+    : mSetup(setup), mScenes(scenesOf(setup.design)), mStarted(Clock::now()) {
     if (setup.observer && setup.observer->basis == ObserverBasis::Flip) {
         throw ArgumentError("--observer flip: headless only (it reads every frame back)");
     }
@@ -150,13 +145,17 @@ StudyXrDisplay::Run::Run(const StudySetup& setup)
     log::info("study: xr runtime " + mRuntime->runtimeName() + ", system " +
               mRuntime->systemName());
     render::RendererOptions ro;
-    ro.scene = mScene;
+    ro.scene = mScenes.front();
     ro.validate = setup.validate;
     ro.framesInFlight = 1; // each frame's images are released right after its submit
     ro.deviceOverride = deviceRequest();
     ro.sceneLoad = gltfLoadOptions();
     ro.display = mRuntime->vulkanHooks();
     mRenderer.emplace(ro);
+    // Every further scene on the runtime's device: a trial's stimulus names the one it shows.
+    for (std::size_t i = 1; i < mScenes.size(); ++i) {
+        (void)mRenderer->addScene(mScenes[i], ro.sceneLoad);
+    }
     xr::SessionOptions so;
     so.maxWidth = setup.view.width;
     so.maxHeight = setup.view.height;
@@ -173,7 +172,7 @@ StudyXrDisplay::Run::Run(const StudySetup& setup)
     mButtons.emplace(*mActions);
     mActions->attach();
 
-    mStimuli.emplace(*mRenderer, mScene, setup.cacheDir);
+    mStimuli.emplace(*mRenderer, mScenes, setup.cacheDir);
     mFill.emplace(mRenderer->context());
     for (auto& t : mTargets)
         t.emplace(mRenderer->context());
@@ -357,7 +356,7 @@ void StudyXrDisplay::Run::drawStimulus(const xr::FrameInfo& frame, const study::
         render::View v = eyeView(frame, e, gaze, placement, size);
         v.method = &mStimuli->method(stimulus, mDisplay, size.width, size.height);
         v.post = StudyStimuli::post(stimulus);
-        v.exposure = mRenderer->scene().exposure;
+        v.exposure = mStimuli->exposure(stimulus);
         views.push_back(v);
         const xr::EyeImage img = mXr->acquire(e);
         mTargets[e]->setImage({img.image, img.format, img.extent, 0});
@@ -448,7 +447,7 @@ nlohmann::json StudyXrDisplay::Run::summary() {
          {"frames_with_runtime_gaze", mCounts.runtimeGazeFrames},
          {"frames_gaze_lost", mCounts.gazeLostFrames},
          {"responses", responses},
-         {"stimuli", {{mScene, mStimuli->summary()}}},
+         {"stimuli", mStimuli->summaryByScene()},
          // A stop request or the runtime ended it before the plan or --max-trials did.
          {"ended_early", trialsLeft()}});
     // The action sets before the session they belong to.

@@ -23,9 +23,9 @@ namespace gt::app {
 //   study::StudySession session(design, settings, journal);
 //   summary = xr.run(session);
 // The eye images are the runtime's recommended size, scaled down (never up) to fit the run's
-// view (setup.view: --width/--height or the design's). One scene per run: every interval shares
-// the runtime's Vulkan device, which holds one scene. Throws ArgumentError for a flip observer
-// (it reads frames back) or a design with several scenes; gt::Error when the runtime fails.
+// view (setup.view: --width/--height or the design's). Every scene of the design is loaded on
+// the runtime's Vulkan device before the first trial. Throws ArgumentError for a flip observer
+// (it reads frames back); gt::Error when the runtime fails.
 class StudyXrDisplay {
 public:
     explicit StudyXrDisplay(const StudySetup& setup);

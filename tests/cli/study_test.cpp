@@ -249,6 +249,42 @@ TEST(Study, WindowRunsTrialsUnderXvfb) {
     }
 }
 
+// A design over two scenes in the window: both scenes on the window's device, every stimulus of
+// each built before the first trial, the trials cycling through the scenes.
+TEST(Study, WindowRunsTrialsOfTwoScenesUnderXvfb) {
+    if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) {
+        GTEST_SKIP() << "xvfb-run is not installed";
+    }
+    const auto dir = test::tempDir("study_window_scenes");
+    nlohmann::json d = tinyDesign();
+    d["scenes"] =
+        nlohmann::json::array({{{"scene", "builtin:market"}}, {{"scene", "builtin:cornell"}}});
+    const auto design = writeDesign(dir, d);
+    const auto journal = dir / "w02.jsonl";
+    const Result r =
+        test::runWith("xvfb-run -a -s '-screen 0 1280x720x24'",
+                      "study --design " + design.string() + " --participant W02 --journal " +
+                          journal.string() + " --display window --gaze fixed:80,45 --validate" +
+                          cacheArg() + " --observer level:0.1,50 --max-trials 4");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto summary = nlohmann::json::parse(r.out);
+    EXPECT_EQ(summary["trials_done"], 4);
+    for (const char* scene : {"builtin:market", "builtin:cornell"}) {
+        ASSERT_TRUE(summary["stimuli"].contains(scene)) << summary["stimuli"];
+        EXPECT_FALSE(summary["stimuli"][scene].empty()) << scene;
+    }
+    EXPECT_NE(r.err.find("stimuli of builtin:market, builtin:cornell ready"), std::string::npos)
+        << r.err;
+    std::set<uint32_t> scenes;
+    for (const auto& t : trialsOf(journalLines(journal))) {
+        scenes.insert(t["scene"].get<uint32_t>());
+        for (const auto& interval : t["intervals"]) {
+            EXPECT_GE(interval["frames"].get<int>(), 1) << interval;
+        }
+    }
+    EXPECT_EQ(scenes, (std::set<uint32_t>{0, 1}));
+}
+
 // The gaze from a trace, in the session's angles: a gaze that leaves the fixation region (1 deg)
 // during an interval repeats the trial; the trials kept saw it inside.
 TEST(Study, GazeLeavingTheFixationRegionRepeatsTheTrial) {

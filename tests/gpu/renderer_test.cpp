@@ -110,6 +110,48 @@ TEST_F(RendererTest, TwoViewsInOneGraphMatchEachViewAlone) {
     EXPECT_NE(pair[0], pair[1]);
 }
 
+// One view rendered on `r` into a readback: its pixels.
+std::vector<uint8_t> renderOn(render::Renderer& r, const render::View& v) {
+    render::ReadbackTarget readback(r.context());
+    render::OutputTarget* const target = &readback;
+    (void)r.renderFrame(std::span(&v, 1), std::span(&target, 1));
+    return readback.takePixels();
+}
+
+// A second scene on the same device: a method built with its context traces it exactly as a
+// renderer holding that scene alone does, and scene 0 renders as before it was added.
+TEST(RendererScenes, AnAddedSceneRendersAsItsOwnRenderer) {
+    render::Renderer two(render::RendererOptions{.scene = "builtin:cornell", .validate = true});
+    const auto viewOf = [](const scene::Scene& sc, render::FoveationMethod& method) {
+        render::View v;
+        v.camera = sc.camera;
+        v.width = 48;
+        v.height = 40;
+        v.gaze = {24.0f, 20.0f};
+        v.method = &method;
+        v.post.taa = false;
+        v.exposure = sc.exposure;
+        return v;
+    };
+    render::FullResolution cornell(two.methodContext(), {1, 3});
+    const auto before = renderOn(two, viewOf(two.scene(), cornell));
+    const render::Renderer::SceneId gallery = two.addScene("builtin:gallery");
+    ASSERT_EQ(gallery, 1u);
+    ASSERT_EQ(two.sceneCount(), 2u);
+    EXPECT_EQ(renderOn(two, viewOf(two.scene(0), cornell)), before);
+    render::FullResolution added(two.methodContext(gallery), {1, 3});
+    const auto shown = renderOn(two, viewOf(two.scene(gallery), added));
+    EXPECT_EQ(two.context().validationErrors(), 0u);
+
+    render::Renderer alone(render::RendererOptions{.scene = "builtin:gallery", .validate = true});
+    render::FullResolution own(alone.methodContext(), {1, 3});
+    const auto expected = renderOn(alone, viewOf(alone.scene(), own));
+    ASSERT_EQ(shown.size(), 48u * 40u * 4u);
+    EXPECT_EQ(shown, expected);
+    EXPECT_NE(shown, before);
+    EXPECT_THROW((void)two.methodContext(2), Error);
+}
+
 // Two views with different sizes: each view's transients follow its own size.
 TEST_F(RendererTest, ViewsOfDifferentSizesShareAGraph) {
     render::FullResolution method(renderer().methodContext(), {1, 2});

@@ -432,8 +432,9 @@ TEST(XrActions, ButtonsAndEyeGazeAttachTogetherSyncEveryFrameAndReportNoPress) {
 }
 
 // A perception study in the headset: two trials of a forced choice on the point-set scale,
-// answered by a simulated observer (Monado gives no button presses), every stimulus built for
-// the runtime's eye images first, each trial journaled with its intervals' frames. The buttons'
+// one on each of two scenes (both on the runtime's device), answered by a simulated observer
+// (Monado gives no button presses), every stimulus of both scenes built for the runtime's eye
+// images first, each trial journaled with its scene and its intervals' frames. The buttons'
 // action set is synced on every frame the runtime paced, bound to Monado's simulated simple
 // controllers, and reported no press.
 TEST(XrStudy, AShortRunInTheHeadsetJournalsItsTrials) {
@@ -458,6 +459,7 @@ TEST(XrStudy, AShortRunInTheHeadsetJournalsItsTrials) {
         "name": "xr_tiny", "procedure": "forced-choice", "seed": 11,
         "width": 160, "height": 120,
         "timing": {"fixation_ms": 50, "interval_ms": 100, "blank_ms": 50},
+        "scenes": [{"scene": "builtin:market"}, {"scene": "builtin:cornell"}],
         "conditions": [{"name": "scale", "vary": "scale",
                         "levels": {"min": 1.0, "max": 2.0, "step": 1.0},
                         "placement": {"kind": "staircase", "max_trials": 4}}]
@@ -496,14 +498,20 @@ TEST(XrStudy, AShortRunInTheHeadsetJournalsItsTrials) {
     EXPECT_NE(
         std::find(profiles.begin(), profiles.end(), "/interaction_profiles/khr/simple_controller"),
         profiles.end());
+    for (const char* scene : {"builtin:market", "builtin:cornell"}) {
+        EXPECT_FALSE(j["stimuli"][scene].empty()) << j["stimuli"];
+    }
 
-    // The journal: both trials, each interval's frames counted, answered first or second.
+    // The journal: both trials, one per scene, each interval's frames counted, answered first
+    // or second.
     std::ifstream in(journal);
     int trials = 0;
+    std::vector<int> scenes;
     for (std::string line; std::getline(in, line);) {
         const auto t = nlohmann::json::parse(line);
         if (t.value("type", "") != "trial") continue;
         ++trials;
+        scenes.push_back(t["scene"].get<int>());
         const std::string response = t["response"];
         EXPECT_TRUE(response == "first" || response == "second") << line;
         ASSERT_EQ(t["intervals"].size(), 2u) << line;
@@ -516,6 +524,8 @@ TEST(XrStudy, AShortRunInTheHeadsetJournalsItsTrials) {
         }
     }
     EXPECT_EQ(trials, 2);
+    std::sort(scenes.begin(), scenes.end());
+    EXPECT_EQ(scenes, (std::vector<int>{0, 1}));
 }
 
 // SIGINT during a study in the headset: the runtime is asked to end the session, which ends
