@@ -17,7 +17,9 @@ namespace gt::app {
 
 namespace {
 void checkVk(VkResult r) {
-    if (r != VK_SUCCESS) log::error("overlay: Vulkan call failed with " + std::to_string(r));
+    if (r != VK_SUCCESS) {
+        log::error("overlay: Vulkan call failed with " + std::to_string(r));
+    }
 }
 } // namespace
 

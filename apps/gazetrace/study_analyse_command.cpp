@@ -54,8 +54,9 @@ std::string thresholdsCsv(const study::Analysis& a) {
     for (const study::ParticipantCondition& pc : a.participants) {
         const study::PsychometricFit& f = pc.fit;
         uint32_t trials = 0;
-        for (const study::LevelCount& c : pc.counts)
+        for (const study::LevelCount& c : pc.counts) {
             trials += c.trials;
+        }
         out << "participant," << pc.condition << ',' << pc.parameter << ',' << pc.participant
             << ",1," << trials << ',' << pc.flaggedTrials << ',';
         if (pc.fitted) {
@@ -92,7 +93,9 @@ std::string thresholdsCsv(const study::Analysis& a) {
 std::pair<double, double> levelRange(const study::Analysis& a, const std::string& condition) {
     double lo = 1e300, hi = -1e300;
     for (const study::ParticipantCondition& pc : a.participants) {
-        if (pc.condition != condition) continue;
+        if (pc.condition != condition) {
+            continue;
+        }
         for (const study::LevelCount& c : pc.counts) {
             lo = std::min(lo, c.level);
             hi = std::max(hi, c.level);
@@ -102,9 +105,12 @@ std::pair<double, double> levelRange(const study::Analysis& a, const std::string
             hi = std::max(hi, *pc.ruleThreshold);
         }
     }
-    if (lo > hi) return {0.0, 1.0};
-    if (hi - lo < 1e-12)
+    if (lo > hi) {
+        return {0.0, 1.0};
+    }
+    if (hi - lo < 1e-12) {
         return {lo - 0.5 * std::max(std::abs(lo), 1e-3), hi + 0.5 * std::max(std::abs(hi), 1e-3)};
+    }
     return {lo, hi};
 }
 
@@ -114,11 +120,15 @@ PsychometricPanel panelOf(const study::Analysis& a, const study::ConditionSummar
     std::tie(panel.xMin, panel.xMax) = levelRange(a, s.condition);
     panel.xTitle = s.parameter + " (level)";
     for (const study::ParticipantCondition& pc : a.participants) {
-        if (pc.condition != s.condition) continue;
+        if (pc.condition != s.condition) {
+            continue;
+        }
         PsychometricSeries series;
         series.name = pc.participant;
         for (const study::LevelCount& c : pc.counts) {
-            if (c.trials == 0) continue;
+            if (c.trials == 0) {
+                continue;
+            }
             series.points.push_back({c.level, static_cast<double>(c.positive) / c.trials,
                                      static_cast<double>(c.trials)});
         }
@@ -131,7 +141,9 @@ PsychometricPanel panelOf(const study::Analysis& a, const study::ConditionSummar
         }
         panel.series.push_back(std::move(series));
     }
-    if (s.group.participants > 0) panel.group = {{s.group.mean, s.group.low, s.group.high}};
+    if (s.group.participants > 0) {
+        panel.group = {{s.group.mean, s.group.low, s.group.high}};
+    }
     return panel;
 }
 
@@ -140,11 +152,14 @@ PsychometricPanel panelOf(const study::Analysis& a, const study::ConditionSummar
 nlohmann::json runStudyAnalyse(const StudyAnalyseOptions& options) {
     const std::vector<fs::path> journals(options.journals.begin(), options.journals.end());
     std::vector<io::RunFile> inputs;
-    for (const fs::path& j : journals)
+    inputs.reserve(journals.size());
+    for (const fs::path& j : journals) {
         inputs.push_back({"journals", j});
+    }
     std::vector<io::RunFile> outputs;
-    for (const char* name : {"thresholds.json", "thresholds.csv", "psychometric.png"})
+    for (const char* name : {"thresholds.json", "thresholds.csv", "psychometric.png"}) {
         outputs.push_back({"--out", fs::path(options.out) / name});
+    }
     io::refuseOutputThatIsInput(outputs, inputs);
 
     const study::Analysis analysis = study::analyseJournals(
@@ -161,8 +176,9 @@ nlohmann::json runStudyAnalyse(const StudyAnalyseOptions& options) {
     io::writeFileAtomic(folder.file("thresholds.json"), result.dump(2) + "\n");
     io::writeFileAtomic(folder.file("thresholds.csv"), thresholdsCsv(analysis));
     std::vector<PsychometricPanel> panels;
-    for (const study::ConditionSummary& s : analysis.conditions)
+    for (const study::ConditionSummary& s : analysis.conditions) {
         panels.push_back(panelOf(analysis, s));
+    }
     const quality::RgbaImage plot = psychometricImage(panels);
     image::writePngAtomic(folder.file("psychometric.png"), plot.width, plot.height, plot.pixels);
     folder.commit();
@@ -200,7 +216,9 @@ private:
 nlohmann::json runStudySimulate(const StudySimulateOptions& options) {
     const std::vector<io::RunFile> inputs{{"--design", options.design}};
     io::refuseOutputThatIsInput(std::vector<io::RunFile>{{"--json", options.json}}, inputs);
-    if (!options.json.empty()) io::checkOutputFile(options.json);
+    if (!options.json.empty()) {
+        io::checkOutputFile(options.json);
+    }
     const study::StudyDesign design = study::loadDesign(options.design);
 
     std::optional<ScratchFolder> scratch;
@@ -221,8 +239,9 @@ nlohmann::json runStudySimulate(const StudySimulateOptions& options) {
     settings.beforeParticipant = throwIfStopRequested; // SIGINT: the scratch folder goes
     const study::DesignSimulation sim = study::simulateDesign(design, settings, folder);
     json conditions = json::array();
-    for (const study::ConditionRecovery& c : sim.conditions)
+    for (const study::ConditionRecovery& c : sim.conditions) {
         conditions.push_back(study::toJson(design, c));
+    }
     json result{{"design", design.name},
                 {"procedure", study::procedureName(design.procedure)},
                 {"observers", options.observers},
@@ -230,7 +249,9 @@ nlohmann::json runStudySimulate(const StudySimulateOptions& options) {
                 {"bootstrap", kSimulateBootstrap},
                 {"journals", options.journals.empty() ? json(nullptr) : json(options.journals)},
                 {"conditions", std::move(conditions)}};
-    if (!options.json.empty()) io::writeFileAtomic(options.json, result.dump(2) + "\n");
+    if (!options.json.empty()) {
+        io::writeFileAtomic(options.json, result.dump(2) + "\n");
+    }
     return result;
 }
 

@@ -32,7 +32,9 @@ namespace {
 
 // The experimenter's code for a participant: nothing personal fits in it.
 void checkParticipant(const std::string& code) {
-    if (code.empty()) throw ArgumentError("--participant: give the participant's code");
+    if (code.empty()) {
+        throw ArgumentError("--participant: give the participant's code");
+    }
     static const std::regex kCode("[A-Za-z0-9_-]{1,32}");
     if (!std::regex_match(code, kCode)) {
         throw ArgumentError("--participant: '" + code +
@@ -77,7 +79,9 @@ StudyView studyView(const StudyOptions& o, const study::StudyDesign& d) {
         v.height = o.height != 0 ? o.height : d.height;
         v.stimuli = desktopStimulusDisplay(v.width, v.height);
     }
-    if (d.timing.refreshHz > 0.0) v.refreshHz = d.timing.refreshHz;
+    if (d.timing.refreshHz > 0.0) {
+        v.refreshHz = d.timing.refreshHz;
+    }
     v.fixationPx = {static_cast<float>(d.fixationX * (v.width - 1)),
                     static_cast<float>(d.fixationY * (v.height - 1))};
     return v;
@@ -93,7 +97,9 @@ void checkScenes(const study::StudyDesign& d) {
         } catch (const ArgumentError& e) {
             throw ArgumentError(field + ".camera: " + e.what());
         }
-        if (!sc.cameraPath.empty()) (void)scene::CameraPath::load(sc.cameraPath);
+        if (!sc.cameraPath.empty()) {
+            (void)scene::CameraPath::load(sc.cameraPath);
+        }
     }
 }
 
@@ -110,7 +116,9 @@ StudySetup studySetup(const StudyOptions& o) {
         throw ArgumentError("--observer flip: headless only (it reads every frame back)");
     }
     s.design = study::loadDesign(o.design);
-    if (s.observer) StudyObserver::check(*s.observer, s.design);
+    if (s.observer) {
+        StudyObserver::check(*s.observer, s.design);
+    }
     checkScenes(s.design);
     s.journal = o.journal.empty()
                     ? std::filesystem::path(s.design.name + "_" + o.participant + ".jsonl")
@@ -136,10 +144,14 @@ public:
     explicit JournalGuard(std::filesystem::path path) : mPath(std::move(path)) {
         std::error_code ec;
         mExisted = std::filesystem::is_regular_file(mPath, ec);
-        if (mExisted) mSize = std::filesystem::file_size(mPath, ec);
+        if (mExisted) {
+            mSize = std::filesystem::file_size(mPath, ec);
+        }
     }
     ~JournalGuard() {
-        if (mKept) return;
+        if (mKept) {
+            return;
+        }
         std::error_code ec;
         if (mExisted) {
             std::filesystem::resize_file(mPath, mSize, ec);
@@ -218,9 +230,13 @@ HeadlessRun::HeadlessRun(const StudySetup& s, study::StudySession& session)
 }
 
 std::optional<glm::vec2> HeadlessRun::gazePx(double ms) {
-    if (!mGaze) return mSetup.view.fixationPx;
+    if (!mGaze) {
+        return mSetup.view.fixationPx;
+    }
     const std::optional<GazeReading> r = mGaze->read(ms);
-    if (!r) return std::nullopt;
+    if (!r) {
+        return std::nullopt;
+    }
     if (r->anglesDeg && mSetup.view.hmd) {
         const glm::vec2 px = render::pixelOfDirection(render::directionOfAngles(*r->anglesDeg),
                                                       display::eyeTangents(*mSetup.view.hmd, 0),
@@ -234,7 +250,9 @@ std::optional<glm::vec2> HeadlessRun::gazePx(double ms) {
 
 quality::RgbaImage HeadlessRun::shot(const study::Stimulus& stimulus) {
     const std::string key = describe(stimulus.render) + " | " + stimulus.scene.scene;
-    if (const auto it = mShots.find(key); it != mShots.end()) return it->second;
+    if (const auto it = mShots.find(key); it != mShots.end()) {
+        return it->second;
+    }
     HeadlessScene& sc = scene(stimulus.scene.scene);
     sc.renderer.resetHistory();
     const render::View v =
@@ -266,7 +284,9 @@ const quality::RgbaImage* HeadlessRun::render(const study::FrameShow& show, glm:
         flip() ? static_cast<render::OutputTarget&>(sc.readback) : sc.discard;
     (void)renderOneFrame(sc.renderer, v, target);
     ++mRendered;
-    if (!flip()) return nullptr;
+    if (!flip()) {
+        return nullptr;
+    }
     mPicture = {v.width, v.height, sc.readback.takePixels()};
     return &mPicture;
 }
@@ -285,7 +305,9 @@ nlohmann::json HeadlessRun::run() {
         const std::optional<glm::vec2> gaze = gazePx(ms);
         study::FrameInput input;
         input.timeMs = ms;
-        if (gaze) input.gaze = anglesOfViewPixel(mSetup.view, *gaze);
+        if (gaze) {
+            input.gaze = anglesOfViewPixel(mSetup.view, *gaze);
+        }
         input.response = std::exchange(answer, std::nullopt);
         const study::FrameShow show = mSession.frame(input);
         const quality::RgbaImage* picture = render(show, gaze.value_or(mSetup.view.fixationPx), ms);
@@ -313,7 +335,9 @@ nlohmann::json HeadlessRun::run() {
         }
     }
     j["stimuli"] = stimuli;
-    if (const auto metric = mObserver->lastMetric()) j["flip_last"] = *metric;
+    if (const auto metric = mObserver->lastMetric()) {
+        j["flip_last"] = *metric;
+    }
     return j;
 }
 
@@ -323,9 +347,13 @@ nlohmann::json sessionSummary(const StudySetup& setup, const study::StudySession
                               uint32_t trialsAtStart) {
     uint32_t trials = 0, flagged = 0;
     for (const nlohmann::json& line : study::readJournal(setup.journal)) {
-        if (!line.is_object() || line.value("type", "") != "trial") continue;
+        if (!line.is_object() || line.value("type", "") != "trial") {
+            continue;
+        }
         ++trials;
-        if (!line["flags"].empty()) ++flagged;
+        if (!line["flags"].empty()) {
+            ++flagged;
+        }
     }
     return {{"design", setup.design.name},
             {"participant", setup.participant},
@@ -370,7 +398,9 @@ nlohmann::json runStudy(const StudyOptions& options) {
         return summary;
     } catch (...) {
         // Trials answered stay journaled; a run that failed before its first one leaves none.
-        if (session.trialsDone() != atStart) guard.keep();
+        if (session.trialsDone() != atStart) {
+            guard.keep();
+        }
         throw;
     }
 }

@@ -65,7 +65,9 @@ render::View stimulusView(StudyStimuli& stimuli, const StudyView& view,
 }
 
 std::optional<ObserverSpec> parseObserver(const std::string& text) {
-    if (text.empty()) return std::nullopt;
+    if (text.empty()) {
+        return std::nullopt;
+    }
     const auto bad = [&](const std::string& why) {
         return ArgumentError("--observer: " + why +
                              " (expected level:T[,SLOPE[,LAPSE]] or flip:T[,SLOPE[,LAPSE]]), "
@@ -85,17 +87,27 @@ std::optional<ObserverSpec> parseObserver(const std::string& text) {
     for (std::string item; std::getline(rest, item, ',');) {
         char* end = nullptr;
         const double v = std::strtod(item.c_str(), &end);
-        if (item.empty() || *end != '\0' || !std::isfinite(v)) throw bad("'" + item + "'");
+        if (item.empty() || *end != '\0' || !std::isfinite(v)) {
+            throw bad("'" + item + "'");
+        }
         values.push_back(v);
     }
     if (values.empty() || values.size() > 3 || text.back() == ',') {
         throw bad("one to three numbers");
     }
     spec.threshold = values[0];
-    if (values.size() > 1) spec.slope = values[1];
-    if (values.size() > 2) spec.lapse = values[2];
-    if (!(spec.slope > 0.0)) throw bad("the slope must be above 0");
-    if (!(spec.lapse >= 0.0 && spec.lapse < 0.5)) throw bad("the lapse rate must be in [0, 0.5)");
+    if (values.size() > 1) {
+        spec.slope = values[1];
+    }
+    if (values.size() > 2) {
+        spec.lapse = values[2];
+    }
+    if (!(spec.slope > 0.0)) {
+        throw bad("the slope must be above 0");
+    }
+    if (!(spec.lapse >= 0.0 && spec.lapse < 0.5)) {
+        throw bad("the lapse rate must be in [0, 0.5)");
+    }
     return spec;
 }
 
@@ -108,7 +120,9 @@ double flipMetric(const quality::RgbaImage& reference, const quality::RgbaImage&
     // eccentricity (eval's flip_ecc).
     double worst = 0.0;
     for (std::size_t b = 0; b < quality::kBands; ++b) {
-        if (counts[b] == 0) continue;
+        if (counts[b] == 0) {
+            continue;
+        }
         const double bandPpd =
             b == 0 ? ppd : ppd / quality::acuityFalloff(quality::kBandStartDeg[b]);
         const auto perBand =
@@ -125,7 +139,9 @@ StudyObserver::StudyObserver(ObserverSpec spec, const study::StudyDesign& design
 }
 
 void StudyObserver::check(const ObserverSpec& spec, const study::StudyDesign& design) {
-    if (spec.basis != ObserverBasis::Flip) return;
+    if (spec.basis != ObserverBasis::Flip) {
+        return;
+    }
     const study::Procedure p = design.procedure;
     if (p != study::Procedure::ForcedChoice && p != study::Procedure::YesNo &&
         p != study::Procedure::Pair) {
@@ -140,15 +156,21 @@ void StudyObserver::frame(const study::FrameShow& show, const quality::RgbaImage
         mIntervals.clear();
     }
     if (show.phase == study::Phase::Interval && show.stimulus) {
-        if (mPhase != study::Phase::Interval) mIntervals.push_back({*show.stimulus, {}});
-        if (picture) mIntervals.back().picture = *picture; // the interval's last frame counts
+        if (mPhase != study::Phase::Interval) {
+            mIntervals.push_back({*show.stimulus, {}});
+        }
+        if (picture) {
+            mIntervals.back().picture = *picture; // the interval's last frame counts
+        }
     }
     mPhase = show.phase;
 }
 
 const study::Condition* StudyObserver::condition(const std::string& name) const {
     for (const study::Condition& c : mDesign.conditions) {
-        if (c.name == name) return &c;
+        if (c.name == name) {
+            return &c;
+        }
     }
     return nullptr;
 }
@@ -164,7 +186,9 @@ double StudyObserver::metricOf(const study::StudySession::TrialInfo& trial) {
         comparison = mIntervals[trial.conditionFirst ? 1 : 0].picture;
     } else {
         const study::Condition* c = condition(trial.condition);
-        if (!c) throw Error("--observer flip: no condition '" + trial.condition + "'");
+        if (!c) {
+            throw Error("--observer flip: no condition '" + trial.condition + "'");
+        }
         comparison = mShot({study::comparisonOf(*c), shown->stimulus.scene});
     }
     return flipMetric(comparison, shown->picture, mView.stimuli.pointSets, mView.fixationPx);
@@ -191,7 +215,9 @@ std::optional<study::Response> StudyObserver::answer(const study::StudySession& 
                                                      const study::FrameShow& show) {
     using study::Response;
     const std::vector<Response> accepted = session.accepted();
-    if (accepted.empty()) return std::nullopt;
+    if (accepted.empty()) {
+        return std::nullopt;
+    }
     const std::optional<study::StudySession::TrialInfo> trial = session.currentTrial();
     if (show.phase != study::Phase::Response || !trial) {
         return accepts(accepted, Response::Continue) ? std::optional(Response::Continue)

@@ -51,7 +51,9 @@ std::string number(double v) {
 // The camera of a design's scene entry: its --camera text, checked as render checks it but named
 // as the design's.
 scene::Camera fixedCamera(const study::SceneChoice& scene, const scene::Camera& own) {
-    if (scene.camera.empty()) return own;
+    if (scene.camera.empty()) {
+        return own;
+    }
     try {
         return parseCamera(scene.camera)->camera(own.yfov);
     } catch (const ArgumentError& e) {
@@ -131,14 +133,16 @@ std::vector<std::string> scenesOf(std::span<const study::Stimulus> stimuli) {
 }
 
 StudyStimuli::StudyStimuli(render::Renderer& renderer, std::vector<std::string> scenes,
-                           std::string cacheDir)
+                           const std::string& cacheDir)
     : mRenderer(renderer), mScenes(std::move(scenes)), mCacheDir(cacheFolder(cacheDir)) {}
 
 StudyStimuli::~StudyStimuli() = default;
 
 render::Renderer::SceneId StudyStimuli::sceneId(const std::string& spec) const {
     const auto it = std::find(mScenes.begin(), mScenes.end(), spec);
-    if (it == mScenes.end()) throw Error("study: the renderer holds no scene " + spec);
+    if (it == mScenes.end()) {
+        throw Error("study: the renderer holds no scene " + spec);
+    }
     return static_cast<render::Renderer::SceneId>(it - mScenes.begin());
 }
 
@@ -180,7 +184,9 @@ render::PostSettings StudyStimuli::post(const study::Stimulus& stimulus) {
 
 scene::Camera StudyStimuli::camera(const study::SceneChoice& scene, double ms) {
     const scene::Camera own = fixedCamera(scene, mRenderer.scene(sceneId(scene.scene)).camera);
-    if (scene.cameraPath.empty()) return own;
+    if (scene.cameraPath.empty()) {
+        return own;
+    }
     auto it = mPaths.find(scene.cameraPath);
     if (it == mPaths.end()) {
         it = mPaths.emplace(scene.cameraPath, scene::CameraPath::load(scene.cameraPath)).first;
@@ -226,8 +232,9 @@ void StudyStimuli::prepare(std::span<const study::Stimulus> stimuli, const Stimu
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     std::string names;
-    for (const std::string& spec : mScenes)
+    for (const std::string& spec : mScenes) {
         names += (names.empty() ? "" : ", ") + spec;
+    }
     log::info("study: " + std::to_string(mine.size()) + " stimuli of " + names + " ready in " +
               std::to_string(static_cast<long>(ms)) + " ms");
 }
@@ -235,11 +242,15 @@ void StudyStimuli::prepare(std::span<const study::Stimulus> stimuli, const Stimu
 nlohmann::json StudyStimuli::summary(const std::string& scene) const {
     nlohmann::json list = nlohmann::json::array();
     for (const auto& [key, b] : mMethods) {
-        if (!scene.empty() && std::get<0>(key) != scene) continue;
+        if (!scene.empty() && std::get<0>(key) != scene) {
+            continue;
+        }
         nlohmann::json j{{"stimulus", std::get<1>(key)},
                          {"width", std::get<2>(key)},
                          {"height", std::get<3>(key)}};
-        if (b.choice.method == study::Method::Foveated) j["points"] = b.points;
+        if (b.choice.method == study::Method::Foveated) {
+            j["points"] = b.points;
+        }
         list.push_back(std::move(j));
     }
     return list;
@@ -247,8 +258,9 @@ nlohmann::json StudyStimuli::summary(const std::string& scene) const {
 
 nlohmann::json StudyStimuli::summaryByScene() const {
     nlohmann::json byScene = nlohmann::json::object();
-    for (const std::string& spec : mScenes)
+    for (const std::string& spec : mScenes) {
         byScene[spec] = summary(spec);
+    }
     return byScene;
 }
 

@@ -56,7 +56,8 @@ struct StimulusDisplay {
 // its method on first use.
 class StudyStimuli {
 public:
-    StudyStimuli(render::Renderer& renderer, std::vector<std::string> scenes, std::string cacheDir);
+    StudyStimuli(render::Renderer& renderer, std::vector<std::string> scenes,
+                 const std::string& cacheDir);
     ~StudyStimuli();
     StudyStimuli(const StudyStimuli&) = delete;
     StudyStimuli& operator=(const StudyStimuli&) = delete;

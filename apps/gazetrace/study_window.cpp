@@ -76,7 +76,9 @@ std::string keyLegend(const std::vector<Response>& accepted) {
     for (const Response r : accepted) {
         std::string keys;
         for (const KeyResponse& k : kKeys) {
-            if (k.response == r) keys += (keys.empty() ? "" : "/") + std::string(k.label);
+            if (k.response == r) {
+                keys += (keys.empty() ? "" : "/") + std::string(k.label);
+            }
         }
         legend += (legend.empty() ? "" : "   ") + keys + ": " + study::responseName(r);
     }
@@ -163,13 +165,17 @@ StudyWindowRun::StudyWindowRun(const StudySetup& s, study::StudySession& session
     mStimuli.emplace(*mRenderer, scenes, s.cacheDir);
     const StudyView v = viewNow();
     mStimuli->prepare(all, v.stimuli, v.width, v.height);
-    if (s.observer) mObserver.emplace(*s.observer, s.design, s.view, StudyObserver::Shot{});
+    if (s.observer) {
+        mObserver.emplace(*s.observer, s.design, s.view, StudyObserver::Shot{});
+    }
 }
 
 // The view at the window's present size (a headset's eye keeps its own: the window scales it).
 StudyView StudyWindowRun::viewNow() const {
     StudyView v = mSetup.view;
-    if (v.hmd) return v;
+    if (v.hmd) {
+        return v;
+    }
     const VkExtent2D e = mSwapchain->extent();
     v.width = e.width;
     v.height = e.height;
@@ -185,7 +191,9 @@ FrameStart StudyWindowRun::begin(const FrameTick&) {
         mClosed = true;
         return FrameStart::Stop;
     }
-    if (enough()) return FrameStart::Stop;
+    if (enough()) {
+        return FrameStart::Stop;
+    }
     mWindow->poll();
     const VkExtent2D fb = mWindow->framebufferSize();
     if (fb.width == 0 || fb.height == 0) {
@@ -198,8 +206,12 @@ FrameStart StudyWindowRun::begin(const FrameTick&) {
     }
     const std::vector<Response> accepted = mSession.accepted();
     for (const int key : mWindow->takePressedKeys()) {
-        if (key == GLFW_KEY_ESCAPE) mWindow->requestClose();
-        if (const auto r = responseOfKey(key, accepted); r && !mObserver) mAnswer = r;
+        if (key == GLFW_KEY_ESCAPE) {
+            mWindow->requestClose();
+        }
+        if (const auto r = responseOfKey(key, accepted); r && !mObserver) {
+            mAnswer = r;
+        }
     }
     mImage = mSwapchain->acquire();
     if (!mImage) {
@@ -225,7 +237,9 @@ std::vector<render::View> StudyWindowRun::views(const FrameTick& t,
     const StudyView v = viewNow();
     study::FrameInput input;
     input.timeMs = t.timeMs;
-    if (mGazePx) input.gaze = anglesOfViewPixel(v, *mGazePx);
+    if (mGazePx) {
+        input.gaze = anglesOfViewPixel(v, *mGazePx);
+    }
     input.latencyMs = mLatencyMs;
     input.response = std::exchange(mAnswer, std::nullopt);
     mShow = mSession.frame(input);
@@ -281,7 +295,9 @@ void StudyWindowRun::drawUi() {
     }
     const std::vector<Response> accepted = mSession.accepted();
     std::string text = mShow.prompt;
-    if (!accepted.empty()) text += (text.empty() ? "" : "\n") + keyLegend(accepted);
+    if (!accepted.empty()) {
+        text += (text.empty() ? "" : "\n") + keyLegend(accepted);
+    }
     if (!text.empty()) {
         // Wrapped to the window, centred near its bottom, on a dark band.
         const float wrap = 0.9f * size.x;
@@ -304,10 +320,16 @@ std::vector<render::OutputTarget*> StudyWindowRun::targets(std::span<const rende
 
 // Presents, and measures each finished frame's latency from its gaze sample (as demo does).
 bool StudyWindowRun::done(const std::optional<GazeReading>& r, const render::FrameResult& result) {
-    if (r) mInFlight[result.number] = r->sampled;
-    if (!mSwapchain->present(*mImage)) recreate(mWindow->framebufferSize());
+    if (r) {
+        mInFlight[result.number] = r->sampled;
+    }
+    if (!mSwapchain->present(*mImage)) {
+        recreate(mWindow->framebufferSize());
+    }
     std::vector<rg::CompletedFrame> finished = mRenderer->takeCompleted();
-    if (result.timings) finished.push_back({result.number, *result.timings});
+    if (result.timings) {
+        finished.push_back({result.number, *result.timings});
+    }
     const auto now = SteadyClock::now();
     for (const rg::CompletedFrame& c : finished) {
         if (const auto it = mInFlight.find(c.number); it != mInFlight.end()) {

@@ -140,7 +140,9 @@ StudyXrDisplay::Run::Run(const StudySetup& setup)
     mFixationDir = xrDirectionOfAngles({mFixationDeg.xDeg, mFixationDeg.yDeg});
 
     xr::RuntimeOptions rto;
-    if (const char* manifest = std::getenv("XR_RUNTIME_JSON")) rto.runtimeManifest = manifest;
+    if (const char* manifest = std::getenv("XR_RUNTIME_JSON")) {
+        rto.runtimeManifest = manifest;
+    }
     mRuntime.emplace(rto);
     log::info("study: xr runtime " + mRuntime->runtimeName() + ", system " +
               mRuntime->systemName());
@@ -174,8 +176,9 @@ StudyXrDisplay::Run::Run(const StudySetup& setup)
 
     mStimuli.emplace(*mRenderer, mScenes, setup.cacheDir);
     mFill.emplace(mRenderer->context());
-    for (auto& t : mTargets)
+    for (auto& t : mTargets) {
         t.emplace(mRenderer->context());
+    }
     if (setup.observer) {
         mObserver.emplace(*setup.observer, setup.design, setup.view,
                           [](const study::Stimulus&) -> quality::RgbaImage {
@@ -190,7 +193,9 @@ bool StudyXrDisplay::Run::trialsLeft() const {
 }
 
 void StudyXrDisplay::Run::askExit() {
-    if (mExitAsked) return;
+    if (mExitAsked) {
+        return;
+    }
     mXr->requestExit();
     mExitAsked = Clock::now();
 }
@@ -222,11 +227,17 @@ bool StudyXrDisplay::Run::step() {
     if (stopRequested() || !trialsLeft()) {
         // SIGINT, SIGTERM or the last trial: the runtime is asked to end the session, and the
         // trials answered so far are journaled already.
-        if (!mXr->running() && !mExitAsked) return false;
+        if (!mXr->running() && !mExitAsked) {
+            return false;
+        }
         askExit();
     }
-    if (!waitForRunning()) return false;
-    if (!mXr->running()) return true;
+    if (!waitForRunning()) {
+        return false;
+    }
+    if (!mXr->running()) {
+        return true;
+    }
     const xr::FrameInfo frame = mXr->beginFrame();
     mActions->sync(); // the frame's one xrSyncActions: eye gaze and the buttons
     const std::vector<uint32_t> pressed = mButtons->pressed();
@@ -264,7 +275,9 @@ std::optional<HeadGaze> StudyXrDisplay::Run::gaze(const xr::FrameInfo& frame, do
         ++mCounts.runtimeGazeFrames;
         return runtimeHeadGaze(*sample, 0.0, *mRuntime);
     }
-    if (!mOwnGaze) return fixation(glm::vec3(0.0f), mFixationDir, 0.0);
+    if (!mOwnGaze) {
+        return fixation(glm::vec3(0.0f), mFixationDir, 0.0);
+    }
     return ownHeadGaze(mOwnGaze.get(), ms, frame, mXr->eyeExtent(0), 0.0);
 }
 
@@ -278,7 +291,9 @@ std::optional<study::Response> StudyXrDisplay::Run::answer(const std::vector<uin
             return r;
         }
     }
-    if (mPending) ++mCounts.observerAnswers;
+    if (mPending) {
+        ++mCounts.observerAnswers;
+    }
     return std::exchange(mPending, std::nullopt);
 }
 
@@ -392,8 +407,12 @@ double StudyXrDisplay::Run::refreshHz() {
         if (!mXr->pollEvents()) {
             throw Error("the OpenXR runtime ended the session before the study began");
         }
-        if (!waitForRunning()) throw Error("the OpenXR session did not start");
-        if (!mXr->running()) continue;
+        if (!waitForRunning()) {
+            throw Error("the OpenXR session did not start");
+        }
+        if (!mXr->running()) {
+            continue;
+        }
         const xr::FrameInfo frame = mXr->beginFrame();
         mActions->sync();
         (void)mButtons->pressed();

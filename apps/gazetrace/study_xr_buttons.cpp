@@ -29,21 +29,31 @@ bool takes(std::span<const Response> accepted, Response r) {
 } // namespace
 
 std::optional<Response> responseOfButton(uint32_t button, std::span<const Response> accepted) {
-    if (button >= kAnswers.size()) return std::nullopt;
+    if (button >= kAnswers.size()) {
+        return std::nullopt;
+    }
     // Instructions and breaks: any button goes on.
-    if (takes(accepted, Response::Continue)) return Response::Continue;
+    if (takes(accepted, Response::Continue)) {
+        return Response::Continue;
+    }
     for (const std::optional<Response>& r : kAnswers[button]) {
-        if (r && takes(accepted, *r)) return r;
+        if (r && takes(accepted, *r)) {
+            return r;
+        }
     }
     return std::nullopt;
 }
 
 std::string buttonPrompt(std::span<const Response> accepted) {
-    if (takes(accepted, Response::Continue)) return "any button: continue";
+    if (takes(accepted, Response::Continue)) {
+        return "any button: continue";
+    }
     std::string prompt;
     for (uint32_t b = 0; b < kAnswers.size(); ++b) {
         if (const auto r = responseOfButton(b, accepted)) {
-            if (!prompt.empty()) prompt += "  ";
+            if (!prompt.empty()) {
+                prompt += "  ";
+            }
             prompt += std::string(kButtonNames[b]) + ": " + study::responseName(*r);
         }
     }

@@ -13,7 +13,9 @@ std::optional<VkBufferImageCopy> bar(glm::ivec2 lo, glm::ivec2 hi, VkExtent2D ex
                                      uint32_t layer) {
     lo = glm::max(lo, glm::ivec2(0));
     hi = glm::min(hi, glm::ivec2(static_cast<int>(extent.width), static_cast<int>(extent.height)));
-    if (hi.x <= lo.x || hi.y <= lo.y) return std::nullopt;
+    if (hi.x <= lo.x || hi.y <= lo.y) {
+        return std::nullopt;
+    }
     VkBufferImageCopy c{};
     c.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, layer, 1};
     c.imageOffset = {lo.x, lo.y, 0};
@@ -50,7 +52,9 @@ void EyeFill::fill(const render::ExternalImage& image, const std::optional<Fixat
                                   image.extent, image.layer),
                               bar({c.x - half, c.y - arm}, {c.x - half + thick, c.y + arm + 1},
                                   image.extent, image.layer)}) {
-            if (b) bars.push_back(*b);
+            if (b) {
+                bars.push_back(*b);
+            }
         }
         // Every swapchain format gazetrace takes is 8-bit RGBA or BGRA: white is all ones.
         const VkDeviceSize bytes =

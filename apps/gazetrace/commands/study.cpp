@@ -31,7 +31,9 @@ public:
         } else if (mSimulate->parsed()) {
             print(runStudySimulate(mSimulateOptions));
         } else {
-            if (mRun.design.empty()) throw CLI::RequiredError("--design");
+            if (mRun.design.empty()) {
+                throw CLI::RequiredError("--design");
+            }
             print(runStudy(mRun));
         }
         return 0;
