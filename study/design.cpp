@@ -787,8 +787,9 @@ StudyDesign loadDesign(const std::filesystem::path& path) {
     nlohmann::json doc;
     try {
         doc = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
-        // nlohmann's text starts "[json.exception.parse_error.101] parse error at line 3, ...".
+    } catch (const nlohmann::json::exception& e) {
+        // nlohmann's text starts "[json.exception.parse_error.101] parse error at line 3, ...";
+        // a number beyond a double's range is its out_of_range.406 ("number overflow ...").
         std::string what = e.what();
         const auto close = what.find("] ");
         if (close != std::string::npos) {

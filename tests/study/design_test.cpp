@@ -225,6 +225,16 @@ TEST(Design, LoadDesignNamesTheFile) {
         EXPECT_EQ(what.rfind(file.string() + ": not JSON: parse error at line 2", 0), 0u) << what;
         EXPECT_EQ(what.find('\n'), std::string::npos);
     }
+    // A number too large for a double is the parser's range error, not a parse error: still one
+    // line naming the file.
+    std::ofstream(file) << "{\"name\": \"x\", \"seed\": 1e400}";
+    try {
+        (void)loadDesign(file);
+        ADD_FAILURE() << "no error";
+    } catch (const DesignError& e) {
+        const std::string what = e.what();
+        EXPECT_EQ(what.rfind(file.string() + ": not JSON: number overflow", 0), 0u) << what;
+    }
     std::ofstream(file) << minimalDesign().dump();
     EXPECT_EQ(loadDesign(file).name, "thesis-scale");
     EXPECT_THROW((void)loadDesign(dir / "missing.json"), DesignError);
