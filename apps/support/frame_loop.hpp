@@ -80,15 +80,18 @@ uint32_t runFrameLoop(FrameRenderer& renderer, const FrameClock& clock, uint32_t
                       const FrameStages<Gaze>& stages) {
     FrameTick tick;
     while (frames == 0 || tick.index < frames) {
-        if (stages.onStop == OnStopRequest::Interrupt) { throwIfStopRequested();
-}
+        if (stages.onStop == OnStopRequest::Interrupt) {
+            throwIfStopRequested();
+        }
         tick.timeMs = clock.at(tick.index);
         if (stages.begin) {
             const FrameStart start = stages.begin(tick);
-            if (start == FrameStart::Stop) { break;
-}
-            if (start == FrameStart::Skip) { continue;
-}
+            if (start == FrameStart::Stop) {
+                break;
+            }
+            if (start == FrameStart::Skip) {
+                continue;
+            }
         }
         const Gaze gaze = stages.gaze(tick);
         const std::vector<render::View> views = stages.views(tick, gaze);
@@ -97,8 +100,9 @@ uint32_t runFrameLoop(FrameRenderer& renderer, const FrameClock& clock, uint32_t
             views, targets, stages.options ? stages.options(tick) : render::FrameOptions{});
         const bool more = stages.done(tick, gaze, views, result);
         ++tick.index;
-        if (!more) { break;
-}
+        if (!more) {
+            break;
+        }
     }
     return tick.index;
 }
