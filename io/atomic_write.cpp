@@ -442,6 +442,10 @@ void StagedFolder::commit() {
     mCommitted = true;
 }
 
+int writeAll(int fd, std::span<const std::byte> bytes) {
+    return writeAll(fd, bytes.data(), bytes.size());
+}
+
 namespace testing {
 void failWrites(int error, std::size_t okBytes) {
     fault().okBytes = okBytes;

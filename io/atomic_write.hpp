@@ -130,6 +130,11 @@ private:
     bool mCommitted = false;
 };
 
+// write() until all of `bytes` is out (EINTR retried), through the write-fault seam below;
+// returns 0 or the errno that stopped it. For a file kept open and written in place (the study's
+// journal, appended line by line), where the rules above do not apply.
+[[nodiscard]] int writeAll(int fd, std::span<const std::byte> bytes);
+
 // The write-fault seam for tests: while set, writes fail with `error` (e.g. ENOSPC, a full
 // disk) after `okBytes` bytes of the file (a StagedFile longer than that fails its commit()).
 // GAZETRACE_WRITE_FAULT=enospc in the environment sets it for a whole process (command-line

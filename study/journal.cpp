@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <span>
 #include <string_view>
 #include <utility>
 
@@ -13,6 +14,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "atomic_write.hpp"
 #include "file_kind.hpp"
 #include "input_file.hpp"
 #include "limits.hpp"
@@ -27,24 +29,8 @@ using nlohmann::json;
 // table limit (256 MiB) is tens of thousands of trials.
 constexpr uint64_t kMaxJournalBytes = io::limits::kTextTableBytes;
 
-struct Fault {
-    std::atomic<int> error{0};
-    std::atomic<std::size_t> okBytes{0};
-    std::atomic<uint64_t> syncs{0};
-};
-
-Fault& fault() {
-    static Fault f;
-    static const bool fromEnvironment = [] {
-        const char* e = std::getenv("GAZETRACE_WRITE_FAULT");
-        if (e != nullptr && std::strcmp(e, "enospc") == 0) {
-            f.error = ENOSPC;
-        }
-        return true;
-    }();
-    (void)fromEnvironment;
-    return f;
-}
+// fsync() calls append() made, for the tests (testing::journalSyncs).
+std::atomic<uint64_t> gSyncs{0};
 
 [[noreturn]] void fail(const std::filesystem::path& path, const std::string& what, int error = 0) {
     throw JournalError(path.string() + ": " + what +
@@ -98,33 +84,6 @@ std::string readAll(const std::filesystem::path& path, int fd, uint64_t size) {
     }
     text.resize(done);
     return text;
-}
-
-// write() until the whole line is out; the seam may cut it.
-int writeAll(int fd, std::string_view bytes) {
-    std::size_t done = 0;
-    while (done < bytes.size()) {
-        std::size_t chunk = bytes.size() - done;
-        if (const int injected = fault().error.load(); injected != 0) {
-            const std::size_t ok = fault().okBytes.load();
-            if (done >= ok) {
-                return injected;
-            }
-            chunk = std::min(chunk, ok - done);
-        }
-        const ssize_t n = ::write(fd, bytes.data() + done, chunk);
-        if (n < 0 && errno == EINTR) {
-            continue;
-        }
-        if (n < 0) {
-            return errno;
-        }
-        if (n == 0) {
-            return EIO;
-        }
-        done += static_cast<std::size_t>(n);
-    }
-    return 0;
 }
 
 void syncFolderOf(const std::filesystem::path& path) {
@@ -213,12 +172,12 @@ void Journal::append(const nlohmann::json& line) {
         fail(mPath, "cannot append to the journal", errno);
     }
     const off_t before = st.st_size;
-    int error = writeAll(mFd, text);
+    int error = io::writeAll(mFd, std::as_bytes(std::span(text.data(), text.size())));
     if (error == 0 && ::fsync(mFd) != 0) {
         error = errno;
     }
     if (error == 0) {
-        fault().syncs.fetch_add(1);
+        gSyncs.fetch_add(1);
         return;
     }
     // No partial line may stay: the journal is left as it was before the call.
@@ -317,16 +276,15 @@ std::vector<nlohmann::json> readJournal(const std::filesystem::path& path) {
 namespace testing {
 
 void failJournalWrites(int error, std::size_t okBytes) {
-    fault().okBytes = okBytes;
-    fault().error = error;
+    io::testing::failWrites(error, okBytes);
 }
 
 void clearJournalFaults() {
-    fault().error = 0;
+    io::testing::clearWriteFaults();
 }
 
 uint64_t journalSyncs() {
-    return fault().syncs.load();
+    return gSyncs.load();
 }
 
 } // namespace testing

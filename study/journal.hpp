@@ -98,9 +98,10 @@ private:
 // a line that is not a JSON object in the middle is a JournalError naming the file and the line.
 [[nodiscard]] std::vector<nlohmann::json> readJournal(const std::filesystem::path& path);
 
-// The journal's fault seam for tests: while set, append() fails with `error` (e.g. ENOSPC) after
-// `okBytes` bytes of the line. GAZETRACE_WRITE_FAULT=enospc in the environment sets it for a
-// whole process, as it does for io's writers. syncs() counts the fsync() calls append() made.
+// The journal's fault seam for tests, which is io's write-fault seam (io::testing::failWrites):
+// while set, append() fails with `error` (e.g. ENOSPC) after `okBytes` bytes of the line, and so
+// do io's writers. GAZETRACE_WRITE_FAULT=enospc in the environment sets it for a whole process.
+// journalSyncs() counts the fsync() calls append() made.
 namespace testing {
 void failJournalWrites(int error, std::size_t okBytes = 0);
 void clearJournalFaults();
