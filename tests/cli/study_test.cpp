@@ -338,17 +338,17 @@ TEST(Study, SigintEndsAWindowRunWithItsJournalComplete) {
     const auto dir = test::tempDir("study_sigint_window");
     const auto design = longDesign(dir);
     const auto journal = dir / "p01.jsonl";
-    // --foreground: timeout signals gazetrace alone; without it, it signals its process group
-    // too, and a second SIGINT arriving after the first was handled kills the run (exit 130).
-    const Result r = test::runWith(
-        "xvfb-run -a -s '-screen 0 1280x720x24' timeout --foreground --preserve-status -s INT 10",
+    // SIGINT once the first trial is journaled, however long the stimuli took to build.
+    const Result r = test::runInterruptedWhen(
+        "xvfb-run -a -s '-screen 0 1280x720x24'",
         "study --design " + design.string() + " --participant P01 --journal " + journal.string() +
-            " --display window --gaze fixed:80,45" + cacheArg() + " --observer level:2,3");
+            " --display window --gaze fixed:80,45" + cacheArg() + " --observer level:2,3",
+        journal, "\"type\":\"trial\"", 300);
     ASSERT_EQ(r.status, 0) << r.err;
     const auto summary = nlohmann::json::parse(r.out);
     EXPECT_TRUE(summary["ended_early"].get<bool>()) << r.out;
     const auto trials = trialsOf(journalLines(journal));
-    ASSERT_GE(trials.size(), 1u) << "no trial in ten seconds: " << r.err;
+    ASSERT_GE(trials.size(), 1u) << "no trial in five minutes: " << r.err;
     EXPECT_EQ(summary["trials_journaled"], trials.size());
     const Result more = test::run(studyArgs(design, journal,
                                             "--observer level:2,3 --resume "
@@ -367,15 +367,13 @@ TEST(Study, SigintInterruptsAHeadlessRunAndKeepsItsTrials) {
     const auto dir = test::tempDir("study_sigint_headless");
     const auto design = longDesign(dir);
     const auto journal = dir / "p01.jsonl";
-    // --foreground: timeout signals gazetrace alone; without it, it signals its process group
-    // too, and a second SIGINT arriving after the first was handled kills the run (exit 130).
-    const Result r =
-        test::runWith("timeout --foreground --preserve-status -s INT 4",
-                      studyArgs(design, journal, "--observer level:2,3 --frame-ms 200"));
+    const Result r = test::runInterruptedWhen(
+        "", studyArgs(design, journal, "--observer level:2,3 --frame-ms 200"), journal,
+        "\"type\":\"trial\"", 300);
     EXPECT_EQ(r.status, 130) << r.err;
     EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
     const auto trials = trialsOf(journalLines(journal));
-    ASSERT_GE(trials.size(), 1u) << "no trial in four seconds";
+    ASSERT_GE(trials.size(), 1u) << "no trial in five minutes";
     for (uint32_t i = 0; i < trials.size(); ++i) {
         EXPECT_EQ(trials[i]["trial"], i);
     }

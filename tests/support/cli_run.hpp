@@ -16,6 +16,13 @@ std::string slurp(const std::filesystem::path& p);
 Result run(const std::string& args);
 // Runs `PREFIX gazetrace ARGS`, e.g. PREFIX = "xvfb-run -a" or "env -u DISPLAY".
 Result runWith(const std::string& prefix, const std::string& args);
+// Runs `PREFIX sh SCRIPT`, where SCRIPT runs `gazetrace ARGS` while a watcher beside it waits
+// until WATCHED holds a line containing NEEDLE (at most MAX_SECONDS), then sends it SIGINT;
+// returns its exit status. A signal tied to progress, not to a clock: a slow build (sanitisers, a
+// loaded machine) reaches the same point before it is interrupted.
+Result runInterruptedWhen(const std::string& prefix, const std::string& args,
+                          const std::filesystem::path& watched, const std::string& needle,
+                          int maxSeconds);
 int lines(const std::string& s);
 void expectCleanFailure(const Result& r, const std::string& mention,
                         const std::filesystem::path& out);
