@@ -110,6 +110,22 @@ const scene::Scene& Renderer::scene() const noexcept {
 const scene::BvhBuildStats& Renderer::bvhStats() const noexcept {
     return mBvh->stats();
 }
+void Renderer::setSceneTime(double seconds) {
+    mSceneTime = seconds; // posing the scenes: the two-level GPU scene (issue in progress)
+}
+
+bool Renderer::animated() const noexcept {
+    return false;
+}
+
+scene::Camera Renderer::sceneCamera(SceneId id) const {
+    return scene(id).camera;
+}
+
+const scene::DynamicGeometry* Renderer::dynamicGeometry(SceneId /*id*/) const {
+    return nullptr;
+}
+
 MethodContext Renderer::methodContext() const noexcept {
     return {*mCtx, *mGpuScene, *mHistory};
 }

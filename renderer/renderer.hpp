@@ -17,6 +17,7 @@
 #include "render_graph/frame_ring.hpp"
 #include "render_graph/render_graph.hpp"
 #include "scene/bvh.hpp"
+#include "scene/dynamic_geometry.hpp"
 #include "scene/gltf_loader.hpp"
 #include "scene/scene.hpp"
 #include "view.hpp"
@@ -40,6 +41,10 @@ struct RendererOptions {
     uint32_t framesInFlight = 1;
     vk::DeviceRequest deviceOverride; // automatic(): the best device
     scene::GltfLoadOptions sceneLoad; // what a glTF scene may ask of the loader
+    // Which of an animated scene's animations play: "all", "none", a name or an index
+    // (scene::chooseAnimation; an unknown one fails the constructor naming it). Scenes where
+    // nothing moves ignore it.
+    std::string animation = "all";
     // What a display needs of the Vulkan context: a window's extensions and surface, an OpenXR
     // runtime's hooks (its validation and device fields are taken from the two above).
     vk::ContextOptions display;
@@ -91,6 +96,20 @@ public:
     [[nodiscard]] const scene::Scene& scene(SceneId id) const;
     [[nodiscard]] MethodContext methodContext(SceneId id) const;
 
+    // Scene time, in seconds, at which every animated scene is posed for the frames that follow
+    // (render's frame clock, real time in the demo, the runtime's predicted display time in
+    // xr). The pose of the frame before is where each hit's motion starts; the first call, and
+    // a call going back in time, pose without motion. Scenes where nothing moves ignore it.
+    void setSceneTime(double seconds);
+    [[nodiscard]] double sceneTime() const noexcept { return mSceneTime; }
+    // Whether some scene moves (a glTF animation, skin or morph target).
+    [[nodiscard]] bool animated() const noexcept;
+    // The scene's camera at the current scene time: the file's camera, moved by its node's
+    // animation when it has one.
+    [[nodiscard]] scene::Camera sceneCamera(SceneId id = 0) const;
+    // The two-level part of scene `id` (null where nothing moves).
+    [[nodiscard]] const scene::DynamicGeometry* dynamicGeometry(SceneId id = 0) const;
+
     // One frame of every view in one graph. `targets[i]` receives view i (the same count).
     // Throws gt::Error (the history is then left as it was: the next frame reads the same).
     FrameResult renderFrame(std::span<const View> views, std::span<OutputTarget* const> targets,
@@ -117,6 +136,7 @@ private:
     void runWarmUp(const WarmUp& warm);
 
     double mLoadMs = 0.0, mBvhMs = 0.0;
+    double mSceneTime = 0.0;
     scene::Scene mScene;
     std::optional<scene::Bvh> mBvh;
     std::vector<std::pair<scene::Scene, scene::Bvh>> mCoarser; // LOD levels 1..

@@ -69,6 +69,14 @@ bool intersectTriangle(const BvhTriangle& tri, const Ray& ray, float& t, float& 
     return t > ray.tMin && t < ray.tMax;
 }
 
+Bvh::Bvh(std::span<const Vertex> /*vertices*/) {
+    throw Error("Bvh over a vertex list: not implemented");
+}
+
+float Bvh::refit(std::span<const Vertex> /*vertices*/) {
+    throw Error("Bvh::refit: not implemented");
+}
+
 Bvh::Bvh(const Scene& scene) {
     const auto start = std::chrono::steady_clock::now();
     const auto n = static_cast<uint32_t>(scene.triangleCount());

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -59,6 +60,14 @@ public:
     static constexpr uint32_t kMaxDepth = 64; // the GPU traversal stack is sized from this
 
     explicit Bvh(const Scene& scene);
+    // Over any triangle list, 3 vertices per triangle (a mesh in its own space: a bottom-level
+    // tree of dynamic_geometry.hpp).
+    explicit Bvh(std::span<const Vertex> vertices);
+
+    // Moves the triangles to `vertices` (the same triangles in the same scene order, deformed)
+    // and refits every node's bounds bottom-up, keeping the topology; returns the tree's SAH
+    // cost afterwards (stats().sahCost keeps the cost at build).
+    float refit(std::span<const Vertex> vertices);
 
     [[nodiscard]] const std::vector<BvhNode>& nodes() const noexcept { return mNodes; }
     // triangleOrder()[i] = the scene triangle stored at BVH position i.

@@ -4,6 +4,7 @@
 // and a sky. Built-in scenes and the glTF loader both produce this; the BVH and the tracers
 // consume it.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,8 @@
 #include "scene/environment.hpp"
 
 namespace gt::scene {
+
+struct Rig; // animation.hpp
 
 struct Material {
     glm::vec4 baseColor{1.0f}; // linear RGBA factor
@@ -98,7 +101,11 @@ struct Scene {
     Environment environment;            // used for misses when it has texels (cubemap scenes)
     std::vector<SubdivisionCage> cages; // refined per LOD level, beside `vertices`
     float exposure = 1.0f;
+    // What moves (animation.hpp): mesh instances kept out of `vertices`, their nodes, skins,
+    // morph targets and animations. Null for a scene where nothing moves.
+    std::shared_ptr<const Rig> rig;
 
+    [[nodiscard]] bool animated() const noexcept { return rig != nullptr; }
     [[nodiscard]] std::size_t triangleCount() const noexcept { return triangleMaterial.size(); }
     // Whether any material is alpha-masked (its hits must test the texture's alpha).
     [[nodiscard]] bool hasAlphaMask() const noexcept;
