@@ -130,6 +130,8 @@ struct Pose {
 // first key a sampler holds its first value, glTF 3.11) over the nodes' rest transforms, then
 // composes the world matrices down the hierarchy.
 [[nodiscard]] Pose evaluatePose(const Rig& rig, const AnimationChoice& playing, double seconds);
+// The same into an existing pose, reusing its storage (no allocation per frame once sized).
+void evaluatePose(const Rig& rig, const AnimationChoice& playing, double seconds, Pose& pose);
 
 // One sampler's value at time t (already looped): `out` receives `components` floats. LINEAR
 // rotations are spherical (slerp, shortest path), CUBICSPLINE rotations normalised (glTF
