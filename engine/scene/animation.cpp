@@ -167,9 +167,11 @@ void applyMorphTargets(const RigMesh& mesh, std::span<const float> weights,
             turned = true;
         }
     }
-    if (turned)
-        for (Vertex& v : out)
-            v.normal = glm::normalize(v.normal);
+    if (!turned) return;
+    for (Vertex& v : out) {
+        const float len = glm::length(v.normal);
+        if (len > 0.0f) v.normal /= len; // a target may cancel a normal: keep it, not a NaN
+    }
 }
 
 // glTF 3.7.3.3, linear blend skinning: each vertex by the weighted sum of its joints' matrices

@@ -177,6 +177,7 @@ TEST(AnimationPose, LoopsEachAnimationOverItsDuration) {
     EXPECT_NEAR(origin(evaluatePose(rig, all, 0.5).world[0]).x, 1.0f, kEps);
     EXPECT_NEAR(origin(evaluatePose(rig, all, 5.0).world[0]).x, 2.0f, kEps); // 5 s = 2 * 2 s + 1 s
     EXPECT_NEAR(origin(evaluatePose(rig, all, 102.5).world[0]).x, 1.0f, kEps); // 51 loops + 0.5 s
+    EXPECT_NEAR(origin(evaluatePose(rig, all, -0.5).world[0]).x, 3.0f, kEps);  // 2 s - 0.5 s
     // "none" leaves the rest pose.
     EXPECT_NEAR(origin(evaluatePose(rig, chooseAnimation(rig, "none"), 1.0).world[0]).x, 0.0f,
                 kEps);
@@ -335,6 +336,16 @@ TEST(AnimationMorph, WeightsChannelOverridesTheNodeDefaults) {
     expectVec3(out[0].position, {1.0f, 2.0f, 2.0f});
     EXPECT_EQ(evaluatePose(rig, chooseAnimation(rig, "none"), 0.5).weights[0],
               (std::vector<float>{0.25f, 0.0f}));
+}
+
+// A target that cancels a normal leaves a zero normal, not a NaN that would reach the shading.
+TEST(AnimationMorph, CancelledNormalStaysFinite) {
+    Rig rig = morphRig();
+    rig.nodes[0].weights = {1.0f, 0.0f};
+    rig.meshes[0].targets[0].normals = {{0.0f, 0.0f, -1.0f}};
+    std::vector<Vertex> out;
+    deformInstance(rig, rig.instances[0], evaluatePose(rig, {}, 0.0), out);
+    expectVec3(out[0].normal, {0.0f, 0.0f, 0.0f});
 }
 
 std::string chooseError(const Rig& rig, const std::string& value) {
