@@ -151,8 +151,9 @@ void sampleAnimation(const AnimationSampler& sampler, AnimatedPath path, float t
 
 // The instance's triangles at `pose`, in the space instanceTransform() maps to the world: morph
 // targets applied with the node's weights, then linear blend skinning with the joints' world
-// matrices times their inverse bind matrices; normals renormalised. `out` is resized to the
-// mesh's vertex count.
+// matrices times their inverse bind matrices, normals by the blended matrix's inverse transpose
+// and renormalised. `out` is resized to the mesh's vertex count; no other allocation once `out`
+// and the calling thread's scratch are sized, and calls on several threads are independent.
 void deformInstance(const Rig& rig, const MeshInstance& instance, const Pose& pose,
                     std::vector<Vertex>& out);
 
