@@ -1253,7 +1253,7 @@ private:
                  std::to_string(sampler.values.size() / elements[s]) + " components, " +
                  in.target_path + " needs " + std::to_string(need));
         }
-        std::size_t perKey = 1;
+        std::size_t perKey = 0; // morph targets a key: none but for weights
         if (*path == AnimatedPath::Weights) {
             perKey = node.weights.size();
             if (perKey == 0)
@@ -1263,7 +1263,7 @@ private:
         checkSamplerCount(elements[s], sampler.times.size(), perKey,
                           sampler.interpolation == Interpolation::CubicSpline,
                           mFile + ": " + animWhere + " sampler " + std::to_string(s));
-        sampler.components = static_cast<uint32_t>(*path == AnimatedPath::Weights ? perKey : need);
+        sampler.components = static_cast<uint32_t>(perKey > 0 ? perKey : need);
         return AnimationChannel{
             static_cast<uint32_t>(s),
             static_cast<uint32_t>(mRigNodeOf[static_cast<std::size_t>(in.target_node)]), *path};

@@ -845,12 +845,12 @@ void checkSamplerValues(std::span<const float> values, std::size_t components,
     }
 }
 
-void checkSamplerCount(std::size_t outputElements, std::size_t keys, std::size_t perKey, bool cubic,
-                       const std::string& where) {
-    const std::size_t expected = keys * perKey * (cubic ? 3 : 1);
+void checkSamplerCount(std::size_t outputElements, std::size_t keys, std::size_t morphTargets,
+                       bool cubic, const std::string& where) {
+    const std::size_t expected = keys * std::max<std::size_t>(morphTargets, 1) * (cubic ? 3 : 1);
     if (outputElements == expected) return;
     std::string why = std::to_string(keys) + " keys";
-    if (perKey != 1) why += " x " + std::to_string(perKey) + " morph targets";
+    if (morphTargets > 0) why += " x " + std::to_string(morphTargets) + " morph targets";
     if (cubic) why += " x 3 (CUBICSPLINE: in-tangent, value, out-tangent)";
     throw LoadError(where + ": output has " + std::to_string(outputElements) +
                     " elements, expected " + std::to_string(expected) + " (" + why + ")");
