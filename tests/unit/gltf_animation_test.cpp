@@ -71,17 +71,19 @@ TEST(GltfAnimation, AnimatedCubeRotatesAsItsKeysSay) {
     EXPECT_EQ(a.samplers[a.channels[0].sampler].interpolation, Interpolation::Linear);
     EXPECT_EQ(a.samplers[a.channels[0].sampler].times.size(), 3u);
     EXPECT_FLOAT_EQ(a.duration, 2.0f);
-    // Keys at 0 s and 1 s: identity and a half turn about +Y. Halfway (0.5 s) the spherical
-    // interpolation is a quarter turn about +Y, which takes +X to -Z; at 0.25 s an eighth.
+    // Keys at 0 s and 1 s: identity (0, 0, 0, 1) and a half turn (0, 1, 0, -4.37e-8). Their dot
+    // product is negative, so glTF's slerp (Appendix C) takes the shortest arc, to the negated
+    // key (0, -1, 0, 4.37e-8): at 0.5 s a quarter turn about -Y, which takes +X to +Z; at
+    // 0.25 s an eighth.
     const int node = static_cast<int>(rig.instances[0].node);
     const Pose half = evaluatePose(rig, AnimationChoice{}, 0.5);
     EXPECT_NEAR(
-        glm::length(glm::vec3(half.world[node] * glm::vec4(1, 0, 0, 0)) - glm::vec3(0, 0, -1)),
-        0.0f, 1e-5f);
+        glm::length(glm::vec3(half.world[node] * glm::vec4(1, 0, 0, 0)) - glm::vec3(0, 0, 1)), 0.0f,
+        1e-5f);
     const Pose eighth = evaluatePose(rig, AnimationChoice{}, 0.25);
     const float r = std::sqrt(0.5f);
     EXPECT_NEAR(
-        glm::length(glm::vec3(eighth.world[node] * glm::vec4(1, 0, 0, 0)) - glm::vec3(r, 0, -r)),
+        glm::length(glm::vec3(eighth.world[node] * glm::vec4(1, 0, 0, 0)) - glm::vec3(r, 0, r)),
         0.0f, 1e-5f);
 }
 
