@@ -22,7 +22,9 @@ nlohmann::json runStereoBench(const BenchOptions& options);
 // Eccentricity layers only (Guenter et al. 2012): the predictions and the measured ratios against
 // the reference, also part of the full `render` suite.
 nlohmann::json runLayersBench(const BenchOptions& options);
-// --suite animation: the per-frame CPU work of a scene that moves (apps/gazetrace/animation_bench.cpp).
+// --suite animation: the CPU cost per frame of a built scene that moves (pose, skinning,
+// bottom-level refits and rebuilds, the top level) and refitting's cost to tracing
+// (apps/gazetrace/bench_animation.cpp).
 nlohmann::json runAnimationBench(const BenchOptions& options);
 // Writes `j` to `path` through a temporary file renamed when complete.
 void writeJsonFile(const std::string& path, const nlohmann::json& j);

@@ -29,7 +29,7 @@ public:
             ->add_option("--suite", mSuite,
                          "render (thesis tables, headline, layers) | eye (pupil detection speed) | "
                          "stereo | layers (Guenter et al. 2012 only) | scale (every headset) | "
-                         "animation (per-frame CPU work of a scene that moves)")
+                         "animation (CPU cost of a built moving scene per frame)")
             ->check(CLI::IsMember({"render", "eye", "stereo", "layers", "scale", "animation"}))
             ->capture_default_str();
         mCommand
@@ -51,12 +51,15 @@ public:
         if (mSuite != "stereo" && mCommand->count("--hmd") > 0) {
             throw ArgumentError("--hmd: only --suite stereo measures a headset");
         }
+        if (mSuite == "animation" && mCommand->count("--scene") > 0) {
+            throw ArgumentError("--scene: --suite animation measures its own built scene");
+        }
         if (mSuite == "eye") {
             (void)runEyeBench();
-        } else if (mSuite == "layers") {
-            (void)runLayersBench(mOptions);
         } else if (mSuite == "animation") {
             (void)runAnimationBench(mOptions);
+        } else if (mSuite == "layers") {
+            (void)runLayersBench(mOptions);
         } else if (mSuite == "stereo") {
             (void)runStereoBench(mOptions);
         } else {
