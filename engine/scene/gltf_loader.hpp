@@ -5,6 +5,13 @@
 // KHR_materials_emissive_strength), KHR_materials_unlit, cameras, KHR_lights_punctual,
 // KHR_mesh_quantization and sparse accessors. Every accessor is bounds-checked; a broken or
 // unsupported file throws gt::LoadError with one line naming the file and the problem.
+//
+// A file with animations, skins or morph targets also gets Scene::rig (animation.hpp): every
+// node (parents first), the skins, the animations (validated: keys increasing, finite, counts
+// matching), and as instances in mesh space every mesh that an animation moves (its node or an
+// ancestor is a translation, rotation or scale target), that is skinned or that has morph
+// targets; those meshes are not in Scene::vertices. Every other mesh is flattened as it is in a
+// file without animation, which loads exactly as it did before rigs existed.
 #include <cstdint>
 #include <filesystem>
 #include <string>

@@ -416,14 +416,18 @@ struct SkinnedBar {
     TinyGltf g;
     int positions = g.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3");
 
-    std::string document(int joints, int weights, int ibm, int target) const {
+    // With `second`, a second morph target (the mesh's weights then 0.25 and 0.5).
+    std::string document(int joints, int weights, int ibm, int target, int second = -1) const {
+        const std::string targets =
+            R"({"POSITION":)" + std::to_string(target) + "}" +
+            (second < 0 ? "" : R"(,{"POSITION":)" + std::to_string(second) + "}");
         return R"("scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0,"skin":0},{"children":[2]},)"
                R"({"translation":[0,1,0]}],"skins":[{"joints":[1,2],"inverseBindMatrices":)" +
-               std::to_string(ibm) +
-               R"(}],"meshes":[{"weights":[0.25],"primitives":[{"attributes":{"POSITION":)" +
-               std::to_string(positions) + R"(,"JOINTS_0":)" + std::to_string(joints) +
-               R"(,"WEIGHTS_0":)" + std::to_string(weights) + R"(},"targets":[{"POSITION":)" +
-               std::to_string(target) + "}]}]}]";
+               std::to_string(ibm) + R"(}],"meshes":[{"weights":)" +
+               (second < 0 ? "[0.25]" : "[0.25,0.5]") +
+               R"(,"primitives":[{"attributes":{"POSITION":)" + std::to_string(positions) +
+               R"(,"JOINTS_0":)" + std::to_string(joints) + R"(,"WEIGHTS_0":)" +
+               std::to_string(weights) + R"(},"targets":[)" + targets + "]}]}]";
     }
 };
 
@@ -505,25 +509,31 @@ TEST(GltfAnimation, BadSkinsAndTargetsAreOneLineErrors) {
 
 TEST(GltfAnimation, WeightsChannelsMatchTheMorphTargetCount) {
     const auto dir = test::tempDir("gltf_anim");
-    const auto error = [&](const std::string& name, std::size_t values) {
+    // Two morph targets: a weights key holds two values.
+    const auto write = [&](const std::string& name, std::size_t values) {
         SkinnedBar b;
         const int j = b.g.bytes({0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, "VEC4", false);
         const int w = b.g.floats({1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0}, "VEC4");
         const int ibm = b.g.floats(identities(2), "MAT4");
         const int t = b.g.floats(std::vector<float>(9, 0.0f), "VEC3");
+        const int t2 = b.g.floats(std::vector<float>(9, 1.0f), "VEC3");
         const int in = b.g.floats({0, 1}, "SCALAR");
         const int out = b.g.floats(std::vector<float>(values, 0.5f), "SCALAR");
-        return loadError(b.g.write(
+        return b.g.write(
             dir, name,
-            b.document(j, w, ibm, t) + R"(,"animations":[{"samplers":[{"input":)" +
+            b.document(j, w, ibm, t, t2) + R"(,"animations":[{"samplers":[{"input":)" +
                 std::to_string(in) + R"(,"output":)" + std::to_string(out) +
-                R"(}],"channels":[{"sampler":0,"target":{"node":0,"path":"weights"}}]}])"));
+                R"(}],"channels":[{"sampler":0,"target":{"node":0,"path":"weights"}}]}])");
     };
-    EXPECT_EQ(error("ok.gltf", 2), "");
-    const std::string e = error("weights.gltf", 4);
+    const Scene s = loadGltf(write("ok.gltf", 4));
+    ASSERT_TRUE(s.rig);
+    EXPECT_EQ(s.rig->animations.at(0).samplers.at(0).components, 2u);
+    const auto& weights = s.rig->nodes[s.rig->instances.at(0).node].weights;
+    EXPECT_EQ(weights, (std::vector<float>{0.25f, 0.5f}));
+    const std::string e = loadError(write("weights.gltf", 2));
     EXPECT_TRUE(mentions(e,
-                         "weights.gltf: animation 0 sampler 0: output has 4 elements, expected 2 "
-                         "(2 keys x 1 morph targets)"))
+                         "weights.gltf: animation 0 sampler 0: output has 2 elements, expected 4 "
+                         "(2 keys x 2 morph targets)"))
         << e;
 }
 
