@@ -2,6 +2,7 @@
 // the same triangles placed in the world, its refits against fresh builds, and the motion a hit
 // carries.
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <random>
 
@@ -10,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "scene/dynamic_geometry.hpp"
+#include "scene/gltf_loader.hpp"
 
 namespace gt::scene {
 namespace {
@@ -294,6 +296,57 @@ TEST(DynamicGeometry, ARefitStretchedPastTheBoundIsRebuilt) {
         ++checked;
     }
     EXPECT_GT(checked, 10);
+}
+
+// The shipped sample through the loader (a sliding box, a CUBICSPLINE paddle, a skinned bar and
+// a morphed block), frame by frame across its loop: every frame's hits are those of its posed
+// triangles, and a hit's point one frame ago lies on the same triangle posed one frame earlier.
+TEST(DynamicGeometry, TheShippedSampleFrameByFrame) {
+    const auto file =
+        std::filesystem::path(GT_SOURCE_DIR) / "content" / "animated" / "moving_parts.gltf";
+    const Scene s = loadGltf(file);
+    ASSERT_TRUE(s.rig);
+    DynamicGeometry g(s.rig, {}, 0.0);
+    double previous = 0.0;
+    for (const double t : {0.3, 0.6, 1.3, 2.1, 2.9, 3.7}) {
+        g.update(t);
+        const glm::vec3 centre = [&] {
+            glm::vec3 c(0.0f);
+            for (std::size_t i = 0; i < g.instanceCount(); ++i)
+                c += glm::vec3(g.objectToWorld(i)[3]);
+            return c / static_cast<float>(g.instanceCount());
+        }();
+        const std::vector<BvhTriangle> now = worldTriangles(*s.rig, t);
+        const std::vector<BvhTriangle> before = worldTriangles(*s.rig, previous);
+        std::mt19937 rng(static_cast<uint32_t>(10 * t));
+        std::normal_distribution<float> n;
+        int hits = 0;
+        for (int i = 0; i < 1500; ++i) {
+            Ray r;
+            r.origin = centre + 12.0f * glm::normalize(glm::vec3(n(rng), n(rng), n(rng)));
+            r.direction =
+                glm::normalize(centre + 2.0f * glm::vec3(n(rng), n(rng), n(rng)) - r.origin);
+            const float expected = bruteForce(now, r);
+            const DynamicHit h = g.intersect(r);
+            EXPECT_EQ(h.valid(), !std::isinf(expected)) << "t = " << t;
+            if (!h.valid()) continue;
+            ++hits;
+            EXPECT_NEAR(h.t, expected, 1e-4f * expected);
+            // Which triangle of the flattened world list the hit is on: its point one frame ago
+            // is that triangle, posed at the previous frame, at the same barycentrics.
+            uint32_t first = 0;
+            for (uint32_t k = 0; k < h.instance; ++k)
+                first += static_cast<uint32_t>(
+                    s.rig->meshes[s.rig->instances[k].mesh].triangleMaterial.size());
+            const uint32_t tri =
+                first + g.bottomLevel(g.bottomLevelOf(h.instance)).triangleOrder()[h.triangle];
+            const BvhTriangle& b = before[tri];
+            const glm::vec3 expectedBefore = b.v0 + h.u * b.e1 + h.v * b.e2;
+            EXPECT_LT(glm::distance(g.previousPosition(h), expectedBefore), 1e-3f) << "t = " << t;
+        }
+        EXPECT_GT(hits, 100) << "t = " << t;
+        previous = t;
+    }
 }
 
 } // namespace
