@@ -22,6 +22,7 @@ double msSince(Clock::time_point t) {
 }
 constexpr const char* kTaaHistory = "taa";
 constexpr const char* kTaaWeightHistory = "taa.weight";
+constexpr const char* kTaaSignatureHistory = "taa.signature"; // a scene that moves
 
 using CoarserLevels = std::vector<std::pair<scene::Scene, scene::Bvh>>;
 
@@ -251,24 +252,34 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
                                                                      VK_FORMAT_R32_SFLOAT, v.width,
                                                                      v.height)};
                 }
-                // The weight sums stand for the colour history only if last frame wrote both
-                // (a method or setting switched since leaves them stale): else start afresh.
+                std::optional<passes::TaaMotion> motion;
+                if (made.motion) {
+                    motion = passes::TaaMotion{*made.motion,
+                                               graph.importHistory(*mHistory, kTaaSignatureHistory,
+                                                                   VK_FORMAT_R32_SFLOAT, v.width,
+                                                                   v.height),
+                                               v.post.taaSettings};
+                }
+                // The weight sums and signatures stand for the colour history only if last frame
+                // wrote them too (a method or setting switched since leaves them stale): else
+                // start afresh.
                 const bool pooledBefore = known && it->second.pooled;
+                const bool movedBefore = known && it->second.motion;
                 const bool reset = passes::taaMustReset(known && history.valid, v.saccade, v.gaze,
                                                         known ? it->second.gaze : v.gaze, v.width,
                                                         v.post.taaSettings) ||
-                                   (support && !pooledBefore);
+                                   (support && !pooledBefore) || (motion && !movedBefore);
                 const shaders::trace::CameraPush previous = known ? it->second.camera : camera;
                 const passes::TaaFrameState state{v.exposure, v.gaze, v.method->gazeDependent(),
                                                   known && it->second.gaze == v.gaze,
                                                   known ? it->second.samples : 0u};
                 image = mTaa->add(graph, history, image, camera, previous, reset,
-                                  v.post.taaSettings, state, support);
+                                  v.post.taaSettings, state, support, motion);
                 nextHistory.emplace_back(
                     v.name, ViewHistory{camera, v.gaze, true,
                                         passes::TaaPass::nextSamples(camera, previous, reset,
                                                                      v.post.taaSettings, state),
-                                        support.has_value()});
+                                        support.has_value(), motion.has_value()});
             }
             rg::TextureId ldr = mTonemap->add(graph, image, v.exposure);
             if (v.post.lens) {

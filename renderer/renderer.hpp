@@ -131,6 +131,7 @@ private:
         bool valid = false;
         uint32_t samples = 0; // frames the TAA history holds
         bool pooled = false;  // TAA wrote the weight sums of a support too (taa.glsl)
+        bool motion = false;  // and the signatures of a scene that moves
     };
     struct LoadedScene;
     void runWarmUp(const WarmUp& warm);

@@ -60,6 +60,8 @@ public:
     [[nodiscard]] bool alphaMasked() const noexcept { return mAlphaMasked; }
     // Geometric LOD levels held (1 for a scene without subdivision cages).
     [[nodiscard]] uint32_t lodLevels() const noexcept { return mLodLevels; }
+    // Whether the scene moves: tracing passes then set kDynamic (trace.glsl) and write motion.
+    [[nodiscard]] bool dynamic() const noexcept { return false; }
 
 private:
     struct Table {
