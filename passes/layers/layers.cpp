@@ -48,7 +48,7 @@ const vk::ComputePipeline& LayersPass::tracePipeline(bool alphaMask, bool dynami
                                           gt_spv_layers_trace_comp,
                                           bindings,
                                           sizeof(sh::LayerTracePush),
-                                          {alphaMask ? 1u : 0u, dynamic ? 1u : 0u}});
+                                          {alphaMask ? 1u : 0u, 0u, 0u, dynamic ? 1u : 0u}});
     }
     return *slot;
 }

@@ -81,7 +81,7 @@ const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaM
                       gt_spv_point_sample_comp,
                       bindings,
                       sizeof(sh::PointSamplePush),
-                      {alphaMask ? 1u : 0u, dynamic ? 1u : 0u, lanes, chunked ? 1u : 0u}});
+                      {alphaMask ? 1u : 0u, lanes, chunked ? 1u : 0u, dynamic ? 1u : 0u}});
     }
     return *slot;
 }

@@ -26,7 +26,7 @@ const vk::ComputePipeline& ReferencePass::pipeline(bool alphaMask, bool dynamic)
                                           gt_spv_reference_comp,
                                           bindings,
                                           sizeof(sh::ReferencePush),
-                                          {alphaMask ? 1u : 0u, dynamic ? 1u : 0u}});
+                                          {alphaMask ? 1u : 0u, 0u, 0u, dynamic ? 1u : 0u}});
     }
     return *slot;
 }

@@ -5,8 +5,8 @@
 #ifndef MOTION_GLSL
 #define MOTION_GLSL
 
-// Until the tracer provides them: no scene moves.
-layout(constant_id = 1) const bool kDynamic = false;
+// Until the tracer provides them (kDynamic is constant_id kSpecDynamic = 3): no scene moves.
+layout(constant_id = 3) const bool kDynamic = false;
 vec4 gMotion = vec4(0.0);
 
 // The signature (surface id in bits 0-23: 0 sky, 1 static geometry, 2 + instance; the shadow

@@ -28,9 +28,8 @@
 #include "motion.glsl"
 
 layout(local_size_x = kSampleGroupSize) in;
-// constant_id 0 and 1: trace.glsl's kAlphaMask and kDynamic.
-layout(constant_id = 2) const uint kLanes = 1u; // a power of two up to kSampleGroupSize / 2
-layout(constant_id = 3) const bool kChunked = false;
+layout(constant_id = 1) const uint kLanes = 1u; // a power of two up to kSampleGroupSize / 2
+layout(constant_id = 2) const bool kChunked = false;
 layout(set = 0, binding = kBindingPoints) uniform samplerBuffer uPoints;
 layout(std430, set = 0, binding = kBindingSamples) writeonly buffer Samples { vec4 samples[]; };
 layout(std430, set = 0, binding = kBindingChunks) readonly buffer Chunks { uint chunks[]; };
