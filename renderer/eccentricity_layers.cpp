@@ -90,9 +90,10 @@ MethodImage EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View& 
         const bool kept = last.valid && mMc.history.holds(graph.scopedName(kLayerHistory),
                                                           grid.width, grid.height, kLayerFormat);
         // Half rate (section 4.3): the inner layer every frame, the others on alternate frames,
-        // staggered so that one of them is traced on even frames and the next on odd ones.
-        const bool due =
-            i == 0 || !mSettings.halfRate || reset || !kept || (prev.frame + i) % 2 == 0;
+        // staggered so that one of them is traced on even frames and the next on odd ones. Not
+        // in a scene that moves: a layer left untraced shows its objects where they were.
+        const bool due = i == 0 || !mSettings.halfRate || mMc.scene.dynamic() || reset || !kept ||
+                         (prev.frame + i) % 2 == 0;
         rg::TextureId image;
         LayerRect rect = last.rect;
         if (due) {

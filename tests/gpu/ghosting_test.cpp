@@ -20,6 +20,7 @@
 #include <glm/glm.hpp>
 #include <gtest/gtest.h>
 
+#include "eccentricity_layers.hpp"
 #include "foveation/contrast_sensitivity.hpp"
 #include "full_resolution.hpp"
 #include "output_target.hpp"
@@ -208,7 +209,9 @@ protected:
         sCache = test::tempDir("ghosting_cache"); // one point set for every play
     }
 
-    static Played play(const std::string& animation, double eccentricityDeg) {
+    // With `layers`, the view is Guenter et al. 2012's eccentricity layers instead of the point
+    // set (each layer's history blended with its motion).
+    static Played play(const std::string& animation, double eccentricityDeg, bool layers = false) {
         render::Renderer r(render::RendererOptions{
             .scene = sScene.string(), .validate = true, .animation = animation});
         foveation::PointSetParams params;
@@ -216,6 +219,7 @@ protected:
         render::PointSetMethod method(r.methodContext(), params, sCache);
         method.settings.raysPerPoint = 4;
         method.settings.interpolation.method = passes::Interpolation::Shepard;
+        render::EccentricityLayers layered(r.methodContext());
         render::FullResolution reference(r.methodContext(), {16, 0});
         const float aspect = static_cast<float>(kW) / static_cast<float>(kH);
         const float yfov = 2.0f * std::atan(std::tan(glm::radians(kHfovDeg) / 2.0f) / aspect);
@@ -228,7 +232,7 @@ protected:
         fov.gaze = {0.5f * kW,
                     0.5f * kH + static_cast<float>(std::tan(glm::radians(eccentricityDeg)) *
                                                    radiusUnitPx())};
-        fov.method = &method;
+        fov.method = layers ? static_cast<render::FoveationMethod*>(&layered) : &method;
         fov.post.taa = true;
         ref = fov;
         ref.name = "reference";
@@ -303,6 +307,17 @@ TEST_F(GhostingTest, NothingTheBoxOrItsShadowLeftKeepsTheirColour) {
     // The box and its shadow did move over pixels (else the test tests nothing).
     EXPECT_GT(left, 100u);
     EXPECT_GT(shadowLeft, 100u);
+}
+
+TEST_F(GhostingTest, TheLayersLeaveNoTrailEither) {
+    const Played p = play("fast", 15.0, true);
+    if (p.foveated.empty()) GTEST_SKIP() << "the renderer does not animate glTF scenes";
+    for (int f = 2; f <= kMotionFrames; ++f) {
+        const Ghosts g = ghostsAt(p, f);
+        EXPECT_EQ(g.box, 0u) << "frame " << f << ": of " << g.boxLeft << " pixels the box left";
+        EXPECT_EQ(g.shadow, 0u) << "frame " << f << ": of " << g.shadowLeft
+                                << " pixels its shadow left";
+    }
 }
 
 // Mean FLIP and MSE over `mask` between the last foveated frame and its reference.
