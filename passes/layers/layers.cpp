@@ -16,7 +16,7 @@ namespace gt::passes {
 namespace sh = shaders::layers;
 
 LayersPass::LayersPass(vk::Context& ctx) : mCtx(ctx) {
-    (void)tracePipeline(false); // bad shaders fail at construction
+    (void)tracePipeline(false, false); // bad shaders fail at construction
     (void)composePipeline(3);
 }
 
@@ -37,17 +37,16 @@ const vk::ComputePipeline& LayersPass::composePipeline(std::size_t layers) const
 
 LayersPass::~LayersPass() = default;
 
-const vk::ComputePipeline& LayersPass::tracePipeline(bool alphaMask) const {
-    auto& slot = mTrace[alphaMask ? 1 : 0];
+const vk::ComputePipeline& LayersPass::tracePipeline(bool alphaMask, bool dynamic) const {
+    auto& slot = mTrace[(alphaMask ? 1 : 0) + (dynamic ? 2 : 0)];
     if (!slot) {
         const std::vector<VkDescriptorType> bindings =
             trace::tracingBindings({VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}); // kBindingTraceOutput
         slot = std::make_unique<vk::ComputePipeline>(
-            mCtx, vk::ComputePipelineDesc{"layers.trace",
-                                          gt_spv_layers_trace_comp,
-                                          bindings,
-                                          sizeof(sh::LayerTracePush),
-                                          {alphaMask ? 1u : 0u}});
+            mCtx,
+            vk::ComputePipelineDesc{"layers.trace", gt_spv_layers_trace_comp, bindings,
+                                    sizeof(sh::LayerTracePush),
+                                    trace::tracingSpecialization({alphaMask ? 1u : 0u}, dynamic)});
     }
     return *slot;
 }
@@ -75,8 +74,8 @@ rg::TextureId LayersPass::addTrace(rg::RenderGraph& graph, const trace::GpuScene
                                          static_cast<float>(width), static_cast<float>(height)}),
                         rg::Access::StorageWrite);
         },
-        [ctx = &mCtx, pipeline = &tracePipeline(scene.alphaMasked()), scene = &scene,
-         push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+        [ctx = &mCtx, pipeline = &tracePipeline(scene.alphaMasked(), scene.dynamic()),
+         scene = &scene, push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             trace::dispatchImageTrace(*ctx, cmd, *pipeline, *scene, sh::kBindingTraceOutput,
                                       r.texture(d.output).view, std::as_bytes(std::span(&push, 1)),
                                       {push.params.x, push.params.y},

@@ -66,20 +66,20 @@ PointSamplePass::PointSamplePass(vk::Context& ctx)
 
 PointSamplePass::~PointSamplePass() = default;
 
-const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaMask,
-                                                     bool chunked) const {
-    auto& slot = mPipelines[{lanes, alphaMask, chunked}];
+const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaMask, bool chunked,
+                                                     bool dynamic) const {
+    auto& slot = mPipelines[{lanes, alphaMask, chunked, dynamic}];
     if (!slot) {
         const std::vector<VkDescriptorType> bindings =
             trace::tracingBindings({VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, // kBindingPoints
                                     VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       // kBindingSamples
                                     VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});     // kBindingChunks
         slot = std::make_unique<vk::ComputePipeline>(
-            mCtx, vk::ComputePipelineDesc{"point_sample",
-                                          gt_spv_point_sample_comp,
-                                          bindings,
-                                          sizeof(sh::PointSamplePush),
-                                          {alphaMask ? 1u : 0u, lanes, chunked ? 1u : 0u}});
+            mCtx,
+            vk::ComputePipelineDesc{"point_sample", gt_spv_point_sample_comp, bindings,
+                                    sizeof(sh::PointSamplePush),
+                                    trace::tracingSpecialization(
+                                        {alphaMask ? 1u : 0u, lanes, chunked ? 1u : 0u}, dynamic)});
     }
     return *slot;
 }
@@ -99,7 +99,8 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
         throw ArgumentError("point_sample: lanes per point must be a power of two up to 32");
     }
     const bool chunked = dispatch == PointDispatch::OnScreenChunks;
-    const vk::ComputePipeline& pipe = pipeline(lanes, scene.alphaMasked(), chunked);
+    const vk::ComputePipeline& pipe =
+        pipeline(lanes, scene.alphaMasked(), chunked, scene.dynamic());
     const uint32_t pointsPerGroup = sh::kSampleGroupSize / lanes;
     const uint32_t w = graph.outputWidth(), h = graph.outputHeight();
     const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());

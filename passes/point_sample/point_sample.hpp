@@ -69,12 +69,13 @@ public:
                      PointDispatch dispatch = PointDispatch::OnScreenChunks) const;
 
 private:
-    const vk::ComputePipeline& pipeline(uint32_t lanes, bool alphaMask, bool chunked) const;
+    const vk::ComputePipeline& pipeline(uint32_t lanes, bool alphaMask, bool chunked,
+                                        bool dynamic) const;
 
     vk::Context& mCtx;
-    // One pipeline per lane count, alpha-mask setting and dispatch, built on first use (each
-    // compiles the whole tracer).
-    mutable std::map<std::tuple<uint32_t, bool, bool>, std::unique_ptr<vk::ComputePipeline>>
+    // One pipeline per lane count, alpha-mask setting, dispatch and scene kind (static or
+    // moving), built on first use (each compiles the whole tracer).
+    mutable std::map<std::tuple<uint32_t, bool, bool, bool>, std::unique_ptr<vk::ComputePipeline>>
         mPipelines;
     vk::Buffer mNoChunks; // bound as the chunk list when the whole set is dispatched
 };

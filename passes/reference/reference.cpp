@@ -12,20 +12,18 @@ namespace gt::passes {
 namespace sh = shaders::reference;
 
 ReferencePass::ReferencePass(vk::Context& ctx) : mCtx(ctx) {
-    (void)pipeline(false); // the common case, so that a bad shader fails at construction
+    (void)pipeline(false, false); // the common case, so that a bad shader fails at construction
 }
 
-const vk::ComputePipeline& ReferencePass::pipeline(bool alphaMask) const {
-    auto& slot = mPipelines[alphaMask ? 1 : 0];
+const vk::ComputePipeline& ReferencePass::pipeline(bool alphaMask, bool dynamic) const {
+    auto& slot = mPipelines[(alphaMask ? 1 : 0) + (dynamic ? 2 : 0)];
     if (!slot) {
         const std::vector<VkDescriptorType> bindings =
             trace::tracingBindings({VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}); // sh::kBindingOutput
         slot = std::make_unique<vk::ComputePipeline>(
-            mCtx, vk::ComputePipelineDesc{"reference.trace",
-                                          gt_spv_reference_comp,
-                                          bindings,
-                                          sizeof(sh::ReferencePush),
-                                          {alphaMask ? 1u : 0u}});
+            mCtx, vk::ComputePipelineDesc{
+                      "reference.trace", gt_spv_reference_comp, bindings, sizeof(sh::ReferencePush),
+                      trace::tracingSpecialization({alphaMask ? 1u : 0u}, dynamic)});
     }
     return *slot;
 }
@@ -49,7 +47,7 @@ rg::TextureId ReferencePass::add(rg::RenderGraph& graph, const trace::GpuScene& 
                 b.write(b.createTexture("reference.radiance", {VK_FORMAT_R32G32B32A32_SFLOAT}),
                         rg::Access::StorageWrite);
         },
-        [ctx = &mCtx, pipeline = &pipeline(scene.alphaMasked()), scene = &scene,
+        [ctx = &mCtx, pipeline = &pipeline(scene.alphaMasked(), scene.dynamic()), scene = &scene,
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             trace::dispatchImageTrace(*ctx, cmd, *pipeline, *scene, sh::kBindingOutput,
                                       r.texture(d.output).view, std::as_bytes(std::span(&push, 1)),

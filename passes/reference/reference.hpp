@@ -35,10 +35,10 @@ public:
 
 private:
     // Built on first use: without and with the alpha test (trace.glsl's kAlphaMask).
-    const vk::ComputePipeline& pipeline(bool alphaMask) const;
+    const vk::ComputePipeline& pipeline(bool alphaMask, bool dynamic) const;
 
     vk::Context& mCtx;
-    mutable std::array<std::unique_ptr<vk::ComputePipeline>, 2> mPipelines;
+    mutable std::array<std::unique_ptr<vk::ComputePipeline>, 4> mPipelines; // alpha | dynamic
 };
 
 } // namespace gt::passes
