@@ -363,6 +363,9 @@ private:
     std::optional<FlyCamera> mFly;
     std::optional<std::vector<scene::CameraKey>> mRecording;
     SteadyClock::time_point mLast;
+    // Animation: scene time advances with the frames' times while not paused (Space).
+    bool mAnimationPaused = false;
+    double mSceneSeconds = 0.0, mLastTickMs = 0.0;
     SteadyClock::time_point mFrameStart;
     std::vector<double> mFrameTimes, mLatencies;
     std::map<uint64_t, FrameGaze> mInFlight; // the gaze each frame in flight used
@@ -401,6 +404,7 @@ DemoRun::DemoRun(const DemoOptions& o)
     ro.framesInFlight = o.framesInFlight;
     ro.deviceOverride = deviceRequest();
     ro.sceneLoad = gltfLoadOptions();
+    ro.animation = o.animation;
     ro.display.instanceExtensions = mWindow->requiredInstanceExtensions();
     ro.display.deviceExtensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
     ro.display.createSurface = [this](VkInstance i) { return mWindow->createSurface(i); };
@@ -454,6 +458,7 @@ void DemoRun::handleKey(int key) {
     if (key == GLFW_KEY_LEFT_BRACKET && mSettings.raysPerPoint > 1) --mSettings.raysPerPoint;
     if (key == GLFW_KEY_RIGHT_BRACKET && mSettings.raysPerPoint < 64) ++mSettings.raysPerPoint;
     if (key == GLFW_KEY_P) mTarget->requestScreenshot();
+    if (key == GLFW_KEY_SPACE) mAnimationPaused = !mAnimationPaused;
     if (key == GLFW_KEY_R) {
         if (mRecording) {
             const std::string file = "camera_path.csv";
@@ -675,6 +680,12 @@ nlohmann::json DemoRun::run() {
                          std::span<const render::View> v,
                          const render::FrameResult& result) { return done(t, r, v, result); };
     stages.onStop = OnStopRequest::BeginStageEnds;
+    mSceneSeconds = mOptions.time;
+    stages.sceneTime = [this](const FrameTick& t) {
+        if (!mAnimationPaused) mSceneSeconds += (t.timeMs - mLastTickMs) * 1e-3;
+        mLastTickMs = t.timeMs;
+        return mSceneSeconds;
+    };
     const FrameClock clock(mOptions.frameMs);
     mLast = clock.start();
     const uint32_t frames = runFrameLoop(*mRenderer, clock, mOptions.frames, stages);

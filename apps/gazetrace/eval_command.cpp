@@ -73,9 +73,13 @@ public:
     }
     // `frames` frames, frame t of the view `view(t)` through `m` (at the scene's exposure),
     // each handed to `frame` as a picture with the primary rays it traced.
+    // The scene time of every frame of a sequence unless it says otherwise: eval's pictures
+    // are of one instant of an animated scene (--time).
+    void holdSceneTime(double seconds) { mSceneSeconds = seconds; }
     void sequence(uint32_t frames, const std::function<render::View(const FrameTick&)>& view,
                   render::FoveationMethod& m,
-                  const std::function<void(const FrameTick&, RgbaImage, uint64_t)>& frame) {
+                  const std::function<void(const FrameTick&, RgbaImage, uint64_t)>& frame,
+                  const std::function<double(const FrameTick&)>& sceneTime = {}) {
         // The gaze source is the view's own gaze (a fixed point, or a pursuit trace's sample).
         mGpuMs.clear();
         render::View current;
@@ -100,6 +104,8 @@ public:
             frame(t, std::move(img), f.views.front().rays);
             return true;
         };
+        stages.sceneTime = sceneTime ? sceneTime
+                                     : [this](const FrameTick&) { return mSceneSeconds; };
         (void)runFrameLoop(mRenderer, FrameClock(), frames, stages);
     }
     // The GPU time of each frame of the last sequence, the readback to the host left out.
@@ -118,6 +124,7 @@ private:
     }
 
     std::vector<double> mGpuMs;
+    double mSceneSeconds = 0.0;
     render::Renderer& mRenderer;
     render::ReadbackTarget mReadback;
     EvalProgress& mProgress;
@@ -490,6 +497,7 @@ private:
     nlohmann::json stillSequence();
     nlohmann::json movingSequence();
     nlohmann::json pursuitSequence();
+    nlohmann::json animatedSequence();
     void sweep(nlohmann::json& summary);
     MatchEntry matchCandidate(uint32_t width, uint32_t height, uint32_t raysPerPixel,
                               RgbaImage& picture);
@@ -522,11 +530,14 @@ EvalRun::EvalRun(const EvalOptions& o)
                                               .validate = o.validate,
                                               .framesInFlight = 1,
                                               .deviceOverride = deviceRequest(),
-                                              .sceneLoad = gltfLoadOptions()});
+                                              .sceneLoad = gltfLoadOptions(),
+                                              .animation = o.animation});
     mProgress.emplace(evalFrameCount(o, mInputs.reference.has_value(),
                                      mInputs.pursuit ? mInputs.pursuit->samples().size() : 0));
     mShooter.emplace(*mRenderer, *mProgress);
-    mCamera = mRenderer->scene().camera;
+    mShooter->holdSceneTime(o.time);
+    mRenderer->setSceneTime(o.time);
+    mCamera = mRenderer->sceneCamera();
     if (cameraArg) {
         mCamera = cameraArg->camera(mCamera.yfov);
     }
@@ -798,6 +809,58 @@ nlohmann::json EvalRun::movingSequence() {
     return moving;
 }
 
+// An animated scene playing at 90 Hz from --time: each foveated frame (its TAA history carried
+// along the motion) against a reference rendered at the same instant, once the history has seen
+// 8 frames of motion; and the same count of frames with the scene held at --time. Moving content
+// that ghosts or smears shows as moving error above the still error.
+nlohmann::json EvalRun::animatedSequence() {
+    constexpr double kStepS = 1.0 / 90.0;
+    constexpr uint32_t kMotionFrames = 8;
+    const uint32_t n = std::max(kMotionFrames + 1, mOptions.sequenceFrames);
+    const double t0 = mOptions.time;
+    render::FullResolution reference(mRenderer->methodContext(), {mOptions.referenceSpp, kSeed});
+    std::vector<RgbaImage> refs;
+    const auto at = [&](const FrameTick& t) { return t0 + kStepS * t.index; };
+    const auto viewNamed = [&](const char* name, bool taa) {
+        return [this, name, taa](const FrameTick&) {
+            render::View v = mBase;
+            v.name = name;
+            v.post.taa = taa;
+            return v;
+        };
+    };
+    mShooter->sequence(
+        n, viewNamed("animated_reference", false), reference,
+        [&](const FrameTick&, RgbaImage img, uint64_t) { refs.push_back(std::move(img)); }, at);
+    std::array<double, kBands> moving{}, still{};
+    const auto meanInto = [&](std::array<double, kBands>& sum, const RgbaImage& img,
+                              const RgbaImage& ref) {
+        const Scores s = score(img, ref, mGeometry, mBleedMask);
+        for (std::size_t b = 0; b < kBands; ++b)
+            sum[b] += s.flipEcc[b] / static_cast<double>(n - kMotionFrames);
+    };
+    mShooter->sequence(
+        n, viewNamed("animated_foveated", mOptions.taa), *mFoveated,
+        [&](const FrameTick& t, RgbaImage img, uint64_t) {
+            if (t.index >= kMotionFrames) meanInto(moving, img, refs[t.index]);
+        },
+        at);
+    mShooter->sequence(n, viewNamed("animated_still", mOptions.taa), *mFoveated,
+                       [&](const FrameTick& t, RgbaImage img, uint64_t) {
+                           if (t.index >= kMotionFrames) meanInto(still, img, refs.front());
+                       });
+    mRenderer->setSceneTime(t0);
+    std::array<double, kBands> ratio{};
+    for (std::size_t b = 0; b < kBands; ++b)
+        ratio[b] = moving[b] / std::max(still[b], 1e-12);
+    return {{"frames", n},
+            {"step_ms", kStepS * 1e3},
+            {"time_s", t0},
+            {"flip_ecc_moving", bandsJson(moving)},
+            {"flip_ecc_still", bandsJson(still)},
+            {"moving_over_still", bandsJson(ratio)}};
+}
+
 // Smooth pursuit over a still scene: the point set follows the gaze, the scene stays.
 nlohmann::json EvalRun::pursuitSequence() {
     const Geometry& g = mGeometry;
@@ -983,6 +1046,7 @@ nlohmann::json EvalRun::run() {
     if (mOptions.temporal) temporal["still"] = stillSequence();
     if (mInputs.path) temporal["moving"] = movingSequence();
     if (mInputs.pursuit) temporal["pursuit"] = pursuitSequence();
+    if (mOptions.temporal && mRenderer->animated()) temporal["animated"] = animatedSequence();
     if (!temporal.empty()) {
         summary["temporal"] = temporal;
     }

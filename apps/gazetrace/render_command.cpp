@@ -60,7 +60,8 @@ render::RendererOptions rendererOptions(const RenderOptions& o) {
             .validate = o.validate,
             .framesInFlight = 1,
             .deviceOverride = deviceRequest(),
-            .sceneLoad = gltfLoadOptions()};
+            .sceneLoad = gltfLoadOptions(),
+            .animation = o.animation};
 }
 
 // --out: a .png file (any case) for one frame, else a folder for frame_NNNN.png.
@@ -387,6 +388,7 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
     };
     stages.views = [&](const FrameTick& t, const render::StereoGaze& gaze) {
         if (reference) reference->settings.frameSeed = o.seed + t.index;
+        if (!cameraArg && renderer.animated()) head = renderer.sceneCamera();
         const auto eyes = rig.views(head, gaze, method, post, renderer.scene().exposure);
         return std::vector<render::View>(eyes.begin(), eyes.end());
     };
@@ -402,6 +404,7 @@ nlohmann::json runRenderHmd(const RenderOptions& o) {
         lastViews.assign(views.begin(), views.end());
         return true;
     };
+    stages.sceneStartSeconds = o.time;
     (void)runFrameLoop(renderer, FrameClock(o.frameMs), frameCount, stages);
     nlohmann::json j = hmdSummary(o, profile, renderer, last, lastViews, files, frameCount, head);
     files.commit();
@@ -735,7 +738,11 @@ nlohmann::json runRender(const RenderOptions& o) {
     FrameStages<FlatGazeSource::Gaze> stages;
     stages.gaze = [&](const FrameTick& t) { return gazeSource.at(t, view); };
     stages.views = [&](const FrameTick& t, const FlatGazeSource::Gaze& g) {
-        if (in.path) view.camera = in.path->at(in.path->startMs() + t.timeMs, view.camera.yfov);
+        if (in.path) {
+            view.camera = in.path->at(in.path->startMs() + t.timeMs, view.camera.yfov);
+        } else if (!cameraArg && renderer.animated()) {
+            view.camera = renderer.sceneCamera(); // the file's camera, moved by its animation
+        }
         view.gaze = g.pixel;
         view.saccade = g.saccade;
         if (gazeDriven) gazes.push_back({view.gaze.x, view.gaze.y});
@@ -753,6 +760,7 @@ nlohmann::json runRender(const RenderOptions& o) {
         last = result;
         return true;
     };
+    stages.sceneStartSeconds = o.time;
     (void)runFrameLoop(renderer, FrameClock(o.frameMs), in.frameCount, stages);
     const FlatRun run{last, view, files, gazeSource, gazes, in.frameCount, in.trace.has_value()};
     nlohmann::json j = flatSummary(o, s, renderer, run);

@@ -9,6 +9,8 @@ namespace gt::app {
 
 struct RenderOptions {
     std::string scene = "builtin:market";
+    std::string animation = "all"; // an animated glTF's animation: NAME, INDEX, all or none
+    double time = 0.0;             // scene time of the first frame, seconds
     uint32_t width = 1280;
     uint32_t height = 720;
     uint32_t spp = 1;

@@ -280,6 +280,7 @@ private:
     std::optional<Clock::time_point> mExitAsked;
     bool mExited = false;
     xr::FrameInfo mFrame;
+    XrTime mFirstDisplayTime = 0; // animation: scene time runs with the predicted display time
 };
 
 XrRun::XrRun(const XrOptions& o) : mOptions(o) {
@@ -303,6 +304,7 @@ XrRun::XrRun(const XrOptions& o) : mOptions(o) {
     ro.framesInFlight = 1; // each frame's images are released right after its submit
     ro.deviceOverride = deviceRequest();
     ro.sceneLoad = gltfLoadOptions();
+    ro.animation = o.animation;
     ro.display = mRuntime->vulkanHooks();
     mRenderer.emplace(ro);
     openSession(args);
@@ -459,6 +461,12 @@ nlohmann::json XrRun::run() {
     stages.done = [this](const FrameTick& t, const HeadGaze& g, std::span<const render::View> v,
                          const render::FrameResult& result) { return done(t, g, v, result); };
     stages.onStop = OnStopRequest::BeginStageEnds;
+    // An animated scene is posed for when the frame will be seen: the runtime's predicted
+    // display time, counted from the first frame's.
+    stages.sceneTime = [this](const FrameTick&) {
+        if (mFirstDisplayTime == 0) mFirstDisplayTime = mFrame.displayTime;
+        return mOptions.time + static_cast<double>(mFrame.displayTime - mFirstDisplayTime) * 1e-9;
+    };
     const FrameClock clock;
     mT0 = clock.start();
     mLastFrameEnd = mT0;

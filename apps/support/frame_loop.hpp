@@ -69,6 +69,12 @@ template <typename Gaze> struct FrameStages {
         done;
     // Live runs (a window, an OpenXR session) set BeginStageEnds and check in begin.
     OnStopRequest onStop = OnStopRequest::Interrupt;
+    // The scene time, in seconds, animated scenes are posed at this frame (after begin, before
+    // the views, which may follow an animated camera). Optional: without it the scene time is
+    // sceneStartSeconds plus the tick's time, so a fixed step gives render's reproducible
+    // frames and the wall clock the demo's real time.
+    std::function<double(const FrameTick&)> sceneTime;
+    double sceneStartSeconds = 0.0; // --time
 };
 
 // Runs frames until `frames` were rendered (0: until a stage stops the loop); returns how many
@@ -92,6 +98,10 @@ uint32_t runFrameLoop(FrameRenderer& renderer, const FrameClock& clock, uint32_t
             if (start == FrameStart::Skip) {
                 continue;
             }
+        }
+        if constexpr (requires { renderer.setSceneTime(0.0); }) {
+            renderer.setSceneTime(stages.sceneTime ? stages.sceneTime(tick)
+                                                   : stages.sceneStartSeconds + tick.timeMs * 1e-3);
         }
         const Gaze gaze = stages.gaze(tick);
         const std::vector<render::View> views = stages.views(tick, gaze);

@@ -130,6 +130,8 @@ struct Pose {
 // first key a sampler holds its first value, glTF 3.11) over the nodes' rest transforms, then
 // composes the world matrices down the hierarchy.
 [[nodiscard]] Pose evaluatePose(const Rig& rig, const AnimationChoice& playing, double seconds);
+// The same into an existing pose, reusing its storage (no allocation per frame once sized).
+void evaluatePose(const Rig& rig, const AnimationChoice& playing, double seconds, Pose& pose);
 
 // One sampler's value at time t (already looped): `out` receives `components` floats. LINEAR
 // rotations are spherical (slerp, shortest path), CUBICSPLINE rotations normalised (glTF
@@ -149,8 +151,9 @@ void sampleAnimation(const AnimationSampler& sampler, AnimatedPath path, float t
 
 // The instance's triangles at `pose`, in the space instanceTransform() maps to the world: morph
 // targets applied with the node's weights, then linear blend skinning with the joints' world
-// matrices times their inverse bind matrices; normals renormalised. `out` is resized to the
-// mesh's vertex count.
+// matrices times their inverse bind matrices, normals by the blended matrix's inverse transpose
+// and renormalised. `out` is resized to the mesh's vertex count; no other allocation once `out`
+// and the calling thread's scratch are sized, and calls on several threads are independent.
 void deformInstance(const Rig& rig, const MeshInstance& instance, const Pose& pose,
                     std::vector<Vertex>& out);
 

@@ -23,6 +23,7 @@ public:
             ->add_option("--scene", mOptions.scene,
                          "builtin:NAME | FILE.gltf | FILE.glb | cubemap:FILE")
             ->capture_default_str();
+        addAnimationOptions(mCommand, mOptions.animation, mOptions.time);
         mCommand->add_option("--width", mOptions.width, "Window width at start")
             ->check(CLI::Range(16u, 8192u))
             ->capture_default_str();

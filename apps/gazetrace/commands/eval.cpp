@@ -25,6 +25,7 @@ public:
             ->add_option("--scene", mOptions.scene,
                          "builtin:NAME | FILE.gltf | FILE.glb | cubemap:FILE")
             ->capture_default_str();
+        addAnimationOptions(mCommand, mOptions.animation, mOptions.time);
         mCommand->add_option("--camera", mOptions.camera, "X,Y,Z,TX,TY,TZ[,FOV]");
         mCommand
             ->add_option("--profile", mOptions.profile, "Display geometry: fove | vive | desktop")
@@ -140,7 +141,8 @@ private:
         mCommand->add_option("--baseline", mOptions.baseline, "uniform | none")
             ->capture_default_str();
         mCommand->add_flag("--temporal", mOptions.temporal,
-                           "Also the frame-to-frame change of a still view");
+                           "Also the frame-to-frame change of a still view, and an animated scene's "
+                           "moving error against a reference at each instant");
         mCommand->add_option(
             "--camera-path", mOptions.cameraPath,
             "A moving camera (CSV t_ms,ex,ey,ez,tx,ty,tz): change after reprojection");

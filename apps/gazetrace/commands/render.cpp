@@ -30,6 +30,7 @@ public:
                              "Camera X,Y,Z,TX,TY,TZ[,FOV]: eye, look-at target (scene units), "
                              "vertical field of view in degrees (default: the scene's camera)");
         addSizeOptions(mCommand, mOptions.width, mOptions.height, 1u, "Image");
+        addAnimationOptions(mCommand, mOptions.animation, mOptions.time);
         mCommand->add_option("--spp", mOptions.spp, "Rays per pixel (stratified, jittered)")
             ->check(CLI::Range(1u, 4096u))
             ->capture_default_str();

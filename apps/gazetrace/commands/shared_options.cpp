@@ -18,6 +18,15 @@ void addSizeOptions(CLI::App* cmd, uint32_t& width, uint32_t& height, uint32_t m
         ->capture_default_str();
 }
 
+void addAnimationOptions(CLI::App* cmd, std::string& animation, double& startSeconds) {
+    cmd->add_option("--animation", animation,
+                    "Animated glTF: the animation that plays (NAME | INDEX | all | none)")
+        ->capture_default_str();
+    cmd->add_option("--time", startSeconds, "Animated glTF: scene time of the first frame (s)")
+        ->check(CLI::Range(0.0, 1e9))
+        ->capture_default_str();
+}
+
 void addLiveMethodOptions(CLI::App* cmd, std::string& method, std::string& interp, uint32_t& k,
                           double& scale, uint32_t& raysPerPoint, uint32_t& spp, std::string& taa,
                           std::string& slope, uint32_t& layers) {

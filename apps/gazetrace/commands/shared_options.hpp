@@ -28,6 +28,10 @@ void addLiveMethodOptions(CLI::App* cmd, std::string& method, std::string& inter
 // refused with one line naming the option. Ranges stay with each option.
 void addNumberChecks(CLI::App& app);
 
+// --animation NAME|INDEX|all|none and --time T0: which of an animated scene's animations play,
+// and the scene time of the first frame in seconds (not negative).
+void addAnimationOptions(CLI::App* cmd, std::string& animation, double& startSeconds);
+
 // --reconstruction gazetrace | thesis, as render and xr take it.
 void addReconstructionOption(CLI::App* cmd, std::string& reconstruction);
 

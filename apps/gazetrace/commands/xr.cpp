@@ -22,6 +22,7 @@ public:
             ->add_option("--scene", mOptions.scene,
                          "builtin:NAME | FILE.gltf | FILE.glb | cubemap:FILE")
             ->capture_default_str();
+        addAnimationOptions(mCommand, mOptions.animation, mOptions.time);
         mCommand->add_option(
             "--camera", mOptions.camera,
             "Start view X,Y,Z,TX,TY,TZ[,FOV]: the viewer stands at X,Y,Z facing the "
