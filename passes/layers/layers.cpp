@@ -16,7 +16,7 @@ namespace gt::passes {
 namespace sh = shaders::layers;
 
 LayersPass::LayersPass(vk::Context& ctx) : mCtx(ctx) {
-    (void)tracePipeline(false); // bad shaders fail at construction
+    (void)tracePipeline(false, false); // bad shaders fail at construction
     (void)composePipeline(3);
 }
 
@@ -44,11 +44,10 @@ const vk::ComputePipeline& LayersPass::tracePipeline(bool alphaMask, bool dynami
             trace::tracingBindings({VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // kBindingTraceOutput
                                     VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}); // kBindingTraceMotion
         slot = std::make_unique<vk::ComputePipeline>(
-            mCtx, vk::ComputePipelineDesc{"layers.trace",
-                                          gt_spv_layers_trace_comp,
-                                          bindings,
-                                          sizeof(sh::LayerTracePush),
-                                          {alphaMask ? 1u : 0u, 0u, 0u, dynamic ? 1u : 0u}});
+            mCtx,
+            vk::ComputePipelineDesc{"layers.trace", gt_spv_layers_trace_comp, bindings,
+                                    sizeof(sh::LayerTracePush),
+                                    trace::tracingSpecialization({alphaMask ? 1u : 0u}, dynamic)});
     }
     return *slot;
 }

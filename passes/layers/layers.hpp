@@ -62,11 +62,11 @@ public:
                              glm::vec2 gaze, float transition) const;
 
 private:
-    const vk::ComputePipeline& tracePipeline(bool alphaMask, bool dynamic = false) const;
+    const vk::ComputePipeline& tracePipeline(bool alphaMask, bool dynamic) const;
     const vk::ComputePipeline& composePipeline(std::size_t layers) const;
 
     vk::Context& mCtx;
-    mutable std::array<std::unique_ptr<vk::ComputePipeline>, 4> mTrace; // alpha mask, moves
+    mutable std::array<std::unique_ptr<vk::ComputePipeline>, 4> mTrace; // alpha | dynamic
     // One per layer count (1-4), built on first use.
     mutable std::array<std::unique_ptr<vk::ComputePipeline>, kMaxEccentricityLayers> mCompose;
 };

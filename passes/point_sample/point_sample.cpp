@@ -76,12 +76,11 @@ const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaM
                                     VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       // kBindingChunks
                                     VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});     // kBindingSampleMotion
         slot = std::make_unique<vk::ComputePipeline>(
-            mCtx, vk::ComputePipelineDesc{
-                      "point_sample",
-                      gt_spv_point_sample_comp,
-                      bindings,
-                      sizeof(sh::PointSamplePush),
-                      {alphaMask ? 1u : 0u, lanes, chunked ? 1u : 0u, dynamic ? 1u : 0u}});
+            mCtx,
+            vk::ComputePipelineDesc{"point_sample", gt_spv_point_sample_comp, bindings,
+                                    sizeof(sh::PointSamplePush),
+                                    trace::tracingSpecialization(
+                                        {alphaMask ? 1u : 0u, lanes, chunked ? 1u : 0u}, dynamic)});
     }
     return *slot;
 }

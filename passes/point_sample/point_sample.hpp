@@ -89,8 +89,8 @@ private:
                                         bool dynamic) const;
 
     vk::Context& mCtx;
-    // One pipeline per lane count, alpha-mask setting, dispatch and whether the scene moves,
-    // built on first use (each compiles the whole tracer).
+    // One pipeline per lane count, alpha-mask setting, dispatch and scene kind (static or
+    // moving), built on first use (each compiles the whole tracer).
     mutable std::map<std::tuple<uint32_t, bool, bool, bool>, std::unique_ptr<vk::ComputePipeline>>
         mPipelines;
     vk::Buffer mNoChunks; // bound as the chunk list when the whole set is dispatched

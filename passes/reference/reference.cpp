@@ -12,7 +12,7 @@ namespace gt::passes {
 namespace sh = shaders::reference;
 
 ReferencePass::ReferencePass(vk::Context& ctx) : mCtx(ctx) {
-    (void)pipeline(false); // the common case, so that a bad shader fails at construction
+    (void)pipeline(false, false); // the common case, so that a bad shader fails at construction
 }
 
 const vk::ComputePipeline& ReferencePass::pipeline(bool alphaMask, bool dynamic) const {
@@ -22,11 +22,9 @@ const vk::ComputePipeline& ReferencePass::pipeline(bool alphaMask, bool dynamic)
             trace::tracingBindings({VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // sh::kBindingOutput
                                     VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}); // kBindingMotionOutput
         slot = std::make_unique<vk::ComputePipeline>(
-            mCtx, vk::ComputePipelineDesc{"reference.trace",
-                                          gt_spv_reference_comp,
-                                          bindings,
-                                          sizeof(sh::ReferencePush),
-                                          {alphaMask ? 1u : 0u, 0u, 0u, dynamic ? 1u : 0u}});
+            mCtx, vk::ComputePipelineDesc{
+                      "reference.trace", gt_spv_reference_comp, bindings, sizeof(sh::ReferencePush),
+                      trace::tracingSpecialization({alphaMask ? 1u : 0u}, dynamic)});
     }
     return *slot;
 }

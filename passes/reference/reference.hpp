@@ -46,12 +46,11 @@ public:
                             const ReferenceSettings& settings) const;
 
 private:
-    // Built on first use: without and with the alpha test (trace.glsl's kAlphaMask), for a
-    // scene that stays and one that moves (kDynamic).
-    const vk::ComputePipeline& pipeline(bool alphaMask, bool dynamic = false) const;
+    // Built on first use: without and with the alpha test (trace.glsl's kAlphaMask).
+    const vk::ComputePipeline& pipeline(bool alphaMask, bool dynamic) const;
 
     vk::Context& mCtx;
-    mutable std::array<std::unique_ptr<vk::ComputePipeline>, 4> mPipelines;
+    mutable std::array<std::unique_ptr<vk::ComputePipeline>, 4> mPipelines; // alpha | dynamic
 };
 
 } // namespace gt::passes

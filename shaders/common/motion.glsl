@@ -5,10 +5,6 @@
 #ifndef MOTION_GLSL
 #define MOTION_GLSL
 
-// Until the tracer provides them (kDynamic is constant_id kSpecDynamic = 3): no scene moves.
-layout(constant_id = 3) const bool kDynamic = false;
-vec4 gMotion = vec4(0.0);
-
 // The signature (surface id in bits 0-23: 0 sky, 1 static geometry, 2 + instance; the shadow
 // mask of the first 8 lights in bits 24-31) as the passes store it, in the w of an rgba32f
 // texel: an integer-valued float, 16 bits of the surface id above the 8 of the shadow mask,
