@@ -10,6 +10,8 @@
 #include <cstring>
 #include <functional>
 #include <map>
+#include <memory>
+#include <optional>
 #include <span>
 #include <tuple>
 
@@ -22,6 +24,7 @@
 #include "core/error.hpp"
 #include "input_file.hpp"
 #include "limits.hpp"
+#include "scene/animation.hpp"
 #include "scene/builtin_scenes.hpp"
 #include "scene/gltf_validate.hpp"
 #include "scene/image_io.hpp"
@@ -159,12 +162,18 @@ public:
         checkExpansion();
         loadTextures();
         loadMaterials();
+        prepareRig();
         for (const int n : rootNodes()) {
             visit(n, glm::mat4(1.0f), 0);
         }
-        if (mScene.triangleCount() == 0 && mScene.cages.empty())
+        if (mScene.triangleCount() == 0 && mScene.cages.empty() &&
+            (!mRig || mRig->instances.empty()))
             fail("contains no triangle meshes");
         finish();
+        if (mRig) {
+            mRig->lightNodes.resize(mScene.lights.size(), -1);
+            mScene.rig = std::move(mRig);
+        }
         return std::move(mScene);
     }
 
@@ -675,7 +684,11 @@ private:
             if (static_cast<std::size_t>(node.mesh) >= mModel.meshes.size()) {
                 fail("node " + std::to_string(nodeIndex) + " has mesh index out of range");
             }
-            addMesh(mModel.meshes[node.mesh], world, nodeIndex);
+            if (rigBound(nodeIndex, mModel.meshes[node.mesh])) {
+                addRigInstance(nodeIndex);
+            } else {
+                addMesh(mModel.meshes[node.mesh], world, nodeIndex);
+            }
         }
         if (node.camera >= 0 && !mHaveCamera &&
             static_cast<std::size_t>(node.camera) < mModel.cameras.size()) {
@@ -687,6 +700,8 @@ private:
                                             "camera " + std::to_string(node.camera) + " yfov");
             }
             mHaveCamera = true;
+            if (moves(nodeIndex))
+                mRig->cameraNode = mRigNodeOf[static_cast<std::size_t>(nodeIndex)];
         }
         auto light = node.extensions.find("KHR_lights_punctual");
         if (light != node.extensions.end() && light->second.Has("light")) {
@@ -700,6 +715,11 @@ private:
                      ", which does not exist");
             }
             addLight(mModel.lights[li], li, world);
+            if (mRig) {
+                mRig->lightNodes.resize(mScene.lights.size() - 1, -1);
+                mRig->lightNodes.push_back(
+                    moves(nodeIndex) ? mRigNodeOf[static_cast<std::size_t>(nodeIndex)] : -1);
+            }
         }
         for (int c : node.children)
             visit(c, world, depth + 1);
@@ -819,72 +839,129 @@ private:
         if (!cage.faceSizes.empty()) mScene.cages.push_back(std::move(cage));
     }
 
+    // A triangle primitive's attributes and its triangles as indices into them (strips and fans
+    // converted), read the same way for static and animated meshes.
+    struct PrimitiveData {
+        std::vector<float> p, n, uv;
+        std::vector<uint32_t> tris;
+        uint32_t material = 0;
+        std::size_t vertexCount = 0;
+    };
+
+    // Whether `prim` is drawn as triangles; a points or lines primitive is skipped with a warning.
+    bool trianglePrimitive(const tinygltf::Mesh& mesh, const tinygltf::Primitive& prim) {
+        if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+            prim.mode != TINYGLTF_MODE_TRIANGLE_FAN && prim.mode != -1) {
+            mReport.warnings.push_back("mesh '" + mesh.name + "': skipped a primitive of mode " +
+                                       std::to_string(prim.mode) + " (points or lines)");
+            return false;
+        }
+        return true;
+    }
+
+    PrimitiveData readPrimitive(const tinygltf::Mesh& mesh, const tinygltf::Primitive& prim) const {
+        PrimitiveData d;
+        auto pos = prim.attributes.find("POSITION");
+        if (pos == prim.attributes.end())
+            fail("mesh '" + mesh.name + "' has a primitive without POSITION");
+        d.p = readFloats(pos->second, 3);
+        const std::size_t vertexCount = d.p.size() / 3;
+        d.vertexCount = vertexCount;
+        if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
+            d.n = readFloats(it->second, 3);
+            if (d.n.size() != d.p.size())
+                fail("mesh '" + mesh.name + "': NORMAL count differs from POSITION");
+        }
+        d.material = mDefaultMaterial;
+        if (prim.material >= 0) {
+            if (static_cast<std::size_t>(prim.material) >= mModel.materials.size()) {
+                fail("mesh '" + mesh.name + "' uses material " + std::to_string(prim.material) +
+                     ", which does not exist");
+            }
+            d.material = static_cast<uint32_t>(prim.material);
+        }
+        const UvTransform& uvt = mMaterialUv[d.material];
+        const std::string uvSet = "TEXCOORD_" + std::to_string(uvt.texCoord);
+        if (auto it = prim.attributes.find(uvSet); it != prim.attributes.end()) {
+            d.uv = readFloats(it->second, 2);
+            if (d.uv.size() / 2 != vertexCount)
+                fail("mesh '" + mesh.name + "': " + uvSet + " count differs from POSITION");
+            uvt.apply(d.uv);
+            checkTexCoords(d.uv, mesh.name, uvSet);
+        }
+        d.tris = triangleIndices(mesh, prim, vertexCount);
+        return d;
+    }
+
+    std::vector<uint32_t> triangleIndices(const tinygltf::Mesh& mesh,
+                                          const tinygltf::Primitive& prim,
+                                          std::size_t vertexCount) const {
+        std::vector<uint32_t> idx;
+        if (prim.indices >= 0) {
+            idx = readIndices(prim.indices);
+        } else {
+            idx.resize(vertexCount);
+            for (uint32_t i = 0; i < vertexCount; ++i)
+                idx[i] = i;
+        }
+        for (uint32_t i : idx) {
+            if (i >= vertexCount)
+                fail("mesh '" + mesh.name + "': index " + std::to_string(i) + " out of range");
+        }
+        std::vector<uint32_t> tris;
+        if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+            for (std::size_t i = 2; i < idx.size(); ++i) {
+                if (i % 2 == 0)
+                    tris.insert(tris.end(), {idx[i - 2], idx[i - 1], idx[i]});
+                else
+                    tris.insert(tris.end(), {idx[i - 1], idx[i - 2], idx[i]});
+            }
+        } else if (prim.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+            for (std::size_t i = 2; i < idx.size(); ++i)
+                tris.insert(tris.end(), {idx[0], idx[i - 1], idx[i]});
+        } else {
+            tris = std::move(idx);
+            tris.resize(tris.size() / 3 * 3);
+        }
+        return tris;
+    }
+
+    // One corner of a triangle: position through `toSpace`, normal through `normalMatrix`.
+    static Vertex corner(const PrimitiveData& d, uint32_t i, const glm::mat4& toSpace,
+                         const glm::mat3& normalMatrix) {
+        Vertex v{};
+        const std::vector<float>& p = d.p;
+        v.position = glm::vec3(toSpace * glm::vec4(p[3 * i], p[3 * i + 1], p[3 * i + 2], 1.0f));
+        v.uv = d.uv.empty() ? glm::vec2(0.0f) : glm::vec2(d.uv[2 * i], d.uv[2 * i + 1]);
+        if (!d.n.empty())
+            v.normal = normalMatrix * glm::vec3(d.n[3 * i], d.n[3 * i + 1], d.n[3 * i + 2]);
+        return v;
+    }
+
+    // The triangle's face normal where the file gives no usable normal; false for a degenerate
+    // triangle, which is dropped.
+    static bool finishNormals(Vertex (&v)[3], bool fileNormals) {
+        const glm::vec3 face =
+            glm::cross(v[1].position - v[0].position, v[2].position - v[0].position);
+        if (glm::dot(face, face) <= 0.0f || !std::isfinite(face.x + face.y + face.z))
+            return false; // degenerate
+        const glm::vec3 fn = glm::normalize(face);
+        for (Vertex& x : v) {
+            const float len = glm::length(x.normal);
+            x.normal =
+                (!fileNormals || !(len > 1e-12f) || !std::isfinite(len)) ? fn : x.normal / len;
+        }
+        return true;
+    }
+
     void addMesh(const tinygltf::Mesh& mesh, const glm::mat4& world, int nodeIndex) {
         const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(world)));
         const bool cage = isCage(mesh);
         for (const tinygltf::Primitive& prim : mesh.primitives) {
-            if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
-                prim.mode != TINYGLTF_MODE_TRIANGLE_FAN && prim.mode != -1) {
-                mReport.warnings.push_back("mesh '" + mesh.name +
-                                           "': skipped a primitive of mode " +
-                                           std::to_string(prim.mode) + " (points or lines)");
-                continue;
-            }
-            auto pos = prim.attributes.find("POSITION");
-            if (pos == prim.attributes.end())
-                fail("mesh '" + mesh.name + "' has a primitive without POSITION");
-            const std::vector<float> p = readFloats(pos->second, 3);
-            const std::size_t vertexCount = p.size() / 3;
-            std::vector<float> n, uv;
-            if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
-                n = readFloats(it->second, 3);
-                if (n.size() != p.size())
-                    fail("mesh '" + mesh.name + "': NORMAL count differs from POSITION");
-            }
-            uint32_t material = mDefaultMaterial;
-            if (prim.material >= 0) {
-                if (static_cast<std::size_t>(prim.material) >= mModel.materials.size()) {
-                    fail("mesh '" + mesh.name + "' uses material " + std::to_string(prim.material) +
-                         ", which does not exist");
-                }
-                material = static_cast<uint32_t>(prim.material);
-            }
-            const UvTransform& uvt = mMaterialUv[material];
-            const std::string uvSet = "TEXCOORD_" + std::to_string(uvt.texCoord);
-            if (auto it = prim.attributes.find(uvSet); it != prim.attributes.end()) {
-                uv = readFloats(it->second, 2);
-                if (uv.size() / 2 != vertexCount)
-                    fail("mesh '" + mesh.name + "': " + uvSet + " count differs from POSITION");
-                uvt.apply(uv);
-                checkTexCoords(uv, mesh.name, uvSet);
-            }
-            std::vector<uint32_t> idx;
-            if (prim.indices >= 0) {
-                idx = readIndices(prim.indices);
-            } else {
-                idx.resize(vertexCount);
-                for (uint32_t i = 0; i < vertexCount; ++i)
-                    idx[i] = i;
-            }
-            for (uint32_t i : idx) {
-                if (i >= vertexCount)
-                    fail("mesh '" + mesh.name + "': index " + std::to_string(i) + " out of range");
-            }
-            std::vector<uint32_t> tris;
-            if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
-                for (std::size_t i = 2; i < idx.size(); ++i) {
-                    if (i % 2 == 0)
-                        tris.insert(tris.end(), {idx[i - 2], idx[i - 1], idx[i]});
-                    else
-                        tris.insert(tris.end(), {idx[i - 1], idx[i - 2], idx[i]});
-                }
-            } else if (prim.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
-                for (std::size_t i = 2; i < idx.size(); ++i)
-                    tris.insert(tris.end(), {idx[0], idx[i - 1], idx[i]});
-            } else {
-                tris = std::move(idx);
-                tris.resize(tris.size() / 3 * 3);
-            }
+            if (!trianglePrimitive(mesh, prim)) continue;
+            const PrimitiveData d = readPrimitive(mesh, prim);
+            const std::vector<float>& p = d.p;
+            const std::vector<uint32_t>& tris = d.tris;
             if (cage) {
                 std::vector<glm::vec3> corners;
                 for (const uint32_t i : tris) {
@@ -892,39 +969,517 @@ private:
                                          glm::vec4(p[3 * i], p[3 * i + 1], p[3 * i + 2], 1.0f));
                     checkWorldPosition(corners.back(), nodeIndex);
                 }
-                addCage(mesh, corners, material);
+                addCage(mesh, corners, d.material);
                 continue;
             }
             for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
                 Vertex v[3];
                 for (int k = 0; k < 3; ++k) {
-                    const uint32_t i = tris[t + k];
-                    v[k].position =
-                        glm::vec3(world * glm::vec4(p[3 * i], p[3 * i + 1], p[3 * i + 2], 1.0f));
+                    v[k] = corner(d, tris[t + k], world, normalMatrix);
                     checkWorldPosition(v[k].position, nodeIndex);
-                    v[k].uv = uv.empty() ? glm::vec2(0.0f) : glm::vec2(uv[2 * i], uv[2 * i + 1]);
-                    if (!n.empty())
-                        v[k].normal =
-                            normalMatrix * glm::vec3(n[3 * i], n[3 * i + 1], n[3 * i + 2]);
                 }
-                const glm::vec3 face =
-                    glm::cross(v[1].position - v[0].position, v[2].position - v[0].position);
-                if (glm::dot(face, face) <= 0.0f || !std::isfinite(face.x + face.y + face.z))
-                    continue; // degenerate
-                const glm::vec3 fn = glm::normalize(face);
-                for (Vertex& x : v) {
-                    const float len = glm::length(x.normal);
-                    x.normal =
-                        (n.empty() || !(len > 1e-12f) || !std::isfinite(len)) ? fn : x.normal / len;
-                }
+                if (!finishNormals(v, !d.n.empty())) continue;
                 mScene.vertices.insert(mScene.vertices.end(), {v[0], v[1], v[2]});
-                mScene.triangleMaterial.push_back(material);
+                mScene.triangleMaterial.push_back(d.material);
+            }
+        }
+    }
+
+    // Scenes that move (animation.hpp). A rig is built only when the file animates, skins or
+    // morphs something: a file with none of them loads exactly as it did without one.
+
+    static std::size_t morphTargetCountOf(const tinygltf::Mesh& mesh) {
+        return mesh.primitives.empty() ? 0 : mesh.primitives.front().targets.size();
+    }
+
+    bool needsRig() const {
+        if (!mModel.animations.empty() || !mModel.skins.empty()) return true;
+        return std::any_of(mModel.meshes.begin(), mModel.meshes.end(), [](const tinygltf::Mesh& m) {
+            return std::any_of(m.primitives.begin(), m.primitives.end(),
+                               [](const tinygltf::Primitive& p) { return !p.targets.empty(); });
+        });
+    }
+
+    void prepareRig() {
+        if (!needsRig()) return;
+        mRig = std::make_shared<Rig>();
+        mRigMeshOf.assign(mModel.meshes.size(), -1);
+        mMaxJoint.clear();
+        buildRigNodes();
+        buildSkins();
+        for (std::size_t a = 0; a < mModel.animations.size(); ++a) {
+            mRig->animations.push_back(animation(a));
+        }
+        mMoves.assign(mRig->nodes.size(), 0);
+        for (const Animation& a : mRig->animations) {
+            for (const AnimationChannel& c : a.channels) {
+                if (c.path != AnimatedPath::Weights) mMoves[c.node] = 1;
+            }
+        }
+        // Parents come first, so one pass carries an animated ancestor down to every descendant.
+        for (std::size_t i = 0; i < mRig->nodes.size(); ++i) {
+            const int parent = mRig->nodes[i].parent;
+            if (parent >= 0 && mMoves[static_cast<std::size_t>(parent)]) mMoves[i] = 1;
+        }
+    }
+
+    // Whether node `index` (a glTF index) or one of its ancestors is moved by an animation.
+    bool moves(int index) const {
+        return mRig &&
+               mMoves[static_cast<std::size_t>(mRigNodeOf[static_cast<std::size_t>(index)])];
+    }
+
+    // Every node, parents before children. The glTF node hierarchy is a forest (glTF 2.0, 3.5.3):
+    // a node with two parents or on a cycle has no single world transform to animate.
+    void buildRigNodes() {
+        const std::size_t count = mModel.nodes.size();
+        std::vector<int> parent(count, -1);
+        for (std::size_t i = 0; i < count; ++i) {
+            for (const int c : mModel.nodes[i].children) {
+                if (c < 0 || static_cast<std::size_t>(c) >= count) {
+                    fail("node " + std::to_string(i) + " has child " + std::to_string(c) +
+                         ", which does not exist");
+                }
+                if (parent[static_cast<std::size_t>(c)] >= 0) {
+                    fail("node " + std::to_string(c) +
+                         " has two parents; an animated file's node hierarchy must be a tree");
+                }
+                parent[static_cast<std::size_t>(c)] = static_cast<int>(i);
+            }
+        }
+        std::vector<int> order; // breadth first from the roots
+        for (std::size_t i = 0; i < count; ++i) {
+            if (parent[i] < 0) order.push_back(static_cast<int>(i));
+        }
+        mRigNodeOf.assign(count, -1);
+        for (std::size_t k = 0; k < order.size(); ++k) {
+            const auto node = static_cast<std::size_t>(order[k]);
+            mRigNodeOf[node] = static_cast<int>(k);
+            for (const int c : mModel.nodes[node].children)
+                order.push_back(c);
+        }
+        if (order.size() != count) fail("the node hierarchy has a cycle");
+        for (const int g : order) {
+            const int p = parent[static_cast<std::size_t>(g)];
+            mRig->nodes.push_back(rigNode(g, p < 0 ? -1 : mRigNodeOf[static_cast<std::size_t>(p)]));
+        }
+    }
+
+    RigNode rigNode(int index, int parent) const {
+        const tinygltf::Node& n = mModel.nodes[static_cast<std::size_t>(index)];
+        const std::string where = "node " + std::to_string(index);
+        RigNode r;
+        r.name = n.name;
+        r.parent = parent;
+        r.hasMatrix = n.matrix.size() == 16;
+        if (r.hasMatrix) r.matrix = localMatrix(n);
+        const auto f = [](double v) { return static_cast<float>(v); };
+        if (n.translation.size() == 3)
+            r.rest.translation = {f(n.translation[0]), f(n.translation[1]), f(n.translation[2])};
+        if (n.rotation.size() == 4)
+            r.rest.rotation =
+                glm::quat(f(n.rotation[3]), f(n.rotation[0]), f(n.rotation[1]), f(n.rotation[2]));
+        if (n.scale.size() == 3) r.rest.scale = {f(n.scale[0]), f(n.scale[1]), f(n.scale[2])};
+        const bool meshValid =
+            n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < mModel.meshes.size();
+        const std::size_t targets =
+            meshValid ? morphTargetCountOf(mModel.meshes[static_cast<std::size_t>(n.mesh)]) : 0;
+        // The default morph weights: the node's, else its mesh's, else zero (glTF 2.0, 3.7.2.2).
+        const std::vector<double>& given =
+            !n.weights.empty() || !meshValid
+                ? n.weights
+                : mModel.meshes[static_cast<std::size_t>(n.mesh)].weights;
+        if (!given.empty() && given.size() != targets) {
+            fail(where + ": has " + std::to_string(given.size()) + " morph weights, its mesh " +
+                 std::to_string(targets) + " morph targets");
+        }
+        r.weights.assign(targets, 0.0f);
+        for (std::size_t k = 0; k < given.size(); ++k)
+            r.weights[k] = f(given[k]);
+        float sum = 0.0f;
+        for (int i = 0; i < 16; ++i)
+            sum += glm::value_ptr(r.matrix)[i];
+        sum += r.rest.translation.x + r.rest.translation.y + r.rest.translation.z +
+               r.rest.rotation.x + r.rest.rotation.y + r.rest.rotation.z + r.rest.rotation.w +
+               r.rest.scale.x + r.rest.scale.y + r.rest.scale.z;
+        for (const float w : r.weights)
+            sum += w;
+        if (!std::isfinite(sum)) fail(where + ": its transform or morph weights are not finite");
+        return r;
+    }
+
+    void buildSkins() {
+        for (std::size_t s = 0; s < mModel.skins.size(); ++s) {
+            const tinygltf::Skin& skin = mModel.skins[s];
+            const std::string where = "skin " + std::to_string(s);
+            Skin out;
+            out.name = skin.name;
+            if (skin.joints.empty()) fail(where + ": has no joints");
+            for (const int j : skin.joints) {
+                if (j < 0 || static_cast<std::size_t>(j) >= mModel.nodes.size())
+                    fail(where + ": joint node " + std::to_string(j) + " does not exist");
+                out.joints.push_back(
+                    static_cast<uint32_t>(mRigNodeOf[static_cast<std::size_t>(j)]));
+            }
+            out.inverseBind.assign(out.joints.size(), glm::mat4(1.0f));
+            if (skin.inverseBindMatrices >= 0) {
+                if (static_cast<std::size_t>(skin.inverseBindMatrices) >= mModel.accessors.size())
+                    fail(where + ": inverseBindMatrices accessor " +
+                         std::to_string(skin.inverseBindMatrices) + " does not exist");
+                if (mModel.accessors[static_cast<std::size_t>(skin.inverseBindMatrices)].type !=
+                    TINYGLTF_TYPE_MAT4)
+                    fail(where + ": inverseBindMatrices is not MAT4");
+                const std::vector<float> m = readFloats(skin.inverseBindMatrices, 16);
+                if (m.size() / 16 < out.joints.size()) {
+                    fail(where + ": inverseBindMatrices has " + std::to_string(m.size() / 16) +
+                         " matrices, fewer than its " + std::to_string(out.joints.size()) +
+                         " joints");
+                }
+                for (std::size_t j = 0; j < out.joints.size(); ++j) {
+                    for (int i = 0; i < 16; ++i) {
+                        const float v = m[16 * j + static_cast<std::size_t>(i)];
+                        if (!std::isfinite(v))
+                            fail(where + ": inverse bind matrix " + std::to_string(j) +
+                                 " is not finite");
+                        glm::value_ptr(out.inverseBind[j])[i] = v; // column-major, as glTF
+                    }
+                }
+            }
+            mRig->skins.push_back(std::move(out));
+        }
+    }
+
+    static Interpolation interpolationOf(const std::string& name, bool& known) {
+        known = true;
+        if (name.empty() || name == "LINEAR") return Interpolation::Linear;
+        if (name == "STEP") return Interpolation::Step;
+        if (name == "CUBICSPLINE") return Interpolation::CubicSpline;
+        known = false;
+        return Interpolation::Linear;
+    }
+
+    // One sampler's keys, checked: the times increase, every value is finite. Its component count
+    // is its output accessor's until a channel says what it animates.
+    AnimationSampler animationSampler(const tinygltf::AnimationSampler& in,
+                                      const std::string& where, std::size_t& outputElements) const {
+        AnimationSampler out;
+        bool known = false;
+        out.interpolation = interpolationOf(in.interpolation, known);
+        if (!known)
+            fail(where + ": interpolation '" + in.interpolation +
+                 "' is not LINEAR, STEP or CUBICSPLINE");
+        const bool cubic = out.interpolation == Interpolation::CubicSpline;
+        for (const int a : {in.input, in.output}) {
+            if (a < 0 || static_cast<std::size_t>(a) >= mModel.accessors.size())
+                fail(where + ": accessor " + std::to_string(a) + " does not exist");
+        }
+        if (mModel.accessors[static_cast<std::size_t>(in.input)].type != TINYGLTF_TYPE_SCALAR)
+            fail(where + ": input accessor " + std::to_string(in.input) + " is not SCALAR");
+        out.times = readFloats(in.input, 1);
+        checkSamplerTimes(out.times, cubic, mFile + ": " + where);
+        const int components = tinygltf::GetNumComponentsInType(
+            static_cast<uint32_t>(mModel.accessors[static_cast<std::size_t>(in.output)].type));
+        if (components != 1 && components != 3 && components != 4)
+            fail(where + ": output accessor " + std::to_string(in.output) +
+                 " is not SCALAR, VEC3 or VEC4");
+        out.values = readFloats(in.output, components);
+        out.components = static_cast<uint32_t>(components);
+        outputElements = out.values.size() / static_cast<std::size_t>(components);
+        checkSamplerValues(out.values, out.components, mFile + ": " + where);
+        return out;
+    }
+
+    Animation animation(std::size_t index) const {
+        const tinygltf::Animation& in = mModel.animations[index];
+        const std::string where = "animation " + std::to_string(index);
+        Animation out;
+        out.name = in.name;
+        std::vector<std::size_t> outputElements(in.samplers.size(), 0);
+        for (std::size_t k = 0; k < in.samplers.size(); ++k) {
+            out.samplers.push_back(animationSampler(
+                in.samplers[k], where + " sampler " + std::to_string(k), outputElements[k]));
+            out.duration = std::max(out.duration, out.samplers.back().times.back());
+        }
+        for (std::size_t c = 0; c < in.channels.size(); ++c) {
+            const std::string w = where + " channel " + std::to_string(c);
+            if (auto channel = animationChannel(in.channels[c], w, out, outputElements, where)) {
+                out.channels.push_back(*channel);
+            }
+        }
+        return out;
+    }
+
+    static std::optional<AnimatedPath> pathOf(const std::string& name) {
+        if (name == "translation") return AnimatedPath::Translation;
+        if (name == "rotation") return AnimatedPath::Rotation;
+        if (name == "scale") return AnimatedPath::Scale;
+        if (name == "weights") return AnimatedPath::Weights;
+        return std::nullopt;
+    }
+
+    // A channel, checked against its sampler and its node; none for one this loader does not
+    // play (no target node, as KHR_animation_pointer writes them, or another path).
+    std::optional<AnimationChannel> animationChannel(const tinygltf::AnimationChannel& in,
+                                                     const std::string& where, Animation& anim,
+                                                     const std::vector<std::size_t>& elements,
+                                                     const std::string& animWhere) const {
+        if (in.sampler < 0 || static_cast<std::size_t>(in.sampler) >= anim.samplers.size()) {
+            fail(where + ": sampler " + std::to_string(in.sampler) + " is past the animation's " +
+                 std::to_string(anim.samplers.size()) + " samplers");
+        }
+        const auto path = pathOf(in.target_path);
+        if (in.target_node < 0 || !path) {
+            mReport.warnings.push_back(where + ": no node or path this loader plays; ignored");
+            return std::nullopt;
+        }
+        if (static_cast<std::size_t>(in.target_node) >= mModel.nodes.size()) {
+            fail(where + ": target node " + std::to_string(in.target_node) +
+                 " does not exist (the file has " + std::to_string(mModel.nodes.size()) +
+                 " nodes)");
+        }
+        const RigNode& node = mRig->nodes[static_cast<std::size_t>(
+            mRigNodeOf[static_cast<std::size_t>(in.target_node)])];
+        const std::string nodeName = "node " + std::to_string(in.target_node);
+        if (node.hasMatrix && *path != AnimatedPath::Weights)
+            fail(where + ": targets " + nodeName + ", which has a matrix (glTF animates TRS only)");
+        const auto s = static_cast<std::size_t>(in.sampler);
+        AnimationSampler& sampler = anim.samplers[s];
+        const uint32_t need = *path == AnimatedPath::Rotation  ? 4u
+                              : *path == AnimatedPath::Weights ? 1u
+                                                               : 3u;
+        if (sampler.values.size() / std::max<std::size_t>(elements[s], 1) != need &&
+            elements[s] > 0) {
+            fail(where + ": sampler " + std::to_string(s) + "'s output has " +
+                 std::to_string(sampler.values.size() / elements[s]) + " components, " +
+                 in.target_path + " needs " + std::to_string(need));
+        }
+        std::size_t perKey = 0; // morph targets a key: none but for weights
+        if (*path == AnimatedPath::Weights) {
+            perKey = node.weights.size();
+            if (perKey == 0)
+                fail(where + ": animates the weights of " + nodeName +
+                     ", whose mesh has no morph targets");
+        }
+        checkSamplerCount(elements[s], sampler.times.size(), perKey,
+                          sampler.interpolation == Interpolation::CubicSpline,
+                          mFile + ": " + animWhere + " sampler " + std::to_string(s));
+        sampler.components = static_cast<uint32_t>(perKey > 0 ? perKey : need);
+        return AnimationChannel{
+            static_cast<uint32_t>(s),
+            static_cast<uint32_t>(mRigNodeOf[static_cast<std::size_t>(in.target_node)]), *path};
+    }
+
+    // A mesh instance goes into the rig when its vertices or its world transform can change.
+    bool rigBound(int nodeIndex, const tinygltf::Mesh& mesh) const {
+        if (!mRig || isCage(mesh)) return false; // cages are refined once, where they stand
+        return moves(nodeIndex) || mModel.nodes[static_cast<std::size_t>(nodeIndex)].skin >= 0 ||
+               morphTargetCountOf(mesh) > 0;
+    }
+
+    void addRigInstance(int nodeIndex) {
+        const tinygltf::Node& node = mModel.nodes[static_cast<std::size_t>(nodeIndex)];
+        const uint32_t mesh = rigMesh(node.mesh, nodeIndex);
+        MeshInstance instance{
+            static_cast<uint32_t>(mRigNodeOf[static_cast<std::size_t>(nodeIndex)]), mesh, -1};
+        if (node.skin >= 0) {
+            const std::string where = "node " + std::to_string(nodeIndex);
+            if (static_cast<std::size_t>(node.skin) >= mRig->skins.size())
+                fail(where + " has skin " + std::to_string(node.skin) + ", which does not exist");
+            if (mRig->meshes[mesh].joints.empty())
+                fail(where + " has a skin, but mesh '" + mRig->meshes[mesh].name +
+                     "' has no JOINTS_0 and WEIGHTS_0");
+            const std::size_t joints =
+                mRig->skins[static_cast<std::size_t>(node.skin)].joints.size();
+            const JointUse& use = mMaxJoint[mesh];
+            if (use.joint >= joints) {
+                fail("mesh '" + mRig->meshes[mesh].name + "' primitive " +
+                     std::to_string(use.primitive) + " vertex " + std::to_string(use.vertex) +
+                     ": joint " + std::to_string(use.joint) + " is out of range of skin " +
+                     std::to_string(node.skin) + "'s " + std::to_string(joints) + " joints");
+            }
+            instance.skin = node.skin;
+        }
+        mRig->instances.push_back(instance);
+    }
+
+    // The largest joint index a mesh's vertices name, and where: checked against each skin.
+    struct JointUse {
+        uint32_t joint = 0;
+        std::size_t primitive = 0, vertex = 0;
+    };
+
+    uint32_t rigMesh(int meshIndex, int nodeIndex) {
+        int& slot = mRigMeshOf[static_cast<std::size_t>(meshIndex)];
+        if (slot >= 0) return static_cast<uint32_t>(slot);
+        const tinygltf::Mesh& mesh = mModel.meshes[static_cast<std::size_t>(meshIndex)];
+        const std::size_t targets = morphTargetCountOf(mesh);
+        std::size_t withJoints = 0;
+        for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+            const tinygltf::Primitive& prim = mesh.primitives[p];
+            if (prim.targets.size() != targets)
+                fail("mesh '" + mesh.name + "': primitive " + std::to_string(p) + " has " +
+                     std::to_string(prim.targets.size()) + " morph targets, primitive 0 has " +
+                     std::to_string(targets));
+            withJoints += prim.attributes.count("JOINTS_0") && prim.attributes.count("WEIGHTS_0");
+        }
+        if (withJoints != 0 && withJoints != mesh.primitives.size())
+            fail("mesh '" + mesh.name + "': some primitives have JOINTS_0 and WEIGHTS_0, some not");
+        RigMesh out;
+        out.name = mesh.name;
+        out.targets.resize(targets);
+        std::vector<char> anyPosition(targets, 0), anyNormal(targets, 0);
+        JointUse use;
+        for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+            if (!trianglePrimitive(mesh, mesh.primitives[p])) continue;
+            appendRigPrimitive(out, mesh, p, withJoints != 0, nodeIndex, use, anyPosition,
+                               anyNormal);
+        }
+        for (std::size_t k = 0; k < targets; ++k) {
+            if (!anyPosition[k]) out.targets[k].positions.clear();
+            if (!anyNormal[k]) out.targets[k].normals.clear();
+        }
+        slot = static_cast<int>(mRig->meshes.size());
+        mRig->meshes.push_back(std::move(out));
+        mMaxJoint.push_back(use);
+        return static_cast<uint32_t>(slot);
+    }
+
+    // JOINTS_0 (unsigned byte or short, glTF 2.0, 3.7.3.1) and WEIGHTS_0 (float or normalised
+    // unsigned byte or short), the weights scaled to sum to 1.
+    void readSkinning(const tinygltf::Primitive& prim, const std::string& where,
+                      std::size_t vertexCount, std::vector<float>& joints,
+                      std::vector<float>& weights) const {
+        const int j = prim.attributes.at("JOINTS_0");
+        const tinygltf::Accessor& a = accessor(j);
+        if ((a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+             a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) ||
+            a.normalized)
+            fail(where + ": JOINTS_0 is not unsigned byte or short");
+        joints = readFloats(j, 4);
+        const int w = prim.attributes.at("WEIGHTS_0");
+        const tinygltf::Accessor& b = accessor(w);
+        if (b.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !b.normalized)
+            fail(where + ": WEIGHTS_0 is neither float nor normalised");
+        weights = readFloats(w, 4);
+        if (joints.size() != 4 * vertexCount || weights.size() != 4 * vertexCount)
+            fail(where + ": JOINTS_0 or WEIGHTS_0 count differs from POSITION");
+        for (std::size_t v = 0; v < vertexCount; ++v) {
+            float sum = 0.0f;
+            for (std::size_t c = 0; c < 4; ++c) {
+                const float x = weights[4 * v + c];
+                if (!(x >= 0.0f) || !std::isfinite(x))
+                    fail(where + ": WEIGHTS_0 of vertex " + std::to_string(v) +
+                         " is negative or not a finite number");
+                sum += x;
+            }
+            for (std::size_t c = 0; c < 4; ++c) {
+                // All zero: bound to its first joint rather than collapsed to the origin.
+                weights[4 * v + c] = sum > 0.0f ? weights[4 * v + c] / sum : (c == 0 ? 1.0f : 0.0f);
+            }
+        }
+    }
+
+    // Morph target `k`'s attribute `name` of a primitive: empty when it has none, else one
+    // displacement a vertex.
+    std::vector<float> readTarget(const tinygltf::Primitive& prim, std::size_t k, const char* name,
+                                  const std::string& where, std::size_t vertexCount) const {
+        const auto it = prim.targets[k].find(name);
+        if (it == prim.targets[k].end()) return {};
+        std::vector<float> d = readFloats(it->second, 3);
+        const std::string w = where + " morph target " + std::to_string(k) + ": " + name;
+        if (d.size() != 3 * vertexCount)
+            fail(w + " has " + std::to_string(d.size() / 3) + " elements, the primitive " +
+                 std::to_string(vertexCount) + " vertices");
+        for (const float x : d) {
+            if (!std::isfinite(x)) fail(w + " has a value that is not a finite number");
+        }
+        return d;
+    }
+
+    // A primitive's triangles in mesh space, with per-vertex joints, weights and target deltas.
+    void appendRigPrimitive(RigMesh& out, const tinygltf::Mesh& mesh, std::size_t p, bool skinned,
+                            int nodeIndex, JointUse& use, std::vector<char>& anyPosition,
+                            std::vector<char>& anyNormal) {
+        const tinygltf::Primitive& prim = mesh.primitives[p];
+        const std::string where = "mesh '" + mesh.name + "' primitive " + std::to_string(p);
+        const PrimitiveData d = readPrimitive(mesh, prim);
+        std::vector<float> joints, weights;
+        if (skinned) readSkinning(prim, where, d.vertexCount, joints, weights);
+        std::vector<std::vector<float>> dp, dn;
+        for (std::size_t k = 0; k < out.targets.size(); ++k) {
+            dp.push_back(readTarget(prim, k, "POSITION", where, d.vertexCount));
+            dn.push_back(readTarget(prim, k, "NORMAL", where, d.vertexCount));
+            anyPosition[k] |= !dp.back().empty();
+            anyNormal[k] |= !dn.back().empty();
+        }
+        const auto delta = [](const std::vector<float>& v, uint32_t i) {
+            return v.empty() ? glm::vec3(0.0f) : glm::vec3(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+        };
+        for (std::size_t t = 0; t + 2 < d.tris.size(); t += 3) {
+            Vertex v[3];
+            for (int k = 0; k < 3; ++k) {
+                v[k] = corner(d, d.tris[t + k], glm::mat4(1.0f), glm::mat3(1.0f));
+                checkWorldPosition(v[k].position, nodeIndex);
+            }
+            if (!finishNormals(v, !d.n.empty())) continue;
+            out.vertices.insert(out.vertices.end(), {v[0], v[1], v[2]});
+            out.triangleMaterial.push_back(d.material);
+            for (std::size_t k = 0; k < 3; ++k) {
+                const uint32_t i = d.tris[t + k];
+                if (skinned) {
+                    const glm::uvec4 j(joints[4 * i], joints[4 * i + 1], joints[4 * i + 2],
+                                       joints[4 * i + 3]);
+                    for (int c = 0; c < 4; ++c) {
+                        if (j[c] >= use.joint) use = {j[c], p, i};
+                    }
+                    out.joints.push_back(j);
+                    out.weights.emplace_back(weights[4 * i], weights[4 * i + 1], weights[4 * i + 2],
+                                             weights[4 * i + 3]);
+                }
+                for (std::size_t m = 0; m < out.targets.size(); ++m) {
+                    out.targets[m].positions.push_back(delta(dp[m], i));
+                    out.targets[m].normals.push_back(delta(dn[m], i));
+                }
+            }
+        }
+    }
+
+    // The rig's instances at the rest pose, added to the bounds the camera is framed on: a file
+    // whose every mesh moves has no static vertices to frame.
+    void addRestBounds(glm::vec3& lo, glm::vec3& hi) const {
+        std::vector<glm::mat4> world(mRig->nodes.size());
+        for (std::size_t i = 0; i < world.size(); ++i) {
+            const RigNode& n = mRig->nodes[i];
+            const glm::mat4 local = n.hasMatrix
+                                        ? n.matrix
+                                        : glm::translate(glm::mat4(1.0f), n.rest.translation) *
+                                              glm::mat4_cast(n.rest.rotation) *
+                                              glm::scale(glm::mat4(1.0f), n.rest.scale);
+            world[i] = n.parent < 0 ? local : world[static_cast<std::size_t>(n.parent)] * local;
+        }
+        for (const MeshInstance& inst : mRig->instances) {
+            const RigMesh& m = mRig->meshes[inst.mesh];
+            for (std::size_t v = 0; v < m.vertices.size(); ++v) {
+                glm::mat4 toWorld = world[inst.node];
+                if (inst.skin >= 0) {
+                    // Linear blend skinning at rest (glTF 2.0, 3.7.3.3).
+                    const Skin& s = mRig->skins[static_cast<std::size_t>(inst.skin)];
+                    toWorld = glm::mat4(0.0f);
+                    for (int c = 0; c < 4; ++c) {
+                        const uint32_t j = m.joints[v][c];
+                        toWorld += m.weights[v][c] * world[s.joints[j]] * s.inverseBind[j];
+                    }
+                }
+                const glm::vec3 p(toWorld * glm::vec4(m.vertices[v].position, 1.0f));
+                lo = glm::min(lo, p);
+                hi = glm::max(hi, p);
             }
         }
     }
 
     void finish() {
-        const glm::vec3 lo = mScene.boundsMin(), hi = mScene.boundsMax();
+        glm::vec3 lo = mScene.boundsMin(), hi = mScene.boundsMax();
+        if (mRig) addRestBounds(lo, hi);
         const glm::vec3 centre = 0.5f * (lo + hi);
         const float radius = std::max(0.5f * glm::length(hi - lo), 1e-3f);
         if (!mHaveCamera) {
@@ -958,6 +1513,12 @@ private:
     std::vector<UvTransform> mMaterialUv; // per material, the default material's last
     uint32_t mDefaultMaterial = 0;
     bool mHaveCamera = false;
+    // What moves: null while nothing does. The rig's nodes are every glTF node, parents first.
+    std::shared_ptr<Rig> mRig;
+    std::vector<int> mRigNodeOf;     // per glTF node, its index in mRig->nodes
+    std::vector<char> mMoves;        // per rig node: it or an ancestor is animated
+    std::vector<int> mRigMeshOf;     // per glTF mesh, its index in mRig->meshes (-1: not yet)
+    std::vector<JointUse> mMaxJoint; // per rig mesh
 };
 
 } // namespace

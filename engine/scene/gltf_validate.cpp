@@ -805,4 +805,55 @@ GlbLayout glbLayout(std::string_view bytes, const std::string& file) {
     return out;
 }
 
+namespace {
+
+std::string number(double v) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%g", v);
+    return text;
+}
+
+} // namespace
+
+void checkSamplerTimes(std::span<const float> times, bool cubic, const std::string& where) {
+    if (times.empty() || (cubic && times.size() < 2)) {
+        throw LoadError(where + ": input has " + std::to_string(times.size()) + " keys, " +
+                        (cubic ? "CUBICSPLINE needs at least 2" : "needs at least 1"));
+    }
+    for (std::size_t k = 0; k < times.size(); ++k) {
+        const std::string key = " at key " + std::to_string(k);
+        if (!std::isfinite(times[k])) {
+            throw LoadError(where + ": input time is not a finite number" + key);
+        }
+        if (times[k] < 0.0f) {
+            throw LoadError(where + ": input time " + number(times[k]) + " is negative" + key);
+        }
+        if (k > 0 && !(times[k] > times[k - 1])) {
+            throw LoadError(where + ": input times not increasing" + key + " (" +
+                            number(times[k - 1]) + " then " + number(times[k]) + ")");
+        }
+    }
+}
+
+void checkSamplerValues(std::span<const float> values, std::size_t components,
+                        const std::string& where) {
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        if (!std::isfinite(values[i])) {
+            throw LoadError(where + ": output value is not a finite number at element " +
+                            std::to_string(i / std::max<std::size_t>(components, 1)));
+        }
+    }
+}
+
+void checkSamplerCount(std::size_t outputElements, std::size_t keys, std::size_t morphTargets,
+                       bool cubic, const std::string& where) {
+    const std::size_t expected = keys * std::max<std::size_t>(morphTargets, 1) * (cubic ? 3 : 1);
+    if (outputElements == expected) return;
+    std::string why = std::to_string(keys) + " keys";
+    if (morphTargets > 0) why += " x " + std::to_string(morphTargets) + " morph targets";
+    if (cubic) why += " x 3 (CUBICSPLINE: in-tangent, value, out-tangent)";
+    throw LoadError(where + ": output has " + std::to_string(outputElements) +
+                    " elements, expected " + std::to_string(expected) + " (" + why + ")");
+}
+
 } // namespace gt::scene

@@ -7,6 +7,7 @@
 // with one line naming the file, the field and the rule ("scene.gltf: accessors[3].byteOffset is
 // -4, must be >= 0").
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -40,5 +41,21 @@ struct GlbLayout {
 // breaks become spaces and a run of more than 120 characters without a space (a data: URI, a
 // 5000-digit number, an unterminated string) keeps its first 100 and says how long it was.
 [[nodiscard]] std::string messageLine(std::string_view text);
+
+// Animation keys as decoded from a sampler's accessors (glTF 2.0, 3.11 "Animations"). `where`
+// names the sampler ("scene.gltf: animation 0 sampler 2"); each check throws gt::LoadError with
+// one line "where: what is wrong at which key".
+//
+// The input: at least one key (two for CUBICSPLINE, whose Hermite segments need two ends), every
+// time finite, non-negative and greater than the one before.
+void checkSamplerTimes(std::span<const float> times, bool cubic, const std::string& where);
+// The output: every value finite.
+void checkSamplerValues(std::span<const float> values, std::size_t components,
+                        const std::string& where);
+// The output accessor's element count against the keys: `perKey` elements a key (the morph
+// target count for weights, else 1), three times that for CUBICSPLINE (in-tangent, value,
+// out-tangent).
+void checkSamplerCount(std::size_t outputElements, std::size_t keys, std::size_t perKey, bool cubic,
+                       const std::string& where);
 
 } // namespace gt::scene
