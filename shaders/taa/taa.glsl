@@ -110,6 +110,21 @@ vec4 historyOfSurface(vec2 p, ivec2 size, float signature, out bool found) {
     found = total > 0.0;
     return found ? vec4(colour.rgb / total, depth) : vec4(0.0);
 }
+
+// Whether any of the 3x3 pixels around `px` shows another signature now than its counterpart
+// around `prevPixel` last frame.
+bool changedAround(ivec2 px, vec2 prevPixel, ivec2 size) {
+    ivec2 prev = ivec2(floor(prevPixel));
+    for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+            ivec2 o = ivec2(dx, dy);
+            float now = imageLoad(uMotion, clamp(px + o, ivec2(0), size - 1)).w;
+            float then = imageLoad(uSignatureHistory, clamp(prev + o, ivec2(0), size - 1)).r;
+            if (now != then) return true;
+        }
+    }
+    return false;
+}
 #endif
 
 void main() {
@@ -170,6 +185,10 @@ void main() {
     vec4 history = valid ? historyOfSurface(prevPixel, size, motion.w, sameSurface) : current;
     valid = valid && sameSurface;
     if (!valid) history = current;
+    // Something changed around the pixel since last frame (a surface or shadow edge moved past
+    // it): its history may hold a mix of what was there, such as a sample straddling a moving
+    // object's edge under the floor's signature; it is clipped as a moved pixel's, not pooled.
+    if (valid && !moved) moved = changedAround(px, prevPixel, size);
 #else
     vec4 history = valid ? historyBilinear(prevPixel, size) : current;
 #endif
