@@ -52,7 +52,75 @@ bool slab(const BvhNode& n, const glm::vec3& origin, const glm::vec3& invDir, fl
     return enter <= exit;
 }
 
+float nodeArea(const BvhNode& node) {
+    Aabb b;
+    b.grow(node.boundsMin);
+    b.grow(node.boundsMax);
+    return b.area();
+}
+
+// The build's figure of merit (BvhBuildStats::sahCost): each node's work weighted by the chance
+// a ray through the root meets its box.
+float sahCostOf(const std::vector<BvhNode>& nodes) {
+    const float rootArea = std::max(nodeArea(nodes[0]), 1e-20f);
+    float cost = 0.0f;
+    for (const BvhNode& node : nodes) {
+        const float work = node.count > 0 ? kIntersectCost * static_cast<float>(node.count)
+                                          : 2.0f * kTraversalCost;
+        cost += nodeArea(node) / rootArea * work;
+    }
+    return cost;
+}
+
+// The slab test must never reject a hit Möller–Trumbore accepts: boxes are padded by a few
+// ULPs of their coordinates (flat boxes around axis-aligned triangles, grazing rays).
+void storePadded(BvhNode& node, const Aabb& bounds) {
+    const glm::vec3 pad = 4e-6f * (glm::abs(bounds.lo) + glm::abs(bounds.hi)) + 1e-30f;
+    node.boundsMin = bounds.lo - pad;
+    node.boundsMax = bounds.hi + pad;
+}
+
 } // namespace
+
+void Bvh::placeTriangles(std::span<const Vertex> vertices) {
+    const auto n = static_cast<uint32_t>(mOrder.size());
+    mTriangles.resize(n);
+    for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t t = mOrder[i];
+        const glm::vec3 v0 = vertices[3 * t].position;
+        mTriangles[i] = {v0, vertices[3 * t + 1].position - v0, vertices[3 * t + 2].position - v0};
+    }
+}
+
+float Bvh::refit(std::span<const Vertex> vertices) {
+    if (vertices.size() / 3 != mOrder.size()) {
+        throw Error("BVH refit: " + std::to_string(vertices.size() / 3) +
+                    " triangles for a tree over " + std::to_string(mOrder.size()));
+    }
+    if (mOrder.empty()) return mStats.sahCost;
+    placeTriangles(vertices);
+    // Children always follow their parent in mNodes (the build appends them after it), so one
+    // pass from the back sees every node's children before the node.
+    std::vector<Aabb> boxes(mNodes.size());
+    for (std::size_t i = mNodes.size(); i-- > 0;) {
+        BvhNode& node = mNodes[i];
+        Aabb b;
+        if (node.count > 0) {
+            for (uint32_t k = node.leftFirst; k < node.leftFirst + node.count; ++k) {
+                const BvhTriangle& t = mTriangles[k];
+                b.grow(t.v0);
+                b.grow(t.v0 + t.e1);
+                b.grow(t.v0 + t.e2);
+            }
+        } else {
+            b = boxes[node.leftFirst];
+            b.grow(boxes[node.leftFirst + 1]);
+        }
+        boxes[i] = b;
+        storePadded(node, b);
+    }
+    return sahCostOf(mNodes);
+}
 
 bool intersectTriangle(const BvhTriangle& tri, const Ray& ray, float& t, float& u, float& v) {
     const glm::vec3 p = glm::cross(ray.direction, tri.e2);
@@ -69,17 +137,11 @@ bool intersectTriangle(const BvhTriangle& tri, const Ray& ray, float& t, float& 
     return t > ray.tMin && t < ray.tMax;
 }
 
-Bvh::Bvh(std::span<const Vertex> /*vertices*/) {
-    throw Error("Bvh over a vertex list: not implemented");
-}
+Bvh::Bvh(const Scene& scene) : Bvh(std::span<const Vertex>(scene.vertices)) {}
 
-float Bvh::refit(std::span<const Vertex> /*vertices*/) {
-    throw Error("Bvh::refit: not implemented");
-}
-
-Bvh::Bvh(const Scene& scene) {
+Bvh::Bvh(std::span<const Vertex> vertices) {
     const auto start = std::chrono::steady_clock::now();
-    const auto n = static_cast<uint32_t>(scene.triangleCount());
+    const auto n = static_cast<uint32_t>(vertices.size() / 3);
     if (n == 0) {
         // Environment-only scenes: an empty leaf; traversal returns at once (see intersect()).
         mNodes.push_back({glm::vec3(0.0f), 0u, glm::vec3(0.0f), 0u});
@@ -90,7 +152,7 @@ Bvh::Bvh(const Scene& scene) {
     std::vector<glm::vec3> centroids(n);
     for (uint32_t i = 0; i < n; ++i) {
         for (int k = 0; k < 3; ++k)
-            boxes[i].grow(scene.vertices[3 * i + k].position);
+            boxes[i].grow(vertices[3 * i + k].position);
         centroids[i] = 0.5f * (boxes[i].lo + boxes[i].hi);
     }
     mOrder.resize(n);
@@ -117,11 +179,7 @@ Bvh::Bvh(const Scene& scene) {
             bounds.grow(boxes[mOrder[i]]);
             centroidBounds.grow(centroids[mOrder[i]]);
         }
-        // Pad each box by a few ULPs of its coordinates so the slab test can never reject a
-        // hit Möller–Trumbore accepts (flat boxes around axis-aligned triangles, grazing rays).
-        const glm::vec3 pad = 4e-6f * (glm::abs(bounds.lo) + glm::abs(bounds.hi)) + 1e-30f;
-        mNodes[task.node].boundsMin = bounds.lo - pad;
-        mNodes[task.node].boundsMax = bounds.hi + pad;
+        storePadded(mNodes[task.node], bounds);
         mStats.maxDepth = std::max(mStats.maxDepth, task.depth);
         if (task.count <= 2) {
             makeLeaf(task);
@@ -206,26 +264,9 @@ Bvh::Bvh(const Scene& scene) {
         stack.push_back({left + 1, mid, task.first + task.count - mid, task.depth + 1});
         stack.push_back({left, task.first, mid - task.first, task.depth + 1});
     }
-    mTriangles.resize(n);
-    for (uint32_t i = 0; i < n; ++i) {
-        const uint32_t t = mOrder[i];
-        const glm::vec3 v0 = scene.vertices[3 * t].position;
-        mTriangles[i] = {v0, scene.vertices[3 * t + 1].position - v0,
-                         scene.vertices[3 * t + 2].position - v0};
-    }
+    placeTriangles(vertices);
     mStats.nodes = static_cast<uint32_t>(mNodes.size());
-    const auto nodeArea = [](const BvhNode& node) {
-        Aabb b;
-        b.grow(node.boundsMin);
-        b.grow(node.boundsMax);
-        return b.area();
-    };
-    const float rootArea = std::max(nodeArea(mNodes[0]), 1e-20f);
-    for (const BvhNode& node : mNodes) {
-        const float work = node.count > 0 ? kIntersectCost * static_cast<float>(node.count)
-                                          : 2.0f * kTraversalCost;
-        mStats.sahCost += nodeArea(node) / rootArea * work;
-    }
+    mStats.sahCost = sahCostOf(mNodes);
     mStats.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

@@ -87,6 +87,8 @@ public:
     [[nodiscard]] Hit intersectBruteForce(const Ray& ray) const;
 
 private:
+    void placeTriangles(std::span<const Vertex> vertices); // mTriangles from mOrder
+
     std::vector<BvhNode> mNodes;
     std::vector<uint32_t> mOrder;
     std::vector<BvhTriangle> mTriangles;
