@@ -22,6 +22,8 @@ nlohmann::json runStereoBench(const BenchOptions& options);
 // Eccentricity layers only (Guenter et al. 2012): the predictions and the measured ratios against
 // the reference, also part of the full `render` suite.
 nlohmann::json runLayersBench(const BenchOptions& options);
+// --suite animation: the per-frame CPU work of a scene that moves (apps/gazetrace/animation_bench.cpp).
+nlohmann::json runAnimationBench(const BenchOptions& options);
 // Writes `j` to `path` through a temporary file renamed when complete.
 void writeJsonFile(const std::string& path, const nlohmann::json& j);
 

@@ -3,11 +3,13 @@
 //  - the camera turns slowly back and forth, so TAA reprojects;
 //  - every 15 frames the settings change, through six phases: nearest neighbour at one ray and
 //    at two with TAA off, Modified Shepard through the per-pixel k-NN table and through the
-//    neighbour lists, the full-resolution reference, and a phase read back to host memory.
-// The six phases make a 90-frame cycle. What a phase builds lives while it runs (the k-NN
+//    neighbour lists, the full-resolution reference, a phase read back to host memory, and an
+//    animated scene (--animated-scene: a second scene on the same renderer, its two-level
+//    structure refitted and uploaded every frame, its samples carrying motion into TAA).
+// The seven phases make a 105-frame cycle. What a phase builds lives while it runs (the k-NN
 // table of the MSM phase takes ~380 MB at 1920 x 1080 and is released when the settings
 // change), so resident memory is compared between frames at the same point of the cycle:
-// frame 100 and the last of 190, 280, ..., 1000. Growth between them is what the loop itself
+// frame 100 and the last of 205, 310, ..., 940. Growth between them is what the loop itself
 // keeps. RBF is left out: its per-pixel weights at 1920 x 1080 take minutes to build on the
 // CPU driver and add nothing the MSM variants do not exercise.
 #include "soak_command.hpp"
@@ -15,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <numbers>
@@ -26,10 +29,12 @@
 
 #include "bench_command.hpp"
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "foveation/contrast_sensitivity.hpp"
 #include "frame_loop.hpp"
 #include "full_resolution.hpp"
 #include "method_choice.hpp"
+#include "method_factory.hpp"
 #include "option_parsing.hpp"
 #include "output_target.hpp"
 #include "point_set_method.hpp"
@@ -58,6 +63,7 @@ struct Phase {
     uint32_t raysPerPoint = 1;
     bool taa = true;
     bool readback = false;
+    bool animated = false; // the animated scene instead of --scene
 };
 
 constexpr uint32_t kPhaseFrames = 15;
@@ -76,8 +82,10 @@ const Phase kPhases[] = {
      10, 1, false},
     {"nn/1 ray/taa/readback", false, passes::Interpolation::Nearest, passes::KnnIndex::PixelTable,
      10, 1, true, true},
+    {"animated/nn/1 ray/taa", false, passes::Interpolation::Nearest, passes::KnnIndex::PixelTable,
+     10, 1, true, false, true},
 };
-constexpr uint32_t kCycleFrames = std::size(kPhases) * kPhaseFrames; // 90
+constexpr uint32_t kCycleFrames = std::size(kPhases) * kPhaseFrames; // 105
 
 // The gaze of a soak frame: a Lissajous pursuit around a centre that jumps (a saccade) every
 // kSaccadeEvery frames.
@@ -202,6 +210,31 @@ nlohmann::json soakSummary(const SoakOptions& o, render::Renderer& r, const Memo
 
 } // namespace
 
+// The animated phase's scene: --animated-scene on the renderer beside --scene. When the shipped
+// sample is not found from here (the default path is relative), the phase shows --scene.
+struct AnimatedPhase {
+    std::unique_ptr<render::PointSetMethod> method;
+    scene::Camera camera;
+    float exposure = 1.0f;
+};
+
+AnimatedPhase animatedPhase(render::Renderer& r, const SoakOptions& o,
+                            const foveation::PointSetParams& params) {
+    render::Renderer::SceneId id = 0;
+    if (o.animatedSceneGiven || std::filesystem::exists(o.animatedScene)) {
+        id = r.addScene(o.animatedScene, gltfLoadOptions());
+    } else {
+        log::info("soak: " + o.animatedScene +
+                  " not found from here: the animated phase shows --scene");
+    }
+    AnimatedPhase a;
+    a.method = render::makeMethod(render::PointSetConfig{params, cacheFolder(o.cacheDir), {}},
+                                  r.methodContext(id));
+    a.camera = r.scene(id).camera;
+    a.exposure = r.scene(id).exposure;
+    return a;
+}
+
 nlohmann::json runSoak(const SoakOptions& o) {
     if (o.frames < 1) throw ArgumentError("soak: --frames must be at least 1");
     render::Renderer r({.scene = o.scene,
@@ -214,6 +247,7 @@ nlohmann::json runSoak(const SoakOptions& o) {
         foveation::displayProfile(foveation::DisplayModel::Desktop), o.width, o.height);
     const std::unique_ptr<render::PointSetMethod> foveated =
         makePointSetMethod(r, params, o.cacheDir);
+    const AnimatedPhase animated = animatedPhase(r, o, params);
     render::FullResolution reference(r.methodContext(), {1, 0});
     render::DiscardTarget discard;
     render::ReadbackTarget readback(r.context());
@@ -248,6 +282,13 @@ nlohmann::json runSoak(const SoakOptions& o) {
         foveated->settings.interpolation.k = phase.k;
         v.method = phase.reference ? static_cast<render::FoveationMethod*>(&reference)
                                    : static_cast<render::FoveationMethod*>(foveated.get());
+        if (phase.animated) {
+            animated.method->settings = foveated->settings;
+            v.method = animated.method.get();
+            v.camera = animated.camera;
+            v.exposure = animated.exposure;
+            v.name = "animated";
+        }
         return std::vector<render::View>{v};
     };
     stages.targets = [&](const FrameTick& t, std::span<const render::View>) {

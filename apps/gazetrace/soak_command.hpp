@@ -12,6 +12,9 @@ namespace gt::app {
 
 struct SoakOptions {
     std::string scene = "builtin:market";
+    // The animated phase's scene (the shipped sample, relative to the repository).
+    std::string animatedScene = "content/animated/moving_parts.gltf";
+    bool animatedSceneGiven = false;
     uint32_t frames = 1000;
     uint32_t width = 1920, height = 1080; // the desktop profile's screen
     double maxGrowthPercent = 5.0;

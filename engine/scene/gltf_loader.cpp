@@ -738,6 +738,11 @@ private:
             fail("light type '" + l.type + "' is not point, spot or directional");
         out.position = glm::vec3(world[3]);
         out.direction = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
+        // A rotation of 1e30 overflows the node's matrix: the light would point nowhere.
+        if (!std::isfinite(out.direction.x + out.direction.y + out.direction.z + out.position.x +
+                           out.position.y + out.position.z)) {
+            fail(name + ": its node's transform leaves it no finite position and direction");
+        }
         if (l.color.size() == 3) {
             for (int c = 0; c < 3; ++c) {
                 out.color[c] =
@@ -1059,6 +1064,7 @@ private:
                 order.push_back(c);
         }
         if (order.size() != count) fail("the node hierarchy has a cycle");
+        mGltfNodeOf = order;
         for (const int g : order) {
             const int p = parent[static_cast<std::size_t>(g)];
             mRig->nodes.push_back(rigNode(g, p < 0 ? -1 : mRigNodeOf[static_cast<std::size_t>(p)]));
@@ -1299,7 +1305,8 @@ private:
             }
             instance.skin = node.skin;
         }
-        mRig->instances.push_back(instance);
+        // A mesh whose triangles were all degenerate draws nothing, as on the static path.
+        if (!mRig->meshes[mesh].vertices.empty()) mRig->instances.push_back(instance);
     }
 
     // The largest joint index a mesh's vertices name, and where: checked against each skin.
@@ -1444,9 +1451,10 @@ private:
         }
     }
 
-    // The rig's instances at the rest pose, added to the bounds the camera is framed on: a file
-    // whose every mesh moves has no static vertices to frame.
-    void addRestBounds(glm::vec3& lo, glm::vec3& hi) const {
+    // The rig's instances at the rest pose, added to the bounds the camera is framed on (a file
+    // whose every mesh moves has no static vertices to frame), and held to the coordinate limit
+    // the static triangles are.
+    void addRestBounds(glm::vec3& lo, glm::vec3& hi) {
         std::vector<glm::mat4> world(mRig->nodes.size());
         for (std::size_t i = 0; i < world.size(); ++i) {
             const RigNode& n = mRig->nodes[i];
@@ -1471,6 +1479,7 @@ private:
                     }
                 }
                 const glm::vec3 p(toWorld * glm::vec4(m.vertices[v].position, 1.0f));
+                checkWorldPosition(p, mGltfNodeOf[inst.node]);
                 lo = glm::min(lo, p);
                 hi = glm::max(hi, p);
             }
@@ -1516,6 +1525,7 @@ private:
     // What moves: null while nothing does. The rig's nodes are every glTF node, parents first.
     std::shared_ptr<Rig> mRig;
     std::vector<int> mRigNodeOf;     // per glTF node, its index in mRig->nodes
+    std::vector<int> mGltfNodeOf;    // per rig node, its glTF index
     std::vector<char> mMoves;        // per rig node: it or an ancestor is animated
     std::vector<int> mRigMeshOf;     // per glTF mesh, its index in mRig->meshes (-1: not yet)
     std::vector<JointUse> mMaxJoint; // per rig mesh

@@ -837,10 +837,18 @@ void checkSamplerTimes(std::span<const float> times, bool cubic, const std::stri
 
 void checkSamplerValues(std::span<const float> values, std::size_t components,
                         const std::string& where) {
+    // The loader's limit on coordinates: keys beyond it would carry geometry past what the BVH
+    // can bound in floats.
+    constexpr float kLimit = 1e12f;
     for (std::size_t i = 0; i < values.size(); ++i) {
+        const std::string element =
+            " at element " + std::to_string(i / std::max<std::size_t>(components, 1));
         if (!std::isfinite(values[i])) {
-            throw LoadError(where + ": output value is not a finite number at element " +
-                            std::to_string(i / std::max<std::size_t>(components, 1)));
+            throw LoadError(where + ": output value is not a finite number" + element);
+        }
+        if (std::abs(values[i]) > kLimit) {
+            throw LoadError(where + ": output value " + number(values[i]) + " is outside +-1e12" +
+                            element);
         }
     }
 }

@@ -49,7 +49,7 @@ struct GlbLayout {
 // The input: at least one key (two for CUBICSPLINE, whose Hermite segments need two ends), every
 // time finite, non-negative and greater than the one before.
 void checkSamplerTimes(std::span<const float> times, bool cubic, const std::string& where);
-// The output: every value finite.
+// The output: every value finite and within +-1e12, the loader's limit on coordinates.
 void checkSamplerValues(std::span<const float> values, std::size_t components,
                         const std::string& where);
 // The output accessor's element count against the keys: `perKey` elements a key (the morph

@@ -8,6 +8,7 @@
 #include "fuzz_input.hpp"
 
 #include "core/error.hpp"
+#include "scene/animation.hpp"
 #include "scene/bvh.hpp"
 #include "scene/gltf_loader.hpp"
 
@@ -17,9 +18,74 @@ bool finite(glm::vec3 v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
+// What the animation code indexes without checking (animation.hpp: the loader validated it).
+void checkRigIndices(const gt::scene::Rig& rig) {
+    using gt::fuzz::finding;
+    for (std::size_t i = 0; i < rig.nodes.size(); ++i) {
+        if (rig.nodes[i].parent >= static_cast<int>(i)) finding("a node before its parent");
+    }
+    for (const auto& skin : rig.skins) {
+        if (skin.inverseBind.size() != skin.joints.size()) finding("a skin's matrices and joints");
+        for (const uint32_t j : skin.joints) {
+            if (j >= rig.nodes.size()) finding("a skin's joint is not a node");
+        }
+    }
+    for (const auto& a : rig.animations) {
+        for (const auto& c : a.channels) {
+            if (c.sampler >= a.samplers.size() || c.node >= rig.nodes.size()) {
+                finding("a channel names a sampler or node that does not exist");
+            }
+            const auto& s = a.samplers[c.sampler];
+            const std::size_t per =
+                s.interpolation == gt::scene::Interpolation::CubicSpline ? 3 : 1;
+            if (s.times.empty() || s.values.size() != s.times.size() * s.components * per) {
+                finding("a played sampler's keys and values disagree");
+            }
+        }
+    }
+    for (const auto& inst : rig.instances) {
+        if (inst.node >= rig.nodes.size() || inst.mesh >= rig.meshes.size() ||
+            inst.skin >= static_cast<int>(rig.skins.size())) {
+            finding("an instance names what does not exist");
+        }
+        const auto& m = rig.meshes[inst.mesh];
+        if (m.vertices.size() != 3 * m.triangleMaterial.size()) finding("a rig mesh's counts");
+        if (inst.skin < 0) continue;
+        if (m.joints.size() != m.vertices.size() || m.weights.size() != m.vertices.size()) {
+            finding("a skinned mesh without a joint per vertex");
+        }
+        for (const auto& j : m.joints) {
+            for (int c = 0; c < 4; ++c) {
+                if (j[c] >= rig.skins[static_cast<std::size_t>(inst.skin)].joints.size()) {
+                    finding("a joint out of range of its skin");
+                }
+            }
+        }
+    }
+}
+
+// The rig posed at two instants: every instance deforms without a fault.
+void poseRig(const gt::scene::Rig& rig) {
+    checkRigIndices(rig);
+    for (const double t : {0.0, 0.37}) {
+        const gt::scene::Pose pose = gt::scene::evaluatePose(rig, {}, t);
+        std::vector<gt::scene::Vertex> out;
+        for (const auto& inst : rig.instances) {
+            gt::scene::deformInstance(rig, inst, pose, out);
+            if (out.size() != rig.meshes[inst.mesh].vertices.size()) {
+                gt::fuzz::finding("a deformed instance changed its vertex count");
+            }
+        }
+    }
+}
+
 void checkScene(const gt::scene::Scene& s) {
     using gt::fuzz::finding;
-    if (s.triangleCount() == 0) finding("a scene without triangles loaded");
+    // An animated file's moving meshes are in its rig, not among the static triangles.
+    const std::size_t moving = s.rig ? s.rig->instances.size() : 0;
+    if (s.triangleCount() == 0 && moving == 0) finding("a scene without triangles loaded");
+    if (s.rig && s.rig->lightNodes.size() != s.lights.size()) finding("a light without its node");
+    if (s.rig) poseRig(*s.rig);
     if (s.vertices.size() != 3 * s.triangleCount()) finding("vertex and triangle counts disagree");
     for (const auto& v : s.vertices) {
         if (!finite(v.position) || !finite(v.normal) || !std::isfinite(v.uv.x) ||

@@ -284,6 +284,10 @@ void gltf() {
     put(t, "seeds", "quad.glb", gt::test::quadGlb());
     put(t, "seeds", "featureful.gltf", featureful());
     put(t, "seeds", "quantized_sparse.gltf", quantizedSparse());
+    // Animation, a skin and a morph target: the rig the loader builds and the poses of it.
+    std::ifstream sample(fs::path(GT_SOURCE_DIR) / "content" / "animated" / "moving_parts.gltf");
+    put(t, "seeds", "moving_parts.gltf",
+        std::string(std::istreambuf_iterator<char>(sample), std::istreambuf_iterator<char>()));
 
     // A node near the float limit crashed the BVH build (binning with a zero scale).
     const std::string home = R"({"mesh": 0, "scale": [2, 1, 2]})";

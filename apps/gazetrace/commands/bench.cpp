@@ -28,8 +28,9 @@ public:
         mCommand
             ->add_option("--suite", mSuite,
                          "render (thesis tables, headline, layers) | eye (pupil detection speed) | "
-                         "stereo | layers (Guenter et al. 2012 only) | scale (every headset)")
-            ->check(CLI::IsMember({"render", "eye", "stereo", "layers", "scale"}))
+                         "stereo | layers (Guenter et al. 2012 only) | scale (every headset) | "
+                         "animation (per-frame CPU work of a scene that moves)")
+            ->check(CLI::IsMember({"render", "eye", "stereo", "layers", "scale", "animation"}))
             ->capture_default_str();
         mCommand
             ->add_option("--hmd", mOptions.hmd, "--suite stereo: the headset, " + hmdChoicesText())
@@ -54,6 +55,8 @@ public:
             (void)runEyeBench();
         } else if (mSuite == "layers") {
             (void)runLayersBench(mOptions);
+        } else if (mSuite == "animation") {
+            (void)runAnimationBench(mOptions);
         } else if (mSuite == "stereo") {
             (void)runStereoBench(mOptions);
         } else {

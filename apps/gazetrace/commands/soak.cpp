@@ -20,6 +20,10 @@ public:
             "soak", "Many frames with changing gaze and settings under validation; fails on any "
                     "validation error or resident memory growth");
         mCommand->add_option("--scene", mOptions.scene, "Scene")->capture_default_str();
+        mAnimatedScene = mCommand
+                             ->add_option("--animated-scene", mOptions.animatedScene,
+                                          "Scene of the animated phase (an animated glTF)")
+                             ->capture_default_str();
         mCommand->add_option("--frames", mOptions.frames, "Frames to render")
             ->check(CLI::Range(1u, 1000000u))
             ->capture_default_str();
@@ -38,6 +42,7 @@ public:
 
     int run() override {
         mOptions.quiet = mQuiet;
+        mOptions.animatedSceneGiven = mAnimatedScene->count() > 0;
         checkRunFiles({{"--json-file", mOptions.json}}, {{"--scene", mOptions.scene}});
         const nlohmann::json result = runSoak(mOptions);
         if (mJson) std::cout << result.dump() << std::endl;
@@ -48,6 +53,7 @@ private:
     const bool& mQuiet; // -q: soak prints its progress unless quiet
     SoakOptions mOptions;
     bool mJson = false;
+    CLI::Option* mAnimatedScene = nullptr;
 };
 
 } // namespace
