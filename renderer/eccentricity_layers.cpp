@@ -13,6 +13,7 @@ namespace gt::render {
 
 namespace {
 constexpr const char* kLayerHistory = "layers.history";
+constexpr const char* kLayerSignatureHistory = "layers.signature"; // a scene that moves
 constexpr VkFormat kLayerFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 
 std::string layerScope(std::size_t i) {
@@ -89,9 +90,10 @@ MethodImage EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View& 
         const bool kept = last.valid && mMc.history.holds(graph.scopedName(kLayerHistory),
                                                           grid.width, grid.height, kLayerFormat);
         // Half rate (section 4.3): the inner layer every frame, the others on alternate frames,
-        // staggered so that one of them is traced on even frames and the next on odd ones.
-        const bool due =
-            i == 0 || !mSettings.halfRate || reset || !kept || (prev.frame + i) % 2 == 0;
+        // staggered so that one of them is traced on even frames and the next on odd ones. Not
+        // in a scene that moves: a layer left untraced shows its objects where they were.
+        const bool due = i == 0 || !mSettings.halfRate || mMc.scene.dynamic() || reset || !kept ||
+                         (prev.frame + i) % 2 == 0;
         rg::TextureId image;
         LayerRect rect = last.rect;
         if (due) {
@@ -111,9 +113,9 @@ MethodImage EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View& 
             const shaders::trace::CameraPush camera = cameraThrough(rect);
             const uint32_t lod =
                 mSettings.lod ? scene::lodForPitch(grid.pitch, mMc.scene.lodLevels()) : 0;
-            const rg::TextureId traced =
-                mPass.addTrace(graph, mMc.scene, cameraThrough(rays), grid.width, grid.height,
-                               mSettings.raysPerPixel, lod);
+            const passes::TracedLayer traced =
+                mPass.addTraceImage(graph, mMc.scene, cameraThrough(rays), grid.width, grid.height,
+                                    mSettings.raysPerPixel, lod);
             const rg::HistoryTextures history = graph.importHistory(
                 mMc.history, kLayerHistory, kLayerFormat, grid.width, grid.height);
             const bool fresh = reset || !mSettings.temporal || !kept;
@@ -130,8 +132,20 @@ MethodImage EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View& 
                 blend.depthTolerance *= grid.pitch;
             }
             blend.currentWeight = 1.0f / static_cast<float>(samples + 1);
-            image =
-                mTaa.add(graph, history, traced, camera, kept ? last.camera : camera, fresh, blend);
+            // A scene that moves: the layer's history follows each hit's motion and is
+            // rejected where its surface or shadow changed (taa.glsl), as the view's TAA.
+            std::optional<passes::TaaMotion> motion;
+            if (traced.motion) {
+                passes::TaaSettings moving = mSettings.taa;
+                moving.depthTolerance *= grid.pitch;
+                motion = passes::TaaMotion{*traced.motion,
+                                           graph.importHistory(mMc.history, kLayerSignatureHistory,
+                                                               VK_FORMAT_R32_SFLOAT, grid.width,
+                                                               grid.height),
+                                           moving};
+            }
+            image = mTaa.add(graph, history, traced.radiance, camera, kept ? last.camera : camera,
+                             fresh, blend, std::nullopt, std::nullopt, motion);
             p.state.layers[i] = {rect, camera, true, traces + 1, samples + 1};
             p.traced[i] = true;
             p.rays += static_cast<uint64_t>(grid.width) * grid.height * mSettings.raysPerPixel;

@@ -39,12 +39,17 @@ struct WarmUp {
 // A method's frame: the linear radiance (rgb; a = first-hit distance, which TAA reprojects
 // with) and, from a method that rebuilds the image from sparse samples, per pixel the distance
 // to the sample it took most from in units of the sample spacing (passes::InterpolatedImage):
-// on a still view TAA then counts each frame most where that frame's samples fell.
+// on a still view TAA then counts each frame most where that frame's samples fell. In a scene
+// that moves (trace::GpuScene::dynamic()), per pixel the first hit's motion (rgba32f, xyz =
+// world position one frame ago minus now, w = the signature code of shaders/common/motion.glsl),
+// which TAA reprojects with and rejects history by.
 struct MethodImage {
-    MethodImage(rg::TextureId r, std::optional<rg::TextureId> s = std::nullopt) // NOLINT
-        : radiance(r), support(s) {}
+    MethodImage(rg::TextureId r, std::optional<rg::TextureId> s = std::nullopt, // NOLINT
+                std::optional<rg::TextureId> m = std::nullopt)
+        : radiance(r), support(s), motion(m) {}
     rg::TextureId radiance;
     std::optional<rg::TextureId> support;
+    std::optional<rg::TextureId> motion;
 };
 
 class FoveationMethod {

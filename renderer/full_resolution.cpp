@@ -8,7 +8,9 @@ FullResolution::FullResolution(const MethodContext& mc, passes::ReferenceSetting
     : settings(s), mMc(mc), mPass(mc.ctx) {}
 
 MethodImage FullResolution::addRadiance(rg::RenderGraph& graph, const View& view) {
-    return mPass.add(graph, mMc.scene, view.cameraPush(), settings);
+    const passes::ReferenceImage image =
+        mPass.addImage(graph, mMc.scene, view.cameraPush(), settings);
+    return {image.radiance, std::nullopt, image.motion};
 }
 
 uint64_t FullResolution::rays(const View& view) const {

@@ -178,14 +178,14 @@ passes::InterpolatedImage PointSetMethod::addImage(rg::RenderGraph& graph,
     const bool moveSites = frame > 0 && s.method == passes::Interpolation::Shepard;
     s.siteFrame = moveSites ? frame : 0u;
     s.siteJitter = moveSites ? siteJitter : 0.0f;
-    const rg::BufferId samples = mPointSample.add(
+    const passes::SampledPoints sampled = mPointSample.addSamples(
         graph, mMc.scene, camera, mGpuPoints, gaze, rays, lanes, warp ? &*warp : nullptr,
         settings.lod, frame, s.siteJitter, !settings.pixelRays, dispatchFor(gaze, s.siteJitter));
     passes::InterpolateInputs in = prepared;
     if (passes::usesRbfSolve(s)) {
-        in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), samples, gaze, s);
+        in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), sampled.samples, gaze, s);
     }
-    return mInterpolate.add(graph, mGpuPoints, samples, gaze, s, in);
+    return mInterpolate.add(graph, mGpuPoints, sampled.samples, gaze, s, in, sampled.motion);
 }
 
 MethodImage PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view) {
@@ -207,15 +207,23 @@ MethodImage PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view
     const bool pooled = view.post.taa && view.post.taaSettings.adaptive &&
                         view.post.taaSettings.supportWeighted && last != mLastCamera.end() &&
                         passes::sameCamera(last->second, camera);
+    const shaders::trace::CameraPush previous = last != mLastCamera.end() ? last->second : camera;
     mLastCamera.insert_or_assign(view.name, camera);
     const passes::InterpolatedImage image = addImage(
         graph, camera, sampledGaze(view), settings.raysPerPoint, lanes, prepared, warpFor(view), s,
         settings.jitter ? mFrame : 0u, pooled ? kSiteJitterStill : kSiteJitterMoving);
+    if (s.method == passes::Interpolation::ViewMotion) {
+        if (!mMotionView) {
+            mMotionView = std::make_unique<passes::MotionViewPass>(mMc.ctx);
+        }
+        return {mMotionView->add(graph, image.radiance, image.motion, camera, previous),
+                std::nullopt, image.motion};
+    }
     // The support says something only where the sites move from frame to frame.
     if (settings.jitter && s.method == passes::Interpolation::Shepard) {
-        return {image.radiance, image.support};
+        return {image.radiance, image.support, image.motion};
     }
-    return image.radiance;
+    return {image.radiance, std::nullopt, image.motion};
 }
 
 std::optional<WarmUp> PointSetMethod::warmUp(const View& view) {

@@ -142,6 +142,7 @@ private:
     passes::PointSamplePass mPointSample;
     passes::InterpolatePass mInterpolate;
     passes::RbfSolvePass mRbfSolve;
+    std::unique_ptr<passes::MotionViewPass> mMotionView; // --view motion, built on first use
     std::optional<foveation::GpuRbfInverse> mRbfInverse;
     std::optional<foveation::GpuPixelKnnTable> mKnnTable;
     std::optional<foveation::GpuRbfPixelWeights> mRbfPixelWeights;

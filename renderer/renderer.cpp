@@ -22,6 +22,7 @@ double msSince(Clock::time_point t) {
 }
 constexpr const char* kTaaHistory = "taa";
 constexpr const char* kTaaWeightHistory = "taa.weight";
+constexpr const char* kTaaSignatureHistory = "taa.signature"; // a scene that moves
 
 using CoarserLevels = std::vector<std::pair<scene::Scene, scene::Bvh>>;
 
@@ -46,12 +47,26 @@ scene::Scene loadLevels(const std::string& spec, const scene::GltfLoadOptions& l
     return full;
 }
 
+// `dynamic`: the scene's two-level part (null where nothing moves), whose tables get one copy
+// per frame in flight (`copies`).
 std::unique_ptr<trace::GpuScene> uploadLevels(vk::Context& ctx, const scene::Scene& full,
-                                              const scene::Bvh& bvh, const CoarserLevels& coarser) {
+                                              const scene::Bvh& bvh, const CoarserLevels& coarser,
+                                              const scene::DynamicGeometry* dynamic = nullptr,
+                                              uint32_t copies = 1) {
     std::vector<trace::LodGeometry> levels{{&full, &bvh}};
     for (const auto& [level, levelBvh] : coarser)
         levels.push_back({&level, &levelBvh});
+    if (dynamic != nullptr) return std::make_unique<trace::GpuScene>(ctx, levels, *dynamic, copies);
     return std::make_unique<trace::GpuScene>(ctx, levels);
+}
+
+// The two-level part of a scene with a rig, posed at `seconds` without motion; null for a scene
+// where nothing moves. An animation the rig lacks fails naming it (scene::chooseAnimation).
+std::unique_ptr<scene::DynamicGeometry> makeDynamic(const scene::Scene& s,
+                                                    const std::string& animation, double seconds) {
+    if (!s.animated()) return nullptr;
+    return std::make_unique<scene::DynamicGeometry>(
+        s.rig, scene::chooseAnimation(*s.rig, animation), seconds);
 }
 } // namespace
 
@@ -60,6 +75,7 @@ struct Renderer::LoadedScene {
     scene::Scene scene;
     CoarserLevels coarser;
     std::optional<scene::Bvh> bvh;
+    std::unique_ptr<scene::DynamicGeometry> dynamic;
     std::unique_ptr<trace::GpuScene> gpu;
 };
 
@@ -74,14 +90,17 @@ Renderer::Renderer(const RendererOptions& o) {
     co.validation = o.validate;
     co.synchronizationValidation = o.validate;
     co.deviceOverride = o.deviceOverride;
+    mAnimation = o.animation;
+    mDynamic = makeDynamic(mScene, mAnimation, mSceneTime);
     mCtx = std::make_unique<vk::Context>(co);
-    mGpuScene = uploadLevels(*mCtx, mScene, *mBvh, mCoarser);
-    mTaa = std::make_unique<passes::TaaPass>(*mCtx);
-    mTonemap = std::make_unique<passes::TonemapPass>(*mCtx);
-    mLens = std::make_unique<passes::LensPass>(*mCtx);
     const bool cpuDevice = mCtx->properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
     mRing = std::make_unique<rg::FrameRing>(*mCtx, o.framesInFlight != 0 ? o.framesInFlight
                                                                          : (cpuDevice ? 1u : 2u));
+    mGpuScene =
+        uploadLevels(*mCtx, mScene, *mBvh, mCoarser, mDynamic.get(), mRing->framesInFlight());
+    mTaa = std::make_unique<passes::TaaPass>(*mCtx);
+    mTonemap = std::make_unique<passes::TonemapPass>(*mCtx);
+    mLens = std::make_unique<passes::LensPass>(*mCtx);
     mHistory = std::make_unique<rg::HistoryPool>(*mCtx, &mRing->deferredRelease());
 }
 
@@ -110,20 +129,54 @@ const scene::Scene& Renderer::scene() const noexcept {
 const scene::BvhBuildStats& Renderer::bvhStats() const noexcept {
     return mBvh->stats();
 }
+std::pair<scene::DynamicGeometry*, trace::GpuScene*> Renderer::moving(SceneId id) const {
+    if (id == 0) return {mDynamic.get(), mGpuScene.get()};
+    if (id > mMoreScenes.size()) throw Error("renderer: no scene " + std::to_string(id));
+    const LoadedScene& s = *mMoreScenes[id - 1];
+    return {s.dynamic.get(), s.gpu.get()};
+}
+
 void Renderer::setSceneTime(double seconds) {
-    mSceneTime = seconds; // posing the scenes: the two-level GPU scene (issue in progress)
+    // Going back in time (a seek, a loop the caller restarts) or the first pose: no motion.
+    const bool cut = !mScenePosed || seconds < mSceneTime;
+    for (SceneId id = 0; id < sceneCount(); ++id) {
+        const auto [dynamic, gpu] = moving(id);
+        if (dynamic == nullptr) continue;
+        if (cut) {
+            dynamic->reset(seconds);
+        } else {
+            dynamic->update(seconds);
+        }
+        // Packed on the host only: renderFrame() writes the copy of the frame ring's next slot
+        // once the ring has waited for that slot's last frame.
+        gpu->update(*dynamic);
+    }
+    mSceneTime = seconds;
+    mScenePosed = true;
 }
 
 bool Renderer::animated() const noexcept {
+    for (SceneId id = 0; id < sceneCount(); ++id) {
+        if (scene(id).animated()) return true;
+    }
     return false;
 }
 
 scene::Camera Renderer::sceneCamera(SceneId id) const {
-    return scene(id).camera;
+    scene::Camera camera = scene(id).camera;
+    const scene::DynamicGeometry* dynamic = moving(id).first;
+    if (dynamic == nullptr || dynamic->rig().cameraNode < 0) return camera;
+    // A glTF camera looks down its node's -Z with +Y up (glTF 2.0, 3.10.1).
+    const glm::mat4& world =
+        dynamic->pose().world.at(static_cast<std::size_t>(dynamic->rig().cameraNode));
+    camera.position = glm::vec3(world[3]);
+    camera.forward = glm::normalize(glm::vec3(world * glm::vec4(0.0f, 0.0f, -1.0f, 0.0f)));
+    camera.up = glm::normalize(glm::vec3(world * glm::vec4(0.0f, 1.0f, 0.0f, 0.0f)));
+    return camera;
 }
 
-const scene::DynamicGeometry* Renderer::dynamicGeometry(SceneId /*id*/) const {
-    return nullptr;
+const scene::DynamicGeometry* Renderer::dynamicGeometry(SceneId id) const {
+    return moving(id).first;
 }
 
 MethodContext Renderer::methodContext() const noexcept {
@@ -134,7 +187,9 @@ Renderer::SceneId Renderer::addScene(const std::string& spec, const scene::GltfL
     auto loaded = std::make_unique<LoadedScene>();
     loaded->scene = loadLevels(spec, load, loaded->coarser);
     loaded->bvh.emplace(loaded->scene);
-    loaded->gpu = uploadLevels(*mCtx, loaded->scene, *loaded->bvh, loaded->coarser);
+    loaded->dynamic = makeDynamic(loaded->scene, mAnimation, mSceneTime);
+    loaded->gpu = uploadLevels(*mCtx, loaded->scene, *loaded->bvh, loaded->coarser,
+                               loaded->dynamic.get(), mRing->framesInFlight());
     mMoreScenes.push_back(std::move(loaded));
     return mMoreScenes.size();
 }
@@ -216,6 +271,12 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
     }
 
     rg::FrameRing::Frame& frame = mRing->begin();
+    // The ring has waited for this slot's last frame: its copy of each moving scene's tables is
+    // free to take the latest pose.
+    const auto slot = static_cast<uint32_t>(frame.number % mRing->framesInFlight());
+    for (SceneId id = 0; id < sceneCount(); ++id) {
+        if (trace::GpuScene* gpu = moving(id).second; gpu->dynamic()) gpu->prepare(slot);
+    }
     mHistory->setFrameNumber(frame.number);
     rg::RenderGraph graph(views.front().width, views.front().height);
     // Each distinct target once (both eyes may go to one window).
@@ -251,24 +312,34 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
                                                                      VK_FORMAT_R32_SFLOAT, v.width,
                                                                      v.height)};
                 }
-                // The weight sums stand for the colour history only if last frame wrote both
-                // (a method or setting switched since leaves them stale): else start afresh.
+                std::optional<passes::TaaMotion> motion;
+                if (made.motion) {
+                    motion = passes::TaaMotion{*made.motion,
+                                               graph.importHistory(*mHistory, kTaaSignatureHistory,
+                                                                   VK_FORMAT_R32_SFLOAT, v.width,
+                                                                   v.height),
+                                               v.post.taaSettings};
+                }
+                // The weight sums and signatures stand for the colour history only if last frame
+                // wrote them too (a method or setting switched since leaves them stale): else
+                // start afresh.
                 const bool pooledBefore = known && it->second.pooled;
+                const bool movedBefore = known && it->second.motion;
                 const bool reset = passes::taaMustReset(known && history.valid, v.saccade, v.gaze,
                                                         known ? it->second.gaze : v.gaze, v.width,
                                                         v.post.taaSettings) ||
-                                   (support && !pooledBefore);
+                                   (support && !pooledBefore) || (motion && !movedBefore);
                 const shaders::trace::CameraPush previous = known ? it->second.camera : camera;
                 const passes::TaaFrameState state{v.exposure, v.gaze, v.method->gazeDependent(),
                                                   known && it->second.gaze == v.gaze,
                                                   known ? it->second.samples : 0u};
                 image = mTaa->add(graph, history, image, camera, previous, reset,
-                                  v.post.taaSettings, state, support);
+                                  v.post.taaSettings, state, support, motion);
                 nextHistory.emplace_back(
                     v.name, ViewHistory{camera, v.gaze, true,
                                         passes::TaaPass::nextSamples(camera, previous, reset,
                                                                      v.post.taaSettings, state),
-                                        support.has_value()});
+                                        support.has_value(), motion.has_value()});
             }
             rg::TextureId ldr = mTonemap->add(graph, image, v.exposure);
             if (v.post.lens) {

@@ -131,16 +131,22 @@ private:
         bool valid = false;
         uint32_t samples = 0; // frames the TAA history holds
         bool pooled = false;  // TAA wrote the weight sums of a support too (taa.glsl)
+        bool motion = false;  // and the signatures of a scene that moves
     };
     struct LoadedScene;
     void runWarmUp(const WarmUp& warm);
+    // Scene `id`'s two-level part and its GPU scene (null, null where nothing moves).
+    std::pair<scene::DynamicGeometry*, trace::GpuScene*> moving(SceneId id) const;
 
     double mLoadMs = 0.0, mBvhMs = 0.0;
     double mSceneTime = 0.0;
+    bool mScenePosed = false; // setSceneTime() was called: later calls carry motion
+    std::string mAnimation;   // RendererOptions::animation, for scenes added later
     scene::Scene mScene;
     std::optional<scene::Bvh> mBvh;
     std::vector<std::pair<scene::Scene, scene::Bvh>> mCoarser; // LOD levels 1..
     std::unique_ptr<vk::Context> mCtx;
+    std::unique_ptr<scene::DynamicGeometry> mDynamic; // scene 0's, when it moves
     std::unique_ptr<trace::GpuScene> mGpuScene;
     std::unique_ptr<passes::TaaPass> mTaa;
     std::unique_ptr<passes::TonemapPass> mTonemap;

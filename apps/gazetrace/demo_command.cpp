@@ -138,10 +138,11 @@ constexpr std::array<std::pair<passes::Interpolation, const char*>, 3> kInterpWo
     {{passes::Interpolation::Nearest, "nn"},
      {passes::Interpolation::Shepard, "msm"},
      {passes::Interpolation::Rbf, "rbf"}}};
-constexpr std::array<std::pair<passes::Interpolation, const char*>, 3> kViewWords{
+constexpr std::array<std::pair<passes::Interpolation, const char*>, 4> kViewWords{
     {{passes::Interpolation::ViewPoints, "points"},
      {passes::Interpolation::ViewCells, "cells"},
-     {passes::Interpolation::ViewSpacing, "eccentricity"}}};
+     {passes::Interpolation::ViewSpacing, "eccentricity"},
+     {passes::Interpolation::ViewMotion, "motion"}}};
 
 template <typename T, std::size_t N>
 const char* wordOf(const std::array<std::pair<T, const char*>, N>& words, T value) {

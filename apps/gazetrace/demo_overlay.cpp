@@ -124,7 +124,8 @@ bool DemoOverlay::panel(DemoSettings& s, const DemoStats& stats) {
                 changed = true;
             }
             std::string view = s.view.empty() ? "image" : s.view;
-            if (combo("debug view (V)", view, {"image", "points", "cells", "eccentricity"})) {
+            if (combo("debug view (V)", view,
+                      {"image", "points", "cells", "eccentricity", "motion"})) {
                 s.view = view == "image" ? "" : view;
                 changed = true;
             }

@@ -37,8 +37,9 @@ render::Interpolation parseView(const std::string& name) {
     if (name == "points") return render::Interpolation::ViewPoints;
     if (name == "cells") return render::Interpolation::ViewCells;
     if (name == "eccentricity") return render::Interpolation::ViewSpacing;
+    if (name == "motion") return render::Interpolation::ViewMotion;
     throw ArgumentError("--view: '" + name +
-                        "' is not available (known: points, cells, eccentricity)");
+                        "' is not available (known: points, cells, eccentricity, motion)");
 }
 
 render::Reconstruction parseReconstruction(const std::string& name) {

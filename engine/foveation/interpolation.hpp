@@ -8,8 +8,9 @@
 
 namespace gt::foveation {
 
-// Nearest/Shepard/RBF rebuild the image; the others are debug views of the point set.
-enum class Interpolation { Nearest, Shepard, Rbf, ViewPoints, ViewCells, ViewSpacing };
+// Nearest/Shepard/RBF rebuild the image; the others are debug views of the point set
+// (ViewMotion: each pixel's screen-space motion, nearest neighbour's).
+enum class Interpolation { Nearest, Shepard, Rbf, ViewPoints, ViewCells, ViewSpacing, ViewMotion };
 // The kernel type of the RBF builders, so that settings pass to them unconverted.
 using RbfKernel = RbfKernelType;
 // Where Modified Shepard and RBF find a pixel's k nearest points. PixelTable (the default): the

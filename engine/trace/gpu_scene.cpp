@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstring>
 
+#include <glm/gtc/matrix_inverse.hpp>
+
 #include "core/error.hpp"
 #include "vk/context.hpp"
 #include "vk/pipeline.hpp"
@@ -41,6 +43,13 @@ void appendGeometry(const scene::Scene& scene, const scene::Bvh& bvh, PackedScen
     }
 }
 
+void appendLight(const scene::Light& l, std::vector<glm::vec4>& lights) {
+    lights.emplace_back(l.position, asFloat(static_cast<uint32_t>(l.type)));
+    lights.emplace_back(glm::normalize(l.direction), l.range);
+    lights.emplace_back(l.color * l.intensity, l.innerConeCos);
+    lights.emplace_back(l.outerConeCos, 0.0f, 0.0f, 0.0f);
+}
+
 // Everything but the geometry: materials, lights, textures, sky; shared by every LOD level.
 PackedScene packShared(const scene::Scene& scene) {
     PackedScene p;
@@ -54,10 +63,7 @@ PackedScene packShared(const scene::Scene& scene) {
         p.materials.emplace_back(m.roughness, asFloat(tex), m.alphaCutoff, 0.0f);
     }
     for (const scene::Light& l : scene.lights) {
-        p.lights.emplace_back(l.position, asFloat(static_cast<uint32_t>(l.type)));
-        p.lights.emplace_back(glm::normalize(l.direction), l.range);
-        p.lights.emplace_back(l.color * l.intensity, l.innerConeCos);
-        p.lights.emplace_back(l.outerConeCos, 0.0f, 0.0f, 0.0f);
+        appendLight(l, p.lights);
     }
     for (const scene::Texture& t : scene.textures) {
         p.textureInfo.emplace_back(static_cast<uint32_t>(p.texels.size()), t.width, t.height, 0u);
@@ -75,7 +81,182 @@ PackedScene packShared(const scene::Scene& scene) {
     return p;
 }
 
+// The rows of the top three rows of a 4x4 matrix (glm is column-major): row . (p, 1).
+void appendRows(const glm::mat4& m, std::vector<glm::vec4>& out, std::size_t at) {
+    for (int r = 0; r < 3; ++r) {
+        out[at + r] = glm::vec4(m[0][r], m[1][r], m[2][r], m[3][r]);
+    }
+}
+
+uint32_t nodeCapacity(const scene::Bvh& bvh) {
+    // A binary tree over n triangles with non-empty leaves has at most 2n - 1 nodes: room for a
+    // rebuild of a deforming bottom level, whose node count may change.
+    const std::size_t n = bvh.triangles().size();
+    return static_cast<uint32_t>(std::max<std::size_t>({2 * n, 2, bvh.nodes().size()}) - 1);
+}
+
+// Bottom level `b`'s nodes at node `nodeBase` (2 texels each) and its triangles and shading at
+// triangle `triBase` (3 and 4 texels each), links offset to those places.
+void writeBottomLevel(const scene::DynamicGeometry& d, std::size_t b, uint32_t nodeBase,
+                      uint32_t triBase, PackedScene& p) {
+    const scene::Bvh& bvh = d.bottomLevel(b);
+    std::size_t at = 2 * static_cast<std::size_t>(nodeBase);
+    for (const scene::BvhNode& n : bvh.nodes()) {
+        p.nodes[at++] =
+            glm::vec4(n.boundsMin, asFloat(n.leftFirst + (n.count > 0 ? triBase : nodeBase)));
+        p.nodes[at++] = glm::vec4(n.boundsMax, asFloat(n.count));
+    }
+    const std::vector<scene::Vertex>& vertices = d.bottomLevelVertices(b);
+    const std::vector<uint32_t>& materials = d.bottomLevelMaterials(b);
+    for (std::size_t i = 0; i < bvh.triangles().size(); ++i) {
+        const scene::BvhTriangle& t = bvh.triangles()[i];
+        const std::size_t tt = 3 * (triBase + i), st = 4 * (triBase + i);
+        p.triangles[tt] = glm::vec4(t.v0, 0.0f);
+        p.triangles[tt + 1] = glm::vec4(t.e1, 0.0f);
+        p.triangles[tt + 2] = glm::vec4(t.e2, 0.0f);
+        const scene::Vertex* v = &vertices[3 * i];
+        p.shading[st] = glm::vec4(v[0].normal, v[0].uv.x);
+        p.shading[st + 1] = glm::vec4(v[1].normal, v[0].uv.y);
+        p.shading[st + 2] = glm::vec4(v[2].normal, v[1].uv.x);
+        p.shading[st + 3] = glm::vec4(v[1].uv.y, v[2].uv.x, v[2].uv.y, asFloat(materials[i]));
+    }
+}
+
+// The top level's nodes at layout.topRoot (inner links offset; leaves index the instance
+// records, which follow the top level's order) and the instance records.
+void writeTopLevel(const scene::DynamicGeometry& d, const DynamicLayout& layout, PackedScene& p) {
+    std::size_t at = 2 * static_cast<std::size_t>(layout.topRoot);
+    for (const scene::BvhNode& n : d.topLevel()) {
+        p.nodes[at++] =
+            glm::vec4(n.boundsMin, asFloat(n.leftFirst + (n.count > 0 ? 0u : layout.topRoot)));
+        p.nodes[at++] = glm::vec4(n.boundsMax, asFloat(n.count));
+    }
+    const std::vector<uint32_t>& order = d.topLevelOrder();
+    for (std::size_t k = 0; k < order.size(); ++k) {
+        const uint32_t instance = order[k];
+        const std::size_t r = layout.instanceTexel + k * shaders::trace::kInstanceTexels;
+        appendRows(glm::inverse(d.objectToWorld(instance)), p.nodes, r);
+        appendRows(d.previousObjectToWorld(instance), p.nodes, r + 3);
+        const uint32_t bottom = d.bottomLevelOf(instance);
+        p.nodes[r + 6] =
+            glm::vec4(asFloat(layout.bottomRoot[bottom]), asFloat(layout.bottomTriangle[bottom]),
+                      asFloat(layout.previousTriangle[instance]), asFloat(instance));
+        p.nodes[r + 7] = glm::vec4(0.0f);
+    }
+}
+
+// A deforming instance's triangles one frame ago (its current ones before the first update).
+void writePreviousTriangles(const scene::DynamicGeometry& d, const DynamicLayout& layout,
+                            PackedScene& p) {
+    for (std::size_t instance = 0; instance < d.instanceCount(); ++instance) {
+        const uint32_t first = layout.previousTriangle[instance];
+        if (first == shaders::trace::kNoPrevious) continue;
+        const std::vector<scene::BvhTriangle>& current =
+            d.bottomLevel(d.bottomLevelOf(instance)).triangles();
+        const std::vector<scene::BvhTriangle>& previous = d.previousTriangles(instance);
+        const std::vector<scene::BvhTriangle>& src =
+            previous.size() == current.size() ? previous : current;
+        for (std::size_t i = 0; i < src.size(); ++i) {
+            const std::size_t tt = 3 * (first + i);
+            p.triangles[tt] = glm::vec4(src[i].v0, 0.0f);
+            p.triangles[tt + 1] = glm::vec4(src[i].e1, 0.0f);
+            p.triangles[tt + 2] = glm::vec4(src[i].e2, 0.0f);
+        }
+    }
+}
+
+// Room for the two-level part after the static levels in `p`, its places into `layout`.
+void reserveDynamic(const scene::DynamicGeometry& d, DynamicLayout& layout, PackedScene& p) {
+    auto nodes = static_cast<uint32_t>(p.nodes.size() / 2);
+    auto tris = static_cast<uint32_t>(p.triangles.size() / 3);
+    bool deformSeen = false;
+    for (std::size_t b = 0; b < d.bottomLevelCount(); ++b) {
+        if (d.bottomLevelDeforms(b) && !deformSeen) {
+            deformSeen = true;
+            layout.dynamicNodeTexel = 2 * nodes;
+            layout.dynamicTriangleTexel = 3 * tris;
+            layout.dynamicShadingTexel = 4 * tris;
+        }
+        layout.bottomRoot.push_back(nodes);
+        layout.bottomTriangle.push_back(tris);
+        const scene::Bvh& bvh = d.bottomLevel(b);
+        nodes +=
+            d.bottomLevelDeforms(b) ? nodeCapacity(bvh) : static_cast<uint32_t>(bvh.nodes().size());
+        tris += static_cast<uint32_t>(bvh.triangles().size());
+    }
+    if (!deformSeen) {
+        layout.dynamicNodeTexel = 2 * nodes;
+        layout.dynamicTriangleTexel = 3 * tris;
+        layout.dynamicShadingTexel = 4 * tris;
+    }
+    layout.topRoot = nodes;
+    nodes += static_cast<uint32_t>(std::max<std::size_t>(d.topLevelCapacity(), 1));
+    layout.instanceTexel = 2 * nodes;
+    p.nodes.resize(layout.instanceTexel + d.instanceCount() * shaders::trace::kInstanceTexels);
+    p.shading.resize(4 * static_cast<std::size_t>(tris));
+    for (std::size_t i = 0; i < d.instanceCount(); ++i) {
+        const uint32_t b = d.bottomLevelOf(i);
+        if (!d.bottomLevelDeforms(b)) {
+            layout.previousTriangle.push_back(shaders::trace::kNoPrevious);
+            continue;
+        }
+        layout.previousTriangle.push_back(tris);
+        tris += static_cast<uint32_t>(d.bottomLevel(b).triangles().size());
+    }
+    p.triangles.resize(3 * static_cast<std::size_t>(tris));
+    p.uniforms.dynamic = {layout.topRoot, layout.instanceTexel,
+                          static_cast<uint32_t>(d.instanceCount()), 0u};
+}
+
+// The rig's lights at its pose: a light with a node sits at the node's origin and shines down
+// its -Z (KHR_lights_punctual).
+void writeLights(const scene::Scene& scene, const scene::DynamicGeometry& d, PackedScene& p) {
+    const std::vector<int>& nodes = d.rig().lightNodes;
+    p.lights.clear();
+    for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+        scene::Light l = scene.lights[i];
+        if (i < nodes.size() && nodes[i] >= 0) {
+            const glm::mat4& world = d.pose().world.at(static_cast<std::size_t>(nodes[i]));
+            l.position = glm::vec3(world[3]);
+            l.direction = glm::vec3(world * glm::vec4(0.0f, 0.0f, -1.0f, 0.0f));
+        }
+        appendLight(l, p.lights);
+    }
+}
+
 } // namespace
+
+void repackDynamic(const scene::Scene& scene, const scene::DynamicGeometry& d,
+                   const DynamicLayout& layout, PackedScene& p) {
+    for (std::size_t b = 0; b < d.bottomLevelCount(); ++b) {
+        if (!d.bottomLevelDeforms(b)) continue;
+        const uint32_t capacity = layout.bottomRoot[b] + nodeCapacity(d.bottomLevel(b));
+        if (layout.bottomRoot[b] + d.bottomLevel(b).nodes().size() > capacity) {
+            throw Error("gpu scene: bottom level " + std::to_string(b) + " outgrew its nodes");
+        }
+        writeBottomLevel(d, b, layout.bottomRoot[b], layout.bottomTriangle[b], p);
+    }
+    if (d.topLevel().size() > std::max<std::size_t>(d.topLevelCapacity(), 1)) {
+        throw Error("gpu scene: the top level outgrew its nodes");
+    }
+    writeTopLevel(d, layout, p);
+    writePreviousTriangles(d, layout, p);
+    writeLights(scene, d, p);
+}
+
+PackedScene packScene(std::span<const LodGeometry> levels, const scene::DynamicGeometry& d,
+                      DynamicLayout& layout) {
+    PackedScene p = packScene(levels);
+    layout = {};
+    reserveDynamic(d, layout, p);
+    for (std::size_t b = 0; b < d.bottomLevelCount(); ++b) {
+        if (!d.bottomLevelDeforms(b)) {
+            writeBottomLevel(d, b, layout.bottomRoot[b], layout.bottomTriangle[b], p);
+        }
+    }
+    repackDynamic(*levels[0].scene, d, layout, p);
+    return p;
+}
 
 PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh) {
     PackedScene p = packShared(scene);
@@ -123,13 +304,100 @@ GpuScene::GpuScene(vk::Context& ctx, const scene::Scene& scene, const scene::Bvh
 GpuScene::GpuScene(vk::Context& ctx, std::span<const LodGeometry> levels) {
     const PackedScene p = packScene(levels);
     mLodLevels = static_cast<uint32_t>(levels.size());
-    mAlphaMasked = p.alphaMasked;
     constexpr VkFormat f4 = VK_FORMAT_R32G32B32A32_SFLOAT;
     mNodes = upload(ctx, p.nodes.data(), p.nodes.size() * 16, f4, "scene.bvh_nodes");
     mTriangles = upload(ctx, p.triangles.data(), p.triangles.size() * 16, f4, "scene.triangles");
     mShading = upload(ctx, p.shading.data(), p.shading.size() * 16, f4, "scene.shading");
-    mMaterials = upload(ctx, p.materials.data(), p.materials.size() * 16, f4, "scene.materials");
     mLights = upload(ctx, p.lights.data(), p.lights.size() * 16, f4, "scene.lights");
+    uploadShared(ctx, p);
+}
+
+// The host-visible copies of the tables that change with the pose, one per frame in flight.
+struct GpuScene::DynamicTables {
+    struct Copy {
+        Table nodes, triangles, shading, lights;
+        uint64_t version = 0; // of `packed` it holds
+    };
+    const scene::Scene* scene = nullptr;
+    DynamicLayout layout;
+    PackedScene packed; // the latest pose
+    uint64_t version = 1;
+    std::vector<Copy> copies;
+};
+
+namespace {
+// A host-visible texel buffer of `bytes` (at least one texel) holding `data`.
+vk::Buffer hostTable(vk::Context& ctx, std::span<const glm::vec4> data, const char* name) {
+    const std::size_t size = std::max<std::size_t>(data.size_bytes(), 16);
+    vk::Buffer b(ctx,
+                 {size, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, vk::MemoryUsage::Upload, name});
+    std::vector<std::byte> padded(size, std::byte{0});
+    if (!data.empty()) std::memcpy(padded.data(), data.data(), data.size_bytes());
+    b.upload(padded);
+    return b;
+}
+
+// Texels [from, end) of `data` into `buffer` at the same place.
+void writeTail(vk::Buffer& buffer, std::span<const glm::vec4> data, std::size_t from) {
+    if (from >= data.size()) return;
+    buffer.upload(std::as_bytes(data.subspan(from)), from * sizeof(glm::vec4));
+}
+} // namespace
+
+GpuScene::GpuScene(vk::Context& ctx, std::span<const LodGeometry> levels,
+                   const scene::DynamicGeometry& dynamic, uint32_t copies)
+    : mDynamic(std::make_unique<DynamicTables>()) {
+    if (copies == 0) throw Error("gpu scene: a scene that moves needs at least one table copy");
+    DynamicTables& d = *mDynamic;
+    d.scene = levels[0].scene;
+    d.packed = packScene(levels, dynamic, d.layout);
+    mLodLevels = static_cast<uint32_t>(levels.size());
+    constexpr VkFormat f4 = VK_FORMAT_R32G32B32A32_SFLOAT;
+    auto table = [&](std::span<const glm::vec4> data, const char* name) {
+        Table t;
+        t.buffer = hostTable(ctx, data, name);
+        t.view = vk::BufferView(ctx, t.buffer, f4);
+        mBytes += t.buffer.size();
+        return t;
+    };
+    for (uint32_t c = 0; c < copies; ++c) {
+        DynamicTables::Copy copy;
+        copy.nodes = table(d.packed.nodes, "scene.bvh_nodes");
+        copy.triangles = table(d.packed.triangles, "scene.triangles");
+        copy.shading = table(d.packed.shading, "scene.shading");
+        copy.lights = table(d.packed.lights, "scene.lights");
+        copy.version = d.version;
+        d.copies.push_back(std::move(copy));
+    }
+    uploadShared(ctx, d.packed);
+}
+
+GpuScene::~GpuScene() = default;
+
+void GpuScene::update(const scene::DynamicGeometry& dynamic) {
+    if (!mDynamic) throw Error("gpu scene: update() on a scene where nothing moves");
+    repackDynamic(*mDynamic->scene, dynamic, mDynamic->layout, mDynamic->packed);
+    ++mDynamic->version;
+}
+
+void GpuScene::prepare(uint32_t copy) {
+    if (!mDynamic) return;
+    DynamicTables& d = *mDynamic;
+    DynamicTables::Copy& c = d.copies.at(copy % d.copies.size());
+    if (c.version != d.version) {
+        writeTail(c.nodes.buffer, d.packed.nodes, d.layout.dynamicNodeTexel);
+        writeTail(c.triangles.buffer, d.packed.triangles, d.layout.dynamicTriangleTexel);
+        writeTail(c.shading.buffer, d.packed.shading, d.layout.dynamicShadingTexel);
+        writeTail(c.lights.buffer, d.packed.lights, 0);
+        c.version = d.version;
+    }
+    mBound = copy % static_cast<uint32_t>(d.copies.size());
+}
+
+void GpuScene::uploadShared(vk::Context& ctx, const PackedScene& p) {
+    mAlphaMasked = p.alphaMasked;
+    constexpr VkFormat f4 = VK_FORMAT_R32G32B32A32_SFLOAT;
+    mMaterials = upload(ctx, p.materials.data(), p.materials.size() * 16, f4, "scene.materials");
     mTexels = upload(ctx, p.texels.data(), p.texels.size() * 4, VK_FORMAT_R32_UINT, "scene.texels");
     mTextureInfo = upload(ctx, p.textureInfo.data(), p.textureInfo.size() * 16,
                           VK_FORMAT_R32G32B32A32_UINT, "scene.texture_info");
@@ -163,13 +431,22 @@ void dispatchImageTrace(vk::Context& ctx, VkCommandBuffer cmd, const vk::Compute
                  (extent.height + group.height - 1) / group.height);
 }
 
+std::vector<uint32_t> tracingSpecialization(std::vector<uint32_t> passConstants, bool dynamic) {
+    passConstants.resize(
+        std::max<std::size_t>(passConstants.size(), shaders::trace::kSpecDynamic + 1));
+    passConstants[shaders::trace::kSpecDynamic] = dynamic ? 1u : 0u;
+    return passConstants;
+}
+
 void GpuScene::bind(vk::DescriptorWriter& w) const {
     namespace t = shaders::trace;
-    w.texelBuffer(t::kBindingNodes, mNodes.view.handle())
-        .texelBuffer(t::kBindingTriangles, mTriangles.view.handle())
-        .texelBuffer(t::kBindingShading, mShading.view.handle())
+    const bool copy = mDynamic != nullptr;
+    const DynamicTables::Copy* c = copy ? &mDynamic->copies[mBound] : nullptr;
+    w.texelBuffer(t::kBindingNodes, (copy ? c->nodes : mNodes).view.handle())
+        .texelBuffer(t::kBindingTriangles, (copy ? c->triangles : mTriangles).view.handle())
+        .texelBuffer(t::kBindingShading, (copy ? c->shading : mShading).view.handle())
         .texelBuffer(t::kBindingMaterials, mMaterials.view.handle())
-        .texelBuffer(t::kBindingLights, mLights.view.handle())
+        .texelBuffer(t::kBindingLights, (copy ? c->lights : mLights).view.handle())
         .texelBuffer(t::kBindingTexels, mTexels.view.handle())
         .texelBuffer(t::kBindingTextureInfo, mTextureInfo.view.handle())
         .storageBuffer(t::kBindingSceneUniforms, mUniforms.handle())

@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "scene/bvh.hpp"
+#include "scene/dynamic_geometry.hpp"
 #include "scene/scene.hpp"
 #include "trace_shared.h"
 #include "vk/resources.hpp"
@@ -49,10 +50,44 @@ struct LodGeometry {
 // offset, its root in uniforms.lodRoots. At most shaders::trace::kLodLevels levels.
 [[nodiscard]] PackedScene packScene(std::span<const LodGeometry> levels);
 
+// Where the two-level part of a scene that moves lies in its tables (after the static levels):
+// in the nodes table the bottom levels' nodes (rigid meshes' first, then each deforming
+// instance's, with room for a rebuild: 2n - 1 nodes for n triangles), the top level (room for
+// DynamicGeometry::topLevelCapacity() nodes) and the instance records (trace_shared.h); in the
+// triangles and shading tables the bottom levels' triangles, then in the triangles table each
+// deforming instance's previous triangles. Everything from the first deforming bottom level on
+// (nodes, triangles, shading), and the lights, changes with the pose.
+struct DynamicLayout {
+    std::vector<uint32_t> bottomRoot;       // per bottom level: its root node
+    std::vector<uint32_t> bottomTriangle;   // per bottom level: its first triangle
+    std::vector<uint32_t> previousTriangle; // per instance: first previous one, or kNoPrevious
+    uint32_t topRoot = 0;
+    uint32_t instanceTexel = 0; // first texel of the instance records in the nodes table
+    // First texel of each table that changes with the pose (the end of each table is dynamic).
+    uint32_t dynamicNodeTexel = 0, dynamicTriangleTexel = 0, dynamicShadingTexel = 0;
+};
+
+// The static levels as packScene(levels), then the two-level part at its pose (DynamicLayout).
+[[nodiscard]] PackedScene packScene(std::span<const LodGeometry> levels,
+                                    const scene::DynamicGeometry& dynamic, DynamicLayout& layout);
+// Rewrites what changes with the pose in `p` (packed by the overload above with `layout`):
+// deforming bottom levels, the top level, the instance records, the previous triangles, and the
+// lights that have a node (Rig::lightNodes, glTF lights shine down their node's -Z).
+void repackDynamic(const scene::Scene& scene, const scene::DynamicGeometry& dynamic,
+                   const DynamicLayout& layout, PackedScene& p);
+
 class GpuScene {
 public:
     GpuScene(vk::Context& ctx, const scene::Scene& scene, const scene::Bvh& bvh);
     GpuScene(vk::Context& ctx, std::span<const LodGeometry> levels);
+    // A scene that moves: the tables that change with the pose (nodes, triangles, shading,
+    // lights) are host-visible, one copy per frame in flight (`copies`), written by update()
+    // and prepare(); the rest as for a static scene. `levels[0].scene` must outlive this.
+    GpuScene(vk::Context& ctx, std::span<const LodGeometry> levels,
+             const scene::DynamicGeometry& dynamic, uint32_t copies);
+    ~GpuScene();
+    GpuScene(const GpuScene&) = delete;
+    GpuScene& operator=(const GpuScene&) = delete;
     // Adds the nine scene bindings (trace::kBinding*) to a descriptor update.
     void bind(vk::DescriptorWriter& writer) const;
     [[nodiscard]] std::size_t bytes() const noexcept { return mBytes; }
@@ -60,6 +95,16 @@ public:
     [[nodiscard]] bool alphaMasked() const noexcept { return mAlphaMasked; }
     // Geometric LOD levels held (1 for a scene without subdivision cages).
     [[nodiscard]] uint32_t lodLevels() const noexcept { return mLodLevels; }
+    // Whether the scene has a two-level part: tracing passes set kSpecDynamic (trace.glsl's
+    // kDynamic) to this.
+    [[nodiscard]] bool dynamic() const noexcept { return mDynamic != nullptr; }
+    // The tables' contents at `dynamic`'s current pose (call after DynamicGeometry::update);
+    // no copy is written until prepare().
+    void update(const scene::DynamicGeometry& dynamic);
+    // Makes copy `copy` (the frame ring's slot of the frame about to be recorded: the GPU no
+    // longer reads it) hold the latest update() and binds it from now on.
+    void prepare(uint32_t copy);
+    [[nodiscard]] uint32_t boundCopy() const noexcept { return mBound; }
 
 private:
     struct Table {
@@ -68,7 +113,11 @@ private:
     };
     Table upload(vk::Context& ctx, const void* data, std::size_t bytes, VkFormat format,
                  const char* name);
+    struct DynamicTables; // the host-visible copies of a scene that moves
+    void uploadShared(vk::Context& ctx, const PackedScene& p);
     Table mNodes, mTriangles, mShading, mMaterials, mLights, mTexels, mTextureInfo, mEnvironment;
+    std::unique_ptr<DynamicTables> mDynamic;
+    uint32_t mBound = 0;
     vk::Buffer mUniforms;
     std::size_t mBytes = 0;
     bool mAlphaMasked = false;
@@ -79,6 +128,11 @@ private:
 // set 0, bindings 0-8), then the pass's own from binding 9 on.
 [[nodiscard]] std::vector<VkDescriptorType>
 tracingBindings(std::initializer_list<VkDescriptorType> passBindings);
+
+// A tracing pipeline's specialisation constants: the pass's own (constant_id 0 = kAlphaMask
+// and on, as before) padded to kSpecDynamic, which takes `dynamic` (GpuScene::dynamic()).
+[[nodiscard]] std::vector<uint32_t> tracingSpecialization(std::vector<uint32_t> passConstants,
+                                                          bool dynamic);
 
 // Records a tracing shader that writes one image: the scene's bindings and the image at
 // `outputBinding`, `push`, and one thread per pixel of `extent` in groups of `group`.

@@ -12,27 +12,51 @@ namespace gt::passes {
 
 namespace sh = shaders::foveated;
 
-InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
-    const std::vector<VkDescriptorType> bindings = {
+namespace {
+const std::vector<VkDescriptorType>& interpolateBindings() {
+    static const std::vector<VkDescriptorType> bindings = {
         VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
         VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
         VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER};
+        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+    return bindings;
+}
+
+std::unique_ptr<vk::ComputePipeline> makePipeline(vk::Context& ctx, uint32_t method, bool table,
+                                                  bool motion) {
+    return std::make_unique<vk::ComputePipeline>(
+        ctx, vk::ComputePipelineDesc{"interpolate",
+                                     gt_spv_interpolate_comp,
+                                     interpolateBindings(),
+                                     sizeof(sh::InterpolatePush),
+                                     {method, table ? 1u : 0u, motion ? 1u : 0u}});
+}
+} // namespace
+
+InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
     const std::pair<uint32_t, bool> variants[] = {
         {sh::kMethodNearest, false}, {sh::kMethodShepard, false}, {sh::kMethodShepard, true},
         {sh::kMethodRbf, false},     {sh::kMethodRbf, true},      {sh::kViewPoints, false},
         {sh::kViewCells, false},     {sh::kViewSpacing, false}};
     for (const auto& [method, table] : variants) {
-        mPipelines[{method, table}] = std::make_unique<vk::ComputePipeline>(
-            ctx, vk::ComputePipelineDesc{"interpolate",
-                                         gt_spv_interpolate_comp,
-                                         bindings,
-                                         sizeof(sh::InterpolatePush),
-                                         {method, table ? 1u : 0u}});
+        mPipelines[{method, table}] = makePipeline(ctx, method, table, false);
     }
+}
+
+const vk::ComputePipeline& InterpolatePass::pipeline(uint32_t method, bool table,
+                                                     bool motion) const {
+    if (!motion) {
+        return *mPipelines.at({method, table});
+    }
+    auto& slot = mMotionPipelines[{method, table}];
+    if (!slot) {
+        slot = makePipeline(mCtx, method, table, true);
+    }
+    return *slot;
 }
 
 InterpolatePass::~InterpolatePass() = default;
@@ -66,8 +90,8 @@ void checkInputs(const foveation::GpuPointSet& points, const InterpolateSettings
 
 InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
                                        rg::BufferId samples, glm::vec2 gaze,
-                                       const InterpolateSettings& s,
-                                       const InterpolateInputs& in) const {
+                                       const InterpolateSettings& s, const InterpolateInputs& in,
+                                       std::optional<rg::BufferId> sampleMotion) const {
     checkInputs(points, s, in);
     const bool useTable = usesPixelTable(s);
     const foveation::GpuPixelKnnTable* table = useTable ? in.table : nullptr;
@@ -78,6 +102,7 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
     uint32_t method = sh::kMethodNearest;
     switch (s.method) {
     case Interpolation::Nearest:
+    case Interpolation::ViewMotion: // nearest neighbour, coloured by passes::MotionViewPass
         method = sh::kMethodNearest;
         break;
     case Interpolation::Shepard:
@@ -107,10 +132,13 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
         useTable ? glm::uvec4(table->texelsPerRow(), table->k(), (s.k + 3) / 4, s.siteFrame)
                  : glm::uvec4(0u, 0u, 0u, s.siteFrame),
         glm::vec4(s.siteJitter, 0.0f, 0.0f, 0.0f)};
+    const vk::ComputePipeline& pipe = pipeline(method, useTable, sampleMotion.has_value());
     struct Data {
         rg::BufferId samples;
         rg::TextureId output, support;
         std::optional<RbfWeights> weights;
+        std::optional<rg::BufferId> sampleMotion;
+        std::optional<rg::TextureId> motion;
     };
     const auto& data = graph.addPass<Data>(
         "interpolate",
@@ -126,9 +154,14 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
                         rg::Access::StorageWrite);
             d.support = b.write(b.createTexture("interpolate.support", {VK_FORMAT_R32_SFLOAT}),
                                 rg::Access::StorageWrite);
+            if (sampleMotion) {
+                d.sampleMotion = b.read(*sampleMotion, rg::Access::StorageRead);
+                d.motion =
+                    b.write(b.createTexture("interpolate.motion", {VK_FORMAT_R32G32B32A32_SFLOAT}),
+                            rg::Access::StorageWrite);
+            }
         },
-        [ctx = &mCtx, pipeline = mPipelines.at({method, useTable}).get(), pts = &points,
-         knn = table, rbfWeights,
+        [ctx = &mCtx, pipeline = &pipe, pts = &points, knn = table, rbfWeights,
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             vk::DescriptorWriter writer;
             writer.texelBuffer(sh::kBindingInterpPoints, pts->points())
@@ -154,12 +187,18 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
                                d.weights ? r.buffer(d.weights->g) : samplesBuffer)
                 .storageBuffer(sh::kBindingLambdaB,
                                d.weights ? r.buffer(d.weights->b) : samplesBuffer);
+            // Without motion the motion bindings are never touched either.
+            writer
+                .storageBuffer(sh::kBindingInterpSampleMotion,
+                               d.sampleMotion ? r.buffer(*d.sampleMotion) : samplesBuffer)
+                .storageImage(sh::kBindingInterpMotion,
+                              r.texture(d.motion ? *d.motion : d.output).view);
             writer.push(*ctx, cmd, *pipeline);
             vk::dispatch(cmd, *pipeline, &push, sizeof(push),
                          (push.params.x + sh::kInterpGroupX - 1) / sh::kInterpGroupX,
                          (push.params.y + sh::kInterpGroupY - 1) / sh::kInterpGroupY);
         });
-    return {data.output, data.support};
+    return {data.output, data.support, data.motion};
 }
 
 } // namespace gt::passes

@@ -47,8 +47,11 @@ struct InterpolateInputs {
 // What interpolate writes: the radiance (rgb; a = the nearest sample's first-hit distance) and
 // per pixel the distance to the sample it took most from, in units of that point's spacing p —
 // how directly this frame saw the pixel, which TAA weighs the frame by on a still view.
+// In a scene that moves, also per pixel the motion of its nearest sample (rgba32f, the samples'
+// layout: shaders/common/motion.glsl).
 struct InterpolatedImage {
     rg::TextureId radiance, support;
+    std::optional<rg::TextureId> motion;
 };
 
 class InterpolatePass {
@@ -57,14 +60,21 @@ public:
     ~InterpolatePass();
     // Adds "interpolate" reading the samples, writing new textures "interpolate.radiance" and
     // "interpolate.support". `in` must hold what the settings need (see InterpolateInputs).
+    // With `sampleMotion` (point_sample's, a scene that moves) also "interpolate.motion".
     InterpolatedImage add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
                           rg::BufferId samples, glm::vec2 gaze, const InterpolateSettings& s,
-                          const InterpolateInputs& in = {}) const;
+                          const InterpolateInputs& in = {},
+                          std::optional<rg::BufferId> sampleMotion = std::nullopt) const;
 
 private:
+    const vk::ComputePipeline& pipeline(uint32_t method, bool table, bool motion) const;
+
     vk::Context& mCtx;
     // Specialised per (method, reads the k-NN table): see shaders/interpolate/interpolate.comp.
     std::map<std::pair<uint32_t, bool>, std::unique_ptr<vk::ComputePipeline>> mPipelines;
+    // The same with the motion written (a scene that moves), built on first use.
+    mutable std::map<std::pair<uint32_t, bool>, std::unique_ptr<vk::ComputePipeline>>
+        mMotionPipelines;
 };
 
 } // namespace gt::passes

@@ -16,7 +16,7 @@ namespace gt::passes {
 namespace sh = shaders::layers;
 
 LayersPass::LayersPass(vk::Context& ctx) : mCtx(ctx) {
-    (void)tracePipeline(false); // bad shaders fail at construction
+    (void)tracePipeline(false, false); // bad shaders fail at construction
     (void)composePipeline(3);
 }
 
@@ -37,17 +37,17 @@ const vk::ComputePipeline& LayersPass::composePipeline(std::size_t layers) const
 
 LayersPass::~LayersPass() = default;
 
-const vk::ComputePipeline& LayersPass::tracePipeline(bool alphaMask) const {
-    auto& slot = mTrace[alphaMask ? 1 : 0];
+const vk::ComputePipeline& LayersPass::tracePipeline(bool alphaMask, bool dynamic) const {
+    auto& slot = mTrace[(alphaMask ? 1 : 0) + (dynamic ? 2 : 0)];
     if (!slot) {
         const std::vector<VkDescriptorType> bindings =
-            trace::tracingBindings({VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}); // kBindingTraceOutput
+            trace::tracingBindings({VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // kBindingTraceOutput
+                                    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}); // kBindingTraceMotion
         slot = std::make_unique<vk::ComputePipeline>(
-            mCtx, vk::ComputePipelineDesc{"layers.trace",
-                                          gt_spv_layers_trace_comp,
-                                          bindings,
-                                          sizeof(sh::LayerTracePush),
-                                          {alphaMask ? 1u : 0u}});
+            mCtx,
+            vk::ComputePipelineDesc{"layers.trace", gt_spv_layers_trace_comp, bindings,
+                                    sizeof(sh::LayerTracePush),
+                                    trace::tracingSpecialization({alphaMask ? 1u : 0u}, dynamic)});
     }
     return *slot;
 }
@@ -55,6 +55,12 @@ const vk::ComputePipeline& LayersPass::tracePipeline(bool alphaMask) const {
 rg::TextureId LayersPass::addTrace(rg::RenderGraph& graph, const trace::GpuScene& scene,
                                    const shaders::trace::CameraPush& cam, uint32_t width,
                                    uint32_t height, uint32_t raysPerPixel, uint32_t lod) const {
+    return addTraceImage(graph, scene, cam, width, height, raysPerPixel, lod).radiance;
+}
+
+TracedLayer LayersPass::addTraceImage(rg::RenderGraph& graph, const trace::GpuScene& scene,
+                                      const shaders::trace::CameraPush& cam, uint32_t width,
+                                      uint32_t height, uint32_t raysPerPixel, uint32_t lod) const {
     if (raysPerPixel == 0) {
         throw ArgumentError("rays per layer pixel must be at least 1");
     }
@@ -63,7 +69,9 @@ rg::TextureId LayersPass::addTrace(rg::RenderGraph& graph, const trace::GpuScene
     }
     struct Data {
         rg::TextureId output;
+        std::optional<rg::TextureId> motion;
     };
+    const bool dynamic = scene.dynamic();
     const sh::LayerTracePush push{cam.origin, cam.forward, cam.right, cam.up,
                                   glm::uvec4(width, height, raysPerPixel, lod)};
     const auto& data = graph.addPass<Data>(
@@ -74,15 +82,29 @@ rg::TextureId LayersPass::addTrace(rg::RenderGraph& graph, const trace::GpuScene
                                         {VK_FORMAT_R32G32B32A32_SFLOAT, rg::SizeMode::Absolute,
                                          static_cast<float>(width), static_cast<float>(height)}),
                         rg::Access::StorageWrite);
+            if (dynamic) {
+                d.motion = b.write(
+                    b.createTexture("layers.motion",
+                                    {VK_FORMAT_R32G32B32A32_SFLOAT, rg::SizeMode::Absolute,
+                                     static_cast<float>(width), static_cast<float>(height)}),
+                    rg::Access::StorageWrite);
+            }
         },
-        [ctx = &mCtx, pipeline = &tracePipeline(scene.alphaMasked()), scene = &scene,
+        [ctx = &mCtx, pipeline = &tracePipeline(scene.alphaMasked(), dynamic), scene = &scene,
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
-            trace::dispatchImageTrace(*ctx, cmd, *pipeline, *scene, sh::kBindingTraceOutput,
-                                      r.texture(d.output).view, std::as_bytes(std::span(&push, 1)),
-                                      {push.params.x, push.params.y},
-                                      {sh::kGroupSizeX, sh::kGroupSizeY});
+            vk::DescriptorWriter writer;
+            scene->bind(writer);
+            // A scene that does not move never writes the motion binding.
+            writer.storageImage(sh::kBindingTraceOutput, r.texture(d.output).view)
+                .storageImage(sh::kBindingTraceMotion,
+                              r.texture(d.motion ? *d.motion : d.output).view);
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline->handle());
+            writer.push(*ctx, cmd, *pipeline);
+            vk::dispatch(cmd, *pipeline, &push, sizeof(push),
+                         (push.params.x + sh::kGroupSizeX - 1) / sh::kGroupSizeX,
+                         (push.params.y + sh::kGroupSizeY - 1) / sh::kGroupSizeY);
         });
-    return data.output;
+    return {data.output, data.motion};
 }
 
 rg::TextureId LayersPass::addCompose(rg::RenderGraph& graph, std::span<const ComposedLayer> layers,

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 
 #include <glm/glm.hpp>
@@ -34,6 +35,13 @@ struct ComposedLayer {
     float radiusPx = 0.0f; // where its blend weight reaches 0 (ignored for the outer layer)
 };
 
+// One traced layer: rgb radiance, a = first-hit distance; in a scene that moves
+// (trace::GpuScene::dynamic()) also that hit's motion (shaders/common/motion.glsl).
+struct TracedLayer {
+    rg::TextureId radiance;
+    std::optional<rg::TextureId> motion;
+};
+
 class LayersPass {
 public:
     explicit LayersPass(vk::Context& ctx);
@@ -44,17 +52,21 @@ public:
     rg::TextureId addTrace(rg::RenderGraph& graph, const trace::GpuScene& scene,
                            const shaders::trace::CameraPush& camera, uint32_t width,
                            uint32_t height, uint32_t raysPerPixel, uint32_t lod = 0) const;
+    // The same, and in a scene that moves a new texture "layers.motion" of the layer's size.
+    TracedLayer addTraceImage(rg::RenderGraph& graph, const trace::GpuScene& scene,
+                              const shaders::trace::CameraPush& camera, uint32_t width,
+                              uint32_t height, uint32_t raysPerPixel, uint32_t lod = 0) const;
     // Adds "layers.compose" writing the output-sized "layers.composed": `layers` inner first, the
     // last covering the whole display; `transition` is the smoothstep's share of each radius.
     rg::TextureId addCompose(rg::RenderGraph& graph, std::span<const ComposedLayer> layers,
                              glm::vec2 gaze, float transition) const;
 
 private:
-    const vk::ComputePipeline& tracePipeline(bool alphaMask) const;
+    const vk::ComputePipeline& tracePipeline(bool alphaMask, bool dynamic) const;
     const vk::ComputePipeline& composePipeline(std::size_t layers) const;
 
     vk::Context& mCtx;
-    mutable std::array<std::unique_ptr<vk::ComputePipeline>, 2> mTrace;
+    mutable std::array<std::unique_ptr<vk::ComputePipeline>, 4> mTrace; // alpha | dynamic
     // One per layer count (1-4), built on first use.
     mutable std::array<std::unique_ptr<vk::ComputePipeline>, kMaxEccentricityLayers> mCompose;
 };

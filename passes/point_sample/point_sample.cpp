@@ -66,20 +66,21 @@ PointSamplePass::PointSamplePass(vk::Context& ctx)
 
 PointSamplePass::~PointSamplePass() = default;
 
-const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaMask,
-                                                     bool chunked) const {
-    auto& slot = mPipelines[{lanes, alphaMask, chunked}];
+const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaMask, bool chunked,
+                                                     bool dynamic) const {
+    auto& slot = mPipelines[{lanes, alphaMask, chunked, dynamic}];
     if (!slot) {
         const std::vector<VkDescriptorType> bindings =
             trace::tracingBindings({VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, // kBindingPoints
                                     VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       // kBindingSamples
-                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});     // kBindingChunks
+                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       // kBindingChunks
+                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});     // kBindingSampleMotion
         slot = std::make_unique<vk::ComputePipeline>(
-            mCtx, vk::ComputePipelineDesc{"point_sample",
-                                          gt_spv_point_sample_comp,
-                                          bindings,
-                                          sizeof(sh::PointSamplePush),
-                                          {alphaMask ? 1u : 0u, lanes, chunked ? 1u : 0u}});
+            mCtx,
+            vk::ComputePipelineDesc{"point_sample", gt_spv_point_sample_comp, bindings,
+                                    sizeof(sh::PointSamplePush),
+                                    trace::tracingSpecialization(
+                                        {alphaMask ? 1u : 0u, lanes, chunked ? 1u : 0u}, dynamic)});
     }
     return *slot;
 }
@@ -90,6 +91,18 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
                                   uint32_t raysPerPoint, uint32_t lanesPerPoint,
                                   const PanelWarp* warp, bool lod, uint32_t frame, float siteJitter,
                                   bool thesisDisc, PointDispatch dispatch) const {
+    return addSamples(graph, scene, cam, points, gaze, raysPerPoint, lanesPerPoint, warp, lod,
+                      frame, siteJitter, thesisDisc, dispatch)
+        .samples;
+}
+
+SampledPoints PointSamplePass::addSamples(rg::RenderGraph& graph, const trace::GpuScene& scene,
+                                          const shaders::trace::CameraPush& cam,
+                                          const foveation::GpuPointSet& points, glm::vec2 gaze,
+                                          uint32_t raysPerPoint, uint32_t lanesPerPoint,
+                                          const PanelWarp* warp, bool lod, uint32_t frame,
+                                          float siteJitter, bool thesisDisc,
+                                          PointDispatch dispatch) const {
     if (raysPerPoint == 0) {
         throw ArgumentError("rays per point is 0: every point traces at least 1 ray");
     }
@@ -99,7 +112,8 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
         throw ArgumentError("point_sample: lanes per point must be a power of two up to 32");
     }
     const bool chunked = dispatch == PointDispatch::OnScreenChunks;
-    const vk::ComputePipeline& pipe = pipeline(lanes, scene.alphaMasked(), chunked);
+    const bool dynamic = scene.dynamic();
+    const vk::ComputePipeline& pipe = pipeline(lanes, scene.alphaMasked(), chunked, dynamic);
     const uint32_t pointsPerGroup = sh::kSampleGroupSize / lanes;
     const uint32_t w = graph.outputWidth(), h = graph.outputHeight();
     const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());
@@ -140,7 +154,7 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
     }
     struct Data {
         rg::BufferId samples;
-        std::optional<rg::BufferId> chunks;
+        std::optional<rg::BufferId> chunks, motion;
     };
     const auto& data = graph.addPass<Data>(
         "point_sample",
@@ -148,6 +162,11 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
             d.samples = b.write(b.createBuffer("point_sample.samples",
                                                {static_cast<VkDeviceSize>(points.count()) * 16}),
                                 rg::Access::StorageWrite);
+            if (dynamic) {
+                d.motion = b.write(b.createBuffer("point_sample.motion",
+                                                  {static_cast<VkDeviceSize>(points.count()) * 16}),
+                                   rg::Access::StorageWrite);
+            }
             if (chunkList) {
                 d.chunks = b.read(*chunkList, rg::Access::StorageRead);
             }
@@ -159,11 +178,14 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
             scene->bind(writer);
             writer.texelBuffer(sh::kBindingPoints, pts->points())
                 .storageBuffer(sh::kBindingSamples, r.buffer(d.samples))
-                .storageBuffer(sh::kBindingChunks, d.chunks ? r.buffer(*d.chunks) : noChunks);
+                .storageBuffer(sh::kBindingChunks, d.chunks ? r.buffer(*d.chunks) : noChunks)
+                // A scene that does not move never writes it.
+                .storageBuffer(sh::kBindingSampleMotion,
+                               d.motion ? r.buffer(*d.motion) : r.buffer(d.samples));
             writer.push(*ctx, cmd, *pipeline);
             vk::dispatch(cmd, *pipeline, &push, sizeof(push), groups, 1);
         });
-    return data.samples;
+    return {data.samples, data.motion};
 }
 
 } // namespace gt::passes

@@ -49,6 +49,13 @@ struct PanelWarp {
 // gaze centred, 73 % in a corner) and keep a workgroup's rays neighbours.
 enum class PointDispatch : uint8_t { OnScreenChunks, WholeSet };
 
+// What point_sample writes: per point the mean radiance and first-hit distance, and in a scene
+// that moves (trace::GpuScene::dynamic()) the first hit's motion (shaders/common/motion.glsl).
+struct SampledPoints {
+    rg::BufferId samples;
+    std::optional<rg::BufferId> motion;
+};
+
 class PointSamplePass {
 public:
     explicit PointSamplePass(vk::Context& ctx);
@@ -67,14 +74,24 @@ public:
                      const PanelWarp* warp = nullptr, bool lod = false, uint32_t frame = 0,
                      float siteJitter = 0.0f, bool thesisDisc = false,
                      PointDispatch dispatch = PointDispatch::OnScreenChunks) const;
+    // The same, and in a scene that moves also a new buffer "point_sample.motion" (one vec4
+    // per point: its ray 0's first hit's motion).
+    SampledPoints addSamples(rg::RenderGraph& graph, const trace::GpuScene& scene,
+                             const shaders::trace::CameraPush& camera,
+                             const foveation::GpuPointSet& points, glm::vec2 gaze,
+                             uint32_t raysPerPoint, uint32_t lanesPerPoint = 0,
+                             const PanelWarp* warp = nullptr, bool lod = false, uint32_t frame = 0,
+                             float siteJitter = 0.0f, bool thesisDisc = false,
+                             PointDispatch dispatch = PointDispatch::OnScreenChunks) const;
 
 private:
-    const vk::ComputePipeline& pipeline(uint32_t lanes, bool alphaMask, bool chunked) const;
+    const vk::ComputePipeline& pipeline(uint32_t lanes, bool alphaMask, bool chunked,
+                                        bool dynamic) const;
 
     vk::Context& mCtx;
-    // One pipeline per lane count, alpha-mask setting and dispatch, built on first use (each
-    // compiles the whole tracer).
-    mutable std::map<std::tuple<uint32_t, bool, bool>, std::unique_ptr<vk::ComputePipeline>>
+    // One pipeline per lane count, alpha-mask setting, dispatch and scene kind (static or
+    // moving), built on first use (each compiles the whole tracer).
+    mutable std::map<std::tuple<uint32_t, bool, bool, bool>, std::unique_ptr<vk::ComputePipeline>>
         mPipelines;
     vk::Buffer mNoChunks; // bound as the chunk list when the whole set is dispatched
 };

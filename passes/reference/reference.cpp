@@ -12,20 +12,19 @@ namespace gt::passes {
 namespace sh = shaders::reference;
 
 ReferencePass::ReferencePass(vk::Context& ctx) : mCtx(ctx) {
-    (void)pipeline(false); // the common case, so that a bad shader fails at construction
+    (void)pipeline(false, false); // the common case, so that a bad shader fails at construction
 }
 
-const vk::ComputePipeline& ReferencePass::pipeline(bool alphaMask) const {
-    auto& slot = mPipelines[alphaMask ? 1 : 0];
+const vk::ComputePipeline& ReferencePass::pipeline(bool alphaMask, bool dynamic) const {
+    auto& slot = mPipelines[(alphaMask ? 1 : 0) + (dynamic ? 2 : 0)];
     if (!slot) {
         const std::vector<VkDescriptorType> bindings =
-            trace::tracingBindings({VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}); // sh::kBindingOutput
+            trace::tracingBindings({VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // sh::kBindingOutput
+                                    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}); // kBindingMotionOutput
         slot = std::make_unique<vk::ComputePipeline>(
-            mCtx, vk::ComputePipelineDesc{"reference.trace",
-                                          gt_spv_reference_comp,
-                                          bindings,
-                                          sizeof(sh::ReferencePush),
-                                          {alphaMask ? 1u : 0u}});
+            mCtx, vk::ComputePipelineDesc{
+                      "reference.trace", gt_spv_reference_comp, bindings, sizeof(sh::ReferencePush),
+                      trace::tracingSpecialization({alphaMask ? 1u : 0u}, dynamic)});
     }
     return *slot;
 }
@@ -35,10 +34,18 @@ ReferencePass::~ReferencePass() = default;
 rg::TextureId ReferencePass::add(rg::RenderGraph& graph, const trace::GpuScene& scene,
                                  const shaders::trace::CameraPush& cam,
                                  const ReferenceSettings& settings) const {
+    return addImage(graph, scene, cam, settings).radiance;
+}
+
+ReferenceImage ReferencePass::addImage(rg::RenderGraph& graph, const trace::GpuScene& scene,
+                                       const shaders::trace::CameraPush& cam,
+                                       const ReferenceSettings& settings) const {
     if (settings.raysPerPixel == 0) throw ArgumentError("rays per pixel must be at least 1");
     struct Data {
         rg::TextureId output;
+        std::optional<rg::TextureId> motion;
     };
+    const bool dynamic = scene.dynamic();
     const uint32_t w = graph.outputWidth(), h = graph.outputHeight();
     sh::ReferencePush push{cam.origin, cam.forward, cam.right, cam.up,
                            glm::uvec4(w, h, settings.raysPerPixel, settings.frameSeed)};
@@ -48,15 +55,27 @@ rg::TextureId ReferencePass::add(rg::RenderGraph& graph, const trace::GpuScene& 
             d.output =
                 b.write(b.createTexture("reference.radiance", {VK_FORMAT_R32G32B32A32_SFLOAT}),
                         rg::Access::StorageWrite);
+            if (dynamic) {
+                d.motion =
+                    b.write(b.createTexture("reference.motion", {VK_FORMAT_R32G32B32A32_SFLOAT}),
+                            rg::Access::StorageWrite);
+            }
         },
-        [ctx = &mCtx, pipeline = &pipeline(scene.alphaMasked()), scene = &scene,
+        [ctx = &mCtx, pipeline = &pipeline(scene.alphaMasked(), dynamic), scene = &scene,
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
-            trace::dispatchImageTrace(*ctx, cmd, *pipeline, *scene, sh::kBindingOutput,
-                                      r.texture(d.output).view, std::as_bytes(std::span(&push, 1)),
-                                      {push.params.x, push.params.y},
-                                      {sh::kGroupSizeX, sh::kGroupSizeY});
+            vk::DescriptorWriter writer;
+            scene->bind(writer);
+            // A scene that does not move never writes the motion binding.
+            writer.storageImage(sh::kBindingOutput, r.texture(d.output).view)
+                .storageImage(sh::kBindingMotionOutput,
+                              r.texture(d.motion ? *d.motion : d.output).view);
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline->handle());
+            writer.push(*ctx, cmd, *pipeline);
+            vk::dispatch(cmd, *pipeline, &push, sizeof(push),
+                         (push.params.x + sh::kGroupSizeX - 1) / sh::kGroupSizeX,
+                         (push.params.y + sh::kGroupSizeY - 1) / sh::kGroupSizeY);
         });
-    return data.output;
+    return {data.output, data.motion};
 }
 
 } // namespace gt::passes

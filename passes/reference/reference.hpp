@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 #include "render_graph/render_graph.hpp"
 #include "trace_shared.h"
@@ -23,6 +24,13 @@ struct ReferenceSettings {
     uint32_t frameSeed = 0;
 };
 
+// The radiance (rgb; a = the first ray's first-hit distance) and, in a scene that moves
+// (trace::GpuScene::dynamic()), that hit's motion (shaders/common/motion.glsl).
+struct ReferenceImage {
+    rg::TextureId radiance;
+    std::optional<rg::TextureId> motion;
+};
+
 class ReferencePass {
 public:
     explicit ReferencePass(vk::Context& ctx);
@@ -32,13 +40,17 @@ public:
     rg::TextureId add(rg::RenderGraph& graph, const trace::GpuScene& scene,
                       const shaders::trace::CameraPush& camera,
                       const ReferenceSettings& settings) const;
+    // The same, and in a scene that moves a new texture "reference.motion" too.
+    ReferenceImage addImage(rg::RenderGraph& graph, const trace::GpuScene& scene,
+                            const shaders::trace::CameraPush& camera,
+                            const ReferenceSettings& settings) const;
 
 private:
     // Built on first use: without and with the alpha test (trace.glsl's kAlphaMask).
-    const vk::ComputePipeline& pipeline(bool alphaMask) const;
+    const vk::ComputePipeline& pipeline(bool alphaMask, bool dynamic) const;
 
     vk::Context& mCtx;
-    mutable std::array<std::unique_ptr<vk::ComputePipeline>, 2> mPipelines;
+    mutable std::array<std::unique_ptr<vk::ComputePipeline>, 4> mPipelines; // alpha | dynamic
 };
 
 } // namespace gt::passes

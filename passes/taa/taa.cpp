@@ -1,14 +1,18 @@
 #include "taa/taa.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 
 #include <glm/gtc/packing.hpp>
 
+#include "motion_view_comp.h"
 #include "taa_comp.h"
+#include "taa_motion_comp.h"
 #include "taa_shared.h"
 #include "taa_support_comp.h"
+#include "taa_support_motion_comp.h"
 #include "vk/context.hpp"
 #include "vk/pipeline.hpp"
 
@@ -43,6 +47,26 @@ TaaPass::TaaPass(vk::Context& ctx) : mCtx(ctx) {
 
 TaaPass::~TaaPass() = default;
 
+const vk::ComputePipeline& TaaPass::motionPipeline(bool support, const TaaSettings& s) const {
+    auto& slot = mMotionPipelines[{support, s.currentWeight, s.clipGamma, s.depthTolerance}];
+    if (!slot) {
+        // Bindings 0-8; without a support, 3-5 are bound but never read.
+        const std::vector<VkDescriptorType> bindings(sh::kBindingSignatureOutput + 1,
+                                                     VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
+        slot = std::make_unique<vk::ComputePipeline>(
+            mCtx,
+            vk::ComputePipelineDesc{
+                support ? "taa_support_motion" : "taa_motion",
+                support ? std::span<const uint32_t>(gt_spv_taa_support_motion_comp)
+                        : std::span<const uint32_t>(gt_spv_taa_motion_comp),
+                bindings,
+                sizeof(sh::TaaPush),
+                {std::bit_cast<uint32_t>(s.currentWeight), std::bit_cast<uint32_t>(s.clipGamma),
+                 std::bit_cast<uint32_t>(s.depthTolerance)}});
+    }
+    return *slot;
+}
+
 bool sameCamera(const shaders::trace::CameraPush& a, const shaders::trace::CameraPush& b) {
     return a.origin == b.origin && a.forward == b.forward && a.right == b.right && a.up == b.up;
 }
@@ -73,7 +97,8 @@ rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& hi
                            rg::TextureId current, const shaders::trace::CameraPush& cur,
                            const shaders::trace::CameraPush& prev, bool reset, const TaaSettings& s,
                            const std::optional<TaaFrameState>& state,
-                           const std::optional<TaaSupport>& support) const {
+                           const std::optional<TaaSupport>& support,
+                           const std::optional<TaaMotion>& motion) const {
     const bool still = sameCamera(cur, prev);
     float alpha = s.currentWeight, gamma = s.clipGamma, exposure = 0.0f, radius = 0.0f;
     float depthTolerance = s.depthTolerance;
@@ -106,7 +131,9 @@ rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& hi
                            prev.forward,
                            glm::vec4(glm::vec3(prev.right), radius),
                            glm::vec4(alpha, gamma,
-                                     reset || !history.valid || (support && !support->weights.valid)
+                                     reset || !history.valid ||
+                                             (support && !support->weights.valid) ||
+                                             (motion && !motion->signatures.valid)
                                          ? -1.0f
                                          : exposure,
                                      depthTolerance),
@@ -114,6 +141,7 @@ rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& hi
     struct Data {
         rg::TextureId current, history, output;
         std::optional<rg::TextureId> support, weightsPrevious, weightsNext;
+        std::optional<rg::TextureId> motion, signaturesPrevious, signaturesNext;
     };
     const auto& data = graph.addPass<Data>(
         "taa",
@@ -126,8 +154,17 @@ rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& hi
                 d.weightsPrevious = b.read(support->weights.previous, rg::Access::StorageRead);
                 d.weightsNext = b.write(support->weights.next, rg::Access::StorageWrite);
             }
+            if (motion) {
+                d.motion =
+                    b.read(motion->motion, rg::Access::StorageRead, VK_FORMAT_R32G32B32A32_SFLOAT);
+                d.signaturesPrevious = b.read(motion->signatures.previous, rg::Access::StorageRead);
+                d.signaturesNext = b.write(motion->signatures.next, rg::Access::StorageWrite);
+            }
         },
-        [ctx = &mCtx, pipeline = support ? mSupportPipeline.get() : mPipeline.get(),
+        [ctx = &mCtx,
+         pipeline = motion    ? &motionPipeline(support.has_value(), motion->moving)
+                    : support ? mSupportPipeline.get()
+                              : mPipeline.get(),
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             const rg::ResolvedTexture& out = r.texture(d.output);
             vk::DescriptorWriter writer;
@@ -138,7 +175,78 @@ rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& hi
                 writer.storageImage(sh::kBindingSupport, r.texture(*d.support).view)
                     .storageImage(sh::kBindingWeightHistory, r.texture(*d.weightsPrevious).view)
                     .storageImage(sh::kBindingWeightOutput, r.texture(*d.weightsNext).view);
+            } else if (d.motion) {
+                const VkImageView unread = r.texture(d.current).view;
+                writer.storageImage(sh::kBindingSupport, unread)
+                    .storageImage(sh::kBindingWeightHistory, unread)
+                    .storageImage(sh::kBindingWeightOutput, unread);
             }
+            if (d.motion) {
+                writer.storageImage(sh::kBindingMotion, r.texture(*d.motion).view)
+                    .storageImage(sh::kBindingSignatureHistory,
+                                  r.texture(*d.signaturesPrevious).view)
+                    .storageImage(sh::kBindingSignatureOutput, r.texture(*d.signaturesNext).view);
+            }
+            writer.push(*ctx, cmd, *pipeline);
+            vk::dispatch(cmd, *pipeline, &push, sizeof(push),
+                         (out.width + sh::kGroupX - 1) / sh::kGroupX,
+                         (out.height + sh::kGroupY - 1) / sh::kGroupY);
+        });
+    return data.output;
+}
+
+MotionViewPass::MotionViewPass(vk::Context& ctx) : mCtx(ctx) {
+    // Bindings 0-6, of which it reads 0 and 6 and writes 2.
+    mPipeline = std::make_unique<vk::ComputePipeline>(
+        ctx, vk::ComputePipelineDesc{"motion_view", gt_spv_motion_view_comp,
+                                     std::vector<VkDescriptorType>(
+                                         sh::kBindingMotion + 1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE),
+                                     sizeof(sh::TaaPush)});
+}
+
+MotionViewPass::~MotionViewPass() = default;
+
+rg::TextureId MotionViewPass::add(rg::RenderGraph& graph, rg::TextureId current,
+                                  std::optional<rg::TextureId> motion,
+                                  const shaders::trace::CameraPush& cur,
+                                  const shaders::trace::CameraPush& prev) const {
+    const sh::TaaPush push{cur.origin,
+                           cur.forward,
+                           cur.right,
+                           prev.origin,
+                           prev.forward,
+                           prev.right,
+                           glm::vec4(motion ? 1.0f : 0.0f, 0.0f, 0.0f, 0.0f),
+                           glm::vec4(cur.right.w, cur.up.w, prev.right.w, prev.up.w)};
+    struct Data {
+        rg::TextureId current, output;
+        std::optional<rg::TextureId> motion;
+    };
+    const auto& data = graph.addPass<Data>(
+        "motion_view",
+        [&](rg::PassBuilder& b, Data& d) {
+            d.current = b.read(current, rg::Access::StorageRead, VK_FORMAT_R32G32B32A32_SFLOAT);
+            if (motion) {
+                d.motion = b.read(*motion, rg::Access::StorageRead, VK_FORMAT_R32G32B32A32_SFLOAT);
+            }
+            d.output =
+                b.write(b.createTexture("motion_view.colour", {VK_FORMAT_R32G32B32A32_SFLOAT}),
+                        rg::Access::StorageWrite);
+        },
+        [ctx = &mCtx, pipeline = mPipeline.get(), push](const rg::PassResources& r, const Data& d,
+                                                        VkCommandBuffer cmd) {
+            const rg::ResolvedTexture& out = r.texture(d.output);
+            const VkImageView radiance = r.texture(d.current).view;
+            vk::DescriptorWriter writer;
+            writer.storageImage(sh::kBindingCurrent, radiance)
+                .storageImage(sh::kBindingOutput, out.view);
+            // Bindings 1 and 3-5 are never read; without the scene's motion neither is 6.
+            for (const uint32_t unread : {sh::kBindingHistory, sh::kBindingSupport,
+                                          sh::kBindingWeightHistory, sh::kBindingWeightOutput}) {
+                writer.storageImage(unread, radiance);
+            }
+            writer.storageImage(sh::kBindingMotion,
+                                d.motion ? r.texture(*d.motion).view : radiance);
             writer.push(*ctx, cmd, *pipeline);
             vk::dispatch(cmd, *pipeline, &push, sizeof(push),
                          (out.width + sh::kGroupX - 1) / sh::kGroupX,

@@ -3,8 +3,10 @@
 // rejection on disocclusion and on saccades (gaze jumps). The history is the render graph's
 // (rg::HistoryPool): last frame's output in, this frame's output out.
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
+#include <tuple>
 
 #include <glm/glm.hpp>
 
@@ -79,6 +81,17 @@ struct TaaSupport {
     rg::HistoryTextures weights; // R32_SFLOAT, the view's size
 };
 
+// For a method whose scene moves (trace::GpuScene::dynamic()): per pixel the first hit's
+// motion (rgba32f: xyz = its world position one frame ago minus now, w = its signature code,
+// shaders/common/motion.glsl), and the history of the signatures TAA's output shows (taa.glsl).
+// A pixel whose hit moved blends as on a moving camera, with `moving`'s currentWeight,
+// clipGamma and depthTolerance (the view's TaaSettings, before any still-view adjustment).
+struct TaaMotion {
+    rg::TextureId motion;
+    rg::HistoryTextures signatures; // R32_SFLOAT, the view's size
+    TaaSettings moving;
+};
+
 class TaaPass {
 public:
     explicit TaaPass(vk::Context& ctx);
@@ -93,7 +106,8 @@ public:
                       const shaders::trace::CameraPush& previousCamera, bool reset,
                       const TaaSettings& settings = {},
                       const std::optional<TaaFrameState>& state = std::nullopt,
-                      const std::optional<TaaSupport>& support = std::nullopt) const;
+                      const std::optional<TaaSupport>& support = std::nullopt,
+                      const std::optional<TaaMotion>& motion = std::nullopt) const;
     // The history's frame count after this frame (TaaFrameState::samples of the next one).
     [[nodiscard]] static uint32_t nextSamples(const shaders::trace::CameraPush& camera,
                                               const shaders::trace::CameraPush& previousCamera,
@@ -101,8 +115,32 @@ public:
                                               const TaaFrameState& state);
 
 private:
+    // With motion: per support and the blend of a pixel whose hit moved (TaaMotion::moving's
+    // current weight, clip gamma and depth tolerance: specialisation constants), built on
+    // first use.
+    const vk::ComputePipeline& motionPipeline(bool support, const TaaSettings& moving) const;
+
     vk::Context& mCtx;
     std::unique_ptr<vk::ComputePipeline> mPipeline, mSupportPipeline;
+    mutable std::map<std::tuple<bool, float, float, float>, std::unique_ptr<vk::ComputePipeline>>
+        mMotionPipelines;
+};
+
+// Debug view `motion` (--view motion): each pixel's screen-space motion since the last frame
+// as colour (shaders/taa/motion_view.comp), from `current` (a = first-hit distance), the scene's
+// `motion` when it moves (else the camera's alone) and both cameras.
+class MotionViewPass {
+public:
+    explicit MotionViewPass(vk::Context& ctx);
+    ~MotionViewPass();
+    // Adds "motion_view" writing a new texture "motion_view.colour" of the output's size.
+    rg::TextureId add(rg::RenderGraph& graph, rg::TextureId current,
+                      std::optional<rg::TextureId> motion, const shaders::trace::CameraPush& camera,
+                      const shaders::trace::CameraPush& previousCamera) const;
+
+private:
+    vk::Context& mCtx;
+    std::unique_ptr<vk::ComputePipeline> mPipeline;
 };
 
 } // namespace gt::passes

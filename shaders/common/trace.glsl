@@ -27,6 +27,18 @@ layout(std430, set = 0, binding = kBindingSceneUniforms) readonly buffer SceneBl
 // time inside the traversal loops instead, it made llvmpipe trace 3.5x slower even when no
 // material was masked (reference, market, 2 spp: 2.08 s -> 7.4 s).
 layout(constant_id = 0) const bool kAlphaMask = false;
+// Specialisation constant kSpecDynamic: the scene moves (trace::GpuScene::dynamic()). Rays then
+// test the static tree and the two-level part after it: the top level over the instances, at
+// each instance leaf the ray in object space through that instance's bottom-level tree. Off,
+// all of it compiles away and the tracer is the single-level one.
+layout(constant_id = kSpecDynamic) const bool kDynamic = false;
+
+// With kDynamic, traceRadiance's first hit: xyz = its world position one frame ago minus its
+// position now (0 for static geometry and misses); w = uintBitsToFloat(signature), the surface
+// id (kSurfaceSky, kSurfaceStatic, kSurfaceInstance0 + instance) in bits 0-23 and which of
+// lights 0-7 reach the hit (its shadow state) from kShadowMaskShift on. Temporal passes reject
+// history whose signature differs.
+vec4 gMotion = vec4(0.0);
 
 // The BVH rays traverse: one geometric LOD level's (SceneUniforms::lodRoots). A pass picks the
 // level once per ray, before tracing it; the shadow rays of its hits then use the same level.
@@ -43,6 +55,7 @@ struct Hit {
     uint tri;
     float u;
     float v;
+    uint inst; // instance record (kDynamic); 0xffffffff: the static tree
 };
 
 bool slabTest(int node, vec3 origin, vec3 invDir, float tMin, float tMax, out float tEnter) {
@@ -114,12 +127,227 @@ bool alphaRejects(uint tri, float u, float v) {
     return materialBaseColor(material, shadingUv(s0, s1, s2, s3, u, v)).a < cutoff;
 }
 
-Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
-    Hit best = Hit(tMax, 0xffffffffu, 0.0, 0.0);
-    if (uScene.counts.w == 0u) return Hit(kInf, 0xffffffffu, 0.0, 0.0); // environment only
+// ---- The two-level part (kDynamic) ------------------------------------------------------
+// Texel k of instance record `record` (trace_shared.h: kInstanceTexels per record).
+vec4 instanceTexel(uint record, int k) {
+    return texelFetch(uNodes, int(uScene.dynamic.y + record * kInstanceTexels) + k);
+}
+
+// A 3x4 matrix given by its rows, applied to a point and to a direction.
+vec3 rowsPoint(vec4 r0, vec4 r1, vec4 r2, vec3 p) {
+    vec4 h = vec4(p, 1.0);
+    return vec3(dot(r0, h), dot(r1, h), dot(r2, h));
+}
+vec3 rowsDirection(vec4 r0, vec4 r1, vec4 r2, vec3 d) {
+    return vec3(dot(r0.xyz, d), dot(r1.xyz, d), dot(r2.xyz, d));
+}
+
+// An object-space normal of instance record `record` in world space: by the inverse transpose of
+// the object-to-world matrix, which is the transpose of the world-to-object rows.
+vec3 instanceNormalToWorld(uint record, vec3 n) {
+    return normalize(n.x * instanceTexel(record, 0).xyz + n.y * instanceTexel(record, 1).xyz +
+                     n.z * instanceTexel(record, 2).xyz);
+}
+
+// Closest hit in one bottom-level tree of the ray (origin, dir) in its object space. dir is the
+// world direction transformed and not normalised, so t is the world ray's and compares with
+// `best` across trees. Ties on t go to the lower record, then the lower triangle.
+void closestInBottomLevel(uint record, int root, vec3 origin, vec3 dir, float tMin,
+                          inout Hit best) {
     vec3 invDir = 1.0 / dir;
     float tEnter;
-    if (slabTest(gLodRoot, origin, invDir, tMin, tMax, tEnter)) {
+    if (!slabTest(root, origin, invDir, tMin, best.t, tEnter)) return;
+    uint stack[kStackSize];
+    float stackT[kStackSize];
+    int sp = 0;
+    int node = root;
+    while (true) {
+        uvec2 links = nodeLinks(node);
+        uint leftFirst = links.x, count = links.y;
+        bool descend = false;
+        if (count > 0u) {
+            for (uint i = leftFirst; i < leftFirst + count; ++i) {
+                float t, u, v;
+                if (triangleTest(i, origin, dir, tMin, kInf, t, u, v) && t <= best.t &&
+                    (t < best.t || record < best.inst || (record == best.inst && i < best.tri)) &&
+                    !alphaRejects(i, u, v)) {
+                    best = Hit(t, i, u, v, record);
+                }
+            }
+        } else {
+            float tl, tr;
+            bool hl = slabTest(int(leftFirst), origin, invDir, tMin, best.t, tl);
+            bool hr = slabTest(int(leftFirst) + 1, origin, invDir, tMin, best.t, tr);
+            if (hl && hr) {
+                bool leftNear = tl <= tr;
+                stack[sp] = leftNear ? leftFirst + 1u : leftFirst;
+                stackT[sp++] = leftNear ? tr : tl;
+                node = int(leftNear ? leftFirst : leftFirst + 1u);
+                descend = true;
+            } else if (hl || hr) {
+                node = int(leftFirst) + (hl ? 0 : 1);
+                descend = true;
+            }
+        }
+        if (descend) continue;
+        while (sp > 0 && stackT[sp - 1] > best.t) --sp;
+        if (sp == 0) break;
+        node = int(stack[--sp]);
+    }
+}
+
+// The top level over the instances' world bounds: at a leaf, each of its instance records'
+// bottom level with the ray moved into that instance's object space.
+void closestInstance(vec3 origin, vec3 dir, float tMin, inout Hit best) {
+    if (uScene.dynamic.z == 0u) return;
+    int root = int(uScene.dynamic.x);
+    vec3 invDir = 1.0 / dir;
+    float tEnter;
+    if (!slabTest(root, origin, invDir, tMin, best.t, tEnter)) return;
+    uint stack[kStackSize];
+    float stackT[kStackSize];
+    int sp = 0;
+    int node = root;
+    while (true) {
+        uvec2 links = nodeLinks(node);
+        uint leftFirst = links.x, count = links.y;
+        bool descend = false;
+        if (count > 0u) {
+            for (uint k = leftFirst; k < leftFirst + count; ++k) {
+                vec4 r0 = instanceTexel(k, 0), r1 = instanceTexel(k, 1), r2 = instanceTexel(k, 2);
+                uint bottomRoot = floatBitsToUint(instanceTexel(k, 6).x);
+                closestInBottomLevel(k, int(bottomRoot), rowsPoint(r0, r1, r2, origin),
+                                     rowsDirection(r0, r1, r2, dir), tMin, best);
+            }
+        } else {
+            float tl, tr;
+            bool hl = slabTest(int(leftFirst), origin, invDir, tMin, best.t, tl);
+            bool hr = slabTest(int(leftFirst) + 1, origin, invDir, tMin, best.t, tr);
+            if (hl && hr) {
+                bool leftNear = tl <= tr;
+                stack[sp] = leftNear ? leftFirst + 1u : leftFirst;
+                stackT[sp++] = leftNear ? tr : tl;
+                node = int(leftNear ? leftFirst : leftFirst + 1u);
+                descend = true;
+            } else if (hl || hr) {
+                node = int(leftFirst) + (hl ? 0 : 1);
+                descend = true;
+            }
+        }
+        if (descend) continue;
+        while (sp > 0 && stackT[sp - 1] > best.t) --sp;
+        if (sp == 0) break;
+        node = int(stack[--sp]);
+    }
+}
+
+// Any hit in (0, tMax) in one bottom-level tree (object-space ray, as closestInBottomLevel).
+bool occludedInBottomLevel(int root, vec3 origin, vec3 dir, float tMax) {
+    vec3 invDir = 1.0 / dir;
+    float tEnter;
+    if (!slabTest(root, origin, invDir, 0.0, tMax, tEnter)) return false;
+    uint stack[kStackSize];
+    int sp = 0;
+    int node = root;
+    while (true) {
+        uvec2 links = nodeLinks(node);
+        uint leftFirst = links.x, count = links.y;
+        if (count > 0u) {
+            for (uint i = leftFirst; i < leftFirst + count; ++i) {
+                float t, u, v;
+                if (triangleTest(i, origin, dir, 0.0, tMax, t, u, v) && !alphaRejects(i, u, v)) {
+                    return true;
+                }
+            }
+            if (sp == 0) return false;
+            node = int(stack[--sp]);
+            continue;
+        }
+        float tl, tr;
+        bool hl = slabTest(int(leftFirst), origin, invDir, 0.0, tMax, tl);
+        bool hr = slabTest(int(leftFirst) + 1, origin, invDir, 0.0, tMax, tr);
+        if (hl && hr) {
+            stack[sp++] = leftFirst + 1u;
+            node = int(leftFirst);
+        } else if (hl || hr) {
+            node = int(leftFirst) + (hl ? 0 : 1);
+        } else {
+            if (sp == 0) return false;
+            node = int(stack[--sp]);
+        }
+    }
+    return false;
+}
+
+bool occludedByInstance(vec3 origin, vec3 dir, float tMax) {
+    if (uScene.dynamic.z == 0u) return false;
+    int root = int(uScene.dynamic.x);
+    vec3 invDir = 1.0 / dir;
+    float tEnter;
+    if (!slabTest(root, origin, invDir, 0.0, tMax, tEnter)) return false;
+    uint stack[kStackSize];
+    int sp = 0;
+    int node = root;
+    while (true) {
+        uvec2 links = nodeLinks(node);
+        uint leftFirst = links.x, count = links.y;
+        if (count > 0u) {
+            for (uint k = leftFirst; k < leftFirst + count; ++k) {
+                vec4 r0 = instanceTexel(k, 0), r1 = instanceTexel(k, 1), r2 = instanceTexel(k, 2);
+                uint bottomRoot = floatBitsToUint(instanceTexel(k, 6).x);
+                if (occludedInBottomLevel(int(bottomRoot), rowsPoint(r0, r1, r2, origin),
+                                          rowsDirection(r0, r1, r2, dir), tMax)) {
+                    return true;
+                }
+            }
+            if (sp == 0) return false;
+            node = int(stack[--sp]);
+            continue;
+        }
+        float tl, tr;
+        bool hl = slabTest(int(leftFirst), origin, invDir, 0.0, tMax, tl);
+        bool hr = slabTest(int(leftFirst) + 1, origin, invDir, 0.0, tMax, tr);
+        if (hl && hr) {
+            stack[sp++] = leftFirst + 1u;
+            node = int(leftFirst);
+        } else if (hl || hr) {
+            node = int(leftFirst) + (hl ? 0 : 1);
+        } else {
+            if (sp == 0) return false;
+            node = int(stack[--sp]);
+        }
+    }
+    return false;
+}
+
+// gMotion of a first hit at world position p (see gMotion): where the surface point was one
+// frame ago, from the instance's previous transform and, for a deforming instance, its
+// previous triangle at the same barycentrics.
+vec4 hitMotion(Hit hit, vec3 p) {
+    if (hit.tri == 0xffffffffu) return vec4(0.0, 0.0, 0.0, uintBitsToFloat(kSurfaceSky));
+    if (hit.inst == 0xffffffffu) return vec4(0.0, 0.0, 0.0, uintBitsToFloat(kSurfaceStatic));
+    uvec4 info = floatBitsToUint(instanceTexel(hit.inst, 6));
+    vec3 object;
+    if (info.z != kNoPrevious) {
+        int base = int(info.z + (hit.tri - info.y)) * 3;
+        object = texelFetch(uTriangles, base).xyz + hit.u * texelFetch(uTriangles, base + 1).xyz +
+                 hit.v * texelFetch(uTriangles, base + 2).xyz;
+    } else {
+        object = rowsPoint(instanceTexel(hit.inst, 0), instanceTexel(hit.inst, 1),
+                           instanceTexel(hit.inst, 2), p);
+    }
+    vec3 previous = rowsPoint(instanceTexel(hit.inst, 3), instanceTexel(hit.inst, 4),
+                              instanceTexel(hit.inst, 5), object);
+    return vec4(previous - p, uintBitsToFloat((kSurfaceInstance0 + info.w) & kSurfaceIdMask));
+}
+
+Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
+    Hit best = Hit(tMax, 0xffffffffu, 0.0, 0.0, 0xffffffffu);
+    // Environment only (a scene that moves may have all its triangles in instances).
+    if (uScene.counts.w == 0u && !kDynamic) return Hit(kInf, 0xffffffffu, 0.0, 0.0, 0xffffffffu);
+    vec3 invDir = 1.0 / dir;
+    float tEnter;
+    if (uScene.counts.w != 0u && slabTest(gLodRoot, origin, invDir, tMin, tMax, tEnter)) {
         // Children are tested at their parent; the far one waits on the stack with its entry
         // distance and is skipped if a closer hit has been found by the time it is popped.
         uint stack[kStackSize];
@@ -135,7 +363,7 @@ Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
                     float t, u, v;
                     if (triangleTest(i, origin, dir, tMin, kInf, t, u, v) && t <= best.t &&
                         (t < best.t || i < best.tri) && t <= tMax && !alphaRejects(i, u, v)) {
-                        best = Hit(t, i, u, v);
+                        best = Hit(t, i, u, v, 0xffffffffu);
                     }
                 }
             } else {
@@ -160,11 +388,13 @@ Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
             node = int(stack[--sp]);
         }
     }
+    if (kDynamic) closestInstance(origin, dir, tMin, best);
     if (best.tri == 0xffffffffu) best.t = kInf;
     return best;
 }
 
 bool traceOccluded(vec3 origin, vec3 dir, float tMax) {
+    if (kDynamic && occludedByInstance(origin, dir, tMax)) return true;
     if (uScene.counts.w == 0u) return false;
     vec3 invDir = 1.0 / dir;
     float tEnter;
@@ -271,6 +501,7 @@ vec3 traceRadiance(vec3 origin, vec3 dir, out float depth) {
     for (int bounce = 0; bounce < 2; ++bounce) {
         Hit hit = traceClosest(origin, dir, 0.0, kInf);
         if (bounce == 0) depth = hit.t;
+        if (kDynamic && bounce == 0) gMotion = hitMotion(hit, origin + hit.t * dir);
         if (hit.tri == 0xffffffffu) {
             result += throughput * skyRadiance(dir);
             break;
@@ -283,6 +514,10 @@ vec3 traceRadiance(vec3 origin, vec3 dir, out float depth) {
         uint material = floatBitsToUint(s3.w);
         int tb = int(hit.tri) * 3;
         vec3 ng = normalize(cross(texelFetch(uTriangles, tb + 1).xyz, texelFetch(uTriangles, tb + 2).xyz));
+        if (kDynamic && hit.inst != 0xffffffffu) { // an instance's normals are in object space
+            n = instanceNormalToWorld(hit.inst, n);
+            ng = instanceNormalToWorld(hit.inst, ng);
+        }
         if (dot(ng, dir) > 0.0) ng = -ng;
         if (dot(n, ng) < 0.0) n = -n;
         vec3 base = materialBaseColor(material, uv).rgb;
@@ -297,6 +532,7 @@ vec3 traceRadiance(vec3 origin, vec3 dir, out float depth) {
         vec3 offsetOrigin = p + ng * offsetScale(p);
 
         vec3 direct = vec3(0.0);
+        uint lit = 0u; // lights 0-7 reaching the first hit, for gMotion's signature
         uint lightCount = uScene.counts.x;
         for (uint li = 0u; li < lightCount; ++li) {
             int lb = int(li * kLightTexels);
@@ -330,7 +566,13 @@ vec3 traceRadiance(vec3 origin, vec3 dir, out float depth) {
             float cosTheta = dot(n, toLight);
             if (cosTheta <= 0.0 || dot(e, e) == 0.0) continue;
             float shadowMax = isinf(dist) ? kInf : dist * 0.999;
-            if (!traceOccluded(offsetOrigin, toLight, shadowMax)) direct += e * cosTheta;
+            if (!traceOccluded(offsetOrigin, toLight, shadowMax)) {
+                direct += e * cosTheta;
+                if (kDynamic && li < 8u) lit |= 1u << li;
+            }
+        }
+        if (kDynamic && bounce == 0) {
+            gMotion.w = uintBitsToFloat(floatBitsToUint(gMotion.w) | (lit << kShadowMaskShift));
         }
         vec3 albedo = base * (1.0 - metallic);
         vec3 ambient = uScene.skyHorizon.w * skyRadiance(n);

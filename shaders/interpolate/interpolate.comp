@@ -30,6 +30,14 @@ layout(push_constant) uniform Push { InterpolatePush pc; };
 // neighbour took 50 ms, a constant write 46 ms at 1280x1440); specialised, dead code goes.
 layout(constant_id = 0) const uint kMethod = kMethodNearest;
 layout(constant_id = 1) const bool kUseTable = false;
+// A scene that moves: each pixel takes the motion of the sample it is nearest to, the one whose
+// first-hit distance it keeps in a (motion.glsl's layout), so that TAA reprojects the point
+// that distance names with that point's own motion and tests its surface's signature.
+layout(constant_id = 2) const bool kMotion = false;
+layout(std430, set = 0, binding = kBindingInterpSampleMotion) readonly buffer SampleMotion {
+    vec4 sampleMotion[];
+};
+layout(set = 0, binding = kBindingInterpMotion, rgba32f) uniform writeonly image2D uMotion;
 
 // Display-referred interpolation (pc.rbf.y = exposure e > 0): samples are blended as
 // T(c) = c / (1 + e L(c)) and the blend is mapped back with T^-1(y) = y / (1 - e L(y)). A linear
@@ -74,6 +82,13 @@ void store(ivec2 px, vec4 colour, vec2 site, float p) {
     imageStore(uOutput, px, colour);
     float s = p >= 0.0 ? length(site - (vec2(px) + 0.5)) / max(p, 1.0) : 1e9;
     imageStore(uSupport, px, vec4(s));
+}
+
+const uint kNoSample = 0xffffffffu;
+// The motion of the pixel's nearest sample (none: no motion, the sky's signature).
+void storeMotion(ivec2 px, uint nearest) {
+    if (!kMotion) return;
+    imageStore(uMotion, px, nearest == kNoSample ? vec4(0.0) : sampleMotion[nearest]);
 }
 
 // Canvas pixel c's row of the k-NN table (pixel_knn_table.hpp): its tile's first candidate,
@@ -183,6 +198,7 @@ void main() {
                 sum += w * compress(sampled ? samples[i].rgb : nearest.rgb);
             }
             vec4 nearestPoint = texelFetch(uPoints, int(nearestIndex));
+            storeMotion(px, nearestIndex);
             store(px, vec4(max(expand(max(sum, vec3(0.0))), vec3(0.0)), nearest.w),
                   nearestPoint.xy + offset, nearestPoint.z);
             return;
@@ -194,6 +210,7 @@ void main() {
         vec4 qpoint = texelFetch(uPoints, int(q));
         if (isSampled(qpoint.xy, offset, vec2(size), margin)) {
             vec4 qs = samples[q];
+            storeMotion(px, q);
             store(px, vec4(max(evaluateRbf(q, pos), vec3(0.0)), qs.w), qpoint.xy + offset, qpoint.z);
             return;
         }
@@ -205,6 +222,7 @@ void main() {
         // margin does the general search below look for the nearest sampled one.
         vec4 qpoint = texelFetch(uPoints, int(q));
         if (isSampled(qpoint.xy, offset, vec2(size), margin)) {
+            storeMotion(px, q);
             store(px, samples[q], qpoint.xy + offset, qpoint.z);
             return;
         }
@@ -286,5 +304,6 @@ void main() {
         }
         colour *= 2.0; // before the tone mapper
     }
+    storeMotion(px, n > 0u ? idx[0] : kNoSample);
     store(px, vec4(colour, depth), site0, n > 0u ? spacing0 : -1.0);
 }

@@ -6,9 +6,11 @@
 #extension GL_GOOGLE_include_directive : require
 #include "layers_shared.h"
 #include "trace.glsl"
+#include "motion.glsl"
 
 layout(local_size_x = kGroupSizeX, local_size_y = kGroupSizeY) in;
 layout(set = 0, binding = kBindingTraceOutput, rgba32f) uniform writeonly image2D uOutput;
+layout(set = 0, binding = kBindingTraceMotion, rgba32f) uniform writeonly image2D uMotion;
 layout(push_constant) uniform Push { LayerTracePush pc; };
 
 void main() {
@@ -22,12 +24,17 @@ void main() {
     uint ny = (rays + nx - 1u) / nx;
     vec3 sum = vec3(0.0);
     float firstDepth = 0.0;
+    vec4 firstMotion = vec4(0.0);
     for (uint i = 0u; i < rays; ++i) {
         vec2 o = vec2((float(i % nx) + 0.5) / float(nx), (float(i / nx) + 0.5) / float(ny));
         vec3 dir = cameraRay(cam, vec2(pixel) + o, vec2(width, height));
         float depth;
         sum += traceRadiance(pc.origin.xyz, dir, depth);
-        if (i == 0u) firstDepth = depth;
+        if (i == 0u) {
+            firstDepth = depth;
+            if (kDynamic) firstMotion = storedMotion();
+        }
     }
     imageStore(uOutput, ivec2(pixel), vec4(sum / float(rays), firstDepth));
+    if (kDynamic) imageStore(uMotion, ivec2(pixel), firstMotion);
 }

@@ -25,6 +25,7 @@
 #include "random.glsl"
 #include "site_jitter.glsl"
 #include "trace.glsl"
+#include "motion.glsl"
 
 layout(local_size_x = kSampleGroupSize) in;
 layout(constant_id = 1) const uint kLanes = 1u; // a power of two up to kSampleGroupSize / 2
@@ -32,6 +33,9 @@ layout(constant_id = 2) const bool kChunked = false;
 layout(set = 0, binding = kBindingPoints) uniform samplerBuffer uPoints;
 layout(std430, set = 0, binding = kBindingSamples) writeonly buffer Samples { vec4 samples[]; };
 layout(std430, set = 0, binding = kBindingChunks) readonly buffer Chunks { uint chunks[]; };
+layout(std430, set = 0, binding = kBindingSampleMotion) writeonly buffer SampleMotion {
+    vec4 sampleMotion[];
+};
 layout(push_constant) uniform Push { PointSamplePush pc; };
 
 shared vec3 partial[kSampleGroupSize];
@@ -105,6 +109,7 @@ void main() {
     }
     vec3 sum = vec3(0.0);
     float firstDepth = 0.0; // first-hit distance of ray 0 (always lane 0's), for TAA
+    vec4 firstMotion = vec4(0.0); // and its motion, in a scene that moves
     for (uint r = lane; onScreen && r < rays; r += kLanes) {
         vec2 pos = s;
         float frame = frameField;
@@ -116,7 +121,10 @@ void main() {
         }
         float depth;
         sum += traceRadiance(pc.origin.xyz, cameraRay(cam, toImage(pos, size), size), depth);
-        if (r == 0u) firstDepth = depth;
+        if (r == 0u) {
+            firstDepth = depth;
+            if (kDynamic) firstMotion = storedMotion();
+        }
     }
     if (kLanes > 1u) {
         partial[gl_LocalInvocationIndex] = sum;
@@ -125,4 +133,5 @@ void main() {
         for (uint l = 1u; l < kLanes; ++l) sum += partial[gl_LocalInvocationIndex + l];
     }
     samples[i] = vec4(sum / float(rays), firstDepth);
+    if (kDynamic) sampleMotion[i] = firstMotion;
 }

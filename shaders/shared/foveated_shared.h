@@ -10,6 +10,10 @@ GT_CONST kBindingPoints = 9;   // samplerBuffer RGBA32F: canvas x, y, spacing p,
 GT_CONST kBindingSamples = 10; // buffer of vec4: mean radiance rgb, first-hit distance
 // buffer of uint: the chunks of kSampleGroupSize points to trace this frame (point_chunks.hpp)
 GT_CONST kBindingChunks = 11;
+// buffer of vec4, in a scene that moves (trace::GpuScene::dynamic()): per point the first hit
+// of its ray 0 as motion.glsl stores it (xyz: world position one frame ago minus now, w: the
+// signature code); unwritten otherwise
+GT_CONST kBindingSampleMotion = 12;
 GT_CONST kSampleGroupSize = 64;
 
 struct PointSamplePush {
@@ -39,6 +43,10 @@ GT_CONST kBindingInterpOutput = 4;  // image2D rgba32f
 // image2D r32f: per pixel, the distance to the sample it took most from (its nearest), in units
 // of that point's spacing p: how directly this frame saw the pixel (TAA weighs by it).
 GT_CONST kBindingInterpSupport = 10;
+// interpolate_motion.comp, in a scene that moves: the samples' motion (kBindingSampleMotion) in,
+// and per pixel the motion of its nearest sample out (image2D rgba32f, as the samples').
+GT_CONST kBindingInterpSampleMotion = 14;
+GT_CONST kBindingInterpMotion = 15;
 GT_CONST kInterpGroupX = 8;
 GT_CONST kInterpGroupY = 8;
 GT_CONST kMaxK = 20;

@@ -8,6 +8,9 @@ GT_NAMESPACE_BEGIN(layers)
 
 // layers.trace: after the 9 scene bindings.
 GT_CONST kBindingTraceOutput = 9; // image2D rgba32f: radiance, a = first-hit distance
+// image2D rgba32f, in a scene that moves: the first hit's motion of each layer pixel's first
+// ray (shaders/common/motion.glsl); unwritten otherwise
+GT_CONST kBindingTraceMotion = 10;
 GT_CONST kGroupSizeX = 8;
 GT_CONST kGroupSizeY = 8;
 

@@ -6,6 +6,9 @@
 GT_NAMESPACE_BEGIN(reference)
 
 GT_CONST kBindingOutput = 9; // image2D rgba32f, linear radiance (after the 9 scene bindings)
+// image2D rgba32f, in a scene that moves: the first hit's motion of each pixel's first ray
+// (shaders/common/motion.glsl); unwritten otherwise
+GT_CONST kBindingMotionOutput = 10;
 GT_CONST kGroupSizeX = 8;
 GT_CONST kGroupSizeY = 8;
 

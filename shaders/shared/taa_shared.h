@@ -13,6 +13,12 @@ GT_CONST kBindingOutput = 2;  // image2D rgba32f
 GT_CONST kBindingSupport = 3;
 GT_CONST kBindingWeightHistory = 4; // image2D r32f (taa_support.comp): last frame's weight sum
 GT_CONST kBindingWeightOutput = 5;  // image2D r32f: this frame's
+// A scene that moves (taa_motion.comp, taa_support_motion.comp): per pixel the first hit's
+// motion (motion.glsl: xyz = world position one frame ago minus now, w = its signature code),
+// and the history of the signatures the output pixels show.
+GT_CONST kBindingMotion = 6;           // image2D rgba32f
+GT_CONST kBindingSignatureHistory = 7; // image2D r32f: last frame's
+GT_CONST kBindingSignatureOutput = 8;  // image2D r32f: this frame's
 GT_CONST kGroupX = 8;
 GT_CONST kGroupY = 8;
 

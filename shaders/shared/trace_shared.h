@@ -40,8 +40,31 @@ struct SceneUniforms {
     // Root node of each geometric LOD level's BVH (0 = full detail, 1.. coarser Catmull-Clark
     // refinements; levels past the scene's last repeat it). A scene without cages has one.
     uvec4 lodRoots;
+    // The two-level part of a scene that moves (read only with kDynamic, trace.glsl): x = the
+    // top level's root node, y = the first texel of the instance table in the nodes table,
+    // z = the instances; w unused. The top level's leaves index instance records.
+    uvec4 dynamic;
 };
 GT_CONST kLodLevels = 4;
+
+// Specialisation constant of every tracing shader (trace.glsl's kDynamic): the scene has a
+// two-level part (trace::GpuScene::dynamic()). Ids 1 and 2 belong to point_sample's own.
+GT_CONST kSpecDynamic = 3;
+
+// An instance record, kInstanceTexels texels in the nodes table (trace::packInstances):
+//   0-2  world-to-object, rows of a 3x4 matrix (object = row . (world, 1))
+//   3-5  previous object-to-world, rows of a 3x4 matrix (where the surface was a frame ago)
+//   6    x = bottom-level root node, y = its first triangle, z = its first previous triangle
+//        (kNoPrevious: rigid, the triangles did not change), w = the rig instance (bits)
+//   7    unused
+GT_CONST kInstanceTexels = 8;
+GT_CONST kNoPrevious = 0xffffffffu;
+// gMotion's signature (trace.glsl): surface ids in bits 0-23, shadow mask of lights 0-7 above.
+GT_CONST kSurfaceSky = 0;
+GT_CONST kSurfaceStatic = 1;
+GT_CONST kSurfaceInstance0 = 2; // + the rig instance
+GT_CONST kSurfaceIdMask = 0xffffffu;
+GT_CONST kShadowMaskShift = 24;
 
 // Camera as a pinhole with an off-axis frustum: dir = normalize(forward + sx * right + sy * up),
 // sx = u * tan(yfov / 2) * aspect + centre.x and sy = v * tan(yfov / 2) + centre.y with u, v in

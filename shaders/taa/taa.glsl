@@ -29,6 +29,22 @@ const float kSupportSigma = 0.2;
 const float kSupportFloor = 0.002;
 const float kMaxWeight = 64.0; // as TaaSettings::maxStillFrames caps the plain running mean
 #endif
+#ifdef TAA_MOTION
+// A scene that moves: each pixel's first hit moved by motion.xyz since last frame (world
+// space), so history is fetched where the moved point was seen, p + motion, through the
+// previous camera; and it is rejected where the surface or shadow the history shows is not the
+// pixel's now (its signature, motion.glsl), which is what removes the trail of a moving object
+// and of a moving shadow. The still view's shortcuts (no clipping, no distance test, the
+// support-weighted pooling) hold only where the hit neither moved nor changed: a pixel whose
+// hit moved blends as on a moving camera, with these (TaaSettings::currentWeight, clipGamma and
+// depthTolerance, set per pipeline).
+layout(set = 0, binding = kBindingMotion, rgba32f) uniform readonly image2D uMotion;
+layout(set = 0, binding = kBindingSignatureHistory, r32f) uniform readonly image2D uSignatureHistory;
+layout(set = 0, binding = kBindingSignatureOutput, r32f) uniform writeonly image2D uSignatureOutput;
+layout(constant_id = 0) const float kMovingWeight = 0.1;
+layout(constant_id = 1) const float kMovingGamma = 1.0;
+layout(constant_id = 2) const float kMovingTolerance = 0.05;
+#endif
 
 vec3 toYCoCg(vec3 c) {
     return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b,
@@ -70,6 +86,47 @@ vec4 historyBilinear(vec2 p, ivec2 size) {
     return vec4(colour.rgb, nearest.a);
 }
 
+#ifdef TAA_MOTION
+// historyBilinear over the taps that show the surface `signature` (their weights renormalised,
+// the distance of the heaviest): a tap of another surface is not this pixel's past, and would
+// bleed a moving object's colour into what it uncovered. found = false where no tap does.
+vec4 historyOfSurface(vec2 p, ivec2 size, float signature, out bool found) {
+    vec2 q = p - 0.5;
+    ivec2 i = ivec2(floor(q));
+    vec2 f = q - vec2(i);
+    vec4 colour = vec4(0.0);
+    float total = 0.0, best = -1.0;
+    float depth = 0.0;
+    for (int t = 0; t < 4; ++t) {
+        ivec2 o = ivec2(t & 1, t >> 1);
+        ivec2 at = clamp(i + o, ivec2(0), size - 1);
+        float w = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
+        if (imageLoad(uSignatureHistory, at).r != signature) continue;
+        vec4 h = imageLoad(uHistory, at);
+        colour += w * h;
+        total += w;
+        if (w > best) { best = w; depth = h.a; }
+    }
+    found = total > 0.0;
+    return found ? vec4(colour.rgb / total, depth) : vec4(0.0);
+}
+
+// Whether any of the 3x3 pixels around `px` shows another signature now than its counterpart
+// around `prevPixel` last frame.
+bool changedAround(ivec2 px, vec2 prevPixel, ivec2 size) {
+    ivec2 prev = ivec2(floor(prevPixel));
+    for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+            ivec2 o = ivec2(dx, dy);
+            float now = imageLoad(uMotion, clamp(px + o, ivec2(0), size - 1)).w;
+            float then = imageLoad(uSignatureHistory, clamp(prev + o, ivec2(0), size - 1)).r;
+            if (now != then) return true;
+        }
+    }
+    return false;
+}
+#endif
+
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(uOutput);
@@ -78,6 +135,10 @@ void main() {
 #ifdef TAA_SUPPORT
     float support = imageLoad(uSupport, px).r;
     float w = kSupportFloor + exp(-(support * support) / (kSupportSigma * kSupportSigma));
+#endif
+#ifdef TAA_MOTION
+    vec4 motion = imageLoad(uMotion, px);
+    imageStore(uSignatureOutput, px, vec4(motion.w));
 #endif
     if (pc.params.z < 0.0) {
         imageStore(uOutput, px, current);
@@ -107,6 +168,11 @@ void main() {
     float depth = current.a;
     bool sky = !(depth < 1e30);
     vec3 d = sky ? dir : pc.currentOrigin.xyz + depth * dir - pc.previousOrigin.xyz;
+#ifdef TAA_MOTION
+    // Where the hit was one frame ago: p + motion (0 for static geometry and the sky).
+    bool moved = !sky && dot(motion.xyz, motion.xyz) > 0.0;
+    if (!sky) d += motion.xyz;
+#endif
     vec3 prevUp = cross(pc.previousRight.xyz, pc.previousForward.xyz);
     float z = dot(d, pc.previousForward.xyz);
     bool valid = z > 1e-6;
@@ -114,15 +180,34 @@ void main() {
     ps = (ps - pc.centres.zw) / vec2(pc.previousOrigin.w * pc.previousForward.w, pc.previousOrigin.w);
     vec2 prevPixel = vec2((ps.x + 1.0) * 0.5, (1.0 - ps.y) * 0.5) * vec2(size);
     valid = valid && all(greaterThanEqual(prevPixel, vec2(0.0))) && all(lessThan(prevPixel, vec2(size)));
+#ifdef TAA_MOTION
+    bool sameSurface = false;
+    vec4 history = valid ? historyOfSurface(prevPixel, size, motion.w, sameSurface) : current;
+    valid = valid && sameSurface;
+    if (!valid) history = current;
+    // Something changed around the pixel since last frame (a surface or shadow edge moved past
+    // it): its history may hold a mix of what was there, such as a sample straddling a moving
+    // object's edge under the floor's signature; it is clipped as a moved pixel's, not pooled.
+    if (valid && !moved) moved = changedAround(px, prevPixel, size);
+#else
     vec4 history = valid ? historyBilinear(prevPixel, size) : current;
+#endif
     // Disocclusion: the surface seen last frame must be at the distance we expect. A tolerance
     // of 1e29 or more means nothing moved (taa.cpp): then neither distances nor sky against
     // geometry are tested, as the rays moving in their discs change which one a pixel's
     // nearest sample saw, not what the pixel shows.
     bool testDepth = pc.params.w < 1e29;
+    float tolerance = pc.params.w;
+#ifdef TAA_MOTION
+    // The distance expected is the moved point's (length(d) above).
+    if (moved) {
+        testDepth = true;
+        tolerance = min(tolerance, kMovingTolerance);
+    }
+#endif
     if (valid && !sky && testDepth) {
         float expected = length(d);
-        valid = abs(history.a - expected) <= pc.params.w * expected;
+        valid = abs(history.a - expected) <= tolerance * expected;
     } else if (valid && sky && testDepth) {
         valid = !(history.a < 1e30);
     }
@@ -132,6 +217,9 @@ void main() {
     // Camera and gaze still (no clipping): the weighted running mean. Otherwise the history
     // stands for 1 / alpha frames of this frame's weight when the view comes to rest.
     bool weighted = valid && gamma >= 1e29;
+#ifdef TAA_MOTION
+    weighted = weighted && !moved;
+#endif
     float weightSum = weighted ? imageLoad(uWeightHistory, px).r : 0.0;
 #endif
     if (pc.previousRight.w != 0.0) {
@@ -147,6 +235,12 @@ void main() {
         alpha /= f;
         gamma *= f;
     }
+#ifdef TAA_MOTION
+    if (moved) {
+        alpha = max(alpha, kMovingWeight);
+        gamma = min(gamma, kMovingGamma);
+    }
+#endif
 #ifdef TAA_SUPPORT
     if (weighted) alpha = w / max(weightSum + w, 1e-6);
 #endif

@@ -104,6 +104,7 @@ TEST(OptionParsing, CustomHmdStrings) {
 TEST(OptionParsing, InterpolationChoices) {
     EXPECT_EQ(parseInterpolation("msm"), render::Interpolation::Shepard);
     EXPECT_EQ(parseView("eccentricity"), render::Interpolation::ViewSpacing);
+    EXPECT_EQ(parseView("motion"), render::Interpolation::ViewMotion);
     EXPECT_EQ(parseKernel("gaussian"), render::RbfKernel::Gaussian);
     EXPECT_EQ(parseKnnIndex("lists"), render::KnnIndex::NeighbourLists);
     EXPECT_EQ(parseReconstruction("thesis"), render::Reconstruction::Thesis);

@@ -33,7 +33,8 @@ public:
         addLiveMethodOptions(mCommand, mOptions.method, mOptions.interp, mOptions.k, mOptions.scale,
                              mOptions.raysPerPoint, mOptions.spp, mTaa, mOptions.slope,
                              mOptions.layers);
-        mCommand->add_option("--view", mOptions.view, "Debug view: points | cells | eccentricity");
+        mCommand->add_option("--view", mOptions.view,
+                             "Debug view: points | cells | eccentricity | motion");
         mCommand
             ->add_option("--gaze", mOptions.gaze,
                          "mouse | fixed:X,Y | trace:FILE.csv | track:SOURCE | udp:PORT")

@@ -135,8 +135,8 @@ public:
             ->capture_default_str();
         mCommand
             ->add_option("--view", mOptions.view,
-                         "Foveated debug view: points | cells | eccentricity")
-            ->check(CLI::IsMember({"points", "cells", "eccentricity"}));
+                         "Foveated debug view: points | cells | eccentricity | motion")
+            ->check(CLI::IsMember({"points", "cells", "eccentricity", "motion"}));
         mCommand->add_option("--taa", mTaa, "Foveated: temporal anti-aliasing on | off")
             ->check(CLI::IsMember({"on", "off"}))
             ->capture_default_str();

@@ -1,0 +1,277 @@
+// Motion in TAA (taa.glsl, TAA_MOTION), on images built here so that every pixel's surface,
+// motion and signature is known: a striped box moving over a still background, and a shadow
+// moving over a still floor, seen by a still camera with the gaze still — the view where TAA's
+// history counts most (its running mean over up to 64 frames, no clipping, no distance test).
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "readback/readback.hpp"
+#include "render_graph/render_graph.hpp"
+#include "support/gpu_test_context.hpp"
+#include "support/graph_fill.hpp"
+#include "taa/taa.hpp"
+#include "vk/resources.hpp"
+
+namespace gt {
+namespace {
+
+constexpr uint32_t kW = 64, kH = 32;
+
+// The signature code the passes store (shaders/common/motion.glsl): 16 bits of the surface id
+// above the 8 of the shadow mask.
+float signatureCode(uint32_t surface, uint32_t shadowMask) {
+    return static_cast<float>(((surface & 0xffffu) << 8u) | (shadowMask & 0xffu));
+}
+
+// What a tracer would leave for one frame: radiance (a = first-hit distance) and motion
+// (xyz = world position one frame ago minus now, w = the signature code).
+struct TracedFrame {
+    std::vector<glm::vec4> radiance, motion;
+};
+
+// A pinhole at the origin looking down -z, tan(yfov / 2) = 0.5, aspect 2: at distance 5 a
+// pixel is 0.15625 scene units wide.
+shaders::trace::CameraPush camera() {
+    shaders::trace::CameraPush c{};
+    c.origin = glm::vec4(0.0f, 0.0f, 0.0f, 0.5f);
+    c.forward = glm::vec4(0.0f, 0.0f, -1.0f, 2.0f);
+    c.right = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+    c.up = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
+    return c;
+}
+
+// The ray through a pixel's centre with z = -1 (as taa.glsl builds it, unnormalised).
+glm::vec3 ray(uint32_t x, uint32_t y) {
+    const float sx = (static_cast<float>(x) + 0.5f) / kW * 2.0f - 1.0f;
+    const float sy = (static_cast<float>(y) + 0.5f) / kH * 2.0f - 1.0f;
+    return {sx * 1.0f, -sy * 0.5f, -1.0f};
+}
+
+constexpr float kPixelAt5 = 0.15625f;
+constexpr glm::vec3 kBackground{0.2f, 0.2f, 0.2f};
+
+// A box 16 px wide in the plane z = -5, its left edge at `left` scene units, moving `step`
+// units along x each frame, over a grey wall at z = -10. Its colour is a sawtooth along the
+// box (period 8 px), so history taken from the wrong place on the box is wrong.
+TracedFrame boxFrame(float left, float step) {
+    TracedFrame f{std::vector<glm::vec4>(kW * kH), std::vector<glm::vec4>(kW * kH)};
+    for (uint32_t y = 0; y < kH; ++y) {
+        for (uint32_t x = 0; x < kW; ++x) {
+            const glm::vec3 d = ray(x, y);
+            const glm::vec3 onBox = 5.0f * d;
+            const float u = (onBox.x - left) / kPixelAt5; // box pixels from its left edge
+            const std::size_t i = y * kW + x;
+            if (u >= 0.0f && u < 16.0f && std::abs(onBox.y) < 1.5f) {
+                const float g = 0.1f + 0.8f * (u / 8.0f - std::floor(u / 8.0f));
+                f.radiance[i] = glm::vec4(0.9f, g, 0.1f, glm::length(onBox));
+                f.motion[i] = glm::vec4(-step, 0.0f, 0.0f, signatureCode(2, 1));
+            } else {
+                f.radiance[i] = glm::vec4(kBackground, glm::length(10.0f * d));
+                f.motion[i] = glm::vec4(0.0f, 0.0f, 0.0f, signatureCode(1, 1));
+            }
+        }
+    }
+    return f;
+}
+
+bool onBox(const TracedFrame& f, std::size_t i) {
+    return f.motion[i].w == signatureCode(2, 1);
+}
+
+constexpr glm::vec3 kLit{0.6f, 0.6f, 0.6f}, kShadowed{0.05f, 0.05f, 0.05f};
+
+// A still floor (the wall at z = -10) with a shadow 12 px wide whose left edge is at pixel
+// column `left`: no surface moves, only which light reaches it (the signature's shadow mask).
+TracedFrame shadowFrame(int left) {
+    TracedFrame f{std::vector<glm::vec4>(kW * kH), std::vector<glm::vec4>(kW * kH)};
+    for (uint32_t y = 0; y < kH; ++y) {
+        for (uint32_t x = 0; x < kW; ++x) {
+            const bool shadowed = static_cast<int>(x) >= left && static_cast<int>(x) < left + 12;
+            const std::size_t i = y * kW + x;
+            f.radiance[i] = glm::vec4(shadowed ? kShadowed : kLit, glm::length(10.0f * ray(x, y)));
+            f.motion[i] = glm::vec4(0.0f, 0.0f, 0.0f, signatureCode(1, shadowed ? 0u : 1u));
+        }
+    }
+    return f;
+}
+
+float maxDiff(glm::vec3 a, glm::vec3 b) {
+    const glm::vec3 d = glm::abs(a - b);
+    return std::max(d.x, std::max(d.y, d.z));
+}
+
+class MotionTaaTest : public test::GpuTest {
+protected:
+    // One frame through TaaPass: the still view's blend (gaze still, `samples` frames held),
+    // with the frame's motion unless `withMotion` is false, with a support of 0 (each frame
+    // pooled at full weight) when `withSupport`. Returns the output's rgb.
+    std::vector<glm::vec3> run(const TracedFrame& f, uint32_t samples, bool withMotion,
+                               bool withSupport) {
+        rg::RenderGraph g(kW, kH);
+        std::vector<vk::Buffer> uploads;
+        auto upload = [&](const char* name, const std::vector<glm::vec4>& texels) {
+            const std::span<const std::byte> bytes = std::as_bytes(std::span(texels));
+            uploads.emplace_back(ctx(),
+                                 vk::BufferDesc{bytes.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                                vk::MemoryUsage::Upload, name});
+            uploads.back().upload(bytes);
+            const std::string uploaded = std::string(name) + ".upload";
+            const rg::BufferId src =
+                g.importBuffer(uploaded, {uploads.back().handle(), uploads.back().size(),
+                                          std::nullopt, std::nullopt});
+            struct Data {
+                rg::BufferId src;
+                rg::TextureId image;
+            };
+            return g
+                .addPass<Data>(
+                    name,
+                    [&](rg::PassBuilder& b, Data& d) {
+                        d.src = b.read(src, rg::Access::TransferSrc);
+                        d.image = b.write(b.createTexture(name, {VK_FORMAT_R32G32B32A32_SFLOAT}),
+                                          rg::Access::TransferDst);
+                    },
+                    [](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+                        const rg::ResolvedTexture& t = r.texture(d.image);
+                        VkBufferImageCopy region{};
+                        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                        region.imageExtent = {t.width, t.height, 1};
+                        vkCmdCopyBufferToImage(cmd, r.buffer(d.src), t.image,
+                                               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+                    })
+                .image;
+        };
+        const rg::TextureId current = upload("current", f.radiance);
+        std::optional<passes::TaaMotion> motion;
+        if (withMotion) {
+            motion = passes::TaaMotion{
+                upload("motion", f.motion),
+                g.importHistory(mHistory, "taa.signature", VK_FORMAT_R32_SFLOAT, kW, kH),
+                {}};
+        }
+        std::optional<passes::TaaSupport> support;
+        if (withSupport) {
+            support = passes::TaaSupport{
+                test::addFilledTexture(g, "support", {VK_FORMAT_R32_SFLOAT}, glm::vec4(0.0f)),
+                g.importHistory(mHistory, "taa.weight", VK_FORMAT_R32_SFLOAT, kW, kH)};
+        }
+        const rg::HistoryTextures h =
+            g.importHistory(mHistory, "taa", VK_FORMAT_R32G32B32A32_SFLOAT, kW, kH);
+        const passes::TaaFrameState state{0.0f, glm::vec2(32.0f), true, samples > 0, samples};
+        const rg::TextureId out =
+            mTaa.add(g, h, current, camera(), camera(), samples == 0, {}, state, support, motion);
+        vk::Buffer host(ctx(), {kW * kH * 16, 0, vk::MemoryUsage::Readback, "out"});
+        const auto hostId =
+            g.importBuffer("out", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
+        passes::addReadbackPass(g, "out", out, hostId);
+        rg::TransientPool pool(ctx());
+        g.executeAndWait(g.compile(), pool);
+        mHistory.commit(g);
+        std::vector<glm::vec4> px(kW * kH);
+        host.download(std::as_writable_bytes(std::span(px)));
+        std::vector<glm::vec3> rgb(px.size());
+        std::transform(px.begin(), px.end(), rgb.begin(), [](glm::vec4 p) { return glm::vec3(p); });
+        return rgb;
+    }
+
+    // Frames 0..n-1 of `scene`; after each, `check(frame, output)`.
+    void play(const std::function<TracedFrame(uint32_t)>& scene, uint32_t n, bool withMotion,
+              bool withSupport,
+              const std::function<void(uint32_t, const std::vector<glm::vec3>&)>& check) {
+        for (uint32_t i = 0; i < n; ++i) {
+            check(i, run(scene(i), i, withMotion, withSupport));
+        }
+    }
+
+    rg::HistoryPool mHistory{ctx()};
+    passes::TaaPass mTaa{ctx()};
+};
+
+constexpr float kStep = 3.0f * kPixelAt5; // the box moves 3 px a frame
+
+// Where the box was and is: the worst error over the pixels it left this frame (they must show
+// the wall at once: no trail), and over its inside (history taken where each point was, so the
+// sawtooth stays sharp).
+struct BoxErrors {
+    float trail = 0.0f, inside = 0.0f;
+};
+
+bool insideBox(const TracedFrame& f, uint32_t x, uint32_t y) {
+    for (uint32_t dy = 0; dy < 3; ++dy) {
+        for (uint32_t dx = 0; dx < 3; ++dx) {
+            if (!onBox(f, (y + dy - 1) * kW + x + dx - 1)) return false;
+        }
+    }
+    return true;
+}
+
+BoxErrors boxErrors(const TracedFrame& before, const TracedFrame& now,
+                    const std::vector<glm::vec3>& out) {
+    BoxErrors e;
+    for (uint32_t y = 0; y < kH; ++y) {
+        for (uint32_t x = 1; x + 1 < kW; ++x) {
+            const std::size_t i = y * kW + x;
+            if (onBox(before, i) && !onBox(now, i)) {
+                e.trail = std::max(e.trail, maxDiff(out[i], kBackground));
+            }
+            // Inside: no edge in its 3x3 neighbourhood, whose spread clips the history.
+            if (y > 0 && y + 1 < kH && insideBox(now, x, y)) {
+                e.inside = std::max(e.inside, maxDiff(out[i], glm::vec3(now.radiance[i])));
+            }
+        }
+    }
+    return e;
+}
+
+class MotionTaaBoxTest : public MotionTaaTest, public ::testing::WithParamInterface<bool> {};
+
+TEST_P(MotionTaaBoxTest, AMovingBoxLeavesNoTrail) {
+    const bool support = GetParam();
+    auto scene = [](uint32_t i) { return boxFrame(-3.0f + kStep * static_cast<float>(i), kStep); };
+    play(scene, 10, true, support, [&](uint32_t i, const std::vector<glm::vec3>& out) {
+        if (i == 0) return;
+        const BoxErrors e = boxErrors(scene(i - 1), scene(i), out);
+        EXPECT_LT(e.trail, 0.01f) << "frame " << i << ": the box's colour stays where it left";
+        EXPECT_LT(e.inside, 0.01f) << "frame " << i << ": the box's history from elsewhere";
+    });
+}
+
+INSTANTIATE_TEST_SUITE_P(PooledOrNot, MotionTaaBoxTest, ::testing::Bool());
+
+// What the motion is for: without it the still view's running mean keeps the box's colour
+// wherever it went (a trail fading over the 64 frames of the mean).
+TEST_F(MotionTaaTest, WithoutMotionTheBoxLeavesATrail) {
+    auto scene = [](uint32_t i) { return boxFrame(-3.0f + kStep * static_cast<float>(i), kStep); };
+    float worst = 0.0f;
+    play(scene, 6, false, false, [&](uint32_t i, const std::vector<glm::vec3>& out) {
+        if (i > 0) worst = std::max(worst, boxErrors(scene(i - 1), scene(i), out).trail);
+    });
+    EXPECT_GT(worst, 0.1f);
+}
+
+// A shadow moving over a still floor: nothing moves but which light reaches the floor (its
+// signature's shadow mask), so the floor it left must be lit at once.
+TEST_F(MotionTaaTest, AMovingShadowLeavesNoTrail) {
+    auto scene = [](uint32_t i) { return shadowFrame(4 + 3 * static_cast<int>(i)); };
+    play(scene, 10, true, true, [&](uint32_t i, const std::vector<glm::vec3>& out) {
+        if (i == 0) return;
+        float trail = 0.0f, lit = 0.0f;
+        const TracedFrame before = scene(i - 1), now = scene(i);
+        for (std::size_t p = 0; p < out.size(); ++p) {
+            const bool wasShadowed = before.motion[p].w == signatureCode(1, 0);
+            const bool isShadowed = now.motion[p].w == signatureCode(1, 0);
+            if (wasShadowed && !isShadowed) trail = std::max(trail, maxDiff(out[p], kLit));
+            if (!wasShadowed && !isShadowed) lit = std::max(lit, maxDiff(out[p], kLit));
+        }
+        EXPECT_LT(trail, 0.01f) << "frame " << i << ": the shadow stays where it left";
+        EXPECT_LT(lit, 1e-5f) << "frame " << i << ": the still, lit floor changed";
+    });
+}
+
+} // namespace
+} // namespace gt
