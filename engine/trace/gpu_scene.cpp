@@ -81,8 +81,8 @@ PackedScene packShared(const scene::Scene& scene) {
     return p;
 }
 
-// The rows of the top three rows of a 4x4 matrix (glm is column-major): row . (p, 1).
-void appendRows(const glm::mat4& m, std::vector<glm::vec4>& out, std::size_t at) {
+// The top three rows of a 4x4 matrix (glm is column-major) into out[at..at+2]: row . (p, 1).
+void writeRows(const glm::mat4& m, std::vector<glm::vec4>& out, std::size_t at) {
     for (int r = 0; r < 3; ++r) {
         out[at + r] = glm::vec4(m[0][r], m[1][r], m[2][r], m[3][r]);
     }
@@ -135,8 +135,8 @@ void writeTopLevel(const scene::DynamicGeometry& d, const DynamicLayout& layout,
     for (std::size_t k = 0; k < order.size(); ++k) {
         const uint32_t instance = order[k];
         const std::size_t r = layout.instanceTexel + k * shaders::trace::kInstanceTexels;
-        appendRows(glm::inverse(d.objectToWorld(instance)), p.nodes, r);
-        appendRows(d.previousObjectToWorld(instance), p.nodes, r + 3);
+        writeRows(glm::inverse(d.objectToWorld(instance)), p.nodes, r);
+        writeRows(d.previousObjectToWorld(instance), p.nodes, r + 3);
         const uint32_t bottom = d.bottomLevelOf(instance);
         p.nodes[r + 6] =
             glm::vec4(asFloat(layout.bottomRoot[bottom]), asFloat(layout.bottomTriangle[bottom]),
