@@ -492,7 +492,11 @@ nlohmann::json XrRun::summary(uint32_t rendered) {
                               {"device", ctx.deviceName()},
                               {"space", mSession->spaceName()},
                               {"swapchain_format", static_cast<int>(mSession->format())},
-                              {"session_states", mSession->lifecycle().history()}};
+                              {"session_states", mSession->lifecycle().history()},
+                              // An animated scene's time at the last frame (its predicted
+                              // display time since the first frame's, plus --time).
+                              {"animated", mRenderer->animated()},
+                              {"scene_time_s", mRenderer->sceneTime()}};
     const std::string ownGazeName = mOwnGaze ? mOwnGaze->describe() : "ahead";
     const uint32_t ownGazeFrames = rendered - mRuntimeGazeFrames;
     std::string gazeUsed;
