@@ -93,12 +93,15 @@ uint32_t TaaPass::nextSamples(const shaders::trace::CameraPush& cur,
     return reset ? 1u : cappedSamples(sameCamera(cur, prev), s, st) + 1u;
 }
 
-rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& history,
-                           rg::TextureId current, const shaders::trace::CameraPush& cur,
-                           const shaders::trace::CameraPush& prev, bool reset, const TaaSettings& s,
-                           const std::optional<TaaFrameState>& state,
-                           const std::optional<TaaSupport>& support,
-                           const std::optional<TaaMotion>& motion) const {
+namespace {
+
+// The frame's blend weight, clip box, exposure, depth tolerance and eccentric falloff, and the
+// cameras, as taa.glsl reads them.
+sh::TaaPush taaPush(const rg::RenderGraph& graph, const rg::HistoryTextures& history,
+                    const shaders::trace::CameraPush& cur, const shaders::trace::CameraPush& prev,
+                    bool reset, const TaaSettings& s, const std::optional<TaaFrameState>& state,
+                    const std::optional<TaaSupport>& support,
+                    const std::optional<TaaMotion>& motion) {
     const bool still = sameCamera(cur, prev);
     float alpha = s.currentWeight, gamma = s.clipGamma, exposure = 0.0f, radius = 0.0f;
     float depthTolerance = s.depthTolerance;
@@ -124,20 +127,30 @@ rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& hi
     const uint32_t packedGaze = glm::packHalf2x16(gaze);
     float gazeBits = 0.0f;
     std::memcpy(&gazeBits, &packedGaze, sizeof gazeBits);
-    const sh::TaaPush push{cur.origin,
-                           cur.forward,
-                           glm::vec4(glm::vec3(cur.right), gazeBits),
-                           prev.origin,
-                           prev.forward,
-                           glm::vec4(glm::vec3(prev.right), radius),
-                           glm::vec4(alpha, gamma,
-                                     reset || !history.valid ||
-                                             (support && !support->weights.valid) ||
-                                             (motion && !motion->signatures.valid)
-                                         ? -1.0f
-                                         : exposure,
-                                     depthTolerance),
-                           glm::vec4(cur.right.w, cur.up.w, prev.right.w, prev.up.w)};
+    return sh::TaaPush{cur.origin,
+                       cur.forward,
+                       glm::vec4(glm::vec3(cur.right), gazeBits),
+                       prev.origin,
+                       prev.forward,
+                       glm::vec4(glm::vec3(prev.right), radius),
+                       glm::vec4(alpha, gamma,
+                                 reset || !history.valid || (support && !support->weights.valid) ||
+                                         (motion && !motion->signatures.valid)
+                                     ? -1.0f
+                                     : exposure,
+                                 depthTolerance),
+                       glm::vec4(cur.right.w, cur.up.w, prev.right.w, prev.up.w)};
+}
+
+} // namespace
+
+rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& history,
+                           rg::TextureId current, const shaders::trace::CameraPush& cur,
+                           const shaders::trace::CameraPush& prev, bool reset, const TaaSettings& s,
+                           const std::optional<TaaFrameState>& state,
+                           const std::optional<TaaSupport>& support,
+                           const std::optional<TaaMotion>& motion) const {
+    const sh::TaaPush push = taaPush(graph, history, cur, prev, reset, s, state, support, motion);
     struct Data {
         rg::TextureId current, history, output;
         std::optional<rg::TextureId> support, weightsPrevious, weightsNext;
