@@ -188,7 +188,7 @@ void registerUpdate(const std::shared_ptr<const scene::Rig>& rig, int frames, in
                     UpdateSeries& series) {
     benchmark::RegisterBenchmark(
         "animation/update/100_rigid+10k_vertex_skinned",
-        [rig, frames, warm, &series](benchmark::State& st) {
+        [rig, warm, &series](benchmark::State& st) {
             throwIfStopRequested();
             scene::DynamicGeometry g(rig, {}, 0.0);
             int frame = 0;
