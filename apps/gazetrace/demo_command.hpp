@@ -14,7 +14,7 @@ struct DemoOptions {
     std::string scene = "builtin:market";
     std::string animation = "all"; // an animated glTF's animation: NAME, INDEX, all or none
     double time = 0.0;             // scene time at start, seconds (Space pauses)
-    uint32_t width = 640; // window size at start; the view follows the window
+    uint32_t width = 640;          // window size at start; the view follows the window
     uint32_t height = 360;
     std::string method = "foveated"; // foveated | layers | reference
     std::string slope = "A";         // layers: MAR slope

@@ -104,8 +104,8 @@ public:
             frame(t, std::move(img), f.views.front().rays);
             return true;
         };
-        stages.sceneTime = sceneTime ? sceneTime
-                                     : [this](const FrameTick&) { return mSceneSeconds; };
+        stages.sceneTime =
+            sceneTime ? sceneTime : [this](const FrameTick&) { return mSceneSeconds; };
         (void)runFrameLoop(mRenderer, FrameClock(), frames, stages);
     }
     // The GPU time of each frame of the last sequence, the readback to the host left out.

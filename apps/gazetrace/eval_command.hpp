@@ -14,8 +14,8 @@ namespace gt::app {
 
 struct EvalOptions {
     std::string scene = "builtin:market";
-    std::string animation = "all"; // an animated glTF's animation: NAME, INDEX, all or none
-    double time = 0.0;             // scene time of every still frame, seconds
+    std::string animation = "all";  // an animated glTF's animation: NAME, INDEX, all or none
+    double time = 0.0;              // scene time of every still frame, seconds
     std::string camera;             // --camera X,Y,Z,TX,TY,TZ[,FOV]
     std::string profile = "fove";   // display geometry: size, pixels per degree
     uint32_t width = 0, height = 0; // 0: the profile's; else a window on its screen

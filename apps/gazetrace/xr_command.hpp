@@ -14,8 +14,8 @@ namespace gt::app {
 
 struct XrOptions {
     std::string scene = "builtin:market";
-    std::string animation = "all"; // an animated glTF's animation: NAME, INDEX, all or none
-    double time = 0.0;             // scene time at the first frame, seconds
+    std::string animation = "all";   // an animated glTF's animation: NAME, INDEX, all or none
+    double time = 0.0;               // scene time at the first frame, seconds
     std::string camera;              // start view (render's --camera): where the viewer stands
     std::string origin;              // --xr-origin X,Y,Z: the reference space's origin in the scene
     std::string yawDeg;              // --xr-yaw DEG: the direction the viewer faces (scene yaw)

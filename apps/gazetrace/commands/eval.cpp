@@ -140,9 +140,10 @@ private:
     void registerComparisonOptions() {
         mCommand->add_option("--baseline", mOptions.baseline, "uniform | none")
             ->capture_default_str();
-        mCommand->add_flag("--temporal", mOptions.temporal,
-                           "Also the frame-to-frame change of a still view, and an animated scene's "
-                           "moving error against a reference at each instant");
+        mCommand->add_flag(
+            "--temporal", mOptions.temporal,
+            "Also the frame-to-frame change of a still view, and an animated scene's "
+            "moving error against a reference at each instant");
         mCommand->add_option(
             "--camera-path", mOptions.cameraPath,
             "A moving camera (CSV t_ms,ex,ey,ez,tx,ty,tz): change after reprojection");
