@@ -161,6 +161,8 @@ void closestInBottomLevel(uint record, int root, vec3 origin, vec3 dir, float tM
     float stackT[kStackSize];
     int sp = 0;
     int node = root;
+    // Children are tested at their parent; the far one waits on the stack with its entry
+    // distance and is skipped if a closer hit has been found by the time it is popped.
     while (true) {
         uvec2 links = nodeLinks(node);
         uint leftFirst = links.x, count = links.y;
@@ -345,49 +347,9 @@ Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
     Hit best = Hit(tMax, 0xffffffffu, 0.0, 0.0, 0xffffffffu);
     // Environment only (a scene that moves may have all its triangles in instances).
     if (uScene.counts.w == 0u && !kDynamic) return Hit(kInf, 0xffffffffu, 0.0, 0.0, 0xffffffffu);
-    vec3 invDir = 1.0 / dir;
-    float tEnter;
-    if (uScene.counts.w != 0u && slabTest(gLodRoot, origin, invDir, tMin, tMax, tEnter)) {
-        // Children are tested at their parent; the far one waits on the stack with its entry
-        // distance and is skipped if a closer hit has been found by the time it is popped.
-        uint stack[kStackSize];
-        float stackT[kStackSize];
-        int sp = 0;
-        int node = gLodRoot;
-        while (true) {
-            uvec2 links = nodeLinks(node);
-            uint leftFirst = links.x, count = links.y;
-            bool descend = false;
-            if (count > 0u) {
-                for (uint i = leftFirst; i < leftFirst + count; ++i) {
-                    float t, u, v;
-                    if (triangleTest(i, origin, dir, tMin, kInf, t, u, v) && t <= best.t &&
-                        (t < best.t || i < best.tri) && t <= tMax && !alphaRejects(i, u, v)) {
-                        best = Hit(t, i, u, v, 0xffffffffu);
-                    }
-                }
-            } else {
-                float tl, tr;
-                bool hl = slabTest(int(leftFirst), origin, invDir, tMin, best.t, tl);
-                bool hr = slabTest(int(leftFirst) + 1, origin, invDir, tMin, best.t, tr);
-                if (hl && hr) {
-                    bool leftNear = tl <= tr;
-                    stack[sp] = leftNear ? leftFirst + 1u : leftFirst;
-                    stackT[sp++] = leftNear ? tr : tl;
-                    node = int(leftNear ? leftFirst : leftFirst + 1u);
-                    descend = true;
-                } else if (hl || hr) {
-                    node = int(leftFirst) + (hl ? 0 : 1);
-                    descend = true;
-                }
-            }
-            if (descend) continue;
-            // Pop the next far child still in front of the closest hit.
-            while (sp > 0 && stackT[sp - 1] > best.t) --sp;
-            if (sp == 0) break;
-            node = int(stack[--sp]);
-        }
-    }
+    // The static tree is a bottom level in world space with no instance record (0xffffffff:
+    // ties on t then go to the lower triangle, and any instance's hit at the same t loses).
+    if (uScene.counts.w != 0u) closestInBottomLevel(0xffffffffu, gLodRoot, origin, dir, tMin, best);
     if (kDynamic) closestInstance(origin, dir, tMin, best);
     if (best.tri == 0xffffffffu) best.t = kInf;
     return best;
@@ -396,40 +358,7 @@ Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
 bool traceOccluded(vec3 origin, vec3 dir, float tMax) {
     if (kDynamic && occludedByInstance(origin, dir, tMax)) return true;
     if (uScene.counts.w == 0u) return false;
-    vec3 invDir = 1.0 / dir;
-    float tEnter;
-    if (!slabTest(gLodRoot, origin, invDir, 0.0, tMax, tEnter)) return false;
-    uint stack[kStackSize];
-    int sp = 0;
-    int node = gLodRoot;
-    while (true) {
-        uvec2 links = nodeLinks(node);
-        uint leftFirst = links.x, count = links.y;
-        if (count > 0u) {
-            for (uint i = leftFirst; i < leftFirst + count; ++i) {
-                float t, u, v;
-                if (triangleTest(i, origin, dir, 0.0, tMax, t, u, v) && !alphaRejects(i, u, v)) {
-                    return true;
-                }
-            }
-            if (sp == 0) return false;
-            node = int(stack[--sp]);
-            continue;
-        }
-        float tl, tr;
-        bool hl = slabTest(int(leftFirst), origin, invDir, 0.0, tMax, tl);
-        bool hr = slabTest(int(leftFirst) + 1, origin, invDir, 0.0, tMax, tr);
-        if (hl && hr) {
-            stack[sp++] = leftFirst + 1u;
-            node = int(leftFirst);
-        } else if (hl || hr) {
-            node = int(leftFirst) + (hl ? 0 : 1);
-        } else {
-            if (sp == 0) return false;
-            node = int(stack[--sp]);
-        }
-    }
-    return false;
+    return occludedInBottomLevel(gLodRoot, origin, dir, tMax);
 }
 
 vec3 environmentTexel(int x, int y) {
