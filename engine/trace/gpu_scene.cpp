@@ -419,11 +419,12 @@ std::vector<VkDescriptorType> tracingBindings(std::initializer_list<VkDescriptor
 }
 
 void dispatchImageTrace(vk::Context& ctx, VkCommandBuffer cmd, const vk::ComputePipeline& pipeline,
-                        const GpuScene& scene, uint32_t outputBinding, VkImageView output,
+                        const GpuScene& scene, std::initializer_list<TracedImage> outputs,
                         std::span<const std::byte> push, VkExtent2D extent, VkExtent2D group) {
     vk::DescriptorWriter writer;
     scene.bind(writer);
-    writer.storageImage(outputBinding, output);
+    for (const TracedImage& o : outputs)
+        writer.storageImage(o.binding, o.view);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
     writer.push(ctx, cmd, pipeline);
     vk::dispatch(cmd, pipeline, push.data(), static_cast<uint32_t>(push.size()),

@@ -134,10 +134,16 @@ tracingBindings(std::initializer_list<VkDescriptorType> passBindings);
 [[nodiscard]] std::vector<uint32_t> tracingSpecialization(std::vector<uint32_t> passConstants,
                                                           bool dynamic);
 
-// Records a tracing shader that writes one image: the scene's bindings and the image at
-// `outputBinding`, `push`, and one thread per pixel of `extent` in groups of `group`.
+// A storage image a tracing shader writes, at its binding.
+struct TracedImage {
+    uint32_t binding;
+    VkImageView view;
+};
+// Records a tracing shader that writes images (its radiance, and the motion of a scene that
+// moves): the scene's bindings and `outputs`, `push`, and one thread per pixel of `extent` in
+// groups of `group`.
 void dispatchImageTrace(vk::Context& ctx, VkCommandBuffer cmd, const vk::ComputePipeline& pipeline,
-                        const GpuScene& scene, uint32_t outputBinding, VkImageView output,
+                        const GpuScene& scene, std::initializer_list<TracedImage> outputs,
                         std::span<const std::byte> push, VkExtent2D extent, VkExtent2D group);
 
 // The camera as push-constant vectors, for an image of the given aspect ratio.

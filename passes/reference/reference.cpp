@@ -63,17 +63,14 @@ ReferenceImage ReferencePass::addImage(rg::RenderGraph& graph, const trace::GpuS
         },
         [ctx = &mCtx, pipeline = &pipeline(scene.alphaMasked(), dynamic), scene = &scene,
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
-            vk::DescriptorWriter writer;
-            scene->bind(writer);
             // A scene that does not move never writes the motion binding.
-            writer.storageImage(sh::kBindingOutput, r.texture(d.output).view)
-                .storageImage(sh::kBindingMotionOutput,
-                              r.texture(d.motion ? *d.motion : d.output).view);
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline->handle());
-            writer.push(*ctx, cmd, *pipeline);
-            vk::dispatch(cmd, *pipeline, &push, sizeof(push),
-                         (push.params.x + sh::kGroupSizeX - 1) / sh::kGroupSizeX,
-                         (push.params.y + sh::kGroupSizeY - 1) / sh::kGroupSizeY);
+            const VkImageView output = r.texture(d.output).view;
+            trace::dispatchImageTrace(
+                *ctx, cmd, *pipeline, *scene,
+                {{sh::kBindingOutput, output},
+                 {sh::kBindingMotionOutput, d.motion ? r.texture(*d.motion).view : output}},
+                std::as_bytes(std::span(&push, 1)), {push.params.x, push.params.y},
+                {sh::kGroupSizeX, sh::kGroupSizeY});
         });
     return {data.output, data.motion};
 }
