@@ -10,24 +10,6 @@ namespace gt::scene {
 
 namespace {
 
-struct Aabb {
-    glm::vec3 lo{std::numeric_limits<float>::max()};
-    glm::vec3 hi{-std::numeric_limits<float>::max()};
-    void grow(glm::vec3 p) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
-    void grow(const Aabb& b) {
-        lo = glm::min(lo, b.lo);
-        hi = glm::max(hi, b.hi);
-    }
-    [[nodiscard]] float area() const {
-        const glm::vec3 d = hi - lo;
-        if (d.x < 0.0f) return 0.0f;
-        return 2.0f * (d.x * d.y + d.y * d.z + d.z * d.x);
-    }
-};
-
 // 64 bins: with 16 (Wald's figure) the top splits of enclosed scenes (the market hall, the
 // classroom) landed badly and traversal cost up to 2.3x more (GPU ms per frame, bench and
 // README); from 32 bins up the cost was flat within noise on every scene we ship or test.

@@ -16,6 +16,26 @@
 
 namespace gt::scene {
 
+// An axis-aligned box, empty until grown.
+struct Aabb {
+    glm::vec3 lo{std::numeric_limits<float>::max()};
+    glm::vec3 hi{-std::numeric_limits<float>::max()};
+    void grow(glm::vec3 p) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    void grow(const Aabb& b) {
+        lo = glm::min(lo, b.lo);
+        hi = glm::max(hi, b.hi);
+    }
+    [[nodiscard]] float area() const {
+        const glm::vec3 d = hi - lo;
+        if (d.x < 0.0f) return 0.0f;
+        return 2.0f * (d.x * d.y + d.y * d.z + d.z * d.x);
+    }
+    [[nodiscard]] glm::vec3 centre() const { return 0.5f * (lo + hi); }
+};
+
 struct BvhNode {
     glm::vec3 boundsMin;
     uint32_t leftFirst; // interior: index of the left child; leaf: first triangle

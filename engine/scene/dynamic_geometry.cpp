@@ -18,23 +18,9 @@ double msSince(SteadyClock::time_point start) {
     return std::chrono::duration<double, std::milli>(SteadyClock::now() - start).count();
 }
 
-struct Box {
-    glm::vec3 lo{std::numeric_limits<float>::max()};
-    glm::vec3 hi{-std::numeric_limits<float>::max()};
-    void grow(glm::vec3 p) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
-    void grow(const Box& b) {
-        lo = glm::min(lo, b.lo);
-        hi = glm::max(hi, b.hi);
-    }
-    [[nodiscard]] glm::vec3 centre() const { return 0.5f * (lo + hi); }
-};
-
 // The world box of a bottom-level tree placed by `m`: its root box's eight corners moved.
-Box worldBox(const Bvh& bvh, const glm::mat4& m) {
-    Box b;
+Aabb worldBox(const Bvh& bvh, const glm::mat4& m) {
+    Aabb b;
     if (bvh.triangles().empty()) return b;
     const BvhNode& root = bvh.nodes().front();
     for (int c = 0; c < 8; ++c) {
@@ -200,7 +186,7 @@ void DynamicGeometry::rebuildTopLevel() {
         mTop.push_back({glm::vec3(0.0f), 0u, glm::vec3(0.0f), 0u});
         return;
     }
-    std::vector<Box> boxes(n);
+    std::vector<Aabb> boxes(n);
     for (std::size_t i = 0; i < n; ++i)
         boxes[i] = worldBox(*mBottom[mInstances[i].bottom], mInstances[i].objectToWorld);
     mTop.reserve(2 * n - 1);
@@ -212,7 +198,7 @@ void DynamicGeometry::rebuildTopLevel() {
     while (!stack.empty()) {
         const Task t = stack.back();
         stack.pop_back();
-        Box b;
+        Aabb b;
         for (uint32_t i = t.first; i < t.first + t.count; ++i)
             b.grow(boxes[mTopOrder[i]]);
         mTop[t.node].boundsMin = b.lo;
