@@ -9,6 +9,7 @@
 #include "readback/readback.hpp"
 #include "render_graph/render_graph.hpp"
 #include "support/gpu_test_context.hpp"
+#include "support/graph_fill.hpp"
 #include "vk/resources.hpp"
 
 namespace gt {
@@ -43,27 +44,10 @@ TEST_F(LensTest, MapsAKnownGridWhereTheModelSays) {
         g.importBuffer("grid", {upload.handle(), upload.size(), std::nullopt, std::nullopt});
     const rg::BufferId dst =
         g.importBuffer("panel", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
-    struct Data {
-        rg::BufferId src;
-        rg::TextureId image;
-    };
-    const auto& up = g.addPass<Data>(
-        "upload",
-        [&](rg::PassBuilder& b, Data& d) {
-            d.src = b.read(src, rg::Access::TransferSrc);
-            d.image = b.write(b.createTexture("grid.image", {VK_FORMAT_R8G8B8A8_UNORM}),
-                              rg::Access::TransferDst);
-        },
-        [](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
-            const rg::ResolvedTexture& t = r.texture(d.image);
-            VkBufferImageCopy region{};
-            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            region.imageExtent = {t.width, t.height, 1};
-            vkCmdCopyBufferToImage(cmd, r.buffer(d.src), t.image,
-                                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-        });
+    const rg::TextureId gridImage =
+        test::addUploadedTexture(g, "grid.image", src, VK_FORMAT_R8G8B8A8_UNORM);
     const passes::LensPass pass(ctx());
-    passes::addReadbackPass(g, "panel", pass.add(g, up.image, lens, centre), dst);
+    passes::addReadbackPass(g, "panel", pass.add(g, gridImage, lens, centre), dst);
     rg::TransientPool pool(ctx());
     (void)g.executeAndWait(g.compile(), pool);
     std::vector<uint8_t> panel(grid.size());

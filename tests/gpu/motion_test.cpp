@@ -124,27 +124,7 @@ protected:
             const rg::BufferId src =
                 g.importBuffer(uploaded, {uploads.back().handle(), uploads.back().size(),
                                           std::nullopt, std::nullopt});
-            struct Data {
-                rg::BufferId src;
-                rg::TextureId image;
-            };
-            return g
-                .addPass<Data>(
-                    name,
-                    [&](rg::PassBuilder& b, Data& d) {
-                        d.src = b.read(src, rg::Access::TransferSrc);
-                        d.image = b.write(b.createTexture(name, {VK_FORMAT_R32G32B32A32_SFLOAT}),
-                                          rg::Access::TransferDst);
-                    },
-                    [](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
-                        const rg::ResolvedTexture& t = r.texture(d.image);
-                        VkBufferImageCopy region{};
-                        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-                        region.imageExtent = {t.width, t.height, 1};
-                        vkCmdCopyBufferToImage(cmd, r.buffer(d.src), t.image,
-                                               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-                    })
-                .image;
+            return test::addUploadedTexture(g, name, src, VK_FORMAT_R32G32B32A32_SFLOAT);
         };
         const rg::TextureId current = upload("current", f.radiance);
         std::optional<passes::TaaMotion> motion;
