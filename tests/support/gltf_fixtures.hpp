@@ -8,7 +8,20 @@
 #include <string>
 #include <vector>
 
+#include "core/error.hpp"
+#include "scene/gltf_loader.hpp"
+
 namespace gt::test {
+
+// The one-line error loading `p` gives (empty when it loads).
+inline std::string loadError(const std::filesystem::path& p) {
+    try {
+        (void)scene::loadGltf(p);
+    } catch (const LoadError& e) {
+        return e.what();
+    }
+    return {};
+}
 
 inline std::vector<uint8_t> quadBin() {
     const float pos[] = {-1, 0, -1, 1, 0, -1, 1, 0, 1, -1, 0, 1};

@@ -299,14 +299,7 @@ private:
     std::vector<std::string> mViews, mAccessors;
 };
 
-std::string loadError(const std::filesystem::path& p) {
-    try {
-        (void)loadGltf(p);
-    } catch (const LoadError& e) {
-        return e.what();
-    }
-    return {};
-}
+using test::loadError;
 
 // A triangle on node 1 under node 0, node 0 translated by animation 0's sampler 0.
 struct AnimatedTriangle {

@@ -25,14 +25,7 @@
 namespace gt::scene {
 namespace {
 
-std::string loadError(const std::filesystem::path& p) {
-    try {
-        (void)loadGltf(p);
-    } catch (const LoadError& e) {
-        return e.what();
-    }
-    return {};
-}
+using test::loadError;
 
 // `json` with its first `from` replaced by `to`, written to dir/name; a `from` that is not there
 // fails the test (the fixture changed under it).
