@@ -140,8 +140,8 @@ MethodImage EccentricityLayers::addRadiance(rg::RenderGraph& graph, const View& 
                 moving.depthTolerance *= grid.pitch;
                 motion = passes::TaaMotion{*traced.motion,
                                            graph.importHistory(mMc.history, kLayerSignatureHistory,
-                                                               VK_FORMAT_R32_SFLOAT, grid.width,
-                                                               grid.height),
+                                                               passes::kTaaSignatureFormat,
+                                                               grid.width, grid.height),
                                            moving};
             }
             image = mTaa.add(graph, history, traced.radiance, camera, kept ? last.camera : camera,

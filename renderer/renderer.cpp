@@ -316,8 +316,8 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
                 if (made.motion) {
                     motion = passes::TaaMotion{*made.motion,
                                                graph.importHistory(*mHistory, kTaaSignatureHistory,
-                                                                   VK_FORMAT_R32_SFLOAT, v.width,
-                                                                   v.height),
+                                                                   passes::kTaaSignatureFormat,
+                                                                   v.width, v.height),
                                                v.post.taaSettings};
                 }
                 // The weight sums and signatures stand for the colour history only if last frame

@@ -86,9 +86,13 @@ struct TaaSupport {
 // shaders/common/motion.glsl), and the history of the signatures TAA's output shows (taa.glsl).
 // A pixel whose hit moved blends as on a moving camera, with `moving`'s currentWeight,
 // clipGamma and depthTolerance (the view's TaaSettings, before any still-view adjustment).
+// The format of TaaMotion::signatures: the signature code and the history's frame count in one
+// texel (shaders/shared/taa_shared.h, kHistoryFramesShift).
+inline constexpr VkFormat kTaaSignatureFormat = VK_FORMAT_R32_UINT;
+
 struct TaaMotion {
     rg::TextureId motion;
-    rg::HistoryTextures signatures; // R32_SFLOAT, the view's size
+    rg::HistoryTextures signatures; // kTaaSignatureFormat, the view's size
     TaaSettings moving;
 };
 

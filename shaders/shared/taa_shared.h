@@ -15,10 +15,15 @@ GT_CONST kBindingWeightHistory = 4; // image2D r32f (taa_support.comp): last fra
 GT_CONST kBindingWeightOutput = 5;  // image2D r32f: this frame's
 // A scene that moves (taa_motion.comp, taa_support_motion.comp): per pixel the first hit's
 // motion (motion.glsl: xyz = world position one frame ago minus now, w = its signature code),
-// and the history of the signatures the output pixels show.
+// and the history of the signatures the output pixels show, each with the number of frames its
+// pixel's history gathered since it was last rejected (kHistoryFramesShift).
 GT_CONST kBindingMotion = 6;           // image2D rgba32f
-GT_CONST kBindingSignatureHistory = 7; // image2D r32f: last frame's
-GT_CONST kBindingSignatureOutput = 8;  // image2D r32f: this frame's
+GT_CONST kBindingSignatureHistory = 7; // uimage2D r32ui: last frame's
+GT_CONST kBindingSignatureOutput = 8;  // uimage2D r32ui: this frame's
+// A signature history texel: the signature code (motion.glsl's signatureCode, 24 bits) in the
+// low bits, the history's frame count (at most kMaxHistoryFrames) above them.
+GT_CONST kHistoryFramesShift = 24;
+GT_CONST kMaxHistoryFrames = 255;
 GT_CONST kGroupX = 8;
 GT_CONST kGroupY = 8;
 

@@ -37,10 +37,13 @@ const float kMaxWeight = 64.0; // as TaaSettings::maxStillFrames caps the plain 
 // and of a moving shadow. The still view's shortcuts (no clipping, no distance test, the
 // support-weighted pooling) hold only where the hit neither moved nor changed: a pixel whose
 // hit moved blends as on a moving camera, with these (TaaSettings::currentWeight, clipGamma and
-// depthTolerance, set per pipeline).
+// depthTolerance, set per pipeline). A history stands for no more frames than it gathered since
+// it was last rejected: a pixel uncovered k frames ago blends as the running mean of its k
+// frames (weight 1 / k) until the blend weight's own bound takes over, where a fixed weight
+// would leave it mostly its first, unfiltered frame for many frames.
 layout(set = 0, binding = kBindingMotion, rgba32f) uniform readonly image2D uMotion;
-layout(set = 0, binding = kBindingSignatureHistory, r32f) uniform readonly image2D uSignatureHistory;
-layout(set = 0, binding = kBindingSignatureOutput, r32f) uniform writeonly image2D uSignatureOutput;
+layout(set = 0, binding = kBindingSignatureHistory, r32ui) uniform readonly uimage2D uSignatureHistory;
+layout(set = 0, binding = kBindingSignatureOutput, r32ui) uniform writeonly uimage2D uSignatureOutput;
 layout(constant_id = 0) const float kMovingWeight = 0.1;
 layout(constant_id = 1) const float kMovingGamma = 1.0;
 layout(constant_id = 2) const float kMovingTolerance = 0.05;
@@ -87,25 +90,34 @@ vec4 historyBilinear(vec2 p, ivec2 size) {
 }
 
 #ifdef TAA_MOTION
+const uint kSignatureMask = (1u << kHistoryFramesShift) - 1u;
+
 // historyBilinear over the taps that show the surface `signature` (their weights renormalised,
-// the distance of the heaviest): a tap of another surface is not this pixel's past, and would
-// bleed a moving object's colour into what it uncovered. found = false where no tap does.
-vec4 historyOfSurface(vec2 p, ivec2 size, float signature, out bool found) {
+// the distance and frame count of the heaviest): a tap of another surface is not this pixel's
+// past, and would bleed a moving object's colour into what it uncovered. found = false where no
+// tap does.
+vec4 historyOfSurface(vec2 p, ivec2 size, uint signature, out bool found, out uint frames) {
     vec2 q = p - 0.5;
     ivec2 i = ivec2(floor(q));
     vec2 f = q - vec2(i);
     vec4 colour = vec4(0.0);
     float total = 0.0, best = -1.0;
     float depth = 0.0;
+    frames = 0u;
     for (int t = 0; t < 4; ++t) {
         ivec2 o = ivec2(t & 1, t >> 1);
         ivec2 at = clamp(i + o, ivec2(0), size - 1);
         float w = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
-        if (imageLoad(uSignatureHistory, at).r != signature) continue;
-        vec4 h = imageLoad(uHistory, at);
-        colour += w * h;
+        uint h = imageLoad(uSignatureHistory, at).r;
+        if ((h & kSignatureMask) != signature) continue;
+        vec4 c = imageLoad(uHistory, at);
+        colour += w * c;
         total += w;
-        if (w > best) { best = w; depth = h.a; }
+        if (w > best) {
+            best = w;
+            depth = c.a;
+            frames = h >> kHistoryFramesShift;
+        }
     }
     found = total > 0.0;
     return found ? vec4(colour.rgb / total, depth) : vec4(0.0);
@@ -118,8 +130,9 @@ bool changedAround(ivec2 px, vec2 prevPixel, ivec2 size) {
     for (int dy = -1; dy <= 1; ++dy) {
         for (int dx = -1; dx <= 1; ++dx) {
             ivec2 o = ivec2(dx, dy);
-            float now = imageLoad(uMotion, clamp(px + o, ivec2(0), size - 1)).w;
-            float then = imageLoad(uSignatureHistory, clamp(prev + o, ivec2(0), size - 1)).r;
+            uint now = uint(imageLoad(uMotion, clamp(px + o, ivec2(0), size - 1)).w);
+            uint then = imageLoad(uSignatureHistory, clamp(prev + o, ivec2(0), size - 1)).r &
+                        kSignatureMask;
             if (now != then) return true;
         }
     }
@@ -138,7 +151,9 @@ void main() {
 #endif
 #ifdef TAA_MOTION
     vec4 motion = imageLoad(uMotion, px);
-    imageStore(uSignatureOutput, px, vec4(motion.w));
+    uint signature = uint(motion.w);
+    // A history that starts here holds this frame alone.
+    imageStore(uSignatureOutput, px, uvec4(signature | (1u << kHistoryFramesShift)));
 #endif
     if (pc.params.z < 0.0) {
         imageStore(uOutput, px, current);
@@ -182,7 +197,8 @@ void main() {
     valid = valid && all(greaterThanEqual(prevPixel, vec2(0.0))) && all(lessThan(prevPixel, vec2(size)));
 #ifdef TAA_MOTION
     bool sameSurface = false;
-    vec4 history = valid ? historyOfSurface(prevPixel, size, motion.w, sameSurface) : current;
+    uint frames = 0u;
+    vec4 history = valid ? historyOfSurface(prevPixel, size, signature, sameSurface, frames) : current;
     valid = valid && sameSurface;
     if (!valid) history = current;
     // Something changed around the pixel since last frame (a surface or shadow edge moved past
@@ -240,6 +256,7 @@ void main() {
         alpha = max(alpha, kMovingWeight);
         gamma = min(gamma, kMovingGamma);
     }
+    alpha = max(alpha, 1.0 / float(frames + 1u));
 #endif
 #ifdef TAA_SUPPORT
     if (weighted) alpha = w / max(weightSum + w, 1e-6);
@@ -258,6 +275,12 @@ void main() {
                          : mix(clipped, current.rgb, alpha);
     }
     imageStore(uOutput, px, vec4(result, current.a));
+#ifdef TAA_MOTION
+    if (valid) {
+        uint gathered = min(frames + 1u, uint(kMaxHistoryFrames));
+        imageStore(uSignatureOutput, px, uvec4(signature | (gathered << kHistoryFramesShift)));
+    }
+#endif
 #ifdef TAA_SUPPORT
     imageStore(uWeightOutput, px,
                vec4(weighted ? min(weightSum + w, kMaxWeight) : w / max(valid ? alpha : 1.0, 1e-6)));

@@ -87,13 +87,15 @@ constexpr glm::vec3 kLit{0.6f, 0.6f, 0.6f}, kShadowed{0.05f, 0.05f, 0.05f};
 
 // A still floor (the wall at z = -10) with a shadow 12 px wide whose left edge is at pixel
 // column `left`: no surface moves, only which light reaches it (the signature's shadow mask).
-TracedFrame shadowFrame(int left) {
+// The lit floor's radiance is kLit times `litScale` (a frame's noise).
+TracedFrame shadowFrame(int left, float litScale = 1.0f) {
     TracedFrame f{std::vector<glm::vec4>(kW * kH), std::vector<glm::vec4>(kW * kH)};
     for (uint32_t y = 0; y < kH; ++y) {
         for (uint32_t x = 0; x < kW; ++x) {
             const bool shadowed = static_cast<int>(x) >= left && static_cast<int>(x) < left + 12;
             const std::size_t i = y * kW + x;
-            f.radiance[i] = glm::vec4(shadowed ? kShadowed : kLit, glm::length(10.0f * ray(x, y)));
+            f.radiance[i] =
+                glm::vec4(shadowed ? kShadowed : litScale * kLit, glm::length(10.0f * ray(x, y)));
             f.motion[i] = glm::vec4(0.0f, 0.0f, 0.0f, signatureCode(1, shadowed ? 0u : 1u));
         }
     }
@@ -131,7 +133,7 @@ protected:
         if (withMotion) {
             motion = passes::TaaMotion{
                 upload("motion", f.motion),
-                g.importHistory(mHistory, "taa.signature", VK_FORMAT_R32_SFLOAT, kW, kH),
+                g.importHistory(mHistory, "taa.signature", passes::kTaaSignatureFormat, kW, kH),
                 {}};
         }
         std::optional<passes::TaaSupport> support;
@@ -251,6 +253,26 @@ TEST_F(MotionTaaTest, AMovingShadowLeavesNoTrail) {
         EXPECT_LT(trail, 0.01f) << "frame " << i << ": the shadow stays where it left";
         EXPECT_LT(lit, 1e-5f) << "frame " << i << ": the still, lit floor changed";
     });
+}
+
+// A history stands for no more frames than it gathered: floor uncovered by a shadow at frame 4
+// is, 6 frames later, the mean of those 6 noisy frames (kLit, the noise alternating +-20 %),
+// as the floor never shadowed is the mean of all 10, not mostly the frame it was uncovered in.
+TEST_F(MotionTaaTest, UncoveredFloorIsTheMeanOfTheFramesSinceItWasUncovered) {
+    auto scene = [](uint32_t i) { return shadowFrame(i < 4 ? 20 : 40, i % 2 == 0 ? 1.2f : 0.8f); };
+    std::vector<glm::vec3> last;
+    play(scene, 10, true, false, [&](uint32_t, const std::vector<glm::vec3>& out) { last = out; });
+    float uncovered = 0.0f, open = 0.0f;
+    for (uint32_t y = 0; y < kH; ++y) {
+        for (uint32_t x = 0; x < 16; ++x)
+            open = std::max(open, maxDiff(last[y * kW + x], kLit));
+        // Columns 20-31 were uncovered at frame 4; their edges' neighbourhoods changed too.
+        for (uint32_t x = 22; x < 30; ++x) {
+            uncovered = std::max(uncovered, maxDiff(last[y * kW + x], kLit));
+        }
+    }
+    EXPECT_LT(open, 1e-4f) << "the floor never shadowed";
+    EXPECT_LT(uncovered, 1e-4f) << "the floor uncovered 6 frames ago";
 }
 
 } // namespace
