@@ -91,12 +91,47 @@ vec4 historyBilinear(vec2 p, ivec2 size) {
 
 #ifdef TAA_MOTION
 const uint kSignatureMask = (1u << kHistoryFramesShift) - 1u;
+const uint kShadowMask = 0xffu; // motion.glsl: the lights reaching the hit, below the surface id
+
+// Whether the surface a motion texel shows moves (the sky and static geometry never do).
+bool surfaceMoves(vec4 motion) { return dot(motion.xyz, motion.xyz) > 0.0; }
+
+// Whether the surface with id `surface` (a signature code's bits above the shadow mask) shows
+// among the 3x3 pixels around `px` now, and stands still wherever it does.
+bool stillBeside(ivec2 px, ivec2 size, uint surface) {
+    bool seen = false;
+    for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+            vec4 m = imageLoad(uMotion, clamp(px + ivec2(dx, dy), ivec2(0), size - 1));
+            if ((uint(m.w) >> 8u) != surface) continue;
+            if (surfaceMoves(m)) return false;
+            seen = true;
+        }
+    }
+    return seen;
+}
+
+// Whether a history texel shows the past of pixel `px`, whose surface now has the signature
+// `now` (moving or not). The same signature does. So does another surface under the same
+// lights where the pixel's surface stands still and the other one stands still beside it now:
+// jittered samples alternate between the two sides of a still edge, and that history holds the
+// edge's coverage, as a still scene's does. Otherwise another surface is a disocclusion (the
+// one beside it moving now, even if it stood still last frame, as at the start of a motion),
+// and other lights are a shadow that moved (whose occluder moved is not known, so a still
+// shadow's edge is rejected too).
+bool samePast(uint now, bool nowMoves, uint texel, ivec2 px, ivec2 size) {
+    uint then = texel & kSignatureMask;
+    if (then == now) return true;
+    return !nowMoves && (then & kShadowMask) == (now & kShadowMask) &&
+           stillBeside(px, size, then >> 8u);
+}
 
 // historyBilinear over the taps that show the surface `signature` (their weights renormalised,
 // the distance and frame count of the heaviest): a tap of another surface is not this pixel's
 // past, and would bleed a moving object's colour into what it uncovered. found = false where no
 // tap does.
-vec4 historyOfSurface(vec2 p, ivec2 size, uint signature, out bool found, out uint frames) {
+vec4 historyOfSurface(ivec2 px, vec2 p, ivec2 size, uint signature, bool moving,
+                      out bool found, out uint frames) {
     vec2 q = p - 0.5;
     ivec2 i = ivec2(floor(q));
     vec2 f = q - vec2(i);
@@ -109,7 +144,7 @@ vec4 historyOfSurface(vec2 p, ivec2 size, uint signature, out bool found, out ui
         ivec2 at = clamp(i + o, ivec2(0), size - 1);
         float w = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
         uint h = imageLoad(uSignatureHistory, at).r;
-        if ((h & kSignatureMask) != signature) continue;
+        if (!samePast(signature, moving, h, px, size)) continue;
         vec4 c = imageLoad(uHistory, at);
         colour += w * c;
         total += w;
@@ -123,17 +158,16 @@ vec4 historyOfSurface(vec2 p, ivec2 size, uint signature, out bool found, out ui
     return found ? vec4(colour.rgb / total, depth) : vec4(0.0);
 }
 
-// Whether any of the 3x3 pixels around `px` shows another signature now than its counterpart
-// around `prevPixel` last frame.
+// Whether any of the 3x3 pixels around `px` shows something now that is not its counterpart's
+// past around `prevPixel` last frame (samePast, judged by what stands beside `px`).
 bool changedAround(ivec2 px, vec2 prevPixel, ivec2 size) {
     ivec2 prev = ivec2(floor(prevPixel));
     for (int dy = -1; dy <= 1; ++dy) {
         for (int dx = -1; dx <= 1; ++dx) {
             ivec2 o = ivec2(dx, dy);
-            uint now = uint(imageLoad(uMotion, clamp(px + o, ivec2(0), size - 1)).w);
-            uint then = imageLoad(uSignatureHistory, clamp(prev + o, ivec2(0), size - 1)).r &
-                        kSignatureMask;
-            if (now != then) return true;
+            vec4 now = imageLoad(uMotion, clamp(px + o, ivec2(0), size - 1));
+            uint then = imageLoad(uSignatureHistory, clamp(prev + o, ivec2(0), size - 1)).r;
+            if (!samePast(uint(now.w), surfaceMoves(now), then, px, size)) return true;
         }
     }
     return false;
@@ -198,7 +232,8 @@ void main() {
 #ifdef TAA_MOTION
     bool sameSurface = false;
     uint frames = 0u;
-    vec4 history = valid ? historyOfSurface(prevPixel, size, signature, sameSurface, frames) : current;
+    vec4 history = valid ? historyOfSurface(px, prevPixel, size, signature, moved, sameSurface, frames)
+                         : current;
     valid = valid && sameSurface;
     if (!valid) history = current;
     // Something changed around the pixel since last frame (a surface or shadow edge moved past
@@ -278,7 +313,8 @@ void main() {
 #ifdef TAA_MOTION
     if (valid) {
         uint gathered = min(frames + 1u, uint(kMaxHistoryFrames));
-        imageStore(uSignatureOutput, px, uvec4(signature | (gathered << kHistoryFramesShift)));
+        imageStore(uSignatureOutput, px,
+                   uvec4(signature | (gathered << kHistoryFramesShift)));
     }
 #endif
 #ifdef TAA_SUPPORT

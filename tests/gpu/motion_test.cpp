@@ -275,5 +275,33 @@ TEST_F(MotionTaaTest, UncoveredFloorIsTheMeanOfTheFramesSinceItWasUncovered) {
     EXPECT_LT(uncovered, 1e-4f) << "the floor uncovered 6 frames ago";
 }
 
+// A still edge: jittered samples make column 31's nearest sample alternate between a still box
+// (bright) and the wall behind it every frame. Nothing moves, so its history is its past (the
+// edge's coverage), and it converges to the mean of the two, as in a still scene, instead of
+// being rejected every frame and showing whichever side this frame's sample fell on.
+TEST_F(MotionTaaTest, AStillEdgeWhoseSamplesAlternateKeepsItsHistory) {
+    constexpr glm::vec3 kBox{0.9f, 0.9f, 0.9f};
+    auto scene = [&](uint32_t i) {
+        TracedFrame f{std::vector<glm::vec4>(kW * kH), std::vector<glm::vec4>(kW * kH)};
+        for (uint32_t y = 0; y < kH; ++y) {
+            for (uint32_t x = 0; x < kW; ++x) {
+                const bool box = x < 31 || (x == 31 && i % 2 == 0);
+                const float depth = box ? 5.0f : 10.0f;
+                const std::size_t p = y * kW + x;
+                f.radiance[p] = glm::vec4(box ? kBox : kBackground, glm::length(depth * ray(x, y)));
+                f.motion[p] = glm::vec4(0.0f, 0.0f, 0.0f, signatureCode(box ? 2 : 1, 1));
+            }
+        }
+        return f;
+    };
+    std::vector<glm::vec3> last;
+    play(scene, 10, true, false, [&](uint32_t, const std::vector<glm::vec3>& out) { last = out; });
+    float edge = 0.0f;
+    for (uint32_t y = 0; y < kH; ++y) {
+        edge = std::max(edge, maxDiff(last[y * kW + 31], 0.5f * (kBox + kBackground)));
+    }
+    EXPECT_LT(edge, 1e-4f) << "the still edge's pixel is not the mean of its frames";
+}
+
 } // namespace
 } // namespace gt
