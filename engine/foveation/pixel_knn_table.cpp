@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <tuple>
 
 #include "core/error.hpp"
 #include "core/progress.hpp"
@@ -47,11 +49,8 @@ void blockCandidates(const PointGrids& grids, const std::vector<Point>& pts, uin
 }
 
 // A quarter tile's candidates, positions and indices side by side for the per-pixel search.
-// Sorted by distance from the block's centre, with the least squared distance each can have
-// from a pixel centre of the block, so that a pixel's search stops once the rest cannot come
-// nearer than its k-th.
 struct Block {
-    std::vector<float> x, y, least2;
+    std::vector<float> x, y;
     std::vector<uint32_t> index;
 };
 
@@ -71,53 +70,116 @@ void narrow(const std::vector<Point>& pts, const std::vector<uint32_t>& tile, ui
     kth = d2;
     std::nth_element(kth.begin(), kth.begin() + (k - 1), kth.end());
     const float r = std::sqrt(kth[k - 1]) + 2.0f * h + 0.5f;
-    thread_local std::vector<std::pair<float, std::size_t>> order;
-    order.clear();
-    for (std::size_t j = 0; j < tile.size(); ++j) {
-        if (d2[j] <= r * r) {
-            order.emplace_back(d2[j], j);
-        }
-    }
-    std::sort(order.begin(), order.end());
     out.x.clear();
     out.y.clear();
-    out.least2.clear();
     out.index.clear();
-    for (const auto& [dist2, j] : order) {
-        out.x.push_back(pts[tile[j]].x);
-        out.y.push_back(pts[tile[j]].y);
-        out.index.push_back(tile[j]);
-        // |p - s| >= |q - s| - h; a hundredth of a pixel absorbs the rounding.
-        const float least = std::sqrt(dist2) - h - 0.01f;
-        out.least2.push_back(least > 0.0f ? least * least : 0.0f);
+    for (std::size_t j = 0; j < tile.size(); ++j) {
+        if (d2[j] <= r * r) {
+            out.x.push_back(pts[tile[j]].x);
+            out.y.push_back(pts[tile[j]].y);
+            out.index.push_back(tile[j]);
+        }
     }
 }
 
-// The k smallest (distance, index) of `block` from the pixel centre (px, py), nearest first.
-void kNearestOf(const Block& block, float px, float py, uint32_t k, uint32_t* out) {
-    std::array<Candidate, PixelKnnTable::kMaxK> best;
-    uint32_t n = 0;
-    for (std::size_t j = 0; j < block.index.size(); ++j) {
-        if (n == k && block.least2[j] > best[k - 1].first) {
-            break;
-        }
-        const float dx = block.x[j] - px, dy = block.y[j] - py; // as distance2
-        const Candidate c{dx * dx + dy * dy, block.index[j]};
-        if (n == k && !(c < best[k - 1])) {
-            continue;
-        }
-        uint32_t m = std::min(n, k - 1);
-        while (m > 0 && c < best[m - 1]) {
-            best[m] = best[m - 1];
-            --m;
-        }
-        best[m] = c;
-        n = std::min(n + 1, k);
+// The k nearest of a block's candidates for its pixels in turn. Neighbouring pixels mostly
+// share their k nearest, and a set is a pixel's k nearest exactly when its farthest member
+// comes before every other candidate (by squared distance, then index): every point that can
+// be among the k nearest of a pixel of the block is one of its candidates. So each pixel first
+// tests the previous pixel's set; only where it fails does it select again, among the
+// candidates no farther than that set's farthest (the k nearest are among them).
+class BlockSearch {
+public:
+    explicit BlockSearch(uint32_t k) : mK(k) {}
+
+    void begin(const Block& block) {
+        mBlock = &block;
+        mD2.resize(block.index.size());
+        mMember.assign(block.index.size(), 0);
+        mSet.clear();
     }
-    for (uint32_t j = 0; j < k; ++j) {
-        out[j] = best[j].second;
+    // Searches the pixel centre (px, py); false when its k nearest are the previous pixel's.
+    bool search(float px, float py) {
+        const Block& b = *mBlock;
+        const std::size_t n = b.index.size();
+        for (std::size_t j = 0; j < n; ++j) {
+            const float dx = b.x[j] - px, dy = b.y[j] - py; // as distance2
+            mD2[j] = dx * dx + dy * dy;
+        }
+        float bound = std::numeric_limits<float>::infinity();
+        if (!mSet.empty()) {
+            float in = 0.0f, out = bound;
+            for (const uint32_t j : mSet) {
+                in = std::max(in, mD2[j]);
+            }
+            for (std::size_t j = 0; j < n; ++j) {
+                out = std::min(out, mMember[j] != 0 ? bound : mD2[j]);
+            }
+            if (in < out) {
+                return false;
+            }
+            bound = in;
+        }
+        select(bound);
+        return true;
     }
-}
+    // The current set's point indices (k).
+    void nearest(uint32_t* out) const {
+        for (uint32_t j = 0; j < mK; ++j) {
+            out[j] = mBlock->index[mSet[j]];
+        }
+    }
+
+private:
+    struct Ranked {
+        float d2;
+        uint32_t index, at;
+    };
+    static bool before(const Ranked& a, const Ranked& b) {
+        return a.d2 < b.d2 || (a.d2 == b.d2 && a.index < b.index);
+    }
+
+    // The k smallest (squared distance, index) among the candidates within `bound`. Past the
+    // block's first pixel a few more than k lie within it (the previous set and the points
+    // that overtook it): those few are dropped, farthest first, instead of sorting.
+    void select(float bound) {
+        const Block& b = *mBlock;
+        mPicked.clear();
+        for (std::size_t j = 0; j < b.index.size(); ++j) {
+            if (mD2[j] <= bound) {
+                mPicked.push_back({mD2[j], b.index[j], static_cast<uint32_t>(j)});
+            }
+        }
+        constexpr std::size_t kFewBeyond = 4;
+        if (mPicked.size() > mK + kFewBeyond) {
+            std::nth_element(mPicked.begin(), mPicked.begin() + (mK - 1), mPicked.end(), before);
+            mPicked.resize(mK);
+        }
+        while (mPicked.size() > mK) {
+            auto farthest = mPicked.begin();
+            for (auto it = mPicked.begin() + 1; it != mPicked.end(); ++it) {
+                farthest = before(*farthest, *it) ? it : farthest;
+            }
+            *farthest = mPicked.back();
+            mPicked.pop_back();
+        }
+        for (const uint32_t j : mSet) {
+            mMember[j] = 0;
+        }
+        mSet.resize(mK);
+        for (uint32_t j = 0; j < mK; ++j) {
+            mSet[j] = mPicked[j].at;
+            mMember[mPicked[j].at] = 1;
+        }
+    }
+
+    uint32_t mK;
+    const Block* mBlock = nullptr;
+    std::vector<float> mD2;
+    std::vector<uint8_t> mMember;
+    std::vector<uint32_t> mSet; // positions in the block
+    std::vector<Ranked> mPicked;
+};
 
 // One band of tiles (kTile canvas rows), built on its own so that bands run in parallel and
 // join in order: tiles' bases count from the band's first candidate and row.
@@ -157,32 +219,43 @@ public:
     void finish(Band& band, const std::vector<Point>& pts, float cx, float cy) {
         band.tiles.push_back(static_cast<uint32_t>(band.candidates.size()));
         band.tiles.push_back(static_cast<uint32_t>(band.slots.size() / mSlotsPerRow));
-        mUsed = mRows;
-        std::sort(mUsed.begin(), mUsed.end());
-        mUsed.erase(std::unique(mUsed.begin(), mUsed.end()), mUsed.end());
-        band.candidates.insert(band.candidates.end(), mUsed.begin(), mUsed.end());
-        band.maxCandidates = std::max(band.maxCandidates, static_cast<uint32_t>(mUsed.size()));
+        // The tile's candidates in ascending index order, and each row entry's slot among
+        // them, from one sort of (point index, entry) keys.
+        mKeys.clear();
+        for (std::size_t e = 0; e < mRows.size(); ++e) {
+            mKeys.push_back(uint64_t{mRows[e]} << 32 | e);
+        }
+        std::sort(mKeys.begin(), mKeys.end());
+        mSlotOf.resize(mRows.size());
+        const auto base = band.candidates.size();
+        for (const uint64_t key : mKeys) {
+            const auto i = static_cast<uint32_t>(key >> 32);
+            if (band.candidates.size() == base || band.candidates.back() != i) {
+                band.candidates.push_back(i);
+            }
+            mSlotOf[key & 0xffffffffu] = static_cast<uint16_t>(band.candidates.size() - base - 1);
+        }
+        band.maxCandidates =
+            std::max(band.maxCandidates, static_cast<uint32_t>(band.candidates.size() - base));
         for (std::size_t r = 0; r < mHashes.size(); ++r) {
             for (uint32_t j = 0; j < mK; ++j) {
-                const uint32_t i = mRows[r * mK + j];
-                mOrder[j] = {distance2(pts[i], cx, cy), i};
+                const std::size_t e = r * mK + j;
+                mOrder[j] = {distance2(pts[mRows[e]], cx, cy), mRows[e], mSlotOf[e]};
             }
             std::sort(mOrder.begin(), mOrder.begin() + mK);
             for (uint32_t j = 0; j < mSlotsPerRow; ++j) {
-                const auto at =
-                    j < mK ? std::lower_bound(mUsed.begin(), mUsed.end(), mOrder[j].second) -
-                                 mUsed.begin()
-                           : 0;
-                band.slots.push_back(static_cast<uint16_t>(at));
+                band.slots.push_back(j < mK ? std::get<2>(mOrder[j]) : uint16_t{0});
             }
         }
     }
 
 private:
     uint32_t mK, mSlotsPerRow;
-    std::vector<uint32_t> mRows, mUsed;
-    std::vector<uint64_t> mHashes;
-    std::array<Candidate, PixelKnnTable::kMaxK> mOrder{};
+    std::vector<uint32_t> mRows;
+    std::vector<uint64_t> mHashes, mKeys;
+    std::vector<uint16_t> mSlotOf;
+    // (squared distance from the tile's centre, point index, slot) of a row's entries
+    std::array<std::tuple<float, uint32_t, uint16_t>, PixelKnnTable::kMaxK> mOrder{};
 };
 
 // Joins the bands in order into the table's arrays; returns the bytes per slot.
@@ -242,6 +315,7 @@ PixelKnnTable::PixelKnnTable(const PointSet& set, uint32_t k)
         std::vector<uint32_t> tile;
         std::vector<float> d2, kth;
         Block block;
+        BlockSearch search(k);
         std::array<uint32_t, kMaxK> nearest{};
         const uint32_t y0 = band * kTile, y1 = std::min(mHeight, y0 + kTile);
         for (uint32_t t = 0; t < tx; ++t) {
@@ -255,12 +329,16 @@ PixelKnnTable::PixelKnnTable(const PointSet& set, uint32_t k)
                 for (uint32_t qx = x0; qx < x1; qx += side) {
                     const uint32_t qx1 = std::min(x1, qx + side), qy1 = std::min(y1, qy + side);
                     narrow(pts, tile, qx, qy, qx1, qy1, k, d2, kth, block);
+                    search.begin(block);
+                    uint8_t row = 0;
                     for (uint32_t y = qy; y < qy1; ++y) {
                         for (uint32_t x = qx; x < qx1; ++x) {
-                            kNearestOf(block, static_cast<float>(x) + 0.5f,
-                                       static_cast<float>(y) + 0.5f, k, nearest.data());
-                            mPixelRows[static_cast<std::size_t>(y) * mWidth + x] =
-                                encoder.add(nearest.data());
+                            if (search.search(static_cast<float>(x) + 0.5f,
+                                              static_cast<float>(y) + 0.5f)) {
+                                search.nearest(nearest.data());
+                                row = encoder.add(nearest.data());
+                            }
+                            mPixelRows[static_cast<std::size_t>(y) * mWidth + x] = row;
                         }
                     }
                 }
