@@ -5,8 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <bit>
 #include <limits>
-#include <tuple>
 
 #include "core/error.hpp"
 #include "core/progress.hpp"
@@ -29,8 +29,9 @@ inline float distance2(const Point& p, float x, float y) {
 }
 
 // Every point that can be among the k nearest of a pixel centre in the block
-// [x0, x1) x [y0, y1): if the block's centre c has its k-th nearest point at R, every pixel
-// centre within h of c has its k nearest within R + h of it, so within R + 2h of c.
+// [x0, x1) x [y0, y1), in ascending index order: if the block's centre c has its k-th nearest
+// point at R, every pixel centre within h of c has its k nearest within R + h of it, so within
+// R + 2h of c.
 void blockCandidates(const PointGrids& grids, const std::vector<Point>& pts, uint32_t x0,
                      uint32_t y0, uint32_t x1, uint32_t y1, uint32_t k,
                      std::vector<Candidate>& scratch, std::vector<uint32_t>& out) {
@@ -46,12 +47,14 @@ void blockCandidates(const PointGrids& grids, const std::vector<Point>& pts, uin
     for (const Candidate& c : scratch) {
         out.push_back(c.second);
     }
+    std::sort(out.begin(), out.end());
 }
 
-// A quarter tile's candidates, positions and indices side by side for the per-pixel search.
+// A quarter tile's candidates, positions and places in the tile's candidates side by side for
+// the per-pixel search. The tile's are in index order, so ties order by place as by index.
 struct Block {
     std::vector<float> x, y;
-    std::vector<uint32_t> index;
+    std::vector<uint32_t> at;
 };
 
 // Narrows a tile's candidates to those of the block [x0, x1) x [y0, y1) inside it, by the same
@@ -72,12 +75,12 @@ void narrow(const std::vector<Point>& pts, const std::vector<uint32_t>& tile, ui
     const float r = std::sqrt(kth[k - 1]) + 2.0f * h + 0.5f;
     out.x.clear();
     out.y.clear();
-    out.index.clear();
+    out.at.clear();
     for (std::size_t j = 0; j < tile.size(); ++j) {
         if (d2[j] <= r * r) {
             out.x.push_back(pts[tile[j]].x);
             out.y.push_back(pts[tile[j]].y);
-            out.index.push_back(tile[j]);
+            out.at.push_back(static_cast<uint32_t>(j));
         }
     }
 }
@@ -94,14 +97,14 @@ public:
 
     void begin(const Block& block) {
         mBlock = &block;
-        mD2.resize(block.index.size());
-        mMember.assign(block.index.size(), 0);
+        mD2.resize(block.at.size());
+        mMember.assign(block.at.size(), 0);
         mSet.clear();
     }
     // Searches the pixel centre (px, py); false when its k nearest are the previous pixel's.
     bool search(float px, float py) {
         const Block& b = *mBlock;
-        const std::size_t n = b.index.size();
+        const std::size_t n = b.at.size();
         for (std::size_t j = 0; j < n; ++j) {
             const float dx = b.x[j] - px, dy = b.y[j] - py; // as distance2
             mD2[j] = dx * dx + dy * dy;
@@ -123,20 +126,20 @@ public:
         select(bound);
         return true;
     }
-    // The current set's point indices (k).
+    // The current set, as places in the tile's candidates (k).
     void nearest(uint32_t* out) const {
         for (uint32_t j = 0; j < mK; ++j) {
-            out[j] = mBlock->index[mSet[j]];
+            out[j] = mBlock->at[mSet[j]];
         }
     }
 
 private:
     struct Ranked {
         float d2;
-        uint32_t index, at;
+        uint32_t at, j; // place in the tile's candidates (index order), in the block
     };
     static bool before(const Ranked& a, const Ranked& b) {
-        return a.d2 < b.d2 || (a.d2 == b.d2 && a.index < b.index);
+        return a.d2 < b.d2 || (a.d2 == b.d2 && a.at < b.at);
     }
 
     // The k smallest (squared distance, index) among the candidates within `bound`. Past the
@@ -145,9 +148,9 @@ private:
     void select(float bound) {
         const Block& b = *mBlock;
         mPicked.clear();
-        for (std::size_t j = 0; j < b.index.size(); ++j) {
+        for (std::size_t j = 0; j < b.at.size(); ++j) {
             if (mD2[j] <= bound) {
-                mPicked.push_back({mD2[j], b.index[j], static_cast<uint32_t>(j)});
+                mPicked.push_back({mD2[j], b.at[j], static_cast<uint32_t>(j)});
             }
         }
         constexpr std::size_t kFewBeyond = 4;
@@ -168,8 +171,8 @@ private:
         }
         mSet.resize(mK);
         for (uint32_t j = 0; j < mK; ++j) {
-            mSet[j] = mPicked[j].at;
-            mMember[mPicked[j].at] = 1;
+            mSet[j] = mPicked[j].j;
+            mMember[mPicked[j].j] = 1;
         }
     }
 
@@ -213,49 +216,66 @@ public:
         mRows.insert(mRows.end(), nearest, nearest + mK);
         return static_cast<uint8_t>(mHashes.size() - 1);
     }
-    // Appends the tile's header, candidates and rows to the band. Each row's slots are stored
-    // nearest to the tile's centre (cx, cy) first: every pixel of the tile then reads its set
-    // almost in its own nearest-first order, which keeps the shader's insertion sort short.
-    void finish(Band& band, const std::vector<Point>& pts, float cx, float cy) {
+    // Appends the tile's header, candidates and rows to the band; rows hold places in `tile`,
+    // the tile's candidates in index order. Each row's slots are stored nearest to the tile's
+    // centre (cx, cy) first: every pixel of the tile then reads its set almost in its own
+    // nearest-first order, which keeps the shader's insertion sort short.
+    void finish(Band& band, const std::vector<uint32_t>& tile, const std::vector<Point>& pts,
+                float cx, float cy) {
         band.tiles.push_back(static_cast<uint32_t>(band.candidates.size()));
         band.tiles.push_back(static_cast<uint32_t>(band.slots.size() / mSlotsPerRow));
-        // The tile's candidates in ascending index order, and each row entry's slot among
-        // them, from one sort of (point index, entry) keys.
-        mKeys.clear();
-        for (std::size_t e = 0; e < mRows.size(); ++e) {
-            mKeys.push_back(uint64_t{mRows[e]} << 32 | e);
+        // The candidates some row uses, in index order, and each one's slot among them.
+        constexpr uint16_t unused = 0xffffu;
+        mSlotOf.assign(tile.size(), unused);
+        for (const uint32_t at : mRows) {
+            mSlotOf[at] = 0;
         }
-        std::sort(mKeys.begin(), mKeys.end());
-        mSlotOf.resize(mRows.size());
-        const auto base = band.candidates.size();
-        for (const uint64_t key : mKeys) {
-            const auto i = static_cast<uint32_t>(key >> 32);
-            if (band.candidates.size() == base || band.candidates.back() != i) {
-                band.candidates.push_back(i);
+        mRanked.clear();
+        for (std::size_t at = 0; at < tile.size(); ++at) {
+            if (mSlotOf[at] != unused) {
+                mSlotOf[at] = static_cast<uint16_t>(mRanked.size());
+                band.candidates.push_back(tile[at]);
+                mRanked.emplace_back(distance2(pts[tile[at]], cx, cy), static_cast<uint32_t>(at));
             }
-            mSlotOf[key & 0xffffffffu] = static_cast<uint16_t>(band.candidates.size() - base - 1);
         }
-        band.maxCandidates =
-            std::max(band.maxCandidates, static_cast<uint32_t>(band.candidates.size() - base));
+        band.maxCandidates = std::max(band.maxCandidates, static_cast<uint32_t>(mRanked.size()));
+        // Each row in the candidates' order from the centre (distance, then index); with at
+        // most 64 candidates a row is a bit set of those ranks, read lowest first.
+        std::sort(mRanked.begin(), mRanked.end());
+        mRankOf.resize(tile.size());
+        for (std::size_t rank = 0; rank < mRanked.size(); ++rank) {
+            mRankOf[mRanked[rank].second] = static_cast<uint32_t>(rank);
+        }
         for (std::size_t r = 0; r < mHashes.size(); ++r) {
-            for (uint32_t j = 0; j < mK; ++j) {
-                const std::size_t e = r * mK + j;
-                mOrder[j] = {distance2(pts[mRows[e]], cx, cy), mRows[e], mSlotOf[e]};
+            const uint32_t* row = &mRows[r * mK];
+            if (mRanked.size() <= 64) {
+                uint64_t ranks = 0;
+                for (uint32_t j = 0; j < mK; ++j) {
+                    ranks |= uint64_t{1} << mRankOf[row[j]];
+                }
+                for (; ranks != 0; ranks &= ranks - 1) {
+                    band.slots.push_back(mSlotOf[mRanked[std::countr_zero(ranks)].second]);
+                }
+            } else {
+                std::array<uint32_t, PixelKnnTable::kMaxK> ranks{};
+                for (uint32_t j = 0; j < mK; ++j) {
+                    ranks[j] = mRankOf[row[j]];
+                }
+                std::sort(ranks.begin(), ranks.begin() + mK);
+                for (uint32_t j = 0; j < mK; ++j) {
+                    band.slots.push_back(mSlotOf[mRanked[ranks[j]].second]);
+                }
             }
-            std::sort(mOrder.begin(), mOrder.begin() + mK);
-            for (uint32_t j = 0; j < mSlotsPerRow; ++j) {
-                band.slots.push_back(j < mK ? std::get<2>(mOrder[j]) : uint16_t{0});
-            }
+            band.slots.insert(band.slots.end(), mSlotsPerRow - mK, uint16_t{0});
         }
     }
 
 private:
     uint32_t mK, mSlotsPerRow;
-    std::vector<uint32_t> mRows;
-    std::vector<uint64_t> mHashes, mKeys;
+    std::vector<uint32_t> mRows, mRankOf;
+    std::vector<uint64_t> mHashes;
     std::vector<uint16_t> mSlotOf;
-    // (squared distance from the tile's centre, point index, slot) of a row's entries
-    std::array<std::tuple<float, uint32_t, uint16_t>, PixelKnnTable::kMaxK> mOrder{};
+    std::vector<Candidate> mRanked; // used candidates: (distance^2 from the centre, place)
 };
 
 // Joins the bands in order into the table's arrays; returns the bytes per slot.
@@ -343,7 +363,7 @@ PixelKnnTable::PixelKnnTable(const PointSet& set, uint32_t k)
                     }
                 }
             }
-            encoder.finish(bands[band], pts, 0.5f * static_cast<float>(x0 + x1),
+            encoder.finish(bands[band], tile, pts, 0.5f * static_cast<float>(x0 + x1),
                            0.5f * static_cast<float>(y0 + y1));
         }
         step.advance();
