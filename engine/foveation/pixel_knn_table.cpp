@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstring>
-#include <bit>
 #include <limits>
 
 #include "core/error.hpp"
