@@ -105,25 +105,41 @@ public:
     bool search(float px, float py) {
         const Block& b = *mBlock;
         const std::size_t n = b.at.size();
+        // In one pass: the farthest two members and the nearest two other candidates.
+        constexpr float none = std::numeric_limits<float>::infinity();
+        float in = -1.0f, in2 = -1.0f, out = none, out2 = none;
+        std::size_t far = 0, near = 0;
         for (std::size_t j = 0; j < n; ++j) {
             const float dx = b.x[j] - px, dy = b.y[j] - py; // as distance2
-            mD2[j] = dx * dx + dy * dy;
+            const float d2 = dx * dx + dy * dy;
+            mD2[j] = d2;
+            const bool member = mMember[j] != 0;
+            const float asMember = member ? d2 : -1.0f, asOther = member ? none : d2;
+            const bool farther = asMember > in, nearer = asOther < out;
+            in2 = farther ? in : std::max(in2, asMember);
+            far = farther ? j : far;
+            in = farther ? asMember : in;
+            out2 = nearer ? out : std::min(out2, asOther);
+            near = nearer ? j : near;
+            out = nearer ? asOther : out;
         }
-        float bound = std::numeric_limits<float>::infinity();
-        if (!mSet.empty()) {
-            float in = 0.0f, out = bound;
-            for (const uint32_t j : mSet) {
-                in = std::max(in, mD2[j]);
-            }
-            for (std::size_t j = 0; j < n; ++j) {
-                out = std::min(out, mMember[j] != 0 ? bound : mD2[j]);
-            }
-            if (in < out) {
-                return false;
-            }
-            bound = in;
+        if (mSet.empty()) {
+            select(none);
+            return true;
         }
-        select(bound);
+        if (in < out) {
+            return false;
+        }
+        // Mostly one point overtook one member: then the set with the farthest member swapped
+        // for the nearest other candidate passes the same test.
+        if (std::max(in2, out) < std::min(out2, in)) {
+            mMember[far] = 0;
+            mMember[near] = 1;
+            *std::find(mSet.begin(), mSet.end(), static_cast<uint32_t>(far)) =
+                static_cast<uint32_t>(near);
+            return true;
+        }
+        select(in);
         return true;
     }
     // The current set, as places in the tile's candidates (k).
@@ -147,12 +163,13 @@ private:
     // that overtook it): those few are dropped, farthest first, instead of sorting.
     void select(float bound) {
         const Block& b = *mBlock;
-        mPicked.clear();
+        mPicked.resize(b.at.size());
+        std::size_t picked = 0;
         for (std::size_t j = 0; j < b.at.size(); ++j) {
-            if (mD2[j] <= bound) {
-                mPicked.push_back({mD2[j], b.at[j], static_cast<uint32_t>(j)});
-            }
+            mPicked[picked] = {mD2[j], b.at[j], static_cast<uint32_t>(j)};
+            picked += mD2[j] <= bound ? 1 : 0;
         }
+        mPicked.resize(picked);
         constexpr std::size_t kFewBeyond = 4;
         if (mPicked.size() > mK + kFewBeyond) {
             std::nth_element(mPicked.begin(), mPicked.begin() + (mK - 1), mPicked.end(), before);

@@ -80,6 +80,8 @@ void measure(const DisplayProfile& display, bool rbfPixelWeights, std::vector<ui
                 set.canvasWidth(), set.canvasHeight());
     const NeighbourIndex index(set, NeighbourIndex::kMaxNeighbours);
     report(eye, "neighbour index k=20", index.buildSeconds(), index.bytes());
+    std::printf("%-10s   of which the nearest point per pixel %.2f s\n", eye.c_str(),
+                index.nearest().buildSeconds());
     if (std::getenv("GT_SCALE_TABLES_ONLY") != nullptr) {
         rbfPixelWeights = false;
         ks = {10u};
