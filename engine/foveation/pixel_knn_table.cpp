@@ -30,15 +30,27 @@ inline float distance2(const Point& p, float x, float y) {
 
 // Every point that can be among the k nearest of a pixel centre in the block
 // [x0, x1) x [y0, y1), in ascending index order: if the block's centre c has its k-th nearest
-// point at R, every pixel centre within h of c has its k nearest within R + h of it, so within
-// R + 2h of c.
+// point within R, every pixel centre within h of c has its k nearest within R + h of it, so
+// within R + 2h of c. R is the k-th distance from c among `near` (the previous tile's
+// candidates: they hold c's k nearest unless those lie farther than the previous tile's own
+// bound, and any k points bound the k-th nearest from above), or by a search where it is empty.
 void blockCandidates(const PointGrids& grids, const std::vector<Point>& pts, uint32_t x0,
                      uint32_t y0, uint32_t x1, uint32_t y1, uint32_t k,
-                     std::vector<Candidate>& scratch, std::vector<uint32_t>& out) {
+                     const std::vector<uint32_t>& near, std::vector<Candidate>& scratch,
+                     std::vector<uint32_t>& out) {
     const float cx = 0.5f * static_cast<float>(x0 + x1), cy = 0.5f * static_cast<float>(y0 + y1);
     const float h =
         std::hypot(0.5f * static_cast<float>(x1 - x0 - 1), 0.5f * static_cast<float>(y1 - y0 - 1));
-    grids.around(cx, cy).kNearest(pts, cx, cy, k, ~0u, scratch);
+    scratch.clear();
+    if (near.size() >= k) {
+        for (const uint32_t i : near) {
+            scratch.emplace_back(distance2(pts[i], cx, cy), i);
+        }
+        std::nth_element(scratch.begin(), scratch.begin() + (k - 1), scratch.end());
+        scratch.resize(k);
+    } else {
+        grids.around(cx, cy).kNearest(pts, cx, cy, k, ~0u, scratch);
+    }
     // Half a pixel over the bound absorbs the rounding of float distances.
     const float r = std::sqrt(scratch.back().first) + 2.0f * h + 0.5f;
     scratch.clear();
@@ -349,7 +361,7 @@ PixelKnnTable::PixelKnnTable(const PointSet& set, uint32_t k)
     detail::parallelFor(ty, [&](uint32_t band) {
         TileEncoder encoder(k, perRow);
         std::vector<Candidate> scratch;
-        std::vector<uint32_t> tile;
+        std::vector<uint32_t> tile, previous;
         std::vector<float> d2, kth;
         Block block;
         BlockSearch search(k);
@@ -358,7 +370,8 @@ PixelKnnTable::PixelKnnTable(const PointSet& set, uint32_t k)
         for (uint32_t t = 0; t < tx; ++t) {
             const uint32_t x0 = t * kTile, x1 = std::min(mWidth, x0 + kTile);
             encoder.begin();
-            blockCandidates(grids, pts, x0, y0, x1, y1, k, scratch, tile);
+            previous.swap(tile);
+            blockCandidates(grids, pts, x0, y0, x1, y1, k, previous, scratch, tile);
             // Quarters, each with its own candidates: a bound from nearer its pixels admits
             // fewer points than the tile's.
             constexpr uint32_t side = kTile / 2;
