@@ -225,25 +225,25 @@ class TileEncoder {
 public:
     TileEncoder(uint32_t k, uint32_t slotsPerRow) : mK(k), mSlotsPerRow(slotsPerRow) {}
 
-    void begin() {
+    // A tile with `candidates` candidates: its rows are bit sets over their places.
+    void begin(std::size_t candidates) {
+        mWords = (candidates + 63) / 64;
         mRows.clear();
-        mHashes.clear();
+        mRowCount = 0;
     }
-    // Adds a pixel's k nearest (as a set: sorted in place); returns its row in the tile.
-    uint8_t add(uint32_t* nearest) {
-        std::sort(nearest, nearest + mK);
-        uint64_t hash = 1469598103934665603ull;
+    // Adds a pixel's k nearest (places in the tile's candidates); returns its row in the tile.
+    uint8_t add(const uint32_t* nearest) {
+        mSet.assign(mWords, 0);
         for (uint32_t j = 0; j < mK; ++j) {
-            hash = (hash ^ nearest[j]) * 1099511628211ull;
+            mSet[nearest[j] / 64] |= uint64_t{1} << (nearest[j] % 64);
         }
-        for (std::size_t r = mHashes.size(); r-- > 0;) {
-            if (mHashes[r] == hash && std::equal(nearest, nearest + mK, &mRows[r * mK])) {
+        for (std::size_t r = mRowCount; r-- > 0;) {
+            if (std::equal(mSet.begin(), mSet.end(), mRows.begin() + r * mWords)) {
                 return static_cast<uint8_t>(r);
             }
         }
-        mHashes.push_back(hash);
-        mRows.insert(mRows.end(), nearest, nearest + mK);
-        return static_cast<uint8_t>(mHashes.size() - 1);
+        mRows.insert(mRows.end(), mSet.begin(), mSet.end());
+        return static_cast<uint8_t>(mRowCount++);
     }
     // Appends the tile's header, candidates and rows to the band; rows hold places in `tile`,
     // the tile's candidates in index order. Each row's slots are stored nearest to the tile's
@@ -256,12 +256,13 @@ public:
         // The candidates some row uses, in index order, and each one's slot among them.
         constexpr uint16_t unused = 0xffffu;
         mSlotOf.assign(tile.size(), unused);
-        for (const uint32_t at : mRows) {
-            mSlotOf[at] = 0;
+        mSet.assign(mWords, 0);
+        for (std::size_t e = 0; e < mRows.size(); ++e) {
+            mSet[e % mWords] |= mRows[e];
         }
         mRanked.clear();
         for (std::size_t at = 0; at < tile.size(); ++at) {
-            if (mSlotOf[at] != unused) {
+            if ((mSet[at / 64] >> (at % 64) & 1u) != 0) {
                 mSlotOf[at] = static_cast<uint16_t>(mRanked.size());
                 band.candidates.push_back(tile[at]);
                 mRanked.emplace_back(distance2(pts[tile[at]], cx, cy), static_cast<uint32_t>(at));
@@ -275,8 +276,13 @@ public:
         for (std::size_t rank = 0; rank < mRanked.size(); ++rank) {
             mRankOf[mRanked[rank].second] = static_cast<uint32_t>(rank);
         }
-        for (std::size_t r = 0; r < mHashes.size(); ++r) {
-            const uint32_t* row = &mRows[r * mK];
+        for (std::size_t r = 0; r < mRowCount; ++r) {
+            std::array<uint32_t, PixelKnnTable::kMaxK> row{};
+            for (std::size_t w = 0, j = 0; w < mWords; ++w) {
+                for (uint64_t bits = mRows[r * mWords + w]; bits != 0; bits &= bits - 1) {
+                    row[j++] = static_cast<uint32_t>(64 * w + std::countr_zero(bits));
+                }
+            }
             if (mRanked.size() <= 64) {
                 uint64_t ranks = 0;
                 for (uint32_t j = 0; j < mK; ++j) {
@@ -301,8 +307,9 @@ public:
 
 private:
     uint32_t mK, mSlotsPerRow;
-    std::vector<uint32_t> mRows, mRankOf;
-    std::vector<uint64_t> mHashes;
+    std::size_t mWords = 1, mRowCount = 0;
+    std::vector<uint64_t> mRows, mSet; // rows' bit sets, mWords each; the one being added
+    std::vector<uint32_t> mRankOf;
     std::vector<uint16_t> mSlotOf;
     std::vector<Candidate> mRanked; // used candidates: (distance^2 from the centre, place)
 };
@@ -369,9 +376,9 @@ PixelKnnTable::PixelKnnTable(const PointSet& set, uint32_t k)
         const uint32_t y0 = band * kTile, y1 = std::min(mHeight, y0 + kTile);
         for (uint32_t t = 0; t < tx; ++t) {
             const uint32_t x0 = t * kTile, x1 = std::min(mWidth, x0 + kTile);
-            encoder.begin();
             previous.swap(tile);
             blockCandidates(grids, pts, x0, y0, x1, y1, k, previous, scratch, tile);
+            encoder.begin(tile.size());
             // Quarters, each with its own candidates: a bound from nearer its pixels admits
             // fewer points than the tile's.
             constexpr uint32_t side = kTile / 2;
