@@ -238,7 +238,8 @@ public:
             mSet[nearest[j] / 64] |= uint64_t{1} << (nearest[j] % 64);
         }
         for (std::size_t r = mRowCount; r-- > 0;) {
-            if (std::equal(mSet.begin(), mSet.end(), mRows.begin() + r * mWords)) {
+            if (mRows[r * mWords] == mSet[0] &&
+                std::equal(mSet.begin() + 1, mSet.end(), mRows.begin() + r * mWords + 1)) {
                 return static_cast<uint8_t>(r);
             }
         }
