@@ -427,6 +427,26 @@ void PixelKnnTable::decode(uint32_t x, uint32_t y, std::span<uint32_t> out) cons
     }
 }
 
+std::vector<uint32_t> PixelKnnTable::flatRows() const {
+    const uint32_t perRow = slotsPerRow();
+    std::vector<uint32_t> rows(static_cast<std::size_t>(mWidth) * mHeight * perRow, 0u);
+    detail::parallelFor(mHeight, [&](uint32_t y) {
+        for (uint32_t x = 0; x < mWidth; ++x) {
+            const std::size_t pixel = static_cast<std::size_t>(y) * mWidth + x;
+            decode(x, y, std::span(rows).subspan(pixel * perRow, mK));
+        }
+    });
+    return rows;
+}
+
+KnnLayout knnLayoutFor(uint32_t canvasWidth, uint32_t canvasHeight, uint32_t k,
+                       const KnnDeviceLimits& limits) {
+    const uint64_t texels = uint64_t{canvasWidth} * canvasHeight * ((k + 3) / 4);
+    const bool fits =
+        texels <= limits.maxTexelBufferElements && texels * 16 <= limits.deviceLocalHeapBytes / 3;
+    return fits ? KnnLayout::Flat : KnnLayout::Compact;
+}
+
 uint32_t PixelKnnTable::checkedK(const NeighbourIndex& index, uint32_t k) {
     if (k == 0 || k > index.k() + 1) {
         throw ArgumentError("k-NN table: k must be 1.." + std::to_string(index.k() + 1));
