@@ -96,10 +96,19 @@ GpuPixelKnnTable::GpuPixelKnnTable(vk::Context& ctx, const PixelKnnTable& table,
         view = vk::BufferView(ctx, buffer, format);
     };
     if (layout == KnnLayout::Flat) {
-        const std::vector<uint32_t> rows = table.flatRows();
-        mBytes = rows.size() * sizeof(uint32_t);
-        make(mSlots, mSlotsView, std::as_bytes(std::span(rows)), VK_FORMAT_R32G32B32A32_UINT,
-             "pointset.knn_table");
+        // Decoded and uploaded a band of canvas rows at a time (about 64 MB), so that the host
+        // never holds the whole flat table beside the compact one.
+        const std::size_t rowBytes = std::size_t{table.canvasWidth()} * table.slotsPerRow() * 4;
+        mBytes = rowBytes * table.canvasHeight();
+        mSlots = vk::Buffer(ctx, {mBytes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
+                                  vk::MemoryUsage::GpuOnly, "pointset.knn_table"});
+        const auto band = static_cast<uint32_t>(std::max<std::size_t>(1, (64u << 20) / rowBytes));
+        for (uint32_t y = 0; y < table.canvasHeight(); y += band) {
+            const std::vector<uint32_t> rows =
+                table.flatRows(y, std::min(table.canvasHeight(), y + band));
+            mSlots.upload(std::as_bytes(std::span(rows)), y * rowBytes);
+        }
+        mSlotsView = vk::BufferView(ctx, mSlots, VK_FORMAT_R32G32B32A32_UINT);
         return;
     }
     mBytes = table.bytes();

@@ -427,13 +427,13 @@ void PixelKnnTable::decode(uint32_t x, uint32_t y, std::span<uint32_t> out) cons
     }
 }
 
-std::vector<uint32_t> PixelKnnTable::flatRows() const {
+std::vector<uint32_t> PixelKnnTable::flatRows(uint32_t y0, uint32_t y1) const {
     const uint32_t perRow = slotsPerRow();
-    std::vector<uint32_t> rows(static_cast<std::size_t>(mWidth) * mHeight * perRow, 0u);
-    detail::parallelFor(mHeight, [&](uint32_t y) {
+    std::vector<uint32_t> rows(static_cast<std::size_t>(mWidth) * (y1 - y0) * perRow, 0u);
+    detail::parallelFor(y1 - y0, [&](uint32_t dy) {
         for (uint32_t x = 0; x < mWidth; ++x) {
-            const std::size_t pixel = static_cast<std::size_t>(y) * mWidth + x;
-            decode(x, y, std::span(rows).subspan(pixel * perRow, mK));
+            const std::size_t pixel = static_cast<std::size_t>(dy) * mWidth + x;
+            decode(x, y0 + dy, std::span(rows).subspan(pixel * perRow, mK));
         }
     });
     return rows;

@@ -57,8 +57,10 @@ public:
     // (k entries): the flat table's row.
     void decode(uint32_t x, uint32_t y, std::span<uint32_t> out) const;
     // Every canvas pixel's row decoded (row-major), slotsPerRow() entries each: the k nearest,
-    // nearest first, then zeros. Decoded on every core; the same for any number of them.
-    [[nodiscard]] std::vector<uint32_t> flatRows() const;
+    // nearest first, then zeros; of canvas rows [y0, y1) only, for a table uploaded in parts.
+    // Decoded on every core; the same for any number of them.
+    [[nodiscard]] std::vector<uint32_t> flatRows() const { return flatRows(0, mHeight); }
+    [[nodiscard]] std::vector<uint32_t> flatRows(uint32_t y0, uint32_t y1) const;
 
     // The layout, as the GPU reads it (gpu_point_set.hpp): per tile (candidate base, row base);
     // the candidates; the rows' slots, slotsPerRow() of slotBytes() each (little-endian), the
