@@ -101,8 +101,9 @@ void narrow(const std::vector<Point>& pts, const std::vector<uint32_t>& tile, ui
 // share their k nearest, and a set is a pixel's k nearest exactly when its farthest member
 // comes before every other candidate (by squared distance, then index): every point that can
 // be among the k nearest of a pixel of the block is one of its candidates. So each pixel first
-// tests the previous pixel's set; only where it fails does it select again, among the
-// candidates no farther than that set's farthest (the k nearest are among them).
+// tests the previous pixel's set, then that set with one member swapped; only where both fail
+// does it select again, among the candidates no farther than the set's farthest (the k nearest
+// are among them).
 class BlockSearch {
 public:
     explicit BlockSearch(uint32_t k) : mK(k) {}
