@@ -69,32 +69,36 @@ struct Block {
     std::vector<uint32_t> at;
 };
 
-// Narrows a tile's candidates to those of the block [x0, x1) x [y0, y1) inside it, by the same
-// bound from the block's centre (its k nearest are among the tile's candidates, and so is
-// everything within its bound: R_q + 2 h_q + |q - c| <= R_c + 2 h_c).
-void narrow(const std::vector<Point>& pts, const std::vector<uint32_t>& tile, uint32_t x0,
-            uint32_t y0, uint32_t x1, uint32_t y1, uint32_t k, std::vector<float>& d2,
-            std::vector<float>& kth, Block& out) {
+// Narrows a tile's candidates (their positions) to those of the block [x0, x1) x [y0, y1)
+// inside it, by the same bound from the block's centre (its k nearest are among the tile's
+// candidates, and so is everything within its bound: R_q + 2 h_q + |q - c| <= R_c + 2 h_c).
+void narrow(const Block& tile, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, uint32_t k,
+            std::vector<float>& d2, std::vector<float>& kth, Block& out) {
     const float cx = 0.5f * static_cast<float>(x0 + x1), cy = 0.5f * static_cast<float>(y0 + y1);
     const float h =
         std::hypot(0.5f * static_cast<float>(x1 - x0 - 1), 0.5f * static_cast<float>(y1 - y0 - 1));
-    d2.clear();
-    for (const uint32_t i : tile) {
-        d2.push_back(distance2(pts[i], cx, cy));
+    const std::size_t n = tile.x.size();
+    d2.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+        const float dx = tile.x[j] - cx, dy = tile.y[j] - cy; // as distance2
+        d2[j] = dx * dx + dy * dy;
     }
     kth = d2;
     std::nth_element(kth.begin(), kth.begin() + (k - 1), kth.end());
     const float r = std::sqrt(kth[k - 1]) + 2.0f * h + 0.5f;
-    out.x.clear();
-    out.y.clear();
-    out.at.clear();
-    for (std::size_t j = 0; j < tile.size(); ++j) {
-        if (d2[j] <= r * r) {
-            out.x.push_back(pts[tile[j]].x);
-            out.y.push_back(pts[tile[j]].y);
-            out.at.push_back(static_cast<uint32_t>(j));
-        }
+    out.x.resize(n);
+    out.y.resize(n);
+    out.at.resize(n);
+    std::size_t kept = 0;
+    for (std::size_t j = 0; j < n; ++j) {
+        out.x[kept] = tile.x[j];
+        out.y[kept] = tile.y[j];
+        out.at[kept] = static_cast<uint32_t>(j);
+        kept += d2[j] <= r * r ? 1 : 0;
     }
+    out.x.resize(kept);
+    out.y.resize(kept);
+    out.at.resize(kept);
 }
 
 // The k nearest of a block's candidates for its pixels in turn. Neighbouring pixels mostly
@@ -372,7 +376,7 @@ PixelKnnTable::PixelKnnTable(const PointSet& set, uint32_t k)
         std::vector<Candidate> scratch;
         std::vector<uint32_t> tile, previous;
         std::vector<float> d2, kth;
-        Block block;
+        Block tileBlock, block;
         BlockSearch search(k);
         std::array<uint32_t, kMaxK> nearest{};
         const uint32_t y0 = band * kTile, y1 = std::min(mHeight, y0 + kTile);
@@ -381,13 +385,20 @@ PixelKnnTable::PixelKnnTable(const PointSet& set, uint32_t k)
             previous.swap(tile);
             blockCandidates(grids, pts, x0, y0, x1, y1, k, previous, scratch, tile);
             encoder.begin(tile.size());
+            // The tile's candidates' positions side by side, read once per quarter.
+            tileBlock.x.clear();
+            tileBlock.y.clear();
+            for (const uint32_t i : tile) {
+                tileBlock.x.push_back(pts[i].x);
+                tileBlock.y.push_back(pts[i].y);
+            }
             // Quarters, each with its own candidates: a bound from nearer its pixels admits
             // fewer points than the tile's.
             constexpr uint32_t side = kTile / 2;
             for (uint32_t qy = y0; qy < y1; qy += side) {
                 for (uint32_t qx = x0; qx < x1; qx += side) {
                     const uint32_t qx1 = std::min(x1, qx + side), qy1 = std::min(y1, qy + side);
-                    narrow(pts, tile, qx, qy, qx1, qy1, k, d2, kth, block);
+                    narrow(tileBlock, qx, qy, qx1, qy1, k, d2, kth, block);
                     search.begin(block);
                     uint8_t row = 0;
                     for (uint32_t y = qy; y < qy1; ++y) {
