@@ -118,8 +118,9 @@ passes::InterpolateInputs PointSetMethod::tableInputs(const passes::InterpolateS
         mRbfPixelWeights.reset();
         table.emplace(mPoints, mNeighbours, s.k);
         mKnnTable.emplace(mMc.ctx, *table);
+        // The GPU's bytes: the flat table's where it fits (knnLayoutFor), else the compact one's.
         mKnnTablePrepared = {table->buildSeconds() * 1e3,
-                             static_cast<double>(table->bytes()) / 1e6};
+                             static_cast<double>(mKnnTable->bytes()) / 1e6};
     }
     if (s.method != passes::Interpolation::Rbf) {
         mRbfPixelWeights.reset();

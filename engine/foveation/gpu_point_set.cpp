@@ -6,6 +6,8 @@
 
 #include <glm/glm.hpp>
 
+#include "vk/context.hpp"
+
 namespace gt::foveation {
 
 GpuPointSet::GpuPointSet(vk::Context& ctx, const PointSet& set, const NeighbourIndex& index)
@@ -65,8 +67,27 @@ GpuRbfInverse::GpuRbfInverse(vk::Context& ctx, const RbfInverse& inverse)
                               VK_FORMAT_R32G32B32A32_SFLOAT, "rbf.inverse", mBuffer, mView);
 }
 
+KnnDeviceLimits knnDeviceLimits(const vk::Context& ctx) {
+    VkPhysicalDeviceMemoryProperties memory{};
+    vkGetPhysicalDeviceMemoryProperties(ctx.physicalDevice(), &memory);
+    KnnDeviceLimits limits;
+    for (uint32_t i = 0; i < memory.memoryHeapCount; ++i) {
+        if ((memory.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT) != 0) {
+            limits.deviceLocalHeapBytes =
+                std::max<uint64_t>(limits.deviceLocalHeapBytes, memory.memoryHeaps[i].size);
+        }
+    }
+    limits.maxTexelBufferElements = ctx.properties().limits.maxTexelBufferElements;
+    return limits;
+}
+
 GpuPixelKnnTable::GpuPixelKnnTable(vk::Context& ctx, const PixelKnnTable& table)
-    : mK(table.k()), mTexelsPerRow(table.slotsPerRow() / 4), mBytes(table.bytes()) {
+    : GpuPixelKnnTable(ctx, table,
+                       knnLayoutFor(table.canvasWidth(), table.canvasHeight(), table.k(),
+                                    knnDeviceLimits(ctx))) {}
+
+GpuPixelKnnTable::GpuPixelKnnTable(vk::Context& ctx, const PixelKnnTable& table, KnnLayout layout)
+    : mLayout(layout), mK(table.k()), mTexelsPerRow(table.slotsPerRow() / 4) {
     auto make = [&](vk::Buffer& buffer, vk::BufferView& view, std::span<const std::byte> bytes,
                     VkFormat format, const char* name) {
         buffer = vk::Buffer(ctx, {bytes.size(), VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
@@ -74,6 +95,23 @@ GpuPixelKnnTable::GpuPixelKnnTable(vk::Context& ctx, const PixelKnnTable& table)
         buffer.upload(bytes);
         view = vk::BufferView(ctx, buffer, format);
     };
+    if (layout == KnnLayout::Flat) {
+        // Decoded and uploaded a band of canvas rows at a time (about 64 MB), so that the host
+        // never holds the whole flat table beside the compact one.
+        const std::size_t rowBytes = std::size_t{table.canvasWidth()} * table.slotsPerRow() * 4;
+        mBytes = rowBytes * table.canvasHeight();
+        mSlots = vk::Buffer(ctx, {mBytes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
+                                  vk::MemoryUsage::GpuOnly, "pointset.knn_table"});
+        const auto band = static_cast<uint32_t>(std::max<std::size_t>(1, (64u << 20) / rowBytes));
+        for (uint32_t y = 0; y < table.canvasHeight(); y += band) {
+            const std::vector<uint32_t> rows =
+                table.flatRows(y, std::min(table.canvasHeight(), y + band));
+            mSlots.upload(std::as_bytes(std::span(rows)), y * rowBytes);
+        }
+        mSlotsView = vk::BufferView(ctx, mSlots, VK_FORMAT_R32G32B32A32_UINT);
+        return;
+    }
+    mBytes = table.bytes();
     make(mTiles, mTilesView, std::as_bytes(std::span(table.tiles())), VK_FORMAT_R32G32_UINT,
          "pointset.knn_tiles");
     make(mCandidates, mCandidatesView, std::as_bytes(std::span(table.candidates())),

@@ -56,25 +56,38 @@ private:
     float mShape;
 };
 
-// The thesis's per-canvas-pixel k-NN table on the GPU, in its compact layout
-// (pixel_knn_table.hpp): per tile (candidate base, row base) as RG32UI, the candidates as R32UI,
-// the rows' slots as RGBA8UI or RGBA16UI (four slots a texel), the pixels' rows as R8UI.
+// The device's limits on the flat k-NN table (knnLayoutFor, pixel_knn_table.hpp).
+[[nodiscard]] KnnDeviceLimits knnDeviceLimits(const vk::Context& ctx);
+
+// The thesis's per-canvas-pixel k-NN table on the GPU, flat where it fits the device and compact
+// beyond (knnLayoutFor). Flat: per canvas pixel texelsPerRow() RGBA32UI texels of its k nearest,
+// nearest first, in slots(). Compact (pixel_knn_table.hpp): per tile (candidate base, row base)
+// as RG32UI, the candidates as R32UI, the rows' slots as RGBA8UI or RGBA16UI (four slots a
+// texel), the pixels' rows as R8UI; flat, those three views are slots()'s (never read).
 class GpuPixelKnnTable {
 public:
     GpuPixelKnnTable(vk::Context& ctx, const PixelKnnTable& table);
-    [[nodiscard]] VkBufferView tiles() const noexcept { return mTilesView.handle(); }
-    [[nodiscard]] VkBufferView candidates() const noexcept { return mCandidatesView.handle(); }
+    GpuPixelKnnTable(vk::Context& ctx, const PixelKnnTable& table, KnnLayout layout);
+    [[nodiscard]] KnnLayout layout() const noexcept { return mLayout; }
+    [[nodiscard]] VkBufferView tiles() const noexcept { return flatOr(mTilesView); }
+    [[nodiscard]] VkBufferView candidates() const noexcept { return flatOr(mCandidatesView); }
     [[nodiscard]] VkBufferView slots() const noexcept { return mSlotsView.handle(); }
-    [[nodiscard]] VkBufferView pixelRows() const noexcept { return mPixelRowsView.handle(); }
+    [[nodiscard]] VkBufferView pixelRows() const noexcept { return flatOr(mPixelRowsView); }
     [[nodiscard]] uint32_t k() const noexcept { return mK; }
+    // Texels per row of slots: per canvas pixel when flat.
     [[nodiscard]] uint32_t texelsPerRow() const noexcept { return mTexelsPerRow; }
     [[nodiscard]] std::size_t bytes() const noexcept { return mBytes; }
 
 private:
+    [[nodiscard]] VkBufferView flatOr(const vk::BufferView& view) const noexcept {
+        return mLayout == KnnLayout::Flat ? mSlotsView.handle() : view.handle();
+    }
+
     vk::Buffer mTiles, mCandidates, mSlots, mPixelRows;
     vk::BufferView mTilesView, mCandidatesView, mSlotsView, mPixelRowsView;
+    KnnLayout mLayout;
     uint32_t mK, mTexelsPerRow;
-    std::size_t mBytes;
+    std::size_t mBytes = 0;
 };
 
 // The per-pixel RBF weights on the GPU, laid out as the k-NN table they belong to: ceil(k / 4)

@@ -56,6 +56,11 @@ public:
     // Canvas pixel (x, y)'s k nearest, nearest first (ties to the lower index), into `out`
     // (k entries): the flat table's row.
     void decode(uint32_t x, uint32_t y, std::span<uint32_t> out) const;
+    // Every canvas pixel's row decoded (row-major), slotsPerRow() entries each: the k nearest,
+    // nearest first, then zeros; of canvas rows [y0, y1) only, for a table uploaded in parts.
+    // Decoded on every core; the same for any number of them.
+    [[nodiscard]] std::vector<uint32_t> flatRows() const { return flatRows(0, mHeight); }
+    [[nodiscard]] std::vector<uint32_t> flatRows(uint32_t y0, uint32_t y1) const;
 
     // The layout, as the GPU reads it (gpu_point_set.hpp): per tile (candidate base, row base);
     // the candidates; the rows' slots, slotsPerRow() of slotBytes() each (little-endian), the
@@ -92,6 +97,25 @@ private:
     std::vector<uint8_t> mSlots, mPixelRows;
     double mSeconds = 0.0;
 };
+
+// How the table is stored on the GPU (gpu_point_set.hpp). Flat: flatRows(), as the interpolation
+// reads them, one fetch per four neighbours and nothing to decode; compact: the layout above,
+// a seventh of the bytes at k = 10 and more fetches per pixel (the interpolation reads Modified
+// Shepard's neighbours 1.4-2.2 times slower through it on lavapipe).
+enum class KnnLayout { Flat, Compact };
+
+// What bounds the flat table on a device.
+struct KnnDeviceLimits {
+    uint64_t deviceLocalHeapBytes = 0;   // the largest device-local memory heap
+    uint64_t maxTexelBufferElements = 0; // texels one texel buffer may hold
+};
+
+// Flat where it fits: its texels (ceil(k / 4) RGBA32UI per canvas pixel) in one texel buffer,
+// and its bytes at most a third of the device-local heap, which leaves the rest to the frame's
+// images, the set and a second eye. Compact beyond. On lavapipe (2 GiB, 128 M texels) the fove
+// eye's table is flat up to k = 20 (590 MB) and a 3840x3744 eye's compact from k = 1.
+[[nodiscard]] KnnLayout knnLayoutFor(uint32_t canvasWidth, uint32_t canvasHeight, uint32_t k,
+                                     const KnnDeviceLimits& limits);
 
 // The k nearest points to (x, y) by testing every point (for tests), in the table's order.
 [[nodiscard]] std::vector<uint32_t> bruteForceKnn(const PointSet& set, float x, float y,

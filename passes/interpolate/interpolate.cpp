@@ -27,13 +27,13 @@ const std::vector<VkDescriptorType>& interpolateBindings() {
 }
 
 std::unique_ptr<vk::ComputePipeline> makePipeline(vk::Context& ctx, uint32_t method, bool table,
-                                                  bool motion) {
+                                                  bool motion, bool flat = false) {
     return std::make_unique<vk::ComputePipeline>(
         ctx, vk::ComputePipelineDesc{"interpolate",
                                      gt_spv_interpolate_comp,
                                      interpolateBindings(),
                                      sizeof(sh::InterpolatePush),
-                                     {method, table ? 1u : 0u, motion ? 1u : 0u}});
+                                     {method, table ? 1u : 0u, motion ? 1u : 0u, flat ? 1u : 0u}});
 }
 } // namespace
 
@@ -47,14 +47,14 @@ InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
     }
 }
 
-const vk::ComputePipeline& InterpolatePass::pipeline(uint32_t method, bool table,
+const vk::ComputePipeline& InterpolatePass::pipeline(uint32_t method, bool table, bool flat,
                                                      bool motion) const {
-    if (!motion) {
+    if (!motion && !flat) {
         return *mPipelines.at({method, table});
     }
-    auto& slot = mMotionPipelines[{method, table}];
+    auto& slot = mMotionPipelines[{method, table, flat, motion}];
     if (!slot) {
-        slot = makePipeline(mCtx, method, table, true);
+        slot = makePipeline(mCtx, method, table, motion, flat);
     }
     return *slot;
 }
@@ -132,7 +132,8 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
         useTable ? glm::uvec4(table->texelsPerRow(), table->k(), (s.k + 3) / 4, s.siteFrame)
                  : glm::uvec4(0u, 0u, 0u, s.siteFrame),
         glm::vec4(s.siteJitter, 0.0f, 0.0f, 0.0f)};
-    const vk::ComputePipeline& pipe = pipeline(method, useTable, sampleMotion.has_value());
+    const bool flat = table != nullptr && table->layout() == foveation::KnnLayout::Flat;
+    const vk::ComputePipeline& pipe = pipeline(method, useTable, flat, sampleMotion.has_value());
     struct Data {
         rg::BufferId samples;
         rg::TextureId output, support;

@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 
 #include <glm/glm.hpp>
 
@@ -67,13 +68,14 @@ public:
                           std::optional<rg::BufferId> sampleMotion = std::nullopt) const;
 
 private:
-    const vk::ComputePipeline& pipeline(uint32_t method, bool table, bool motion) const;
+    const vk::ComputePipeline& pipeline(uint32_t method, bool table, bool flat, bool motion) const;
 
     vk::Context& mCtx;
     // Specialised per (method, reads the k-NN table): see shaders/interpolate/interpolate.comp.
     std::map<std::pair<uint32_t, bool>, std::unique_ptr<vk::ComputePipeline>> mPipelines;
-    // The same with the motion written (a scene that moves), built on first use.
-    mutable std::map<std::pair<uint32_t, bool>, std::unique_ptr<vk::ComputePipeline>>
+    // The same with the motion written (a scene that moves) or the flat k-NN table, built on
+    // first use: per (method, table, flat table, motion).
+    mutable std::map<std::tuple<uint32_t, bool, bool, bool>, std::unique_ptr<vk::ComputePipeline>>
         mMotionPipelines;
 };
 

@@ -34,6 +34,9 @@ layout(constant_id = 1) const bool kUseTable = false;
 // first-hit distance it keeps in a (motion.glsl's layout), so that TAA reprojects the point
 // that distance names with that point's own motion and tests its surface's signature.
 layout(constant_id = 2) const bool kMotion = false;
+// The k-NN table's layout (engine/foveation/gpu_point_set.hpp): flat, per canvas pixel its k
+// nearest as indices (kBindingKnnTable, RGBA32UI), or compact (tiles, candidates, slots).
+layout(constant_id = 3) const bool kFlatTable = false;
 layout(std430, set = 0, binding = kBindingInterpSampleMotion) readonly buffer SampleMotion {
     vec4 sampleMotion[];
 };
@@ -92,20 +95,21 @@ void storeMotion(ivec2 px, uint nearest) {
 }
 
 // Canvas pixel c's row of the k-NN table (pixel_knn_table.hpp): its tile's first candidate,
-// and the first texel of the row's slots.
+// and the first texel of the row's slots (flat: of the pixel's own).
 uvec2 knnRow(ivec2 c) {
     int canvasWidth = int(pc.canvas.x);
+    if (kFlatTable) return uvec2(0u, uint(c.y * canvasWidth + c.x) * pc.table.x);
     int tilesX = (canvasWidth + int(kKnnTile) - 1) / int(kKnnTile);
     uvec2 tile = texelFetch(uKnnTiles, (c.y / int(kKnnTile)) * tilesX + c.x / int(kKnnTile)).xy;
     uint row = tile.y + texelFetch(uKnnPixelRows, c.y * canvasWidth + c.x).r;
     return uvec2(tile.x, row * pc.table.x);
 }
 
-// The j-th of a k-NN table row's points, nearest to its tile's centre first; `slots` holds
-// the row's slots j & ~3 .. j | 3, fetched when j % 4 == 0.
+// The j-th of a k-NN table row's points, nearest to its tile's centre first (flat: to the
+// pixel's centre); `slots` holds the row's slots j & ~3 .. j | 3, fetched when j % 4 == 0.
 uint knnEntry(uvec2 row, uint j, inout uvec4 slots) {
     if ((j & 3u) == 0u) slots = texelFetch(uKnnSlots, int(row.y + (j >> 2u)));
-    return texelFetch(uKnnCandidates, int(row.x + slots[j & 3u])).r;
+    return kFlatTable ? slots[j & 3u] : texelFetch(uKnnCandidates, int(row.x + slots[j & 3u])).r;
 }
 
 // The table's own order (pixel_knn_table.hpp): squared distance from the canvas pixel centre

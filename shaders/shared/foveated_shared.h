@@ -69,7 +69,7 @@ struct InterpolatePush {
                   // blending (0: linear radiance, the thesis); z = depth tolerance of the
                   // geometry-aware weights (0: off); w = luminance sigma of the
                   // colour-guided weights (0: off)
-    uvec4 table;  // x = slot texels per row of the k-NN table (0: neighbour index), y = its
+    uvec4 table;  // x = slot texels per row (flat: per pixel) of the k-NN table, y = its
                   // k, z = texels per canvas pixel of the RBF pixel weights (RBF with the table),
                   // w = the frame whose moved sites to blend from (site_jitter.glsl; 0: fixed)
     vec4 site;    // x = the scale of the sites' moves (site_jitter.glsl), yzw unused
@@ -79,9 +79,10 @@ struct InterpolatePush {
 GT_CONST kBindingLambdaR = 5;
 GT_CONST kBindingLambdaG = 6;
 GT_CONST kBindingLambdaB = 7;
-// interpolate with the thesis's per-canvas-pixel k-NN table, in its compact layout
-// (engine/foveation/pixel_knn_table.hpp): the canvas in kKnnTile x kKnnTile tiles, each with
-// its candidate points and its distinct rows of k slots into them, and per pixel its row.
+// interpolate with the thesis's per-canvas-pixel k-NN table, flat (per canvas pixel its k
+// nearest point indices, RGBA32UI, four a texel, in kBindingKnnTable alone) or in its compact
+// layout (engine/foveation/pixel_knn_table.hpp): the canvas in kKnnTile x kKnnTile tiles, each
+// with its candidate points and its distinct rows of k slots into them, and per pixel its row.
 GT_CONST kBindingKnnTable = 8;       // usamplerBuffer RGBA8UI/RGBA16UI: rows' slots, 4 a texel
 GT_CONST kBindingKnnTiles = 11;      // usamplerBuffer RG32UI: per tile, candidate and row base
 GT_CONST kBindingKnnCandidates = 12; // usamplerBuffer R32UI: point indices

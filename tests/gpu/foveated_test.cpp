@@ -1,6 +1,7 @@
 // The foveated passes: interpolation against known fields, and the foveated image against the
 // reference at the gaze point.
 #include <cmath>
+#include <cstring>
 
 #include "core/error.hpp"
 #include "foveation/gpu_point_set.hpp"
@@ -61,8 +62,10 @@ RampError rampError(const std::vector<glm::vec4>& out) {
 class FoveatedTest : public test::GpuTest {
 protected:
     // Interpolates `values` (one per point) over a W x H screen with the gaze centred.
+    // With the k-NN table in `layout`, or as the device's limits choose (knnLayoutFor).
     std::vector<glm::vec4> interpolate(const PointSet& set, const std::vector<glm::vec4>& values,
-                                       passes::InterpolateSettings s) {
+                                       passes::InterpolateSettings s,
+                                       std::optional<foveation::KnnLayout> layout = {}) {
         const uint32_t w = set.params().display.width, h = set.params().display.height;
         const foveation::NeighbourIndex index(
             set, std::min<uint32_t>(20, static_cast<uint32_t>(set.points().size() - 1)));
@@ -71,7 +74,11 @@ protected:
         std::optional<foveation::GpuRbfPixelWeights> pixelWeights;
         if (passes::usesPixelTable(s)) {
             const foveation::PixelKnnTable cpuTable(set, index, s.k);
-            table.emplace(ctx(), cpuTable);
+            if (layout) {
+                table.emplace(ctx(), cpuTable, *layout);
+            } else {
+                table.emplace(ctx(), cpuTable);
+            }
             if (s.method == passes::Interpolation::Rbf) {
                 pixelWeights.emplace(
                     ctx(), foveation::RbfPixelWeights(set, cpuTable, s.kernel, s.rbfShape));
@@ -170,6 +177,38 @@ TEST_F(FoveatedTest, EveryMethodReproducesPointsAtPixelCentres) {
                 }
             }
         }
+    }
+}
+
+// The flat and the compact k-NN table hold the same rows, and the interpolation orders them by
+// the same rule: Modified Shepard (k = 5, 10, 20) and RBF with per-pixel weights give the same
+// bytes through either, on a perceptual set with pseudo-random colours.
+TEST_F(FoveatedTest, FlatAndCompactTablesInterpolateAlike) {
+    PointSetParams p;
+    p.display = {"small", 160, 144, 0.85};
+    const PointSet set = PointSet::generate(p);
+    std::vector<glm::vec4> values;
+    uint32_t state = 12345u;
+    auto next = [&] {
+        state = state * 1664525u + 1013904223u;
+        return static_cast<float>(state >> 8) / 16777216.0f;
+    };
+    for (std::size_t i = 0; i < set.points().size(); ++i) {
+        values.emplace_back(next(), next(), next(), 1.0f + next());
+    }
+    const std::pair<passes::Interpolation, uint32_t> cases[] = {
+        {passes::Interpolation::Shepard, 5},
+        {passes::Interpolation::Shepard, 10},
+        {passes::Interpolation::Shepard, 20},
+        {passes::Interpolation::Rbf, 10}};
+    for (const auto& [method, k] : cases) {
+        passes::InterpolateSettings settings{method, k, 1.0f};
+        settings.knn = passes::KnnIndex::PixelTable;
+        const auto flat = interpolate(set, values, settings, foveation::KnnLayout::Flat);
+        const auto compact = interpolate(set, values, settings, foveation::KnnLayout::Compact);
+        ASSERT_EQ(flat.size(), compact.size());
+        EXPECT_EQ(std::memcmp(flat.data(), compact.data(), flat.size() * sizeof(glm::vec4)), 0)
+            << "k = " << k;
     }
 }
 

@@ -332,6 +332,52 @@ TEST(PixelKnnTable, DecodesToTheFlatTablesRowsAtEveryPixel) {
     }
 }
 
+// The flat layout is the decoded table: every canvas pixel's k nearest, nearest first, padded
+// with zeros to whole texels of four, for k = 1, 10 and 20 on a perceptual set and on a lattice
+// (ties everywhere).
+TEST(PixelKnnTable, FlatRowsAreTheFlatTablesRowsPadded) {
+    PointSetParams p;
+    p.display = {"small", 160, 144, 0.85};
+    const PointSet sets[] = {PointSet::generate(p), test::pixelCentreGrid()};
+    for (const PointSet& set : sets) {
+        for (uint32_t k : {1u, 10u, 20u}) {
+            const PixelKnnTable table(set, k);
+            const std::vector<uint32_t> truth = flatKnnRows(set, k);
+            const uint32_t perRow = (k + 3) / 4 * 4;
+            std::vector<uint32_t> padded;
+            for (std::size_t pixel = 0; pixel < truth.size() / k; ++pixel) {
+                padded.insert(padded.end(), truth.begin() + static_cast<std::ptrdiff_t>(pixel * k),
+                              truth.begin() + static_cast<std::ptrdiff_t>((pixel + 1) * k));
+                padded.insert(padded.end(), perRow - k, 0u);
+            }
+            EXPECT_EQ(table.flatRows(), padded) << set.params().display.name << " k=" << k;
+        }
+    }
+}
+
+// The flat table goes to the GPU where its texels fit one texel buffer and its bytes a third of
+// the device-local heap. lavapipe (2 GiB, 128 M texels): the fove canvas (2560 x 2880) is flat
+// up to k = 20 (36.9 M texels, 590 MB of 716 MB); a 3840x3744 eye's canvas (7680 x 7488) is
+// compact already at k = 1 (920 MB). Each limit alone decides: a 1.5 GiB heap (537 MB) takes
+// the fove table compact at k = 20, a 64 GiB one takes the big eye flat at k = 1 but not at
+// k = 10 (172.5 M texels).
+TEST(KnnLayout, FlatWhereItFitsTheDevice) {
+    constexpr uint64_t gib = uint64_t{1} << 30;
+    const KnnDeviceLimits lavapipe{2 * gib, uint64_t{1} << 27};
+    EXPECT_EQ(knnLayoutFor(2560, 2880, 20, lavapipe), KnnLayout::Flat);
+    EXPECT_EQ(knnLayoutFor(2560, 2880, 10, lavapipe), KnnLayout::Flat);
+    EXPECT_EQ(knnLayoutFor(7680, 7488, 1, lavapipe), KnnLayout::Compact);
+    EXPECT_EQ(knnLayoutFor(2560, 2880, 20, {gib + gib / 2, uint64_t{1} << 27}), KnnLayout::Compact);
+    const KnnDeviceLimits large{64 * gib, uint64_t{1} << 27};
+    EXPECT_EQ(knnLayoutFor(7680, 7488, 1, large), KnnLayout::Flat);
+    EXPECT_EQ(knnLayoutFor(7680, 7488, 10, large), KnnLayout::Compact);
+    // The boundary: exactly a third of the heap, and exactly the texel limit, still fit.
+    EXPECT_EQ(knnLayoutFor(1024, 1024, 4, {3 * uint64_t{1024} * 1024 * 16, uint64_t{1} << 20}),
+              KnnLayout::Flat);
+    EXPECT_EQ(knnLayoutFor(1024, 1024, 5, {64 * gib, uint64_t{2} << 20}), KnnLayout::Flat);
+    EXPECT_EQ(knnLayoutFor(1024, 1024, 5, {64 * gib, (uint64_t{2} << 20) - 1}), KnnLayout::Compact);
+}
+
 // The build runs in row bands over threads; the table is the same for any number of them.
 TEST(PixelKnnTable, ParallelBuildEqualsSerial) {
     PointSetParams p;

@@ -3,7 +3,8 @@
 // so the suite skips them; run by hand with
 //   gazetrace_unit_tests --gtest_also_run_disabled_tests --gtest_filter='TableScaling.*'
 // GT_SCALE_CACHE names the point-set cache directory (default: a directory under /tmp),
-// GT_SCALE_THREADS the build threads (default: every core).
+// GT_SCALE_THREADS the build threads (default: every core); GT_SCALE_TABLES_ONLY=1 builds only
+// the neighbour index and k = 10 table (the MSM build, without the RBF structures).
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -48,6 +49,21 @@ void report(const std::string& eye, const std::string& what, double seconds, std
     ::testing::Test::RecordProperty(eye + "." + what + ".bytes", std::to_string(bytes));
 }
 
+// FNV-1a over the table's four arrays.
+uint64_t layoutChecksum(const PixelKnnTable& table) {
+    uint64_t hash = 1469598103934665603ull;
+    auto add = [&](const auto& values) {
+        for (const auto v : values) {
+            hash = (hash ^ v) * 1099511628211ull;
+        }
+    };
+    add(table.tiles());
+    add(table.candidates());
+    add(table.slots());
+    add(table.pixelRows());
+    return hash;
+}
+
 void measure(const DisplayProfile& display, bool rbfPixelWeights, std::vector<uint32_t> ks) {
     if (const char* t = std::getenv("GT_SCALE_THREADS")) {
         detail::setBuildThreads(static_cast<unsigned>(std::atoi(t)));
@@ -64,8 +80,16 @@ void measure(const DisplayProfile& display, bool rbfPixelWeights, std::vector<ui
                 set.canvasWidth(), set.canvasHeight());
     const NeighbourIndex index(set, NeighbourIndex::kMaxNeighbours);
     report(eye, "neighbour index k=20", index.buildSeconds(), index.bytes());
-    const RbfInverse inverse = buildRbfInverse(set, index, 10, RbfKernelType::Multiquadric, 1.0f);
-    report(eye, "rbf inverse k=10", inverse.seconds, inverse.inverse.size() * sizeof(float));
+    std::printf("%-10s   of which the nearest point per pixel %.2f s\n", eye.c_str(),
+                index.nearest().buildSeconds());
+    if (std::getenv("GT_SCALE_TABLES_ONLY") != nullptr) {
+        rbfPixelWeights = false;
+        ks = {10u};
+    } else {
+        const RbfInverse inverse =
+            buildRbfInverse(set, index, 10, RbfKernelType::Multiquadric, 1.0f);
+        report(eye, "rbf inverse k=10", inverse.seconds, inverse.inverse.size() * sizeof(float));
+    }
     const std::size_t canvas = std::size_t{set.canvasWidth()} * set.canvasHeight();
     for (uint32_t k : ks) {
         const PixelKnnTable table(set, index, k);
@@ -73,6 +97,9 @@ void measure(const DisplayProfile& display, bool rbfPixelWeights, std::vector<ui
         std::printf("%-10s   %zu rows, %zu candidates, %u-byte slots; flat: %.1f MB\n", eye.c_str(),
                     table.rows(), table.candidates().size(), table.slotBytes(),
                     static_cast<double>(table.flatBytes()) / 1e6);
+        // A faster build must build the same table: compare this with the previous build's.
+        std::printf("%-10s   layout checksum %016llx\n", eye.c_str(),
+                    static_cast<unsigned long long>(layoutChecksum(table)));
         if (k == 10) {
             // Modified Shepard with the table, CPU and GPU together: the set and the index
             // (CPU), the points (RGBA32F), nearest point per pixel, lists and table (GPU).
