@@ -242,10 +242,9 @@ void Renderer::runWarmUp(const WarmUp& warm) {
     (void)graph.executeAndWait(graph.compile(), pool);
 }
 
-FrameResult Renderer::renderFrame(std::span<const View> views,
-                                  std::span<OutputTarget* const> targets,
-                                  const FrameOptions& options) {
-    const auto t = Clock::now();
+namespace {
+// Every view has a method, a target, a size, a valid frustum and a name of its own.
+void checkViews(std::span<const View> views, std::span<OutputTarget* const> targets) {
     if (views.empty() || views.size() != targets.size()) {
         throw Error("renderFrame: " + std::to_string(views.size()) + " view(s) and " +
                     std::to_string(targets.size()) + " target(s)");
@@ -264,6 +263,81 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
             }
         }
     }
+}
+} // namespace
+
+rg::TextureId Renderer::addTaa(rg::RenderGraph& graph, const View& v, const MethodImage& made,
+                               const shaders::trace::CameraPush& camera,
+                               HistoryUpdates& nextHistory) {
+    const rg::HistoryTextures history = graph.importHistory(
+        *mHistory, kTaaHistory, VK_FORMAT_R32G32B32A32_SFLOAT, v.width, v.height);
+    const auto it = mViewHistory.find(v.name);
+    const bool known = it != mViewHistory.end() && it->second.valid;
+    std::optional<passes::TaaSupport> support;
+    if (made.support && v.post.taaSettings.supportWeighted && v.post.taaSettings.adaptive) {
+        support = passes::TaaSupport{*made.support,
+                                     graph.importHistory(*mHistory, kTaaWeightHistory,
+                                                         VK_FORMAT_R32_SFLOAT, v.width, v.height)};
+    }
+    std::optional<passes::TaaMotion> motion;
+    if (made.motion) {
+        motion =
+            passes::TaaMotion{*made.motion,
+                              graph.importHistory(*mHistory, kTaaSignatureHistory,
+                                                  passes::kTaaSignatureFormat, v.width, v.height),
+                              v.post.taaSettings};
+    }
+    // The weight sums and signatures stand for the colour history only if last frame
+    // wrote them too (a method or setting switched since leaves them stale): else
+    // start afresh.
+    const bool pooledBefore = known && it->second.pooled;
+    const bool movedBefore = known && it->second.motion;
+    const bool reset =
+        passes::taaMustReset(known && history.valid, v.saccade, v.gaze,
+                             known ? it->second.gaze : v.gaze, v.width, v.post.taaSettings) ||
+        (support && !pooledBefore) || (motion && !movedBefore);
+    const shaders::trace::CameraPush previous = known ? it->second.camera : camera;
+    const passes::TaaFrameState state{v.exposure, v.gaze, v.method->gazeDependent(),
+                                      known && it->second.gaze == v.gaze,
+                                      known ? it->second.samples : 0u};
+    const rg::TextureId out = mTaa->add(graph, history, made.radiance, camera, previous, reset,
+                                        v.post.taaSettings, state, support, motion);
+    nextHistory.emplace_back(v.name,
+                             ViewHistory{camera, v.gaze, true,
+                                         passes::TaaPass::nextSamples(camera, previous, reset,
+                                                                      v.post.taaSettings, state),
+                                         support.has_value(), motion.has_value()});
+    return out;
+}
+
+void Renderer::addView(rg::RenderGraph& graph, const View& v, OutputTarget& target,
+                       HistoryUpdates& nextHistory) {
+    const MethodImage made = v.method->addRadiance(graph, v);
+    rg::TextureId image = made.radiance;
+    const shaders::trace::CameraPush camera = v.cameraPush();
+    const bool panel = v.method->rendersPanel(v);
+    if (v.post.taa && !panel && !v.method->accumulates()) {
+        image = addTaa(graph, v, made, camera, nextHistory);
+    }
+    rg::TextureId ldr = mTonemap->add(graph, image, v.exposure);
+    if (v.post.lens) {
+        display::LensModel lens = v.post.lens->model;
+        if (panel) {
+            // Already the panel's image (green): only red and blue still need their
+            // radial shift relative to green, c + (q - c) chroma.
+            lens.k1 = lens.k2 = 0.0f;
+            lens.chroma /= lens.chroma.g;
+        }
+        ldr = mLens->add(graph, ldr, lens, v.post.lens->centre, panel);
+    }
+    target.addOutput(graph, ldr, v);
+}
+
+FrameResult Renderer::renderFrame(std::span<const View> views,
+                                  std::span<OutputTarget* const> targets,
+                                  const FrameOptions& options) {
+    const auto t = Clock::now();
+    checkViews(views, targets);
     for (const View& v : views) {
         if (const std::optional<WarmUp> warm = v.method->warmUp(v)) {
             runWarmUp(*warm);
@@ -291,69 +365,10 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
     }
     FrameResult result;
     result.number = frame.number;
-    std::vector<std::pair<std::string, ViewHistory>> nextHistory;
+    HistoryUpdates nextHistory;
     for (std::size_t i = 0; i < views.size(); ++i) {
         const View& v = views[i];
-        auto add = [&] {
-            const MethodImage made = v.method->addRadiance(graph, v);
-            rg::TextureId image = made.radiance;
-            const shaders::trace::CameraPush camera = v.cameraPush();
-            const bool panel = v.method->rendersPanel(v);
-            if (v.post.taa && !panel && !v.method->accumulates()) {
-                const rg::HistoryTextures history = graph.importHistory(
-                    *mHistory, kTaaHistory, VK_FORMAT_R32G32B32A32_SFLOAT, v.width, v.height);
-                const auto it = mViewHistory.find(v.name);
-                const bool known = it != mViewHistory.end() && it->second.valid;
-                std::optional<passes::TaaSupport> support;
-                if (made.support && v.post.taaSettings.supportWeighted &&
-                    v.post.taaSettings.adaptive) {
-                    support = passes::TaaSupport{*made.support,
-                                                 graph.importHistory(*mHistory, kTaaWeightHistory,
-                                                                     VK_FORMAT_R32_SFLOAT, v.width,
-                                                                     v.height)};
-                }
-                std::optional<passes::TaaMotion> motion;
-                if (made.motion) {
-                    motion = passes::TaaMotion{*made.motion,
-                                               graph.importHistory(*mHistory, kTaaSignatureHistory,
-                                                                   passes::kTaaSignatureFormat,
-                                                                   v.width, v.height),
-                                               v.post.taaSettings};
-                }
-                // The weight sums and signatures stand for the colour history only if last frame
-                // wrote them too (a method or setting switched since leaves them stale): else
-                // start afresh.
-                const bool pooledBefore = known && it->second.pooled;
-                const bool movedBefore = known && it->second.motion;
-                const bool reset = passes::taaMustReset(known && history.valid, v.saccade, v.gaze,
-                                                        known ? it->second.gaze : v.gaze, v.width,
-                                                        v.post.taaSettings) ||
-                                   (support && !pooledBefore) || (motion && !movedBefore);
-                const shaders::trace::CameraPush previous = known ? it->second.camera : camera;
-                const passes::TaaFrameState state{v.exposure, v.gaze, v.method->gazeDependent(),
-                                                  known && it->second.gaze == v.gaze,
-                                                  known ? it->second.samples : 0u};
-                image = mTaa->add(graph, history, image, camera, previous, reset,
-                                  v.post.taaSettings, state, support, motion);
-                nextHistory.emplace_back(
-                    v.name, ViewHistory{camera, v.gaze, true,
-                                        passes::TaaPass::nextSamples(camera, previous, reset,
-                                                                     v.post.taaSettings, state),
-                                        support.has_value(), motion.has_value()});
-            }
-            rg::TextureId ldr = mTonemap->add(graph, image, v.exposure);
-            if (v.post.lens) {
-                display::LensModel lens = v.post.lens->model;
-                if (panel) {
-                    // Already the panel's image (green): only red and blue still need their
-                    // radial shift relative to green, c + (q - c) chroma.
-                    lens.k1 = lens.k2 = 0.0f;
-                    lens.chroma /= lens.chroma.g;
-                }
-                ldr = mLens->add(graph, ldr, lens, v.post.lens->centre, panel);
-            }
-            targets[i]->addOutput(graph, ldr, v);
-        };
+        auto add = [&] { addView(graph, v, *targets[i], nextHistory); };
         if (!v.name.empty()) {
             const rg::RenderGraph::Scope scope = graph.scope(v.name, v.width, v.height);
             add();

@@ -134,7 +134,15 @@ private:
         bool motion = false;  // and the signatures of a scene that moves
     };
     struct LoadedScene;
+    // What each view's TAA leaves for the next frame, committed once the frame is submitted.
+    using HistoryUpdates = std::vector<std::pair<std::string, ViewHistory>>;
     void runWarmUp(const WarmUp& warm);
+    // One view's passes: its method's radiance, TAA, tone mapping, lens, and its target's output.
+    void addView(rg::RenderGraph& graph, const View& v, OutputTarget& target,
+                 HistoryUpdates& nextHistory);
+    // The view's TAA over `made`, with its histories (colour, support weights, signatures).
+    rg::TextureId addTaa(rg::RenderGraph& graph, const View& v, const MethodImage& made,
+                         const shaders::trace::CameraPush& camera, HistoryUpdates& nextHistory);
     // Scene `id`'s two-level part and its GPU scene (null, null where nothing moves).
     std::pair<scene::DynamicGeometry*, trace::GpuScene*> moving(SceneId id) const;
 
