@@ -86,6 +86,25 @@ void checkInputs(const foveation::GpuPointSet& points, const InterpolateSettings
                             "for the same k, kernel and shape");
     }
 }
+// The shader's method code for a setting.
+uint32_t methodCode(Interpolation m) {
+    switch (m) {
+    case Interpolation::Nearest:
+    case Interpolation::ViewMotion: // nearest neighbour, coloured by passes::MotionViewPass
+        return sh::kMethodNearest;
+    case Interpolation::Shepard:
+        return sh::kMethodShepard;
+    case Interpolation::Rbf:
+        return sh::kMethodRbf;
+    case Interpolation::ViewPoints:
+        return sh::kViewPoints;
+    case Interpolation::ViewCells:
+        return sh::kViewCells;
+    case Interpolation::ViewSpacing:
+        return sh::kViewSpacing;
+    }
+    return sh::kMethodNearest;
+}
 } // namespace
 
 InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
@@ -99,28 +118,7 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
     const foveation::GpuRbfPixelWeights* rbfWeights = pixelWeights ? in.rbfWeights : nullptr;
     const glm::vec2 off =
         foveation::gazeOffset(gaze, points.displayWidth(), points.displayHeight());
-    uint32_t method = sh::kMethodNearest;
-    switch (s.method) {
-    case Interpolation::Nearest:
-    case Interpolation::ViewMotion: // nearest neighbour, coloured by passes::MotionViewPass
-        method = sh::kMethodNearest;
-        break;
-    case Interpolation::Shepard:
-        method = sh::kMethodShepard;
-        break;
-    case Interpolation::Rbf:
-        method = sh::kMethodRbf;
-        break;
-    case Interpolation::ViewPoints:
-        method = sh::kViewPoints;
-        break;
-    case Interpolation::ViewCells:
-        method = sh::kViewCells;
-        break;
-    case Interpolation::ViewSpacing:
-        method = sh::kViewSpacing;
-        break;
-    }
+    const uint32_t method = methodCode(s.method);
     const uint32_t k =
         s.method == Interpolation::Shepard || s.method == Interpolation::Rbf ? s.k : 1u;
     const sh::InterpolatePush push{
