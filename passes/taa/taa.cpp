@@ -277,7 +277,7 @@ TaaOutput TaaPass::addPass(rg::RenderGraph& graph, const rg::HistoryTextures& hi
                 d.signaturesNext = b.write(motion->signatures.next, rg::Access::StorageWrite);
             }
             if (tonemap) {
-                d.display = b.write(b.createTexture("tonemap.ldr", {VK_FORMAT_R8G8B8A8_UNORM}),
+                d.display = b.write(b.createTexture("taa.ldr", {VK_FORMAT_R8G8B8A8_UNORM}),
                                     rg::Access::StorageWrite);
             }
         },

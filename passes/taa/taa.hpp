@@ -121,7 +121,7 @@ public:
                       const std::optional<TaaSupport>& support = std::nullopt,
                       const std::optional<TaaMotion>& motion = std::nullopt) const;
     // As add, and the output tone-mapped at `exposure` (TonemapPass's mapping, shaders/common/
-    // tonemap.glsl) into a new RGBA8 texture "tonemap.ldr" in the same pass, so that no pass
+    // tonemap.glsl) into a new RGBA8 texture "taa.ldr" in the same pass, so that no pass
     // reads the image again. With display-referred blending, `exposure` must be the frame
     // state's.
     TaaOutput addTonemapped(rg::RenderGraph& graph, const rg::HistoryTextures& history,
