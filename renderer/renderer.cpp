@@ -299,8 +299,6 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
             rg::TextureId image = made.radiance;
             const shaders::trace::CameraPush camera = v.cameraPush();
             const bool panel = v.method->rendersPanel(v);
-            // With TAA, its pass tone-maps its output too (TaaPass::addTonemapped).
-            std::optional<rg::TextureId> display;
             if (v.post.taa && !panel && !v.method->accumulates()) {
                 const rg::HistoryTextures history = graph.importHistory(
                     *mHistory, kTaaHistory, VK_FORMAT_R32G32B32A32_SFLOAT, v.width, v.height);
@@ -335,18 +333,15 @@ FrameResult Renderer::renderFrame(std::span<const View> views,
                 const passes::TaaFrameState state{v.exposure, v.gaze, v.method->gazeDependent(),
                                                   known && it->second.gaze == v.gaze,
                                                   known ? it->second.samples : 0u};
-                const passes::TaaOutput resolved =
-                    mTaa->addTonemapped(graph, history, image, camera, previous, reset,
-                                        v.post.taaSettings, state, support, motion, v.exposure);
-                image = resolved.radiance;
-                display = resolved.display;
+                image = mTaa->add(graph, history, image, camera, previous, reset,
+                                  v.post.taaSettings, state, support, motion);
                 nextHistory.emplace_back(
                     v.name, ViewHistory{camera, v.gaze, true,
                                         passes::TaaPass::nextSamples(camera, previous, reset,
                                                                      v.post.taaSettings, state),
                                         support.has_value(), motion.has_value()});
             }
-            rg::TextureId ldr = display ? *display : mTonemap->add(graph, image, v.exposure);
+            rg::TextureId ldr = mTonemap->add(graph, image, v.exposure);
             if (v.post.lens) {
                 display::LensModel lens = v.post.lens->model;
                 if (panel) {

@@ -7,17 +7,12 @@
 
 #include <glm/gtc/packing.hpp>
 
-#include "core/error.hpp"
 #include "motion_view_comp.h"
 #include "taa_comp.h"
 #include "taa_motion_comp.h"
-#include "taa_motion_tonemap_comp.h"
 #include "taa_shared.h"
 #include "taa_support_comp.h"
 #include "taa_support_motion_comp.h"
-#include "taa_support_motion_tonemap_comp.h"
-#include "taa_support_tonemap_comp.h"
-#include "taa_tonemap_comp.h"
 #include "vk/context.hpp"
 #include "vk/pipeline.hpp"
 
@@ -32,68 +27,45 @@ bool taaMustReset(bool historyValid, bool saccade, glm::vec2 gaze, glm::vec2 pre
     return !historyValid || saccade || jumped;
 }
 
-namespace {
-
-// Storage images at bindings 0..count - 1.
-std::vector<VkDescriptorType> storageImages(uint32_t count) {
-    return std::vector<VkDescriptorType>(count, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
-}
-
-// Index of a pipeline without motion: whether the view is still (taa.glsl's kStillView) and
-// whether it also writes the output tone-mapped (TAA_TONEMAP).
-std::size_t variant(bool still, bool tonemap) {
-    return (still ? 1u : 0u) + (tonemap ? 2u : 0u);
-}
-
-} // namespace
-
 TaaPass::TaaPass(vk::Context& ctx) : mCtx(ctx) {
-    // Bindings 0-2 (support: 0-5), and up to 9 with the tone mapper, those between bound but never
-    // read.
-    for (const bool tonemap : {false, true}) {
-        for (const bool still : {false, true}) {
-            // taa.glsl's kStillView (constant_id 3); 0-2 are the motion variants' alone.
-            const std::vector<uint32_t> specialization{0u, 0u, 0u, still ? 1u : 0u};
-            const std::size_t i = variant(still, tonemap);
-            mPipeline[i] = std::make_unique<vk::ComputePipeline>(
-                ctx, vk::ComputePipelineDesc{
-                         tonemap ? "taa_tonemap" : "taa",
-                         tonemap ? std::span<const uint32_t>(gt_spv_taa_tonemap_comp)
-                                 : std::span<const uint32_t>(gt_spv_taa_comp),
-                         storageImages(tonemap ? sh::kBindingDisplay + 1 : sh::kBindingOutput + 1),
-                         sizeof(sh::TaaPush), specialization});
-            mSupportPipeline[i] = std::make_unique<vk::ComputePipeline>(
-                ctx,
-                vk::ComputePipelineDesc{
-                    tonemap ? "taa_support_tonemap" : "taa_support",
-                    tonemap ? std::span<const uint32_t>(gt_spv_taa_support_tonemap_comp)
-                            : std::span<const uint32_t>(gt_spv_taa_support_comp),
-                    storageImages(tonemap ? sh::kBindingDisplay + 1 : sh::kBindingWeightOutput + 1),
-                    sizeof(sh::TaaPush), specialization});
-        }
+    for (const bool still : {false, true}) {
+        // taa.glsl's kStillView (constant_id 3); 0-2 are the motion variants' alone.
+        const std::vector<uint32_t> specialization{0u, 0u, 0u, still ? 1u : 0u};
+        mPipeline[still] = std::make_unique<vk::ComputePipeline>(
+            ctx, vk::ComputePipelineDesc{"taa",
+                                         gt_spv_taa_comp,
+                                         {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                          VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                          VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                                         sizeof(sh::TaaPush),
+                                         specialization});
+        mSupportPipeline[still] = std::make_unique<vk::ComputePipeline>(
+            ctx, vk::ComputePipelineDesc{
+                     "taa_support",
+                     gt_spv_taa_support_comp,
+                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                      VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                      VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                     sizeof(sh::TaaPush),
+                     specialization});
     }
 }
 
 TaaPass::~TaaPass() = default;
 
-const vk::ComputePipeline& TaaPass::motionPipeline(bool support, bool tonemap,
-                                                   const TaaSettings& s) const {
-    auto& slot =
-        mMotionPipelines[{support, tonemap, s.currentWeight, s.clipGamma, s.depthTolerance}];
+const vk::ComputePipeline& TaaPass::motionPipeline(bool support, const TaaSettings& s) const {
+    auto& slot = mMotionPipelines[{support, s.currentWeight, s.clipGamma, s.depthTolerance}];
     if (!slot) {
-        // Bindings 0-8 (9 with the tone mapper); without a support, 3-5 are bound but never read.
-        static const std::array<std::span<const uint32_t>, 4> kSpirv{
-            gt_spv_taa_motion_comp, gt_spv_taa_support_motion_comp, gt_spv_taa_motion_tonemap_comp,
-            gt_spv_taa_support_motion_tonemap_comp};
-        static const std::array<const char*, 4> kNames{
-            "taa_motion", "taa_support_motion", "taa_motion_tonemap", "taa_support_motion_tonemap"};
-        const std::size_t i = (support ? 1u : 0u) + (tonemap ? 2u : 0u);
+        // Bindings 0-8; without a support, 3-5 are bound but never read.
+        const std::vector<VkDescriptorType> bindings(sh::kBindingSignatureOutput + 1,
+                                                     VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
         slot = std::make_unique<vk::ComputePipeline>(
             mCtx,
             vk::ComputePipelineDesc{
-                kNames[i],
-                kSpirv[i],
-                storageImages(tonemap ? sh::kBindingDisplay + 1 : sh::kBindingSignatureOutput + 1),
+                support ? "taa_support_motion" : "taa_motion",
+                support ? std::span<const uint32_t>(gt_spv_taa_support_motion_comp)
+                        : std::span<const uint32_t>(gt_spv_taa_motion_comp),
+                bindings,
                 sizeof(sh::TaaPush),
                 {std::bit_cast<uint32_t>(s.currentWeight), std::bit_cast<uint32_t>(s.clipGamma),
                  std::bit_cast<uint32_t>(s.depthTolerance)}});
@@ -135,7 +107,7 @@ sh::TaaPush taaPush(const rg::RenderGraph& graph, const rg::HistoryTextures& his
                     const shaders::trace::CameraPush& cur, const shaders::trace::CameraPush& prev,
                     bool reset, const TaaSettings& s, const std::optional<TaaFrameState>& state,
                     const std::optional<TaaSupport>& support,
-                    const std::optional<TaaMotion>& motion, std::optional<float> tonemapExposure) {
+                    const std::optional<TaaMotion>& motion) {
     const bool still = sameCamera(cur, prev);
     float alpha = s.currentWeight, gamma = s.clipGamma, exposure = 0.0f, radius = 0.0f;
     float depthTolerance = s.depthTolerance;
@@ -157,17 +129,6 @@ sh::TaaPush taaPush(const rg::RenderGraph& graph, const rg::HistoryTextures& his
             gaze = glm::max(state->gaze, glm::vec2(1.0f)); // no subnormal half pair below
         }
     }
-    // exposure > 0 blends display-referred at it, else linearly; the tone mapper's exposure
-    // then rides as -e (taa_shared.h's params.z).
-    if (tonemapExposure) {
-        if (!(*tonemapExposure >= 0.0f) || (exposure > 0.0f && exposure != *tonemapExposure)) {
-            throw ArgumentError("taa: the tone mapper's exposure must be non-negative and the "
-                                "display-referred blend's");
-        }
-        exposure = exposure > 0.0f ? exposure : -*tonemapExposure;
-    }
-    const bool restart = reset || !history.valid || (support && !support->weights.valid) ||
-                         (motion && !motion->signatures.valid);
     // The gaze rides in the unused w of currentRight as two halves (taa.comp unpacks them).
     const uint32_t packedGaze = glm::packHalf2x16(gaze);
     float gazeBits = 0.0f;
@@ -178,7 +139,12 @@ sh::TaaPush taaPush(const rg::RenderGraph& graph, const rg::HistoryTextures& his
                        prev.origin,
                        prev.forward,
                        glm::vec4(glm::vec3(prev.right), radius),
-                       glm::vec4(restart ? -1.0f : alpha, gamma, exposure, depthTolerance),
+                       glm::vec4(alpha, gamma,
+                                 reset || !history.valid || (support && !support->weights.valid) ||
+                                         (motion && !motion->signatures.valid)
+                                     ? -1.0f
+                                     : exposure,
+                                 depthTolerance),
                        glm::vec4(cur.right.w, cur.up.w, prev.right.w, prev.up.w)};
 }
 
@@ -189,43 +155,6 @@ bool stillView(const sh::TaaPush& push) {
     return push.params.y >= 1e29f && push.params.w >= 1e29f && push.previousRight.w == 0.0f;
 }
 
-struct TaaData {
-    rg::TextureId current, history, output;
-    std::optional<rg::TextureId> support, weightsPrevious, weightsNext;
-    std::optional<rg::TextureId> motion, signaturesPrevious, signaturesNext;
-    std::optional<rg::TextureId> display;
-};
-
-// Binds every image the pipeline's layout holds; those its variant does not read are bound to
-// the current frame's.
-void writeTaaImages(const rg::PassResources& r, const TaaData& d, vk::DescriptorWriter& writer) {
-    const VkImageView unread = r.texture(d.current).view;
-    writer.storageImage(sh::kBindingCurrent, r.texture(d.current).view)
-        .storageImage(sh::kBindingHistory, r.texture(d.history).view)
-        .storageImage(sh::kBindingOutput, r.texture(d.output).view);
-    if (d.support) {
-        writer.storageImage(sh::kBindingSupport, r.texture(*d.support).view)
-            .storageImage(sh::kBindingWeightHistory, r.texture(*d.weightsPrevious).view)
-            .storageImage(sh::kBindingWeightOutput, r.texture(*d.weightsNext).view);
-    } else if (d.motion || d.display) {
-        writer.storageImage(sh::kBindingSupport, unread)
-            .storageImage(sh::kBindingWeightHistory, unread)
-            .storageImage(sh::kBindingWeightOutput, unread);
-    }
-    if (d.motion) {
-        writer.storageImage(sh::kBindingMotion, r.texture(*d.motion).view)
-            .storageImage(sh::kBindingSignatureHistory, r.texture(*d.signaturesPrevious).view)
-            .storageImage(sh::kBindingSignatureOutput, r.texture(*d.signaturesNext).view);
-    } else if (d.display) {
-        writer.storageImage(sh::kBindingMotion, unread)
-            .storageImage(sh::kBindingSignatureHistory, unread)
-            .storageImage(sh::kBindingSignatureOutput, unread);
-    }
-    if (d.display) {
-        writer.storageImage(sh::kBindingDisplay, r.texture(*d.display).view);
-    }
-}
-
 } // namespace
 
 rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& history,
@@ -234,34 +163,15 @@ rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& hi
                            const std::optional<TaaFrameState>& state,
                            const std::optional<TaaSupport>& support,
                            const std::optional<TaaMotion>& motion) const {
-    return addPass(graph, history, current, cur, prev, reset, s, state, support, motion,
-                   std::nullopt)
-        .radiance;
-}
-
-TaaOutput TaaPass::addTonemapped(rg::RenderGraph& graph, const rg::HistoryTextures& history,
-                                 rg::TextureId current, const shaders::trace::CameraPush& cur,
-                                 const shaders::trace::CameraPush& prev, bool reset,
-                                 const TaaSettings& s, const std::optional<TaaFrameState>& state,
-                                 const std::optional<TaaSupport>& support,
-                                 const std::optional<TaaMotion>& motion, float exposure) const {
-    return addPass(graph, history, current, cur, prev, reset, s, state, support, motion, exposure);
-}
-
-TaaOutput TaaPass::addPass(rg::RenderGraph& graph, const rg::HistoryTextures& history,
-                           rg::TextureId current, const shaders::trace::CameraPush& cur,
-                           const shaders::trace::CameraPush& prev, bool reset, const TaaSettings& s,
-                           const std::optional<TaaFrameState>& state,
-                           const std::optional<TaaSupport>& support,
-                           const std::optional<TaaMotion>& motion,
-                           std::optional<float> tonemapExposure) const {
-    const sh::TaaPush push =
-        taaPush(graph, history, cur, prev, reset, s, state, support, motion, tonemapExposure);
-    const bool tonemap = tonemapExposure.has_value();
-    const std::size_t v = variant(stillView(push), tonemap);
-    const auto& data = graph.addPass<TaaData>(
+    const sh::TaaPush push = taaPush(graph, history, cur, prev, reset, s, state, support, motion);
+    struct Data {
+        rg::TextureId current, history, output;
+        std::optional<rg::TextureId> support, weightsPrevious, weightsNext;
+        std::optional<rg::TextureId> motion, signaturesPrevious, signaturesNext;
+    };
+    const auto& data = graph.addPass<Data>(
         "taa",
-        [&](rg::PassBuilder& b, TaaData& d) {
+        [&](rg::PassBuilder& b, Data& d) {
             d.current = b.read(current, rg::Access::StorageRead, VK_FORMAT_R32G32B32A32_SFLOAT);
             d.history = b.read(history.previous, rg::Access::StorageRead);
             d.output = b.write(history.next, rg::Access::StorageWrite);
@@ -276,25 +186,39 @@ TaaOutput TaaPass::addPass(rg::RenderGraph& graph, const rg::HistoryTextures& hi
                 d.signaturesPrevious = b.read(motion->signatures.previous, rg::Access::StorageRead);
                 d.signaturesNext = b.write(motion->signatures.next, rg::Access::StorageWrite);
             }
-            if (tonemap) {
-                d.display = b.write(b.createTexture("taa.ldr", {VK_FORMAT_R8G8B8A8_UNORM}),
-                                    rg::Access::StorageWrite);
-            }
         },
         [ctx = &mCtx,
-         pipeline = motion    ? &motionPipeline(support.has_value(), tonemap, motion->moving)
-                    : support ? mSupportPipeline[v].get()
-                              : mPipeline[v].get(),
-         push](const rg::PassResources& r, const TaaData& d, VkCommandBuffer cmd) {
+         pipeline = motion    ? &motionPipeline(support.has_value(), motion->moving)
+                    : support ? mSupportPipeline[stillView(push)].get()
+                              : mPipeline[stillView(push)].get(),
+         push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             const rg::ResolvedTexture& out = r.texture(d.output);
             vk::DescriptorWriter writer;
-            writeTaaImages(r, d, writer);
+            writer.storageImage(sh::kBindingCurrent, r.texture(d.current).view)
+                .storageImage(sh::kBindingHistory, r.texture(d.history).view)
+                .storageImage(sh::kBindingOutput, out.view);
+            if (d.support) {
+                writer.storageImage(sh::kBindingSupport, r.texture(*d.support).view)
+                    .storageImage(sh::kBindingWeightHistory, r.texture(*d.weightsPrevious).view)
+                    .storageImage(sh::kBindingWeightOutput, r.texture(*d.weightsNext).view);
+            } else if (d.motion) {
+                const VkImageView unread = r.texture(d.current).view;
+                writer.storageImage(sh::kBindingSupport, unread)
+                    .storageImage(sh::kBindingWeightHistory, unread)
+                    .storageImage(sh::kBindingWeightOutput, unread);
+            }
+            if (d.motion) {
+                writer.storageImage(sh::kBindingMotion, r.texture(*d.motion).view)
+                    .storageImage(sh::kBindingSignatureHistory,
+                                  r.texture(*d.signaturesPrevious).view)
+                    .storageImage(sh::kBindingSignatureOutput, r.texture(*d.signaturesNext).view);
+            }
             writer.push(*ctx, cmd, *pipeline);
             vk::dispatch(cmd, *pipeline, &push, sizeof(push),
                          (out.width + sh::kGroupX - 1) / sh::kGroupX,
                          (out.height + sh::kGroupY - 1) / sh::kGroupY);
         });
-    return {data.output, data.display};
+    return data.output;
 }
 
 MotionViewPass::MotionViewPass(vk::Context& ctx) : mCtx(ctx) {

@@ -97,13 +97,6 @@ struct TaaMotion {
     TaaSettings moving;
 };
 
-// What "taa" writes: the history's next image and, from TaaPass::addTonemapped, that image
-// tone-mapped for display.
-struct TaaOutput {
-    rg::TextureId radiance;
-    std::optional<rg::TextureId> display; // RGBA8, as TonemapPass writes it
-};
-
 class TaaPass {
 public:
     explicit TaaPass(vk::Context& ctx);
@@ -120,16 +113,6 @@ public:
                       const std::optional<TaaFrameState>& state = std::nullopt,
                       const std::optional<TaaSupport>& support = std::nullopt,
                       const std::optional<TaaMotion>& motion = std::nullopt) const;
-    // As add, and the output tone-mapped at `exposure` (TonemapPass's mapping, shaders/common/
-    // tonemap.glsl) into a new RGBA8 texture "taa.ldr" in the same pass, so that no pass
-    // reads the image again. With display-referred blending, `exposure` must be the frame
-    // state's.
-    TaaOutput addTonemapped(rg::RenderGraph& graph, const rg::HistoryTextures& history,
-                            rg::TextureId current, const shaders::trace::CameraPush& camera,
-                            const shaders::trace::CameraPush& previousCamera, bool reset,
-                            const TaaSettings& settings, const std::optional<TaaFrameState>& state,
-                            const std::optional<TaaSupport>& support,
-                            const std::optional<TaaMotion>& motion, float exposure) const;
     // The history's frame count after this frame (TaaFrameState::samples of the next one).
     [[nodiscard]] static uint32_t nextSamples(const shaders::trace::CameraPush& camera,
                                               const shaders::trace::CameraPush& previousCamera,
@@ -137,24 +120,15 @@ public:
                                               const TaaFrameState& state);
 
 private:
-    TaaOutput addPass(rg::RenderGraph& graph, const rg::HistoryTextures& history,
-                      rg::TextureId current, const shaders::trace::CameraPush& camera,
-                      const shaders::trace::CameraPush& previousCamera, bool reset,
-                      const TaaSettings& settings, const std::optional<TaaFrameState>& state,
-                      const std::optional<TaaSupport>& support,
-                      const std::optional<TaaMotion>& motion,
-                      std::optional<float> tonemapExposure) const;
-    // With motion: per support, tone mapper and the blend of a pixel whose hit moved
-    // (TaaMotion::moving's current weight, clip gamma and depth tolerance: specialisation
-    // constants), built on first use.
-    const vk::ComputePipeline& motionPipeline(bool support, bool tonemap,
-                                              const TaaSettings& moving) const;
+    // With motion: per support and the blend of a pixel whose hit moved (TaaMotion::moving's
+    // current weight, clip gamma and depth tolerance: specialisation constants), built on
+    // first use.
+    const vk::ComputePipeline& motionPipeline(bool support, const TaaSettings& moving) const;
 
     vk::Context& mCtx;
-    // Indexed by whether the view is still (taa.glsl's kStillView) plus 2 with the tone mapper.
-    std::array<std::unique_ptr<vk::ComputePipeline>, 4> mPipeline, mSupportPipeline;
-    mutable std::map<std::tuple<bool, bool, float, float, float>,
-                     std::unique_ptr<vk::ComputePipeline>>
+    // Indexed by whether the view is still (taa.glsl's kStillView).
+    std::array<std::unique_ptr<vk::ComputePipeline>, 2> mPipeline, mSupportPipeline;
+    mutable std::map<std::tuple<bool, float, float, float>, std::unique_ptr<vk::ComputePipeline>>
         mMotionPipelines;
 };
 

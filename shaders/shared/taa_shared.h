@@ -22,9 +22,6 @@ GT_CONST kBindingSignatureHistory = 7; // uimage2D r32ui: last frame's
 GT_CONST kBindingSignatureOutput = 8;  // uimage2D r32ui: this frame's
 // A signature history texel: the signature code (motion.glsl's signatureCode, 24 bits) in the
 // low bits, the history's frame count (at most kMaxHistoryFrames) above them.
-// With the tone mapper merged in (TAA_TONEMAP): the output tone-mapped, as pass `tonemap`
-// writes it.
-GT_CONST kBindingDisplay = 9; // image2D rgba8
 GT_CONST kHistoryFramesShift = 24;
 GT_CONST kMaxHistoryFrames = 255;
 GT_CONST kGroupX = 8;
@@ -41,9 +38,8 @@ struct TaaPush {
     vec4 previousRight; // xyz, w = eccentric radius r in pixels (0: off): beyond |r| from the
                         // gaze the current weight is divided and the clip box multiplied by
                         // d / |r| (camera still), sqrt(d / |r|) (r < 0: the camera moved)
-    vec4 params;  // x = blend weight of the current frame (-1: reset), y = clip gamma, z = the
-                  // exposure e: > 0 blends display-referred at e, <= 0 linearly (TAA_TONEMAP
-                  // maps at |e|), w = depth tolerance
+    vec4 params;  // x = blend weight of the current frame, y = clip gamma, z = -1: reset, else
+                  // the exposure of display-referred blending (0: linear), w = depth tolerance
     vec4 centres; // off-axis frustum centres as tangents: xy current, zw previous (0: symmetric)
 };
 

@@ -4,9 +4,6 @@
 // off screen, and on reset — a saccade or gaze jump — so the fovea is sharp at once instead
 // of converging (Patney et al. 2016, as summarised in the thesis, section 3.1).
 #include "taa_shared.h"
-#ifdef TAA_TONEMAP
-#include "tonemap.glsl"
-#endif
 
 layout(local_size_x = kGroupX, local_size_y = kGroupY) in;
 layout(set = 0, binding = kBindingCurrent, rgba32f) uniform readonly image2D uCurrent;
@@ -18,10 +15,6 @@ layout(push_constant) uniform Push { TaaPush pc; };
 // that code, as a driver that runs both sides of a branch on its SIMD lanes (lavapipe) pays
 // for it even where no pixel takes it.
 layout(constant_id = 3) const bool kStillView = false;
-#ifdef TAA_TONEMAP
-// The output tone-mapped for display as well, so that pass `tonemap` need not read it again.
-layout(set = 0, binding = kBindingDisplay, rgba8) uniform writeonly image2D uDisplay;
-#endif
 #ifdef TAA_SUPPORT
 // A method that rebuilds the image from sparse samples whose sites move every frame (the point
 // set, site_jitter.glsl) reports per pixel the distance s to the sample it took most from, in
@@ -102,13 +95,6 @@ vec3 toDisplay(vec3 c, float e) {
 vec3 fromDisplay(vec3 y, float e) {
     vec3 t = pow(max(y, vec3(0.0)), vec3(2.2));
     return t / max(1.0 - e * luma(t), 1e-3);
-}
-
-void storeOutput(ivec2 px, vec4 value) {
-    imageStore(uOutput, px, value);
-#ifdef TAA_TONEMAP
-    imageStore(uDisplay, px, tonemapped(value.rgb, abs(pc.params.z)));
-#endif
 }
 
 vec4 historyBilinear(vec2 p, ivec2 size) {
@@ -225,8 +211,8 @@ void main() {
     // A history that starts here holds this frame alone.
     imageStore(uSignatureOutput, px, uvec4(signature | (1u << kHistoryFramesShift)));
 #endif
-    if (pc.params.x < 0.0) {
-        storeOutput(px, current);
+    if (pc.params.z < 0.0) {
+        imageStore(uOutput, px, current);
 #ifdef TAA_SUPPORT
         imageStore(uWeightOutput, px, vec4(w));
 #endif
@@ -337,7 +323,7 @@ void main() {
         result = e > 0.0 ? fromDisplay(mix(toDisplay(clipped, e), toDisplay(current.rgb, e), alpha), e)
                          : mix(clipped, current.rgb, alpha);
     }
-    storeOutput(px, vec4(result, current.a));
+    imageStore(uOutput, px, vec4(result, current.a));
 #ifdef TAA_MOTION
     if (valid) {
         uint gathered = min(frames + 1u, uint(kMaxHistoryFrames));

@@ -1,6 +1,5 @@
 // TAA: on a static scene with per-frame jitter the output converges (frame-to-frame change
 // falls); a gaze jump drops the history so the output is the current frame at once.
-#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -12,7 +11,6 @@
 #include "support/gpu_test_context.hpp"
 #include "support/graph_fill.hpp"
 #include "taa/taa.hpp"
-#include "tonemap/tonemap.hpp"
 #include "trace/gpu_scene.hpp"
 #include "vk/resources.hpp"
 
@@ -147,53 +145,4 @@ TEST_F(TaaTest, SupportWeighsAStillViewsFrames) {
 }
 
 } // namespace
-// TAA's tone-mapped output (addTonemapped, which the renderer uses instead of pass tonemap) is
-// byte for byte what pass tonemap makes of TAA's radiance: on the reset frame and later ones,
-// blending display-referred (the frame state's exposure) and linearly (no state).
-TEST_F(TaaTest, TonemappedOutputIsTheTonemapPassOfItsRadiance) {
-    const scene::Scene s = scene::makeCornell();
-    const scene::Bvh bvh(s);
-    const trace::GpuScene gs(ctx(), s, bvh);
-    const passes::ReferencePass reference(ctx());
-    const passes::TaaPass taa(ctx());
-    const passes::TonemapPass tonemap(ctx());
-    const auto camera = trace::cameraPush(s.camera, 1.0f);
-    constexpr float kExposure = 1.7f;
-    for (const bool displayReferred : {true, false}) {
-        rg::HistoryPool history(ctx());
-        for (uint32_t i = 0; i < 3; ++i) {
-            rg::RenderGraph g(kW, kH);
-            std::vector<vk::Buffer> hosts;
-            hosts.reserve(2);
-            std::vector<rg::BufferId> ids;
-            for (const char* name : {"merged", "separate"}) {
-                hosts.emplace_back(ctx(),
-                                   vk::BufferDesc{kW * kH * 4, 0, vk::MemoryUsage::Readback, name});
-                ids.push_back(g.importBuffer(name, {hosts.back().handle(), hosts.back().size(),
-                                                    std::nullopt, rg::Access::HostRead}));
-            }
-            const rg::HistoryTextures h =
-                g.importHistory(history, "taa", VK_FORMAT_R32G32B32A32_SFLOAT, kW, kH);
-            const std::optional<passes::TaaFrameState> state =
-                displayReferred ? std::optional(passes::TaaFrameState{kExposure, glm::vec2(32.0f),
-                                                                      true, i > 1, i})
-                                : std::nullopt;
-            const passes::TaaOutput out =
-                taa.addTonemapped(g, h, reference.add(g, gs, camera, {1, i + 1}), camera, camera,
-                                  i == 0, {}, state, std::nullopt, std::nullopt, kExposure);
-            ASSERT_TRUE(out.display.has_value());
-            passes::addReadbackPass(g, "merged", *out.display, ids[0]);
-            passes::addReadbackPass(g, "separate", tonemap.add(g, out.radiance, kExposure), ids[1]);
-            rg::TransientPool pool(ctx());
-            g.executeAndWait(g.compile(), pool);
-            history.commit(g);
-            std::vector<uint8_t> merged(kW * kH * 4), separate(kW * kH * 4);
-            hosts[0].download(std::as_writable_bytes(std::span(merged)));
-            hosts[1].download(std::as_writable_bytes(std::span(separate)));
-            EXPECT_EQ(merged, separate) << "frame " << i << (displayReferred ? "" : ", linear");
-            EXPECT_GT(*std::max_element(separate.begin(), separate.end()), 100u);
-        }
-    }
-}
-
 } // namespace gt
