@@ -28,21 +28,27 @@ bool taaMustReset(bool historyValid, bool saccade, glm::vec2 gaze, glm::vec2 pre
 }
 
 TaaPass::TaaPass(vk::Context& ctx) : mCtx(ctx) {
-    mPipeline = std::make_unique<vk::ComputePipeline>(
-        ctx,
-        vk::ComputePipelineDesc{"taa",
-                                gt_spv_taa_comp,
-                                {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                                 VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-                                sizeof(sh::TaaPush)});
-    mSupportPipeline = std::make_unique<vk::ComputePipeline>(
-        ctx, vk::ComputePipelineDesc{
-                 "taa_support",
-                 gt_spv_taa_support_comp,
-                 {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                  VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                  VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-                 sizeof(sh::TaaPush)});
+    for (const bool still : {false, true}) {
+        // taa.glsl's kStillView (constant_id 3); 0-2 are the motion variants' alone.
+        const std::vector<uint32_t> specialization{0u, 0u, 0u, still ? 1u : 0u};
+        mPipeline[still] = std::make_unique<vk::ComputePipeline>(
+            ctx, vk::ComputePipelineDesc{"taa",
+                                         gt_spv_taa_comp,
+                                         {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                          VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                          VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                                         sizeof(sh::TaaPush),
+                                         specialization});
+        mSupportPipeline[still] = std::make_unique<vk::ComputePipeline>(
+            ctx, vk::ComputePipelineDesc{
+                     "taa_support",
+                     gt_spv_taa_support_comp,
+                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                      VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                      VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                     sizeof(sh::TaaPush),
+                     specialization});
+    }
 }
 
 TaaPass::~TaaPass() = default;
@@ -142,6 +148,13 @@ sh::TaaPush taaPush(const rg::RenderGraph& graph, const rg::HistoryTextures& his
                        glm::vec4(cur.right.w, cur.up.w, prev.right.w, prev.up.w)};
 }
 
+// Whether no pixel clips, tests a distance or falls off with eccentricity this frame (taa.glsl's
+// conditions on the push, for a scene that does not move): the pipeline without that code
+// (kStillView) gives the same image.
+bool stillView(const sh::TaaPush& push) {
+    return push.params.y >= 1e29f && push.params.w >= 1e29f && push.previousRight.w == 0.0f;
+}
+
 } // namespace
 
 rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& history,
@@ -176,8 +189,8 @@ rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& hi
         },
         [ctx = &mCtx,
          pipeline = motion    ? &motionPipeline(support.has_value(), motion->moving)
-                    : support ? mSupportPipeline.get()
-                              : mPipeline.get(),
+                    : support ? mSupportPipeline[stillView(push)].get()
+                              : mPipeline[stillView(push)].get(),
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             const rg::ResolvedTexture& out = r.texture(d.output);
             vk::DescriptorWriter writer;

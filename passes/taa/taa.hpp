@@ -2,6 +2,7 @@
 // Pass `taa`: temporal anti-aliasing with reprojection, YCoCg variance clipping and history
 // rejection on disocclusion and on saccades (gaze jumps). The history is the render graph's
 // (rg::HistoryPool): last frame's output in, this frame's output out.
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -125,7 +126,8 @@ private:
     const vk::ComputePipeline& motionPipeline(bool support, const TaaSettings& moving) const;
 
     vk::Context& mCtx;
-    std::unique_ptr<vk::ComputePipeline> mPipeline, mSupportPipeline;
+    // Indexed by whether the view is still (taa.glsl's kStillView).
+    std::array<std::unique_ptr<vk::ComputePipeline>, 2> mPipeline, mSupportPipeline;
     mutable std::map<std::tuple<bool, float, float, float>, std::unique_ptr<vk::ComputePipeline>>
         mMotionPipelines;
 };

@@ -10,6 +10,11 @@ layout(set = 0, binding = kBindingCurrent, rgba32f) uniform readonly image2D uCu
 layout(set = 0, binding = kBindingHistory, rgba32f) uniform readonly image2D uHistory;
 layout(set = 0, binding = kBindingOutput, rgba32f) uniform writeonly image2D uOutput;
 layout(push_constant) uniform Push { TaaPush pc; };
+// Camera and gaze still over a scene that does not move (taa.cpp sets it where the push says
+// so: no clipping, no distance test, no eccentric falloff): the pipeline is then built without
+// that code, as a driver that runs both sides of a branch on its SIMD lanes (lavapipe) pays
+// for it even where no pixel takes it.
+layout(constant_id = 3) const bool kStillView = false;
 #ifdef TAA_SUPPORT
 // A method that rebuilds the image from sparse samples whose sites move every frame (the point
 // set, site_jitter.glsl) reports per pixel the distance s to the sample it took most from, in
@@ -61,6 +66,23 @@ vec3 clipToBox(vec3 h, vec3 m, vec3 e) {
     vec3 unit = abs(d / max(e, vec3(1e-6)));
     float f = max(unit.x, max(unit.y, unit.z));
     return f > 1.0 ? m + d / f : h;
+}
+
+// The mean m1 and standard deviation sigma of the current frame's 3x3 neighbourhood around
+// `px` in YCoCg: the clipping box's centre and half-size in units of gamma. Only a pixel that
+// clips needs them.
+void neighbourhood(ivec2 px, ivec2 size, out vec3 m1, out vec3 sigma) {
+    m1 = vec3(0.0);
+    vec3 m2 = vec3(0.0);
+    for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+            vec3 c = toYCoCg(imageLoad(uCurrent, clamp(px + ivec2(dx, dy), ivec2(0), size - 1)).rgb);
+            m1 += c;
+            m2 += c * c;
+        }
+    }
+    m1 /= 9.0;
+    sigma = sqrt(max(m2 / 9.0 - m1 * m1, vec3(0.0)));
 }
 
 // Radiance -> an approximation of the displayed value: Reinhard's c / (1 + e L) (which maps
@@ -196,18 +218,6 @@ void main() {
 #endif
         return;
     }
-    // Neighbourhood statistics in YCoCg.
-    vec3 m1 = vec3(0.0), m2 = vec3(0.0);
-    for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-            vec3 c = toYCoCg(imageLoad(uCurrent, clamp(px + ivec2(dx, dy), ivec2(0), size - 1)).rgb);
-            m1 += c;
-            m2 += c * c;
-        }
-    }
-    m1 /= 9.0;
-    vec3 sigma = sqrt(max(m2 / 9.0 - m1 * m1, vec3(0.0)));
-
     // Reproject: world point along this pixel's ray at the first-hit distance.
     vec2 s = (vec2(px) + 0.5) / vec2(size) * 2.0 - 1.0;
     vec3 up = cross(pc.currentRight.xyz, pc.currentForward.xyz);
@@ -247,7 +257,7 @@ void main() {
     // of 1e29 or more means nothing moved (taa.cpp): then neither distances nor sky against
     // geometry are tested, as the rays moving in their discs change which one a pixel's
     // nearest sample saw, not what the pixel shows.
-    bool testDepth = pc.params.w < 1e29;
+    bool testDepth = !kStillView && pc.params.w < 1e29;
     float tolerance = pc.params.w;
 #ifdef TAA_MOTION
     // The distance expected is the moved point's (length(d) above).
@@ -273,7 +283,7 @@ void main() {
 #endif
     float weightSum = weighted ? imageLoad(uWeightHistory, px).r : 0.0;
 #endif
-    if (pc.previousRight.w != 0.0) {
+    if (!kStillView && pc.previousRight.w != 0.0) {
         // A foveated image whose gaze or camera moved: away from the gaze its sparse sampling
         // changes under the image from frame to frame (the set slides with a pursuing gaze,
         // the scene moves over it with the camera), so the history counts more there while
@@ -299,8 +309,12 @@ void main() {
     if (valid) {
         // gamma >= 1e29: no clipping (a flat neighbourhood has sigma 0, and 0 * 1e30 would
         // clip the history to the current mean).
-        vec3 clipped = gamma >= 1e29 ? history.rgb
-                                     : fromYCoCg(clipToBox(toYCoCg(history.rgb), m1, gamma * sigma));
+        vec3 clipped = history.rgb;
+        if (!kStillView && gamma < 1e29) {
+            vec3 m1, sigma;
+            neighbourhood(px, size, m1, sigma);
+            clipped = fromYCoCg(clipToBox(toYCoCg(history.rgb), m1, gamma * sigma));
+        }
         // Display-referred blend (params.z = exposure e > 0): in the space of
         // toDisplay, close to what the display shows, so a frame moves a pixel by at most
         // alpha of its displayed range — a firefly or a dark pixel (where sRGB is steep) no
