@@ -147,15 +147,7 @@ protected:
         const passes::TaaFrameState state{0.0f, glm::vec2(32.0f), true, samples > 0, samples};
         const rg::TextureId out =
             mTaa.add(g, h, current, camera(), camera(), samples == 0, {}, state, support, motion);
-        vk::Buffer host(ctx(), {kW * kH * 16, 0, vk::MemoryUsage::Readback, "out"});
-        const auto hostId =
-            g.importBuffer("out", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
-        passes::addReadbackPass(g, "out", out, hostId);
-        rg::TransientPool pool(ctx());
-        g.executeAndWait(g.compile(), pool);
-        mHistory.commit(g);
-        std::vector<glm::vec4> px(kW * kH);
-        host.download(std::as_writable_bytes(std::span(px)));
+        const std::vector<glm::vec4> px = test::executeAndRead(ctx(), g, out, &mHistory);
         std::vector<glm::vec3> rgb(px.size());
         std::transform(px.begin(), px.end(), rgb.begin(), [](glm::vec4 p) { return glm::vec3(p); });
         return rgb;

@@ -122,15 +122,7 @@ TEST_F(TaaTest, SupportWeighsAStillViewsFrames) {
         const passes::TaaPass taa(ctx());
         const rg::TextureId out =
             taa.add(g, h, current, camera, camera, samples == 0, {}, state, sup);
-        vk::Buffer host(ctx(), {kW * kH * 16, 0, vk::MemoryUsage::Readback, "out"});
-        const auto hostId =
-            g.importBuffer("out", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
-        passes::addReadbackPass(g, "out", out, hostId);
-        rg::TransientPool pool(ctx());
-        g.executeAndWait(g.compile(), pool);
-        history.commit(g);
-        std::vector<glm::vec4> px(kW * kH);
-        host.download(std::as_writable_bytes(std::span(px)));
+        const std::vector<glm::vec4> px = test::executeAndRead(ctx(), g, out, &history);
         return px[static_cast<std::size_t>(kW) * 20 + 20].r;
     };
     const float w0 = 0.002f + 1.0f, w1 = 0.002f + std::exp(-25.0f);

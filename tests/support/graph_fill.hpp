@@ -1,11 +1,16 @@
 #pragma once
 // Render-graph passes that give a pass under test an input of known value: a new texture cleared
-// to one colour, or filled from a buffer of texels.
+// to one colour, or filled from a buffer of texels; and the run that reads its output back.
+#include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
+#include "readback/readback.hpp"
 #include "render_graph/render_graph.hpp"
+#include "vk/resources.hpp"
 
 namespace gt::test {
 
@@ -52,6 +57,23 @@ inline rg::TextureId addUploadedTexture(rg::RenderGraph& g, const std::string& n
                                        VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
             })
         .image;
+}
+
+// Runs `g` with `out` (RGBA32F, the graph's size) read back, commits `history` if given (the
+// frame's histories become the next run's), and returns the texels row by row.
+inline std::vector<glm::vec4> executeAndRead(vk::Context& ctx, rg::RenderGraph& g,
+                                             rg::TextureId out, rg::HistoryPool* history) {
+    const std::size_t n = static_cast<std::size_t>(g.outputWidth()) * g.outputHeight();
+    vk::Buffer host(ctx, {n * sizeof(glm::vec4), 0, vk::MemoryUsage::Readback, "out"});
+    const auto hostId =
+        g.importBuffer("out", {host.handle(), host.size(), std::nullopt, rg::Access::HostRead});
+    passes::addReadbackPass(g, "out", out, hostId);
+    rg::TransientPool pool(ctx);
+    g.executeAndWait(g.compile(), pool);
+    if (history != nullptr) history->commit(g);
+    std::vector<glm::vec4> px(n);
+    host.download(std::as_writable_bytes(std::span(px)));
+    return px;
 }
 
 } // namespace gt::test
