@@ -21,9 +21,11 @@ GT_CONST kBindingMotion = 6;           // image2D rgba32f
 GT_CONST kBindingSignatureHistory = 7; // uimage2D r32ui: last frame's
 GT_CONST kBindingSignatureOutput = 8;  // uimage2D r32ui: this frame's
 // A signature history texel: the signature code (motion.glsl's signatureCode, 24 bits) in the
-// low bits, the history's frame count (at most kMaxHistoryFrames) above them.
+// low bits, the history's frame count (at most kMaxHistoryFrames) above them, and in the top
+// bit (kEdgeMixBit) whether it holds a moving edge's mix of surfaces.
 GT_CONST kHistoryFramesShift = 24;
-GT_CONST kMaxHistoryFrames = 255;
+GT_CONST kMaxHistoryFrames = 127;
+GT_CONST kEdgeMixBit = 31;
 GT_CONST kGroupX = 8;
 GT_CONST kGroupY = 8;
 

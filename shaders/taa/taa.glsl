@@ -39,13 +39,16 @@ const float kMaxWeight = 64.0; // as TaaSettings::maxStillFrames caps the plain 
 // space), so history is fetched where the moved point was seen, p + motion, through the
 // previous camera; and it is rejected where the surface or shadow the history shows is not the
 // pixel's now (its signature, motion.glsl), which is what removes the trail of a moving object
-// and of a moving shadow. The still view's shortcuts (no clipping, no distance test, the
-// support-weighted pooling) hold only where the hit neither moved nor changed: a pixel whose
+// and of a moving shadow. The still view's shortcuts (no clipping, no distance test, pooling
+// over up to kMaxWeight) hold only where the hit neither moved nor changed: a pixel whose
 // hit moved blends as on a moving camera, with these (TaaSettings::currentWeight, clipGamma and
 // depthTolerance, set per pipeline). A history stands for no more frames than it gathered since
 // it was last rejected: a pixel uncovered k frames ago blends as the running mean of its k
 // frames (weight 1 / k) until the blend weight's own bound takes over, where a fixed weight
-// would leave it mostly its first, unfiltered frame for many frames.
+// would leave it mostly its first, unfiltered frame for many frames. A moving object's edge
+// keeps its anti-aliasing: the pixels around it follow the object (edgeMotion) and keep the
+// history of either side, sampled sharply (historyOfSurface), and a moved pixel pools its
+// frames by how near their samples fell, as a still one does.
 layout(set = 0, binding = kBindingMotion, rgba32f) uniform readonly image2D uMotion;
 layout(set = 0, binding = kBindingSignatureHistory, r32ui) uniform readonly uimage2D uSignatureHistory;
 layout(set = 0, binding = kBindingSignatureOutput, r32ui) uniform writeonly uimage2D uSignatureOutput;
@@ -97,6 +100,15 @@ vec3 fromDisplay(vec3 y, float e) {
     return t / max(1.0 - e * luma(t), 1e-3);
 }
 
+// The unit ray through the centre of pixel `px` of the current camera.
+vec3 pixelRay(ivec2 px, ivec2 size) {
+    vec2 s = (vec2(px) + 0.5) / vec2(size) * 2.0 - 1.0;
+    vec3 up = cross(pc.currentRight.xyz, pc.currentForward.xyz);
+    return normalize(pc.currentForward.xyz
+                     + (s.x * pc.currentOrigin.w * pc.currentForward.w + pc.centres.x) * pc.currentRight.xyz
+                     + (pc.centres.y - s.y * pc.currentOrigin.w) * up);
+}
+
 vec4 historyBilinear(vec2 p, ivec2 size) {
     vec2 q = p - 0.5;
     ivec2 i = ivec2(floor(q));
@@ -118,66 +130,140 @@ const uint kShadowMask = 0xffu; // motion.glsl: the lights reaching the hit, bel
 // Whether the surface a motion texel shows moves (the sky and static geometry never do).
 bool surfaceMoves(vec4 motion) { return dot(motion.xyz, motion.xyz) > 0.0; }
 
-// Whether the surface with id `surface` (a signature code's bits above the shadow mask) shows
-// among the 3x3 pixels around `px` now, and stands still wherever it does.
-bool stillBeside(ivec2 px, ivec2 size, uint surface) {
+// The 3x3 pixels around this invocation's pixel now: the surface each shows (a signature code's
+// bits above the shadow mask) and whether it moves. Read once (readAround); every history test
+// below asks them.
+uint gAroundSurface[9];
+bool gAroundMoves[9];
+
+void readAround(ivec2 px, ivec2 size) {
+    for (int t = 0; t < 9; ++t) {
+        vec4 m = imageLoad(uMotion, clamp(px + ivec2(t % 3, t / 3) - 1, ivec2(0), size - 1));
+        gAroundSurface[t] = uint(m.w) >> 8u;
+        gAroundMoves[t] = surfaceMoves(m);
+    }
+}
+
+// Whether the surface `surface` shows around the pixel now; with `still`, also standing still
+// wherever it does.
+bool beside(uint surface, bool still) {
     bool seen = false;
-    for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-            vec4 m = imageLoad(uMotion, clamp(px + ivec2(dx, dy), ivec2(0), size - 1));
-            if ((uint(m.w) >> 8u) != surface) continue;
-            if (surfaceMoves(m)) return false;
-            seen = true;
-        }
+    for (int t = 0; t < 9; ++t) {
+        if (gAroundSurface[t] != surface) continue;
+        if (still && gAroundMoves[t]) return false;
+        seen = true;
     }
     return seen;
 }
 
-// Whether a history texel shows the past of pixel `px`, whose surface now has the signature
-// `now` (moving or not). The same signature does. So does another surface under the same
-// lights where the pixel's surface stands still and the other one stands still beside it now:
-// jittered samples alternate between the two sides of a still edge, and that history holds the
-// edge's coverage, as a still scene's does. Otherwise another surface is a disocclusion (the
-// one beside it moving now, even if it stood still last frame, as at the start of a motion),
-// and other lights are a shadow that moved (whose occluder moved is not known, so a still
-// shadow's edge is rejected too).
-bool samePast(uint now, bool nowMoves, uint texel, ivec2 px, ivec2 size) {
-    uint then = texel & kSignatureMask;
-    if (then == now) return true;
-    return !nowMoves && (then & kShadowMask) == (now & kShadowMask) &&
-           stillBeside(px, size, then >> 8u);
+// The motion a pixel at a moving edge follows: where its 3x3 neighbourhood shows more than one
+// surface and the nearest of them moves, that one's, with its distance along this pixel's ray
+// (`ray`). Jittered samples make such a pixel alternate between the surfaces, and the history
+// that followed the foreground holds the edge's coverage. An edge where a moving surface
+// passes behind another (an object rising out of a still box) is not followed: what the moving
+// one shows now was hidden there last frame.
+bool edgeMotion(ivec2 px, ivec2 size, uint surface, vec3 ray, inout float depth,
+                inout vec3 follow) {
+    bool mixed = false, moving = false;
+    for (int t = 0; t < 9; ++t) {
+        mixed = mixed || gAroundSurface[t] != surface;
+        moving = moving || gAroundMoves[t];
+    }
+    if (!mixed || !moving) return false;
+    float nearest = 3.0e38, nearestMoving = 3.0e38;
+    int front = 0;
+    for (int t = 0; t < 9; ++t) {
+        float z = imageLoad(uCurrent, clamp(px + ivec2(t % 3, t / 3) - 1, ivec2(0), size - 1)).a;
+        nearest = min(nearest, z);
+        if (gAroundMoves[t] && z < nearestMoving) {
+            nearestMoving = z;
+            front = t;
+        }
+    }
+    // In front within the distance tolerance of a moved pixel's disocclusion test: a contact
+    // edge (a box on a floor) is followed, a rim standing in front is not.
+    if (nearestMoving > nearest * (1.0 + kMovingTolerance)) return false;
+    ivec2 q = clamp(px + ivec2(front % 3, front / 3) - 1, ivec2(0), size - 1);
+    follow = imageLoad(uMotion, q).xyz;
+    // Its distance along this pixel's ray, as if it were a plane facing the camera at the
+    // neighbour's distance along the view axis.
+    vec3 forward = pc.currentForward.xyz;
+    depth = nearestMoving * dot(pixelRay(q, size), forward) / dot(ray, forward);
+    return true;
 }
 
-// historyBilinear over the taps that show the surface `signature` (their weights renormalised,
-// the distance and frame count of the heaviest): a tap of another surface is not this pixel's
-// past, and would bleed a moving object's colour into what it uncovered. found = false where no
-// tap does.
-vec4 historyOfSurface(ivec2 px, vec2 p, ivec2 size, uint signature, bool moving,
-                      out bool found, out uint frames) {
+// Whether a history texel shows the past of this pixel, whose surface now has the signature
+// `now` (moving or not). The same signature does. So does another surface under the same
+// lights that shows beside the pixel now, where the pixel follows a moving edge (edgeMotion)
+// or where both stand still: jittered samples alternate between the two sides of an edge, and
+// that history holds the edge's coverage, as a still scene's does. Otherwise another surface
+// is a disocclusion (the one beside it moving now, even if it stood still last frame, as at
+// the start of a motion), and other lights are a shadow that moved (whose occluder moved is
+// not known, so a still shadow's edge is rejected too).
+bool samePast(uint now, bool nowMoves, uint texel, bool followsEdge) {
+    uint then = texel & kSignatureMask;
+    if (then == now) return true;
+    if ((then & kShadowMask) != (now & kShadowMask)) return false;
+    if (followsEdge) return beside(then >> 8u, false);
+    return !nowMoves && beside(then >> 8u, true);
+}
+
+// Catmull-Rom weights of the taps at -1, 0, 1 and 2 for a sample at fraction t past tap 0.
+vec4 catmullRom(float t) {
+    return vec4(t * (-0.5 + t * (1.0 - 0.5 * t)), 1.0 + t * t * (-2.5 + 1.5 * t),
+                t * (0.5 + t * (2.0 - 1.5 * t)), t * t * (-0.5 + 0.5 * t));
+}
+
+// The history at `p` over the taps that show the pixel's past (samePast): a tap of another
+// surface is not, and would bleed a moving object's colour into what it uncovered. Bilinear
+// over the four nearest such taps (their weights renormalised), sharpened by Catmull-Rom over
+// the 4x4 around them where p falls between texels, as a moving surface's history does every
+// frame: bilinear alone blurs it a little each frame, which adds up along the motion. A tap
+// not taken stands in as the bilinear estimate, and the result stays within the four taps'
+// range (no ringing at an edge). Also the distance and frame count of the heaviest tap, and
+// whether any holds a moving edge's mix (kEdgeMixBit). found = false where no tap shows the
+// past.
+vec4 historyOfSurface(vec2 p, ivec2 size, uint signature, bool moving, bool followsEdge,
+                      out bool found, out uint frames, out bool edgeMix) {
     vec2 q = p - 0.5;
     ivec2 i = ivec2(floor(q));
     vec2 f = q - vec2(i);
-    vec4 colour = vec4(0.0);
-    float total = 0.0, best = -1.0;
-    float depth = 0.0;
+    vec3 colour = vec3(0.0), lo = vec3(3.0e38), hi = vec3(-3.0e38);
+    float total = 0.0, best = -1.0, depth = 0.0;
     frames = 0u;
+    edgeMix = false;
     for (int t = 0; t < 4; ++t) {
         ivec2 o = ivec2(t & 1, t >> 1);
         ivec2 at = clamp(i + o, ivec2(0), size - 1);
         float w = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
         uint h = imageLoad(uSignatureHistory, at).r;
-        if (!samePast(signature, moving, h, px, size)) continue;
+        if (!samePast(signature, moving, h, followsEdge)) continue;
         vec4 c = imageLoad(uHistory, at);
-        colour += w * c;
+        colour += w * c.rgb;
         total += w;
+        lo = min(lo, c.rgb);
+        hi = max(hi, c.rgb);
+        edgeMix = edgeMix || (h >> kEdgeMixBit) != 0u;
         if (w > best) {
             best = w;
             depth = c.a;
-            frames = h >> kHistoryFramesShift;
+            frames = (h >> kHistoryFramesShift) & uint(kMaxHistoryFrames);
         }
     }
     found = total > 0.0;
-    return found ? vec4(colour.rgb / total, depth) : vec4(0.0);
+    if (!found) return vec4(0.0);
+    vec3 b = colour / total;
+    // A still surface under a still camera lands on texel centres: nothing to sharpen.
+    if (all(lessThan(min(f, 1.0 - f), vec2(1e-3)))) return vec4(b, depth);
+    vec4 wx = catmullRom(f.x), wy = catmullRom(f.y);
+    vec3 sharp = b;
+    for (int t = 0; t < 16; ++t) {
+        ivec2 o = ivec2(t & 3, t >> 2) - 1;
+        ivec2 at = clamp(i + o, ivec2(0), size - 1);
+        if (!samePast(signature, moving, imageLoad(uSignatureHistory, at).r, followsEdge)) continue;
+        sharp += wx[o.x + 1] * wy[o.y + 1] * (imageLoad(uHistory, at).rgb - b);
+    }
+    return vec4(clamp(sharp, lo, hi), depth);
 }
 
 // Whether any of the 3x3 pixels around `px` shows something now that is not its counterpart's
@@ -189,7 +275,7 @@ bool changedAround(ivec2 px, vec2 prevPixel, ivec2 size) {
             ivec2 o = ivec2(dx, dy);
             vec4 now = imageLoad(uMotion, clamp(px + o, ivec2(0), size - 1));
             uint then = imageLoad(uSignatureHistory, clamp(prev + o, ivec2(0), size - 1)).r;
-            if (!samePast(uint(now.w), surfaceMoves(now), then, px, size)) return true;
+            if (!samePast(uint(now.w), surfaceMoves(now), then, false)) return true;
         }
     }
     return false;
@@ -219,18 +305,21 @@ void main() {
         return;
     }
     // Reproject: world point along this pixel's ray at the first-hit distance.
-    vec2 s = (vec2(px) + 0.5) / vec2(size) * 2.0 - 1.0;
-    vec3 up = cross(pc.currentRight.xyz, pc.currentForward.xyz);
-    vec3 dir = normalize(pc.currentForward.xyz
-                         + (s.x * pc.currentOrigin.w * pc.currentForward.w + pc.centres.x) * pc.currentRight.xyz
-                         + (pc.centres.y - s.y * pc.currentOrigin.w) * up);
+    vec3 dir = pixelRay(px, size);
     float depth = current.a;
     bool sky = !(depth < 1e30);
     vec3 d = sky ? dir : pc.currentOrigin.xyz + depth * dir - pc.previousOrigin.xyz;
 #ifdef TAA_MOTION
-    // Where the hit was one frame ago: p + motion (0 for static geometry and the sky).
+    // Where the hit was one frame ago: p + motion (0 for static geometry and the sky); at a
+    // moving edge, where the followed surface's point along this ray was.
     bool moved = !sky && dot(motion.xyz, motion.xyz) > 0.0;
-    if (!sky) d += motion.xyz;
+    vec3 follow = motion.xyz;
+    float followDepth = depth;
+    readAround(px, size);
+    bool followsEdge = !sky && edgeMotion(px, size, signature >> 8u, dir, followDepth, follow);
+    if (followsEdge) d = pc.currentOrigin.xyz + followDepth * dir - pc.previousOrigin.xyz;
+    if (!sky) d += follow;
+    moved = moved || followsEdge;
 #endif
     vec3 prevUp = cross(pc.previousRight.xyz, pc.previousForward.xyz);
     float z = dot(d, pc.previousForward.xyz);
@@ -242,8 +331,13 @@ void main() {
 #ifdef TAA_MOTION
     bool sameSurface = false;
     uint frames = 0u;
-    vec4 history = valid ? historyOfSurface(px, prevPixel, size, signature, moved, sameSurface, frames)
+    bool edgeMix = false;
+    vec4 history = valid ? historyOfSurface(prevPixel, size, signature, moved, followsEdge,
+                                            sameSurface, frames, edgeMix)
                          : current;
+    // A history that held a moving edge's mix of surfaces (both sides' colours under one
+    // signature), now off the edge, is clipped.
+    moved = moved || edgeMix;
     valid = valid && sameSurface;
     if (!valid) history = current;
     // Something changed around the pixel since last frame (a surface or shadow edge moved past
@@ -262,7 +356,8 @@ void main() {
 #ifdef TAA_MOTION
     // The distance expected is the moved point's (length(d) above).
     if (moved) {
-        testDepth = true;
+        // An edge pixel's history holds either side's distance: its signatures decide.
+        testDepth = !followsEdge;
         tolerance = min(tolerance, kMovingTolerance);
     }
 #endif
@@ -282,6 +377,16 @@ void main() {
     weighted = weighted && !moved;
 #endif
     float weightSum = weighted ? imageLoad(uWeightHistory, px).r : 0.0;
+#ifdef TAA_MOTION
+    // A moved pixel pools its frames too, with the weight history of where its history came
+    // from, over at most the frames' weight the moving blend allows (1 / currentWeight - 1 at
+    // full weight); the clipping still bounds what a stale frame can hold.
+    bool pooledMoving = valid && moved;
+    if (pooledMoving) {
+        ivec2 from = clamp(ivec2(floor(prevPixel)), ivec2(0), size - 1);
+        weightSum = min(imageLoad(uWeightHistory, from).r, 1.0 / kMovingWeight - 1.0);
+    }
+#endif
 #endif
     if (!kStillView && pc.previousRight.w != 0.0) {
         // A foveated image whose gaze or camera moved: away from the gaze its sparse sampling
@@ -304,6 +409,9 @@ void main() {
     alpha = max(alpha, 1.0 / float(frames + 1u));
 #endif
 #ifdef TAA_SUPPORT
+#ifdef TAA_MOTION
+    weighted = weighted || pooledMoving;
+#endif
     if (weighted) alpha = w / max(weightSum + w, 1e-6);
 #endif
     if (valid) {
@@ -328,7 +436,8 @@ void main() {
     if (valid) {
         uint gathered = min(frames + 1u, uint(kMaxHistoryFrames));
         imageStore(uSignatureOutput, px,
-                   uvec4(signature | (gathered << kHistoryFramesShift)));
+                   uvec4(signature | (gathered << kHistoryFramesShift) |
+                         (followsEdge ? 1u << kEdgeMixBit : 0u)));
     }
 #endif
 #ifdef TAA_SUPPORT
