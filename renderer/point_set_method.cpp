@@ -221,10 +221,19 @@ MethodImage PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view
                 std::nullopt, image.motion};
     }
     // The support says something only where the sites move from frame to frame.
-    if (settings.jitter && s.method == passes::Interpolation::Shepard) {
-        return {image.radiance, image.support, image.motion};
+    const std::optional<rg::TextureId> support =
+        settings.jitter && s.method == passes::Interpolation::Shepard
+            ? std::optional<rg::TextureId>(image.support)
+            : std::nullopt;
+    if (settings.edgeRays && image.motion) {
+        if (!mEdgeRays) {
+            mEdgeRays = std::make_unique<passes::EdgeRaysPass>(mMc.ctx);
+        }
+        const passes::EdgeRaysImage edged = mEdgeRays->add(
+            graph, mMc.scene, camera, {image.radiance, *image.motion, support}, mFrame);
+        return {edged.radiance, edged.support, edged.motion};
     }
-    return {image.radiance, std::nullopt, image.motion};
+    return {image.radiance, support, image.motion};
 }
 
 std::optional<WarmUp> PointSetMethod::warmUp(const View& view) {

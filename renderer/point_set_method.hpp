@@ -16,6 +16,7 @@
 
 #include <glm/glm.hpp>
 
+#include "edge_rays/edge_rays.hpp"
 #include "foveation/gpu_point_set.hpp"
 #include "foveation/neighbour_index.hpp"
 #include "foveation/point_set.hpp"
@@ -72,6 +73,9 @@ struct PointSetSettings {
     // Chunks also only where less than kChunkedShare of the set lands on screen
     // (PointSetMethod::dispatchFor).
     bool onScreenChunks = true;
+    // In a scene that moves, a ray of its own for each pixel on a moving edge
+    // (passes::EdgeRaysPass); false: those pixels keep the reconstruction's blend.
+    bool edgeRays = true;
 };
 
 inline constexpr double kChunkedShare = 0.5;
@@ -143,6 +147,7 @@ private:
     passes::InterpolatePass mInterpolate;
     passes::RbfSolvePass mRbfSolve;
     std::unique_ptr<passes::MotionViewPass> mMotionView; // --view motion, built on first use
+    std::unique_ptr<passes::EdgeRaysPass> mEdgeRays;     // a scene that moves, built on first use
     std::optional<foveation::GpuRbfInverse> mRbfInverse;
     std::optional<foveation::GpuPixelKnnTable> mKnnTable;
     std::optional<foveation::GpuRbfPixelWeights> mRbfPixelWeights;
