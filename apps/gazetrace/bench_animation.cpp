@@ -23,8 +23,11 @@
 
 #include "bench_command.hpp"
 #include "bench_timing.hpp"
+#include "bvh_refit/bvh_refit.hpp"
 #include "scene/dynamic_geometry.hpp"
 #include "stop_request.hpp"
+#include "vk/context.hpp"
+#include "vk/resources.hpp"
 
 namespace gt::app {
 
@@ -318,6 +321,61 @@ nlohmann::json refitQuality(const scene::Rig& source, bool quick) {
     return out;
 }
 
+// Where the tube's refit runs fastest: the bvh_refit pass (the GPU time of its timestamps, and
+// the wall time of recording, submitting, waiting and reading the nodes back) against
+// Bvh::refit on the same bent tube, medians over `runs`.
+nlohmann::json refitPlacement(const scene::Rig& source, int runs) {
+    scene::Rig rig = source;
+    const scene::MeshInstance tube = rig.instances.back();
+    const scene::AnimationChoice still{scene::AnimationChoice::Kind::None, 0};
+    std::vector<scene::Vertex> rest, bent;
+    deformInstance(rig, tube, evaluatePose(rig, still, 0.0), rest);
+    for (const uint32_t j : rig.skins[0].joints)
+        rig.nodes[j].rest.rotation = glm::angleAxis(0.4f, glm::vec3(0, 0, 1));
+    deformInstance(rig, tube, evaluatePose(rig, still, 0.0), bent);
+    const scene::Bvh atRest{std::span<const scene::Vertex>(rest)};
+    scene::Bvh cpu = atRest;
+    cpu.refit(bent);
+    vk::ContextOptions options;
+    options.announceDevice = false;
+    vk::Context ctx(options);
+    const passes::BvhRefitPass pass(ctx);
+    const passes::BvhRefitLevels levels = passes::bvhRefitLevels(atRest.nodes());
+    const auto storage = [&](std::span<const std::byte> bytes, vk::MemoryUsage memory) {
+        vk::Buffer b(ctx, {bytes.size(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, memory, "refit"});
+        b.upload(bytes);
+        return b;
+    };
+    vk::Buffer triangles =
+        storage(std::as_bytes(std::span(cpu.triangles())), vk::MemoryUsage::Upload);
+    vk::Buffer order = storage(std::as_bytes(std::span(levels.order)), vk::MemoryUsage::Upload);
+    vk::Buffer nodes = storage(std::as_bytes(std::span(atRest.nodes())), vk::MemoryUsage::Readback);
+    std::vector<scene::BvhNode> readBack(atRest.nodes().size());
+    std::vector<double> gpuMs, wallMs, cpuMs;
+    for (int i = 0; i < runs; ++i) {
+        const auto t0 = Clock::now();
+        rg::RenderGraph g(1, 1);
+        const auto tri = g.importBuffer("triangles", {triangles.handle(), triangles.size()});
+        const auto ord = g.importBuffer("order", {order.handle(), order.size()});
+        const auto out = g.importBuffer(
+            "nodes", {nodes.handle(), nodes.size(), std::nullopt, rg::Access::HostRead});
+        g.sink(pass.add(g, levels, tri, ord, out), rg::Access::HostRead);
+        rg::TransientPool pool(ctx);
+        const rg::FrameTimings t = g.executeAndWait(g.compile(), pool);
+        nodes.download(std::as_writable_bytes(std::span(readBack)));
+        const auto t1 = Clock::now();
+        cpu.refit(i % 2 == 0 ? rest : bent);
+        const auto t2 = Clock::now();
+        gpuMs.push_back(t.passes.empty() ? 0.0 : t.passes.front().gpuMs);
+        wallMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+        cpuMs.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+    }
+    return {{"device", ctx.deviceName()},     {"runs", runs},
+            {"nodes", atRest.nodes().size()}, {"levels", levels.levels()},
+            {"gpu_ms", median(gpuMs)},        {"gpu_wall_ms", median(wallMs)},
+            {"cpu_ms", median(cpuMs)}};
+}
+
 void printSummary(const nlohmann::json& r) {
     const nlohmann::json& m = r["median_ms"];
     std::printf("\nanimation (CPU, one thread, %d frames at 60 Hz): median ms per frame\n",
@@ -336,6 +394,12 @@ void printSummary(const nlohmann::json& r) {
                     q["sah_refit_over_fresh"].get<double>(),
                     q["tests_refit_over_fresh"].get<double>(), q["fresh_build_ms"].get<double>(),
                     q["rebuilt"].get<bool>() ? " (rebuilt)" : "");
+    const nlohmann::json& g = r["refit_gpu"];
+    std::printf("tube refit (%d nodes, %d levels), median of %d: bvh_refit pass %.3f ms GPU, %.3f "
+                "ms with submit and wait; Bvh::refit %.3f ms CPU\n",
+                g["nodes"].get<int>(), g["levels"].get<int>(), g["runs"].get<int>(),
+                g["gpu_ms"].get<double>(), g["gpu_wall_ms"].get<double>(),
+                g["cpu_ms"].get<double>());
 }
 
 } // namespace
@@ -378,7 +442,8 @@ nlohmann::json runAnimationBench(const BenchOptions& options) {
                          : *std::max_element(series.total.begin(), series.total.end())}}},
         {"rebuilds", series.rebuilds},
         {"rebuild_sah_ratio", scene::DynamicGeometry::kRebuildSahRatio},
-        {"refit_quality", refitQuality(*rig, options.quick)}};
+        {"refit_quality", refitQuality(*rig, options.quick)},
+        {"refit_gpu", refitPlacement(*rig, options.quick ? 10 : 100)}};
     printSummary(result);
     std::printf("%s\n", result.dump(2).c_str());
     if (!options.json.empty()) writeJsonFile(options.json, result);

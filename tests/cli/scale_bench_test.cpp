@@ -151,6 +151,13 @@ TEST(BenchAnimation, ReportsEachPerFrameStepOfAMovingScene) {
     EXPECT_GT(m["refit"].get<double>(), 0.0);
     EXPECT_GE(m["update"].get<double>(), m["deform"].get<double>());
     EXPECT_FALSE(j["refit_quality"].empty());
+    // The tube's refit on the GPU beside the CPU's, on the same tree.
+    ASSERT_TRUE(j.contains("refit_gpu"));
+    const auto& g = j["refit_gpu"];
+    EXPECT_GT(g["levels"].get<int>(), 1);
+    EXPECT_GT(g["gpu_ms"].get<double>(), 0.0);
+    EXPECT_GE(g["gpu_wall_ms"].get<double>(), g["gpu_ms"].get<double>());
+    EXPECT_GT(g["cpu_ms"].get<double>(), 0.0);
 }
 
 } // namespace
