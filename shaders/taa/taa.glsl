@@ -232,12 +232,14 @@ vec4 historyOfSurface(vec2 p, ivec2 size, uint signature, bool moving, bool foll
     float total = 0.0, best = -1.0, depth = 0.0;
     frames = 0u;
     edgeMix = false;
+    uint taken = 0u; // which of the four nearest taps show the past (bit t)
     for (int t = 0; t < 4; ++t) {
         ivec2 o = ivec2(t & 1, t >> 1);
         ivec2 at = clamp(i + o, ivec2(0), size - 1);
         float w = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
         uint h = imageLoad(uSignatureHistory, at).r;
         if (!samePast(signature, moving, h, followsEdge)) continue;
+        taken |= 1u << uint(t);
         vec4 c = imageLoad(uHistory, at);
         colour += w * c.rgb;
         total += w;
@@ -260,7 +262,11 @@ vec4 historyOfSurface(vec2 p, ivec2 size, uint signature, bool moving, bool foll
     for (int t = 0; t < 16; ++t) {
         ivec2 o = ivec2(t & 3, t >> 2) - 1;
         ivec2 at = clamp(i + o, ivec2(0), size - 1);
-        if (!samePast(signature, moving, imageLoad(uSignatureHistory, at).r, followsEdge)) continue;
+        bool inner = all(greaterThanEqual(o, ivec2(0))) && all(lessThanEqual(o, ivec2(1)));
+        bool past = inner ? (taken & (1u << uint(o.x + 2 * o.y))) != 0u
+                          : samePast(signature, moving, imageLoad(uSignatureHistory, at).r,
+                                     followsEdge);
+        if (!past) continue;
         sharp += wx[o.x + 1] * wy[o.y + 1] * (imageLoad(uHistory, at).rgb - b);
     }
     return vec4(clamp(sharp, lo, hi), depth);
