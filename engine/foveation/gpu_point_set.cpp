@@ -13,7 +13,8 @@ namespace gt::foveation {
 GpuPointSet::GpuPointSet(vk::Context& ctx, const PointSet& set, const NeighbourIndex& index)
     : mChunks(set), mCount(static_cast<uint32_t>(set.points().size())), mK(index.k()),
       mCanvasW(set.canvasWidth()), mCanvasH(set.canvasHeight()),
-      mDisplayW(set.params().display.width), mDisplayH(set.params().display.height) {
+      mDisplayW(set.params().display.width), mDisplayH(set.params().display.height),
+      mCoveringRadius(index.coveringRadius()) {
     std::vector<glm::vec4> pts;
     pts.reserve(set.points().size());
     for (const Point& p : set.points())

@@ -28,12 +28,15 @@ public:
     [[nodiscard]] uint32_t displayWidth() const noexcept { return mDisplayW; }
     [[nodiscard]] uint32_t displayHeight() const noexcept { return mDisplayH; }
     [[nodiscard]] const PointChunks& chunks() const noexcept { return mChunks; }
+    // NeighbourIndex::coveringRadius of the set, in canvas pixels.
+    [[nodiscard]] float coveringRadius() const noexcept { return mCoveringRadius; }
 
 private:
     PointChunks mChunks;
     vk::Buffer mPoints, mNearest, mNeighbours;
     vk::BufferView mPointsView, mNearestView, mNeighboursView;
     uint32_t mCount, mK, mCanvasW, mCanvasH, mDisplayW, mDisplayH;
+    float mCoveringRadius;
 };
 
 // The precomputed RBF inverses on the GPU: per point, ceil(k^2 / 4) RGBA32F texels holding the

@@ -48,6 +48,22 @@ std::vector<uint32_t> NeighbourIndex::nearestPerPixel() const {
     return out;
 }
 
+float NeighbourIndex::coveringRadius() const {
+    const auto& pts = mSet->points();
+    std::vector<float> rowMax(mHeight, 0.0f);
+    detail::parallelFor(mHeight, [&](uint32_t y) {
+        float worst = 0.0f;
+        for (uint32_t x = 0; x < mWidth; ++x) {
+            const Point& q = pts[mNearest.entry(x, y, 0)];
+            const float dx = q.x - (static_cast<float>(x) + 0.5f);
+            const float dy = q.y - (static_cast<float>(y) + 0.5f);
+            worst = std::max(worst, dx * dx + dy * dy);
+        }
+        rowMax[y] = worst;
+    });
+    return std::sqrt(*std::max_element(rowMax.begin(), rowMax.end()));
+}
+
 std::vector<uint32_t> NeighbourIndex::query(float x, float y, uint32_t k) const {
     const auto& pts = mSet->points();
     const uint32_t cx = std::min(mWidth - 1, static_cast<uint32_t>(std::max(0.0f, x)));

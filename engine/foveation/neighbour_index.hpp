@@ -33,6 +33,10 @@ public:
     // The same, one index per canvas pixel (row-major), as the GPU reads it.
     [[nodiscard]] std::vector<uint32_t> nearestPerPixel() const;
     [[nodiscard]] const std::vector<uint32_t>& neighbours() const noexcept { return mNeighbours; }
+    // The farthest any canvas pixel's centre lies from its nearest point: the set's covering
+    // radius at pixel resolution. A screen pixel's nearest point lies within it, so where it is
+    // at most the sampling margin, that point is always one that point_sample traced.
+    [[nodiscard]] float coveringRadius() const;
     [[nodiscard]] std::size_t bytes() const noexcept {
         return mNearest.bytes() + mNeighbours.size() * sizeof(uint32_t);
     }

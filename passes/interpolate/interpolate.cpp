@@ -1,5 +1,7 @@
 #include "interpolate/interpolate.hpp"
 
+#include <cmath>
+
 #include "core/error.hpp"
 #include "foveated_shared.h"
 #include "foveation/gpu_point_set.hpp"
@@ -26,14 +28,16 @@ const std::vector<VkDescriptorType>& interpolateBindings() {
     return bindings;
 }
 
-std::unique_ptr<vk::ComputePipeline> makePipeline(vk::Context& ctx, uint32_t method, bool table,
-                                                  bool motion, bool flat = false) {
+std::unique_ptr<vk::ComputePipeline> makePipeline(vk::Context& ctx,
+                                                  const InterpolatePass::Variant& variant) {
+    const auto& [method, table, flat, motion, exactNearest] = variant;
     return std::make_unique<vk::ComputePipeline>(
         ctx, vk::ComputePipelineDesc{"interpolate",
                                      gt_spv_interpolate_comp,
                                      interpolateBindings(),
                                      sizeof(sh::InterpolatePush),
-                                     {method, table ? 1u : 0u, motion ? 1u : 0u, flat ? 1u : 0u}});
+                                     {method, table ? 1u : 0u, motion ? 1u : 0u, flat ? 1u : 0u,
+                                      exactNearest ? 1u : 0u}});
 }
 } // namespace
 
@@ -43,18 +47,15 @@ InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
         {sh::kMethodRbf, false},     {sh::kMethodRbf, true},      {sh::kViewPoints, false},
         {sh::kViewCells, false},     {sh::kViewSpacing, false}};
     for (const auto& [method, table] : variants) {
-        mPipelines[{method, table}] = makePipeline(ctx, method, table, false);
+        pipeline({method, table, false, false, false});
     }
+    pipeline({sh::kMethodNearest, false, false, false, true});
 }
 
-const vk::ComputePipeline& InterpolatePass::pipeline(uint32_t method, bool table, bool flat,
-                                                     bool motion) const {
-    if (!motion && !flat) {
-        return *mPipelines.at({method, table});
-    }
-    auto& slot = mMotionPipelines[{method, table, flat, motion}];
+const vk::ComputePipeline& InterpolatePass::pipeline(const Variant& variant) const {
+    auto& slot = mPipelines[variant];
     if (!slot) {
-        slot = makePipeline(mCtx, method, table, motion, flat);
+        slot = makePipeline(mCtx, variant);
     }
     return *slot;
 }
@@ -86,6 +87,17 @@ void checkInputs(const foveation::GpuPointSet& points, const InterpolateSettings
                             "for the same k, kernel and shape");
     }
 }
+// Whether every screen pixel's nearest point lands within the sampling margin, so that it is
+// one point_sample traced: a pixel centre lies within the covering radius of its nearest point,
+// and with the gaze on screen the canvas holds every screen pixel (no clamping to its edge).
+bool nearestIsSampled(const foveation::GpuPointSet& points, glm::vec2 gaze) {
+    const glm::vec2 g(std::round(gaze.x), std::round(gaze.y));
+    const bool onScreen = g.x >= 0.0f && g.y >= 0.0f &&
+                          g.x <= static_cast<float>(points.displayWidth()) &&
+                          g.y <= static_cast<float>(points.displayHeight());
+    return onScreen && points.coveringRadius() <= foveation::kSampleMargin;
+}
+
 // The shader's method code for a setting.
 uint32_t methodCode(Interpolation m) {
     switch (m) {
@@ -131,7 +143,9 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
                  : glm::uvec4(0u, 0u, 0u, s.siteFrame),
         glm::vec4(s.siteJitter, 0.0f, 0.0f, 0.0f)};
     const bool flat = table != nullptr && table->layout() == foveation::KnnLayout::Flat;
-    const vk::ComputePipeline& pipe = pipeline(method, useTable, flat, sampleMotion.has_value());
+    const vk::ComputePipeline& pipe =
+        pipeline({method, useTable, flat, sampleMotion.has_value(),
+                  method == sh::kMethodNearest && nearestIsSampled(points, gaze)});
     struct Data {
         rg::BufferId samples;
         rg::TextureId output, support;

@@ -67,16 +67,17 @@ public:
                           const InterpolateInputs& in = {},
                           std::optional<rg::BufferId> sampleMotion = std::nullopt) const;
 
+    // The shader's specialisation (shaders/interpolate/interpolate.comp): the method, whether it
+    // reads the k-NN table, whether that table is flat, whether it writes motion (a scene that
+    // moves), and whether nearest neighbour's nearest point is always a sampled one.
+    using Variant = std::tuple<uint32_t, bool, bool, bool, bool>;
+
 private:
-    const vk::ComputePipeline& pipeline(uint32_t method, bool table, bool flat, bool motion) const;
+    const vk::ComputePipeline& pipeline(const Variant& variant) const;
 
     vk::Context& mCtx;
-    // Specialised per (method, reads the k-NN table): see shaders/interpolate/interpolate.comp.
-    std::map<std::pair<uint32_t, bool>, std::unique_ptr<vk::ComputePipeline>> mPipelines;
-    // The same with the motion written (a scene that moves) or the flat k-NN table, built on
-    // first use: per (method, table, flat table, motion).
-    mutable std::map<std::tuple<uint32_t, bool, bool, bool>, std::unique_ptr<vk::ComputePipeline>>
-        mMotionPipelines;
+    // The common variants are built with the pass; the others on first use.
+    mutable std::map<Variant, std::unique_ptr<vk::ComputePipeline>> mPipelines;
 };
 
 } // namespace gt::passes

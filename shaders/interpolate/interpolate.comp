@@ -37,6 +37,10 @@ layout(constant_id = 2) const bool kMotion = false;
 // The k-NN table's layout (engine/foveation/gpu_point_set.hpp): flat, per canvas pixel its k
 // nearest as indices (kBindingKnnTable, RGBA32UI), or compact (tiles, candidates, slots).
 layout(constant_id = 3) const bool kFlatTable = false;
+// Nearest neighbour where every screen pixel's nearest point is one that point_sample traced:
+// the set's covering radius is within the sampling margin and the gaze on screen
+// (InterpolatePass). The search for a nearer sampled point then compiles away.
+layout(constant_id = 4) const bool kExactNearest = false;
 layout(std430, set = 0, binding = kBindingInterpSampleMotion) readonly buffer SampleMotion {
     vec4 sampleMotion[];
 };
@@ -148,6 +152,40 @@ vec3 evaluateRbf(uint q, vec2 pos) {
     return sum;
 }
 
+// Nearest neighbour (thesis, 4.3), whose sites never move (PointSetMethod): the canvas pixel's
+// nearest point q is exact. Where q lies beyond the sampled margin, the nearest sampled one of q
+// and its neighbour list stands in (strictly nearer wins, so ties keep the list's order: the
+// general search's answer at k = 1). A search of its own, with no arrays: llvmpipe runs the
+// code of a branch even when no lane takes it, so the general k-nearest search cost every
+// pixel; that search of q's list, too, where kExactNearest says it is never needed.
+void nearestNeighbour(ivec2 px, vec2 pos, uint q, vec2 offset, ivec2 size, float margin) {
+    vec4 qpoint = texelFetch(uPoints, int(q));
+    uint best = q;
+    vec4 bestPoint = qpoint;
+    if (!kExactNearest && !isSampled(qpoint.xy, offset, vec2(size), margin)) {
+        best = kNoSample;
+        float bestD2 = 1.0 / 0.0;
+        for (uint j = 1u; j <= pc.canvas.z; ++j) {
+            uint i = texelFetch(uNeighbours, int(q * pc.canvas.z + j - 1u)).r;
+            vec4 pt = texelFetch(uPoints, int(i));
+            if (!isSampled(pt.xy, offset, vec2(size), margin)) continue;
+            vec2 d = pt.xy + offset - pos;
+            float dd = dot(d, d);
+            if (best == kNoSample || dd < bestD2) {
+                best = i;
+                bestD2 = dd;
+                bestPoint = pt;
+            }
+        }
+    }
+    storeMotion(px, best);
+    if (best == kNoSample) {
+        store(px, vec4(vec3(0.0), 1.0 / 0.0), vec2(0.0), -1.0);
+    } else {
+        store(px, samples[best], bestPoint.xy + offset, bestPoint.z);
+    }
+}
+
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = ivec2(pc.params.xy);
@@ -157,6 +195,10 @@ void main() {
     float margin = pc.offset.z;
     ivec2 c = clamp(ivec2(floor(pos - offset)), ivec2(0), ivec2(pc.canvas.xy) - 1);
     uint q = texelFetch(uNearest, c.y * int(pc.canvas.x) + c.x).r;
+    if (kMethod == kMethodNearest) {
+        nearestNeighbour(px, pos, q, offset, size, margin);
+        return;
+    }
     uint k = min(pc.params.z, kMaxK);
     bool fallBackToLists = false;
     if (kMethod == kMethodRbf && kUseTable) {
@@ -221,16 +263,6 @@ void main() {
         k = 1u; // the nearest point was not sampled: nearest sampled neighbour instead
     }
     const uint siteFrame = pc.table.w; // sites moved this frame (site_jitter.glsl); 0: fixed
-    if (kMethod == kMethodNearest && siteFrame == 0u) {
-        // The canvas pixel's nearest point is exact; only where it lies beyond the sampled
-        // margin does the general search below look for the nearest sampled one.
-        vec4 qpoint = texelFetch(uPoints, int(q));
-        if (isSampled(qpoint.xy, offset, vec2(size), margin)) {
-            storeMotion(px, q);
-            store(px, samples[q], qpoint.xy + offset, qpoint.z);
-            return;
-        }
-    }
 
     // Candidates, kept sorted by distance: the canvas pixel's set of the k-NN table (thesis),
     // or the nearest point and its stored neighbours. Points that point_sample skipped (beyond

@@ -180,6 +180,59 @@ TEST_F(FoveatedTest, EveryMethodReproducesPointsAtPixelCentres) {
     }
 }
 
+// Nearest neighbour where a screen pixel's nearest point lies beyond the sampling margin: a set
+// sparser than the margin (points 40 px apart, covering radius about 28 px > 10) on a 64 x 48
+// display. Such a pixel takes the nearest point point_sample traced, found by brute force here;
+// the test also checks that such pixels exist, so the pipeline that skips that search (for sets
+// that cover within the margin) would fail it.
+TEST_F(FoveatedTest, NearestNeighbourTakesTheNearestSampledPointBeyondTheMargin) {
+    PointSetParams p;
+    p.display = {"sparse", 64, 48, 1.0};
+    std::vector<Point> pts;
+    for (int j = 0; j < 3; ++j) {
+        for (int i = 0; i < 3; ++i) // slanted a little: no two points tie at a pixel
+            pts.push_back({20.0f + 40.0f * static_cast<float>(i) + 0.37f * static_cast<float>(j),
+                           8.0f + 40.0f * static_cast<float>(j) + 0.21f * static_cast<float>(i),
+                           40.0f});
+    }
+    const PointSet set = PointSet::fromPoints(p, pts);
+    std::vector<glm::vec4> values;
+    for (std::size_t i = 0; i < set.points().size(); ++i)
+        values.emplace_back(static_cast<float>(i), 0.0f, 0.0f, 0.0f);
+    const auto out = interpolate(set, values, {passes::Interpolation::Nearest, 1, 1.0f});
+    const glm::vec2 offset(32.0f - 64.0f, 24.0f - 48.0f); // gaze centred: canvas -> screen
+    const float margin = passes::kSampleMargin;
+    auto sampled = [&](const Point& q) {
+        const glm::vec2 s = glm::vec2(q.x, q.y) + offset;
+        return s.x >= -margin && s.y >= -margin && s.x < 64.0f + margin && s.y < 48.0f + margin;
+    };
+    int beyondMargin = 0;
+    for (int y = 0; y < 48; ++y) {
+        for (int x = 0; x < 64; ++x) {
+            const glm::vec2 c = glm::vec2(x, y) + 0.5f - offset; // the pixel on the canvas
+            float best = 1e30f, bestSampled = 1e30f;
+            std::size_t nearest = 0, nearestSampled = 0;
+            for (std::size_t i = 0; i < set.points().size(); ++i) {
+                const Point& q = set.points()[i];
+                const float d = glm::distance(glm::vec2(q.x, q.y), c);
+                if (d < best) {
+                    best = d;
+                    nearest = i;
+                }
+                if (sampled(q) && d < bestSampled) {
+                    bestSampled = d;
+                    nearestSampled = i;
+                }
+            }
+            beyondMargin += nearest != nearestSampled ? 1 : 0;
+            ASSERT_EQ(out[static_cast<std::size_t>(y) * 64 + x].x,
+                      static_cast<float>(nearestSampled))
+                << x << "," << y;
+        }
+    }
+    EXPECT_GT(beyondMargin, 100);
+}
+
 // The flat and the compact k-NN table hold the same rows, and the interpolation orders them by
 // the same rule: Modified Shepard (k = 5, 10, 20) and RBF with per-pixel weights give the same
 // bytes through either, on a perceptual set with pseudo-random colours.

@@ -242,6 +242,18 @@ TEST(PointSetCap, ASetWithinTheCapIsLeftAsItIs) {
     EXPECT_EQ(plain.points()[123].x, view.set.points()[123].x);
 }
 
+// The covering radius is the farthest canvas pixel centre from its nearest point. Two points at
+// (2, 3) and (2.5, 3) on an 8 x 8 canvas: the farthest pixel centre is (7.5, 7.5), nearest to
+// (2.5, 3), sqrt(5^2 + 4.5^2) = sqrt(45.25) away; a point at every pixel centre covers at 0.
+TEST(NeighbourIndex, CoveringRadiusIsTheFarthestPixelFromItsNearestPoint) {
+    PointSetParams p;
+    p.display = {"tiny", 4, 4, 1.0};
+    const PointSet pair = PointSet::fromPoints(p, {{2.0f, 3.0f, 1.0f}, {2.5f, 3.0f, 1.0f}});
+    EXPECT_FLOAT_EQ(NeighbourIndex(pair, 1).coveringRadius(), std::sqrt(45.25f));
+    const PointSet grid = test::pixelCentreGrid();
+    EXPECT_EQ(NeighbourIndex(grid, 1).coveringRadius(), 0.0f);
+}
+
 // The thesis's per-pixel table is exact: every sampled canvas pixel's row equals a brute-force
 // search (nearest first, ties to the lower index). The neighbour lists it is compared with
 // are exact for the nearest point and nearly so for k = 20 (measured, not required, here).
