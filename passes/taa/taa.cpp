@@ -148,11 +148,13 @@ sh::TaaPush taaPush(const rg::RenderGraph& graph, const rg::HistoryTextures& his
                        glm::vec4(cur.right.w, cur.up.w, prev.right.w, prev.up.w)};
 }
 
-// Whether no pixel clips, tests a distance or falls off with eccentricity this frame (taa.glsl's
-// conditions on the push, for a scene that does not move): the pipeline without that code
-// (kStillView) gives the same image.
-bool stillView(const sh::TaaPush& push) {
-    return push.params.y >= 1e29f && push.params.w >= 1e29f && push.previousRight.w == 0.0f;
+// Whether the camera stayed and no pixel clips, tests a distance or falls off with eccentricity
+// this frame (taa.glsl's conditions on the push, for a scene that does not move): the pipeline
+// without that code (kStillView) reads each pixel's own history texel, where the reprojection
+// lands up to rounding.
+bool stillView(const sh::TaaPush& push, bool sameView) {
+    return sameView && push.params.y >= 1e29f && push.params.w >= 1e29f &&
+           push.previousRight.w == 0.0f;
 }
 
 } // namespace
@@ -189,8 +191,8 @@ rg::TextureId TaaPass::add(rg::RenderGraph& graph, const rg::HistoryTextures& hi
         },
         [ctx = &mCtx,
          pipeline = motion    ? &motionPipeline(support.has_value(), motion->moving)
-                    : support ? mSupportPipeline[stillView(push)].get()
-                              : mPipeline[stillView(push)].get(),
+                    : support ? mSupportPipeline[stillView(push, sameCamera(cur, prev))].get()
+                              : mPipeline[stillView(push, sameCamera(cur, prev))].get(),
          push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             const rg::ResolvedTexture& out = r.texture(d.output);
             vk::DescriptorWriter writer;

@@ -288,6 +288,29 @@ bool changedAround(ivec2 px, vec2 prevPixel, ivec2 size) {
 }
 #endif
 
+#ifndef TAA_MOTION
+// A still view's frame (kStillView: camera and gaze still, a scene that does not move): nothing
+// clips, no distance is tested, nothing falls off with eccentricity, so the frame is the
+// running mean main() computes then, read from the pixel's own history texel: with support, the
+// frames weighted by it; without, the fixed weight alpha.
+void stillViewBlend(ivec2 px, vec4 current, vec4 history
+#ifdef TAA_SUPPORT
+                    , float w
+#endif
+) {
+    float alpha = pc.params.x;
+#ifdef TAA_SUPPORT
+    float weightSum = imageLoad(uWeightHistory, px).r;
+    alpha = w / max(weightSum + w, 1e-6);
+    imageStore(uWeightOutput, px, vec4(min(weightSum + w, kMaxWeight)));
+#endif
+    float e = pc.params.z;
+    vec3 result = e > 0.0 ? fromDisplay(mix(toDisplay(history.rgb, e), toDisplay(current.rgb, e), alpha), e)
+                          : mix(history.rgb, current.rgb, alpha);
+    imageStore(uOutput, px, vec4(result, current.a));
+}
+#endif
+
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(uOutput);
@@ -310,6 +333,18 @@ void main() {
 #endif
         return;
     }
+#ifndef TAA_MOTION
+    if (kStillView) {
+        // The camera did not move (taa.cpp requires it): every pixel's history is its own
+        // texel, which the reprojection below finds up to rounding.
+        stillViewBlend(px, current, imageLoad(uHistory, px)
+#ifdef TAA_SUPPORT
+                       , w
+#endif
+        );
+        return;
+    }
+#endif
     // Reproject: world point along this pixel's ray at the first-hit distance.
     vec3 dir = pixelRay(px, size);
     float depth = current.a;
