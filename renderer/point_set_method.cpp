@@ -186,7 +186,8 @@ passes::InterpolatedImage PointSetMethod::addImage(rg::RenderGraph& graph,
     if (passes::usesRbfSolve(s)) {
         in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), sampled.samples, gaze, s);
     }
-    return mInterpolate.add(graph, mGpuPoints, sampled.samples, gaze, s, in, sampled.motion);
+    return mInterpolate.add(graph, mGpuPoints, sampled.samples, gaze, s, in, sampled.motion,
+                            sampled.sites);
 }
 
 MethodImage PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view) {

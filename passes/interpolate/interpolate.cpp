@@ -24,20 +24,21 @@ const std::vector<VkDescriptorType>& interpolateBindings() {
         VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
     return bindings;
 }
 
 std::unique_ptr<vk::ComputePipeline> makePipeline(vk::Context& ctx,
                                                   const InterpolatePass::Variant& variant) {
-    const auto& [method, table, flat, motion, exactNearest] = variant;
+    const auto& [method, table, flat, motion, exactNearest, readSites] = variant;
     return std::make_unique<vk::ComputePipeline>(
         ctx, vk::ComputePipelineDesc{"interpolate",
                                      gt_spv_interpolate_comp,
                                      interpolateBindings(),
                                      sizeof(sh::InterpolatePush),
                                      {method, table ? 1u : 0u, motion ? 1u : 0u, flat ? 1u : 0u,
-                                      exactNearest ? 1u : 0u}});
+                                      exactNearest ? 1u : 0u, readSites ? 1u : 0u}});
 }
 } // namespace
 
@@ -47,9 +48,9 @@ InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
         {sh::kMethodRbf, false},     {sh::kMethodRbf, true},      {sh::kViewPoints, false},
         {sh::kViewCells, false},     {sh::kViewSpacing, false}};
     for (const auto& [method, table] : variants) {
-        pipeline({method, table, false, false, false});
+        pipeline({method, table, false, false, false, false});
     }
-    pipeline({sh::kMethodNearest, false, false, false, true});
+    pipeline({sh::kMethodNearest, false, false, false, true, false});
 }
 
 const vk::ComputePipeline& InterpolatePass::pipeline(const Variant& variant) const {
@@ -122,7 +123,8 @@ uint32_t methodCode(Interpolation m) {
 InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
                                        rg::BufferId samples, glm::vec2 gaze,
                                        const InterpolateSettings& s, const InterpolateInputs& in,
-                                       std::optional<rg::BufferId> sampleMotion) const {
+                                       std::optional<rg::BufferId> sampleMotion,
+                                       std::optional<rg::BufferId> sites) const {
     checkInputs(points, s, in);
     const bool useTable = usesPixelTable(s);
     const foveation::GpuPixelKnnTable* table = useTable ? in.table : nullptr;
@@ -143,20 +145,24 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
                  : glm::uvec4(0u, 0u, 0u, s.siteFrame),
         glm::vec4(s.siteJitter, 0.0f, 0.0f, 0.0f)};
     const bool flat = table != nullptr && table->layout() == foveation::KnnLayout::Flat;
+    const bool readSites = sites.has_value() && s.siteFrame > 0 && s.siteJitter > 0.0f;
     const vk::ComputePipeline& pipe =
         pipeline({method, useTable, flat, sampleMotion.has_value(),
-                  method == sh::kMethodNearest && nearestIsSampled(points, gaze)});
+                  method == sh::kMethodNearest && nearestIsSampled(points, gaze), readSites});
     struct Data {
         rg::BufferId samples;
         rg::TextureId output, support;
         std::optional<RbfWeights> weights;
-        std::optional<rg::BufferId> sampleMotion;
+        std::optional<rg::BufferId> sampleMotion, sites;
         std::optional<rg::TextureId> motion;
     };
     const auto& data = graph.addPass<Data>(
         "interpolate",
         [&](rg::PassBuilder& b, Data& d) {
             d.samples = b.read(samples, rg::Access::StorageRead);
+            if (readSites) {
+                d.sites = b.read(*sites, rg::Access::StorageRead);
+            }
             if (usesRbfSolve(s)) {
                 d.weights = RbfWeights{b.read(in.lambdas->r, rg::Access::StorageRead),
                                        b.read(in.lambdas->g, rg::Access::StorageRead),
@@ -205,7 +211,9 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
                 .storageBuffer(sh::kBindingInterpSampleMotion,
                                d.sampleMotion ? r.buffer(*d.sampleMotion) : samplesBuffer)
                 .storageImage(sh::kBindingInterpMotion,
-                              r.texture(d.motion ? *d.motion : d.output).view);
+                              r.texture(d.motion ? *d.motion : d.output).view)
+                .storageBuffer(sh::kBindingInterpSites,
+                               d.sites ? r.buffer(*d.sites) : samplesBuffer);
             writer.push(*ctx, cmd, *pipeline);
             vk::dispatch(cmd, *pipeline, &push, sizeof(push),
                          (push.params.x + sh::kInterpGroupX - 1) / sh::kInterpGroupX,
