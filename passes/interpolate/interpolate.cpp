@@ -118,6 +118,26 @@ uint32_t methodCode(Interpolation m) {
     }
     return sh::kMethodNearest;
 }
+// The shader's push for the settings: the canvas -> screen offset of the gaze, the method, the
+// canvas and neighbour lists, the blend's parameters, the table's layout and the sites' frame.
+sh::InterpolatePush interpolatePush(const rg::RenderGraph& graph,
+                                    const foveation::GpuPointSet& points, glm::vec2 gaze,
+                                    const InterpolateSettings& s,
+                                    const foveation::GpuPixelKnnTable* table) {
+    const glm::vec2 off =
+        foveation::gazeOffset(gaze, points.displayWidth(), points.displayHeight());
+    const uint32_t k =
+        s.method == Interpolation::Shepard || s.method == Interpolation::Rbf ? s.k : 1u;
+    return sh::InterpolatePush{
+        glm::vec4(off, foveation::kSampleMargin, s.shepardPower),
+        glm::uvec4(graph.outputWidth(), graph.outputHeight(), k, methodCode(s.method)),
+        glm::uvec4(points.canvasWidth(), points.canvasHeight(), points.storedNeighbours(),
+                   s.kernel == RbfKernel::Gaussian ? sh::kKernelGaussian : sh::kKernelMultiquadric),
+        glm::vec4(s.rbfShape, s.displayExposure, s.edgeTolerance, s.rangeSigma),
+        table ? glm::uvec4(table->texelsPerRow(), table->k(), (s.k + 3) / 4, s.siteFrame)
+              : glm::uvec4(0u, 0u, 0u, s.siteFrame),
+        glm::vec4(s.siteJitter, 0.0f, 0.0f, 0.0f)};
+}
 } // namespace
 
 InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
@@ -130,20 +150,8 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
     const foveation::GpuPixelKnnTable* table = useTable ? in.table : nullptr;
     const bool pixelWeights = useTable && s.method == Interpolation::Rbf;
     const foveation::GpuRbfPixelWeights* rbfWeights = pixelWeights ? in.rbfWeights : nullptr;
-    const glm::vec2 off =
-        foveation::gazeOffset(gaze, points.displayWidth(), points.displayHeight());
     const uint32_t method = methodCode(s.method);
-    const uint32_t k =
-        s.method == Interpolation::Shepard || s.method == Interpolation::Rbf ? s.k : 1u;
-    const sh::InterpolatePush push{
-        glm::vec4(off, foveation::kSampleMargin, s.shepardPower),
-        glm::uvec4(graph.outputWidth(), graph.outputHeight(), k, method),
-        glm::uvec4(points.canvasWidth(), points.canvasHeight(), points.storedNeighbours(),
-                   s.kernel == RbfKernel::Gaussian ? sh::kKernelGaussian : sh::kKernelMultiquadric),
-        glm::vec4(s.rbfShape, s.displayExposure, s.edgeTolerance, s.rangeSigma),
-        useTable ? glm::uvec4(table->texelsPerRow(), table->k(), (s.k + 3) / 4, s.siteFrame)
-                 : glm::uvec4(0u, 0u, 0u, s.siteFrame),
-        glm::vec4(s.siteJitter, 0.0f, 0.0f, 0.0f)};
+    const sh::InterpolatePush push = interpolatePush(graph, points, gaze, s, table);
     const bool flat = table != nullptr && table->layout() == foveation::KnnLayout::Flat;
     const bool readSites = sites.has_value() && s.siteFrame > 0 && s.siteJitter > 0.0f;
     const vk::ComputePipeline& pipe =
