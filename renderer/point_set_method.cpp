@@ -186,8 +186,7 @@ passes::InterpolatedImage PointSetMethod::addImage(rg::RenderGraph& graph,
     if (passes::usesRbfSolve(s)) {
         in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), sampled.samples, gaze, s);
     }
-    return mInterpolate.add(graph, mGpuPoints, sampled.samples, gaze, s, in, sampled.motion,
-                            sampled.sites);
+    return mInterpolate.add(graph, mGpuPoints, sampled.samples, gaze, s, in, sampled.motion);
 }
 
 MethodImage PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view) {

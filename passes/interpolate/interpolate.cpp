@@ -24,21 +24,20 @@ const std::vector<VkDescriptorType>& interpolateBindings() {
         VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
     return bindings;
 }
 
 std::unique_ptr<vk::ComputePipeline> makePipeline(vk::Context& ctx,
                                                   const InterpolatePass::Variant& variant) {
-    const auto& [method, table, flat, motion, exactNearest, readSites] = variant;
+    const auto& [method, table, flat, motion, exactNearest] = variant;
     return std::make_unique<vk::ComputePipeline>(
         ctx, vk::ComputePipelineDesc{"interpolate",
                                      gt_spv_interpolate_comp,
                                      interpolateBindings(),
                                      sizeof(sh::InterpolatePush),
                                      {method, table ? 1u : 0u, motion ? 1u : 0u, flat ? 1u : 0u,
-                                      exactNearest ? 1u : 0u, readSites ? 1u : 0u}});
+                                      exactNearest ? 1u : 0u}});
 }
 } // namespace
 
@@ -48,9 +47,9 @@ InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
         {sh::kMethodRbf, false},     {sh::kMethodRbf, true},      {sh::kViewPoints, false},
         {sh::kViewCells, false},     {sh::kViewSpacing, false}};
     for (const auto& [method, table] : variants) {
-        pipeline({method, table, false, false, false, false});
+        pipeline({method, table, false, false, false});
     }
-    pipeline({sh::kMethodNearest, false, false, false, true, false});
+    pipeline({sh::kMethodNearest, false, false, false, true});
 }
 
 const vk::ComputePipeline& InterpolatePass::pipeline(const Variant& variant) const {
@@ -143,8 +142,7 @@ sh::InterpolatePush interpolatePush(const rg::RenderGraph& graph,
 InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
                                        rg::BufferId samples, glm::vec2 gaze,
                                        const InterpolateSettings& s, const InterpolateInputs& in,
-                                       std::optional<rg::BufferId> sampleMotion,
-                                       std::optional<rg::BufferId> sites) const {
+                                       std::optional<rg::BufferId> sampleMotion) const {
     checkInputs(points, s, in);
     const bool useTable = usesPixelTable(s);
     const foveation::GpuPixelKnnTable* table = useTable ? in.table : nullptr;
@@ -153,24 +151,20 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
     const uint32_t method = methodCode(s.method);
     const sh::InterpolatePush push = interpolatePush(graph, points, gaze, s, table);
     const bool flat = table != nullptr && table->layout() == foveation::KnnLayout::Flat;
-    const bool readSites = sites.has_value() && s.siteFrame > 0 && s.siteJitter > 0.0f;
     const vk::ComputePipeline& pipe =
         pipeline({method, useTable, flat, sampleMotion.has_value(),
-                  method == sh::kMethodNearest && nearestIsSampled(points, gaze), readSites});
+                  method == sh::kMethodNearest && nearestIsSampled(points, gaze)});
     struct Data {
         rg::BufferId samples;
         rg::TextureId output, support;
         std::optional<RbfWeights> weights;
-        std::optional<rg::BufferId> sampleMotion, sites;
+        std::optional<rg::BufferId> sampleMotion;
         std::optional<rg::TextureId> motion;
     };
     const auto& data = graph.addPass<Data>(
         "interpolate",
         [&](rg::PassBuilder& b, Data& d) {
             d.samples = b.read(samples, rg::Access::StorageRead);
-            if (readSites) {
-                d.sites = b.read(*sites, rg::Access::StorageRead);
-            }
             if (usesRbfSolve(s)) {
                 d.weights = RbfWeights{b.read(in.lambdas->r, rg::Access::StorageRead),
                                        b.read(in.lambdas->g, rg::Access::StorageRead),
@@ -219,9 +213,7 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
                 .storageBuffer(sh::kBindingInterpSampleMotion,
                                d.sampleMotion ? r.buffer(*d.sampleMotion) : samplesBuffer)
                 .storageImage(sh::kBindingInterpMotion,
-                              r.texture(d.motion ? *d.motion : d.output).view)
-                .storageBuffer(sh::kBindingInterpSites,
-                               d.sites ? r.buffer(*d.sites) : samplesBuffer);
+                              r.texture(d.motion ? *d.motion : d.output).view);
             writer.push(*ctx, cmd, *pipeline);
             vk::dispatch(cmd, *pipeline, &push, sizeof(push),
                          (push.params.x + sh::kInterpGroupX - 1) / sh::kInterpGroupX,

@@ -62,18 +62,15 @@ public:
     // Adds "interpolate" reading the samples, writing new textures "interpolate.radiance" and
     // "interpolate.support". `in` must hold what the settings need (see InterpolateInputs).
     // With `sampleMotion` (point_sample's, a scene that moves) also "interpolate.motion".
-    // With `sites` (point_sample's, when the sites move), moving sites are read from it.
     InterpolatedImage add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
                           rg::BufferId samples, glm::vec2 gaze, const InterpolateSettings& s,
                           const InterpolateInputs& in = {},
-                          std::optional<rg::BufferId> sampleMotion = std::nullopt,
-                          std::optional<rg::BufferId> sites = std::nullopt) const;
+                          std::optional<rg::BufferId> sampleMotion = std::nullopt) const;
 
     // The shader's specialisation (shaders/interpolate/interpolate.comp): the method, whether it
     // reads the k-NN table, whether that table is flat, whether it writes motion (a scene that
-    // moves), whether nearest neighbour's nearest point is always a sampled one, and whether
-    // it reads the moving sites point_sample placed.
-    using Variant = std::tuple<uint32_t, bool, bool, bool, bool, bool>;
+    // moves), and whether nearest neighbour's nearest point is always a sampled one.
+    using Variant = std::tuple<uint32_t, bool, bool, bool, bool>;
 
 private:
     const vk::ComputePipeline& pipeline(const Variant& variant) const;

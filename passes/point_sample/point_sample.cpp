@@ -74,8 +74,7 @@ const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaM
             trace::tracingBindings({VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, // kBindingPoints
                                     VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       // kBindingSamples
                                     VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       // kBindingChunks
-                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       // kBindingSampleMotion
-                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});     // kBindingSites
+                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});     // kBindingSampleMotion
         slot = std::make_unique<vk::ComputePipeline>(
             mCtx,
             vk::ComputePipelineDesc{"point_sample", gt_spv_point_sample_comp, bindings,
@@ -153,13 +152,9 @@ SampledPoints PointSamplePass::addSamples(rg::RenderGraph& graph, const trace::G
         groups = static_cast<uint32_t>(chunks->size()) * lanes;
         chunkList = addChunkList(graph, points.chunks(), std::move(chunks));
     }
-    // The shader writes the sites whenever they move: the frame and the scale it reads back
-    // from lensCoeffs.w both above 0.
-    const float siteField = push.lensCoeffs.w;
-    const bool sitesMove = std::floor(siteField) > 0.0f && siteField > std::floor(siteField);
     struct Data {
         rg::BufferId samples;
-        std::optional<rg::BufferId> chunks, motion, sites;
+        std::optional<rg::BufferId> chunks, motion;
     };
     const auto& data = graph.addPass<Data>(
         "point_sample",
@@ -171,11 +166,6 @@ SampledPoints PointSamplePass::addSamples(rg::RenderGraph& graph, const trace::G
                 d.motion = b.write(b.createBuffer("point_sample.motion",
                                                   {static_cast<VkDeviceSize>(points.count()) * 16}),
                                    rg::Access::StorageWrite);
-            }
-            if (sitesMove) {
-                d.sites = b.write(b.createBuffer("point_sample.sites",
-                                                 {static_cast<VkDeviceSize>(points.count()) * 16}),
-                                  rg::Access::StorageWrite);
             }
             if (chunkList) {
                 d.chunks = b.read(*chunkList, rg::Access::StorageRead);
@@ -191,16 +181,11 @@ SampledPoints PointSamplePass::addSamples(rg::RenderGraph& graph, const trace::G
                 .storageBuffer(sh::kBindingChunks, d.chunks ? r.buffer(*d.chunks) : noChunks)
                 // A scene that does not move never writes it.
                 .storageBuffer(sh::kBindingSampleMotion,
-                               d.motion ? r.buffer(*d.motion) : r.buffer(d.samples))
-                // Sites that stay put are never written.
-                .storageBuffer(sh::kBindingSites,
-                               d.sites ? r.buffer(*d.sites) : r.buffer(d.samples));
+                               d.motion ? r.buffer(*d.motion) : r.buffer(d.samples));
             writer.push(*ctx, cmd, *pipeline);
             vk::dispatch(cmd, *pipeline, &push, sizeof(push), groups, 1);
         });
-    // The chunks leave the off-screen points' sites unwritten: interpolate, which tests every
-    // candidate's, gets them only from the whole set's dispatch.
-    return {data.samples, data.motion, chunked ? std::nullopt : data.sites};
+    return {data.samples, data.motion};
 }
 
 } // namespace gt::passes

@@ -49,14 +49,11 @@ struct PanelWarp {
 // gaze centred, 73 % in a corner) and keep a workgroup's rays neighbours.
 enum class PointDispatch : uint8_t { OnScreenChunks, WholeSet };
 
-// What point_sample writes: per point the mean radiance and first-hit distance, in a scene
-// that moves (trace::GpuScene::dynamic()) the first hit's motion (shaders/common/motion.glsl),
-// and when the sites move and the whole set was dispatched, where each site lies this frame
-// (foveated_shared.h, kBindingSites).
+// What point_sample writes: per point the mean radiance and first-hit distance, and in a scene
+// that moves (trace::GpuScene::dynamic()) the first hit's motion (shaders/common/motion.glsl).
 struct SampledPoints {
     rg::BufferId samples;
     std::optional<rg::BufferId> motion;
-    std::optional<rg::BufferId> sites;
 };
 
 class PointSamplePass {

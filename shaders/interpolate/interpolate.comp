@@ -45,11 +45,6 @@ layout(std430, set = 0, binding = kBindingInterpSampleMotion) readonly buffer Sa
     vec4 sampleMotion[];
 };
 layout(set = 0, binding = kBindingInterpMotion, rgba32f) uniform writeonly image2D uMotion;
-// Moving sites as point_sample placed them this frame (kBindingInterpSites): read, where the
-// site of every candidate at every pixel was its jitter worked out again (two hashes, a square
-// root, a sine and a cosine each).
-layout(constant_id = 5) const bool kReadSites = false;
-layout(std430, set = 0, binding = kBindingInterpSites) readonly buffer Sites { vec4 sites[]; };
 
 // Display-referred interpolation (pc.rbf.y = exposure e > 0): samples are blended as
 // T(c) = c / (1 + e L(c)) and the blend is mapped back with T^-1(y) = y / (1 - e L(y)). A linear
@@ -284,8 +279,8 @@ void main() {
     for (uint j = 0u; j < candidates; ++j) {
         uint i = table ? knnEntry(row, j, slots)
                        : (j == 0u ? q : texelFetch(uNeighbours, int(q * pc.canvas.z + j - 1u)).r);
-        vec4 pt = kReadSites ? sites[i] : texelFetch(uPoints, int(i));
-        vec2 s = kReadSites ? pt.xy : pt.xy + offset + siteJitter(i, siteFrame, pt.z, pc.site.x);
+        vec4 pt = texelFetch(uPoints, int(i));
+        vec2 s = pt.xy + offset + siteJitter(i, siteFrame, pt.z, pc.site.x);
         if (any(lessThan(s, vec2(-margin))) || any(greaterThanEqual(s, vec2(size) + margin))) continue;
         vec2 d = s - pos;
         float dd = dot(d, d);

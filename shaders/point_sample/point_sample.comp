@@ -36,7 +36,6 @@ layout(std430, set = 0, binding = kBindingChunks) readonly buffer Chunks { uint 
 layout(std430, set = 0, binding = kBindingSampleMotion) writeonly buffer SampleMotion {
     vec4 sampleMotion[];
 };
-layout(std430, set = 0, binding = kBindingSites) writeonly buffer Sites { vec4 sites[]; };
 layout(push_constant) uniform Push { PointSamplePush pc; };
 
 shared vec3 partial[kSampleGroupSize];
@@ -94,9 +93,6 @@ void main() {
         p = texelFetch(uPoints, int(i));
         s = p.xy + pc.offset.xy + siteJitter(i, siteFrame, p.z, siteScale);
         onScreen = all(greaterThanEqual(s, vec2(-margin))) && all(lessThan(s, size + margin));
-        // Moving sites: where this one lies, for interpolate (every point the dispatch covers,
-        // on screen or not, since interpolate tests that too).
-        if (siteFrame > 0u && siteScale > 0.0 && lane == 0u) sites[i] = vec4(s, p.z, 0.0);
     }
     if (kLanes == 1u && !onScreen) return; // a specialisation constant: no barrier follows
     const CameraPush cam = CameraPush(pc.origin, pc.forward, pc.right, pc.up);

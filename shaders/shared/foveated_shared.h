@@ -14,10 +14,6 @@ GT_CONST kBindingChunks = 11;
 // of its ray 0 as motion.glsl stores it (xyz: world position one frame ago minus now, w: the
 // signature code); unwritten otherwise
 GT_CONST kBindingSampleMotion = 12;
-// buffer of vec4, when the sites move (site_jitter.glsl) and the whole set is dispatched: per
-// point where its site lies this frame (xy, screen pixels) and its spacing p (z); interpolate
-// reads it instead of working out every candidate's jitter again at every pixel
-GT_CONST kBindingSites = 13;
 GT_CONST kSampleGroupSize = 64;
 
 struct PointSamplePush {
@@ -51,7 +47,6 @@ GT_CONST kBindingInterpSupport = 10;
 // and per pixel the motion of its nearest sample out (image2D rgba32f, as the samples').
 GT_CONST kBindingInterpSampleMotion = 14;
 GT_CONST kBindingInterpMotion = 15;
-GT_CONST kBindingInterpSites = 16; // buffer of vec4 (as kBindingSites), when the sites move
 GT_CONST kInterpGroupX = 8;
 GT_CONST kInterpGroupY = 8;
 GT_CONST kMaxK = 20;

@@ -393,49 +393,6 @@ TEST_F(FoveatedTest, OnScreenChunksTraceTheSamePointsAsTheWholeSet) {
     }
 }
 
-// Modified Shepard with moving sites blends from where point_sample placed them this frame:
-// reading the sites it wrote gives the image that working out each candidate's jitter again
-// gives (up to float rounding), for points on screen and those beyond the margin alike (gaze
-// in a corner). The sites come only from the whole set's dispatch, which writes every point's.
-TEST_F(FoveatedTest, MovingSitesReadFromPointSampleBlendAsWorkedOut) {
-    const CornellWithPoints c(96);
-    const passes::PointSamplePass sample(ctx());
-    const passes::InterpolatePass interp(ctx());
-    const glm::vec2 gaze(2.0f, 3.0f); // most of the set beyond the margin
-    passes::InterpolateSettings s{passes::Interpolation::Shepard, 10, 2.0f};
-    s.knn = passes::KnnIndex::NeighbourLists;
-    s.siteFrame = 5;
-    s.siteJitter = 0.8f;
-    const auto cam = trace::cameraPush(c.scene.camera, 1.0f);
-    auto run = [&](bool readSites) {
-        return render(96, 96, [&](rg::RenderGraph& g) {
-            const passes::SampledPoints sampled =
-                sample.addSamples(g, c.gpuScene, cam, c.points, gaze, 2, 1, nullptr, false, 5,
-                                  s.siteJitter, false, passes::PointDispatch::WholeSet);
-            EXPECT_TRUE(sampled.sites.has_value());
-            return interp
-                .add(g, c.points, sampled.samples, gaze, s, {}, std::nullopt,
-                     readSites ? sampled.sites : std::nullopt)
-                .radiance;
-        });
-    };
-    const auto read = run(true);
-    const auto workedOut = run(false);
-    float brightest = 0.0f, worst = 0.0f;
-    for (std::size_t i = 0; i < read.size(); ++i) {
-        brightest = std::max(brightest, std::max(read[i].r, std::max(read[i].g, read[i].b)));
-        const glm::vec4 d = glm::abs(read[i] - workedOut[i]);
-        worst = std::max(worst, std::max(std::max(d.r, d.g), std::max(d.b, d.a)));
-    }
-    ASSERT_GT(brightest, 0.0f);
-    EXPECT_LE(worst, 1e-5f * brightest);
-    rg::RenderGraph g(96, 96);
-    EXPECT_FALSE(sample
-                     .addSamples(g, c.gpuScene, cam, c.points, gaze, 2, 1, nullptr, false, 5,
-                                 s.siteJitter, false, passes::PointDispatch::OnScreenChunks)
-                     .sites.has_value());
-}
-
 // With scale 1.0 the point set is at its densest at the gaze: the foveated image must match the
 // reference there. Compared on 8x8-pixel block means (sample positions differ by design):
 // the mean relative difference of blocks within 24 px of the gaze stays under 5 %.
