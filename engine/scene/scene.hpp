@@ -26,6 +26,9 @@ struct Material {
     // (negative: opaque).
     float alphaCutoff = -1.0f;
     glm::vec3 emissive{0.0f}; // linear radiance added on hit
+    // KHR_materials_specular's specularFactor: the weight of a dielectric's specular lobe (0: a
+    // pure Lambertian). Only the path integrator reads it.
+    float specular = 1.0f;
     std::string name;
 };
 
@@ -49,6 +52,10 @@ struct Light {
     float range = 0.0f; // 0 = infinite
     float innerConeCos = 1.0f;
     float outerConeCos = 0.70710678f;
+    // The light stands in for an emissive surface of the scene, which the direct integrator
+    // cannot sample; the path integrator samples the surface itself and skips this light, so
+    // that the lamp is not counted twice.
+    bool standsInForEmitter = false;
 };
 
 struct Camera {
