@@ -258,9 +258,9 @@ vec3 emitterLight(Surface s, vec3 wo) {
     vec3 v0 = texelFetch(uTriangles, tb).xyz;
     vec3 e1 = texelFetch(uTriangles, tb + 1).xyz, e2 = texelFetch(uTriangles, tb + 2).xyz;
     float su = sqrt(nextRandom()), v = nextRandom();
-    vec3 d = v0 + su * (1.0 - v) * e1 + su * v * e2 - s.p;
-    float dist = length(d);
-    vec3 wi = d / dist;
+    vec3 q = v0 + su * (1.0 - v) * e1 + su * v * e2;
+    float dist = length(q - s.p);
+    vec3 wi = (q - s.p) / dist;
     float cosTheta = dot(s.n, wi);
     if (cosTheta <= 0.0 || dot(s.ng, wi) <= 0.0) return vec3(0.0);
     uint material = floatBitsToUint(texelFetch(uShading, int(tri * kShadingTexels) + 3).w);
@@ -269,7 +269,11 @@ vec3 emitterLight(Surface s, vec3 wo) {
     float pdfBsdf;
     vec3 f = bsdfEval(s, wo, wi, pdfBsdf);
     if (pdfLight <= 0.0 || dot(f, f) == 0.0) return vec3(0.0);
-    if (traceOccluded(offsetOrigin(s), wi, dist * 0.999)) return vec3(0.0);
+    // The shadow ray from the offset origin, ending short of the emitter by a share of its own
+    // length: from s.p, a surface a few offsets from the lamp would find the lamp itself.
+    vec3 o = offsetOrigin(s);
+    float shadowDist = length(q - o);
+    if (traceOccluded(o, (q - o) / shadowDist, shadowDist * 0.999)) return vec3(0.0);
     return f * emissive * cosTheta * powerHeuristic(pdfLight, pdfBsdf) / pdfLight;
 }
 

@@ -216,6 +216,24 @@ TEST_F(PathTest, WhiteFurnaceMicrofacetLosesTheMeasuredEnergy) {
     }
 }
 
+// TAA reads the first hit's distance from the radiance's alpha: the path tracer writes the
+// same one as the direct integrator (the same camera rays: the pixel jitter does not depend on
+// the integrator).
+TEST_F(PathTest, FirstHitDepthMatchesTheDirectIntegrator) {
+    const scene::Scene s = scene::makeCornell();
+    const scene::Bvh bvh(s);
+    const trace::GpuScene gpuScene(ctx(), s, bvh);
+    const std::vector<glm::vec4> direct = render(gpuScene, s, 24, 2, 3, Integrator::Direct, 1);
+    const std::vector<glm::vec4> path = render(gpuScene, s, 24, 2, 3, Integrator::Path, 4);
+    std::size_t finite = 0;
+    for (std::size_t i = 0; i < direct.size(); ++i) {
+        EXPECT_EQ(direct[i].a, path[i].a) << "pixel " << i;
+        finite += std::isfinite(path[i].a) ? 1 : 0;
+        EXPECT_TRUE(std::isfinite(path[i].r + path[i].g + path[i].b)) << "pixel " << i;
+    }
+    EXPECT_GT(finite, direct.size() / 2);
+}
+
 // Per 8x8 block and channel, the mean of each image.
 std::vector<glm::dvec3> blockMeans(const std::vector<glm::vec4>& image, uint32_t size,
                                    uint32_t block) {
@@ -235,15 +253,15 @@ std::vector<glm::dvec3> blockMeans(const std::vector<glm::vec4>& image, uint32_t
 // it; path.glsl's traceBruteForce), on the Cornell box at 32x32, 4 scattering vertices. The
 // box is lit by its emissive lamp and the sky through its open front; the spot light that
 // stands in for the lamp is skipped by both. Its mirror block is made glossy (roughness 0.4),
-// which uniform sampling can estimate. The brute force runs 32 times at 128 paths per pixel
-// with different seeds; its sigma per block is their spread / sqrt(32). The path tracer
-// (16 runs of 64 paths per pixel) must lie within 3 sigma of the brute force's mean in every
+// which uniform sampling can estimate. The brute force runs 64 times at 128 paths per pixel
+// with different seeds; its sigma per block is their spread / sqrt(64). The path tracer
+// (64 runs of 64 paths per pixel) must lie within 3 sigma of the brute force's mean in every
 // 8x8 block and channel, and within 1 % of its image mean. Runs stay short because llvmpipe
 // ends every loop of an invocation once all its loops together have run 65535 iterations
 // (gallivm's loop limiter): a single run of 4096 paths per pixel came out 5x too dark.
 TEST_F(PathTest, AgreesWithBruteForceOnCornell) {
     constexpr uint32_t kSize = 32, kBlock = 8, kBounces = 4;
-    constexpr uint32_t kRuns = 64, kBruteSpp = 128, kPathRuns = 32, kPathSpp = 64;
+    constexpr uint32_t kRuns = 64, kBruteSpp = 128, kPathRuns = 64, kPathSpp = 64;
     scene::Scene s = scene::makeCornell();
     for (scene::Material& m : s.materials) {
         if (m.name == "mirror") m.roughness = 0.4f;
