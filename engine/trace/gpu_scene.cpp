@@ -114,6 +114,65 @@ void packEmitters(const scene::Scene& scene, const scene::Bvh& bvh, uint32_t tri
                            std::bit_cast<uint32_t>(static_cast<float>(total)), 0u};
 }
 
+// The environment map's importance-sampling tables for the path integrator (path.glsl,
+// sampleEnvironment), appended to `p.environment` after its texels, four floats per texel: a
+// marginal CDF over rows, then per row a conditional CDF over columns (Pharr et al., PBR 3rd
+// ed., 13.6.7 and 14.2.4), of luminance times sin(theta) (the equirectangular map's solid angle
+// per texel) on a grid of at most kEnvironmentCdfWidth x kEnvironmentCdfWidth / 2 cells, each
+// the mean of the texels it covers. A floor of 1e-3 of the mean keeps every direction
+// sampleable where bilinear filtering spreads light past a cell. SceneUniforms::environment
+// z = the first texel of the tables, w = cells across | cells down << 16.
+void packEnvironmentCdf(const scene::Environment& env, PackedScene& p) {
+    constexpr uint32_t kEnvironmentCdfWidth = 1024;
+    const uint32_t w = env.width, h = env.height;
+    if (w == 0 || h == 0) return;
+    const uint32_t cw = std::min(w, kEnvironmentCdfWidth),
+                   ch = std::min(h, kEnvironmentCdfWidth / 2);
+    std::vector<double> cell(static_cast<std::size_t>(cw) * ch, 0.0);
+    std::vector<uint32_t> count(cell.size(), 0);
+    for (uint32_t y = 0; y < h; ++y) {
+        for (uint32_t x = 0; x < w; ++x) {
+            const std::size_t c = static_cast<std::size_t>(y * ch / h) * cw + x * cw / w;
+            cell[c] += luminance(glm::vec3(env.texels[static_cast<std::size_t>(y) * w + x]));
+            ++count[c];
+        }
+    }
+    double mean = 0.0;
+    for (std::size_t c = 0; c < cell.size(); ++c) {
+        cell[c] = std::max(cell[c], 0.0) / std::max(count[c], 1u);
+        mean += cell[c] / static_cast<double>(cell.size());
+    }
+    std::vector<float> marginal(ch), conditional(cell.size());
+    std::vector<double> rows(ch, 0.0);
+    for (uint32_t j = 0; j < ch; ++j) {
+        const double sinTheta = std::sin(3.14159265358979 * (j + 0.5) / ch);
+        std::vector<double> run(cw);
+        double sum = 0.0;
+        for (uint32_t i = 0; i < cw; ++i) {
+            sum += (cell[static_cast<std::size_t>(j) * cw + i] + 1e-3 * mean + 1e-12) * sinTheta;
+            run[i] = sum;
+        }
+        for (uint32_t i = 0; i < cw; ++i)
+            conditional[static_cast<std::size_t>(j) * cw + i] =
+                i + 1 == cw ? 1.0f : static_cast<float>(run[i] / sum);
+        rows[j] = sum;
+    }
+    double total = 0.0;
+    for (uint32_t j = 0; j < ch; ++j) {
+        total += rows[j];
+        marginal[j] = static_cast<float>(total);
+    }
+    for (uint32_t j = 0; j < ch; ++j)
+        marginal[j] = j + 1 == ch ? 1.0f : static_cast<float>(marginal[j] / total);
+    std::vector<float> floats = marginal;
+    floats.insert(floats.end(), conditional.begin(), conditional.end());
+    floats.resize((floats.size() + 3) / 4 * 4, 1.0f);
+    p.uniforms.environment.z = static_cast<uint32_t>(p.environment.size());
+    p.uniforms.environment.w = cw | (ch << 16);
+    for (std::size_t k = 0; k < floats.size(); k += 4)
+        p.environment.emplace_back(floats[k], floats[k + 1], floats[k + 2], floats[k + 3]);
+}
+
 // Everything but the geometry: materials, lights, textures, sky; shared by every LOD level.
 PackedScene packShared(const scene::Scene& scene) {
     PackedScene p;
@@ -138,6 +197,7 @@ PackedScene packShared(const scene::Scene& scene) {
     p.uniforms.skyGround = glm::vec4(scene.sky.ground, 0.0f);
     p.environment = scene.environment.texels;
     p.uniforms.environment = {scene.environment.width, scene.environment.height, 0u, 0u};
+    packEnvironmentCdf(scene.environment, p);
     p.alphaMasked = scene.hasAlphaMask();
     p.uniforms.counts = {
         static_cast<uint32_t>(scene.lights.size()), static_cast<uint32_t>(scene.materials.size()),

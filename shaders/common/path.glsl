@@ -6,9 +6,10 @@
 // diffuse lobe and a GGX (Trowbridge-Reitz) microfacet specular lobe with height-correlated
 // Smith masking-shadowing and Schlick's Fresnel, mixed by metallic. Paths of up to kBounces
 // scattering vertices; at each, next-event estimation towards every punctual light (delta
-// lights: no MIS) and one emissive triangle (power-sampled, MIS with the BSDF sample by the
-// power heuristic); the sky and environment are found by the BSDF samples only. Russian
-// roulette from the third vertex on; an optional firefly clamp on indirect light.
+// lights: no MIS), one emissive triangle (power-sampled) and, for an environment map, one
+// direction by its luminance, both weighted against the BSDF sample by the power heuristic;
+// the sky gradient is found by the BSDF samples only. Russian roulette from the third vertex
+// on; an optional firefly clamp on indirect light.
 #ifndef PATH_GLSL
 #define PATH_GLSL
 #include "random.glsl"
@@ -277,6 +278,75 @@ vec3 emitterLight(Surface s, vec3 wo) {
     return f * emissive * cosTheta * powerHeuristic(pdfLight, pdfBsdf) / pdfLight;
 }
 
+// ---- The environment map's importance sampling (gpu_scene.cpp, packEnvironmentCdf) ---------
+// Float k of the tables (four per texel after the map's texels).
+float environmentCdf(uint k) {
+    return texelFetch(uEnvironment, int(uScene.environment.z + k / 4u))[k % 4u];
+}
+
+// The first of n CDF entries from `first` on that exceeds u (binary search).
+uint searchCdf(uint first, uint n, float u) {
+    uint lo = 0u, hi = n - 1u;
+    while (lo < hi) {
+        uint mid = (lo + hi) / 2u;
+        if (environmentCdf(first + mid) > u) hi = mid;
+        else lo = mid + 1u;
+    }
+    return lo;
+}
+
+float cdfStep(uint first, uint k) {
+    return environmentCdf(first + k) - (k > 0u ? environmentCdf(first + k - 1u) : 0.0);
+}
+
+// The solid-angle density with which sampleEnvironment picks direction d: the cell's
+// probability (marginal times conditional) over its solid angle, (2 pi / cw) (pi / ch) sin(theta)
+// (PBR 3rd ed., eq. 14.18).
+float environmentPdf(vec3 d) {
+    uint cw = uScene.environment.w & 0xffffu, ch = uScene.environment.w >> 16;
+    float sinTheta = sqrt(max(0.0, 1.0 - d.y * d.y));
+    if (sinTheta <= 1e-6) return 0.0;
+    float u = 0.5 + atan(d.x, -d.z) / (2.0 * kPi), v = acos(clamp(d.y, -1.0, 1.0)) / kPi;
+    uint i = min(uint(u * float(cw)), cw - 1u), j = min(uint(v * float(ch)), ch - 1u);
+    float p = cdfStep(0u, j) * cdfStep(ch + j * cw, i);
+    return p * float(cw) * float(ch) / (2.0 * kPi * kPi * sinTheta);
+}
+
+// A direction drawn by the environment's luminance: a row by the marginal CDF, a cell in it by
+// the row's conditional CDF, a point uniform in the cell's (u, v); as environmentRadiance maps
+// them (u from the azimuth, 0 at -z; v from the polar angle, 0 straight up).
+vec3 sampleEnvironment(out float pdf) {
+    uint cw = uScene.environment.w & 0xffffu, ch = uScene.environment.w >> 16;
+    uint j = searchCdf(0u, ch, nextRandom());
+    uint i = searchCdf(ch + j * cw, cw, nextRandom());
+    float u = (float(i) + nextRandom()) / float(cw), v = (float(j) + nextRandom()) / float(ch);
+    float theta = v * kPi, phi = (u - 0.5) * 2.0 * kPi;
+    vec3 d = vec3(sin(theta) * sin(phi), cos(theta), -sin(theta) * cos(phi));
+    pdf = environmentPdf(d);
+    return d;
+}
+
+// Next-event estimation towards the environment map: one direction by its luminance, a shadow
+// ray to infinity, weighted against the BSDF sample by the power heuristic.
+vec3 environmentLight(Surface s, vec3 wo) {
+    if (uScene.environment.x == 0u) return vec3(0.0);
+    float pdfLight;
+    vec3 wi = sampleEnvironment(pdfLight);
+    float cosTheta = dot(s.n, wi);
+    if (pdfLight <= 0.0 || cosTheta <= 0.0 || dot(s.ng, wi) <= 0.0) return vec3(0.0);
+    float pdfBsdf;
+    vec3 f = bsdfEval(s, wo, wi, pdfBsdf);
+    if (dot(f, f) == 0.0 || traceOccluded(offsetOrigin(s), wi, kInf)) return vec3(0.0);
+    return f * environmentRadiance(wi) * cosTheta * powerHeuristic(pdfLight, pdfBsdf) / pdfLight;
+}
+
+// The MIS weight of the sky found by a BSDF sample of density pdfBsdf: an environment map is
+// also sampled by environmentLight; the sky gradient is not.
+float skyWeight(vec3 dir, float pdfBsdf) {
+    if (uScene.environment.x == 0u) return 1.0;
+    return powerHeuristic(pdfBsdf, environmentPdf(dir));
+}
+
 // The MIS weight of emission found by a BSDF sample of density pdfBsdf: the emitter table also
 // holds the triangle unless it belongs to a moving instance (those are not in the table).
 float emissionWeight(Hit hit, vec3 dir, vec3 emissive, float pdfBsdf) {
@@ -314,7 +384,8 @@ vec3 tracePath(vec3 origin, vec3 dir, out float depth) {
         Hit hit = traceClosest(origin, dir, 0.0, kInf);
         if (b == 0u) recordFirstHit(hit, origin, dir, depth);
         if (hit.tri == 0xffffffffu) {
-            radiance += clampIndirect(throughput * skyRadiance(dir), b);
+            float w = b == 0u ? 1.0 : skyWeight(dir, pdfBsdf);
+            radiance += clampIndirect(throughput * skyRadiance(dir) * w, b);
             break;
         }
         Surface s = surfaceAt(hit, origin, dir);
@@ -329,7 +400,7 @@ vec3 tracePath(vec3 origin, vec3 dir, out float depth) {
         vec3 wo = -dir;
         if (b == kBounces || dot(s.n, wo) <= 0.0) break;
         uint lit;
-        vec3 nee = punctualLight(s, wo, lit) + emitterLight(s, wo);
+        vec3 nee = punctualLight(s, wo, lit) + emitterLight(s, wo) + environmentLight(s, wo);
         if (kDynamic && b == 0u) {
             gMotion.w = uintBitsToFloat(floatBitsToUint(gMotion.w) | (lit << kShadowMaskShift));
         }

@@ -41,7 +41,10 @@ struct SceneUniforms {
     vec4 skyZenith;    // rgb, w = exposure
     vec4 skyGround;    // rgb, w unused
     uvec4 counts;      // x = lights, y = materials, z = textures, w = triangles
-    uvec4 environment; // x = width, y = height (0: none, use the sky gradient)
+    // x = width, y = height (0: none, use the sky gradient); z = the first texel of its
+    // importance-sampling tables in the environment table, w = their cells across | down << 16
+    // (gpu_scene.cpp, packEnvironmentCdf; read by path.glsl only)
+    uvec4 environment;
     // Root node of each geometric LOD level's BVH (0 = full detail, 1.. coarser Catmull-Clark
     // refinements; levels past the scene's last repeat it). A scene without cages has one.
     uvec4 lodRoots;
