@@ -69,7 +69,10 @@ void packEmitters(const scene::Scene& scene, const scene::Bvh& bvh, uint32_t tri
     std::vector<double> power;
     const auto& order = bvh.triangleOrder();
     for (std::size_t i = 0; i < order.size(); ++i) {
-        const scene::Material& m = scene.materials[scene.triangleMaterial[order[i]]];
+        // Geometry without its materials (a refined level on its own) emits nothing.
+        const uint32_t material = scene.triangleMaterial[order[i]];
+        if (material >= scene.materials.size()) continue;
+        const scene::Material& m = scene.materials[material];
         const float lum = m.unlit ? 0.0f : luminance(m.emissive);
         const scene::BvhTriangle& t = bvh.triangles()[i];
         const float area = 0.5f * glm::length(glm::cross(t.e1, t.e2));
