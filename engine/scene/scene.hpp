@@ -21,6 +21,9 @@ struct Material {
     int baseColorTexture = -1; // index into Scene::textures
     float metallic = 0.0f;
     float roughness = 1.0f;
+    // glTF's metallicRoughnessTexture (linear; G scales roughness, B metallic), read with the
+    // base colour's UVs; -1: the factors alone. Only the path integrator reads it.
+    int metallicRoughnessTexture = -1;
     bool unlit = false; // KHR_materials_unlit: the base colour is the radiance
     // alphaMode MASK: hits where the base colour's alpha is below this are passed through
     // (negative: opaque).

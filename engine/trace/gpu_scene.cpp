@@ -187,6 +187,10 @@ PackedScene packShared(const scene::Scene& scene) {
         const uint32_t tex = m.baseColorTexture < 0 ? shaders::trace::kNoTexture
                                                     : static_cast<uint32_t>(m.baseColorTexture);
         p.materials.emplace_back(m.roughness, asFloat(tex), m.alphaCutoff, m.specular);
+        const uint32_t mr = m.metallicRoughnessTexture < 0
+                                ? shaders::trace::kNoTexture
+                                : static_cast<uint32_t>(m.metallicRoughnessTexture);
+        p.materials.emplace_back(asFloat(mr), 0.0f, 0.0f, 0.0f);
     }
     for (const scene::Light& l : scene.lights) {
         appendLight(l, p.lights);

@@ -10,7 +10,7 @@ GT_NAMESPACE_BEGIN(trace)
 GT_CONST kBindingNodes = 0;       // samplerBuffer RGBA32F, 2 texels per BVH node
 GT_CONST kBindingTriangles = 1;   // samplerBuffer RGBA32F, 3 texels per triangle (v0, e1, e2)
 GT_CONST kBindingShading = 2;     // samplerBuffer RGBA32F, 4 texels per triangle
-GT_CONST kBindingMaterials = 3;   // samplerBuffer RGBA32F, 3 texels per material
+GT_CONST kBindingMaterials = 3;   // samplerBuffer RGBA32F, kMaterialTexels per material
 GT_CONST kBindingLights = 4;      // samplerBuffer RGBA32F, 4 texels per light
 GT_CONST kBindingTexels = 5;      // usamplerBuffer R32UI, packed sRGB RGBA8 texels
 GT_CONST kBindingTextureInfo = 6; // usamplerBuffer RGBA32UI, (offset, width, height, 0)
@@ -23,8 +23,9 @@ GT_CONST kTriangleTexels = 3;
 GT_CONST kShadingTexels = 4;
 // Material texels: 0 = base colour factor; 1 = emissive rgb, metallic (-1: unlit);
 // 2 = roughness, base colour texture, alpha cutoff, specular weight (KHR_materials_specular's
-// specularFactor; read by the path integrator only).
-GT_CONST kMaterialTexels = 3;
+// specularFactor); 3 = metallic-roughness texture (kNoTexture: none), 0, 0, 0. Texels 2.w and 3
+// are read by the path integrator only.
+GT_CONST kMaterialTexels = 4;
 GT_CONST kLightTexels = 4;
 GT_CONST kStackSize = 128; // >= 2 * Bvh::kMaxDepth
 GT_CONST kNoTexture = 0xffffffffu;

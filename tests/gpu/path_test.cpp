@@ -218,6 +218,33 @@ TEST_F(PathTest, WhiteFurnaceMicrofacetLosesTheMeasuredEnergy) {
     }
 }
 
+// glTF's metallic-roughness texture scales the factors (G roughness, B metallic, read linear):
+// factors 1 and texels G = 128, B = 255 must lose what roughness 128/255 loses, not what
+// roughness 1 does (0.60).
+TEST_F(PathTest, MetallicRoughnessTextureScalesTheFactors) {
+    scene::Material metal;
+    metal.baseColor = glm::vec4(1.0f);
+    metal.metallic = 1.0f;
+    metal.roughness = 1.0f;
+    metal.metallicRoughnessTexture = 0;
+    const glm::vec3 sky(1.0f);
+    scene::Scene s = furnace(metal, sky);
+    scene::Texture t;
+    t.width = t.height = 2;
+    t.rgba.assign(4, 0xffu | (128u << 8) | (255u << 16) | (255u << 24));
+    s.textures.push_back(t);
+    const scene::Bvh bvh(s);
+    const trace::GpuScene gpuScene(ctx(), s, bvh);
+    const std::vector<glm::vec4> image = render(gpuScene, s, 64, 64, 2, Integrator::Path, 4);
+    const std::vector<bool> inside = insideSphere(image, 64);
+    const double measured = 1.0 - sphereMeanOverSky(image, inside, sky).g;
+    const double roughness = 128.0 / 255.0;
+    const double predicted = 1.0 - predictedSphereMean(s, 64, inside, roughness * roughness);
+    std::printf("textured roughness %.3f: loss %.4f, quadrature %.4f\n", roughness, measured,
+                predicted);
+    EXPECT_NEAR(measured, predicted, 0.005);
+}
+
 // TAA reads the first hit's distance from the radiance's alpha: the path tracer writes the
 // same one as the direct integrator (the same camera rays: the pixel jitter does not depend on
 // the integrator).
