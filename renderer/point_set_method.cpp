@@ -181,7 +181,8 @@ passes::InterpolatedImage PointSetMethod::addImage(rg::RenderGraph& graph,
     s.siteJitter = moveSites ? siteJitter : 0.0f;
     const passes::SampledPoints sampled = mPointSample.addSamples(
         graph, mMc.scene, camera, mGpuPoints, gaze, rays, lanes, warp ? &*warp : nullptr,
-        settings.lod, frame, s.siteJitter, !settings.pixelRays, dispatchFor(gaze, s.siteJitter));
+        settings.lod, frame, s.siteJitter, !settings.pixelRays, dispatchFor(gaze, s.siteJitter),
+        settings.integrator);
     passes::InterpolateInputs in = prepared;
     if (passes::usesRbfSolve(s)) {
         in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), sampled.samples, gaze, s);

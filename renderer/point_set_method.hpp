@@ -76,6 +76,9 @@ struct PointSetSettings {
     // In a scene that moves, a ray of its own for each pixel on a moving edge
     // (passes::EdgeRaysPass); false: those pixels keep the reconstruction's blend.
     bool edgeRays = true;
+    // What each point's rays compute: the direct integrator or the path tracer
+    // (trace::IntegratorSettings). The edge rays stay with the direct integrator.
+    trace::IntegratorSettings integrator{};
 };
 
 inline constexpr double kChunkedShare = 0.5;

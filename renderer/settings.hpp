@@ -14,6 +14,7 @@
 #include "foveation/point_set.hpp"
 #include "full_resolution.hpp"
 #include "point_set_method.hpp"
+#include "trace/integrator.hpp"
 #include "view.hpp"
 #include "vk/swapchain.hpp"
 
@@ -27,6 +28,11 @@ using KnnIndex = foveation::KnnIndex;         // the neighbour lists or the per-
 using PresentMode = vk::PresentMode;          // FIFO, mailbox, immediate
 using HmdModel = display::HmdModel;           // the headsets of the HMD path
 using DisplayModel = foveation::DisplayModel; // the displays point sets are built for
+
+// What a traced ray computes (PointSetSettings::integrator, ReferenceSettings::integrator):
+// the direct integrator or the path tracer, its scattering vertices per path and firefly clamp.
+using Integrator = trace::Integrator;
+using IntegratorSettings = trace::IntegratorSettings;
 
 // gazetrace: display-referred, guided interpolation, rays rotated every frame, adaptive TAA;
 // thesis: the thesis's reconstruction as published (useThesisReconstruction).

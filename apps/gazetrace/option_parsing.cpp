@@ -48,6 +48,21 @@ render::Reconstruction parseReconstruction(const std::string& name) {
     throw ArgumentError("--reconstruction: expected gazetrace or thesis, got '" + name + "'");
 }
 
+render::IntegratorSettings parseIntegrator(const std::string& name, uint32_t bounces) {
+    render::IntegratorSettings s;
+    if (name == "path") {
+        s.integrator = render::Integrator::Path;
+    } else if (name != "direct") {
+        throw ArgumentError("--integrator: expected direct or path, got '" + name + "'");
+    }
+    if (bounces < 1 || bounces > trace::kMaxBounces) {
+        throw ArgumentError("--bounces must be 1 to " + std::to_string(trace::kMaxBounces) +
+                            ", got " + std::to_string(bounces));
+    }
+    s.bounces = bounces;
+    return s;
+}
+
 double parseSlope(const std::string& text) {
     if (text == "A" || text == "a") {
         return foveation::kSlopeA;

@@ -25,6 +25,8 @@ namespace gt::app {
 [[nodiscard]] render::KnnIndex parseKnnIndex(const std::string& name);
 [[nodiscard]] render::Interpolation parseView(const std::string& name);
 [[nodiscard]] render::Reconstruction parseReconstruction(const std::string& name);
+// --integrator direct | path with --bounces (1 to trace::kMaxBounces).
+[[nodiscard]] render::IntegratorSettings parseIntegrator(const std::string& name, uint32_t bounces);
 // --slope: "A", "B" (Guenter et al. 2012's quality levels) or a positive MAR slope.
 [[nodiscard]] double parseSlope(const std::string& text);
 // Every numeric option's text, checked before CLI11 converts it (commands/shared_options.cpp

@@ -262,7 +262,8 @@ render::FoveationMethod& hmdMethod(const RenderOptions& o, const display::HmdPro
         // Each eye's layers from its own frustum: the HMD image fills the eye's field of view.
         return methods.layers(renderLayerSettings(o, std::nullopt));
     }
-    if (o.method != "foveated") return methods.reference({o.spp, o.seed});
+    if (o.method != "foveated")
+        return methods.reference({o.spp, o.seed, parseIntegrator(o.integrator, o.bounces)});
     foveation::PointSetParams params;
     params.display = profile.pointSetProfile;
     params.scale = o.scale;
@@ -275,6 +276,7 @@ render::FoveationMethod& hmdMethod(const RenderOptions& o, const display::HmdPro
     interp.rbfShape = static_cast<float>(o.rbfShape);
     interp.knn = parseKnnIndex(o.knn);
     pointSet.settings = {o.raysPerPoint, interp, o.displaySpace && o.distortion, o.lod};
+    pointSet.settings.integrator = parseIntegrator(o.integrator, o.bounces);
     if ((parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis)) {
         render::useThesisReconstruction(pointSet.settings, post.taaSettings);
     }
@@ -577,13 +579,14 @@ render::View flatView(const RenderOptions& o, const FlatSetup& s, render::Render
     } else if (o.method == "foveated") {
         render::PointSetMethod& pointSet = methods.pointSet(s.pointSet);
         pointSet.settings = {o.raysPerPoint, s.interp, false, o.lod};
+        pointSet.settings.integrator = parseIntegrator(o.integrator, o.bounces);
         view.method = &pointSet;
         view.post.taa = o.taa && o.view.empty(); // debug views show one frame's data as is
         if ((parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis)) {
             render::useThesisReconstruction(pointSet.settings, view.post.taaSettings);
         }
     } else {
-        view.method = &methods.reference({o.spp, o.seed});
+        view.method = &methods.reference({o.spp, o.seed, parseIntegrator(o.integrator, o.bounces)});
         view.gaze = {};
     }
     return view;
@@ -700,6 +703,10 @@ nlohmann::json flatSummary(const RenderOptions& o, const FlatSetup& s, render::R
     } else {
         j["spp"] = o.spp;
     }
+    if (o.integrator != "direct") {
+        j["integrator"] = o.integrator;
+        j["bounces"] = o.bounces;
+    }
     j["rays"] = rays;
     j["rays_per_second"] = totalMs > 0.0 ? static_cast<double>(rays) / (totalMs * 1e-3) : 0.0;
     return j;
@@ -709,6 +716,11 @@ nlohmann::json flatSummary(const RenderOptions& o, const FlatSetup& s, render::R
 
 nlohmann::json runRender(const RenderOptions& o) {
     if (o.method == "layers") (void)parseSlope(o.slope); // before any work
+    if (parseIntegrator(o.integrator, o.bounces).integrator != render::Integrator::Direct &&
+        o.method == "layers") {
+        throw ArgumentError("--integrator " + o.integrator +
+                            ": reference and foveated only (layers trace the direct integrator)");
+    }
     if (!o.hmd.empty()) {
         return runRenderHmd(o);
     }

@@ -36,6 +36,10 @@ struct RenderOptions {
     // gazetrace: display-referred, guided interpolation, rays rotated every frame, adaptive TAA;
     // thesis: the thesis as published (render::useThesisReconstruction).
     std::string reconstruction = "gazetrace";
+    // reference and foveated: direct | path (render::Integrator), and the path's scattering
+    // vertices.
+    std::string integrator = "direct";
+    uint32_t bounces = 4;
     std::string gazeTrace;          // CSV t_ms,x,y; excludes --gaze
     std::string gazeSource;         // eye tracker frame source: live gaze; excludes --gaze
     std::string calibration;        // for gazeSource

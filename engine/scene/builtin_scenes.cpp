@@ -218,6 +218,7 @@ Scene makeCornell() {
     light.intensity = 3.0f;
     light.innerConeCos = std::cos(glm::radians(50.0f));
     light.outerConeCos = std::cos(glm::radians(85.0f));
+    light.standsInForEmitter = true; // the ceiling lamp's light, for the direct integrator
     scene.lights.push_back(light);
     scene.camera.position = {0.0f, 1.0f, 3.4f};
     scene.camera.forward = {0.0f, 0.0f, -1.0f};

@@ -116,6 +116,7 @@ struct UvTransform {
     int texCoord = 0; // which TEXCOORD_n the texture reads
     glm::vec2 offset{0.0f}, scale{1.0f};
     float rotation = 0.0f; // radians
+    bool operator==(const UvTransform&) const = default;
 
     void apply(std::vector<float>& uv) const {
         if (offset == glm::vec2(0.0f) && scale == glm::vec2(1.0f) && rotation == 0.0f) {
@@ -306,6 +307,16 @@ private:
                 mReport.warnings.push_back(
                     "material '" + m.name +
                     "': base-colour texture not available, using the factor");
+            }
+            // The tracer reads every texture of a material with the base colour's UVs: a
+            // metallic-roughness texture on other UVs is left out.
+            const int mr = textureFor(pbr.metallicRoughnessTexture.index);
+            if (mr >= 0 && uvTransformOf(pbr.metallicRoughnessTexture) == mMaterialUv.back()) {
+                out.metallicRoughnessTexture = mr;
+            } else if (mr >= 0) {
+                mReport.warnings.push_back("material '" + m.name +
+                                           "': metallic-roughness texture on other UVs than the "
+                                           "base colour's, using the factors");
             }
             out.metallic = static_cast<float>(std::clamp(pbr.metallicFactor, 0.0, 1.0));
             out.roughness = static_cast<float>(std::clamp(pbr.roughnessFactor, 0.0, 1.0));

@@ -21,11 +21,17 @@ struct Material {
     int baseColorTexture = -1; // index into Scene::textures
     float metallic = 0.0f;
     float roughness = 1.0f;
+    // glTF's metallicRoughnessTexture (linear; G scales roughness, B metallic), read with the
+    // base colour's UVs; -1: the factors alone. Only the path integrator reads it.
+    int metallicRoughnessTexture = -1;
     bool unlit = false; // KHR_materials_unlit: the base colour is the radiance
     // alphaMode MASK: hits where the base colour's alpha is below this are passed through
     // (negative: opaque).
     float alphaCutoff = -1.0f;
     glm::vec3 emissive{0.0f}; // linear radiance added on hit
+    // KHR_materials_specular's specularFactor: the weight of a dielectric's specular lobe (0: a
+    // pure Lambertian). Only the path integrator reads it.
+    float specular = 1.0f;
     std::string name;
 };
 
@@ -49,6 +55,10 @@ struct Light {
     float range = 0.0f; // 0 = infinite
     float innerConeCos = 1.0f;
     float outerConeCos = 0.70710678f;
+    // The light stands in for an emissive surface of the scene, which the direct integrator
+    // cannot sample; the path integrator samples the surface itself and skips this light, so
+    // that the lamp is not counted twice.
+    bool standsInForEmitter = false;
 };
 
 struct Camera {

@@ -47,7 +47,133 @@ void appendLight(const scene::Light& l, std::vector<glm::vec4>& lights) {
     lights.emplace_back(l.position, asFloat(static_cast<uint32_t>(l.type)));
     lights.emplace_back(glm::normalize(l.direction), l.range);
     lights.emplace_back(l.color * l.intensity, l.innerConeCos);
-    lights.emplace_back(l.outerConeCos, 0.0f, 0.0f, 0.0f);
+    lights.emplace_back(l.outerConeCos, l.standsInForEmitter ? 1.0f : 0.0f, 0.0f, 0.0f);
+}
+
+// Rec. 709 luminance: the emitters' power and the path integrator's Russian roulette and
+// firefly clamp weigh colours by it (path.glsl uses the same weights).
+float luminance(glm::vec3 c) {
+    return glm::dot(c, glm::vec3(0.2126f, 0.7152f, 0.0722f));
+}
+
+// The emissive triangles of one BVH (its packed triangles from `triBase` on) as an alias table
+// over their emitted power, luminance of the emissive radiance times area (Walker 1977; built
+// by Vose 1991's method): texel k = (the probability of keeping entry k, its alias entry, the
+// packed triangle of entry k, 0). Picking an entry uniformly and then it or its alias draws a
+// triangle with probability power / total in O(1), whatever the number of emitters. The
+// triangle's pdf per unit area is then luminance(emissive) / total power, which path.glsl
+// computes from the material alone.
+void packEmitters(const scene::Scene& scene, const scene::Bvh& bvh, uint32_t triBase,
+                  PackedScene& p) {
+    std::vector<uint32_t> tris;
+    std::vector<double> power;
+    const auto& order = bvh.triangleOrder();
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        // Geometry without its materials (a refined level on its own) emits nothing.
+        const uint32_t material = scene.triangleMaterial[order[i]];
+        if (material >= scene.materials.size()) continue;
+        const scene::Material& m = scene.materials[material];
+        const float lum = m.unlit ? 0.0f : luminance(m.emissive);
+        const scene::BvhTriangle& t = bvh.triangles()[i];
+        const float area = 0.5f * glm::length(glm::cross(t.e1, t.e2));
+        if (lum > 0.0f && area > 0.0f) {
+            tris.push_back(triBase + static_cast<uint32_t>(i));
+            power.push_back(static_cast<double>(lum) * area);
+        }
+    }
+    double total = 0.0;
+    for (const double w : power)
+        total += w;
+    const std::size_t n = tris.size();
+    std::vector<double> scaled(n);
+    std::vector<uint32_t> alias(n);
+    std::vector<std::size_t> small, large;
+    for (std::size_t k = 0; k < n; ++k) {
+        scaled[k] = power[k] * static_cast<double>(n) / total;
+        alias[k] = static_cast<uint32_t>(k);
+        (scaled[k] < 1.0 ? small : large).push_back(k);
+    }
+    while (!small.empty() && !large.empty()) {
+        const std::size_t s = small.back(), l = large.back();
+        small.pop_back();
+        alias[s] = static_cast<uint32_t>(l);
+        scaled[l] -= 1.0 - scaled[s];
+        if (scaled[l] < 1.0) {
+            large.pop_back();
+            small.push_back(l);
+        }
+    }
+    // What is left holds probability 1 up to rounding.
+    for (const std::size_t k : small)
+        scaled[k] = 1.0;
+    for (const std::size_t k : large)
+        scaled[k] = 1.0;
+    p.emitters.clear();
+    for (std::size_t k = 0; k < n; ++k) {
+        p.emitters.emplace_back(static_cast<float>(scaled[k]), asFloat(alias[k]), asFloat(tris[k]),
+                                0.0f);
+    }
+    p.uniforms.emitters = {static_cast<uint32_t>(n), static_cast<uint32_t>(p.materials.size()),
+                           std::bit_cast<uint32_t>(static_cast<float>(total)), 0u};
+}
+
+// The environment map's importance-sampling tables for the path integrator (path.glsl,
+// sampleEnvironment), appended to `p.environment` after its texels, four floats per texel: a
+// marginal CDF over rows, then per row a conditional CDF over columns (Pharr et al., PBR 3rd
+// ed., 13.6.7 and 14.2.4), of luminance times sin(theta) (the equirectangular map's solid angle
+// per texel) on a grid of at most kEnvironmentCdfWidth x kEnvironmentCdfWidth / 2 cells, each
+// the mean of the texels it covers. A floor of 1e-3 of the mean keeps every direction
+// sampleable where bilinear filtering spreads light past a cell. SceneUniforms::environment
+// z = the first texel of the tables, w = cells across | cells down << 16.
+void packEnvironmentCdf(const scene::Environment& env, PackedScene& p) {
+    constexpr uint32_t kEnvironmentCdfWidth = 1024;
+    const uint32_t w = env.width, h = env.height;
+    if (w == 0 || h == 0) return;
+    const uint32_t cw = std::min(w, kEnvironmentCdfWidth),
+                   ch = std::min(h, kEnvironmentCdfWidth / 2);
+    std::vector<double> cell(static_cast<std::size_t>(cw) * ch, 0.0);
+    std::vector<uint32_t> count(cell.size(), 0);
+    for (uint32_t y = 0; y < h; ++y) {
+        for (uint32_t x = 0; x < w; ++x) {
+            const std::size_t c = static_cast<std::size_t>(y * ch / h) * cw + x * cw / w;
+            cell[c] += luminance(glm::vec3(env.texels[static_cast<std::size_t>(y) * w + x]));
+            ++count[c];
+        }
+    }
+    double mean = 0.0;
+    for (std::size_t c = 0; c < cell.size(); ++c) {
+        cell[c] = std::max(cell[c], 0.0) / std::max(count[c], 1u);
+        mean += cell[c] / static_cast<double>(cell.size());
+    }
+    std::vector<float> marginal(ch), conditional(cell.size());
+    std::vector<double> rows(ch, 0.0);
+    for (uint32_t j = 0; j < ch; ++j) {
+        const double sinTheta = std::sin(3.14159265358979 * (j + 0.5) / ch);
+        std::vector<double> run(cw);
+        double sum = 0.0;
+        for (uint32_t i = 0; i < cw; ++i) {
+            sum += (cell[static_cast<std::size_t>(j) * cw + i] + 1e-3 * mean + 1e-12) * sinTheta;
+            run[i] = sum;
+        }
+        for (uint32_t i = 0; i < cw; ++i)
+            conditional[static_cast<std::size_t>(j) * cw + i] =
+                i + 1 == cw ? 1.0f : static_cast<float>(run[i] / sum);
+        rows[j] = sum;
+    }
+    double total = 0.0;
+    for (uint32_t j = 0; j < ch; ++j) {
+        total += rows[j];
+        marginal[j] = static_cast<float>(total);
+    }
+    for (uint32_t j = 0; j < ch; ++j)
+        marginal[j] = j + 1 == ch ? 1.0f : static_cast<float>(marginal[j] / total);
+    std::vector<float> floats = marginal;
+    floats.insert(floats.end(), conditional.begin(), conditional.end());
+    floats.resize((floats.size() + 3) / 4 * 4, 1.0f);
+    p.uniforms.environment.z = static_cast<uint32_t>(p.environment.size());
+    p.uniforms.environment.w = cw | (ch << 16);
+    for (std::size_t k = 0; k < floats.size(); k += 4)
+        p.environment.emplace_back(floats[k], floats[k + 1], floats[k + 2], floats[k + 3]);
 }
 
 // Everything but the geometry: materials, lights, textures, sky; shared by every LOD level.
@@ -60,7 +186,11 @@ PackedScene packShared(const scene::Scene& scene) {
         p.materials.emplace_back(m.emissive, m.unlit ? -1.0f : m.metallic);
         const uint32_t tex = m.baseColorTexture < 0 ? shaders::trace::kNoTexture
                                                     : static_cast<uint32_t>(m.baseColorTexture);
-        p.materials.emplace_back(m.roughness, asFloat(tex), m.alphaCutoff, 0.0f);
+        p.materials.emplace_back(m.roughness, asFloat(tex), m.alphaCutoff, m.specular);
+        const uint32_t mr = m.metallicRoughnessTexture < 0
+                                ? shaders::trace::kNoTexture
+                                : static_cast<uint32_t>(m.metallicRoughnessTexture);
+        p.materials.emplace_back(asFloat(mr), 0.0f, 0.0f, 0.0f);
     }
     for (const scene::Light& l : scene.lights) {
         appendLight(l, p.lights);
@@ -74,6 +204,7 @@ PackedScene packShared(const scene::Scene& scene) {
     p.uniforms.skyGround = glm::vec4(scene.sky.ground, 0.0f);
     p.environment = scene.environment.texels;
     p.uniforms.environment = {scene.environment.width, scene.environment.height, 0u, 0u};
+    packEnvironmentCdf(scene.environment, p);
     p.alphaMasked = scene.hasAlphaMask();
     p.uniforms.counts = {
         static_cast<uint32_t>(scene.lights.size()), static_cast<uint32_t>(scene.materials.size()),
@@ -261,6 +392,7 @@ PackedScene packScene(std::span<const LodGeometry> levels, const scene::DynamicG
 PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh) {
     PackedScene p = packShared(scene);
     appendGeometry(scene, bvh, p);
+    packEmitters(scene, bvh, 0, p);
     return p;
 }
 
@@ -275,6 +407,8 @@ PackedScene packScene(std::span<const LodGeometry> levels) {
     for (std::size_t l = 0; l < levels.size(); ++l) {
         roots[l] = static_cast<uint32_t>(p.nodes.size() / 2);
         appendGeometry(*levels[l].scene, *levels[l].bvh, p);
+        // The full-detail level's emitters only: a coarser level's lamp is the same surface.
+        if (l == 0) packEmitters(*levels[0].scene, *levels[0].bvh, 0, p);
     }
     for (std::size_t l = levels.size(); l < shaders::trace::kLodLevels; ++l) {
         roots[l] = roots[levels.size() - 1];
@@ -397,7 +531,10 @@ void GpuScene::prepare(uint32_t copy) {
 void GpuScene::uploadShared(vk::Context& ctx, const PackedScene& p) {
     mAlphaMasked = p.alphaMasked;
     constexpr VkFormat f4 = VK_FORMAT_R32G32B32A32_SFLOAT;
-    mMaterials = upload(ctx, p.materials.data(), p.materials.size() * 16, f4, "scene.materials");
+    // The emitters' alias table follows the materials (SceneUniforms::emitters).
+    std::vector<glm::vec4> materials = p.materials;
+    materials.insert(materials.end(), p.emitters.begin(), p.emitters.end());
+    mMaterials = upload(ctx, materials.data(), materials.size() * 16, f4, "scene.materials");
     mTexels = upload(ctx, p.texels.data(), p.texels.size() * 4, VK_FORMAT_R32_UINT, "scene.texels");
     mTextureInfo = upload(ctx, p.textureInfo.data(), p.textureInfo.size() * 16,
                           VK_FORMAT_R32G32B32A32_UINT, "scene.texture_info");
@@ -432,10 +569,22 @@ void dispatchImageTrace(vk::Context& ctx, VkCommandBuffer cmd, const vk::Compute
                  (extent.height + group.height - 1) / group.height);
 }
 
-std::vector<uint32_t> tracingSpecialization(std::vector<uint32_t> passConstants, bool dynamic) {
-    passConstants.resize(
-        std::max<std::size_t>(passConstants.size(), shaders::trace::kSpecDynamic + 1));
-    passConstants[shaders::trace::kSpecDynamic] = dynamic ? 1u : 0u;
+std::vector<uint32_t> tracingSpecialization(std::vector<uint32_t> passConstants, bool dynamic,
+                                            const IntegratorSettings& integrator) {
+    namespace t = shaders::trace;
+    passConstants.resize(std::max<std::size_t>(passConstants.size(), t::kSpecDynamic + 1));
+    passConstants[t::kSpecDynamic] = dynamic ? 1u : 0u;
+    if (integrator.integrator == Integrator::Direct) return passConstants;
+    if (integrator.bounces < 1 || integrator.bounces > kMaxBounces) {
+        throw ArgumentError("bounces must be 1 to " + std::to_string(kMaxBounces));
+    }
+    if (!(integrator.fireflyClamp >= 0.0f) || !std::isfinite(integrator.fireflyClamp)) {
+        throw ArgumentError("the firefly clamp must be 0 (off) or a positive luminance");
+    }
+    passConstants.resize(std::max<std::size_t>(passConstants.size(), t::kSpecFireflyClamp + 1));
+    passConstants[t::kSpecIntegrator] = static_cast<uint32_t>(integrator.integrator);
+    passConstants[t::kSpecBounces] = integrator.bounces;
+    passConstants[t::kSpecFireflyClamp] = std::bit_cast<uint32_t>(integrator.fireflyClamp);
     return passConstants;
 }
 

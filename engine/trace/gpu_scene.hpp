@@ -13,6 +13,7 @@
 #include "scene/bvh.hpp"
 #include "scene/dynamic_geometry.hpp"
 #include "scene/scene.hpp"
+#include "trace/integrator.hpp"
 #include "trace_shared.h"
 #include "vk/resources.hpp"
 
@@ -30,6 +31,9 @@ struct PackedScene {
     std::vector<glm::vec4> triangles;
     std::vector<glm::vec4> shading;
     std::vector<glm::vec4> materials;
+    // The emissive triangles' alias table (SceneUniforms::emitters), uploaded after the
+    // materials in their table.
+    std::vector<glm::vec4> emitters;
     std::vector<glm::vec4> lights;
     std::vector<uint32_t> texels;
     std::vector<glm::uvec4> textureInfo;
@@ -130,9 +134,12 @@ private:
 tracingBindings(std::initializer_list<VkDescriptorType> passBindings);
 
 // A tracing pipeline's specialisation constants: the pass's own (constant_id 0 = kAlphaMask
-// and on, as before) padded to kSpecDynamic, which takes `dynamic` (GpuScene::dynamic()).
-[[nodiscard]] std::vector<uint32_t> tracingSpecialization(std::vector<uint32_t> passConstants,
-                                                          bool dynamic);
+// and on, as before) padded to kSpecDynamic, which takes `dynamic` (GpuScene::dynamic()), and
+// for an integrator other than the direct one its constants (kSpecIntegrator and on); the
+// direct integrator's pipelines leave those at their defaults, as they were built before.
+[[nodiscard]] std::vector<uint32_t>
+tracingSpecialization(std::vector<uint32_t> passConstants, bool dynamic,
+                      const IntegratorSettings& integrator = {});
 
 // A storage image a tracing shader writes, at its binding.
 struct TracedImage {

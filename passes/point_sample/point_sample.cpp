@@ -67,8 +67,12 @@ PointSamplePass::PointSamplePass(vk::Context& ctx)
 PointSamplePass::~PointSamplePass() = default;
 
 const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaMask, bool chunked,
-                                                     bool dynamic) const {
-    auto& slot = mPipelines[{lanes, alphaMask, chunked, dynamic}];
+                                                     bool dynamic,
+                                                     const trace::IntegratorSettings& i) const {
+    const bool direct = i.integrator == trace::Integrator::Direct; // one pipeline, any bounces
+    auto& slot =
+        mPipelines[{lanes, alphaMask, chunked, dynamic, static_cast<uint32_t>(i.integrator),
+                    direct ? 0u : i.bounces, direct ? 0.0f : i.fireflyClamp}];
     if (!slot) {
         const std::vector<VkDescriptorType> bindings =
             trace::tracingBindings({VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, // kBindingPoints
@@ -77,10 +81,10 @@ const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaM
                                     VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});     // kBindingSampleMotion
         slot = std::make_unique<vk::ComputePipeline>(
             mCtx,
-            vk::ComputePipelineDesc{"point_sample", gt_spv_point_sample_comp, bindings,
-                                    sizeof(sh::PointSamplePush),
-                                    trace::tracingSpecialization(
-                                        {alphaMask ? 1u : 0u, lanes, chunked ? 1u : 0u}, dynamic)});
+            vk::ComputePipelineDesc{
+                "point_sample", gt_spv_point_sample_comp, bindings, sizeof(sh::PointSamplePush),
+                trace::tracingSpecialization({alphaMask ? 1u : 0u, lanes, chunked ? 1u : 0u},
+                                             dynamic, i)});
     }
     return *slot;
 }
@@ -90,9 +94,10 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
                                   const foveation::GpuPointSet& points, glm::vec2 gaze,
                                   uint32_t raysPerPoint, uint32_t lanesPerPoint,
                                   const PanelWarp* warp, bool lod, uint32_t frame, float siteJitter,
-                                  bool thesisDisc, PointDispatch dispatch) const {
+                                  bool thesisDisc, PointDispatch dispatch,
+                                  const trace::IntegratorSettings& integrator) const {
     return addSamples(graph, scene, cam, points, gaze, raysPerPoint, lanesPerPoint, warp, lod,
-                      frame, siteJitter, thesisDisc, dispatch)
+                      frame, siteJitter, thesisDisc, dispatch, integrator)
         .samples;
 }
 
@@ -101,8 +106,8 @@ SampledPoints PointSamplePass::addSamples(rg::RenderGraph& graph, const trace::G
                                           const foveation::GpuPointSet& points, glm::vec2 gaze,
                                           uint32_t raysPerPoint, uint32_t lanesPerPoint,
                                           const PanelWarp* warp, bool lod, uint32_t frame,
-                                          float siteJitter, bool thesisDisc,
-                                          PointDispatch dispatch) const {
+                                          float siteJitter, bool thesisDisc, PointDispatch dispatch,
+                                          const trace::IntegratorSettings& integrator) const {
     if (raysPerPoint == 0) {
         throw ArgumentError("rays per point is 0: every point traces at least 1 ray");
     }
@@ -113,7 +118,8 @@ SampledPoints PointSamplePass::addSamples(rg::RenderGraph& graph, const trace::G
     }
     const bool chunked = dispatch == PointDispatch::OnScreenChunks;
     const bool dynamic = scene.dynamic();
-    const vk::ComputePipeline& pipe = pipeline(lanes, scene.alphaMasked(), chunked, dynamic);
+    const vk::ComputePipeline& pipe =
+        pipeline(lanes, scene.alphaMasked(), chunked, dynamic, integrator);
     const uint32_t pointsPerGroup = sh::kSampleGroupSize / lanes;
     const uint32_t w = graph.outputWidth(), h = graph.outputHeight();
     const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());

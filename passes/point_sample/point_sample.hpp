@@ -11,6 +11,7 @@
 #include "display/hmd_profile.hpp"
 #include "foveation/sample_canvas.hpp"
 #include "render_graph/render_graph.hpp"
+#include "trace/integrator.hpp"
 #include "trace_shared.h"
 #include "vk/resources.hpp"
 
@@ -68,12 +69,14 @@ public:
     // (site_jitter.glsl; below 1.9). `thesisDisc`: rays anywhere
     // in the point's disc of radius p, as the thesis; else within 0.6 px of the site. With
     // OnScreenChunks a pass "point_sample.chunks" first uploads this frame's chunk list.
+    // `integrator`: what each ray computes (the direct integrator or the path tracer).
     rg::BufferId add(rg::RenderGraph& graph, const trace::GpuScene& scene,
                      const shaders::trace::CameraPush& camera, const foveation::GpuPointSet& points,
                      glm::vec2 gaze, uint32_t raysPerPoint, uint32_t lanesPerPoint = 0,
                      const PanelWarp* warp = nullptr, bool lod = false, uint32_t frame = 0,
                      float siteJitter = 0.0f, bool thesisDisc = false,
-                     PointDispatch dispatch = PointDispatch::OnScreenChunks) const;
+                     PointDispatch dispatch = PointDispatch::OnScreenChunks,
+                     const trace::IntegratorSettings& integrator = {}) const;
     // The same, and in a scene that moves also a new buffer "point_sample.motion" (one vec4
     // per point: its ray 0's first hit's motion).
     SampledPoints addSamples(rg::RenderGraph& graph, const trace::GpuScene& scene,
@@ -82,16 +85,18 @@ public:
                              uint32_t raysPerPoint, uint32_t lanesPerPoint = 0,
                              const PanelWarp* warp = nullptr, bool lod = false, uint32_t frame = 0,
                              float siteJitter = 0.0f, bool thesisDisc = false,
-                             PointDispatch dispatch = PointDispatch::OnScreenChunks) const;
+                             PointDispatch dispatch = PointDispatch::OnScreenChunks,
+                             const trace::IntegratorSettings& integrator = {}) const;
 
 private:
-    const vk::ComputePipeline& pipeline(uint32_t lanes, bool alphaMask, bool chunked,
-                                        bool dynamic) const;
+    const vk::ComputePipeline& pipeline(uint32_t lanes, bool alphaMask, bool chunked, bool dynamic,
+                                        const trace::IntegratorSettings& integrator) const;
 
     vk::Context& mCtx;
-    // One pipeline per lane count, alpha-mask setting, dispatch and scene kind (static or
-    // moving), built on first use (each compiles the whole tracer).
-    mutable std::map<std::tuple<uint32_t, bool, bool, bool>, std::unique_ptr<vk::ComputePipeline>>
+    // One pipeline per lane count, alpha-mask setting, dispatch, scene kind (static or
+    // moving) and integrator, built on first use (each compiles the whole tracer).
+    mutable std::map<std::tuple<uint32_t, bool, bool, bool, uint32_t, uint32_t, float>,
+                     std::unique_ptr<vk::ComputePipeline>>
         mPipelines;
     vk::Buffer mNoChunks; // bound as the chunk list when the whole set is dispatched
 };

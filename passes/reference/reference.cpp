@@ -15,8 +15,11 @@ ReferencePass::ReferencePass(vk::Context& ctx) : mCtx(ctx) {
     (void)pipeline(false, false); // the common case, so that a bad shader fails at construction
 }
 
-const vk::ComputePipeline& ReferencePass::pipeline(bool alphaMask, bool dynamic) const {
-    auto& slot = mPipelines[(alphaMask ? 1 : 0) + (dynamic ? 2 : 0)];
+const vk::ComputePipeline& ReferencePass::pipeline(bool alphaMask, bool dynamic,
+                                                   const trace::IntegratorSettings& i) const {
+    const bool direct = i.integrator == trace::Integrator::Direct; // one pipeline, any bounces
+    auto& slot = mPipelines[{alphaMask, dynamic, static_cast<uint32_t>(i.integrator),
+                             direct ? 0u : i.bounces, direct ? 0.0f : i.fireflyClamp}];
     if (!slot) {
         const std::vector<VkDescriptorType> bindings =
             trace::tracingBindings({VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // sh::kBindingOutput
@@ -24,7 +27,7 @@ const vk::ComputePipeline& ReferencePass::pipeline(bool alphaMask, bool dynamic)
         slot = std::make_unique<vk::ComputePipeline>(
             mCtx, vk::ComputePipelineDesc{
                       "reference.trace", gt_spv_reference_comp, bindings, sizeof(sh::ReferencePush),
-                      trace::tracingSpecialization({alphaMask ? 1u : 0u}, dynamic)});
+                      trace::tracingSpecialization({alphaMask ? 1u : 0u}, dynamic, i)});
     }
     return *slot;
 }
@@ -61,8 +64,8 @@ ReferenceImage ReferencePass::addImage(rg::RenderGraph& graph, const trace::GpuS
                             rg::Access::StorageWrite);
             }
         },
-        [ctx = &mCtx, pipeline = &pipeline(scene.alphaMasked(), dynamic), scene = &scene,
-         push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+        [ctx = &mCtx, pipeline = &pipeline(scene.alphaMasked(), dynamic, settings.integrator),
+         scene = &scene, push](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
             // A scene that does not move never writes the motion binding.
             const VkImageView output = r.texture(d.output).view;
             trace::dispatchImageTrace(

@@ -1,12 +1,14 @@
 #pragma once
 // Pass `reference`: full-resolution ray tracing with N stratified jittered rays per pixel into a
 // linear RGBA32F image — the baseline every foveated method is measured against.
-#include <array>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
+#include <tuple>
 
 #include "render_graph/render_graph.hpp"
+#include "trace/integrator.hpp"
 #include "trace_shared.h"
 
 namespace gt::vk {
@@ -22,6 +24,7 @@ namespace gt::passes {
 struct ReferenceSettings {
     uint32_t raysPerPixel = 1;
     uint32_t frameSeed = 0;
+    trace::IntegratorSettings integrator{};
 };
 
 // The radiance (rgb; a = the first ray's first-hit distance) and, in a scene that moves
@@ -46,11 +49,15 @@ public:
                             const ReferenceSettings& settings) const;
 
 private:
-    // Built on first use: without and with the alpha test (trace.glsl's kAlphaMask).
-    const vk::ComputePipeline& pipeline(bool alphaMask, bool dynamic) const;
+    // Built on first use: without and with the alpha test (trace.glsl's kAlphaMask), for a
+    // static or moving scene, per integrator.
+    const vk::ComputePipeline& pipeline(bool alphaMask, bool dynamic,
+                                        const trace::IntegratorSettings& integrator = {}) const;
 
     vk::Context& mCtx;
-    mutable std::array<std::unique_ptr<vk::ComputePipeline>, 4> mPipelines; // alpha | dynamic
+    mutable std::map<std::tuple<bool, bool, uint32_t, uint32_t, float>,
+                     std::unique_ptr<vk::ComputePipeline>>
+        mPipelines;
 };
 
 } // namespace gt::passes

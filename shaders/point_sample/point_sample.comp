@@ -25,6 +25,7 @@
 #include "random.glsl"
 #include "site_jitter.glsl"
 #include "trace.glsl"
+#include "path.glsl"
 #include "motion.glsl"
 
 layout(local_size_x = kSampleGroupSize) in;
@@ -120,7 +121,8 @@ void main() {
             pos += radius * vec2(cos(angle), sin(angle));
         }
         float depth;
-        sum += traceRadiance(pc.origin.xyz, cameraRay(cam, toImage(pos, size), size), depth);
+        sum += traceIntegrator(pc.origin.xyz, cameraRay(cam, toImage(pos, size), size), i, r,
+                               siteFrame, depth);
         if (r == 0u) {
             firstDepth = depth;
             if (kDynamic) firstMotion = storedMotion();

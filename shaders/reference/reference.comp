@@ -5,6 +5,7 @@
 #include "reference_shared.h"
 #include "random.glsl"
 #include "trace.glsl"
+#include "path.glsl"
 #include "motion.glsl"
 
 layout(local_size_x = kGroupSizeX, local_size_y = kGroupSizeY) in;
@@ -25,7 +26,7 @@ void main() {
         vec2 o = sampleOffset(pixelIndex, i, spp, pc.params.w);
         vec3 dir = cameraRay(cam, vec2(pixel) + o, vec2(width, height));
         float depth;
-        sum += traceRadiance(pc.origin.xyz, dir, depth);
+        sum += traceIntegrator(pc.origin.xyz, dir, pixelIndex, i, pc.params.w, depth);
         if (i == 0u) {
             firstDepth = depth;
             if (kDynamic) firstMotion = storedMotion();

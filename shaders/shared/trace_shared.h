@@ -10,7 +10,7 @@ GT_NAMESPACE_BEGIN(trace)
 GT_CONST kBindingNodes = 0;       // samplerBuffer RGBA32F, 2 texels per BVH node
 GT_CONST kBindingTriangles = 1;   // samplerBuffer RGBA32F, 3 texels per triangle (v0, e1, e2)
 GT_CONST kBindingShading = 2;     // samplerBuffer RGBA32F, 4 texels per triangle
-GT_CONST kBindingMaterials = 3;   // samplerBuffer RGBA32F, 3 texels per material
+GT_CONST kBindingMaterials = 3;   // samplerBuffer RGBA32F, kMaterialTexels per material
 GT_CONST kBindingLights = 4;      // samplerBuffer RGBA32F, 4 texels per light
 GT_CONST kBindingTexels = 5;      // usamplerBuffer R32UI, packed sRGB RGBA8 texels
 GT_CONST kBindingTextureInfo = 6; // usamplerBuffer RGBA32UI, (offset, width, height, 0)
@@ -21,7 +21,11 @@ GT_CONST kSceneBindingCount = 9;
 GT_CONST kNodeTexels = 2;
 GT_CONST kTriangleTexels = 3;
 GT_CONST kShadingTexels = 4;
-GT_CONST kMaterialTexels = 3;
+// Material texels: 0 = base colour factor; 1 = emissive rgb, metallic (-1: unlit);
+// 2 = roughness, base colour texture, alpha cutoff, specular weight (KHR_materials_specular's
+// specularFactor); 3 = metallic-roughness texture (kNoTexture: none), 0, 0, 0. Texels 2.w and 3
+// are read by the path integrator only.
+GT_CONST kMaterialTexels = 4;
 GT_CONST kLightTexels = 4;
 GT_CONST kStackSize = 128; // >= 2 * Bvh::kMaxDepth
 GT_CONST kNoTexture = 0xffffffffu;
@@ -29,6 +33,8 @@ GT_CONST kNoTexture = 0xffffffffu;
 GT_CONST kLightPoint = 0;
 GT_CONST kLightSpot = 1;
 GT_CONST kLightDirectional = 2;
+// Light texel 3: x = outer cone cosine, y = 1 for a light that stands in for an emissive
+// surface of the scene in the direct integrator (path.glsl skips it: the surface itself emits).
 
 // std140-compatible: vec4 members only.
 struct SceneUniforms {
@@ -36,7 +42,10 @@ struct SceneUniforms {
     vec4 skyZenith;    // rgb, w = exposure
     vec4 skyGround;    // rgb, w unused
     uvec4 counts;      // x = lights, y = materials, z = textures, w = triangles
-    uvec4 environment; // x = width, y = height (0: none, use the sky gradient)
+    // x = width, y = height (0: none, use the sky gradient); z = the first texel of its
+    // importance-sampling tables in the environment table, w = their cells across | down << 16
+    // (gpu_scene.cpp, packEnvironmentCdf; read by path.glsl only)
+    uvec4 environment;
     // Root node of each geometric LOD level's BVH (0 = full detail, 1.. coarser Catmull-Clark
     // refinements; levels past the scene's last repeat it). A scene without cages has one.
     uvec4 lodRoots;
@@ -44,12 +53,25 @@ struct SceneUniforms {
     // top level's root node, y = the first texel of the instance table in the nodes table,
     // z = the instances; w unused. The top level's leaves index instance records.
     uvec4 dynamic;
+    // The emissive triangles as the path integrator samples them (gpu_scene.cpp,
+    // packEmitters): x = how many, y = the first texel of their alias table in the materials
+    // table (one texel each), z = uintBitsToFloat of their total emitted power (luminance of
+    // the emissive radiance times area), w unused.
+    uvec4 emitters;
 };
 GT_CONST kLodLevels = 4;
 
 // Specialisation constant of every tracing shader (trace.glsl's kDynamic): the scene has a
 // two-level part (trace::GpuScene::dynamic()). Ids 1 and 2 belong to point_sample's own.
 GT_CONST kSpecDynamic = 3;
+// Specialisation constants of the integrator (path.glsl; trace::IntegratorSettings): which one,
+// its scattering vertices per path, and the firefly clamp (a float's bits; 0 = off).
+GT_CONST kSpecIntegrator = 4;
+GT_CONST kSpecBounces = 5;
+GT_CONST kSpecFireflyClamp = 6;
+GT_CONST kIntegratorDirect = 0;
+GT_CONST kIntegratorPath = 1;
+GT_CONST kIntegratorBruteForce = 2;
 
 // An instance record, kInstanceTexels texels in the nodes table (trace::packInstances):
 //   0-2  world-to-object, rows of a 3x4 matrix (object = row . (world, 1))
