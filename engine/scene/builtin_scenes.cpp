@@ -61,6 +61,56 @@ void addFigure(SceneBuilder& b, glm::vec3 feet, float yaw, float height, uint32_
     b.sphere(part({0, 1.62f, 0}, {0.22f, 0.26f, 0.23f}), skin, 6, 10); // head
 }
 
+// The market's tree at `treeBase`: trunk, planter and a crown of 2,400 small leaves.
+void addTree(SceneBuilder& b, Pcg32& rng, glm::vec3 treeBase, uint32_t barkMat, uint32_t wallMat,
+             const uint32_t (&leafMats)[4]) {
+    b.cylinder(trs(treeBase, {0.35f, 3.2f, 0.35f}), barkMat, 12);
+    b.box(trs(treeBase + glm::vec3(0, 0.25f, 0), {1.8f, 0.5f, 1.8f}), wallMat); // planter
+    for (int i = 0; i < 2400; ++i) {
+        glm::vec3 d;
+        do {
+            d = {rng.range(-1, 1), rng.range(-1, 1), rng.range(-1, 1)};
+        } while (glm::dot(d, d) > 1.0f);
+        const glm::vec3 c = treeBase + glm::vec3(0, 3.8f, 0) + d * glm::vec3(1.9f, 1.4f, 1.9f);
+        const glm::vec3 u =
+            glm::normalize(glm::vec3(rng.range(-1, 1), rng.range(-1, 1), rng.range(-1, 1))) * 0.16f;
+        glm::vec3 v =
+            glm::cross(u, glm::normalize(glm::vec3(rng.range(-1, 1), 1.0f, rng.range(-1, 1))));
+        v = glm::normalize(v) * 0.09f;
+        b.triangle({c - u, glm::normalize(glm::cross(u, v)), {0, 0}},
+                   {c + v, glm::normalize(glm::cross(u, v)), {1, 0}},
+                   {c + u, glm::normalize(glm::cross(u, v)), {1, 1}}, leafMats[i % 4]);
+        b.triangle({c - u, glm::normalize(glm::cross(u, v)), {0, 0}},
+                   {c + u, glm::normalize(glm::cross(u, v)), {1, 1}},
+                   {c - v, glm::normalize(glm::cross(u, v)), {0, 1}}, leafMats[(i + 1) % 4]);
+    }
+}
+
+// Two rows of dark pillars, and ceiling light panels between them with a spot under each (the
+// panels are what the eye sees, the spots what casts the shadows under the direct integrator;
+// a path tracer samples the panels themselves, so the spots stand in for them).
+void addPillarsAndLights(Scene& scene, SceneBuilder& b, float height, uint32_t pillarMat,
+                         uint32_t lampMat) {
+    for (int i = 0; i < 6; ++i) {
+        const float z = 6.0f - 6.5f * static_cast<float>(i);
+        for (float x : {-5.0f, 5.0f})
+            b.cylinder(trs({x, 0, z}, {0.7f, height, 0.7f}), pillarMat, 20);
+        b.quad({-1.2f, height - 0.02f, z - 3.6f}, {2.4f, 0, 0}, {0, 0, 0.6f}, lampMat);
+        // Downlights (spots) so the ceiling around each panel stays dim: bright panels on a
+        // darker ceiling, as in the study's "lights on the ceiling of a shop".
+        Light light;
+        light.type = LightType::Spot;
+        light.position = {0.0f, height - 0.05f, z - 3.3f};
+        light.direction = {0.0f, -1.0f, 0.0f};
+        light.color = {1.0f, 0.95f, 0.85f};
+        light.intensity = 70.0f;
+        light.innerConeCos = std::cos(glm::radians(35.0f));
+        light.outerConeCos = std::cos(glm::radians(75.0f));
+        light.standsInForEmitter = true; // for the panel above it
+        scene.lights.push_back(light);
+    }
+}
+
 } // namespace
 
 Scene makeMarket() {
@@ -114,25 +164,8 @@ Scene makeMarket() {
     b.quad({kW, 0, kZ1}, {0, 0, kZ0 - kZ1}, {0, kH, 0}, wallMat);
     b.quad({kW, 0, kZ1}, {-2 * kW, 0, 0}, {0, kH, 0}, wallMat);
 
-    // Two rows of dark pillars, and ceiling light panels between them with a point light under
-    // each (the panels are what the eye sees, the point lights what casts the shadows).
-    for (int i = 0; i < 6; ++i) {
-        const float z = 6.0f - 6.5f * static_cast<float>(i);
-        for (float x : {-5.0f, 5.0f})
-            b.cylinder(trs({x, 0, z}, {0.7f, kH, 0.7f}), pillarMat, 20);
-        b.quad({-1.2f, kH - 0.02f, z - 3.6f}, {2.4f, 0, 0}, {0, 0, 0.6f}, lampMat);
-        // Downlights (spots) so the ceiling around each panel stays dim: bright panels on a
-        // darker ceiling, as in the study's "lights on the ceiling of a shop".
-        Light light;
-        light.type = LightType::Spot;
-        light.position = {0.0f, kH - 0.05f, z - 3.3f};
-        light.direction = {0.0f, -1.0f, 0.0f};
-        light.color = {1.0f, 0.95f, 0.85f};
-        light.intensity = 70.0f;
-        light.innerConeCos = std::cos(glm::radians(35.0f));
-        light.outerConeCos = std::cos(glm::radians(75.0f));
-        scene.lights.push_back(light);
-    }
+    // Two rows of dark pillars, and ceiling light panels between them with a spot under each.
+    addPillarsAndLights(scene, b, kH, pillarMat, lampMat);
     // Shopfronts along both walls: glass windows, a counter and a coloured awning.
     for (int i = 0; i < 5; ++i) {
         const float z = 3.0f - 7.0f * static_cast<float>(i);
@@ -146,26 +179,7 @@ Scene makeMarket() {
     }
     // The tree: a trunk and a crown of many small leaves (thesis, 6.3: flickering leaves).
     const glm::vec3 treeBase(2.2f, 0.0f, -9.0f);
-    b.cylinder(trs(treeBase, {0.35f, 3.2f, 0.35f}), barkMat, 12);
-    b.box(trs(treeBase + glm::vec3(0, 0.25f, 0), {1.8f, 0.5f, 1.8f}), wallMat); // planter
-    for (int i = 0; i < 2400; ++i) {
-        glm::vec3 d;
-        do {
-            d = {rng.range(-1, 1), rng.range(-1, 1), rng.range(-1, 1)};
-        } while (glm::dot(d, d) > 1.0f);
-        const glm::vec3 c = treeBase + glm::vec3(0, 3.8f, 0) + d * glm::vec3(1.9f, 1.4f, 1.9f);
-        const glm::vec3 u =
-            glm::normalize(glm::vec3(rng.range(-1, 1), rng.range(-1, 1), rng.range(-1, 1))) * 0.16f;
-        glm::vec3 v =
-            glm::cross(u, glm::normalize(glm::vec3(rng.range(-1, 1), 1.0f, rng.range(-1, 1))));
-        v = glm::normalize(v) * 0.09f;
-        b.triangle({c - u, glm::normalize(glm::cross(u, v)), {0, 0}},
-                   {c + v, glm::normalize(glm::cross(u, v)), {1, 0}},
-                   {c + u, glm::normalize(glm::cross(u, v)), {1, 1}}, leafMats[i % 4]);
-        b.triangle({c - u, glm::normalize(glm::cross(u, v)), {0, 0}},
-                   {c + u, glm::normalize(glm::cross(u, v)), {1, 1}},
-                   {c - v, glm::normalize(glm::cross(u, v)), {0, 1}}, leafMats[(i + 1) % 4]);
-    }
+    addTree(b, rng, treeBase, barkMat, wallMat, leafMats);
     // A mirror sphere on a plinth.
     b.box(trs({-2.0f, 0.4f, -4.0f}, {1.2f, 0.8f, 1.2f}), pillarMat);
     b.sphere(trs({-2.0f, 1.45f, -4.0f}, {1.3f, 1.3f, 1.3f}), chromeMat, 16, 24);

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "scene/builtin_scenes.hpp"
 #include "scene/bvh.hpp"
 #include "scene/scene.hpp"
 #include "trace/gpu_scene.hpp"
@@ -46,6 +47,21 @@ TEST(EmitterTable, DrawsEachTriangleByItsPower) {
         const bool isBright = std::abs(area - 0.25) < 1e-6;
         const double power = area * (isBright ? 8.0 * 0.7152 : 1.0);
         EXPECT_NEAR(probability, power / (dimPower + brightPower), 1e-6) << "triangle " << tri;
+    }
+}
+
+// A built-in scene that has emissive geometry lights it under the direct integrator with
+// punctual stand-ins, which the path tracer must skip (it samples the emitters): every punctual
+// light of the market and the Cornell box says so, or the path tracer counts that light twice.
+TEST(EmitterTable, BuiltinScenesMarkTheirPunctualStandIns) {
+    for (const scene::Scene& s : {scene::makeMarket(), scene::makeCornell()}) {
+        bool emissive = false;
+        for (const scene::Material& m : s.materials)
+            emissive = emissive || m.emissive != glm::vec3(0.0f);
+        ASSERT_TRUE(emissive) << s.name;
+        ASSERT_FALSE(s.lights.empty()) << s.name;
+        for (const scene::Light& l : s.lights)
+            EXPECT_TRUE(l.standsInForEmitter) << s.name;
     }
 }
 
