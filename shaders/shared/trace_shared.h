@@ -38,10 +38,10 @@ GT_CONST kLightDirectional = 2;
 
 // std140-compatible: vec4 members only.
 struct SceneUniforms {
-    vec4 skyHorizon;   // rgb, w = ambient share
-    vec4 skyZenith;    // rgb, w = exposure
-    vec4 skyGround;    // rgb, w unused
-    uvec4 counts;      // x = lights, y = materials, z = textures, w = triangles
+    vec4 skyHorizon; // rgb, w = ambient share
+    vec4 skyZenith;  // rgb, w = exposure
+    vec4 skyGround;  // rgb, w unused
+    uvec4 counts;    // x = lights, y = materials, z = textures, w = triangles
     // x = width, y = height (0: none, use the sky gradient); z = the first texel of its
     // importance-sampling tables in the environment table, w = their cells across | down << 16
     // (gpu_scene.cpp, packEnvironmentCdf; read by path.glsl only)
