@@ -52,39 +52,13 @@ struct Surface {
     float specular;  // a dielectric's specular weight (KHR_materials_specular)
 };
 
-// A linear (not sRGB) texture bilinearly at uv, wrapping, as materialBaseColor reads colour:
-// glTF's metallic-roughness texture holds data, not colour.
-vec4 linearTexture(uint tex, vec2 uv) {
-    uvec4 info = texelFetch(uTextureInfo, int(tex));
-    int w = int(info.y), h = int(info.z);
-    float x = uv.x * float(w) - 0.5, y = uv.y * float(h) - 0.5;
-    float fx = floor(x), fy = floor(y);
-    float ax = x - fx, ay = y - fy;
-    int x0 = wrapIndex(int(fx), w), x1 = wrapIndex(int(fx) + 1, w);
-    int y0 = wrapIndex(int(fy), h), y1 = wrapIndex(int(fy) + 1, h);
-    int base = int(info.x);
-    vec4 c00 = unpackUnorm4x8(texelFetch(uTexels, base + y0 * w + x0).r);
-    vec4 c10 = unpackUnorm4x8(texelFetch(uTexels, base + y0 * w + x1).r);
-    vec4 c01 = unpackUnorm4x8(texelFetch(uTexels, base + y1 * w + x0).r);
-    vec4 c11 = unpackUnorm4x8(texelFetch(uTexels, base + y1 * w + x1).r);
-    return mix(mix(c00, c10, ax), mix(c01, c11, ax), ay);
-}
-
 // The surface hit by the ray (origin, dir), its normals as traceRadiance orients them.
 Surface surfaceAt(Hit hit, vec3 origin, vec3 dir) {
     vec4 s0, s1, s2, s3;
     shadingTexels(hit.tri, s0, s1, s2, s3);
-    float w0 = 1.0 - hit.u - hit.v;
-    vec3 n = normalize(w0 * s0.xyz + hit.u * s1.xyz + hit.v * s2.xyz);
+    vec3 n, ng;
+    hitNormals(hit, dir, s0, s1, s2, n, ng);
     uint material = floatBitsToUint(s3.w);
-    int tb = int(hit.tri) * 3;
-    vec3 ng = normalize(cross(texelFetch(uTriangles, tb + 1).xyz, texelFetch(uTriangles, tb + 2).xyz));
-    if (kDynamic && hit.inst != 0xffffffffu) { // an instance's normals are in object space
-        n = instanceNormalToWorld(hit.inst, n);
-        ng = instanceNormalToWorld(hit.inst, ng);
-    }
-    if (dot(ng, dir) > 0.0) ng = -ng;
-    if (dot(n, ng) < 0.0) n = -n;
     int mb = int(material * kMaterialTexels);
     vec4 m1 = texelFetch(uMaterials, mb + 1);
     vec4 m2 = texelFetch(uMaterials, mb + 2);
@@ -99,7 +73,7 @@ Surface surfaceAt(Hit hit, vec3 origin, vec3 dir) {
     s.metallic = m1.w;
     uint mrTexture = floatBitsToUint(texelFetch(uMaterials, mb + 3).x);
     if (mrTexture != kNoTexture && s.metallic >= 0.0) { // glTF 2.0, 3.9.2: G roughness, B metal
-        vec4 mr = linearTexture(mrTexture, uv);
+        vec4 mr = bilinearTexture(texelFetch(uTextureInfo, int(mrTexture)), uv, false);
         roughness *= mr.g;
         s.metallic *= mr.b;
     }

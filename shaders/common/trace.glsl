@@ -398,15 +398,15 @@ vec4 unpackTexel(uint p) {
 
 int wrapIndex(int i, int n) { return ((i % n) + n) % n; }
 
-vec4 fetchTexel(uvec4 info, int x, int y) {
-    return unpackTexel(texelFetch(uTexels, int(info.x) + y * int(info.y) + x).r);
+// Texel (x, y) of a texture: sRGB colour decoded to linear, or data (`srgb` false) as stored.
+vec4 fetchTexel(uvec4 info, int x, int y, bool srgb) {
+    uint p = texelFetch(uTexels, int(info.x) + y * int(info.y) + x).r;
+    return srgb ? unpackTexel(p) : unpackUnorm4x8(p);
 }
 
-vec4 materialBaseColor(uint material, vec2 uv) {
-    vec4 factor = texelFetch(uMaterials, int(material * kMaterialTexels));
-    uint tex = floatBitsToUint(texelFetch(uMaterials, int(material * kMaterialTexels) + 2).y);
-    if (tex == kNoTexture) return factor;
-    uvec4 info = texelFetch(uTextureInfo, int(tex));
+// Texture `info` bilinearly at uv, wrapping: colour (sRGB) or data such as glTF's
+// metallic-roughness texture.
+vec4 bilinearTexture(uvec4 info, vec2 uv, bool srgb) {
     int w = int(info.y), h = int(info.z);
     float x = uv.x * float(w) - 0.5;
     float y = uv.y * float(h) - 0.5;
@@ -414,9 +414,30 @@ vec4 materialBaseColor(uint material, vec2 uv) {
     float ax = x - fx, ay = y - fy;
     int x0 = wrapIndex(int(fx), w), x1 = wrapIndex(int(fx) + 1, w);
     int y0 = wrapIndex(int(fy), h), y1 = wrapIndex(int(fy) + 1, h);
-    vec4 c = mix(mix(fetchTexel(info, x0, y0), fetchTexel(info, x1, y0), ax),
-                 mix(fetchTexel(info, x0, y1), fetchTexel(info, x1, y1), ax), ay);
-    return factor * c;
+    return mix(mix(fetchTexel(info, x0, y0, srgb), fetchTexel(info, x1, y0, srgb), ax),
+               mix(fetchTexel(info, x0, y1, srgb), fetchTexel(info, x1, y1, srgb), ax), ay);
+}
+
+vec4 materialBaseColor(uint material, vec2 uv) {
+    vec4 factor = texelFetch(uMaterials, int(material * kMaterialTexels));
+    uint tex = floatBitsToUint(texelFetch(uMaterials, int(material * kMaterialTexels) + 2).y);
+    if (tex == kNoTexture) return factor;
+    return factor * bilinearTexture(texelFetch(uTextureInfo, int(tex)), uv, true);
+}
+
+// The shading normal n and geometric normal ng of a hit, in world space, ng facing the ray
+// (dir) and n on ng's side.
+void hitNormals(Hit hit, vec3 dir, vec4 s0, vec4 s1, vec4 s2, out vec3 n, out vec3 ng) {
+    float w0 = 1.0 - hit.u - hit.v;
+    n = normalize(w0 * s0.xyz + hit.u * s1.xyz + hit.v * s2.xyz);
+    int tb = int(hit.tri) * 3;
+    ng = normalize(cross(texelFetch(uTriangles, tb + 1).xyz, texelFetch(uTriangles, tb + 2).xyz));
+    if (kDynamic && hit.inst != 0xffffffffu) { // an instance's normals are in object space
+        n = instanceNormalToWorld(hit.inst, n);
+        ng = instanceNormalToWorld(hit.inst, ng);
+    }
+    if (dot(ng, dir) > 0.0) ng = -ng;
+    if (dot(n, ng) < 0.0) n = -n;
 }
 
 float offsetScale(vec3 p) { return 1e-4 * max(1.0, max(abs(p.x), max(abs(p.y), abs(p.z)))); }
@@ -437,18 +458,10 @@ vec3 traceRadiance(vec3 origin, vec3 dir, out float depth) {
         }
         vec4 s0, s1, s2, s3;
         shadingTexels(hit.tri, s0, s1, s2, s3);
-        float w0 = 1.0 - hit.u - hit.v;
-        vec3 n = normalize(w0 * s0.xyz + hit.u * s1.xyz + hit.v * s2.xyz);
+        vec3 n, ng;
+        hitNormals(hit, dir, s0, s1, s2, n, ng);
         vec2 uv = shadingUv(s0, s1, s2, s3, hit.u, hit.v);
         uint material = floatBitsToUint(s3.w);
-        int tb = int(hit.tri) * 3;
-        vec3 ng = normalize(cross(texelFetch(uTriangles, tb + 1).xyz, texelFetch(uTriangles, tb + 2).xyz));
-        if (kDynamic && hit.inst != 0xffffffffu) { // an instance's normals are in object space
-            n = instanceNormalToWorld(hit.inst, n);
-            ng = instanceNormalToWorld(hit.inst, ng);
-        }
-        if (dot(ng, dir) > 0.0) ng = -ng;
-        if (dot(n, ng) < 0.0) n = -n;
         vec3 base = materialBaseColor(material, uv).rgb;
         vec4 m1 = texelFetch(uMaterials, int(material * kMaterialTexels) + 1);
         vec3 emissive = m1.rgb;
