@@ -100,6 +100,16 @@ vec3 fromDisplay(vec3 y, float e) {
     return t / max(1.0 - e * luma(t), 1e-3);
 }
 
+// The history and this frame blended with weight alpha on this frame: display-referred
+// (params.z = exposure e > 0), in the space of toDisplay, close to what the display shows, so a
+// frame moves a pixel by at most alpha of its displayed range (a firefly, or a dark pixel where
+// sRGB is steep, no longer jumps); else in linear radiance.
+vec3 blendFrames(vec3 history, vec3 current, float alpha) {
+    float e = pc.params.z;
+    return e > 0.0 ? fromDisplay(mix(toDisplay(history, e), toDisplay(current, e), alpha), e)
+                   : mix(history, current, alpha);
+}
+
 // The unit ray through the centre of pixel `px` of the current camera.
 vec3 pixelRay(ivec2 px, ivec2 size) {
     vec2 s = (vec2(px) + 0.5) / vec2(size) * 2.0 - 1.0;
@@ -304,10 +314,7 @@ void stillViewBlend(ivec2 px, vec4 current, vec4 history
     alpha = w / max(weightSum + w, 1e-6);
     imageStore(uWeightOutput, px, vec4(min(weightSum + w, kMaxWeight)));
 #endif
-    float e = pc.params.z;
-    vec3 result = e > 0.0 ? fromDisplay(mix(toDisplay(history.rgb, e), toDisplay(current.rgb, e), alpha), e)
-                          : mix(history.rgb, current.rgb, alpha);
-    imageStore(uOutput, px, vec4(result, current.a));
+    imageStore(uOutput, px, vec4(blendFrames(history.rgb, current.rgb, alpha), current.a));
 }
 #endif
 
@@ -464,13 +471,7 @@ void main() {
             neighbourhood(px, size, m1, sigma);
             clipped = fromYCoCg(clipToBox(toYCoCg(history.rgb), m1, gamma * sigma));
         }
-        // Display-referred blend (params.z = exposure e > 0): in the space of
-        // toDisplay, close to what the display shows, so a frame moves a pixel by at most
-        // alpha of its displayed range — a firefly or a dark pixel (where sRGB is steep) no
-        // longer jumps.
-        float e = pc.params.z;
-        result = e > 0.0 ? fromDisplay(mix(toDisplay(clipped, e), toDisplay(current.rgb, e), alpha), e)
-                         : mix(clipped, current.rgb, alpha);
+        result = blendFrames(clipped, current.rgb, alpha);
     }
     imageStore(uOutput, px, vec4(result, current.a));
 #ifdef TAA_MOTION
