@@ -581,10 +581,11 @@ std::vector<uint32_t> tracingSpecialization(std::vector<uint32_t> passConstants,
     if (!(integrator.fireflyClamp >= 0.0f) || !std::isfinite(integrator.fireflyClamp)) {
         throw ArgumentError("the firefly clamp must be 0 (off) or a positive luminance");
     }
-    passConstants.resize(std::max<std::size_t>(passConstants.size(), t::kSpecFireflyClamp + 1));
+    passConstants.resize(std::max<std::size_t>(passConstants.size(), t::kSpecSequence + 1));
     passConstants[t::kSpecIntegrator] = static_cast<uint32_t>(integrator.integrator);
     passConstants[t::kSpecBounces] = integrator.bounces;
     passConstants[t::kSpecFireflyClamp] = std::bit_cast<uint32_t>(integrator.fireflyClamp);
+    passConstants[t::kSpecSequence] = static_cast<uint32_t>(integrator.sequence);
     return passConstants;
 }
 

@@ -21,6 +21,15 @@ enum class Integrator : uint32_t {
 
 inline constexpr uint32_t kMaxBounces = 64;
 
+// What a path's random decisions draw from (shaders/shared/sequence_shared.h).
+enum class SampleSequence : uint32_t {
+    // Owen-scrambled Sobol' points indexed by frame and ray: the rays and frames a pixel
+    // pools are stratified in every decision.
+    Sobol = shaders::trace::kSequenceSobol,
+    // Independent pseudo-random numbers per (pixel or point, ray, frame).
+    Independent = shaders::trace::kSequenceIndependent,
+};
+
 struct IntegratorSettings {
     Integrator integrator = Integrator::Direct;
     // Path: scattering vertices per path (1: direct light at the first hit only). 1 to
@@ -31,6 +40,7 @@ struct IntegratorSettings {
     // darkening of caustics and glossy interreflections for the fireflies a few paths per
     // pixel would otherwise leave for the denoiser.
     float fireflyClamp = 10.0f;
+    SampleSequence sequence = SampleSequence::Sobol;
 
     friend bool operator==(const IntegratorSettings&, const IntegratorSettings&) = default;
 };

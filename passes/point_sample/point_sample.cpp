@@ -72,7 +72,8 @@ const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaM
     const bool direct = i.integrator == trace::Integrator::Direct; // one pipeline, any bounces
     auto& slot =
         mPipelines[{lanes, alphaMask, chunked, dynamic, static_cast<uint32_t>(i.integrator),
-                    direct ? 0u : i.bounces, direct ? 0.0f : i.fireflyClamp}];
+                    direct ? 0u : i.bounces, direct ? 0.0f : i.fireflyClamp,
+                    direct ? 0u : static_cast<uint32_t>(i.sequence)}];
     if (!slot) {
         const std::vector<VkDescriptorType> bindings =
             trace::tracingBindings({VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, // kBindingPoints

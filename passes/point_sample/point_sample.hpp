@@ -95,7 +95,7 @@ private:
     vk::Context& mCtx;
     // One pipeline per lane count, alpha-mask setting, dispatch, scene kind (static or
     // moving) and integrator, built on first use (each compiles the whole tracer).
-    mutable std::map<std::tuple<uint32_t, bool, bool, bool, uint32_t, uint32_t, float>,
+    mutable std::map<std::tuple<uint32_t, bool, bool, bool, uint32_t, uint32_t, float, uint32_t>,
                      std::unique_ptr<vk::ComputePipeline>>
         mPipelines;
     vk::Buffer mNoChunks; // bound as the chunk list when the whole set is dispatched

@@ -55,7 +55,7 @@ private:
                                         const trace::IntegratorSettings& integrator = {}) const;
 
     vk::Context& mCtx;
-    mutable std::map<std::tuple<bool, bool, uint32_t, uint32_t, float>,
+    mutable std::map<std::tuple<bool, bool, uint32_t, uint32_t, float, uint32_t>,
                      std::unique_ptr<vk::ComputePipeline>>
         mPipelines;
 };

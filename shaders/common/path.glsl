@@ -13,6 +13,7 @@
 #ifndef PATH_GLSL
 #define PATH_GLSL
 #include "random.glsl"
+#include "sequence_shared.h"
 #include "trace.glsl"
 
 layout(constant_id = kSpecIntegrator) const uint kIntegrator = kIntegratorDirect;
@@ -23,18 +24,49 @@ layout(constant_id = kSpecFireflyClamp) const float kFireflyClamp = 0.0;
 const float kMinAlpha = 0.002;
 
 // ---- Random numbers ---------------------------------------------------------------------------
-// One stream per (point or pixel, ray, frame): a 32-bit LCG whose state goes through PCG's
-// output permutation (O'Neill 2014; the RXS-M-XS step of Jarzynski & Olano 2020).
+// Each random decision of a path draws one 2-D point (nextRandom2; nextRandom uses its first
+// coordinate), in the order the path makes them, so decision d of every path of a pixel (or
+// point) comes from one sequence indexed by frame * rays + ray. kSequence picks it:
+//   sobol:       the shuffled, Owen-scrambled Sobol' points of sequence_shared.h, seeded per
+//                pixel or point and decision: stratified over the rays and frames a pixel pools;
+//   independent: a 32-bit LCG whose state goes through PCG's output permutation (O'Neill 2014;
+//                the RXS-M-XS step of Jarzynski & Olano 2020), one stream per (pixel or point,
+//                ray, frame).
+layout(constant_id = kSpecSequence) const uint kSequence = kSequenceIndependent;
 uint gPathRng = 0u;
+uint gSampleIndex = 0u, gSampleSeed = 0u, gSampleDecision = 0u;
 
-void seedPath(uint point, uint ray, uint frame) {
+void seedPath(uint point, uint ray, uint rays, uint frame) {
     gPathRng = pcgHash(point ^ pcgHash(ray ^ pcgHash(frame + 0x632BE5ABu)));
+    gSampleIndex = frame * rays + ray;
+    gSampleSeed = sequenceHash(point ^ 0x632BE5ABu);
+    gSampleDecision = 0u;
 }
 
-float nextRandom() {
+float independentRandom() {
     gPathRng = gPathRng * 747796405u + 2891336453u;
     uint w = ((gPathRng >> ((gPathRng >> 28u) + 4u)) ^ gPathRng) * 277803737u;
     return hashToFloat((w >> 22u) ^ w);
+}
+
+vec2 nextRandom2() {
+    if (kSequence == kSequenceSobol) {
+        uint seed = hashCombine(gSampleSeed, sequenceHash(gSampleDecision++));
+        return sobolOwen2(gSampleIndex, seed);
+    }
+    float u = independentRandom();
+    return vec2(u, independentRandom());
+}
+
+float nextRandom() { return kSequence == kSequenceSobol ? nextRandom2().x : independentRandom(); }
+
+// Where in its pixel ray `ray` of `rays` goes in `frame`: for the path integrator with the Sobol'
+// sequence a decision of its own (seeded apart from the path's), stratified over the rays and
+// frames the pixel pools as the path's decisions are; otherwise `otherwise` (the reference's
+// jittered strata, as the direct integrator has them).
+vec2 pixelOffset(uint pixel, uint ray, uint rays, uint frame, vec2 otherwise) {
+    if (kIntegrator == kIntegratorDirect || kSequence != kSequenceSobol) return otherwise;
+    return sobolOwen2(frame * rays + ray, hashCombine(sequenceHash(pixel ^ 0x632BE5ABu), 0xB5297A4Du));
 }
 
 // Rec. 709 luminance, as gpu_scene.cpp weighs the emitters' power.
@@ -166,7 +198,7 @@ bool bsdfSample(Surface s, vec3 wo, out vec3 wi) {
     basisOf(s.n, t, b);
     float nv = dot(s.n, wo);
     float pick = nextRandom();
-    vec2 u = vec2(nextRandom(), nextRandom());
+    vec2 u = nextRandom2();
     if (pick < specularProbability(s, nv)) {
         vec3 m = sampleGgxVndf(vec3(dot(wo, t), dot(wo, b), nv), s.alpha, u);
         wi = reflect(-wo, m.x * t + m.y * b + m.z * s.n);
@@ -249,16 +281,18 @@ float emitterPdf(vec3 emissive, float dist, float cosLight) {
 vec3 emitterLight(Surface s, vec3 wo) {
     uint count = uScene.emitters.x;
     if (count == 0u) return vec3(0.0);
-    uint k = min(uint(nextRandom() * float(count)), count - 1u);
+    vec2 pick = nextRandom2(); // the table's column and its coin: stratified together
+    uint k = min(uint(pick.x * float(count)), count - 1u);
     vec4 entry = texelFetch(uMaterials, int(uScene.emitters.y + k));
-    if (nextRandom() >= entry.x) {
+    if (pick.y >= entry.x) {
         entry = texelFetch(uMaterials, int(uScene.emitters.y + floatBitsToUint(entry.y)));
     }
     uint tri = floatBitsToUint(entry.z);
     int tb = int(tri) * 3;
     vec3 v0 = texelFetch(uTriangles, tb).xyz;
     vec3 e1 = texelFetch(uTriangles, tb + 1).xyz, e2 = texelFetch(uTriangles, tb + 2).xyz;
-    float su = sqrt(nextRandom()), v = nextRandom();
+    vec2 u = nextRandom2();
+    float su = sqrt(u.x), v = u.y;
     vec3 q = v0 + su * (1.0 - v) * e1 + su * v * e2;
     float dist = length(q - s.p);
     vec3 wi = (q - s.p) / dist;
@@ -317,9 +351,10 @@ float environmentPdf(vec3 d) {
 // them (u from the azimuth, 0 at -z; v from the polar angle, 0 straight up).
 vec3 sampleEnvironment(out float pdf) {
     uint cw = uScene.environment.w & 0xffffu, ch = uScene.environment.w >> 16;
-    uint j = searchCdf(0u, ch, nextRandom());
-    uint i = searchCdf(ch + j * cw, cw, nextRandom());
-    float u = (float(i) + nextRandom()) / float(cw), v = (float(j) + nextRandom()) / float(ch);
+    vec2 cell = nextRandom2(), inCell = nextRandom2();
+    uint j = searchCdf(0u, ch, cell.x);
+    uint i = searchCdf(ch + j * cw, cw, cell.y);
+    float u = (float(i) + inCell.x) / float(cw), v = (float(j) + inCell.y) / float(ch);
     float theta = v * kPi, phi = (u - 0.5) * 2.0 * kPi;
     vec3 d = vec3(sin(theta) * sin(phi), cos(theta), -sin(theta) * cos(phi));
     pdf = environmentPdf(d);
@@ -448,7 +483,8 @@ vec3 traceBruteForce(vec3 origin, vec3 dir, out float depth) {
         if (b == kBounces || dot(s.n, wo) <= 0.0) break;
         vec3 t, bt;
         basisOf(s.n, t, bt);
-        float z = nextRandom(), phi = 2.0 * kPi * nextRandom();
+        vec2 u = nextRandom2();
+        float z = u.x, phi = 2.0 * kPi * u.y;
         float r = sqrt(max(0.0, 1.0 - z * z));
         vec3 wi = r * cos(phi) * t + r * sin(phi) * bt + z * s.n;
         if (dot(s.ng, wi) <= 0.0) break;
@@ -460,11 +496,12 @@ vec3 traceBruteForce(vec3 origin, vec3 dir, out float depth) {
     return radiance;
 }
 
-// Radiance along a camera ray by the pipeline's integrator; (point, ray, frame) seed the
-// path's random numbers (the direct integrator uses none).
-vec3 traceIntegrator(vec3 origin, vec3 dir, uint point, uint ray, uint frame, out float depth) {
+// Radiance along a camera ray by the pipeline's integrator; ray `ray` of `rays` per pixel or
+// point in `frame` seeds the path's random numbers (the direct integrator uses none).
+vec3 traceIntegrator(vec3 origin, vec3 dir, uint point, uint ray, uint rays, uint frame,
+                     out float depth) {
     if (kIntegrator == kIntegratorDirect) return traceRadiance(origin, dir, depth);
-    seedPath(point, ray, frame);
+    seedPath(point, ray, rays, frame);
     if (kIntegrator == kIntegratorBruteForce) return traceBruteForce(origin, dir, depth);
     return tracePath(origin, dir, depth);
 }

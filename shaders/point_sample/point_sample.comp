@@ -122,7 +122,7 @@ void main() {
         }
         float depth;
         sum += traceIntegrator(pc.origin.xyz, cameraRay(cam, toImage(pos, size), size), i, r,
-                               siteFrame, depth);
+                               rays, siteFrame, depth);
         if (r == 0u) {
             firstDepth = depth;
             if (kDynamic) firstMotion = storedMotion();

@@ -18,7 +18,14 @@ struct ReferencePush {
     vec4 right;
     vec4 up;
     uvec4 params; // x = width, y = height, z = rays per pixel, w = frame seed
+    // x = the first ray of this dispatch, y = its rays: a pixel's rays may come in several
+    // dispatches, each adding its share to the output (x > 0 reads what the earlier wrote).
+    uvec4 range;
 };
+// Paths per pixel in one dispatch of the path integrator: lavapipe ends a loop after 65,535
+// iterations of one invocation, all its loops together, which a handful of multi-bounce paths
+// through a deep BVH can reach. The direct integrator traces every ray in one dispatch.
+GT_CONST kPathRaysPerDispatch = 4;
 
 GT_NAMESPACE_END
 #endif

@@ -65,10 +65,14 @@ GT_CONST kLodLevels = 4;
 // two-level part (trace::GpuScene::dynamic()). Ids 1 and 2 belong to point_sample's own.
 GT_CONST kSpecDynamic = 3;
 // Specialisation constants of the integrator (path.glsl; trace::IntegratorSettings): which one,
-// its scattering vertices per path, and the firefly clamp (a float's bits; 0 = off).
+// its scattering vertices per path, the firefly clamp (a float's bits; 0 = off) and the
+// sequence its random decisions draw from.
 GT_CONST kSpecIntegrator = 4;
 GT_CONST kSpecBounces = 5;
 GT_CONST kSpecFireflyClamp = 6;
+GT_CONST kSpecSequence = 7;
+GT_CONST kSequenceIndependent = 0;
+GT_CONST kSequenceSobol = 1;
 GT_CONST kIntegratorDirect = 0;
 GT_CONST kIntegratorPath = 1;
 GT_CONST kIntegratorBruteForce = 2;
