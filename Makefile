@@ -23,7 +23,8 @@ build: configure
 
 # The thesis's main job: a short foveated sequence on the built-in market following a recorded
 # saccade, the same with eccentricity layers (Guenter et al. 2012), the full-resolution reference beside
-# them, and the debug views, all in out/.
+# them, the debug views, and a path-traced foveated frame with its path-traced reference, all
+# in out/.
 run: build
 	@mkdir -p out
 	./$(BUILD)/gazetrace render --method foveated --profile fove --interp msm --k 10 \
@@ -37,7 +38,12 @@ run: build
 	./$(BUILD)/gazetrace render --method foveated --view cells --rays-per-point 1 --out out/view_cells.png
 	./$(BUILD)/gazetrace render --method foveated --view eccentricity --rays-per-point 1 \
 	    --out out/view_eccentricity.png
-	@echo "wrote out/foveated/frame_*.png, out/layers/frame_*.png, out/reference.png, out/view_*.png"
+	./$(BUILD)/gazetrace render --method foveated --profile fove --interp msm --k 10 \
+	    --rays-per-point 4 --integrator path --bounces 3 --frames 4 --out out/path_foveated --json
+	./$(BUILD)/gazetrace render --method reference --width 1280 --height 1440 --spp 16 \
+	    --integrator path --bounces 3 --out out/path_reference.png --json
+	@echo "wrote out/foveated/frame_*.png, out/layers/frame_*.png, out/reference.png, out/view_*.png,"
+	@echo "      out/path_foveated/frame_*.png and out/path_reference.png (path traced)"
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j 2 --timeout 900

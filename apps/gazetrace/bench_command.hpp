@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "integrator_args.hpp"
+
 namespace gt::app {
 
 struct BenchOptions {
@@ -13,6 +15,9 @@ struct BenchOptions {
     std::string scene = "builtin:market";
     std::string cacheDir;
     std::string hmd = "fove"; // --suite stereo: the headset whose eyes are measured
+    // --suite stereo and scale: the light transport of the headset frames' reference and point
+    // sets (the layers trace direct light).
+    IntegratorArgs integrator;
 };
 
 nlohmann::json runBench(const BenchOptions& options);

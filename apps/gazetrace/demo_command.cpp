@@ -128,6 +128,7 @@ struct LiveSettings {
     uint32_t raysPerPoint = 1; // the reference's and the layers' rays per pixel
     double scale = 2.0;
     bool taa = true;
+    render::IntegratorSettings integrator; // foveated and reference
 };
 
 constexpr std::array<std::pair<MethodKind, const char*>, 3> kMethodWords{
@@ -168,6 +169,7 @@ LiveSettings liveSettingsOf(const DemoSettings& words) {
     s.raysPerPoint = words.raysPerPoint;
     s.scale = words.scale;
     s.taa = words.taa;
+    s.integrator = parseIntegrator({words.integrator, words.bounces, words.sequence});
     return s;
 }
 
@@ -178,7 +180,10 @@ DemoSettings wordsOf(const LiveSettings& s) {
             s.raysPerPoint,
             s.scale,
             s.taa,
-            s.view ? wordOf(kViewWords, *s.view) : ""};
+            s.view ? wordOf(kViewWords, *s.view) : "",
+            s.integrator.integrator == render::Integrator::Path ? "path" : "direct",
+            s.integrator.bounces,
+            s.integrator.sequence == trace::SampleSequence::Sobol ? "sobol" : "independent"};
 }
 
 // The foveation method for the current window size: a point set per size, built on first use
@@ -223,7 +228,7 @@ private:
                                         const foveation::DisplayProfile& display) {
         if (s.method == MethodKind::Reference) {
             mCurrent = nullptr;
-            return mChoice.reference({s.raysPerPoint, 0});
+            return mChoice.reference({s.raysPerPoint, 0, s.integrator});
         }
         foveation::PointSetParams params;
         params.display = display;
@@ -239,7 +244,7 @@ private:
             mBackground ? mChoice.pointSetIfReady(params, built) : &mChoice.pointSet(params, built);
         if (!ready) {
             mCurrent = nullptr;
-            return mChoice.reference({s.raysPerPoint, 0});
+            return mChoice.reference({s.raysPerPoint, 0, s.integrator});
         }
         render::PointSetMethod& pointSet = *ready;
         // The interpolation and rays follow the settings every frame (nothing to rebuild
@@ -248,6 +253,7 @@ private:
         interp.method = s.view.value_or(s.interp);
         interp.k = s.k;
         pointSet.settings = {s.raysPerPoint, interp, mDisplaySpace};
+        pointSet.settings.integrator = s.integrator;
         mCurrent = &pointSet;
         return pointSet;
     }
@@ -273,6 +279,11 @@ void checkOptions(const DemoOptions& o) {
         if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
             throw ArgumentError("--k must be 1..20");
         }
+    }
+    if (parseIntegrator(o.integrator).integrator != render::Integrator::Direct &&
+        o.method == "layers") {
+        throw ArgumentError("--integrator " + o.integrator.integrator +
+                            ": foveated and reference only (layers trace the direct integrator)");
     }
     if (!(o.frameMs >= 0.0)) throw ArgumentError("--frame-ms must not be negative");
     if (o.framesInFlight > 4) {
@@ -413,8 +424,16 @@ DemoRun::DemoRun(const DemoOptions& o)
     vk::Context& ctx = mRenderer->context();
     mSwapchain.emplace(ctx, mWindow->framebufferSize(), parsePresentMode(o.present));
     mTarget.emplace(ctx);
-    DemoSettings words{o.method, o.interp, o.k,   o.method == "foveated" ? o.raysPerPoint : o.spp,
-                       o.scale,  o.taa,    o.view};
+    DemoSettings words{o.method,
+                       o.interp,
+                       o.k,
+                       o.method == "foveated" ? o.raysPerPoint : o.spp,
+                       o.scale,
+                       o.taa,
+                       o.view,
+                       o.integrator.integrator,
+                       o.integrator.bounces,
+                       o.integrator.sequence};
     mDefaults = demoDefaults(ctx.properties().deviceType);
     applyDemoDefaults(words, mDefaults, o.given);
     log::info("demo defaults: " + mDefaults.label + " (options given on the command line win)");

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "demo_settings.hpp"
+#include "integrator_args.hpp"
 
 namespace gt::app {
 
@@ -28,7 +29,8 @@ struct DemoOptions {
     GivenMethodOptions given;
     uint32_t spp = 1; // reference method
     bool taa = true;
-    std::string view; // debug view: points | cells | eccentricity
+    std::string view;          // debug view: points | cells | eccentricity
+    IntegratorArgs integrator; // foveated and reference: --integrator, --bounces, --sequence
     std::string gaze = "mouse";
     std::string calibration;
     double frameMs = 0.0; // > 0: trace and path time advance this much per frame (reproducible)

@@ -132,6 +132,14 @@ bool DemoOverlay::panel(DemoSettings& s, const DemoStats& stats) {
             ImGui::Text("points sampled %llu",
                         static_cast<unsigned long long>(stats.pointsSampled));
         }
+        if (s.method != "layers") { // layers trace direct light
+            changed |= combo("integrator", s.integrator, {"direct", "path"});
+            int bounces = static_cast<int>(s.bounces);
+            if (s.integrator == "path" && ImGui::SliderInt("bounces", &bounces, 1, 16)) {
+                s.bounces = static_cast<uint32_t>(bounces);
+                changed = true;
+            }
+        }
         changed |= ImGui::Checkbox("TAA (T)", &s.taa);
         ImGui::Text("rays %llu", static_cast<unsigned long long>(stats.rays));
         ImGui::TextWrapped("WASD/QE move, right button looks, P screenshot, R records path");

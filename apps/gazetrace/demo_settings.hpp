@@ -19,6 +19,10 @@ struct DemoSettings {
     double scale = 2.0;
     bool taa = true;
     std::string view; // "" | points | cells | eccentricity
+    // The light transport of the foveated and reference methods (layers trace direct light).
+    std::string integrator = "direct"; // direct | path
+    uint32_t bounces = 4;
+    std::string sequence = "sobol"; // sobol | independent (command line only)
 };
 
 struct DemoStats {

@@ -34,6 +34,7 @@
 #include "renderer.hpp"
 #include "scene/camera_path.hpp"
 #include "scene/image_io.hpp"
+#include "stereo_rig.hpp"
 #include "view_args.hpp"
 
 namespace gt::app {
@@ -50,6 +51,7 @@ constexpr uint32_t kSeed = 7; // the reference's and the baselines' ray seed
 // Where the eye is and what it resolves: the display geometry every measure is taken in.
 struct Geometry {
     foveation::DisplayProfile display; // the (window) profile: size and viewing distance
+    std::optional<trace::FrustumTangents> frustum; // --hmd: the left eye's off-axis frustum
     uint32_t width = 0, height = 0;
     glm::vec2 gaze{};
     double ppd = 0.0; // at the display's centre
@@ -349,6 +351,9 @@ std::pair<uint32_t, uint32_t> uniformSize(uint64_t rays, uint32_t rpp, uint32_t 
 
 void checkEvalOptions(const EvalOptions& o) {
     const std::vector<std::string> profiles = displayProfileNames();
+    if (!o.hmd.empty() && (o.width || o.height)) {
+        throw ArgumentError("--width/--height: --hmd " + o.hmd + " renders its own eye size");
+    }
     if (std::find(profiles.begin(), profiles.end(), o.profile) == profiles.end()) {
         throw ArgumentError("--profile: unknown display profile '" + o.profile + "'");
     }
@@ -367,6 +372,11 @@ void checkEvalOptions(const EvalOptions& o) {
     if (o.method != "points" && o.method != "layers") {
         throw ArgumentError("--method: expected points or layers, got '" + o.method + "'");
     }
+    if (o.method == "layers" && o.integrator.integrator != "direct") {
+        throw ArgumentError("--integrator " + o.integrator.integrator +
+                            ": --method points only (layers trace the direct integrator)");
+    }
+    (void)parseIntegrator(o.integrator);
     if (o.method == "layers" && o.sweep) {
         throw ArgumentError("--sweep: point-set scales; not with --method layers");
     }
@@ -381,16 +391,37 @@ bool checkedThesis(const EvalOptions& o) {
     return (parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis);
 }
 
-Geometry evalGeometry(const EvalOptions& o) {
-    const foveation::DisplayProfile screen = displayProfile(o.profile);
+// A headset's left eye: its image, its frustum, the point set of its field of view, and by
+// default the gaze straight ahead (where its optical axis meets the image), as the scale
+// bench looks. The eye sits at the head's position: one eye needs no inter-pupillary offset.
+Geometry hmdGeometry(const EvalOptions& o) {
+    const display::HmdProfile hmd = hmdProfile(o.hmd);
+    const display::EyeTangents t = display::eyeTangents(hmd, 0);
     Geometry g;
-    g.display = (o.width || o.height)
-                    ? foveation::windowProfile(screen, o.width ? o.width : screen.width,
-                                               o.height ? o.height : screen.height)
-                    : screen;
-    g.width = g.display.width;
-    g.height = g.display.height;
-    g.gaze = parseGaze(o.gaze, g.width, g.height);
+    g.display = hmd.pointSetProfile;
+    g.frustum = trace::FrustumTangents{t.left, t.right, t.up, t.down};
+    g.width = hmd.eyeWidth;
+    g.height = hmd.eyeHeight;
+    g.gaze = o.gaze.empty()
+                 ? render::pixelOfDirection(glm::vec3(0.0f, 0.0f, 1.0f), t, g.width, g.height)
+                 : parseGaze(o.gaze, g.width, g.height);
+    return g;
+}
+
+Geometry evalGeometry(const EvalOptions& o) {
+    Geometry g;
+    if (!o.hmd.empty()) {
+        g = hmdGeometry(o);
+    } else {
+        const foveation::DisplayProfile screen = displayProfile(o.profile);
+        g.display = (o.width || o.height)
+                        ? foveation::windowProfile(screen, o.width ? o.width : screen.width,
+                                                   o.height ? o.height : screen.height)
+                        : screen;
+        g.width = g.display.width;
+        g.height = g.display.height;
+        g.gaze = parseGaze(o.gaze, g.width, g.height);
+    }
     g.ppd = quality::pixelsPerDegree(g.display.width, g.display.viewingDistance);
     g.bands = quality::bandMap(g.display, g.width, g.height, g.gaze);
     return g;
@@ -521,11 +552,13 @@ private:
     std::vector<uint8_t> mBleedMask;
     std::unique_ptr<render::FoveationMethod> mFoveated;
     MatchEntry mTarget; // the foveated still frame, for --match
+    render::IntegratorSettings mIntegrator;
 };
 
 EvalRun::EvalRun(const EvalOptions& o)
     : mOptions(o), mThesis(checkedThesis(o)), mGeometry(evalGeometry(o)),
-      mInputs(evalInputs(o, mGeometry)), mFolder(o.out), mOut(mFolder.temp()) {
+      mInputs(evalInputs(o, mGeometry)), mFolder(o.out), mOut(mFolder.temp()),
+      mIntegrator(parseIntegrator(o.integrator)) {
     const std::optional<CameraArg> cameraArg = parseCamera(o.camera);
     mRenderer.emplace(render::RendererOptions{.scene = o.scene,
                                               .validate = o.validate,
@@ -543,6 +576,7 @@ EvalRun::EvalRun(const EvalOptions& o)
         mCamera = cameraArg->camera(mCamera.yfov);
     }
     mBase.camera = mCamera;
+    mBase.frustum = mGeometry.frustum;
     mBase.width = mGeometry.width;
     mBase.height = mGeometry.height;
     mBase.gaze = mGeometry.gaze;
@@ -557,7 +591,8 @@ EvalRun::EvalRun(const EvalOptions& o)
     if (mInputs.reference) {
         mRef = std::move(*mInputs.reference);
     } else {
-        render::FullResolution reference(mRenderer->methodContext(), {o.referenceSpp, kSeed});
+        render::FullResolution reference(mRenderer->methodContext(),
+                                         {o.referenceSpp, kSeed, mIntegrator});
         render::View v = mBase;
         v.name = "reference";
         mRef = mShooter->shot(v, reference);
@@ -581,6 +616,7 @@ std::unique_ptr<render::PointSetMethod> EvalRun::makeFoveated(double scale) {
     m->settings.interpolation.rangeSigma = static_cast<float>(o.rangeSigma);
     m->settings.interpolation.shepardPower = static_cast<float>(o.shepardPower);
     m->settings.jitter = o.jitter;
+    m->settings.integrator = mIntegrator;
     if (mThesis) {
         passes::TaaSettings unused;
         render::useThesisReconstruction(m->settings, unused);
@@ -626,7 +662,8 @@ Baselines EvalRun::baselines(uint64_t rays) {
     const Geometry& g = mGeometry;
     Baselines b;
     std::tie(b.uw, b.uh) = uniformSize(rays, mOptions.raysPerPoint, g.width, g.height);
-    render::FullResolution uniform(mRenderer->methodContext(), {mOptions.raysPerPoint, kSeed});
+    render::FullResolution uniform(mRenderer->methodContext(),
+                                   {mOptions.raysPerPoint, kSeed, mIntegrator});
     render::View v = mBase;
     v.name = "uniform";
     v.width = b.uw;
@@ -636,7 +673,7 @@ Baselines EvalRun::baselines(uint64_t rays) {
     b.bicubic = quality::upscale(low, g.width, g.height, quality::Upscale::CatmullRom);
     b.fullSpp = std::max<uint32_t>(
         1, static_cast<uint32_t>(std::lround(static_cast<double>(rays) / (g.width * g.height))));
-    render::FullResolution full(mRenderer->methodContext(), {b.fullSpp, kSeed});
+    render::FullResolution full(mRenderer->methodContext(), {b.fullSpp, kSeed, mIntegrator});
     v = mBase;
     v.name = "full";
     b.fullRes = mShooter->shot(v, full);
@@ -648,13 +685,25 @@ nlohmann::json EvalRun::summaryHead() {
     nlohmann::json summary;
     summary["device"] = mRenderer->context().deviceName();
     summary["scene"] = mOptions.scene;
-    summary["profile"] = mOptions.profile;
+    if (mOptions.hmd.empty()) {
+        summary["profile"] = mOptions.profile;
+    } else {
+        summary["hmd"] = mOptions.hmd;
+        summary["frustum_tangents"] = {{"left", mGeometry.frustum->left},
+                                       {"right", mGeometry.frustum->right},
+                                       {"up", mGeometry.frustum->up},
+                                       {"down", mGeometry.frustum->down}};
+        summary["viewing_distance"] = mGeometry.display.viewingDistance;
+    }
     summary["width"] = g.width;
     summary["height"] = g.height;
     summary["gaze"] = {g.gaze.x, g.gaze.y};
     summary["pixels_per_degree"] = g.ppd;
     summary["reference_spp"] = !mOptions.reference.empty() ? nlohmann::json(mOptions.reference)
                                                            : nlohmann::json(mOptions.referenceSpp);
+    if (mIntegrator.integrator != render::Integrator::Direct) {
+        summary["integrator"] = integratorJson(mOptions.integrator);
+    }
     summary["bands_deg"] = {"0-5", "5-10", "10-20", "20+"};
     summary["flip_ecc_ppd"] = nlohmann::json::array();
     for (std::size_t b = 0; b < kBands; ++b) {
@@ -772,7 +821,7 @@ nlohmann::json EvalRun::movingSequence() {
     const Geometry& g = mGeometry;
     const scene::CameraPath& path = *mInputs.path;
     const uint32_t seqFrames = std::max(2u, mOptions.sequenceFrames);
-    render::FullResolution oneRay(mRenderer->methodContext(), {1, kSeed});
+    render::FullResolution oneRay(mRenderer->methodContext(), {1, kSeed, mIntegrator});
     nlohmann::json moving = nlohmann::json::object();
     std::vector<scene::Camera> cams;
     std::vector<std::vector<float>> depths;
@@ -819,7 +868,8 @@ nlohmann::json EvalRun::animatedSequence() {
     constexpr uint32_t kMotionFrames = 8;
     const uint32_t n = std::max(kMotionFrames + 1, mOptions.sequenceFrames);
     const double t0 = mOptions.time;
-    render::FullResolution reference(mRenderer->methodContext(), {mOptions.referenceSpp, kSeed});
+    render::FullResolution reference(mRenderer->methodContext(),
+                                     {mOptions.referenceSpp, kSeed, mIntegrator});
     std::vector<RgbaImage> refs;
     const auto at = [&](const FrameTick& t) { return t0 + kStepS * t.index; };
     const auto viewNamed = [&](const char* name, bool taa) {
@@ -935,7 +985,7 @@ void EvalRun::sweep(nlohmann::json& summary) {
 MatchEntry EvalRun::matchCandidate(uint32_t width, uint32_t height, uint32_t raysPerPixel,
                                    RgbaImage& picture) {
     const Geometry& g = mGeometry;
-    render::FullResolution uniform(mRenderer->methodContext(), {raysPerPixel, kSeed});
+    render::FullResolution uniform(mRenderer->methodContext(), {raysPerPixel, kSeed, mIntegrator});
     render::View v = mBase;
     v.name = "match_" + std::to_string(width) + "x" + std::to_string(height) + "_" +
              std::to_string(raysPerPixel);
@@ -978,7 +1028,8 @@ nlohmann::json EvalRun::timedInTurns(const MatchEntry& match) {
     render::View fov = mBase;
     fov.name = "foveated_timed";
     fov.post.taa = mOptions.taa;
-    render::FullResolution uniform(mRenderer->methodContext(), {match.raysPerPixel, kSeed});
+    render::FullResolution uniform(mRenderer->methodContext(),
+                                   {match.raysPerPixel, kSeed, mIntegrator});
     render::View v = mBase;
     v.name = "match_timed";
     v.width = match.width;
@@ -1178,7 +1229,8 @@ std::string evalText(const nlohmann::json& s) {
     std::ostringstream t;
     char buf[256];
     std::snprintf(buf, sizeof buf, "%s, %s %ux%u, gaze (%.0f, %.0f), %.1f px/deg, reference %s\n",
-                  s["scene"].get<std::string>().c_str(), s["profile"].get<std::string>().c_str(),
+                  s["scene"].get<std::string>().c_str(),
+                  (s.contains("hmd") ? s["hmd"] : s["profile"]).get<std::string>().c_str(),
                   s["width"].get<uint32_t>(), s["height"].get<uint32_t>(),
                   s["gaze"][0].get<double>(), s["gaze"][1].get<double>(),
                   s["pixels_per_degree"].get<double>(), s["reference_spp"].dump().c_str());

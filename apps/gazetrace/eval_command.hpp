@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "integrator_args.hpp"
+
 namespace gt::app {
 
 struct EvalOptions {
@@ -19,13 +21,19 @@ struct EvalOptions {
     std::string camera;             // --camera X,Y,Z,TX,TY,TZ[,FOV]
     std::string profile = "fove";   // display geometry: size, pixels per degree
     uint32_t width = 0, height = 0; // 0: the profile's; else a window on its screen
-    std::string gaze;               // X,Y pixels; empty: the centre
+    // A headset's left eye instead of --profile: its eye image, off-axis frustum and point-set
+    // geometry (a name or custom:WxH@HFOVxVFOV[,HZ]); empty: --profile.
+    std::string hmd;
+    std::string gaze; // X,Y pixels; empty: the centre (--hmd: the eye's optical axis)
     // The foveated frame.
     std::string method = "points"; // points (the thesis's point set) | layers (Guenter et al.)
     std::string interp = "msm";
     uint32_t k = 10;
     double scale = 1.0;
     uint32_t raysPerPoint = 4;
+    // The light transport of every traced frame: the reference, the foveated frame (points)
+    // and the uniform baselines and candidates, so that they differ only in where rays go.
+    IntegratorArgs integrator;
     bool taa = true;
     double stillClipGamma = 4.0;   // TAA's clipping box with the camera still, the gaze moving
     double eccentricRadius = 0.05; // TAA's eccentric falloff radius, share of the width (0: off)

@@ -48,19 +48,30 @@ render::Reconstruction parseReconstruction(const std::string& name) {
     throw ArgumentError("--reconstruction: expected gazetrace or thesis, got '" + name + "'");
 }
 
-render::IntegratorSettings parseIntegrator(const std::string& name, uint32_t bounces) {
+render::IntegratorSettings parseIntegrator(const IntegratorArgs& args) {
     render::IntegratorSettings s;
-    if (name == "path") {
+    if (args.integrator == "path") {
         s.integrator = render::Integrator::Path;
-    } else if (name != "direct") {
-        throw ArgumentError("--integrator: expected direct or path, got '" + name + "'");
+    } else if (args.integrator != "direct") {
+        throw ArgumentError("--integrator: expected direct or path, got '" + args.integrator + "'");
     }
-    if (bounces < 1 || bounces > trace::kMaxBounces) {
+    if (args.bounces < 1 || args.bounces > trace::kMaxBounces) {
         throw ArgumentError("--bounces must be 1 to " + std::to_string(trace::kMaxBounces) +
-                            ", got " + std::to_string(bounces));
+                            ", got " + std::to_string(args.bounces));
     }
-    s.bounces = bounces;
+    s.bounces = args.bounces;
+    if (args.sequence == "independent") {
+        s.sequence = trace::SampleSequence::Independent;
+    } else if (args.sequence != "sobol") {
+        throw ArgumentError("--sequence: expected sobol or independent, got '" + args.sequence +
+                            "'");
+    }
     return s;
+}
+
+nlohmann::json integratorJson(const IntegratorArgs& args) {
+    return {
+        {"integrator", args.integrator}, {"bounces", args.bounces}, {"sequence", args.sequence}};
 }
 
 double parseSlope(const std::string& text) {

@@ -9,8 +9,10 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <opencv2/core/types.hpp>
 
+#include "integrator_args.hpp"
 #include "net/udp_emitter.hpp"
 #include "scene/gltf_loader.hpp"
 #include "settings.hpp"
@@ -25,8 +27,10 @@ namespace gt::app {
 [[nodiscard]] render::KnnIndex parseKnnIndex(const std::string& name);
 [[nodiscard]] render::Interpolation parseView(const std::string& name);
 [[nodiscard]] render::Reconstruction parseReconstruction(const std::string& name);
-// --integrator direct | path with --bounces (1 to trace::kMaxBounces).
-[[nodiscard]] render::IntegratorSettings parseIntegrator(const std::string& name, uint32_t bounces);
+// --integrator direct | path with --bounces (1 to trace::kMaxBounces) and --sequence.
+[[nodiscard]] render::IntegratorSettings parseIntegrator(const IntegratorArgs& args);
+// The integrator as the JSON summaries name it: {integrator, bounces, sequence}.
+[[nodiscard]] nlohmann::json integratorJson(const IntegratorArgs& args);
 // --slope: "A", "B" (Guenter et al. 2012's quality levels) or a positive MAR slope.
 [[nodiscard]] double parseSlope(const std::string& text);
 // Every numeric option's text, checked before CLI11 converts it (commands/shared_options.cpp

@@ -263,7 +263,7 @@ render::FoveationMethod& hmdMethod(const RenderOptions& o, const display::HmdPro
         return methods.layers(renderLayerSettings(o, std::nullopt));
     }
     if (o.method != "foveated")
-        return methods.reference({o.spp, o.seed, parseIntegrator(o.integrator, o.bounces)});
+        return methods.reference({o.spp, o.seed, parseIntegrator(o.integrator)});
     foveation::PointSetParams params;
     params.display = profile.pointSetProfile;
     params.scale = o.scale;
@@ -276,7 +276,7 @@ render::FoveationMethod& hmdMethod(const RenderOptions& o, const display::HmdPro
     interp.rbfShape = static_cast<float>(o.rbfShape);
     interp.knn = parseKnnIndex(o.knn);
     pointSet.settings = {o.raysPerPoint, interp, o.displaySpace && o.distortion, o.lod};
-    pointSet.settings.integrator = parseIntegrator(o.integrator, o.bounces);
+    pointSet.settings.integrator = parseIntegrator(o.integrator);
     if ((parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis)) {
         render::useThesisReconstruction(pointSet.settings, post.taaSettings);
     }
@@ -579,14 +579,14 @@ render::View flatView(const RenderOptions& o, const FlatSetup& s, render::Render
     } else if (o.method == "foveated") {
         render::PointSetMethod& pointSet = methods.pointSet(s.pointSet);
         pointSet.settings = {o.raysPerPoint, s.interp, false, o.lod};
-        pointSet.settings.integrator = parseIntegrator(o.integrator, o.bounces);
+        pointSet.settings.integrator = parseIntegrator(o.integrator);
         view.method = &pointSet;
         view.post.taa = o.taa && o.view.empty(); // debug views show one frame's data as is
         if ((parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis)) {
             render::useThesisReconstruction(pointSet.settings, view.post.taaSettings);
         }
     } else {
-        view.method = &methods.reference({o.spp, o.seed, parseIntegrator(o.integrator, o.bounces)});
+        view.method = &methods.reference({o.spp, o.seed, parseIntegrator(o.integrator)});
         view.gaze = {};
     }
     return view;
@@ -703,9 +703,10 @@ nlohmann::json flatSummary(const RenderOptions& o, const FlatSetup& s, render::R
     } else {
         j["spp"] = o.spp;
     }
-    if (o.integrator != "direct") {
-        j["integrator"] = o.integrator;
-        j["bounces"] = o.bounces;
+    if (o.integrator.integrator != "direct") {
+        j["integrator"] = o.integrator.integrator;
+        j["bounces"] = o.integrator.bounces;
+        j["sequence"] = o.integrator.sequence;
     }
     j["rays"] = rays;
     j["rays_per_second"] = totalMs > 0.0 ? static_cast<double>(rays) / (totalMs * 1e-3) : 0.0;
@@ -716,9 +717,9 @@ nlohmann::json flatSummary(const RenderOptions& o, const FlatSetup& s, render::R
 
 nlohmann::json runRender(const RenderOptions& o) {
     if (o.method == "layers") (void)parseSlope(o.slope); // before any work
-    if (parseIntegrator(o.integrator, o.bounces).integrator != render::Integrator::Direct &&
+    if (parseIntegrator(o.integrator).integrator != render::Integrator::Direct &&
         o.method == "layers") {
-        throw ArgumentError("--integrator " + o.integrator +
+        throw ArgumentError("--integrator " + o.integrator.integrator +
                             ": reference and foveated only (layers trace the direct integrator)");
     }
     if (!o.hmd.empty()) {

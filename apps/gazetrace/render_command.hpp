@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "integrator_args.hpp"
+
 namespace gt::app {
 
 struct RenderOptions {
@@ -38,8 +40,7 @@ struct RenderOptions {
     std::string reconstruction = "gazetrace";
     // reference and foveated: direct | path (render::Integrator), and the path's scattering
     // vertices.
-    std::string integrator = "direct";
-    uint32_t bounces = 4;
+    IntegratorArgs integrator;      // --integrator, --bounces, --sequence
     std::string gazeTrace;          // CSV t_ms,x,y; excludes --gaze
     std::string gazeSource;         // eye tracker frame source: live gaze; excludes --gaze
     std::string calibration;        // for gazeSource

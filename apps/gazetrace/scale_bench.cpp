@@ -133,7 +133,7 @@ public:
           mRenderer({.scene = o.common.scene,
                      .deviceOverride = deviceRequest(),
                      .sceneLoad = gltfLoadOptions()}),
-          mRig(mHmd, false) {}
+          mRig(mHmd, false), mIntegrator(parseIntegrator(o.common.integrator)) {}
 
     nlohmann::json run();
     [[nodiscard]] render::Renderer& renderer() noexcept { return mRenderer; }
@@ -165,6 +165,7 @@ private:
     // the time it took, and whether it came from the cache.
     double mSetMs = 0.0;
     bool mSetCached = false;
+    render::IntegratorSettings mIntegrator; // the reference's and the point sets'
 };
 
 // The left eye, looking straight ahead (its optical axis), no lens: the lens pass costs every
@@ -311,7 +312,7 @@ void ProfileRun::setUpAll(std::vector<Slot>& slots, const foveation::PointSetPar
     setUp(
         slots[0],
         [&] {
-            mReference.emplace(mc, passes::ReferenceSettings{kRays.front(), 0});
+            mReference.emplace(mc, passes::ReferenceSettings{kRays.front(), 0, mIntegrator});
             slots[0].method = &*mReference;
         },
         [&] { mReference.reset(); });
@@ -321,6 +322,7 @@ void ProfileRun::setUpAll(std::vector<Slot>& slots, const foveation::PointSetPar
             mNearest.emplace(mc, params, mCache);
             mNearest->settings.raysPerPoint = kRays.front();
             mNearest->settings.interpolation.method = passes::Interpolation::Nearest;
+            mNearest->settings.integrator = mIntegrator;
             slots[1].method = &*mNearest;
         },
         [&] { mNearest.reset(); });
@@ -331,6 +333,7 @@ void ProfileRun::setUpAll(std::vector<Slot>& slots, const foveation::PointSetPar
             mShepard->settings.raysPerPoint = kRays.front();
             mShepard->settings.interpolation.method = passes::Interpolation::Shepard;
             mShepard->settings.interpolation.k = kShepardK;
+            mShepard->settings.integrator = mIntegrator;
             slots[2].method = &*mShepard;
         },
         [&] { mShepard.reset(); });
@@ -345,7 +348,7 @@ void ProfileRun::setUpAll(std::vector<Slot>& slots, const foveation::PointSetPar
 
 // The methods at another ray count (the layers' is a setting of their construction), warmed up.
 void ProfileRun::setRays(uint32_t rays, std::vector<Slot>& slots) {
-    mReference->settings = {rays, 0};
+    mReference->settings = {rays, 0, mIntegrator};
     for (std::optional<render::PointSetMethod>* m : {&mNearest, &mShepard}) {
         if (m->has_value()) {
             (*m)->settings.raysPerPoint = rays;
@@ -588,10 +591,16 @@ nlohmann::json runScaleBench(const ScaleBenchOptions& o) {
             failed += (failed.empty() ? "" : ", ") + hmd.name;
         }
     }
-    nlohmann::json result = {
-        {"suite", "scale"},        {"device", device},         {"device_type", deviceType},
-        {"scene", o.common.scene}, {"gaze", "straight ahead"}, {"reconstruction", "gazetrace"},
-        {"frames", o.frames},      {"profiles", profiles},     {"wall_s", secondsSince(start)}};
+    nlohmann::json result = {{"suite", "scale"},
+                             {"device", device},
+                             {"device_type", deviceType},
+                             {"scene", o.common.scene},
+                             {"gaze", "straight ahead"},
+                             {"reconstruction", "gazetrace"},
+                             {"frames", o.frames},
+                             {"profiles", profiles},
+                             {"wall_s", secondsSince(start)},
+                             {"integrator", integratorJson(o.common.integrator)}};
     if (const std::string plot = scalePlotPath(o); !plot.empty()) {
         result["plot"] = writePlot(plot, profiles);
     }

@@ -1,17 +1,18 @@
 // `gazetrace soak` (soak_command.hpp). The frame loop a long demo session runs, compressed:
 //  - the gaze pursues a Lissajous path and jumps (a saccade, reported as such) every 40 frames;
 //  - the camera turns slowly back and forth, so TAA reprojects;
-//  - every 15 frames the settings change, through six phases: nearest neighbour at one ray and
-//    at two with TAA off, Modified Shepard through the per-pixel k-NN table and through the
-//    neighbour lists, the full-resolution reference, a phase read back to host memory, and an
+//  - every 15 frames the settings change, through eight phases: nearest neighbour at one ray
+//    and at two with TAA off, Modified Shepard through the per-pixel k-NN table and through the
+//    neighbour lists, the full-resolution reference, a phase read back to host memory, an
 //    animated scene (--animated-scene: a second scene on the same renderer, its two-level
-//    structure refitted and uploaded every frame, its samples carrying motion into TAA).
-// The seven phases make a 105-frame cycle. What a phase builds lives while it runs (the k-NN
+//    structure refitted and uploaded every frame, its samples carrying motion into TAA), and
+//    the path integrator at two bounces.
+// The eight phases make a 120-frame cycle. What a phase builds lives while it runs (the k-NN
 // table of the MSM phase takes ~380 MB at 1920 x 1080 and is released when the settings
-// change), so resident memory is compared between frames at the same point of the cycle:
-// frame 100 and the last of 205, 310, ..., 940. Growth between them is what the loop itself
-// keeps. RBF is left out: its per-pixel weights at 1920 x 1080 take minutes to build on the
-// CPU driver and add nothing the MSM variants do not exercise.
+// change), so resident memory is compared between frames at the same point of the cycle once
+// every phase has run: frame 120 and the last of 240, 360, ..., 960. Growth between them is
+// what the loop itself keeps. RBF is left out: its per-pixel weights at 1920 x 1080 take minutes to
+// build on the CPU driver and add nothing the MSM variants do not exercise.
 #include "soak_command.hpp"
 
 #include <chrono>
@@ -64,11 +65,11 @@ struct Phase {
     bool taa = true;
     bool readback = false;
     bool animated = false; // the animated scene instead of --scene
+    bool path = false;     // the path integrator (2 bounces) instead of the direct one
 };
 
 constexpr uint32_t kPhaseFrames = 15;
 constexpr uint32_t kSaccadeEvery = 40;
-constexpr uint32_t kReferenceFrame = 100; // the growth is measured from here
 
 const Phase kPhases[] = {
     {"nn/1 ray/taa"},
@@ -84,8 +85,12 @@ const Phase kPhases[] = {
      10, 1, true, true},
     {"animated/nn/1 ray/taa", false, passes::Interpolation::Nearest, passes::KnnIndex::PixelTable,
      10, 1, true, false, true},
+    {"nn/path 2 bounces/1 ray/taa", false, passes::Interpolation::Nearest,
+     passes::KnnIndex::PixelTable, 10, 1, true, false, false, true},
 };
-constexpr uint32_t kCycleFrames = std::size(kPhases) * kPhaseFrames; // 105
+constexpr uint32_t kCycleFrames = std::size(kPhases) * kPhaseFrames; // 120
+// The growth is measured from here: every phase has run once, its pipelines and tables built.
+constexpr uint32_t kReferenceFrame = kCycleFrames;
 
 // The gaze of a soak frame: a Lissajous pursuit around a centre that jumps (a saccade) every
 // kSaccadeEvery frames.
@@ -280,6 +285,11 @@ nlohmann::json runSoak(const SoakOptions& o) {
         foveated->settings.interpolation.method = phase.interpolation;
         foveated->settings.interpolation.knn = phase.knn;
         foveated->settings.interpolation.k = phase.k;
+        foveated->settings.integrator = {};
+        if (phase.path) {
+            foveated->settings.integrator.integrator = render::Integrator::Path;
+            foveated->settings.integrator.bounces = 2;
+        }
         v.method = phase.reference ? static_cast<render::FoveationMethod*>(&reference)
                                    : static_cast<render::FoveationMethod*>(foveated.get());
         if (phase.animated) {

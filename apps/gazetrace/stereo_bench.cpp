@@ -116,7 +116,8 @@ nlohmann::json runStereoBench(const BenchOptions& o) {
         render::PointSetMethod eyes(r.methodContext(), eyeParams, cache);
         eyes.settings.raysPerPoint = o.quick ? 1 : 8;
         eyes.settings.interpolation.method = passes::Interpolation::Nearest;
-        render::FullResolution reference(r.methodContext(), {1, 0});
+        eyes.settings.integrator = parseIntegrator(o.integrator);
+        render::FullResolution reference(r.methodContext(), {1, 0, parseIntegrator(o.integrator)});
         const render::StereoRig rig(hmd, true);
         scene::Camera head = r.scene().camera;
         for (const bool foveated : {true, false}) {
@@ -174,6 +175,7 @@ nlohmann::json runStereoBench(const BenchOptions& o) {
                              {"hmd", hmd.name},
                              {"eye", {hmd.eyeWidth, hmd.eyeHeight}},
                              {"rays_per_point", o.quick ? 1 : 8},
+                             {"integrator", integratorJson(o.integrator)},
                              {"frame_budget_ms", 1000.0 / hmd.refreshHz},
                              {"series", series}};
     if (!o.json.empty()) writeJsonFile(o.json, result);

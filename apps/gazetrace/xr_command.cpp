@@ -70,6 +70,11 @@ void checkOptions(const XrOptions& o) {
     if (o.k == 0 || o.k > foveation::NeighbourIndex::kMaxNeighbours) {
         throw ArgumentError("--k must be 1..20");
     }
+    if (parseIntegrator(o.integrator).integrator != render::Integrator::Direct &&
+        o.method == "layers") {
+        throw ArgumentError("--integrator " + o.integrator.integrator +
+                            ": foveated and reference only (layers trace the direct integrator)");
+    }
     if (o.space != "local" && o.space != "stage") {
         throw ArgumentError("--xr-space: '" + o.space + "' (known: local, stage)");
     }
@@ -114,9 +119,11 @@ public:
           mKind(methodKindOf(o.method).value_or(MethodKind::Foveated)),
           mLayerSettings(layerSettings(o.slope, o.layers, o.spp)),
           mInterp(interpolationOf(o.interp, o.k, "")),
-          mThesis((parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis)) {}
+          mThesis((parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis)),
+          mIntegrator(parseIntegrator(o.integrator)) {}
     render::FoveationMethod& forEye(const XrFovf& fov, VkExtent2D size) {
-        if (mKind == MethodKind::Reference) return mChoice.reference({mOptions.spp, 0});
+        if (mKind == MethodKind::Reference)
+            return mChoice.reference({mOptions.spp, 0, mIntegrator});
         // One method for both eyes: each eye's layers follow its own frustum (XrFovf).
         if (mKind == MethodKind::Layers) return mChoice.layers(mLayerSettings);
         foveation::PointSetParams params;
@@ -124,6 +131,7 @@ public:
         params.scale = mOptions.pointScale;
         const auto built = [&](render::PointSetMethod& m, double ms) {
             m.settings = {mOptions.raysPerPoint, mInterp, false};
+            m.settings.integrator = mIntegrator;
             if (mThesis) {
                 passes::TaaSettings unused; // the views' TAA follows in eyeViews
                 render::useThesisReconstruction(m.settings, unused);
@@ -136,7 +144,7 @@ public:
         if (mOptions.frames != 0) return mChoice.pointSet(params, built);
         render::PointSetMethod* const ready = mChoice.pointSetIfReady(params, built);
         return ready ? static_cast<render::FoveationMethod&>(*ready)
-                     : mChoice.reference({mOptions.spp, 0});
+                     : mChoice.reference({mOptions.spp, 0, mIntegrator});
     }
     // --reconstruction thesis: the thesis's TAA in the views too.
     [[nodiscard]] bool thesis() const noexcept { return mThesis; }
@@ -148,6 +156,7 @@ private:
     render::EccentricityLayerSettings mLayerSettings;
     passes::InterpolateSettings mInterp;
     bool mThesis;
+    render::IntegratorSettings mIntegrator; // foveated and reference
 };
 
 // Both eyes' views of a frame: each eye's reported pose through the scene placement, its own

@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "integrator_args.hpp"
+
 namespace gt::app {
 
 struct XrOptions {
@@ -33,6 +35,7 @@ struct XrOptions {
     double pointScale = 1.0;   // the point set's scaling value
     uint32_t raysPerPoint = 1; // as the demo: real time first (the thesis traced up to 32)
     uint32_t spp = 1;          // reference: rays per pixel
+    IntegratorArgs integrator; // foveated and reference: --integrator, --bounces, --sequence
     bool taa = true;
     std::string gaze = "ahead"; // fallback: ahead | fixed:X,Y | trace:FILE | track:SRC | udp:PORT
     std::string calibration;    // for track:

@@ -193,6 +193,35 @@ TEST(Eval, MatchNamesTheCheapestUniformRenderNoWorseInEveryBand) {
     EXPECT_NE(r.out.find(" x less time for the same picture"), std::string::npos) << r.out;
 }
 
+// --hmd: a headset's left eye (here one known only by its size and field of view): its eye
+// image, its frustum's tangents and the viewing distance of its field of view, worked by hand:
+// 120 x 105 degrees: tan 60 = 1.7321, tan 52.5 = 1.3032, v = 1 / (2 tan 60) = 0.2887.
+TEST(Eval, HmdRendersTheHeadsetsEye) {
+    const auto dir = test::tempDir("cli_eval_hmd");
+    const Result r = run("eval --hmd custom:96x84@120x105 --reference-spp 2 --frames 2 "
+                         "--baseline none --validate --json --cache " +
+                         (dir / "cache").string() + " --out " + (dir / "e").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["hmd"], "custom:96x84@120x105");
+    EXPECT_FALSE(j.contains("profile"));
+    EXPECT_EQ(j["width"], 96);
+    EXPECT_EQ(j["height"], 84);
+    EXPECT_NEAR(j["frustum_tangents"]["right"].get<double>(), 1.7321, 1e-3);
+    EXPECT_NEAR(j["frustum_tangents"]["left"].get<double>(), -1.7321, 1e-3);
+    EXPECT_NEAR(j["frustum_tangents"]["up"].get<double>(), 1.3032, 1e-3);
+    EXPECT_NEAR(j["viewing_distance"].get<double>(), 0.2887, 1e-3);
+    // Straight ahead: the symmetric frustum's centre.
+    EXPECT_NEAR(j["gaze"][0].get<double>(), 48.0, 1e-3);
+    EXPECT_NEAR(j["gaze"][1].get<double>(), 42.0, 1e-3);
+    EXPECT_GT(j["methods"]["foveated"]["rays"].get<uint64_t>(), 0u);
+    const auto out = dir / "bad";
+    expectCleanFailure(run("eval --hmd custom:96x84@120x105 --width 64 --out " + out.string()),
+                       "--width", out);
+    expectCleanFailure(run("eval --hmd nosuch --out " + out.string()), "--hmd", out);
+}
+
 TEST(Eval, BadInputsAreOneLine) {
     const auto dir = test::tempDir("cli_eval_bad");
     const auto out = dir / "never";

@@ -26,6 +26,7 @@ TEST(CliPath, ReferenceAndFoveatedTracePaths) {
         const auto j = nlohmann::json::parse(r.out);
         EXPECT_EQ(j["integrator"], "path");
         EXPECT_EQ(j["bounces"], 3);
+        EXPECT_EQ(j["sequence"], "sobol");
         EXPECT_TRUE(std::filesystem::exists(dir / "p.png"));
         EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;
     }
@@ -41,6 +42,27 @@ TEST(CliPath, BadIntegratorAndBouncesAreOneLineErrors) {
     expectCleanFailure(run("render --integrator path --bounces 65 --out " + out.string()),
                        "--bounces", out);
     expectCleanFailure(run("render --method layers --integrator path --out " + out.string()),
+                       "--integrator", out);
+    expectCleanFailure(run("render --integrator path --sequence halton --out " + out.string()),
+                       "--sequence", out);
+}
+
+// eval traces the reference, the foveated frame and the uniform frames with the integrator it
+// is given, and says so; layers refuse it.
+TEST(CliPath, EvalTracesEveryFrameWithTheIntegrator) {
+    const auto dir = test::tempDir("cli_path_eval");
+    const Result r = run("eval --scene builtin:cornell --profile desktop --width 64 --height 48 "
+                         "--integrator path --bounces 2 --reference-spp 8 --frames 2 --validate "
+                         "--json --cache " +
+                         (dir / "cache").string() + " --out " + (dir / "e").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["integrator"]["integrator"], "path");
+    EXPECT_EQ(j["integrator"]["bounces"], 2);
+    EXPECT_GT(j["methods"]["foveated"]["rays"].get<uint64_t>(), 0u);
+    const auto out = dir / "bad";
+    expectCleanFailure(run("eval --method layers --integrator path --out " + out.string()),
                        "--integrator", out);
 }
 

@@ -35,6 +35,9 @@ public:
         mCommand
             ->add_option("--hmd", mOptions.hmd, "--suite stereo: the headset, " + hmdChoicesText())
             ->capture_default_str();
+        addIntegratorOptions(mCommand, mOptions.integrator,
+                             "--suite stereo and scale: the headset frames' reference and point "
+                             "sets");
         registerScaleOptions();
     }
 
@@ -48,6 +51,13 @@ public:
             }
         }
         checkRunFiles({{"--json", mOptions.json}}, {{"--scene", mOptions.scene}});
+        if (mSuite != "stereo" && mSuite != "scale") {
+            for (const char* name : {"--integrator", "--bounces", "--sequence"}) {
+                if (mCommand->count(name) > 0) {
+                    throw ArgumentError(std::string(name) + ": only --suite stereo and scale");
+                }
+            }
+        }
         if (mSuite != "stereo" && mCommand->count("--hmd") > 0) {
             throw ArgumentError("--hmd: only --suite stereo measures a headset");
         }

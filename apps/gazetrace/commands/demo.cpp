@@ -35,6 +35,7 @@ public:
                              mOptions.layers);
         mCommand->add_option("--view", mOptions.view,
                              "Debug view: points | cells | eccentricity | motion");
+        addIntegratorOptions(mCommand, mOptions.integrator, "Foveated and reference");
         mCommand
             ->add_option("--gaze", mOptions.gaze,
                          "mouse | fixed:X,Y | trace:FILE.csv | track:SOURCE | udp:PORT")

@@ -8,6 +8,7 @@
 
 #include "command.hpp"
 #include "eval_command.hpp"
+#include "option_parsing.hpp"
 #include "shared_options.hpp"
 
 namespace gt::app {
@@ -36,7 +37,10 @@ public:
         mCommand
             ->add_option("--height", mOptions.height, "A window this high on the profile's screen")
             ->check(CLI::Range(16u, 16384u));
-        mCommand->add_option("--gaze", mOptions.gaze, "X,Y in pixels (default: the centre)");
+        mCommand->add_option("--hmd", mOptions.hmd,
+                             "A headset's left eye instead of --profile: " + hmdChoicesText());
+        mCommand->add_option("--gaze", mOptions.gaze,
+                             "X,Y in pixels (default: the centre; --hmd: straight ahead)");
         mCommand
             ->add_option("--method", mOptions.method,
                          "Foveated: points (the thesis's point set) | layers (Guenter et al. "
@@ -55,6 +59,8 @@ public:
                          "Foveated: rays per point (the baseline: rays per pixel)")
             ->check(CLI::Range(1u, 1024u))
             ->capture_default_str();
+        addIntegratorOptions(mCommand, mOptions.integrator,
+                             "Every traced frame (reference, foveated points, uniform)");
         mCommand->add_option("--taa", mTaa, "Foveated: on | off")
             ->check(CLI::IsMember({"on", "off"}))
             ->capture_default_str();

@@ -86,17 +86,7 @@ public:
             ->check(CLI::Range(0.001, 1000.0))
             ->capture_default_str();
         addReconstructionOption(mCommand, mOptions.reconstruction);
-        mCommand
-            ->add_option("--integrator", mOptions.integrator,
-                         "Reference and foveated: direct (direct light, one mirror bounce) | path "
-                         "(path tracing, docs/path-tracing.md)")
-            ->check(CLI::IsMember({"direct", "path"}))
-            ->capture_default_str();
-        mCommand
-            ->add_option("--bounces", mOptions.bounces,
-                         "--integrator path: scattering vertices per path (1: direct light only)")
-            ->check(CLI::Range(1u, trace::kMaxBounces))
-            ->capture_default_str();
+        addIntegratorOptions(mCommand, mOptions.integrator, "Reference and foveated");
         mCommand->add_option("--k", mOptions.k, "Foveated: neighbours for msm and rbf (1-20)")
             ->check(CLI::Range(1u, 20u))
             ->capture_default_str();

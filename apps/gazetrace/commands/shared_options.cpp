@@ -61,6 +61,23 @@ void addReconstructionOption(CLI::App* cmd, std::string& reconstruction) {
         ->capture_default_str();
 }
 
+void addIntegratorOptions(CLI::App* cmd, IntegratorArgs& args, const std::string& who) {
+    cmd->add_option("--integrator", args.integrator,
+                    who + ": direct (direct light, one mirror bounce) | path (path tracing, "
+                          "docs/path-tracing.md)")
+        ->check(CLI::IsMember({"direct", "path"}))
+        ->capture_default_str();
+    cmd->add_option("--bounces", args.bounces,
+                    "--integrator path: scattering vertices per path (1: direct light only)")
+        ->check(CLI::Range(1u, trace::kMaxBounces))
+        ->capture_default_str();
+    cmd->add_option("--sequence", args.sequence,
+                    "--integrator path: what the paths' random decisions draw from: sobol "
+                    "(Owen-scrambled, stratified over rays and frames) | independent")
+        ->check(CLI::IsMember({"sobol", "independent"}))
+        ->capture_default_str();
+}
+
 void addNumberChecks(CLI::App& app) {
     // No description: --help and the README's options table stay as they were.
     const CLI::Validator finite([](std::string& text) { return finiteNumberProblem(text); }, "",

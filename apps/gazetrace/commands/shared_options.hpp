@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "atomic_write.hpp"
+#include "integrator_args.hpp"
 
 namespace CLI {
 class App;
@@ -31,6 +32,10 @@ void addNumberChecks(CLI::App& app);
 // --animation NAME|INDEX|all|none and --time T0: which of an animated scene's animations play,
 // and the scene time of the first frame in seconds (not negative).
 void addAnimationOptions(CLI::App* cmd, std::string& animation, double& startSeconds);
+
+// --integrator direct | path, --bounces N and --sequence sobol | independent (option_parsing's
+// IntegratorArgs); `who` says which of the command's methods trace with it.
+void addIntegratorOptions(CLI::App* cmd, IntegratorArgs& args, const std::string& who);
 
 // --reconstruction gazetrace | thesis, as render and xr take it.
 void addReconstructionOption(CLI::App* cmd, std::string& reconstruction);

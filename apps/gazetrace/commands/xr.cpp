@@ -50,6 +50,7 @@ public:
                              mOptions.pointScale, mOptions.raysPerPoint, mOptions.spp, mTaa,
                              mOptions.slope, mOptions.layers);
         addReconstructionOption(mCommand, mOptions.reconstruction);
+        addIntegratorOptions(mCommand, mOptions.integrator, "Foveated and reference");
         mCommand
             ->add_option("--gaze", mOptions.gaze,
                          "Gaze when the runtime gives none: ahead | fixed:X,Y (left eye pixels) | "

@@ -1,0 +1,15 @@
+#pragma once
+// The integrator options as the command line gives them (addIntegratorOptions registers them,
+// parseIntegrator turns them into trace::IntegratorSettings).
+#include <cstdint>
+#include <string>
+
+namespace gt::app {
+
+struct IntegratorArgs {
+    std::string integrator = "direct"; // direct | path
+    uint32_t bounces = 4;              // 1 to trace::kMaxBounces
+    std::string sequence = "sobol";    // sobol | independent
+};
+
+} // namespace gt::app
