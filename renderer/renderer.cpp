@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "denoise/denoise.hpp"
 #include "lens/lens.hpp"
 #include "scene/gltf_loader.hpp"
 #include "scene/subdivision.hpp"
@@ -100,6 +101,7 @@ Renderer::Renderer(const RendererOptions& o) {
         uploadLevels(*mCtx, mScene, *mBvh, mCoarser, mDynamic.get(), mRing->framesInFlight());
     mTaa = std::make_unique<passes::TaaPass>(*mCtx);
     mTonemap = std::make_unique<passes::TonemapPass>(*mCtx);
+    mDenoise = std::make_unique<passes::DenoisePass>(*mCtx);
     mLens = std::make_unique<passes::LensPass>(*mCtx);
     mHistory = std::make_unique<rg::HistoryPool>(*mCtx, &mRing->deferredRelease());
 }
@@ -312,10 +314,13 @@ rg::TextureId Renderer::addTaa(rg::RenderGraph& graph, const View& v, const Meth
 
 void Renderer::addView(rg::RenderGraph& graph, const View& v, OutputTarget& target,
                        HistoryUpdates& nextHistory) {
-    const MethodImage made = v.method->addRadiance(graph, v);
-    rg::TextureId image = made.radiance;
+    MethodImage made = v.method->addRadiance(graph, v);
     const shaders::trace::CameraPush camera = v.cameraPush();
     const bool panel = v.method->rendersPanel(v);
+    if (v.post.denoise && !panel) {
+        made.radiance = mDenoise->add(graph, made.radiance, camera, v.gaze, *v.post.denoise);
+    }
+    rg::TextureId image = made.radiance;
     if (v.post.taa && !panel && !v.method->accumulates()) {
         image = addTaa(graph, v, made, camera, nextHistory);
     }

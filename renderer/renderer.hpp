@@ -26,6 +26,7 @@
 namespace gt::passes {
 class TaaPass;
 class TonemapPass;
+class DenoisePass;
 class LensPass;
 } // namespace gt::passes
 
@@ -158,6 +159,7 @@ private:
     std::unique_ptr<trace::GpuScene> mGpuScene;
     std::unique_ptr<passes::TaaPass> mTaa;
     std::unique_ptr<passes::TonemapPass> mTonemap;
+    std::unique_ptr<passes::DenoisePass> mDenoise;
     std::unique_ptr<passes::LensPass> mLens;
     std::unique_ptr<rg::FrameRing> mRing;
     std::unique_ptr<rg::HistoryPool> mHistory;

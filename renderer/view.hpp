@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include "denoise/denoise.hpp"
 #include "display/hmd_profile.hpp"
 #include "scene/scene.hpp"
 #include "taa/taa.hpp"
@@ -23,8 +24,11 @@ struct LensSettings {
     glm::vec2 centre{0.5f}; // where the optical axis meets the image, normalised, y down
 };
 
-// The chain after the method: taa -> tonemap -> (lens) -> the view's output target.
+// The chain after the method: (denoise) -> taa -> tonemap -> (lens) -> the view's output target.
 struct PostSettings {
+    // The spatial denoiser for few paths per pixel or point (pass `denoise`); none: off. Not
+    // on a panel-space image (a lens method's), whose pixels are not the view's.
+    std::optional<passes::DenoiseSettings> denoise;
     bool taa = true; // temporal anti-aliasing (thesis, 4.3: the thesis used it throughout)
     passes::TaaSettings taaSettings;
     std::optional<LensSettings> lens;

@@ -129,6 +129,7 @@ struct LiveSettings {
     double scale = 2.0;
     bool taa = true;
     render::IntegratorSettings integrator; // foveated and reference
+    bool denoise = false;
 };
 
 constexpr std::array<std::pair<MethodKind, const char*>, 3> kMethodWords{
@@ -170,6 +171,7 @@ LiveSettings liveSettingsOf(const DemoSettings& words) {
     s.scale = words.scale;
     s.taa = words.taa;
     s.integrator = parseIntegrator({words.integrator, words.bounces, words.sequence});
+    s.denoise = words.denoise;
     return s;
 }
 
@@ -183,7 +185,8 @@ DemoSettings wordsOf(const LiveSettings& s) {
             s.view ? wordOf(kViewWords, *s.view) : "",
             s.integrator.integrator == render::Integrator::Path ? "path" : "direct",
             s.integrator.bounces,
-            s.integrator.sequence == trace::SampleSequence::Sobol ? "sobol" : "independent"};
+            s.integrator.sequence == trace::SampleSequence::Sobol ? "sobol" : "independent",
+            s.denoise};
 }
 
 // The foveation method for the current window size: a point set per size, built on first use
@@ -285,6 +288,7 @@ void checkOptions(const DemoOptions& o) {
         throw ArgumentError("--integrator " + o.integrator.integrator +
                             ": foveated and reference only (layers trace the direct integrator)");
     }
+    (void)parseDenoise(o.integrator);
     if (!(o.frameMs >= 0.0)) throw ArgumentError("--frame-ms must not be negative");
     if (o.framesInFlight > 4) {
         throw ArgumentError("--frames-in-flight must be 0 (automatic) to 4");
@@ -433,7 +437,8 @@ DemoRun::DemoRun(const DemoOptions& o)
                        o.view,
                        o.integrator.integrator,
                        o.integrator.bounces,
-                       o.integrator.sequence};
+                       o.integrator.sequence,
+                       o.integrator.denoise == "on"};
     mDefaults = demoDefaults(ctx.properties().deviceType);
     applyDemoDefaults(words, mDefaults, o.given);
     log::info("demo defaults: " + mDefaults.label + " (options given on the command line win)");
@@ -578,6 +583,7 @@ std::vector<render::View> DemoRun::hmdViews(const std::optional<GazeReading>& re
     sg.saccade = reading && reading->saccade;
     render::PostSettings post;
     post.taa = mSettings.taa && !mSettings.view;
+    if (mSettings.denoise) post.denoise = passes::DenoiseSettings{};
     const auto eyes = mRig->views(mFly->camera(), sg, mMethods->forHmd(mSettings), post,
                                   mRenderer->scene().exposure);
     const uint32_t half = ext.width / 2;
@@ -597,6 +603,9 @@ std::vector<render::View> DemoRun::views(const std::optional<GazeReading>& readi
     view.exposure = mRenderer->scene().exposure;
     view.method = &mMethods->forSize(mSettings, ext.width, ext.height);
     view.post.taa = mSettings.taa && !mSettings.view;
+    if (mSettings.denoise && mSettings.method != MethodKind::Layers) {
+        view.post.denoise = passes::DenoiseSettings{};
+    }
     if (reading) view.saccade = reading->saccade;
     if (mGazePx && !mCalibrationTarget) mOffScreen->check(*mGazePx, ext.width, ext.height);
     view.gaze =

@@ -139,6 +139,7 @@ bool DemoOverlay::panel(DemoSettings& s, const DemoStats& stats) {
                 s.bounces = static_cast<uint32_t>(bounces);
                 changed = true;
             }
+            changed |= ImGui::Checkbox("denoise", &s.denoise);
         }
         changed |= ImGui::Checkbox("TAA (T)", &s.taa);
         ImGui::Text("rays %llu", static_cast<unsigned long long>(stats.rays));

@@ -23,6 +23,7 @@ struct DemoSettings {
     std::string integrator = "direct"; // direct | path
     uint32_t bounces = 4;
     std::string sequence = "sobol"; // sobol | independent (command line only)
+    bool denoise = false;           // the post chain's denoiser
 };
 
 struct DemoStats {

@@ -598,6 +598,8 @@ EvalRun::EvalRun(const EvalOptions& o)
         mRef = mShooter->shot(v, reference);
         writePng(mOut / "reference.png", mRef);
     }
+    // Every frame after the ground truth: the foveated, uniform and one-ray frames alike.
+    mBase.post.denoise = parseDenoise(o.integrator);
     mBleedMask = quality::darkNearBrightMask(mRef);
 }
 
@@ -880,8 +882,13 @@ nlohmann::json EvalRun::animatedSequence() {
             return v;
         };
     };
+    const auto groundTruth = [&](const FrameTick& t) {
+        render::View v = viewNamed("animated_reference", false)(t);
+        v.post.denoise.reset();
+        return v;
+    };
     mShooter->sequence(
-        n, viewNamed("animated_reference", false), reference,
+        n, groundTruth, reference,
         [&](const FrameTick&, RgbaImage img, uint64_t) { refs.push_back(std::move(img)); }, at);
     std::array<double, kBands> moving{}, still{};
     const auto meanInto = [&](std::array<double, kBands>& sum, const RgbaImage& img,

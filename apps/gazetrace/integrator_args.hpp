@@ -10,6 +10,7 @@ struct IntegratorArgs {
     std::string integrator = "direct"; // direct | path
     uint32_t bounces = 4;              // 1 to trace::kMaxBounces
     std::string sequence = "sobol";    // sobol | independent
+    std::string denoise = "off";       // off | on: the post chain's denoiser (pass `denoise`)
 };
 
 } // namespace gt::app

@@ -69,9 +69,19 @@ render::IntegratorSettings parseIntegrator(const IntegratorArgs& args) {
     return s;
 }
 
+std::optional<passes::DenoiseSettings> parseDenoise(const IntegratorArgs& args) {
+    if (args.denoise == "on") return passes::DenoiseSettings{};
+    if (args.denoise != "off") {
+        throw ArgumentError("--denoise: expected on or off, got '" + args.denoise + "'");
+    }
+    return std::nullopt;
+}
+
 nlohmann::json integratorJson(const IntegratorArgs& args) {
-    return {
-        {"integrator", args.integrator}, {"bounces", args.bounces}, {"sequence", args.sequence}};
+    return {{"integrator", args.integrator},
+            {"bounces", args.bounces},
+            {"sequence", args.sequence},
+            {"denoise", args.denoise}};
 }
 
 double parseSlope(const std::string& text) {

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core/types.hpp>
 
+#include "denoise/denoise.hpp"
 #include "integrator_args.hpp"
 #include "net/udp_emitter.hpp"
 #include "scene/gltf_loader.hpp"
@@ -29,7 +30,9 @@ namespace gt::app {
 [[nodiscard]] render::Reconstruction parseReconstruction(const std::string& name);
 // --integrator direct | path with --bounces (1 to trace::kMaxBounces) and --sequence.
 [[nodiscard]] render::IntegratorSettings parseIntegrator(const IntegratorArgs& args);
-// The integrator as the JSON summaries name it: {integrator, bounces, sequence}.
+// --denoise on: the denoiser's settings (passes::DenoiseSettings' defaults); off: none.
+[[nodiscard]] std::optional<passes::DenoiseSettings> parseDenoise(const IntegratorArgs& args);
+// The integrator as the JSON summaries name it: {integrator, bounces, sequence, denoise}.
 [[nodiscard]] nlohmann::json integratorJson(const IntegratorArgs& args);
 // --slope: "A", "B" (Guenter et al. 2012's quality levels) or a positive MAR slope.
 [[nodiscard]] double parseSlope(const std::string& text);

@@ -258,6 +258,7 @@ void checkHmdOptions(const RenderOptions& o, const display::HmdProfile& profile)
 render::FoveationMethod& hmdMethod(const RenderOptions& o, const display::HmdProfile& profile,
                                    MethodChoice& methods, render::PostSettings& post) {
     post.taa = o.method == "foveated" && o.taa && o.view.empty();
+    post.denoise = parseDenoise(o.integrator);
     if (o.method == "layers") {
         // Each eye's layers from its own frustum: the HMD image fills the eye's field of view.
         return methods.layers(renderLayerSettings(o, std::nullopt));
@@ -457,6 +458,8 @@ FlatSetup flatSetup(const RenderOptions& o) {
             s.height = screen.height;
         }
         s.gaze = parseGaze(o.gaze, s.width, s.height);
+    } else {
+        s.gaze = parseGaze(o.gaze, s.width, s.height); // the denoiser's (--denoise on)
     }
     return s;
 }
@@ -474,17 +477,22 @@ struct FlatInputs {
 
 FlatInputs flatInputs(const RenderOptions& o, const FlatSetup& s) {
     const bool foveated = o.method == "foveated";
-    const bool gazeDriven = foveated || o.method == "layers";
+    // The denoiser's strength follows the gaze, so the reference takes one with it.
+    const bool gazeDriven =
+        foveated || o.method == "layers" || parseDenoise(o.integrator).has_value();
     FlatInputs in;
     in.frameCount = o.frames;
     if (!o.gazeTrace.empty()) {
-        if (!gazeDriven) throw ArgumentError("--gaze-trace needs --method foveated or layers");
+        if (!gazeDriven)
+            throw ArgumentError("--gaze-trace needs --method foveated or layers (or --denoise on)");
         if (!(o.frameMs > 0.0)) throw ArgumentError("--frame-ms must be positive");
         if (!o.gaze.empty()) throw ArgumentError("--gaze and --gaze-trace exclude each other");
         in.trace = loadGazeTrace(o, s.width, s.height, in.frameCount);
     }
     if (!o.gazeSource.empty()) {
-        if (!gazeDriven) throw ArgumentError("--gaze-source needs --method foveated or layers");
+        if (!gazeDriven)
+            throw ArgumentError(
+                "--gaze-source needs --method foveated or layers (or --denoise on)");
         if (in.trace) throw ArgumentError("--gaze-source and --gaze-trace exclude each other");
         if (!o.gaze.empty()) throw ArgumentError("--gaze and --gaze-source exclude each other");
         if (o.calibration.empty()) {
@@ -497,7 +505,7 @@ FlatInputs flatInputs(const RenderOptions& o, const FlatSetup& s) {
     }
     if (!foveated && !o.view.empty()) throw ArgumentError("--view needs --method foveated");
     if (!gazeDriven && !o.gaze.empty()) {
-        throw ArgumentError("--gaze needs --method foveated or layers");
+        throw ArgumentError("--gaze needs --method foveated or layers (or --denoise on)");
     }
     // --camera-path: the camera follows a recorded path, one frame every --frame-ms.
     if (!o.cameraPath.empty()) {
@@ -573,6 +581,7 @@ render::View flatView(const RenderOptions& o, const FlatSetup& s, render::Render
     view.height = s.height;
     view.exposure = renderer.scene().exposure;
     view.post.taa = false;
+    view.post.denoise = parseDenoise(o.integrator);
     view.gaze = s.gaze;
     if (o.method == "layers") {
         view.method = &methods.layers(renderLayerSettings(o, displayProfile(o.profile)));
@@ -587,7 +596,7 @@ render::View flatView(const RenderOptions& o, const FlatSetup& s, render::Render
         }
     } else {
         view.method = &methods.reference({o.spp, o.seed, parseIntegrator(o.integrator)});
-        view.gaze = {};
+        if (!view.post.denoise) view.gaze = {}; // the denoiser's strength follows the gaze
     }
     return view;
 }
@@ -707,6 +716,7 @@ nlohmann::json flatSummary(const RenderOptions& o, const FlatSetup& s, render::R
         j["integrator"] = o.integrator.integrator;
         j["bounces"] = o.integrator.bounces;
         j["sequence"] = o.integrator.sequence;
+        j["denoise"] = o.integrator.denoise;
     }
     j["rays"] = rays;
     j["rays_per_second"] = totalMs > 0.0 ? static_cast<double>(rays) / (totalMs * 1e-3) : 0.0;
@@ -721,6 +731,9 @@ nlohmann::json runRender(const RenderOptions& o) {
         o.method == "layers") {
         throw ArgumentError("--integrator " + o.integrator.integrator +
                             ": reference and foveated only (layers trace the direct integrator)");
+    }
+    if (parseDenoise(o.integrator) && o.method == "layers") {
+        throw ArgumentError("--denoise on: reference and foveated only");
     }
     if (!o.hmd.empty()) {
         return runRenderHmd(o);

@@ -173,6 +173,7 @@ private:
 render::View ProfileRun::view(const Slot& s) const {
     render::PostSettings post;
     post.taa = s.taa;
+    if (!mLayers || s.method != &*mLayers) post.denoise = parseDenoise(mOptions.common.integrator);
     render::View v = mRig.views(mRenderer.scene().camera, render::StereoGaze{}, *s.method, post,
                                 mRenderer.scene().exposure)[0];
     v.name = s.label; // its own history and transient resources

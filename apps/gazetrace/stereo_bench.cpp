@@ -126,6 +126,7 @@ nlohmann::json runStereoBench(const BenchOptions& o) {
             s.framesInFlight = r.framesInFlight();
             render::PostSettings post;
             post.taa = foveated;
+            post.denoise = parseDenoise(o.integrator);
             measure(r, s, warm, frames, [&](uint32_t) {
                 render::StereoGaze g; // straight ahead
                 const auto v = rig.views(

@@ -146,6 +146,10 @@ public:
         return ready ? static_cast<render::FoveationMethod&>(*ready)
                      : mChoice.reference({mOptions.spp, 0, mIntegrator});
     }
+    // --denoise: the views' denoiser (none for layers).
+    [[nodiscard]] std::optional<passes::DenoiseSettings> denoise() const {
+        return mKind == MethodKind::Layers ? std::nullopt : parseDenoise(mOptions.integrator);
+    }
     // --reconstruction thesis: the thesis's TAA in the views too.
     [[nodiscard]] bool thesis() const noexcept { return mThesis; }
 
@@ -173,6 +177,7 @@ std::array<render::View, 2> eyeViews(const xr::FrameInfo& frame, const HeadGaze&
         v = eyeView(frame, e, gaze, placement, size);
         v.method = &methods.forEye(eye.fov, size);
         v.post.taa = taa;
+        v.post.denoise = methods.denoise();
         if (thesis) {
             render::PointSetSettings unused; // the method's part is set where it is built
             render::useThesisReconstruction(unused, v.post.taaSettings);

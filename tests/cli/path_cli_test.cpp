@@ -32,6 +32,28 @@ TEST(CliPath, ReferenceAndFoveatedTracePaths) {
     }
 }
 
+// --denoise on: the post chain runs pass `denoise` (its variance step and five levels) before
+// TAA, for the reference (whose gaze then places the fovea) and the foveated method.
+TEST(CliPath, DenoiseRunsTheDenoisePasses) {
+    const auto dir = test::tempDir("cli_path_denoise");
+    for (const char* method : {"reference --gaze 10,10", "foveated --profile desktop"}) {
+        const Result r = run(std::string("render --scene builtin:cornell --method ") + method +
+                             " --width 48 --height 32 --integrator path --bounces 2 --denoise on "
+                             "--validate --json --cache " +
+                             (dir / "cache").string() + " --out " + (dir / "d.png").string());
+        ASSERT_EQ(r.status, 0) << r.err;
+        EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;
+        const auto j = nlohmann::json::parse(r.out);
+        EXPECT_EQ(j["denoise"], "on");
+        EXPECT_TRUE(j["gpu_ms"].contains("denoise.variance")) << method;
+        EXPECT_TRUE(j["gpu_ms"].contains("denoise.level4")) << method;
+    }
+    const auto out = dir / "bad.png";
+    expectCleanFailure(run("render --method layers --denoise on --out " + out.string()),
+                       "--denoise", out);
+    expectCleanFailure(run("render --denoise maybe --out " + out.string()), "--denoise", out);
+}
+
 TEST(CliPath, BadIntegratorAndBouncesAreOneLineErrors) {
     const auto dir = test::tempDir("cli_path_bad");
     const auto out = dir / "o.png";
