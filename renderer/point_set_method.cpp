@@ -1,6 +1,8 @@
 #include "point_set_method.hpp"
 
 #include <chrono>
+#include <cmath>
+#include <numbers>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -83,8 +85,31 @@ std::size_t PointSetMethod::pointsSampled(glm::vec2 gaze) const {
     return mSampledMemo->second;
 }
 
+float PointSetMethod::foveaRadiusPx() const {
+    if (settings.foveaRaysPerPoint == 0) return 0.0f;
+    const auto& d = mPoints.params().display;
+    // v (thesis eq. 1) is the viewing distance in display widths.
+    return static_cast<float>(d.viewingDistance * d.width *
+                              std::tan(settings.foveaDeg * std::numbers::pi / 180.0));
+}
+
 uint64_t PointSetMethod::rays(const View& view) const {
-    return static_cast<uint64_t>(pointsSampled(sampledGaze(view))) * settings.raysPerPoint;
+    const glm::vec2 gaze = sampledGaze(view);
+    const uint64_t all = static_cast<uint64_t>(pointsSampled(gaze)) * settings.raysPerPoint;
+    const float radius = foveaRadiusPx();
+    if (radius <= 0.0f) return all;
+    const auto w = mPoints.params().display.width, h = mPoints.params().display.height;
+    const glm::vec2 off = passes::gazeOffset(gaze, w, h);
+    if (!mFoveaMemo || mFoveaMemo->first != glm::vec3(off, radius)) {
+        mFoveaMemo.emplace(glm::vec3(off, radius),
+                           mPoints.countOnScreenWithin(off.x + static_cast<float>(w),
+                                                       off.y + static_cast<float>(h), radius,
+                                                       passes::kSampleMargin));
+    }
+    const auto fovea = static_cast<int64_t>(mFoveaMemo->second);
+    return static_cast<uint64_t>(static_cast<int64_t>(all) +
+                                 fovea * (static_cast<int64_t>(settings.foveaRaysPerPoint) -
+                                          static_cast<int64_t>(settings.raysPerPoint)));
 }
 
 std::optional<passes::PanelWarp> PointSetMethod::warpFor(const View& view) const {
@@ -182,7 +207,7 @@ passes::InterpolatedImage PointSetMethod::addImage(rg::RenderGraph& graph,
     const passes::SampledPoints sampled = mPointSample.addSamples(
         graph, mMc.scene, camera, mGpuPoints, gaze, rays, lanes, warp ? &*warp : nullptr,
         settings.lod, frame, s.siteJitter, !settings.pixelRays, dispatchFor(gaze, s.siteJitter),
-        settings.integrator);
+        settings.integrator, {settings.foveaRaysPerPoint, foveaRadiusPx()});
     passes::InterpolateInputs in = prepared;
     if (passes::usesRbfSolve(s)) {
         in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), sampled.samples, gaze, s);

@@ -79,6 +79,11 @@ struct PointSetSettings {
     // What each point's rays compute: the direct integrator or the path tracer
     // (trace::IntegratorSettings). The edge rays stay with the direct integrator.
     trace::IntegratorSettings integrator{};
+    // Paths per point by eccentricity: the points within foveaDeg of the gaze trace this many
+    // rays each instead of raysPerPoint (0: the same), as Mohanto et al. 2024 spend more
+    // samples per pixel in the fovea.
+    uint32_t foveaRaysPerPoint = 0;
+    double foveaDeg = 5.0;
 };
 
 inline constexpr double kChunkedShare = 0.5;
@@ -115,6 +120,8 @@ public:
     [[nodiscard]] const foveation::PointSet& pointSet() const noexcept { return mPoints; }
     // Points traced with the set shifted to `gaze` (on screen plus the sampling margin).
     [[nodiscard]] std::size_t pointsSampled(glm::vec2 gaze) const;
+    // settings.foveaRaysPerPoint's radius on this set's display, in pixels (0: off).
+    [[nodiscard]] float foveaRadiusPx() const;
     [[nodiscard]] double pointSetMs() const noexcept { return mPointSetMs; }
     [[nodiscard]] double neighbourIndexMs() const noexcept { return mNeighbourMs; }
     [[nodiscard]] double neighbourIndexMb() const noexcept { return mNeighbourMb; }
@@ -157,6 +164,8 @@ private:
     Prepared mRbfPrepared, mKnnTablePrepared;
     double mPointSetMs = 0.0, mNeighbourMs = 0.0, mNeighbourMb = 0.0;
     mutable std::optional<std::pair<glm::vec2, std::size_t>> mSampledMemo; // offset -> points
+    // (offset, radius) -> the sampled points within the fovea's radius
+    mutable std::optional<std::pair<glm::vec3, std::size_t>> mFoveaMemo;
     // Pipeline variants (interpolation, reads the table, point_sample lanes) that have run.
     std::set<std::tuple<passes::Interpolation, bool, uint32_t>> mWarm;
 };

@@ -198,10 +198,11 @@ DemoSettings wordsOf(const LiveSettings& s) {
 class DemoMethods {
 public:
     DemoMethods(render::Renderer& r, const std::string& cacheDir, bool displaySpace,
-                render::EccentricityLayerSettings layers, const std::string& hmd, bool background)
+                render::EccentricityLayerSettings layers, const std::string& hmd, bool background,
+                uint32_t foveaRays)
         : mChoice(r, cacheDir), mDisplaySpace(displaySpace), mLayerSettings(std::move(layers)),
           mDesktop(foveation::displayProfile(foveation::DisplayModel::Desktop)),
-          mBackground(background) {
+          mBackground(background), mFoveaRays(foveaRays) {
         if (!hmd.empty()) {
             mHmdDisplay = hmdProfile(hmd).pointSetProfile;
         }
@@ -257,6 +258,7 @@ private:
         interp.k = s.k;
         pointSet.settings = {s.raysPerPoint, interp, mDisplaySpace};
         pointSet.settings.integrator = s.integrator;
+        pointSet.settings.foveaRaysPerPoint = mFoveaRays;
         mCurrent = &pointSet;
         return pointSet;
     }
@@ -267,6 +269,7 @@ private:
     foveation::DisplayProfile mDesktop;
     std::optional<foveation::DisplayProfile> mHmdDisplay;
     bool mBackground;
+    uint32_t mFoveaRays; // --fovea-rays
     const render::PointSetMethod* mCurrent = nullptr;
     double mBuildMs = 0.0;
 };
@@ -444,7 +447,8 @@ DemoRun::DemoRun(const DemoOptions& o)
     log::info("demo defaults: " + mDefaults.label + " (options given on the command line win)");
     mSettings = liveSettingsOf(words);
     mMethods.emplace(*mRenderer, o.cacheDir, o.displaySpace && !o.hmd.empty() && o.distortion,
-                     layerSettings(o.slope, o.layers, o.spp), o.hmd, o.frames == 0);
+                     layerSettings(o.slope, o.layers, o.spp), o.hmd, o.frames == 0,
+                     o.integrator.foveaRays);
     if (o.overlay || mCalibration) {
         mOverlay.emplace(*mWindow, ctx, mSwapchain->format(), mSwapchain->imageCount());
         if (mCalibration) mOverlay->toggle(); // the targets only: the panel would hide some

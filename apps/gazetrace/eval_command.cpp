@@ -619,6 +619,7 @@ std::unique_ptr<render::PointSetMethod> EvalRun::makeFoveated(double scale) {
     m->settings.interpolation.shepardPower = static_cast<float>(o.shepardPower);
     m->settings.jitter = o.jitter;
     m->settings.integrator = mIntegrator;
+    m->settings.foveaRaysPerPoint = o.integrator.foveaRays;
     if (mThesis) {
         passes::TaaSettings unused;
         render::useThesisReconstruction(m->settings, unused);

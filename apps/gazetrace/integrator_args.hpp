@@ -11,6 +11,7 @@ struct IntegratorArgs {
     uint32_t bounces = 4;              // 1 to trace::kMaxBounces
     std::string sequence = "sobol";    // sobol | independent
     std::string denoise = "off";       // off | on: the post chain's denoiser (pass `denoise`)
+    uint32_t foveaRays = 0; // point sets: rays per point within 5 degrees of the gaze (0: same)
 };
 
 } // namespace gt::app

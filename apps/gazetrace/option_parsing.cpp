@@ -81,7 +81,8 @@ nlohmann::json integratorJson(const IntegratorArgs& args) {
     return {{"integrator", args.integrator},
             {"bounces", args.bounces},
             {"sequence", args.sequence},
-            {"denoise", args.denoise}};
+            {"denoise", args.denoise},
+            {"fovea_rays", args.foveaRays}};
 }
 
 double parseSlope(const std::string& text) {

@@ -278,6 +278,7 @@ render::FoveationMethod& hmdMethod(const RenderOptions& o, const display::HmdPro
     interp.knn = parseKnnIndex(o.knn);
     pointSet.settings = {o.raysPerPoint, interp, o.displaySpace && o.distortion, o.lod};
     pointSet.settings.integrator = parseIntegrator(o.integrator);
+    pointSet.settings.foveaRaysPerPoint = o.integrator.foveaRays;
     if ((parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis)) {
         render::useThesisReconstruction(pointSet.settings, post.taaSettings);
     }
@@ -589,6 +590,7 @@ render::View flatView(const RenderOptions& o, const FlatSetup& s, render::Render
         render::PointSetMethod& pointSet = methods.pointSet(s.pointSet);
         pointSet.settings = {o.raysPerPoint, s.interp, false, o.lod};
         pointSet.settings.integrator = parseIntegrator(o.integrator);
+        pointSet.settings.foveaRaysPerPoint = o.integrator.foveaRays;
         view.method = &pointSet;
         view.post.taa = o.taa && o.view.empty(); // debug views show one frame's data as is
         if ((parseReconstruction(o.reconstruction) == render::Reconstruction::Thesis)) {
@@ -610,10 +612,14 @@ void addPointSetJson(nlohmann::json& j, const RenderOptions& o, const FlatSetup&
                             interp.method == passes::Interpolation::Rbf;
     // The last frame's, as gpu_ms is; a trace or live gaze moves it from frame to frame.
     const std::size_t sampled = pointSet.pointsSampled(view.gaze);
-    rays = static_cast<uint64_t>(sampled) * o.raysPerPoint;
+    rays = pointSet.rays(view); // with --fovea-rays, the fovea's points' own count
     j["points_sampled"] = sampled;
     j["points_total"] = pointSet.pointSet().points().size();
     j["rays_per_point"] = o.raysPerPoint;
+    if (o.integrator.foveaRays > 0) {
+        j["fovea_rays_per_point"] = o.integrator.foveaRays;
+        j["fovea_radius_px"] = pointSet.foveaRadiusPx();
+    }
     j["interp"] = o.interp;
     j["k"] = neighbours ? o.k : 1u;
     if (interp.method == passes::Interpolation::Rbf) {

@@ -324,6 +324,7 @@ void ProfileRun::setUpAll(std::vector<Slot>& slots, const foveation::PointSetPar
             mNearest->settings.raysPerPoint = kRays.front();
             mNearest->settings.interpolation.method = passes::Interpolation::Nearest;
             mNearest->settings.integrator = mIntegrator;
+            mNearest->settings.foveaRaysPerPoint = mOptions.common.integrator.foveaRays;
             slots[1].method = &*mNearest;
         },
         [&] { mNearest.reset(); });
@@ -335,6 +336,7 @@ void ProfileRun::setUpAll(std::vector<Slot>& slots, const foveation::PointSetPar
             mShepard->settings.interpolation.method = passes::Interpolation::Shepard;
             mShepard->settings.interpolation.k = kShepardK;
             mShepard->settings.integrator = mIntegrator;
+            mShepard->settings.foveaRaysPerPoint = mOptions.common.integrator.foveaRays;
             slots[2].method = &*mShepard;
         },
         [&] { mShepard.reset(); });

@@ -117,6 +117,7 @@ nlohmann::json runStereoBench(const BenchOptions& o) {
         eyes.settings.raysPerPoint = o.quick ? 1 : 8;
         eyes.settings.interpolation.method = passes::Interpolation::Nearest;
         eyes.settings.integrator = parseIntegrator(o.integrator);
+        eyes.settings.foveaRaysPerPoint = o.integrator.foveaRays;
         render::FullResolution reference(r.methodContext(), {1, 0, parseIntegrator(o.integrator)});
         const render::StereoRig rig(hmd, true);
         scene::Camera head = r.scene().camera;

@@ -132,6 +132,7 @@ public:
         const auto built = [&](render::PointSetMethod& m, double ms) {
             m.settings = {mOptions.raysPerPoint, mInterp, false};
             m.settings.integrator = mIntegrator;
+            m.settings.foveaRaysPerPoint = mOptions.integrator.foveaRays;
             if (mThesis) {
                 passes::TaaSettings unused; // the views' TAA follows in eyeViews
                 render::useThesisReconstruction(m.settings, unused);

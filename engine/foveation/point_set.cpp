@@ -199,6 +199,21 @@ std::size_t PointSet::countOnScreen(float gazeX, float gazeY, float margin) cons
     return n;
 }
 
+std::size_t PointSet::countOnScreenWithin(float gazeX, float gazeY, float radius,
+                                          float margin) const {
+    const float w = static_cast<float>(mParams.display.width);
+    const float h = static_cast<float>(mParams.display.height);
+    const float ox = gazeX - w, oy = gazeY - h;
+    std::size_t n = 0;
+    for (const Point& p : mPoints) {
+        const float x = p.x + ox, y = p.y + oy;
+        const float dx = p.x - w, dy = p.y - h;
+        n += x >= -margin && x < w + margin && y >= -margin && y < h + margin &&
+             dx * dx + dy * dy <= radius * radius;
+    }
+    return n;
+}
+
 PointSetStats PointSet::stats(float margin) const {
     const auto w = static_cast<float>(mParams.display.width);
     const auto h = static_cast<float>(mParams.display.height);

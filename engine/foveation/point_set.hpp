@@ -81,6 +81,9 @@ public:
     // Points that land inside the screen (plus `margin` pixels) when the set is shifted so its
     // centre of interest lies at the gaze point (screen pixels).
     [[nodiscard]] std::size_t countOnScreen(float gazeX, float gazeY, float margin = 0.0f) const;
+    // Of those, the points within `radius` pixels of the centre of interest (the gaze).
+    [[nodiscard]] std::size_t countOnScreenWithin(float gazeX, float gazeY, float radius,
+                                                  float margin = 0.0f) const;
     [[nodiscard]] PointSetStats stats(float margin = 0.0f) const;
 
     // For the cache: build from stored data. Every point must lie on the 2W x 2H canvas (the

@@ -1,6 +1,7 @@
 #include "point_sample/point_sample.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -19,7 +20,17 @@ namespace gt::passes {
 namespace sh = shaders::foveated;
 
 namespace {
-constexpr uint32_t kMaxLanes = 32; // a GPU subgroup's width at most; kSampleGroupSize / 2
+constexpr uint32_t kMaxLanes = 32;    // a GPU subgroup's width at most; kSampleGroupSize / 2
+constexpr uint32_t kMaxRays = 0xffff; // params.z holds two counts of 16 bits
+
+// The tracing constants with the fovea's radius (kSpecFoveaRadius) when it is on: off, the
+// pipelines are built exactly as without it.
+std::vector<uint32_t> fovealSpecialization(std::vector<uint32_t> constants, float radiusPx) {
+    if (radiusPx <= 0.0f) return constants;
+    constants.resize(std::max<std::size_t>(constants.size(), sh::kSpecFoveaRadius + 1));
+    constants[sh::kSpecFoveaRadius] = std::bit_cast<uint32_t>(radiusPx);
+    return constants;
+}
 static_assert(foveation::PointChunks::kPoints == sh::kSampleGroupSize,
               "a chunk is one workgroup's points at one lane per point");
 
@@ -68,12 +79,13 @@ PointSamplePass::~PointSamplePass() = default;
 
 const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaMask, bool chunked,
                                                      bool dynamic,
-                                                     const trace::IntegratorSettings& i) const {
+                                                     const trace::IntegratorSettings& i,
+                                                     float foveaRadiusPx) const {
     const bool direct = i.integrator == trace::Integrator::Direct; // one pipeline, any bounces
     auto& slot =
         mPipelines[{lanes, alphaMask, chunked, dynamic, static_cast<uint32_t>(i.integrator),
                     direct ? 0u : i.bounces, direct ? 0.0f : i.fireflyClamp,
-                    direct ? 0u : static_cast<uint32_t>(i.sequence)}];
+                    direct ? 0u : static_cast<uint32_t>(i.sequence), foveaRadiusPx}];
     if (!slot) {
         const std::vector<VkDescriptorType> bindings =
             trace::tracingBindings({VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, // kBindingPoints
@@ -84,8 +96,10 @@ const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaM
             mCtx,
             vk::ComputePipelineDesc{
                 "point_sample", gt_spv_point_sample_comp, bindings, sizeof(sh::PointSamplePush),
-                trace::tracingSpecialization({alphaMask ? 1u : 0u, lanes, chunked ? 1u : 0u},
-                                             dynamic, i)});
+                fovealSpecialization(
+                    trace::tracingSpecialization({alphaMask ? 1u : 0u, lanes, chunked ? 1u : 0u},
+                                                 dynamic, i),
+                    foveaRadiusPx)});
     }
     return *slot;
 }
@@ -96,9 +110,10 @@ rg::BufferId PointSamplePass::add(rg::RenderGraph& graph, const trace::GpuScene&
                                   uint32_t raysPerPoint, uint32_t lanesPerPoint,
                                   const PanelWarp* warp, bool lod, uint32_t frame, float siteJitter,
                                   bool thesisDisc, PointDispatch dispatch,
-                                  const trace::IntegratorSettings& integrator) const {
+                                  const trace::IntegratorSettings& integrator,
+                                  const FoveaRays& fovea) const {
     return addSamples(graph, scene, cam, points, gaze, raysPerPoint, lanesPerPoint, warp, lod,
-                      frame, siteJitter, thesisDisc, dispatch, integrator)
+                      frame, siteJitter, thesisDisc, dispatch, integrator, fovea)
         .samples;
 }
 
@@ -108,9 +123,13 @@ SampledPoints PointSamplePass::addSamples(rg::RenderGraph& graph, const trace::G
                                           uint32_t raysPerPoint, uint32_t lanesPerPoint,
                                           const PanelWarp* warp, bool lod, uint32_t frame,
                                           float siteJitter, bool thesisDisc, PointDispatch dispatch,
-                                          const trace::IntegratorSettings& integrator) const {
+                                          const trace::IntegratorSettings& integrator,
+                                          const FoveaRays& fovea) const {
     if (raysPerPoint == 0) {
         throw ArgumentError("rays per point is 0: every point traces at least 1 ray");
+    }
+    if (raysPerPoint > kMaxRays || fovea.rays > kMaxRays) {
+        throw ArgumentError("point_sample: at most 65535 rays per point");
     }
     const uint32_t lanes =
         lanesPerPoint == 0 ? pointSampleLanes(mCtx, raysPerPoint) : lanesPerPoint;
@@ -119,8 +138,8 @@ SampledPoints PointSamplePass::addSamples(rg::RenderGraph& graph, const trace::G
     }
     const bool chunked = dispatch == PointDispatch::OnScreenChunks;
     const bool dynamic = scene.dynamic();
-    const vk::ComputePipeline& pipe =
-        pipeline(lanes, scene.alphaMasked(), chunked, dynamic, integrator);
+    const vk::ComputePipeline& pipe = pipeline(lanes, scene.alphaMasked(), chunked, dynamic,
+                                               integrator, fovea.on() ? fovea.radiusPx : 0.0f);
     const uint32_t pointsPerGroup = sh::kSampleGroupSize / lanes;
     const uint32_t w = graph.outputWidth(), h = graph.outputHeight();
     const glm::vec2 off = gazeOffset(gaze, points.displayWidth(), points.displayHeight());
@@ -133,7 +152,7 @@ SampledPoints PointSamplePass::addSamples(rg::RenderGraph& graph, const trace::G
                   // Never 0, so that the sign always tells the disc.
                   (thesisDisc ? -1.0f : 1.0f) *
                       std::max(lod ? static_cast<float>(scene.lodLevels()) : 0.0f, 0.5f)),
-        glm::uvec4(w, h, raysPerPoint, points.count()),
+        glm::uvec4(w, h, raysPerPoint | (fovea.on() ? fovea.rays << 16 : 0u), points.count()),
         glm::vec4(0.0f),
         glm::vec4(0.0f, 0.0f, 0.0f,
                   static_cast<float>(frame % (1u << 16)) +

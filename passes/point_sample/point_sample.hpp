@@ -57,6 +57,14 @@ struct SampledPoints {
     std::optional<rg::BufferId> motion;
 };
 
+// Paths per point by eccentricity: the points within `radiusPx` (canvas pixels) of the centre
+// of interest trace `rays` each instead of the pass's rays per point. rays 0 or radiusPx 0: off.
+struct FoveaRays {
+    uint32_t rays = 0;
+    float radiusPx = 0.0f;
+    [[nodiscard]] bool on() const noexcept { return rays > 0 && radiusPx > 0.0f; }
+};
+
 class PointSamplePass {
 public:
     explicit PointSamplePass(vk::Context& ctx);
@@ -69,14 +77,16 @@ public:
     // (site_jitter.glsl; below 1.9). `thesisDisc`: rays anywhere
     // in the point's disc of radius p, as the thesis; else within 0.6 px of the site. With
     // OnScreenChunks a pass "point_sample.chunks" first uploads this frame's chunk list.
-    // `integrator`: what each ray computes (the direct integrator or the path tracer).
+    // `integrator`: what each ray computes (the direct integrator or the path tracer). `fovea`:
+    // more rays for the points near the gaze. Throws for more than 65535 rays per point.
     rg::BufferId add(rg::RenderGraph& graph, const trace::GpuScene& scene,
                      const shaders::trace::CameraPush& camera, const foveation::GpuPointSet& points,
                      glm::vec2 gaze, uint32_t raysPerPoint, uint32_t lanesPerPoint = 0,
                      const PanelWarp* warp = nullptr, bool lod = false, uint32_t frame = 0,
                      float siteJitter = 0.0f, bool thesisDisc = false,
                      PointDispatch dispatch = PointDispatch::OnScreenChunks,
-                     const trace::IntegratorSettings& integrator = {}) const;
+                     const trace::IntegratorSettings& integrator = {},
+                     const FoveaRays& fovea = {}) const;
     // The same, and in a scene that moves also a new buffer "point_sample.motion" (one vec4
     // per point: its ray 0's first hit's motion).
     SampledPoints addSamples(rg::RenderGraph& graph, const trace::GpuScene& scene,
@@ -86,17 +96,20 @@ public:
                              const PanelWarp* warp = nullptr, bool lod = false, uint32_t frame = 0,
                              float siteJitter = 0.0f, bool thesisDisc = false,
                              PointDispatch dispatch = PointDispatch::OnScreenChunks,
-                             const trace::IntegratorSettings& integrator = {}) const;
+                             const trace::IntegratorSettings& integrator = {},
+                             const FoveaRays& fovea = {}) const;
 
 private:
     const vk::ComputePipeline& pipeline(uint32_t lanes, bool alphaMask, bool chunked, bool dynamic,
-                                        const trace::IntegratorSettings& integrator) const;
+                                        const trace::IntegratorSettings& integrator,
+                                        float foveaRadiusPx) const;
 
     vk::Context& mCtx;
     // One pipeline per lane count, alpha-mask setting, dispatch, scene kind (static or
     // moving) and integrator, built on first use (each compiles the whole tracer).
-    mutable std::map<std::tuple<uint32_t, bool, bool, bool, uint32_t, uint32_t, float, uint32_t>,
-                     std::unique_ptr<vk::ComputePipeline>>
+    mutable std::map<
+        std::tuple<uint32_t, bool, bool, bool, uint32_t, uint32_t, float, uint32_t, float>,
+        std::unique_ptr<vk::ComputePipeline>>
         mPipelines;
     vk::Buffer mNoChunks; // bound as the chunk list when the whole set is dispatched
 };

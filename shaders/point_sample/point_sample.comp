@@ -31,6 +31,7 @@
 layout(local_size_x = kSampleGroupSize) in;
 layout(constant_id = 1) const uint kLanes = 1u; // a power of two up to kSampleGroupSize / 2
 layout(constant_id = 2) const bool kChunked = false;
+layout(constant_id = kSpecFoveaRadius) const float kFoveaRadius = 0.0;
 layout(set = 0, binding = kBindingPoints) uniform samplerBuffer uPoints;
 layout(std430, set = 0, binding = kBindingSamples) writeonly buffer Samples { vec4 samples[]; };
 layout(std430, set = 0, binding = kBindingChunks) readonly buffer Chunks { uint chunks[]; };
@@ -80,7 +81,7 @@ uint pointIndex() {
 void main() {
     const uint i = pointIndex();
     const uint lane = gl_LocalInvocationIndex % kLanes;
-    const uint rays = pc.params.z;
+    const uint raysAway = pc.params.z & 0xffffu, raysFovea = pc.params.z >> 16;
     const vec2 size = vec2(pc.params.xy);
     const float margin = pc.offset.z;
     vec4 p = vec4(0.0);
@@ -96,6 +97,11 @@ void main() {
         onScreen = all(greaterThanEqual(s, vec2(-margin))) && all(lessThan(s, size + margin));
     }
     if (kLanes == 1u && !onScreen) return; // a specialisation constant: no barrier follows
+    // Paths per point by eccentricity: more where the eye resolves most (the canvas centre is
+    // the gaze), as Mohanto et al. 2024's samples per pixel by eccentricity band.
+    const bool inFovea = kFoveaRadius > 0.0 && raysFovea > 0u &&
+                         length(p.xy - vec2(pc.params.xy)) <= kFoveaRadius;
+    const uint rays = inFovea ? raysFovea : raysAway;
     const CameraPush cam = CameraPush(pc.origin, pc.forward, pc.right, pc.up);
     // Geometric LOD (Guenter et al. 2012, 6, here for the point set): a point whose neighbours lie p pixels
     // apart resolves no detail finer than that, so it traces the scene's subdivision cages

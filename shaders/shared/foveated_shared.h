@@ -16,16 +16,23 @@ GT_CONST kBindingChunks = 11;
 GT_CONST kBindingSampleMotion = 12;
 GT_CONST kSampleGroupSize = 64;
 
+// Specialisation constant of point_sample (ids 0-3 are trace.glsl's and its own, 4-7 the
+// integrator's): the radius in canvas pixels around the centre of interest within which a point
+// traces the fovea's rays (float bits; 0: every point traces the same).
+GT_CONST kSpecFoveaRadius = 8;
+
 struct PointSamplePush {
     vec4 origin; // camera, as trace::CameraPush
     vec4 forward;
     vec4 right;
     vec4 up;
-    vec4 offset;  // x, y: canvas -> screen offset (gaze - (W, H)); z: margin in pixels;
-                  // |w|: geometric LOD levels to choose from by the point's spacing (<= 1.5:
-                  // off); w < 0: rays anywhere in the point's disc (the thesis), else within
-                  // kRayDiscMaxPx of the site
-    uvec4 params; // x = width, y = height, z = rays per point, w = point count
+    vec4 offset; // x, y: canvas -> screen offset (gaze - (W, H)); z: margin in pixels;
+                 // |w|: geometric LOD levels to choose from by the point's spacing (<= 1.5:
+                 // off); w < 0: rays anywhere in the point's disc (the thesis), else within
+                 // kRayDiscMaxPx of the site
+    // x = width, y = height, z = rays per point (low 16 bits) and rays per point within
+    // kFoveaRadius (high 16 bits; 0: the same), w = point count
+    uvec4 params;
     // The set laid on an HMD's panel (engine/display/display_space.hpp): each ray's panel
     // position goes through the lens model into the image before it is traced.
     vec4 lens;       // xy: lens centre (normalised), z: aspect, w: rMax (0: no warp)

@@ -1,10 +1,12 @@
 // `render --integrator path --bounces N`: the path tracer through the command line, and its
 // options' errors.
+#include <cmath>
 #include <filesystem>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "scene/image_io.hpp"
 #include "support/cli_run.hpp"
 #include "support/gpu_test_context.hpp"
 
@@ -14,6 +16,21 @@ namespace {
 using test::expectCleanFailure;
 using test::Result;
 using test::run;
+
+// The mean absolute difference of green between horizontal neighbours in the central 40 x 40
+// pixels: on a flat, evenly lit wall, the noise.
+double centreNoise(const image::DecodedImage& img) {
+    double sum = 0.0;
+    int n = 0;
+    for (uint32_t y = img.height / 2 - 20; y < img.height / 2 + 20; ++y) {
+        for (uint32_t x = img.width / 2 - 20; x < img.width / 2 + 20; ++x) {
+            const std::size_t i = (static_cast<std::size_t>(y) * img.width + x) * 4 + 1;
+            sum += std::abs(int(img.rgba[i]) - int(img.rgba[i + 4]));
+            ++n;
+        }
+    }
+    return sum / n;
+}
 
 TEST(CliPath, ReferenceAndFoveatedTracePaths) {
     const auto dir = test::tempDir("cli_path");
@@ -52,6 +69,41 @@ TEST(CliPath, DenoiseRunsTheDenoisePasses) {
     expectCleanFailure(run("render --method layers --denoise on --out " + out.string()),
                        "--denoise", out);
     expectCleanFailure(run("render --denoise maybe --out " + out.string()), "--denoise", out);
+}
+
+// --fovea-rays F: the points within 5 degrees of the gaze trace F rays instead of R. The
+// desktop screen (51 cm wide, 1920 px, seen from 59 cm) puts 5 degrees at
+// 1920 * 59 / 51 * tan 5 = 194.3 px in any window on it; the rays grow by (F - R) for each
+// point inside, and no more than the sampled points are inside. Those rays are traced: the
+// centre of the image is less noisy (neighbouring pixels differ less on the flat back wall).
+TEST(CliPath, FoveaRaysTraceMorePathsNearTheGaze) {
+    const auto dir = test::tempDir("cli_path_fovea");
+    uint64_t rays[2] = {0, 0};
+    double noise[2] = {0.0, 0.0};
+    uint64_t sampled = 0;
+    for (const uint32_t fovea : {0u, 6u}) {
+        const Result r = run("render --scene builtin:cornell --method foveated --profile desktop "
+                             "--width 320 --height 240 --rays-per-point 2 --integrator path "
+                             "--bounces 1 --validate --json --fovea-rays " +
+                             std::to_string(fovea) + " --cache " + (dir / "cache").string() +
+                             " --out " + (dir / "f.png").string());
+        ASSERT_EQ(r.status, 0) << r.err;
+        EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;
+        const auto j = nlohmann::json::parse(r.out);
+        rays[fovea == 0 ? 0 : 1] = j["rays"].get<uint64_t>();
+        noise[fovea == 0 ? 0 : 1] = centreNoise(image::readPng(dir / "f.png"));
+        sampled = j["points_sampled"].get<uint64_t>();
+        if (fovea > 0) EXPECT_NEAR(j["fovea_radius_px"].get<double>(), 194.3, 0.2);
+    }
+    EXPECT_EQ(rays[0], 2 * sampled);
+    ASSERT_GT(rays[1], rays[0]);
+    EXPECT_EQ((rays[1] - rays[0]) % 4, 0u);
+    const uint64_t inside = (rays[1] - rays[0]) / 4;
+    EXPECT_LE(inside, sampled);
+    // A 194 px disc around the centre covers most of a 320 x 240 window.
+    EXPECT_GT(inside, sampled / 2);
+    // 8 paths against 2 per point: the noise's spread about halves.
+    EXPECT_LT(noise[1], 0.75 * noise[0]) << noise[0] << " " << noise[1];
 }
 
 TEST(CliPath, BadIntegratorAndBouncesAreOneLineErrors) {

@@ -469,3 +469,30 @@ TEST(RbfPixelWeights, InterpolateThroughThePoints) {
 
 } // namespace
 } // namespace gt::foveation
+
+namespace gt::foveation {
+namespace {
+
+// Paths per point by eccentricity count the points within the fovea's radius of the centre of
+// interest, on screen: on a 100 x 80 display (canvas 200 x 160, centre (100, 80)), points at
+// distances 0, 5, 9.9 and 10.1 from the centre and one far away; the gaze shifts the set, so
+// a gaze at the screen's corner leaves only the centre's quarter on screen.
+TEST(PointSet, CountsThePointsWithinTheFoveasRadius) {
+    PointSetParams p;
+    p.display = fovDisplayProfile("small", 100, 80, 90.0);
+    const PointSet set = PointSet::fromPoints(p, {{100.0f, 80.0f, 1.0f},
+                                                  {105.0f, 80.0f, 1.0f},
+                                                  {100.0f, 89.9f, 1.0f},
+                                                  {110.1f, 80.0f, 1.0f},
+                                                  {80.0f, 60.0f, 4.0f}});
+    EXPECT_EQ(set.countOnScreenWithin(50.0f, 40.0f, 10.0f), 3u);
+    EXPECT_EQ(set.countOnScreenWithin(50.0f, 40.0f, 20.0f), 4u);
+    EXPECT_EQ(set.countOnScreen(50.0f, 40.0f), 5u);
+    // Gaze at (0, 0): the centre sits at the screen's top-left corner; (105, 80) and
+    // (100, 89.9) lie right of and below it, on screen; nothing left of or above it is.
+    EXPECT_EQ(set.countOnScreenWithin(0.0f, 0.0f, 10.0f), 3u);
+    EXPECT_EQ(set.countOnScreenWithin(-0.5f, -0.5f, 10.0f), 0u);
+}
+
+} // namespace
+} // namespace gt::foveation

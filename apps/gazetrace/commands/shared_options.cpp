@@ -76,6 +76,11 @@ void addIntegratorOptions(CLI::App* cmd, IntegratorArgs& args, const std::string
                     "(Owen-scrambled, stratified over rays and frames) | independent")
         ->check(CLI::IsMember({"sobol", "independent"}))
         ->capture_default_str();
+    cmd->add_option("--fovea-rays", args.foveaRays,
+                    "Foveated: rays per point within 5 degrees of the gaze (paths per point by "
+                    "eccentricity; 0: --rays-per-point)")
+        ->check(CLI::Range(0u, 4096u))
+        ->capture_default_str();
     cmd->add_option("--denoise", args.denoise,
                     "The spatial denoiser before TAA, stronger with eccentricity, none within 5 "
                     "degrees of the gaze (docs/path-tracing.md): off | on")
