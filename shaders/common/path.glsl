@@ -216,34 +216,13 @@ float powerHeuristic(float a, float b) {
     return a2 + b * b > 0.0 ? a2 / (a2 + b * b) : 0.0;
 }
 
-// Punctual light li's irradiance at p (normal to the light) and its direction and distance, as
-// traceRadiance computes them (KHR_lights_punctual's falloff and cone). Zero for a light that
+// Punctual light li as traceRadiance sees it (lightIrradiance), or zero for a light that
 // stands in for an emissive surface (trace_shared.h): that surface is sampled itself.
 vec3 punctualIrradiance(uint li, vec3 p, out vec3 toLight, out float dist) {
-    int lb = int(li * kLightTexels);
-    vec4 l0 = texelFetch(uLights, lb), l1 = texelFetch(uLights, lb + 1);
-    vec4 l2 = texelFetch(uLights, lb + 2), l3 = texelFetch(uLights, lb + 3);
     toLight = vec3(0.0, 1.0, 0.0);
     dist = kInf;
-    if (l3.y > 0.5) return vec3(0.0);
-    uint type = floatBitsToUint(l0.w);
-    if (type == kLightDirectional) {
-        toLight = -l1.xyz;
-        return l2.rgb;
-    }
-    vec3 d = l0.xyz - p;
-    dist = length(d);
-    toLight = d / dist;
-    float atten = 1.0 / max(dist * dist, 1e-4);
-    if (l1.w > 0.0) {
-        float r = dist / l1.w;
-        atten *= clamp(1.0 - r * r * r * r, 0.0, 1.0);
-    }
-    if (type == kLightSpot) {
-        float s = clamp((dot(l1.xyz, -toLight) - l3.x) / max(l2.w - l3.x, 1e-4), 0.0, 1.0);
-        atten *= s * s;
-    }
-    return l2.rgb * atten;
+    if (texelFetch(uLights, int(li * kLightTexels) + 3).y > 0.5) return vec3(0.0);
+    return lightIrradiance(li, p, toLight, dist);
 }
 
 // Light from every punctual light scattered at s towards wo. `lit` gets the lights 0-7 that

@@ -442,6 +442,34 @@ void hitNormals(Hit hit, vec3 dir, vec4 s0, vec4 s1, vec4 s2, out vec3 n, out ve
 
 float offsetScale(vec3 p) { return 1e-4 * max(1.0, max(abs(p.x), max(abs(p.y), abs(p.z)))); }
 
+// Punctual light li's irradiance at p (normal to the light) and its direction and distance
+// (infinite for a directional light): KHR_lights_punctual's inverse-square falloff, its range
+// window and its spot cone.
+vec3 lightIrradiance(uint li, vec3 p, out vec3 toLight, out float dist) {
+    int lb = int(li * kLightTexels);
+    vec4 l0 = texelFetch(uLights, lb), l1 = texelFetch(uLights, lb + 1);
+    vec4 l2 = texelFetch(uLights, lb + 2), l3 = texelFetch(uLights, lb + 3);
+    uint type = floatBitsToUint(l0.w);
+    if (type == kLightDirectional) {
+        toLight = -l1.xyz;
+        dist = kInf;
+        return l2.rgb;
+    }
+    vec3 d = l0.xyz - p;
+    dist = length(d);
+    toLight = d / dist;
+    float atten = 1.0 / max(dist * dist, 1e-4);
+    if (l1.w > 0.0) {
+        float r = dist / l1.w;
+        atten *= clamp(1.0 - r * r * r * r, 0.0, 1.0);
+    }
+    if (type == kLightSpot) {
+        float s = clamp((dot(l1.xyz, -toLight) - l3.x) / max(l2.w - l3.x, 1e-4), 0.0, 1.0);
+        atten *= s * s;
+    }
+    return l2.rgb * atten;
+}
+
 // Radiance along a camera ray: see gt::trace::CpuTracer::radiance for the rules.
 // `depth` receives the distance to the first hit (kInf on a miss) for temporal passes.
 vec3 traceRadiance(vec3 origin, vec3 dir, out float depth) {
@@ -477,34 +505,9 @@ vec3 traceRadiance(vec3 origin, vec3 dir, out float depth) {
         uint lit = 0u; // lights 0-7 reaching the first hit, for gMotion's signature
         uint lightCount = uScene.counts.x;
         for (uint li = 0u; li < lightCount; ++li) {
-            int lb = int(li * kLightTexels);
-            vec4 l0 = texelFetch(uLights, lb);
-            vec4 l1 = texelFetch(uLights, lb + 1);
-            vec4 l2 = texelFetch(uLights, lb + 2);
-            vec4 l3 = texelFetch(uLights, lb + 3);
-            uint type = floatBitsToUint(l0.w);
             vec3 toLight;
             float dist;
-            vec3 e = l2.rgb;
-            if (type == kLightDirectional) {
-                toLight = -l1.xyz;
-                dist = kInf;
-            } else {
-                vec3 d = l0.xyz - p;
-                dist = length(d);
-                toLight = d / dist;
-                float atten = 1.0 / max(dist * dist, 1e-4);
-                if (l1.w > 0.0) {
-                    float r = dist / l1.w;
-                    atten *= clamp(1.0 - r * r * r * r, 0.0, 1.0);
-                }
-                if (type == kLightSpot) {
-                    float cd = dot(l1.xyz, -toLight);
-                    float s = clamp((cd - l3.x) / max(l2.w - l3.x, 1e-4), 0.0, 1.0);
-                    atten *= s * s;
-                }
-                e *= atten;
-            }
+            vec3 e = lightIrradiance(li, p, toLight, dist);
             float cosTheta = dot(n, toLight);
             if (cosTheta <= 0.0 || dot(e, e) == 0.0) continue;
             float shadowMax = isinf(dist) ? kInf : dist * 0.999;
