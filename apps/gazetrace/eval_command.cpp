@@ -528,6 +528,10 @@ private:
     nlohmann::json stillSequence();
     nlohmann::json movingSequence();
     nlohmann::json pursuitSequence();
+    nlohmann::json pursuitOf(render::FoveationMethod& method, const char* name);
+    [[nodiscard]] bool pathTraced() const noexcept {
+        return mIntegrator.integrator != trace::Integrator::Direct;
+    }
     nlohmann::json animatedSequence();
     void sweep(nlohmann::json& summary);
     MatchEntry matchCandidate(uint32_t width, uint32_t height, uint32_t raysPerPixel,
@@ -819,7 +823,9 @@ nlohmann::json EvalRun::stillSequence() {
 }
 
 // A moving camera: each frame against the previous one reprojected through the geometry; the
-// reference at one ray per pixel with the same seed every frame.
+// reference at one ray per pixel with the same seed every frame. A path-traced reference's
+// samples change from frame to frame, so it runs the foveated frame's post chain (denoiser and
+// TAA) to flicker no more than such a renderer would; a direct one needs no history.
 nlohmann::json EvalRun::movingSequence() {
     const Geometry& g = mGeometry;
     const scene::CameraPath& path = *mInputs.path;
@@ -841,7 +847,7 @@ nlohmann::json EvalRun::movingSequence() {
             render::View v = mBase;
             v.camera = cams[t.index];
             v.name = isRef ? "moving_reference" : "moving_foveated";
-            v.post.taa = !isRef && mOptions.taa;
+            v.post.taa = (!isRef || pathTraced()) && mOptions.taa;
             return v;
         };
         render::FoveationMethod& method =
@@ -857,6 +863,7 @@ nlohmann::json EvalRun::movingSequence() {
             });
         moving[isRef ? "reference" : "foveated"] = changeJson(steps);
     }
+    moving["reference_taa"] = pathTraced() && mOptions.taa;
     moving["camera_path"] = mOptions.cameraPath;
     moving["frames"] = seqFrames;
     return moving;
@@ -920,8 +927,21 @@ nlohmann::json EvalRun::animatedSequence() {
             {"moving_over_still", bandsJson(ratio)}};
 }
 
-// Smooth pursuit over a still scene: the point set follows the gaze, the scene stays.
+// Smooth pursuit over a still scene: the point set follows the gaze, the scene stays. With the
+// path integrator, also the uniform path tracer (one path per pixel, the same denoiser and TAA)
+// under the same gaze: its samples and its denoiser's fovea move too.
 nlohmann::json EvalRun::pursuitSequence() {
+    nlohmann::json pj = pursuitOf(*mFoveated, "pursuit");
+    if (pathTraced()) {
+        render::FullResolution uniform(mRenderer->methodContext(), {1, kSeed, mIntegrator});
+        pj["uniform"] = pursuitOf(uniform, "pursuit_uniform");
+    }
+    pj["trace"] = mOptions.pursuit;
+    return pj;
+}
+
+// Frame-to-frame change of `method` following the pursuit trace (see pursuitSequence).
+nlohmann::json EvalRun::pursuitOf(render::FoveationMethod& method, const char* name) {
     const Geometry& g = mGeometry;
     std::vector<Change> steps;
     RgbaImage last;
@@ -933,13 +953,13 @@ nlohmann::json EvalRun::pursuitSequence() {
     const auto view = [&](const FrameTick& t) {
         const std::size_t i = t.index < settle ? 0 : t.index - settle;
         render::View v = mBase;
-        v.name = "pursuit";
+        v.name = name;
         v.post.taa = mOptions.taa;
         v.gaze = clampToImage(samples[i].position, g.width, g.height);
         return v;
     };
     mShooter->sequence(
-        settle + static_cast<uint32_t>(n), view, *mFoveated,
+        settle + static_cast<uint32_t>(n), view, method,
         [&](const FrameTick& t, RgbaImage img, uint64_t) {
             if (t.index > settle) {
                 const std::vector<uint8_t> one(img.count(), 0);
@@ -953,7 +973,6 @@ nlohmann::json EvalRun::pursuitSequence() {
     nlohmann::json pj = changeJson(steps);
     pj["changed_percent_all"] = overall;
     pj["frames"] = n;
-    pj["trace"] = mOptions.pursuit;
     return pj;
 }
 
