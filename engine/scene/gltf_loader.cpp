@@ -43,7 +43,7 @@ std::string oneLine(const std::string& s) {
 struct ImageLoaderState {
     std::vector<std::string>* warnings;
     std::string file;
-    const std::vector<bool>* baseColourImage; // the images worth decoding
+    const std::vector<bool>* sampledImage; // the images worth decoding
     std::uint64_t maxTextureBytes = 0;
     std::uint64_t decodedBytes = 0; // so far, over all images
 };
@@ -76,10 +76,10 @@ bool withinTextureBudget(ImageLoaderState& state, int index, std::span<const uin
 bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::string* /*warn*/,
                int /*reqW*/, int /*reqH*/, const unsigned char* bytes, int size, void* user) {
     auto* state = static_cast<ImageLoaderState*>(user);
-    const auto& used = *state->baseColourImage;
+    const auto& used = *state->sampledImage;
     if (index < 0 || static_cast<std::size_t>(index) >= used.size() ||
         !used[static_cast<std::size_t>(index)] || size < 0) {
-        // Not a base-colour texture: the tracer never samples it, so it is not decoded.
+        // No tracer samples it (gltf_validate.hpp), so it is not decoded.
         image->width = image->height = 0;
         image->image.clear();
         return true;
@@ -249,7 +249,7 @@ private:
 
     // The base-colour texture's UV set and KHR_texture_transform, applied to the UVs as they are
     // read: the tracer then samples with the UVs unchanged.
-    UvTransform uvTransformOf(const tinygltf::TextureInfo& info) const {
+    template <typename Info> UvTransform uvTransformOf(const Info& info) const {
         UvTransform t;
         t.texCoord = info.texCoord;
         const auto ext = info.extensions.find("KHR_texture_transform");
@@ -288,6 +288,44 @@ private:
         return t;
     }
 
+    // A material's texture other than the base colour's: the tracer reads every texture of a
+    // material with the base colour's UVs, so one on other UVs is left out (with a warning).
+    template <typename Info>
+    int onBaseColourUvs(const Info& info, const std::string& material, const char* what) {
+        const int t = textureFor(info.index);
+        if (t < 0 || uvTransformOf(info) == mMaterialUv.back()) return t;
+        mReport.warnings.push_back("material '" + material + "': " + what +
+                                   " texture on other UVs than the base colour's, left out");
+        return -1;
+    }
+
+    // KHR_materials_transmission (factor, texture's R) and KHR_materials_ior.
+    void loadTransmission(const tinygltf::Material& m, const std::string& name, Material& out) {
+        const auto tr = m.extensions.find("KHR_materials_transmission");
+        if (tr != m.extensions.end() && tr->second.IsObject()) {
+            const tinygltf::Value& v = tr->second;
+            if (v.Has("transmissionFactor")) {
+                out.transmission =
+                    static_cast<float>(factor(v.Get("transmissionFactor").GetNumberAsDouble(), 0.0,
+                                              1.0, name + " transmissionFactor"));
+            }
+            if (v.Has("transmissionTexture") && v.Get("transmissionTexture").Has("index")) {
+                tinygltf::TextureInfo info;
+                info.index = v.Get("transmissionTexture").Get("index").GetNumberAsInt();
+                if (v.Get("transmissionTexture").Has("texCoord")) {
+                    info.texCoord = v.Get("transmissionTexture").Get("texCoord").GetNumberAsInt();
+                }
+                out.transmissionTexture = onBaseColourUvs(info, m.name, "transmission");
+            }
+        }
+        const auto ior = m.extensions.find("KHR_materials_ior");
+        if (ior != m.extensions.end() && ior->second.Has("ior")) {
+            // KHR_materials_ior: 1 or anything from 1 up (1 stands for no Fresnel reflection).
+            out.ior = static_cast<float>(
+                factor(ior->second.Get("ior").GetNumberAsDouble(), 1.0, 100.0, name + " ior"));
+        }
+    }
+
     void loadMaterials() {
         std::string translucent;
         for (const tinygltf::Material& m : mModel.materials) {
@@ -308,16 +346,13 @@ private:
                     "material '" + m.name +
                     "': base-colour texture not available, using the factor");
             }
-            // The tracer reads every texture of a material with the base colour's UVs: a
-            // metallic-roughness texture on other UVs is left out.
-            const int mr = textureFor(pbr.metallicRoughnessTexture.index);
-            if (mr >= 0 && uvTransformOf(pbr.metallicRoughnessTexture) == mMaterialUv.back()) {
-                out.metallicRoughnessTexture = mr;
-            } else if (mr >= 0) {
-                mReport.warnings.push_back("material '" + m.name +
-                                           "': metallic-roughness texture on other UVs than the "
-                                           "base colour's, using the factors");
-            }
+            out.metallicRoughnessTexture =
+                onBaseColourUvs(pbr.metallicRoughnessTexture, m.name, "metallic-roughness");
+            out.normalTexture = onBaseColourUvs(m.normalTexture, m.name, "normal");
+            out.normalScale = static_cast<float>(m.normalTexture.scale);
+            if (!std::isfinite(out.normalScale)) fail(name + " normalTexture scale is not finite");
+            out.emissiveTexture = onBaseColourUvs(m.emissiveTexture, m.name, "emissive");
+            loadTransmission(m, name, out);
             out.metallic = static_cast<float>(std::clamp(pbr.metallicFactor, 0.0, 1.0));
             out.roughness = static_cast<float>(std::clamp(pbr.roughnessFactor, 0.0, 1.0));
             if (m.emissiveFactor.size() == 3) {
@@ -335,14 +370,16 @@ private:
             if (m.alphaMode == "MASK") {
                 out.alphaCutoff = factor(m.alphaCutoff, 0.0, 1e6, name + " alphaCutoff");
             } else if (m.alphaMode == "BLEND") {
+                out.alphaBlend = true;
                 translucent += (translucent.empty() ? "" : ", ") + ("'" + m.name + "'");
             }
             mScene.materials.push_back(out);
         }
         if (!translucent.empty()) {
-            // The tracer has no transparency; say so rather than look right.
+            // The direct integrator has no transparency; say so rather than look right.
             mReport.warnings.push_back("material(s) " + translucent +
-                                       " use alphaMode BLEND; rendered opaque");
+                                       " use alphaMode BLEND; rendered opaque (but by "
+                                       "--integrator path)");
         }
         mDefaultMaterial = static_cast<uint32_t>(mScene.materials.size());
         mMaterialUv.emplace_back();
@@ -1702,7 +1739,8 @@ void checkModel(const tinygltf::Model& model, const std::string& file) {
     for (const std::string& e : model.extensionsRequired) {
         if (e != "KHR_lights_punctual" && e != "KHR_materials_emissive_strength" &&
             e != "KHR_texture_transform" && e != "KHR_materials_unlit" &&
-            e != "KHR_mesh_quantization") {
+            e != "KHR_mesh_quantization" && e != "KHR_materials_transmission" &&
+            e != "KHR_materials_ior") {
             throw LoadError(file + ": requires unsupported extension " + e);
         }
     }
@@ -1745,7 +1783,7 @@ Scene loadGltf(const std::filesystem::path& path, GltfLoadReport* report,
         guard.bufferFiles = canonicalFiles(facts.bufferFiles, baseDir);
     }
     loader.SetFsCallbacks({guardedExists, noExpansion, guardedRead, noWrite, &guard});
-    ImageLoaderState state{&rep.warnings, file, &facts.baseColourImage, options.maxTextureBytes};
+    ImageLoaderState state{&rep.warnings, file, &facts.sampledImage, options.maxTextureBytes};
     loader.SetImageLoader(loadImage, &state);
     tinygltf::Model model;
     std::string err, warn;

@@ -663,19 +663,32 @@ void DocumentChecker::checkMaterials() {
 
 GltfDocumentFacts DocumentChecker::facts() {
     GltfDocumentFacts f;
-    f.baseColourImage.assign(mCount["images"], false);
+    f.sampledImage.assign(mCount["images"], false);
     const json* textures = member(mRoot, "textures");
-    for (const json* m : objects(mRoot, "materials", "materials")) {
-        const json* pbr = member(*m, "pbrMetallicRoughness");
-        const json* info = pbr ? member(*pbr, "baseColorTexture") : nullptr;
+    const auto sampled = [&](const json* holder, const char* key) {
+        const json* info = holder ? member(*holder, key) : nullptr;
         const json* t = info ? member(*info, "index") : nullptr;
-        if (!t) {
-            continue;
+        // Extensions' texture indices are not checked above: the loader refuses a bad one.
+        if (!t || !t->is_number_unsigned() || !textures ||
+            t->get<std::size_t>() >= textures->size()) {
+            return;
         }
         const json& texture = (*textures)[t->get<std::size_t>()];
-        if (const json* source = member(texture, "source")) {
-            f.baseColourImage[source->get<std::size_t>()] = true;
+        const json* source = member(texture, "source");
+        if (source && source->is_number_unsigned() &&
+            source->get<std::size_t>() < f.sampledImage.size()) {
+            f.sampledImage[source->get<std::size_t>()] = true;
         }
+    };
+    for (const json* m : objects(mRoot, "materials", "materials")) {
+        const json* pbr = member(*m, "pbrMetallicRoughness");
+        sampled(pbr, "baseColorTexture");
+        sampled(pbr, "metallicRoughnessTexture");
+        sampled(m, "normalTexture");
+        sampled(m, "emissiveTexture");
+        const json* ext = member(*m, "extensions");
+        const json* transmission = ext ? member(*ext, "KHR_materials_transmission") : nullptr;
+        if (transmission && transmission->is_object()) sampled(transmission, "transmissionTexture");
     }
     const auto files = [&](const char* list, std::vector<std::string>& out) {
         std::size_t i = 0;

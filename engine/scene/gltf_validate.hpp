@@ -16,9 +16,10 @@ namespace gt::scene {
 
 // What the loader needs to know about the document beyond what tinygltf keeps.
 struct GltfDocumentFacts {
-    // Per image: whether a material uses it as a base-colour texture, the only texture the
-    // tracer samples (the others are not decoded, and count against no budget).
-    std::vector<bool> baseColourImage;
+    // Per image: whether a material uses it as a texture the tracers sample (base colour,
+    // metallic-roughness, normal, emissive, transmission); the others (occlusion, images no
+    // material uses) are not decoded, and count against no budget.
+    std::vector<bool> sampledImage;
     // The external files the document names (URIs that are not data: URIs, percent-decoded).
     std::vector<std::string> bufferFiles, imageFiles;
 };

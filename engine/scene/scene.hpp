@@ -24,10 +24,27 @@ struct Material {
     // glTF's metallicRoughnessTexture (linear; G scales roughness, B metallic), read with the
     // base colour's UVs; -1: the factors alone. Only the path integrator reads it.
     int metallicRoughnessTexture = -1;
+    // glTF's normalTexture (tangent space, read with the base colour's UVs) and its scale;
+    // -1: the interpolated vertex normal. Only the path integrator reads it.
+    int normalTexture = -1;
+    float normalScale = 1.0f;
+    // glTF's emissiveTexture (sRGB), multiplying `emissive`; -1: none. Only the path
+    // integrator reads it.
+    int emissiveTexture = -1;
+    // KHR_materials_transmission: the share of a dielectric's diffuse lobe replaced by
+    // transmission through the surface, times transmissionTexture's R (-1: none); and
+    // KHR_materials_ior's index of refraction, which sets a dielectric's Fresnel reflectance at
+    // normal incidence. Only the path integrator reads them.
+    float transmission = 0.0f;
+    int transmissionTexture = -1;
+    float ior = 1.5f;
     bool unlit = false; // KHR_materials_unlit: the base colour is the radiance
     // alphaMode MASK: hits where the base colour's alpha is below this are passed through
     // (negative: opaque).
     float alphaCutoff = -1.0f;
+    // alphaMode BLEND: the base colour's alpha is the surface's coverage. The path integrator
+    // lets (1 - alpha) of the light through untouched; the direct one draws it opaque.
+    bool alphaBlend = false;
     glm::vec3 emissive{0.0f}; // linear radiance added on hit
     // KHR_materials_specular's specularFactor: the weight of a dielectric's specular lobe (0: a
     // pure Lambertian). Only the path integrator reads it.

@@ -1,5 +1,6 @@
 #include "trace/gpu_scene.hpp"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -8,6 +9,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include "core/error.hpp"
+#include "trace/texture_mips.hpp"
 #include "vk/context.hpp"
 #include "vk/pipeline.hpp"
 
@@ -113,8 +115,12 @@ void packEmitters(const scene::Scene& scene, const scene::Bvh& bvh, uint32_t tri
         p.emitters.emplace_back(static_cast<float>(scaled[k]), asFloat(alias[k]), asFloat(tris[k]),
                                 0.0f);
     }
+    const bool transmits =
+        std::any_of(scene.materials.begin(), scene.materials.end(), [](const scene::Material& m) {
+            return !m.unlit && (m.alphaBlend || (m.transmission > 0.0f && m.metallic < 1.0f));
+        });
     p.uniforms.emitters = {static_cast<uint32_t>(n), static_cast<uint32_t>(p.materials.size()),
-                           std::bit_cast<uint32_t>(static_cast<float>(total)), 0u};
+                           std::bit_cast<uint32_t>(static_cast<float>(total)), transmits ? 1u : 0u};
 }
 
 // The environment map's importance-sampling tables for the path integrator (path.glsl,
@@ -176,6 +182,30 @@ void packEnvironmentCdf(const scene::Environment& env, PackedScene& p) {
         p.environment.emplace_back(floats[k], floats[k + 1], floats[k + 2], floats[k + 3]);
 }
 
+uint32_t textureIndex(int texture) {
+    return texture < 0 ? shaders::trace::kNoTexture : static_cast<uint32_t>(texture);
+}
+
+// Each texture's texels, level 0 then its mip chain (texture_mips.hpp); its info texel says
+// where level 0 starts, its size and its levels (trace_shared.h). The direct integrator reads
+// level 0 only, so its samples do not change with the chain.
+void packTextures(const scene::Scene& scene, PackedScene& p) {
+    std::vector<bool> colour(scene.textures.size(), false);
+    for (const scene::Material& m : scene.materials) {
+        for (const int t : {m.baseColorTexture, m.emissiveTexture}) {
+            if (t >= 0 && static_cast<std::size_t>(t) < colour.size()) colour[t] = true;
+        }
+    }
+    for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+        const scene::Texture& t = scene.textures[i];
+        p.textureInfo.emplace_back(static_cast<uint32_t>(p.texels.size()), t.width, t.height,
+                                   mipLevelCount(t.width, t.height));
+        p.texels.insert(p.texels.end(), t.rgba.begin(), t.rgba.end());
+        const std::vector<uint32_t> chain = mipChain(t, colour[i]);
+        p.texels.insert(p.texels.end(), chain.begin(), chain.end());
+    }
+}
+
 // Everything but the geometry: materials, lights, textures, sky; shared by every LOD level.
 PackedScene packShared(const scene::Scene& scene) {
     PackedScene p;
@@ -187,18 +217,17 @@ PackedScene packShared(const scene::Scene& scene) {
         const uint32_t tex = m.baseColorTexture < 0 ? shaders::trace::kNoTexture
                                                     : static_cast<uint32_t>(m.baseColorTexture);
         p.materials.emplace_back(m.roughness, asFloat(tex), m.alphaCutoff, m.specular);
-        const uint32_t mr = m.metallicRoughnessTexture < 0
-                                ? shaders::trace::kNoTexture
-                                : static_cast<uint32_t>(m.metallicRoughnessTexture);
-        p.materials.emplace_back(asFloat(mr), 0.0f, 0.0f, 0.0f);
+        p.materials.emplace_back(asFloat(textureIndex(m.metallicRoughnessTexture)),
+                                 asFloat(textureIndex(m.normalTexture)), m.normalScale,
+                                 asFloat(textureIndex(m.emissiveTexture)));
+        p.materials.emplace_back(m.transmission, m.ior,
+                                 asFloat(textureIndex(m.transmissionTexture)),
+                                 m.alphaBlend ? 1.0f : 0.0f);
     }
     for (const scene::Light& l : scene.lights) {
         appendLight(l, p.lights);
     }
-    for (const scene::Texture& t : scene.textures) {
-        p.textureInfo.emplace_back(static_cast<uint32_t>(p.texels.size()), t.width, t.height, 0u);
-        p.texels.insert(p.texels.end(), t.rgba.begin(), t.rgba.end());
-    }
+    packTextures(scene, p);
     p.uniforms.skyHorizon = glm::vec4(scene.sky.horizon, scene.sky.ambient);
     p.uniforms.skyZenith = glm::vec4(scene.sky.zenith, scene.exposure);
     p.uniforms.skyGround = glm::vec4(scene.sky.ground, 0.0f);

@@ -9,7 +9,10 @@
 // lights: no MIS), one emissive triangle (power-sampled) and, for an environment map, one
 // direction by its luminance, both weighted against the BSDF sample by the power heuristic;
 // the sky gradient is found by the BSDF samples only. Russian roulette from the third vertex
-// on; an optional firefly clamp on indirect light.
+// on; an optional firefly clamp on indirect light. Normal, emissive and transmission textures;
+// KHR_materials_ior's Fresnel; KHR_materials_transmission as thin-walled glass that light
+// crosses straight (shadow rays too); every texture filtered by the ray's footprint (ray cones,
+// Akenine-Moller et al. 2019).
 #ifndef PATH_GLSL
 #define PATH_GLSL
 #include "random.glsl"
@@ -79,12 +82,58 @@ struct Surface {
     vec3 ng;         // geometric normal, on that side too
     vec3 base;       // base colour (factor times texture)
     vec3 emissive;   // radiance emitted (both sides, as the direct integrator sees it)
+    vec3 emissiveFactor; // the material's emissive factor (what the emitter table weighs)
     float metallic;  // < 0: KHR_materials_unlit
     float alpha;     // GGX alpha = roughness^2 (the glTF convention)
     float specular;  // a dielectric's specular weight (KHR_materials_specular)
+    float f0;        // a dielectric's Fresnel reflectance at normal incidence, from its IOR
+    float transmission; // KHR_materials_transmission (times its texture)
+    float coverage;  // alphaMode BLEND: the base colour's alpha; else 1
 };
 
-// The surface hit by the ray (origin, dir), its normals as traceRadiance orients them.
+// Ray cones (Akenine-Moller et al. 2019, "Texture Level of Detail Strategies for Real-Time Ray
+// Tracing", section 20.3.4): a ray's footprint is a cone of spread angle gConeSpread (radians
+// per unit distance) whose width grows by spread * t along each segment. The tracing pass sets
+// gPixelSpread to a display pixel's angle (0: every texture at level 0); each scattering
+// widens the cone by its lobe (bsdfSample).
+float gPixelSpread = 0.0;
+float gConeSpread = 0.0, gConeWidth = 0.0;
+
+// log2 of the cone's footprint in UV units on the hit's triangle: the cone's width over the
+// cosine of incidence, scaled by the triangle's UV-to-world area ratio (the paper's Delta,
+// eq. 20.4, without the texture's size, which materialTexture adds).
+float footprintUvLod(vec3 e1, vec3 e2, vec2 duv1, vec2 duv2, vec3 n, vec3 dir) {
+    if (gConeWidth <= 0.0) return -1e30;
+    float worldArea = length(cross(e1, e2));
+    float uvArea = abs(duv1.x * duv2.y - duv2.x * duv1.y);
+    float cosine = max(abs(dot(n, dir)), 1e-3);
+    return log2(gConeWidth / cosine) + 0.5 * log2(max(uvArea, 1e-20) / max(worldArea, 1e-20));
+}
+
+// The shading normal bent by a tangent-space normal texture (glTF 2.0, 3.9.3), as the glTF
+// sample viewer does without TANGENT: the tangent is the triangle's dp/du from its UVs (flat
+// over the triangle, an approximation of MikkTSpace's smooth one), the bitangent n x t. nRaw:
+// the interpolated normal before it was turned to face the ray; the result is turned the same
+// way, and kept facing wo so that a bent normal leaves no black pixels.
+vec3 normalMapped(uint tex, float scale, vec2 uv, float uvLod, vec3 nRaw, vec3 n, vec3 wo,
+                  vec3 e1, vec3 e2, vec2 duv1, vec2 duv2, uint inst) {
+    float det = duv1.x * duv2.y - duv2.x * duv1.y;
+    if (tex == kNoTexture || abs(det) < 1e-20) return n;
+    vec3 t = (e1 * duv2.y - e2 * duv1.y) / det;
+    if (kDynamic && inst != 0xffffffffu) t = instanceNormalToWorld(inst, t);
+    t -= nRaw * dot(nRaw, t);
+    if (dot(t, t) < 1e-20) return n;
+    t = normalize(t);
+    vec3 c = materialTexture(tex, uv, uvLod, false, vec4(0.5, 0.5, 1.0, 1.0)).xyz * 2.0 - 1.0;
+    c.xy *= scale;
+    vec3 bent = normalize(c.x * t + c.y * cross(nRaw, t) + max(c.z, 1e-3) * nRaw);
+    if (dot(nRaw, n) < 0.0) bent = -bent;
+    float facing = dot(bent, wo);
+    return facing >= 0.01 ? bent : normalize(bent + (0.01 - facing) * wo);
+}
+
+// The surface hit by the ray (origin, dir), its normals as traceRadiance orients them, its
+// textures filtered by the ray cone's width there (gConeWidth).
 Surface surfaceAt(Hit hit, vec3 origin, vec3 dir) {
     vec4 s0, s1, s2, s3;
     shadingTexels(hit.tri, s0, s1, s2, s3);
@@ -92,29 +141,84 @@ Surface surfaceAt(Hit hit, vec3 origin, vec3 dir) {
     hitNormals(hit, dir, s0, s1, s2, n, ng);
     uint material = floatBitsToUint(s3.w);
     int mb = int(material * kMaterialTexels);
+    vec4 m0 = texelFetch(uMaterials, mb);
     vec4 m1 = texelFetch(uMaterials, mb + 1);
     vec4 m2 = texelFetch(uMaterials, mb + 2);
+    vec4 m3 = texelFetch(uMaterials, mb + 3);
+    vec4 m4 = texelFetch(uMaterials, mb + 4);
     vec2 uv = shadingUv(s0, s1, s2, s3, hit.u, hit.v);
+    int tb = int(hit.tri) * 3;
+    vec3 e1 = texelFetch(uTriangles, tb + 1).xyz, e2 = texelFetch(uTriangles, tb + 2).xyz;
+    vec2 duv1 = vec2(s2.w, s3.x) - vec2(s0.w, s1.w), duv2 = s3.yz - vec2(s0.w, s1.w);
+    float uvLod = footprintUvLod(e1, e2, duv1, duv2, ng, dir);
     float roughness = m2.x;
     Surface s;
     s.p = origin + hit.t * dir;
-    s.n = n;
     s.ng = ng;
-    s.base = materialBaseColor(material, uv).rgb;
-    s.emissive = m1.rgb;
+    vec4 base = m0 * materialTexture(floatBitsToUint(m2.y), uv, uvLod, true, vec4(1.0));
+    s.base = base.rgb;
+    s.coverage = m4.w > 0.5 ? clamp(base.a, 0.0, 1.0) : 1.0;
+    s.emissiveFactor = m1.rgb;
+    s.emissive = m1.rgb * s.coverage *
+                 materialTexture(floatBitsToUint(m3.w), uv, uvLod, true, vec4(1.0)).rgb;
     s.metallic = m1.w;
-    uint mrTexture = floatBitsToUint(texelFetch(uMaterials, mb + 3).x);
-    if (mrTexture != kNoTexture && s.metallic >= 0.0) { // glTF 2.0, 3.9.2: G roughness, B metal
-        vec4 mr = bilinearTexture(texelFetch(uTextureInfo, int(mrTexture)), uv, false);
+    if (s.metallic >= 0.0) { // glTF 2.0, 3.9.2: G roughness, B metal
+        vec4 mr = materialTexture(floatBitsToUint(m3.x), uv, uvLod, false, vec4(1.0));
         roughness *= mr.g;
         s.metallic *= mr.b;
     }
     s.alpha = max(roughness * roughness, kMinAlpha);
     s.specular = m2.w;
+    float r = (m4.y - 1.0) / (m4.y + 1.0); // KHR_materials_ior: F0 = ((ior - 1) / (ior + 1))^2
+    s.f0 = r * r;
+    s.transmission = m4.x * materialTexture(floatBitsToUint(m4.z), uv, uvLod, false, vec4(1.0)).r;
+    vec3 nRaw = (1.0 - hit.u - hit.v) * s0.xyz + hit.u * s1.xyz + hit.v * s2.xyz;
+    if (kDynamic && hit.inst != 0xffffffffu) nRaw = instanceNormalToWorld(hit.inst, nRaw);
+    s.n = normalMapped(floatBitsToUint(m3.y), m3.z, uv, uvLod, normalize(nRaw), n, -dir, e1, e2,
+                       duv1, duv2, hit.inst);
     return s;
 }
 
 vec3 offsetOrigin(Surface s) { return s.p + s.ng * offsetScale(s.p); }
+
+// ---- Light through a surface: thin-walled transmission and blended coverage -------------------
+// KHR_materials_transmission without KHR_materials_volume: the surface is a thin sheet, and
+// light it transmits leaves on the other side in the direction it came, tinted by the base
+// colour (glTF's specular_btdf * baseColor, mixed by transmission under the Fresnel layer). The
+// transmitted lobe is taken as straight through, a delta: its roughness does not blur what is
+// seen through it (not modelled). Weight at cosine c: (1 - metallic) * transmission *
+// (1 - specular * F(c)) * base. alphaMode BLEND: the surface covers `coverage` of its area;
+// the rest passes everything, and the surface's own response (bsdfEval, emission) is scaled
+// by its coverage.
+vec3 passWeight(Surface s, vec3 dir) {
+    if (s.metallic < 0.0) return vec3(0.0);
+    float f = s.f0 + (1.0 - s.f0) * pow(1.0 - abs(dot(s.n, dir)), 5.0); // Schlick
+    vec3 sheet = (1.0 - s.metallic) * s.transmission * (1.0 - s.specular * f) * s.base;
+    return (1.0 - s.coverage) + s.coverage * sheet;
+}
+
+// Surfaces a path or a shadow ray may cross this way before it counts as blocked.
+const uint kMaxPasses = 8u;
+
+// What reaches along the ray (origin, dir) over distance tMax: nothing past an opaque surface,
+// through each thin transmissive one its passWeight. A scene without such materials
+// (SceneUniforms::emitters.w) takes the any-hit occlusion test alone.
+vec3 transmittance(vec3 origin, vec3 dir, float tMax) {
+    if (uScene.emitters.w == 0u) return traceOccluded(origin, dir, tMax) ? vec3(0.0) : vec3(1.0);
+    vec3 through = vec3(1.0);
+    for (uint k = 0u; k <= kMaxPasses; ++k) {
+        Hit hit = traceClosest(origin, dir, 0.0, tMax);
+        if (hit.tri == 0xffffffffu) return through;
+        Surface s = surfaceAt(hit, origin, dir);
+        through *= passWeight(s, dir);
+        if (dot(through, through) == 0.0) break;
+        vec3 next = s.p - s.ng * offsetScale(s.p);
+        tMax -= length(next - origin);
+        origin = next;
+        if (tMax <= 0.0) return through;
+    }
+    return vec3(0.0);
+}
 
 // ---- The BSDF ---------------------------------------------------------------------------------
 // Trowbridge-Reitz / GGX normal distribution (Walter et al. 2007, eq. 33).
@@ -135,16 +239,17 @@ vec3 schlick(vec3 f0, float c) { return f0 + (1.0 - f0) * pow(1.0 - c, 5.0); }
 // The share of samples bsdfSample gives the specular lobe: its Fresnel-weighted albedo against
 // the diffuse lobe's, both estimated at the view angle.
 float specularProbability(Surface s, float nv) {
-    float fd = s.specular * schlick(0.04, nv);
+    float fd = s.specular * schlick(s.f0, nv);
     float spec = (1.0 - s.metallic) * fd + s.metallic * luminance(schlick(s.base, nv));
-    float diff = (1.0 - s.metallic) * (1.0 - fd) * luminance(s.base);
+    float diff = (1.0 - s.metallic) * (1.0 - fd) * (1.0 - s.transmission) * luminance(s.base);
     return spec + diff > 0.0 ? spec / (spec + diff) : 0.0;
 }
 
 // f(wo, wi), and in `pdf` the solid-angle density with which bsdfSample picks wi. glTF 2.0,
 // Appendix B: mix(dielectric, metal, metallic), dielectric = mix(diffuse, specular, weight
-// * F(0.04)) and metal = specular * F(base); specular = F D G2 / (4 |n.wo| |n.wi|) with the
-// height-correlated G2 = 1 / (1 + Lambda(wo) + Lambda(wi)) (Heitz 2014, eq. 99).
+// * F(f0)) and metal = specular * F(base); specular = F D G2 / (4 |n.wo| |n.wi|) with the
+// height-correlated G2 = 1 / (1 + Lambda(wo) + Lambda(wi)) (Heitz 2014, eq. 99). The diffuse
+// lobe keeps the share (1 - transmission) that the thin sheet does not pass (passWeight).
 vec3 bsdfEval(Surface s, vec3 wo, vec3 wi, out float pdf) {
     pdf = 0.0;
     float nv = dot(s.n, wo), nl = dot(s.n, wi);
@@ -155,9 +260,10 @@ vec3 bsdfEval(Surface s, vec3 wo, vec3 wi, out float pdf) {
     float d = ggxD(nh, a2);
     float lambdaV = smithLambda(nv, a2);
     float g2 = 1.0 / (1.0 + lambdaV + smithLambda(nl, a2));
-    float fd = s.specular * schlick(0.04, vh);
+    float fd = s.specular * schlick(s.f0, vh);
     vec3 fSpec = (1.0 - s.metallic) * fd + s.metallic * schlick(s.base, vh);
-    vec3 f = (1.0 - s.metallic) * (1.0 - fd) * s.base / kPi + fSpec * d * g2 / (4.0 * nv * nl);
+    vec3 f = s.coverage * ((1.0 - s.metallic) * (1.0 - fd) * (1.0 - s.transmission) * s.base / kPi
+                           + fSpec * d * g2 / (4.0 * nv * nl));
     // The visible-normal density reflected about h: G1(wo) D(h) / (4 n.wo) (Heitz 2018,
     // "Sampling the GGX Distribution of Visible Normals", eq. 3 with the reflection's 1 / (4 wo.h)).
     float pdfSpec = d / (4.0 * nv * (1.0 + lambdaV));
@@ -193,6 +299,9 @@ vec3 sampleGgxVndf(vec3 ve, float alpha, vec2 u) {
 // A direction wi by one lobe, picked with specularProbability: the specular lobe's by its
 // visible normals, the diffuse lobe's cosine-weighted (Malley's method). False when wi falls
 // below the shading or the geometric surface (the path ends: no light leaks through).
+// The ray cone widens by the sampled lobe's angular width: GGX alpha for the specular lobe (a
+// mirror keeps the cone), a radian for the diffuse one (a heuristic; ray cones define no
+// spread for rough lobes).
 bool bsdfSample(Surface s, vec3 wo, out vec3 wi) {
     vec3 t, b;
     basisOf(s.n, t, b);
@@ -202,9 +311,11 @@ bool bsdfSample(Surface s, vec3 wo, out vec3 wi) {
     if (pick < specularProbability(s, nv)) {
         vec3 m = sampleGgxVndf(vec3(dot(wo, t), dot(wo, b), nv), s.alpha, u);
         wi = reflect(-wo, m.x * t + m.y * b + m.z * s.n);
+        gConeSpread += s.alpha > kMinAlpha ? s.alpha : 0.0;
     } else {
         float r = sqrt(u.x), phi = 2.0 * kPi * u.y;
         wi = r * cos(phi) * t + r * sin(phi) * b + sqrt(max(0.0, 1.0 - u.x)) * s.n;
+        gConeSpread += 1.0;
     }
     return dot(s.n, wi) > 0.0 && dot(s.ng, wi) > 0.0;
 }
@@ -238,8 +349,9 @@ vec3 punctualLight(Surface s, vec3 wo, out uint lit) {
         if (cosTheta <= 0.0 || dot(s.ng, toLight) <= 0.0 || dot(e, e) == 0.0) continue;
         float pdf;
         vec3 f = bsdfEval(s, wo, toLight, pdf);
-        if (traceOccluded(offsetOrigin(s), toLight, isinf(dist) ? kInf : dist * 0.999)) continue;
-        sum += f * e * cosTheta;
+        vec3 through = transmittance(offsetOrigin(s), toLight, isinf(dist) ? kInf : dist * 0.999);
+        if (dot(through, through) == 0.0) continue;
+        sum += f * e * cosTheta * through;
         if (li < 8u) lit |= 1u << li;
     }
     return sum;
@@ -277,18 +389,25 @@ vec3 emitterLight(Surface s, vec3 wo) {
     vec3 wi = (q - s.p) / dist;
     float cosTheta = dot(s.n, wi);
     if (cosTheta <= 0.0 || dot(s.ng, wi) <= 0.0) return vec3(0.0);
-    uint material = floatBitsToUint(texelFetch(uShading, int(tri * kShadingTexels) + 3).w);
-    vec3 emissive = texelFetch(uMaterials, int(material * kMaterialTexels) + 1).rgb;
+    vec4 s0, s1, s2, s3;
+    shadingTexels(tri, s0, s1, s2, s3);
+    int mb = int(floatBitsToUint(s3.w) * kMaterialTexels);
+    vec3 emissive = texelFetch(uMaterials, mb + 1).rgb;
     float pdfLight = emitterPdf(emissive, dist, abs(dot(normalize(cross(e1, e2)), wi)));
     float pdfBsdf;
     vec3 f = bsdfEval(s, wo, wi, pdfBsdf);
     if (pdfLight <= 0.0 || dot(f, f) == 0.0) return vec3(0.0);
+    // An emissive texture varies the radiance over the triangle; the table weighs the factor
+    // alone, which keeps the density above consistent with the one emissionWeight computes.
+    vec2 uv = shadingUv(s0, s1, s2, s3, su * (1.0 - v), su * v);
+    emissive *= materialTexture(floatBitsToUint(texelFetch(uMaterials, mb + 3).w), uv, -1e30,
+                                true, vec4(1.0)).rgb;
     // The shadow ray from the offset origin, ending short of the emitter by a share of its own
     // length: from s.p, a surface a few offsets from the lamp would find the lamp itself.
     vec3 o = offsetOrigin(s);
     float shadowDist = length(q - o);
-    if (traceOccluded(o, (q - o) / shadowDist, shadowDist * 0.999)) return vec3(0.0);
-    return f * emissive * cosTheta * powerHeuristic(pdfLight, pdfBsdf) / pdfLight;
+    vec3 through = transmittance(o, (q - o) / shadowDist, shadowDist * 0.999);
+    return f * emissive * through * cosTheta * powerHeuristic(pdfLight, pdfBsdf) / pdfLight;
 }
 
 // ---- The environment map's importance sampling (gpu_scene.cpp, packEnvironmentCdf) ---------
@@ -350,8 +469,10 @@ vec3 environmentLight(Surface s, vec3 wo) {
     if (pdfLight <= 0.0 || cosTheta <= 0.0 || dot(s.ng, wi) <= 0.0) return vec3(0.0);
     float pdfBsdf;
     vec3 f = bsdfEval(s, wo, wi, pdfBsdf);
-    if (dot(f, f) == 0.0 || traceOccluded(offsetOrigin(s), wi, kInf)) return vec3(0.0);
-    return f * environmentRadiance(wi) * cosTheta * powerHeuristic(pdfLight, pdfBsdf) / pdfLight;
+    if (dot(f, f) == 0.0) return vec3(0.0);
+    vec3 through = transmittance(offsetOrigin(s), wi, kInf);
+    return f * environmentRadiance(wi) * through * cosTheta * powerHeuristic(pdfLight, pdfBsdf) /
+           pdfLight;
 }
 
 // The MIS weight of the sky found by a BSDF sample of density pdfBsdf: an environment map is
@@ -363,12 +484,13 @@ float skyWeight(vec3 dir, float pdfBsdf) {
 
 // The MIS weight of emission found by a BSDF sample of density pdfBsdf: the emitter table also
 // holds the triangle unless it belongs to a moving instance (those are not in the table).
-float emissionWeight(Hit hit, vec3 dir, vec3 emissive, float pdfBsdf) {
+// `dist`: from the vertex that sampled the direction, across any thin sheets passed since.
+float emissionWeight(Hit hit, vec3 dir, vec3 emissive, float pdfBsdf, float dist) {
     if (kDynamic && hit.inst != 0xffffffffu) return 1.0;
     if (uScene.emitters.x == 0u) return 1.0;
     int tb = int(hit.tri) * 3;
     vec3 ng = normalize(cross(texelFetch(uTriangles, tb + 1).xyz, texelFetch(uTriangles, tb + 2).xyz));
-    return powerHeuristic(pdfBsdf, emitterPdf(emissive, hit.t, abs(dot(ng, dir))));
+    return powerHeuristic(pdfBsdf, emitterPdf(emissive, dist, abs(dot(ng, dir))));
 }
 
 // Light that reached the eye through `vertices` scattering vertices: from two on it is
@@ -387,29 +509,60 @@ void recordFirstHit(Hit hit, vec3 origin, vec3 dir, out float depth) {
 }
 
 // ---- The integrators --------------------------------------------------------------------------
+// A thin transmissive sheet at s (passWeight): the path crosses it straight with probability by
+// the weight's luminance, `throughput` scaled for the choice either way. True: it crossed, and
+// `origin` moved past the sheet; `dir` and the density of the direction stay.
+bool crossSheet(Surface s, vec3 dir, inout vec3 origin, inout vec3 throughput) {
+    vec3 pass = passWeight(s, dir);
+    float p = min(luminance(pass), 0.99);
+    if (p <= 0.0) return false;
+    if (nextRandom() < p) {
+        throughput *= pass / p;
+        origin = s.p - s.ng * offsetScale(s.p);
+        return true;
+    }
+    throughput /= 1.0 - p;
+    return false;
+}
+
 // Radiance along a camera ray by path tracing. A path's vertex b (0: the camera ray's hit)
 // gathers its emission (MIS-weighted against the emitter sampling from vertex b - 1), and
-// unless it is the last, next-event estimation; the BSDF sample then extends the path.
+// unless it is the last, next-event estimation; the BSDF sample then extends the path. Thin
+// transmissive sheets are crossed without a vertex (crossSheet), at most kMaxPasses a path.
 vec3 tracePath(vec3 origin, vec3 dir, out float depth) {
     vec3 radiance = vec3(0.0), throughput = vec3(1.0);
     float pdfBsdf = 0.0; // of the direction that led to the current vertex
+    float segment = 0.0; // from the vertex that sampled it to `origin`, across sheets crossed
+    uint passes = 0u;
+    gConeSpread = gPixelSpread;
+    gConeWidth = 0.0;
     depth = kInf;
-    for (uint b = 0u; b <= kBounces; ++b) {
+    for (uint b = 0u; b <= kBounces;) {
         Hit hit = traceClosest(origin, dir, 0.0, kInf);
-        if (b == 0u) recordFirstHit(hit, origin, dir, depth);
+        if (b == 0u && passes == 0u) recordFirstHit(hit, origin, dir, depth);
         if (hit.tri == 0xffffffffu) {
             float w = b == 0u ? 1.0 : skyWeight(dir, pdfBsdf);
             radiance += clampIndirect(throughput * skyRadiance(dir) * w, b);
             break;
         }
+        gConeWidth += gConeSpread * hit.t;
         Surface s = surfaceAt(hit, origin, dir);
         if (s.metallic < 0.0) { // KHR_materials_unlit: the base colour is what the eye sees
             radiance += clampIndirect(throughput * s.base, b);
             break;
         }
         if (dot(s.emissive, s.emissive) > 0.0) {
-            float w = b == 0u ? 1.0 : emissionWeight(hit, dir, s.emissive, pdfBsdf);
+            float w = b == 0u ? 1.0
+                              : emissionWeight(hit, dir, s.emissiveFactor, pdfBsdf, segment + hit.t);
             radiance += clampIndirect(throughput * s.emissive * w, b);
+        }
+        if (s.transmission > 0.0 || s.coverage < 1.0) {
+            vec3 before = origin;
+            if (crossSheet(s, dir, origin, throughput)) {
+                segment += length(origin - before);
+                if (++passes > kMaxPasses) break;
+                continue;
+            }
         }
         vec3 wo = -dir;
         if (b == kBounces || dot(s.n, wo) <= 0.0) break;
@@ -433,6 +586,8 @@ vec3 tracePath(vec3 origin, vec3 dir, out float depth) {
         }
         origin = offsetOrigin(s);
         dir = wi;
+        segment = 0.0;
+        ++b;
     }
     return radiance;
 }

@@ -418,6 +418,39 @@ vec4 bilinearTexture(uvec4 info, vec2 uv, bool srgb) {
                mix(fetchTexel(info, x0, y1, srgb), fetchTexel(info, x1, y1, srgb), ax), ay);
 }
 
+// Level `level` of texture `info`'s mip chain (trace_shared.h) as an info texel of its own.
+uvec4 textureLevel(uvec4 info, uint level) {
+    uint offset = info.x, w = info.y, h = info.z;
+    for (uint l = 0u; l < level; ++l) {
+        offset += w * h;
+        w = max(1u, w / 2u);
+        h = max(1u, h / 2u);
+    }
+    return uvec4(offset, w, h, 1u);
+}
+
+// Texture `info` at level of detail `lod` (log2 of level-0 texels across the footprint),
+// trilinearly between the two nearest levels; at lod <= 0, level 0 as bilinearTexture.
+vec4 filteredTexture(uvec4 info, vec2 uv, float lod, bool srgb) {
+    float top = float(max(info.w, 1u) - 1u);
+    lod = min(lod, top);
+    if (lod <= 0.0) return bilinearTexture(info, uv, srgb);
+    uint l0 = uint(lod);
+    float f = lod - float(l0);
+    vec4 a = bilinearTexture(textureLevel(info, l0), uv, srgb);
+    if (f <= 0.0) return a;
+    return mix(a, bilinearTexture(textureLevel(info, l0 + 1u), uv, srgb), f);
+}
+
+// Texture `tex` of a material (kNoTexture: `none`) at a footprint whose level of detail per
+// unit of UV is uvLod (log2 of the footprint's width in UV units): ray cones (Akenine-Moller et
+// al. 2019) add log2 of the texture's size.
+vec4 materialTexture(uint tex, vec2 uv, float uvLod, bool srgb, vec4 none) {
+    if (tex == kNoTexture) return none;
+    uvec4 info = texelFetch(uTextureInfo, int(tex));
+    return filteredTexture(info, uv, uvLod + 0.5 * log2(float(info.y) * float(info.z)), srgb);
+}
+
 vec4 materialBaseColor(uint material, vec2 uv) {
     vec4 factor = texelFetch(uMaterials, int(material * kMaterialTexels));
     uint tex = floatBitsToUint(texelFetch(uMaterials, int(material * kMaterialTexels) + 2).y);

@@ -103,6 +103,9 @@ void main() {
                          length(p.xy - vec2(pc.params.xy)) <= kFoveaRadius;
     const uint rays = inFovea ? raysFovea : raysAway;
     const CameraPush cam = CameraPush(pc.origin, pc.forward, pc.right, pc.up);
+    // The ray cone spreads by a display pixel's angle, as the reference's (the periphery's
+    // sparser points are prefiltered by TAA over their moving sites, not by wider cones).
+    gPixelSpread = 2.0 * cam.origin.w / size.y;
     // Geometric LOD (Guenter et al. 2012, 6, here for the point set): a point whose neighbours lie p pixels
     // apart resolves no detail finer than that, so it traces the scene's subdivision cages
     // one level coarser per doubling past 4 px (scene::lodForPitch). Each point keeps its level

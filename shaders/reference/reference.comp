@@ -19,6 +19,7 @@ void main() {
     if (pixel.x >= width || pixel.y >= height) return;
     CameraPush cam = CameraPush(pc.origin, pc.forward, pc.right, pc.up);
     uint pixelIndex = pixel.y * width + pixel.x;
+    gPixelSpread = 2.0 * cam.origin.w / float(height); // a pixel's angle: the ray cone's spread
     uint first = pc.range.x, last = pc.range.x + pc.range.y;
     vec3 sum = vec3(0.0);
     float firstDepth = 0.0; // first-hit distance of the first ray, for TAA

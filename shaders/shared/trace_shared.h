@@ -7,13 +7,15 @@
 GT_NAMESPACE_BEGIN(trace)
 
 // Descriptor bindings of the scene, identical in every tracing pass (set 0).
-GT_CONST kBindingNodes = 0;       // samplerBuffer RGBA32F, 2 texels per BVH node
-GT_CONST kBindingTriangles = 1;   // samplerBuffer RGBA32F, 3 texels per triangle (v0, e1, e2)
-GT_CONST kBindingShading = 2;     // samplerBuffer RGBA32F, 4 texels per triangle
-GT_CONST kBindingMaterials = 3;   // samplerBuffer RGBA32F, kMaterialTexels per material
-GT_CONST kBindingLights = 4;      // samplerBuffer RGBA32F, 4 texels per light
-GT_CONST kBindingTexels = 5;      // usamplerBuffer R32UI, packed sRGB RGBA8 texels
-GT_CONST kBindingTextureInfo = 6; // usamplerBuffer RGBA32UI, (offset, width, height, 0)
+GT_CONST kBindingNodes = 0;     // samplerBuffer RGBA32F, 2 texels per BVH node
+GT_CONST kBindingTriangles = 1; // samplerBuffer RGBA32F, 3 texels per triangle (v0, e1, e2)
+GT_CONST kBindingShading = 2;   // samplerBuffer RGBA32F, 4 texels per triangle
+GT_CONST kBindingMaterials = 3; // samplerBuffer RGBA32F, kMaterialTexels per material
+GT_CONST kBindingLights = 4;    // samplerBuffer RGBA32F, 4 texels per light
+GT_CONST kBindingTexels = 5;    // usamplerBuffer R32UI, packed sRGB RGBA8 texels
+// usamplerBuffer RGBA32UI, (offset, width, height, levels): level 0 from `offset`, then each
+// level of its mip chain (engine/trace/texture_mips.hpp), halved to at least 1 texel a side.
+GT_CONST kBindingTextureInfo = 6;
 GT_CONST kBindingSceneUniforms = 7;
 GT_CONST kBindingEnvironment = 8; // samplerBuffer RGBA32F, equirectangular, row 0 = up
 GT_CONST kSceneBindingCount = 9;
@@ -23,9 +25,11 @@ GT_CONST kTriangleTexels = 3;
 GT_CONST kShadingTexels = 4;
 // Material texels: 0 = base colour factor; 1 = emissive rgb, metallic (-1: unlit);
 // 2 = roughness, base colour texture, alpha cutoff, specular weight (KHR_materials_specular's
-// specularFactor); 3 = metallic-roughness texture (kNoTexture: none), 0, 0, 0. Texels 2.w and 3
-// are read by the path integrator only.
-GT_CONST kMaterialTexels = 4;
+// specularFactor); 3 = metallic-roughness texture (kNoTexture: none), normal texture, normal
+// scale, emissive texture; 4 = transmission, index of refraction, transmission texture,
+// 1 for alphaMode BLEND (else 0).
+// Texels 2.w, 3 and 4 are read by the path integrator only.
+GT_CONST kMaterialTexels = 5;
 GT_CONST kLightTexels = 4;
 GT_CONST kStackSize = 128; // >= 2 * Bvh::kMaxDepth
 GT_CONST kNoTexture = 0xffffffffu;
@@ -56,7 +60,9 @@ struct SceneUniforms {
     // The emissive triangles as the path integrator samples them (gpu_scene.cpp,
     // packEmitters): x = how many, y = the first texel of their alias table in the materials
     // table (one texel each), z = uintBitsToFloat of their total emitted power (luminance of
-    // the emissive radiance times area), w unused.
+    // the emissive radiance times area), w = 1 when a material transmits
+    // (KHR_materials_transmission or alphaMode BLEND: path.glsl's shadow rays then cross
+    // such surfaces).
     uvec4 emitters;
 };
 GT_CONST kLodLevels = 4;

@@ -654,9 +654,9 @@ TEST(GltfLoader, BuffersThatAreNotRegularFilesAreRefused) {
     expectRefused(dir / "fifo.gltf", "fifo.bin: a FIFO, not a regular file");
 }
 
-// 400 textures of 2048 x 2048 decoded to 7.5 GB. The base-colour textures' decoded size is
+// 400 textures of 2048 x 2048 decoded to 7.5 GB. The sampled textures' decoded size is
 // added up from their headers before each is decoded and refused past
-// GltfLoadOptions::maxTextureBytes; images no material uses as a base colour are not decoded.
+// GltfLoadOptions::maxTextureBytes; images no tracer samples (occlusion) are not decoded.
 TEST(GltfLoader, DecodedTexturesHaveABudget) {
     const auto dir = test::tempDir("texture_budget");
     std::string json = test::quadJsonBesideBin(dir);
@@ -672,13 +672,13 @@ TEST(GltfLoader, DecodedTexturesHaveABudget) {
     for (int i = 0; i < 3; ++i) {
         test::writeFile(dir / ("t" + std::to_string(i) + ".png"), png.data(), png.size());
     }
-    test::writeFile(dir / "broken.png", png.data(), 40); // used by no base colour
+    test::writeFile(dir / "broken.png", png.data(), 40); // occlusion only: never decoded
     const std::string materials = R"("materials": [)";
     json.replace(json.find(materials), materials.size(),
                  R"("materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}},
                    {"pbrMetallicRoughness": {"baseColorTexture": {"index": 1}}},
                    {"pbrMetallicRoughness": {"baseColorTexture": {"index": 2}}},
-                   {"normalTexture": {"index": 3}},)");
+                   {"occlusionTexture": {"index": 3}},)");
     json.insert(json.rfind('}'), R"(, "images": [{"uri": "t0.png"}, {"uri": "t1.png"},
         {"uri": "t2.png"}, {"uri": "broken.png"}],
         "textures": [{"source": 0}, {"source": 1}, {"source": 2}, {"source": 3}])");
@@ -692,6 +692,60 @@ TEST(GltfLoader, DecodedTexturesHaveABudget) {
                   "decoded textures reach 49152 bytes at image 2 (64x64), over the limit of "
                   "40960 bytes (40 KiB;",
                   {.maxTextureBytes = 40 * 1024});
+}
+
+// A 2 x 2 PNG of one colour, encoded.
+std::vector<uint8_t> solidPng(uint8_t value) {
+    std::vector<uint8_t> rgba(2 * 2 * 4, value), png;
+    stbi_write_png_to_func(
+        [](void* ctx, void* data, int size) {
+            auto* out = static_cast<std::vector<uint8_t>*>(ctx);
+            out->insert(out->end(), static_cast<uint8_t*>(data),
+                        static_cast<uint8_t*>(data) + size);
+        },
+        &png, 2, 2, 4, rgba.data(), 2 * 4);
+    return png;
+}
+
+// The path integrator's textures and KHR_materials_transmission / _ior reach the material:
+// every sampled texture is decoded (each image a different grey, to tell them apart), the
+// normal texture's scale, the transmission factor and the IOR are kept; an IOR below 1 is
+// refused naming the field.
+TEST(GltfLoader, LoadsNormalEmissiveAndTransmissionTexturesAndTheIor) {
+    const auto dir = test::tempDir("gltf_materials");
+    std::string json = test::quadJsonBesideBin(dir);
+    for (int i = 0; i < 5; ++i) {
+        const std::vector<uint8_t> png = solidPng(static_cast<uint8_t>(40 * (i + 1)));
+        test::writeFile(dir / ("m" + std::to_string(i) + ".png"), png.data(), png.size());
+    }
+    const std::string materials = R"("materials": [)";
+    json.replace(json.find(materials), materials.size(),
+                 R"("materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0},
+                   "metallicRoughnessTexture": {"index": 3}},
+                   "normalTexture": {"index": 1, "scale": 0.5}, "emissiveTexture": {"index": 2},
+                   "emissiveFactor": [1, 1, 1],
+                   "extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.75,
+                   "transmissionTexture": {"index": 4}}, "KHR_materials_ior": {"ior": 1.33}}},)");
+    json.insert(json.rfind('}'), R"(, "images": [{"uri": "m0.png"}, {"uri": "m1.png"},
+        {"uri": "m2.png"}, {"uri": "m3.png"}, {"uri": "m4.png"}],
+        "textures": [{"source": 0}, {"source": 1}, {"source": 2}, {"source": 3}, {"source": 4}])");
+    test::writeFile(dir / "m.gltf", json.data(), json.size());
+    const Scene s = loadGltf(dir / "m.gltf");
+    ASSERT_EQ(s.textures.size(), 5u);
+    const Material& m = s.materials.front();
+    const auto grey = [&](int t) {
+        return t < 0 ? -1 : static_cast<int>(s.textures[t].rgba[0] & 0xffu);
+    };
+    EXPECT_EQ(grey(m.baseColorTexture), 40);
+    EXPECT_EQ(grey(m.normalTexture), 80);
+    EXPECT_EQ(grey(m.emissiveTexture), 120);
+    EXPECT_EQ(grey(m.metallicRoughnessTexture), 160);
+    EXPECT_EQ(grey(m.transmissionTexture), 200);
+    EXPECT_FLOAT_EQ(m.normalScale, 0.5f);
+    EXPECT_FLOAT_EQ(m.transmission, 0.75f);
+    EXPECT_FLOAT_EQ(m.ior, 1.33f);
+    const auto bad = writeEdited(dir, "bad.gltf", json, R"("ior": 1.33)", R"("ior": 0.5)");
+    EXPECT_NE(test::loadError(bad).find("ior"), std::string::npos) << test::loadError(bad);
 }
 
 // A camera on a node scaled by 0 (or by a singular matrix, or 1e30) had NaN or zero axes: the
