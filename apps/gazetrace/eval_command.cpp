@@ -1093,8 +1093,12 @@ nlohmann::json EvalRun::timedInTurns(const MatchEntry& match) {
 // The speed-up at equal picture quality: the cheapest uniform render whose flip_ecc is no higher
 // than the foveated frame's in every band, found by findLowestMatch over its width (uniform: at
 // the foveated rays per point, from the size that spends the foveated rays up to full size, to
-// 2 % in pixels) or its rays per pixel at full size (full: exact), at most 8 candidates.
+// 2 % in pixels) or its rays per pixel at full size (full: exact), at most 8 candidates. Where
+// even full size does not match, `uniform` doubles its rays per pixel (up to kMatchDoublings
+// times) and searches the width again from full size: a foveated frame that spends more paths
+// in its fovea (--fovea-rays) is matched only by a uniform tracer with more paths per pixel.
 void EvalRun::match(nlohmann::json& summary) {
+    constexpr uint32_t kMatchDoublings = 3;
     const EvalOptions& o = mOptions;
     const Geometry& g = mGeometry;
     const bool full = o.match == "full";
@@ -1114,16 +1118,19 @@ void EvalRun::match(nlohmann::json& summary) {
     }
     std::vector<MatchEntry> tried;
     RgbaImage picture, matched;
-    const MatchSearchResult r = findLowestMatch(limits, [&](uint32_t n) {
-        const uint32_t h = std::max<uint32_t>(
-            1, static_cast<uint32_t>(std::lround(static_cast<double>(n) * g.height / g.width)));
-        tried.push_back(full ? matchCandidate(g.width, g.height, n, picture)
-                             : matchCandidate(n, h, o.raysPerPoint, picture));
-        if (tried.back().matches) {
-            matched = std::move(picture); // the search's last match is its answer
-        }
-        return tried.back().matches;
-    });
+    const RaysMatchResult found = findLowestMatchDoublingRays(
+        limits, o.raysPerPoint, full ? 0 : kMatchDoublings, [&](uint32_t n, uint32_t rpp) {
+            const uint32_t h = std::max<uint32_t>(
+                1, static_cast<uint32_t>(std::lround(static_cast<double>(n) * g.height / g.width)));
+            tried.push_back(full ? matchCandidate(g.width, g.height, n, picture)
+                                 : matchCandidate(n, h, rpp, picture));
+            if (tried.back().matches) {
+                matched = std::move(picture); // the search's last match is its answer
+            }
+            return tried.back().matches;
+        });
+    const MatchSearchResult& r = found.search;
+    const uint32_t rpp = found.raysPerPixel;
     nlohmann::json m = {{"against", o.match},
                         {"criterion", "flip_ecc no higher in every band"},
                         {"upscale", full ? "none" : "bilinear"},
@@ -1138,9 +1145,9 @@ void EvalRun::match(nlohmann::json& summary) {
                         {"below", nullptr},
                         {"ray_ratio", nullptr},
                         {"time_ratio", nullptr}};
-    const auto entryOf = [&](uint32_t n) {
-        return *std::find_if(tried.begin(), tried.end(), [&](const MatchEntry& e) {
-            return (full ? e.raysPerPixel : e.width) == n;
+    const auto entryOf = [&](uint32_t n) { // in the last search (rays per pixel `rpp`)
+        return *std::find_if(tried.rbegin(), tried.rend(), [&](const MatchEntry& e) {
+            return full ? e.raysPerPixel == n : e.width == n && e.raysPerPixel == rpp;
         });
     };
     for (const MatchEntry& e : tried) {

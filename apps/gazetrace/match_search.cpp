@@ -78,4 +78,16 @@ MatchSearchResult findLowestMatch(const MatchSearchLimits& limits,
     return r;
 }
 
+RaysMatchResult
+findLowestMatchDoublingRays(MatchSearchLimits limits, uint32_t raysPerPixel, uint32_t doublings,
+                            const std::function<bool(uint32_t, uint32_t)>& matches) {
+    RaysMatchResult r{.raysPerPixel = raysPerPixel};
+    for (uint32_t d = 0;; ++d) {
+        r.search = findLowestMatch(limits, [&](uint32_t n) { return matches(n, r.raysPerPixel); });
+        if (r.search.match || d == doublings) return r;
+        r.raysPerPixel *= 2;
+        limits.start = limits.highest;
+    }
+}
+
 } // namespace gt::app

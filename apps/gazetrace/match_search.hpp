@@ -44,4 +44,16 @@ struct MatchSearchResult {
 [[nodiscard]] MatchSearchResult findLowestMatch(const MatchSearchLimits& limits,
                                                 const std::function<bool(uint32_t)>& matches);
 
+struct RaysMatchResult {
+    MatchSearchResult search;  // the last search's
+    uint32_t raysPerPixel = 0; // the rays per pixel it ran at
+};
+
+// findLowestMatch at `raysPerPixel`; while nothing matches, again at twice the rays per pixel
+// (`doublings` times at most), from the highest candidate down. `matches` gets the candidate
+// and the rays per pixel.
+[[nodiscard]] RaysMatchResult
+findLowestMatchDoublingRays(MatchSearchLimits limits, uint32_t raysPerPixel, uint32_t doublings,
+                            const std::function<bool(uint32_t, uint32_t)>& matches);
+
 } // namespace gt::app

@@ -137,5 +137,32 @@ TEST(MatchSearch, NoisyBandsLandWhereTheNoiseAllows) {
     }
 }
 
+// A synthetic path tracer whose error falls with pixels and with paths per pixel: a candidate
+// of width n at r rays per pixel matches when n^2 * r >= 1200^2 * 8 and n >= 900 (a fovea only
+// 8 paths per pixel reach). At 4 rays per pixel even the full 1280 fails; at 8 the lowest
+// width is 1200; the search never goes to 16.
+TEST(MatchSearch, DoublesTheRaysPerPixelWhenFullSizeDoesNotMatch) {
+    const auto truth = [](uint32_t n, uint32_t r) {
+        return n >= 900 && static_cast<uint64_t>(n) * n * r >= 1200ull * 1200 * 8;
+    };
+    std::set<uint32_t> rates;
+    const RaysMatchResult r = findLowestMatchDoublingRays(
+        {.lowest = 1, .highest = 1280, .start = 604, .tolerance = 0.0, .maxTries = 32}, 4, 3,
+        [&](uint32_t n, uint32_t rpp) {
+            rates.insert(rpp);
+            return truth(n, rpp);
+        });
+    ASSERT_TRUE(r.search.match);
+    EXPECT_EQ(r.raysPerPixel, 8u);
+    EXPECT_EQ(*r.search.match, 1200u);
+    EXPECT_EQ(r.search.tried.front().candidate, 1280u); // the doubled search starts at full size
+    EXPECT_EQ(rates, (std::set<uint32_t>{4u, 8u}));
+    // No doublings allowed: no match.
+    EXPECT_FALSE(findLowestMatchDoublingRays(
+                     {.lowest = 1, .highest = 1280, .start = 604, .tolerance = 0.0, .maxTries = 32},
+                     4, 0, truth)
+                     .search.match);
+}
+
 } // namespace
 } // namespace gt::app
