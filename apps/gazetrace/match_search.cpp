@@ -84,7 +84,9 @@ findLowestMatchDoublingRays(MatchSearchLimits limits, uint32_t raysPerPixel, uin
     RaysMatchResult r{.raysPerPixel = raysPerPixel};
     for (uint32_t d = 0;; ++d) {
         r.search = findLowestMatch(limits, [&](uint32_t n) { return matches(n, r.raysPerPixel); });
-        if (r.search.match || d == doublings) return r;
+        if (r.search.match || d == doublings) {
+            return r;
+        }
         r.raysPerPixel *= 2;
         limits.start = limits.highest;
     }

@@ -293,7 +293,9 @@ private:
     template <typename Info>
     int onBaseColourUvs(const Info& info, const std::string& material, const char* what) {
         const int t = textureFor(info.index);
-        if (t < 0 || uvTransformOf(info) == mMaterialUv.back()) return t;
+        if (t < 0 || uvTransformOf(info) == mMaterialUv.back()) {
+            return t;
+        }
         mReport.warnings.push_back("material '" + material + "': " + what +
                                    " texture on other UVs than the base colour's, left out");
         return -1;
@@ -350,7 +352,9 @@ private:
                 onBaseColourUvs(pbr.metallicRoughnessTexture, m.name, "metallic-roughness");
             out.normalTexture = onBaseColourUvs(m.normalTexture, m.name, "normal");
             out.normalScale = static_cast<float>(m.normalTexture.scale);
-            if (!std::isfinite(out.normalScale)) fail(name + " normalTexture scale is not finite");
+            if (!std::isfinite(out.normalScale)) {
+                fail(name + " normalTexture scale is not finite");
+            }
             out.emissiveTexture = onBaseColourUvs(m.emissiveTexture, m.name, "emissive");
             loadTransmission(m, name, out);
             out.metallic = static_cast<float>(std::clamp(pbr.metallicFactor, 0.0, 1.0));

@@ -688,7 +688,9 @@ GltfDocumentFacts DocumentChecker::facts() {
         sampled(m, "emissiveTexture");
         const json* ext = member(*m, "extensions");
         const json* transmission = ext ? member(*ext, "KHR_materials_transmission") : nullptr;
-        if (transmission && transmission->is_object()) sampled(transmission, "transmissionTexture");
+        if (transmission && transmission->is_object()) {
+            sampled(transmission, "transmissionTexture");
+        }
     }
     const auto files = [&](const char* list, std::vector<std::string>& out) {
         std::size_t i = 0;

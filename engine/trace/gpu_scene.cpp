@@ -193,7 +193,9 @@ void packTextures(const scene::Scene& scene, PackedScene& p) {
     std::vector<bool> colour(scene.textures.size(), false);
     for (const scene::Material& m : scene.materials) {
         for (const int t : {m.baseColorTexture, m.emissiveTexture}) {
-            if (t >= 0 && static_cast<std::size_t>(t) < colour.size()) colour[t] = true;
+            if (t >= 0 && static_cast<std::size_t>(t) < colour.size()) {
+                colour[t] = true;
+            }
         }
     }
     for (std::size_t i = 0; i < scene.textures.size(); ++i) {
@@ -557,6 +559,26 @@ void GpuScene::prepare(uint32_t copy) {
     mBound = copy % static_cast<uint32_t>(d.copies.size());
 }
 
+FittedTextures fitTextures(const PackedScene& p, uint64_t maxTexels) {
+    if (p.texels.size() <= maxTexels) {
+        return {p.texels, p.textureInfo};
+    }
+    // Over the device's texel-buffer limit with the mip chains: level 0 alone (the path
+    // integrator then filters bilinearly at level 0, as the direct one always does).
+    FittedTextures f;
+    for (const glm::uvec4& t : p.textureInfo) {
+        f.info.emplace_back(static_cast<uint32_t>(f.texels.size()), t.y, t.z, 1u);
+        const auto first = p.texels.begin() + t.x;
+        f.texels.insert(f.texels.end(), first, first + static_cast<std::ptrdiff_t>(t.y) * t.z);
+    }
+    if (f.texels.size() > maxTexels) {
+        throw Error("the scene's textures need " + std::to_string(f.texels.size()) +
+                    " texels, over this device's texel-buffer limit of " +
+                    std::to_string(maxTexels) + ": use fewer or smaller textures");
+    }
+    return f;
+}
+
 void GpuScene::uploadShared(vk::Context& ctx, const PackedScene& p) {
     mAlphaMasked = p.alphaMasked;
     constexpr VkFormat f4 = VK_FORMAT_R32G32B32A32_SFLOAT;
@@ -564,8 +586,10 @@ void GpuScene::uploadShared(vk::Context& ctx, const PackedScene& p) {
     std::vector<glm::vec4> materials = p.materials;
     materials.insert(materials.end(), p.emitters.begin(), p.emitters.end());
     mMaterials = upload(ctx, materials.data(), materials.size() * 16, f4, "scene.materials");
-    mTexels = upload(ctx, p.texels.data(), p.texels.size() * 4, VK_FORMAT_R32_UINT, "scene.texels");
-    mTextureInfo = upload(ctx, p.textureInfo.data(), p.textureInfo.size() * 16,
+    const FittedTextures textures = fitTextures(p, ctx.properties().limits.maxTexelBufferElements);
+    mTexels = upload(ctx, textures.texels.data(), textures.texels.size() * 4, VK_FORMAT_R32_UINT,
+                     "scene.texels");
+    mTextureInfo = upload(ctx, textures.info.data(), textures.info.size() * 16,
                           VK_FORMAT_R32G32B32A32_UINT, "scene.texture_info");
     mEnvironment =
         upload(ctx, p.environment.data(), p.environment.size() * 16, f4, "scene.environment");

@@ -42,6 +42,15 @@ struct PackedScene {
     bool alphaMasked = false; // a material has alphaMode MASK
 };
 
+// The texels and texture info a device holds: `p`'s, or where they exceed `maxTexels` (the
+// device's maxTexelBufferElements) each texture's level 0 alone; an Error naming both counts
+// when even that does not fit.
+struct FittedTextures {
+    std::vector<uint32_t> texels;
+    std::vector<glm::uvec4> info;
+};
+[[nodiscard]] FittedTextures fitTextures(const PackedScene& p, uint64_t maxTexels);
+
 [[nodiscard]] PackedScene packScene(const scene::Scene& scene, const scene::Bvh& bvh);
 
 // One geometric LOD level: the scene with its cages refined for it, and its BVH.

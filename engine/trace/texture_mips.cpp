@@ -22,7 +22,9 @@ using Texel = std::array<float, 4>;
 // The texels of a side of n that texel i of the halved side covers: 2i and 2i + 1, the last
 // also 2i + 2 when n is odd (so no texel is left out), or just 0 when n is 1.
 std::pair<uint32_t, uint32_t> cover(uint32_t i, uint32_t n) {
-    if (n == 1) return {0, 1};
+    if (n == 1) {
+        return {0, 1};
+    }
     const uint32_t last = n / 2 - 1;
     return {2 * i, i == last && n % 2 == 1 ? 2 * i + 3 : 2 * i + 2};
 }
@@ -39,13 +41,15 @@ std::vector<Texel> halve(const std::vector<Texel>& from, uint32_t w, uint32_t h)
             for (uint32_t sy = y0; sy < y1; ++sy) {
                 for (uint32_t sx = x0; sx < x1; ++sx) {
                     const Texel& t = from[static_cast<std::size_t>(sy) * w + sx];
-                    for (std::size_t c = 0; c < 4; ++c)
+                    for (std::size_t c = 0; c < 4; ++c) {
                         sum[c] += t[c];
+                    }
                 }
             }
             const auto n = static_cast<float>((x1 - x0) * (y1 - y0));
-            for (float& c : sum)
+            for (float& c : sum) {
                 c /= n;
+            }
             out[static_cast<std::size_t>(y) * nw + x] = sum;
         }
     }
@@ -66,8 +70,9 @@ uint32_t encode(const Texel& t, bool srgb) {
 
 uint32_t mipLevelCount(uint32_t width, uint32_t height) noexcept {
     uint32_t levels = 1;
-    for (uint32_t s = std::max(width, height); s > 1; s /= 2)
+    for (uint32_t s = std::max(width, height); s > 1; s /= 2) {
         ++levels;
+    }
     return levels;
 }
 
@@ -89,8 +94,9 @@ std::vector<uint32_t> mipChain(const scene::Texture& texture, bool srgb) {
         level = halve(level, w, h);
         w = std::max(1u, w / 2);
         h = std::max(1u, h / 2);
-        for (const Texel& t : level)
+        for (const Texel& t : level) {
             out.push_back(encode(t, srgb));
+        }
     }
     return out;
 }

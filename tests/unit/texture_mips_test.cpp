@@ -1,6 +1,9 @@
 // Mip chains for ray-cone texture filtering (engine/trace/texture_mips.hpp).
 #include <gtest/gtest.h>
 
+#include "core/error.hpp"
+#include "scene/bvh.hpp"
+#include "trace/gpu_scene.hpp"
 #include "trace/texture_mips.hpp"
 
 namespace gt::trace {
@@ -46,6 +49,35 @@ TEST(TextureMips, HalvesOddSizesDownToOneTexel) {
     EXPECT_EQ(chain[0] & 0xffu, 0u);
     EXPECT_EQ(chain[1] & 0xffu, 28u); // 255 / 9
     EXPECT_EQ(chain[2] & 0xffu, 14u); // 255 / 18
+}
+
+// The packed scene holds each texture's level 0 and chain; over a device's texel-buffer limit
+// the chains are dropped (level 0 keeps its texels, the info says one level), and past even
+// that the upload is refused naming both counts.
+TEST(TextureMips, ChainsAreDroppedBeforeTheDevicesTexelLimitIsPassed) {
+    scene::Scene s;
+    scene::SceneBuilder b(s);
+    scene::Material m;
+    m.baseColorTexture = 1;
+    b.quad({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, b.material(m));
+    s.textures.push_back(texture(4, 4, std::vector<uint32_t>(16, 0x11223344u)));
+    s.textures.push_back(texture(2, 2, std::vector<uint32_t>(4, 0xff0000ffu)));
+    const scene::Bvh bvh(s);
+    const PackedScene p = packScene(s, bvh);
+    ASSERT_EQ(p.texels.size(), 16u + 4u + 1u + 4u + 1u); // 4x4, 2x2, 1x1 | 2x2, 1x1
+    EXPECT_EQ(p.textureInfo[1], glm::uvec4(21u, 2u, 2u, 2u));
+    EXPECT_EQ(fitTextures(p, 26).texels.size(), 26u);
+    const FittedTextures level0 = fitTextures(p, 25);
+    ASSERT_EQ(level0.texels.size(), 20u);
+    EXPECT_EQ(level0.info[1], glm::uvec4(16u, 2u, 2u, 1u));
+    EXPECT_EQ(level0.texels[16], 0xff0000ffu);
+    try {
+        (void)fitTextures(p, 19);
+        ADD_FAILURE() << "20 texels fit a limit of 19";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("need 20 texels"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("limit of 19"), std::string::npos) << e.what();
+    }
 }
 
 } // namespace
