@@ -529,6 +529,17 @@ private:
     nlohmann::json movingSequence();
     nlohmann::json pursuitSequence();
     nlohmann::json pursuitOf(render::FoveationMethod& method, const char* name);
+    // The base view at w x h, its gaze scaled with it: the denoiser keeps the fovea of a
+    // smaller uniform frame where the eye is, not at the full frame's pixel coordinates.
+    [[nodiscard]] render::View viewAt(uint32_t w, uint32_t h) const {
+        render::View v = mBase;
+        const glm::vec2 scale(static_cast<float>(w) / static_cast<float>(mBase.width),
+                              static_cast<float>(h) / static_cast<float>(mBase.height));
+        v.gaze = (mBase.gaze + 0.5f) * scale - 0.5f; // pixel centres at integers
+        v.width = w;
+        v.height = h;
+        return v;
+    }
     [[nodiscard]] bool pathTraced() const noexcept {
         return mIntegrator.integrator != trace::Integrator::Direct;
     }
@@ -671,10 +682,8 @@ Baselines EvalRun::baselines(uint64_t rays) {
     std::tie(b.uw, b.uh) = uniformSize(rays, mOptions.raysPerPoint, g.width, g.height);
     render::FullResolution uniform(mRenderer->methodContext(),
                                    {mOptions.raysPerPoint, kSeed, mIntegrator});
-    render::View v = mBase;
+    render::View v = viewAt(b.uw, b.uh);
     v.name = "uniform";
-    v.width = b.uw;
-    v.height = b.uh;
     const RgbaImage low = mShooter->shot(v, uniform);
     b.bilinear = quality::upscale(low, g.width, g.height, quality::Upscale::Bilinear);
     b.bicubic = quality::upscale(low, g.width, g.height, quality::Upscale::CatmullRom);
@@ -1013,11 +1022,9 @@ MatchEntry EvalRun::matchCandidate(uint32_t width, uint32_t height, uint32_t ray
                                    RgbaImage& picture) {
     const Geometry& g = mGeometry;
     render::FullResolution uniform(mRenderer->methodContext(), {raysPerPixel, kSeed, mIntegrator});
-    render::View v = mBase;
+    render::View v = viewAt(width, height);
     v.name = "match_" + std::to_string(width) + "x" + std::to_string(height) + "_" +
              std::to_string(raysPerPixel);
-    v.width = width;
-    v.height = height;
     v.post.taa = mOptions.taa;
     MatchEntry c{width, height, raysPerPixel};
     mShooter->sequence(
@@ -1057,10 +1064,8 @@ nlohmann::json EvalRun::timedInTurns(const MatchEntry& match) {
     fov.post.taa = mOptions.taa;
     render::FullResolution uniform(mRenderer->methodContext(),
                                    {match.raysPerPixel, kSeed, mIntegrator});
-    render::View v = mBase;
+    render::View v = viewAt(match.width, match.height);
     v.name = "match_timed";
-    v.width = match.width;
-    v.height = match.height;
     v.post.taa = mOptions.taa;
     const auto ignore = [](const FrameTick&, RgbaImage, uint64_t) {};
     nlohmann::json t = {{"rounds", kMatchTimingRounds},

@@ -1,6 +1,7 @@
 // `render --integrator path --bounces N`: the path tracer through the command line, and its
 // options' errors.
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include <gtest/gtest.h>
@@ -24,6 +25,20 @@ double centreNoise(const image::DecodedImage& img) {
     int n = 0;
     for (uint32_t y = img.height / 2 - 20; y < img.height / 2 + 20; ++y) {
         for (uint32_t x = img.width / 2 - 20; x < img.width / 2 + 20; ++x) {
+            const std::size_t i = (static_cast<std::size_t>(y) * img.width + x) * 4 + 1;
+            sum += std::abs(int(img.rgba[i]) - int(img.rgba[i + 4]));
+            ++n;
+        }
+    }
+    return sum / n;
+}
+
+// Mean difference of horizontal neighbours (green) over the 40 x 40 block centred at (cx, cy).
+double blockNoise(const image::DecodedImage& img, uint32_t cx, uint32_t cy) {
+    double sum = 0.0;
+    int n = 0;
+    for (uint32_t y = cy - 20; y < cy + 20; ++y) {
+        for (uint32_t x = cx - 20; x < cx + 20; ++x) {
             const std::size_t i = (static_cast<std::size_t>(y) * img.width + x) * 4 + 1;
             sum += std::abs(int(img.rgba[i]) - int(img.rgba[i + 4]));
             ++n;
@@ -123,6 +138,28 @@ TEST(CliPath, BadIntegratorAndBouncesAreOneLineErrors) {
 
 // eval traces the reference, the foveated frame and the uniform frames with the integrator it
 // is given, and says so; layers refuse it.
+// eval's uniform frames are smaller than the window; the denoiser must leave their fovea where
+// the eye looks, so their gaze is scaled with them. With the gaze near the bottom-right
+// corner, the uniform baseline (upscaled) stays noisy there (within 5 degrees: 194 px on the
+// desktop screen) and is smoothed in the far corner (18 degrees away). Taken at the window's
+// pixel coordinates, the gaze fell outside the smaller frame and its fovea was smoothed too.
+TEST(CliPath, EvalDenoisesSmallerFramesAroundTheSameGaze) {
+    const auto dir = test::tempDir("cli_path_eval_gaze");
+    const Result r = run("eval --scene builtin:cornell --profile desktop --width 640 --height 480 "
+                         "--gaze 600,440 --integrator path --bounces 1 --rays-per-point 1 "
+                         "--denoise on --taa off --frames 1 --reference-spp 2 --validate --json "
+                         "--cache " +
+                         (dir / "cache").string() + " --out " + (dir / "e").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_LT(j["methods"]["uniform_bilinear"]["size"][0].get<uint32_t>(), 600u);
+    const image::DecodedImage img = image::readPng(dir / "e" / "uniform_bilinear.png");
+    const double nearGaze = blockNoise(img, 580, 420), far = blockNoise(img, 60, 60);
+    std::printf("uniform baseline noise: %.2f near the gaze, %.2f far from it\n", nearGaze, far);
+    EXPECT_GT(nearGaze, 2.0 * far);
+}
+
 TEST(CliPath, EvalTracesEveryFrameWithTheIntegrator) {
     const auto dir = test::tempDir("cli_path_eval");
     const Result r = run("eval --scene builtin:cornell --profile desktop --width 64 --height 48 "
