@@ -93,20 +93,24 @@ float PointSetMethod::foveaRadiusPx() const {
                               std::tan(settings.foveaDeg * std::numbers::pi / 180.0));
 }
 
-uint64_t PointSetMethod::rays(const View& view) const {
-    const glm::vec2 gaze = sampledGaze(view);
-    const uint64_t all = static_cast<uint64_t>(pointsSampled(gaze)) * settings.raysPerPoint;
-    const float radius = foveaRadiusPx();
-    if (radius <= 0.0f) return all;
+std::size_t PointSetMethod::pointsWithin(const View& view, float radius) const {
     const auto w = mPoints.params().display.width, h = mPoints.params().display.height;
-    const glm::vec2 off = passes::gazeOffset(gaze, w, h);
+    const glm::vec2 off = passes::gazeOffset(sampledGaze(view), w, h);
     if (!mFoveaMemo || mFoveaMemo->first != glm::vec3(off, radius)) {
         mFoveaMemo.emplace(glm::vec3(off, radius),
                            mPoints.countOnScreenWithin(off.x + static_cast<float>(w),
                                                        off.y + static_cast<float>(h), radius,
                                                        passes::kSampleMargin));
     }
-    const auto fovea = static_cast<int64_t>(mFoveaMemo->second);
+    return mFoveaMemo->second;
+}
+
+uint64_t PointSetMethod::rays(const View& view) const {
+    const glm::vec2 gaze = sampledGaze(view);
+    const uint64_t all = static_cast<uint64_t>(pointsSampled(gaze)) * settings.raysPerPoint;
+    const float radius = foveaRadiusPx();
+    if (radius <= 0.0f) return all;
+    const auto fovea = static_cast<int64_t>(pointsWithin(view, radius));
     return static_cast<uint64_t>(static_cast<int64_t>(all) +
                                  fovea * (static_cast<int64_t>(settings.foveaRaysPerPoint) -
                                           static_cast<int64_t>(settings.raysPerPoint)));

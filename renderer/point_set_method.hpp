@@ -122,6 +122,8 @@ public:
     [[nodiscard]] std::size_t pointsSampled(glm::vec2 gaze) const;
     // settings.foveaRaysPerPoint's radius on this set's display, in pixels (0: off).
     [[nodiscard]] float foveaRadiusPx() const;
+    // Points traced within `radius` pixels of `view`'s gaze (on screen plus the margin).
+    [[nodiscard]] std::size_t pointsWithin(const View& view, float radius) const;
     [[nodiscard]] double pointSetMs() const noexcept { return mPointSetMs; }
     [[nodiscard]] double neighbourIndexMs() const noexcept { return mNeighbourMs; }
     [[nodiscard]] double neighbourIndexMb() const noexcept { return mNeighbourMb; }

@@ -160,6 +160,33 @@ TEST(CliPath, EvalDenoisesSmallerFramesAroundTheSameGaze) {
     EXPECT_GT(nearGaze, 2.0 * far);
 }
 
+// eval --match with the path integrator also checks the fovea against full resolution at the
+// paths per display pixel the foveated frame spends within 5 degrees: here the whole 64 x 48
+// window (5 degrees is 194 px on the desktop screen), its points (at most one per pixel, the
+// set thinned for the coarse window) tracing 4 paths each.
+TEST(CliPath, EvalChecksTheFoveaAgainstFullResolutionAtItsPathsPerPixel) {
+    const auto dir = test::tempDir("cli_path_fovea_check");
+    const Result r = run("eval --scene builtin:cornell --profile desktop --width 64 --height 48 "
+                         "--integrator path --bounces 1 --rays-per-point 1 --fovea-rays 4 "
+                         "--reference-spp 4 --frames 2 --match uniform --baseline none "
+                         "--validate --json --cache " +
+                         (dir / "cache").string() + " --out " + (dir / "e").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_TRUE(j.contains("fovea_check")) << r.out;
+    const auto& f = j["fovea_check"];
+    const double perPixel = f["paths_per_pixel_foveated"].get<double>();
+    const double points = static_cast<double>(j["methods"]["foveated"]["rays"].get<uint64_t>()) /
+                          4.0 / (64.0 * 48.0); // every sampled point is in the fovea
+    EXPECT_NEAR(perPixel, 4.0 * points, 0.05 * perPixel);
+    EXPECT_GT(perPixel, 1.5);
+    EXPECT_EQ(f["full_resolution_rays_per_pixel"].get<uint32_t>(),
+              static_cast<uint32_t>(std::lround(perPixel)));
+    EXPECT_EQ(f["no_worse"].get<bool>(), f["flip_0_5_foveated"].get<double>() <=
+                                             f["flip_0_5_full_resolution"].get<double>());
+}
+
 TEST(CliPath, EvalTracesEveryFrameWithTheIntegrator) {
     const auto dir = test::tempDir("cli_path_eval");
     const Result r = run("eval --scene builtin:cornell --profile desktop --width 64 --height 48 "
