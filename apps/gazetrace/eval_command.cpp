@@ -1339,15 +1339,15 @@ std::string evalText(const nlohmann::json& s) {
     }
     if (s.contains("fovea_check")) {
         const auto& f = s["fovea_check"];
-        char buf[200];
-        std::snprintf(buf, sizeof buf,
+        char line[200];
+        std::snprintf(line, sizeof line,
                       "fovea (0-5 deg): FLIP %.4f at %.1f paths per pixel; full resolution at %u: "
                       "%.4f\n",
                       f["flip_0_5_foveated"].get<double>(),
                       f["paths_per_pixel_foveated"].get<double>(),
                       f["full_resolution_rays_per_pixel"].get<uint32_t>(),
                       f["flip_0_5_full_resolution"].get<double>());
-        t << buf;
+        t << line;
     }
     if (s.contains("match")) {
         t << matchText(s["match"]);
