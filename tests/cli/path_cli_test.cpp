@@ -20,18 +20,6 @@ using test::run;
 
 // The mean absolute difference of green between horizontal neighbours in the central 40 x 40
 // pixels: on a flat, evenly lit wall, the noise.
-double centreNoise(const image::DecodedImage& img) {
-    double sum = 0.0;
-    int n = 0;
-    for (uint32_t y = img.height / 2 - 20; y < img.height / 2 + 20; ++y) {
-        for (uint32_t x = img.width / 2 - 20; x < img.width / 2 + 20; ++x) {
-            const std::size_t i = (static_cast<std::size_t>(y) * img.width + x) * 4 + 1;
-            sum += std::abs(int(img.rgba[i]) - int(img.rgba[i + 4]));
-            ++n;
-        }
-    }
-    return sum / n;
-}
 
 // Mean difference of horizontal neighbours (green) over the 40 x 40 block centred at (cx, cy).
 double blockNoise(const image::DecodedImage& img, uint32_t cx, uint32_t cy) {
@@ -45,6 +33,10 @@ double blockNoise(const image::DecodedImage& img, uint32_t cx, uint32_t cy) {
         }
     }
     return sum / n;
+}
+
+double centreNoise(const image::DecodedImage& img) {
+    return blockNoise(img, img.width / 2, img.height / 2);
 }
 
 TEST(CliPath, ReferenceAndFoveatedTracePaths) {
@@ -183,8 +175,8 @@ TEST(CliPath, EvalChecksTheFoveaAgainstFullResolutionAtItsPathsPerPixel) {
     EXPECT_GT(perPixel, 1.5);
     EXPECT_EQ(f["full_resolution_rays_per_pixel"].get<uint32_t>(),
               static_cast<uint32_t>(std::lround(perPixel)));
-    EXPECT_EQ(f["no_worse"].get<bool>(), f["flip_0_5_foveated"].get<double>() <=
-                                             f["flip_0_5_full_resolution"].get<double>());
+    EXPECT_EQ(f["no_worse"].get<bool>(),
+              f["flip_0_5_foveated"].get<double>() <= f["flip_0_5_full_resolution"].get<double>());
 }
 
 TEST(CliPath, EvalTracesEveryFrameWithTheIntegrator) {

@@ -60,6 +60,13 @@ scene::Camera frontCamera(float distance, float fovDeg) {
     return c;
 }
 
+// A 10 x 10 Lambertian floor (no specular lobe) in the y = 0 plane, facing +y.
+void whiteFloor(scene::SceneBuilder& b) {
+    scene::Material white;
+    white.specular = 0.0f;
+    b.quad({-5.0f, 0.0f, 5.0f}, {10.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -10.0f}, b.material(white));
+}
+
 // A 2 x 2 quad in the z = 0 plane facing +z, its u along +x.
 void facingQuad(scene::SceneBuilder& b, uint32_t material, glm::vec2 uvScale = {1, 1}) {
     b.quad({-1.0f, -1.0f, 0.0f}, {2.0f, 0.0f, 0.0f}, {0.0f, 2.0f, 0.0f}, material, uvScale);
@@ -114,9 +121,7 @@ TEST_F(PathMaterialsTest, ShadowRaysCrossThinGlassTinted) {
     const auto floorScene = [](bool pane) {
         scene::Scene s;
         scene::SceneBuilder b(s);
-        scene::Material white;
-        white.specular = 0.0f;
-        b.quad({-5.0f, 0.0f, 5.0f}, {10.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -10.0f}, b.material(white));
+        whiteFloor(b);
         if (pane) {
             scene::Material glass;
             glass.baseColor = glm::vec4(1.0f, 0.5f, 0.25f, 1.0f);
@@ -189,9 +194,7 @@ TEST_F(PathMaterialsTest, EmissiveTextureTintsTheEmitterAndItsLight) {
     const auto lampScene = [](bool textured) {
         scene::Scene s;
         scene::SceneBuilder b(s);
-        scene::Material white;
-        white.specular = 0.0f;
-        b.quad({-5.0f, 0.0f, 5.0f}, {10.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -10.0f}, b.material(white));
+        whiteFloor(b);
         scene::Material lamp;
         lamp.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
         lamp.emissive = textured ? glm::vec3(4.0f) : glm::vec3(4.0f, 0.0f, 0.0f);

@@ -654,21 +654,25 @@ TEST(GltfLoader, BuffersThatAreNotRegularFilesAreRefused) {
     expectRefused(dir / "fifo.gltf", "fifo.bin: a FIFO, not a regular file");
 }
 
+// A size x size PNG of one grey, encoded.
+std::vector<uint8_t> solidPng(int size, uint8_t value) {
+    std::vector<uint8_t> rgba(static_cast<std::size_t>(size) * size * 4, value), png;
+    stbi_write_png_to_func(
+        [](void* ctx, void* data, int n) {
+            auto* out = static_cast<std::vector<uint8_t>*>(ctx);
+            out->insert(out->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + n);
+        },
+        &png, size, size, 4, rgba.data(), size * 4);
+    return png;
+}
+
 // 400 textures of 2048 x 2048 decoded to 7.5 GB. The sampled textures' decoded size is
 // added up from their headers before each is decoded and refused past
 // GltfLoadOptions::maxTextureBytes; images no tracer samples (occlusion) are not decoded.
 TEST(GltfLoader, DecodedTexturesHaveABudget) {
     const auto dir = test::tempDir("texture_budget");
     std::string json = test::quadJsonBesideBin(dir);
-    std::vector<uint8_t> rgba(64 * 64 * 4, 200);
-    std::vector<uint8_t> png;
-    stbi_write_png_to_func(
-        [](void* ctx, void* data, int size) {
-            auto* out = static_cast<std::vector<uint8_t>*>(ctx);
-            out->insert(out->end(), static_cast<uint8_t*>(data),
-                        static_cast<uint8_t*>(data) + size);
-        },
-        &png, 64, 64, 4, rgba.data(), 64 * 4);
+    const std::vector<uint8_t> png = solidPng(64, 200);
     for (int i = 0; i < 3; ++i) {
         test::writeFile(dir / ("t" + std::to_string(i) + ".png"), png.data(), png.size());
     }
@@ -694,19 +698,6 @@ TEST(GltfLoader, DecodedTexturesHaveABudget) {
                   {.maxTextureBytes = 40 * 1024});
 }
 
-// A 2 x 2 PNG of one colour, encoded.
-std::vector<uint8_t> solidPng(uint8_t value) {
-    std::vector<uint8_t> rgba(2 * 2 * 4, value), png;
-    stbi_write_png_to_func(
-        [](void* ctx, void* data, int size) {
-            auto* out = static_cast<std::vector<uint8_t>*>(ctx);
-            out->insert(out->end(), static_cast<uint8_t*>(data),
-                        static_cast<uint8_t*>(data) + size);
-        },
-        &png, 2, 2, 4, rgba.data(), 2 * 4);
-    return png;
-}
-
 // The path integrator's textures and KHR_materials_transmission / _ior reach the material:
 // every sampled texture is decoded (each image a different grey, to tell them apart), the
 // normal texture's scale, the transmission factor and the IOR are kept; an IOR below 1 is
@@ -715,7 +706,7 @@ TEST(GltfLoader, LoadsNormalEmissiveAndTransmissionTexturesAndTheIor) {
     const auto dir = test::tempDir("gltf_materials");
     std::string json = test::quadJsonBesideBin(dir);
     for (int i = 0; i < 5; ++i) {
-        const std::vector<uint8_t> png = solidPng(static_cast<uint8_t>(40 * (i + 1)));
+        const std::vector<uint8_t> png = solidPng(2, static_cast<uint8_t>(40 * (i + 1)));
         test::writeFile(dir / ("m" + std::to_string(i) + ".png"), png.data(), png.size());
     }
     const std::string materials = R"("materials": [)";
