@@ -47,6 +47,11 @@ void useThesisReconstruction(PointSetSettings& settings, passes::TaaSettings& ta
     taa.adaptive = false;
 }
 
+void useNoisySampleWeights(passes::InterpolateSettings& s) {
+    s.shepardPower = 1.0f;
+    s.rangeSigma = 0.0f;
+}
+
 PointSetMethod::PointSetMethod(const MethodContext& mc, const foveation::PointSetParams& params,
                                const std::filesystem::path& cacheDir)
     : PointSetMethod(mc, [&] {
@@ -83,6 +88,14 @@ std::size_t PointSetMethod::pointsSampled(glm::vec2 gaze) const {
                                                         passes::kSampleMargin));
     }
     return mSampledMemo->second;
+}
+
+passes::InterpolateSettings PointSetMethod::interpolation() const {
+    passes::InterpolateSettings s = settings.interpolation;
+    if (!supportsTaa() && settings.noisySampleWeights) {
+        useNoisySampleWeights(s);
+    }
+    return s;
 }
 
 float PointSetMethod::foveaRadiusPx() const {
@@ -228,7 +241,7 @@ MethodImage PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view
     }
     const passes::InterpolateInputs prepared = tableInputs(settings.interpolation);
     const uint32_t lanes = passes::pointSampleLanes(mMc.ctx, settings.raysPerPoint);
-    passes::InterpolateSettings s = settings.interpolation;
+    passes::InterpolateSettings s = interpolation();
     s.displayExposure = settings.displayReferred ? view.exposure : 0.0f;
     // A still camera whose frames TAA pools by their support (taa.glsl) gains from sites that
     // roam their whole neighbourhood; a moving one, whose history is only reprojected, from
@@ -236,8 +249,8 @@ MethodImage PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view
     const shaders::trace::CameraPush camera = view.cameraPush();
     const auto last = mLastCamera.find(view.name);
     const bool pooled = view.post.taa && view.post.taaSettings.adaptive &&
-                        view.post.taaSettings.supportWeighted && last != mLastCamera.end() &&
-                        passes::sameCamera(last->second, camera);
+                        view.post.taaSettings.supportWeighted && supportsTaa() &&
+                        last != mLastCamera.end() && passes::sameCamera(last->second, camera);
     const shaders::trace::CameraPush previous = last != mLastCamera.end() ? last->second : camera;
     mLastCamera.insert_or_assign(view.name, camera);
     const passes::InterpolatedImage image = addImage(
@@ -252,7 +265,7 @@ MethodImage PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view
     }
     // The support says something only where the sites move from frame to frame.
     const std::optional<rg::TextureId> support =
-        settings.jitter && s.method == passes::Interpolation::Shepard
+        settings.jitter && s.method == passes::Interpolation::Shepard && supportsTaa()
             ? std::optional<rg::TextureId>(image.support)
             : std::nullopt;
     if (settings.edgeRays && image.motion) {
@@ -267,7 +280,7 @@ MethodImage PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view
 }
 
 std::optional<WarmUp> PointSetMethod::warmUp(const View& view) {
-    const passes::InterpolateSettings& s = settings.interpolation;
+    const passes::InterpolateSettings s = interpolation();
     const uint32_t lanes = passes::pointSampleLanes(mMc.ctx, settings.raysPerPoint);
     const auto variant = std::make_tuple(s.method, passes::usesPixelTable(s), lanes);
     if (mWarm.contains(variant)) {

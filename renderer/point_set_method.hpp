@@ -84,7 +84,16 @@ struct PointSetSettings {
     // samples per pixel in the fovea.
     uint32_t foveaRaysPerPoint = 0;
     double foveaDeg = 5.0;
+    // With the path integrator, Modified Shepard blends with q = 1 and no colour guidance,
+    // whatever `interpolation` says (noisySampleWeights); false: `interpolation` as given.
+    bool noisySampleWeights = true;
 };
+
+// The interpolation for samples that each carry their own noise (a path tracer's): q = 1 and no
+// colour guidance. q = 2 leans on the nearest sample, and colour guidance takes a noisy
+// sample's deviation for an edge and keeps it; both keep one sample's noise where q = 1
+// averages the k neighbours (docs/path-tracing.md, "Reconstructing noisy samples").
+void useNoisySampleWeights(passes::InterpolateSettings& s);
 
 inline constexpr double kChunkedShare = 0.5;
 
@@ -122,6 +131,17 @@ public:
     [[nodiscard]] std::size_t pointsSampled(glm::vec2 gaze) const;
     // settings.foveaRaysPerPoint's radius on this set's display, in pixels (0: off).
     [[nodiscard]] float foveaRadiusPx() const;
+    // Whether TAA may weigh a still view's frames by how near their samples fell to each pixel
+    // (MethodImage::support). That keeps, per pixel, the few frames that sampled it closely: the
+    // sharpest estimate of a sample that is exact, as the direct integrator's are. A path
+    // tracer's samples each carry their own noise, and those few frames are as noisy as one:
+    // its frames count equally.
+    [[nodiscard]] bool supportsTaa() const {
+        return settings.integrator.integrator != trace::Integrator::Path;
+    }
+    // settings.interpolation, with useNoisySampleWeights for path-traced samples
+    // (settings.noisySampleWeights).
+    [[nodiscard]] passes::InterpolateSettings interpolation() const;
     // Points traced within `radius` pixels of `view`'s gaze (on screen plus the margin).
     [[nodiscard]] std::size_t pointsWithin(const View& view, float radius) const;
     [[nodiscard]] double pointSetMs() const noexcept { return mPointSetMs; }

@@ -632,10 +632,17 @@ std::unique_ptr<render::PointSetMethod> EvalRun::makeFoveated(double scale) {
     m->settings.lod = o.lod;
     m->settings.displayReferred = o.blend == "display";
     m->settings.interpolation.edgeTolerance = static_cast<float>(o.edgeTolerance);
-    m->settings.interpolation.rangeSigma = static_cast<float>(o.rangeSigma);
-    m->settings.interpolation.shepardPower = static_cast<float>(o.shepardPower);
     m->settings.jitter = o.jitter;
     m->settings.integrator = mIntegrator;
+    // Either weight given: both as the options say (the other at its direct-light default).
+    if (o.rangeSigma || o.shepardPower) {
+        const passes::InterpolateSettings defaults;
+        m->settings.noisySampleWeights = false;
+        m->settings.interpolation.rangeSigma =
+            static_cast<float>(o.rangeSigma.value_or(defaults.rangeSigma));
+        m->settings.interpolation.shepardPower =
+            static_cast<float>(o.shepardPower.value_or(defaults.shepardPower));
+    }
     m->settings.foveaRaysPerPoint = o.integrator.foveaRays;
     if (mThesis) {
         passes::TaaSettings unused;
@@ -753,6 +760,9 @@ void EvalRun::stillFrame(nlohmann::json& summary) {
         Scores s = scored(fov);
         s.json["rays"] = rays;
         mTarget.flipEcc = s.flipEcc;
+        const auto* points = dynamic_cast<const render::PointSetMethod*>(mFoveated.get());
+        const passes::InterpolateSettings weights =
+            points ? points->interpolation() : passes::InterpolateSettings{};
         s.json["settings"] = {{"reconstruction", o.reconstruction},
                               {"interp", o.interp},
                               {"k", o.k},
@@ -762,8 +772,8 @@ void EvalRun::stillFrame(nlohmann::json& summary) {
                               {"frames", o.frames},
                               {"blend", o.blend},
                               {"edge_tolerance", o.edgeTolerance},
-                              {"range_sigma", o.rangeSigma},
-                              {"shepard_power", o.shepardPower},
+                              {"range_sigma", weights.rangeSigma},
+                              {"shepard_power", weights.shepardPower},
                               {"still_clip", o.stillClipGamma},
                               {"eccentric_radius", o.eccentricRadius},
                               {"jitter", o.jitter}};

@@ -6,6 +6,7 @@
 // temporal stability of still, moving-camera and smooth-pursuit sequences, a JSON summary and
 // PNGs (error maps, per-band bars, quality against rays).
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -42,10 +43,12 @@ struct EvalOptions {
     std::string reconstruction = "gazetrace";
     std::string blend = "display"; // display | linear (the thesis)
     double edgeTolerance = 0.1;    // geometry-aware weights; 0: off
-    double rangeSigma = 0.1;       // colour-guided weights; 0: off
-    double shepardPower = 2.0;     // 1: the thesis's eq. (6); 2: Renka's
-    bool jitter = true;            // per-frame ray rotation inside each disc
-    uint32_t frames = 8;           // frames rendered before the measured one (TAA settles)
+    // Colour-guided weights (0: off) and q: unset, 0.1 and 2 (Renka's), or with the path
+    // integrator 0 and 1 (render::useNoisySampleWeights).
+    std::optional<double> rangeSigma;
+    std::optional<double> shepardPower;
+    bool jitter = true;  // per-frame ray rotation inside each disc
+    uint32_t frames = 8; // frames rendered before the measured one (TAA settles)
     uint32_t referenceSpp = 64;
     std::string reference; // a reference PNG rendered earlier for the same view (skips it)
     std::string baseline = "uniform"; // uniform | none

@@ -350,6 +350,50 @@ TEST_F(RendererTest, PoolingFramesBySupportBeatsTheirPlainMean) {
     EXPECT_LT(pooled, 0.92 * mean);
 }
 
+// Path-traced points through the whole renderer, a still view. Each sample carries its own
+// noise, so TAA pools the frames equally and Modified Shepard blends its neighbours with q = 1
+// and no colour guidance (PointSetMethod::supportsTaa, useNoisySampleWeights): 9 frames come
+// much closer to a many-path reference than one, and closer than with the weights that suit
+// exact samples (q = 2, colour guidance), which keep the nearest sample's noise.
+TEST_F(RendererTest, PathTracedPointsPoolFramesAndBlendNeighboursEqually) {
+    foveation::PointSetParams params;
+    params.display = {"small-path", 160, 120, 0.85};
+    render::PointSetMethod method(renderer().methodContext(), params,
+                                  test::tempDir("path_pooled_cache"));
+    method.settings.raysPerPoint = 4;
+    method.settings.interpolation.method = passes::Interpolation::Shepard;
+    trace::IntegratorSettings path;
+    path.integrator = trace::Integrator::Path;
+    path.bounces = 2;
+    method.settings.integrator = path;
+    render::FullResolution reference(renderer().methodContext(), {256, 0, path});
+    const render::View refView = view("path_reference", 160, 120, reference);
+    const auto truth = render(std::span(&refView, 1))[0];
+    auto settle = [&](const std::string& name, bool noisyWeights, int frames) {
+        method.settings.noisySampleWeights = noisyWeights;
+        render::View v = view(name, 160, 120, method);
+        v.post.taa = true;
+        std::vector<uint8_t> last;
+        for (int i = 0; i < frames; ++i) {
+            last = render(std::span(&v, 1))[0];
+        }
+        double se = 0.0;
+        for (std::size_t i = 0; i < last.size(); ++i) {
+            const double d = static_cast<double>(last[i]) - static_cast<double>(truth[i]);
+            se += i % 4 == 3 ? 0.0 : d * d;
+        }
+        return std::sqrt(se / static_cast<double>(last.size() / 4 * 3));
+    };
+    const double one = settle("path_one", true, 1);
+    const double pooled = settle("path_pooled", true, 9);
+    const double exactWeights = settle("path_exact_weights", false, 9);
+    RecordProperty("rmse_one_frame", std::to_string(one));
+    RecordProperty("rmse_nine_frames", std::to_string(pooled));
+    RecordProperty("rmse_nine_frames_exact_sample_weights", std::to_string(exactWeights));
+    EXPECT_LT(pooled, 0.6 * one);
+    EXPECT_LT(pooled, 0.9 * exactWeights);
+}
+
 TEST_F(RendererTest, PanelLayoutShowsWhatTheLensPassShows) {
     foveation::PointSetParams params;
     params.display = {"small-eye", 160, 180, 0.85};

@@ -80,12 +80,13 @@ public:
             ->capture_default_str();
         mCommand
             ->add_option("--range-sigma", mOptions.rangeSigma,
-                         "Foveated msm: colour-guided weights, display luminance sigma (0: off)")
-            ->check(CLI::Range(0.0, 100.0))
-            ->capture_default_str();
-        mCommand->add_option("--shepard-power", mOptions.shepardPower, "Foveated msm: q of eq. (6)")
-            ->check(CLI::Range(0.5, 8.0))
-            ->capture_default_str();
+                         "Foveated msm: colour-guided weights, display luminance sigma (0: off; "
+                         "default 0.1, with --integrator path 0)")
+            ->check(CLI::Range(0.0, 100.0));
+        mCommand
+            ->add_option("--shepard-power", mOptions.shepardPower,
+                         "Foveated msm: q of eq. (6) (default 2, with --integrator path 1)")
+            ->check(CLI::Range(0.5, 8.0));
         mCommand
             ->add_option("--still-clip", mOptions.stillClipGamma,
                          "TAA: clipping box in standard deviations with the camera still")
