@@ -994,6 +994,15 @@ nlohmann::json EvalRun::pursuitOf(render::FoveationMethod& method, const char* n
     nlohmann::json pj = changeJson(steps);
     pj["changed_percent_all"] = overall;
     pj["frames"] = n;
+    // What the pursuit leaves on screen: the last frame against the reference (the camera
+    // stayed), in bands around the gaze it was rendered for. A history that holds on to what
+    // the periphery's sparse samples showed changes little from frame to frame but keeps the
+    // new fovea blurred; this says which.
+    Geometry at = g;
+    at.gaze = view(FrameTick{.index = settle + static_cast<uint32_t>(n) - 1}).gaze;
+    at.bands = quality::bandMap(g.display, g.width, g.height, at.gaze);
+    pj["flip_ecc_last"] = bandsJson(score(last, mRef, at, {}).flipEcc);
+    writePng(mOut / (std::string(name) + "_last.png"), last);
     return pj;
 }
 

@@ -64,6 +64,15 @@ TEST(Eval, MeasuresPerBandBesideTheUniformBaseline) {
         EXPECT_GE(j["temporal"][seq]["changed_percent"]["0-5"].get<double>(), 0.0);
     }
     EXPECT_TRUE(j["temporal"]["pursuit"].contains("changed_percent_all"));
+    // The frame the pursuit ends on, scored around its own gaze (bands past this small
+    // window's reach are empty: 0), and written.
+    const auto& last = j["temporal"]["pursuit"]["flip_ecc_last"];
+    EXPECT_GT(last["0-5"].get<double>(), 0.0);
+    for (const char* band : {"0-5", "5-10", "10-20", "20+"}) {
+        EXPECT_GE(last[band].get<double>(), 0.0) << band;
+        EXPECT_LT(last[band].get<double>(), 1.0) << band;
+    }
+    EXPECT_EQ(image::readPng(dir / "e" / "pursuit_last.png").width, 128u);
     for (const char* who : {"foveated", "reference"}) {
         EXPECT_TRUE(j["temporal"]["moving"][who]["changed_percent"].contains("20+")) << who;
     }

@@ -87,14 +87,21 @@ TEST(GazeTrace, FifosAndDevicesAreRefusedWithoutReading) {
 }
 
 TEST(GazeTrace, ShippedTracesLoad) {
-    for (const char* name : {"fixations", "saccade", "pursuit"}) {
+    struct Shipped {
+        const char* name;
+        float width, height; // the eye image its pixels are in
+    };
+    for (const Shipped& sh :
+         {Shipped{"fixations", 1280, 1440}, Shipped{"saccade", 1280, 1440},
+          Shipped{"pursuit", 1280, 1440}, Shipped{"pursuit_640x720", 640, 720}}) {
         const auto p = std::filesystem::path(GT_SOURCE_DIR) / "content" / "gaze" /
-                       (std::string(name) + ".csv");
+                       (std::string(sh.name) + ".csv");
         const GazeTrace t = GazeTrace::load(p);
-        EXPECT_GT(t.samples().size(), 30u) << name;
+        EXPECT_GT(t.samples().size(), 30u) << sh.name;
         for (const auto& s : t.samples()) {
-            ASSERT_TRUE(s.position.x >= 0 && s.position.x < 1280 && s.position.y >= 0 &&
-                        s.position.y < 1440);
+            ASSERT_TRUE(s.position.x >= 0 && s.position.x < sh.width && s.position.y >= 0 &&
+                        s.position.y < sh.height)
+                << sh.name;
         }
     }
 }
