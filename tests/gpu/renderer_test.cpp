@@ -10,8 +10,11 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
+#include "display/display_space.hpp"
 #include "full_resolution.hpp"
 #include "output_target.hpp"
+#include "point_set_method.hpp"
+#include "quality/flip.hpp"
 #include "render_graph/frame_ring.hpp"
 #include "renderer.hpp"
 #include "support/gpu_test_context.hpp"
@@ -74,6 +77,29 @@ protected:
 
     static double meanAbsDiff(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
         return test::meanAbsDiff(a, b);
+    }
+
+    // Modified Shepard over the point set of a 160 x 120 display (viewing distance 0.85) at
+    // `scale`, tracing `rays` per point, its cache in a folder of its own.
+    static std::unique_ptr<render::PointSetMethod> smallShepard(const std::string& name,
+                                                                uint32_t rays, double scale = 1.0) {
+        foveation::PointSetParams params;
+        params.display = {name, 160, 120, 0.85};
+        params.scale = scale;
+        auto m = std::make_unique<render::PointSetMethod>(renderer().methodContext(), params,
+                                                          test::tempDir(name + "_cache"));
+        m->settings.raysPerPoint = rays;
+        m->settings.interpolation.method = passes::Interpolation::Shepard;
+        return m;
+    }
+
+    // The last of `frames` frames of a still view `v`.
+    static std::vector<uint8_t> lastOf(const render::View& v, int frames) {
+        std::vector<uint8_t> last;
+        for (int i = 0; i < frames; ++i) {
+            last = render(std::span(&v, 1))[0];
+        }
+        return last;
     }
 
     inline static std::unique_ptr<render::Renderer> sRenderer;
@@ -261,16 +287,6 @@ TEST(FrameRingTest, FramesInFlightFinishInOrderAndReleaseLate) {
     EXPECT_EQ(r.context().validationErrors(), 0u);
 }
 
-} // namespace
-} // namespace gt
-
-#include "display/display_space.hpp"
-#include "point_set_method.hpp"
-#include "quality/flip.hpp"
-
-namespace gt {
-namespace {
-
 // The point set laid on the panel (display space): with a lens that does nothing it is the
 // image layout exactly; with the barrel lens it shows what the image layout shows after the
 // lens pass, traces the points display::compareLayouts counts, and is not the undistorted eye.
@@ -278,12 +294,8 @@ namespace {
 // differ less and less (the history converges on the disc means); without the rotation every
 // frame traces the same rays and a still view does not change at all (the thesis).
 TEST_F(RendererTest, RotatedRaysConvergeOnAStillView) {
-    foveation::PointSetParams params;
-    params.display = {"small-still", 160, 120, 0.85};
-    render::PointSetMethod method(renderer().methodContext(), params,
-                                  test::tempDir("still_view_cache"));
-    method.settings.raysPerPoint = 2;
-    method.settings.interpolation.method = passes::Interpolation::Shepard;
+    const auto shepard = smallShepard("small-still", 2);
+    render::PointSetMethod& method = *shepard;
     render::View v = view("still", 160, 120, method);
     v.post.taa = true;
     std::vector<std::vector<uint8_t>> frames;
@@ -319,13 +331,8 @@ TEST_F(RendererTest, RotatedRaysConvergeOnAStillView) {
 // of frames whose sites move by kSiteJitterMoving, as before (measured: FLIP 0.0247 against
 // 0.0287 at 10 pixels per degree).
 TEST_F(RendererTest, PoolingFramesBySupportBeatsTheirPlainMean) {
-    foveation::PointSetParams params;
-    params.display = {"small-pooled", 160, 120, 0.85};
-    params.scale = 2.0;
-    render::PointSetMethod method(renderer().methodContext(), params,
-                                  test::tempDir("pooled_view_cache"));
-    method.settings.raysPerPoint = 4;
-    method.settings.interpolation.method = passes::Interpolation::Shepard;
+    const auto shepard = smallShepard("small-pooled", 4, 2.0);
+    render::PointSetMethod& method = *shepard;
     render::FullResolution reference(renderer().methodContext(), {64, 0});
     const render::View refView = view("pooled_reference", 160, 120, reference);
     const auto truth = render(std::span(&refView, 1))[0];
@@ -333,10 +340,7 @@ TEST_F(RendererTest, PoolingFramesBySupportBeatsTheirPlainMean) {
         render::View v = view(name, 160, 120, method);
         v.post.taa = true;
         v.post.taaSettings.supportWeighted = pooled;
-        std::vector<uint8_t> last;
-        for (int i = 0; i < 9; ++i) {
-            last = render(std::span(&v, 1))[0];
-        }
+        const std::vector<uint8_t> last = lastOf(v, 9);
         // FLIP at 10 pixels per degree: about where beyond 20 deg the eye's acuity puts a
         // fove display (eval's flip_ecc).
         const quality::ScalarMap flip =
@@ -356,12 +360,8 @@ TEST_F(RendererTest, PoolingFramesBySupportBeatsTheirPlainMean) {
 // much closer to a many-path reference than one, and closer than with the weights that suit
 // exact samples (q = 2, colour guidance), which keep the nearest sample's noise.
 TEST_F(RendererTest, PathTracedPointsPoolFramesAndBlendNeighboursEqually) {
-    foveation::PointSetParams params;
-    params.display = {"small-path", 160, 120, 0.85};
-    render::PointSetMethod method(renderer().methodContext(), params,
-                                  test::tempDir("path_pooled_cache"));
-    method.settings.raysPerPoint = 4;
-    method.settings.interpolation.method = passes::Interpolation::Shepard;
+    const auto shepard = smallShepard("small-path", 4);
+    render::PointSetMethod& method = *shepard;
     trace::IntegratorSettings path;
     path.integrator = trace::Integrator::Path;
     path.bounces = 2;
@@ -373,16 +373,7 @@ TEST_F(RendererTest, PathTracedPointsPoolFramesAndBlendNeighboursEqually) {
         method.settings.noisySampleWeights = noisyWeights;
         render::View v = view(name, 160, 120, method);
         v.post.taa = true;
-        std::vector<uint8_t> last;
-        for (int i = 0; i < frames; ++i) {
-            last = render(std::span(&v, 1))[0];
-        }
-        double se = 0.0;
-        for (std::size_t i = 0; i < last.size(); ++i) {
-            const double d = static_cast<double>(last[i]) - static_cast<double>(truth[i]);
-            se += i % 4 == 3 ? 0.0 : d * d;
-        }
-        return std::sqrt(se / static_cast<double>(last.size() / 4 * 3));
+        return test::rgbRmse(lastOf(v, frames), truth);
     };
     const double one = settle("path_one", true, 1);
     const double pooled = settle("path_pooled", true, 9);

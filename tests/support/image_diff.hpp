@@ -1,5 +1,6 @@
 #pragma once
 // Comparing 8-bit images in tests.
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <vector>
@@ -13,6 +14,21 @@ inline double meanAbsDiff(const std::vector<uint8_t>& a, const std::vector<uint8
         d += std::abs(static_cast<int>(a[i]) - static_cast<int>(b[i]));
     }
     return a.empty() ? 0.0 : d / static_cast<double>(a.size());
+}
+
+// Root-mean-square difference over the colour channels of two RGBA8 images (alpha left out).
+inline double rgbRmse(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+    double se = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
+        if (i % 4 == 3) {
+            continue;
+        }
+        const double d = static_cast<double>(a[i]) - static_cast<double>(b[i]);
+        se += d * d;
+        ++n;
+    }
+    return n == 0 ? 0.0 : std::sqrt(se / static_cast<double>(n));
 }
 
 } // namespace gt::test
