@@ -77,6 +77,12 @@ public:
     // The method blends its own temporal history (eccentricity layers, one per layer): the post
     // chain then runs no TAA of its own.
     [[nodiscard]] virtual bool accumulates() const { return false; }
+    // The method filtered its own samples for `view`'s denoiser (DenoisePlacement::Points or
+    // Both): with Points the post chain then skips the image denoiser.
+    [[nodiscard]] virtual bool denoisesPoints(const View& view) const {
+        (void)view;
+        return false;
+    }
     // The frame last recorded was submitted: what the method kept for the next frame is now
     // what the history holds. (A frame that fails before its submit does not call this.)
     virtual void frameSubmitted() {}

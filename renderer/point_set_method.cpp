@@ -70,7 +70,7 @@ PointSetMethod::PointSetMethod(const MethodContext& mc, foveation::PointSet poin
     : mMc(mc), mPoints(std::move(points)),
       mNeighbours(mPoints, foveation::NeighbourIndex::kMaxNeighbours),
       mGpuPoints(mc.ctx, mPoints, mNeighbours), mPointSample(mc.ctx), mInterpolate(mc.ctx),
-      mRbfSolve(mc.ctx), mPointSetMs(pointSetMs) {
+      mRbfSolve(mc.ctx), mPointDenoise(mc.ctx), mPointSetMs(pointSetMs) {
     mNeighbourMs = mNeighbours.buildSeconds() * 1e3;
     mNeighbourMb = static_cast<double>(mNeighbours.bytes()) / 1e6;
 }
@@ -207,13 +207,11 @@ passes::PointDispatch PointSetMethod::dispatchFor(glm::vec2 gaze, float siteJitt
 }
 
 // point_sample -> (rbf_solve) -> interpolate, with `rays` per point traced by `lanes` threads.
-passes::InterpolatedImage PointSetMethod::addImage(rg::RenderGraph& graph,
-                                                   const shaders::trace::CameraPush& camera,
-                                                   glm::vec2 gaze, uint32_t rays, uint32_t lanes,
-                                                   const passes::InterpolateInputs& prepared,
-                                                   const std::optional<passes::PanelWarp>& warp,
-                                                   passes::InterpolateSettings s, uint32_t frame,
-                                                   float siteJitter) {
+passes::InterpolatedImage PointSetMethod::addImage(
+    rg::RenderGraph& graph, const shaders::trace::CameraPush& camera, glm::vec2 gaze, uint32_t rays,
+    uint32_t lanes, const passes::InterpolateInputs& prepared,
+    const std::optional<passes::PanelWarp>& warp, passes::InterpolateSettings s, uint32_t frame,
+    float siteJitter, const std::optional<passes::PointDenoiseSettings>& denoise) {
     // Modified Shepard blends from the sites of this frame. RBF's weights were solved for the
     // fixed ones; nearest neighbour keeps them too, since its exact per-pixel nearest point is
     // what makes it the cheap real-time choice (moving them cost 7x: 239 ms against 34 ms at
@@ -225,11 +223,16 @@ passes::InterpolatedImage PointSetMethod::addImage(rg::RenderGraph& graph,
         graph, mMc.scene, camera, mGpuPoints, gaze, rays, lanes, warp ? &*warp : nullptr,
         settings.lod, frame, s.siteJitter, !settings.pixelRays, dispatchFor(gaze, s.siteJitter),
         settings.integrator, {settings.foveaRaysPerPoint, foveaRadiusPx()});
+    const rg::BufferId samples =
+        denoise ? mPointDenoise.add(graph, mGpuPoints, {sampled.samples, sampled.guide},
+                                    {camera, gaze, frame, s.siteJitter, warp ? &*warp : nullptr},
+                                    *denoise)
+                : sampled.samples;
     passes::InterpolateInputs in = prepared;
     if (passes::usesRbfSolve(s)) {
-        in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), sampled.samples, gaze, s);
+        in.lambdas = mRbfSolve.add(graph, mGpuPoints, inverseFor(s), samples, gaze, s);
     }
-    return mInterpolate.add(graph, mGpuPoints, sampled.samples, gaze, s, in, sampled.motion);
+    return mInterpolate.add(graph, mGpuPoints, samples, gaze, s, in, sampled.motion);
 }
 
 MethodImage PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view) {
@@ -253,9 +256,10 @@ MethodImage PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view
                         last != mLastCamera.end() && passes::sameCamera(last->second, camera);
     const shaders::trace::CameraPush previous = last != mLastCamera.end() ? last->second : camera;
     mLastCamera.insert_or_assign(view.name, camera);
-    const passes::InterpolatedImage image = addImage(
-        graph, camera, sampledGaze(view), settings.raysPerPoint, lanes, prepared, warpFor(view), s,
-        settings.jitter ? mFrame : 0u, pooled ? kSiteJitterStill : kSiteJitterMoving);
+    const passes::InterpolatedImage image =
+        addImage(graph, camera, sampledGaze(view), settings.raysPerPoint, lanes, prepared,
+                 warpFor(view), s, settings.jitter ? mFrame : 0u,
+                 pooled ? kSiteJitterStill : kSiteJitterMoving, pointDenoiseFor(view));
     if (s.method == passes::Interpolation::ViewMotion) {
         if (!mMotionView) {
             mMotionView = std::make_unique<passes::MotionViewPass>(mMc.ctx);
@@ -277,6 +281,21 @@ MethodImage PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view
         return {edged.radiance, edged.support, edged.motion};
     }
     return {image.radiance, support, image.motion};
+}
+
+bool PointSetMethod::denoisesPoints(const View& view) const {
+    return settings.integrator.integrator == trace::Integrator::Path && view.post.denoise &&
+           view.post.denoise->placement != passes::DenoisePlacement::Image;
+}
+
+std::optional<passes::PointDenoiseSettings>
+PointSetMethod::pointDenoiseFor(const View& view) const {
+    if (!denoisesPoints(view)) return std::nullopt;
+    passes::PointDenoiseSettings d;
+    d.neighbours = std::min(d.neighbours, mGpuPoints.storedNeighbours());
+    d.foveaDeg = view.post.denoise->foveaDeg; // the image denoiser's fovea, kept sharp alike
+    d.fullDeg = view.post.denoise->fullDeg;
+    return d;
 }
 
 std::optional<WarmUp> PointSetMethod::warmUp(const View& view) {

@@ -22,6 +22,7 @@
 #include "foveation/point_set.hpp"
 #include "foveation_method.hpp"
 #include "interpolate/interpolate.hpp"
+#include "point_denoise/point_denoise.hpp"
 #include "point_sample/point_sample.hpp"
 #include "rbf_solve/rbf_solve.hpp"
 #include "taa/taa.hpp"
@@ -123,6 +124,8 @@ public:
     [[nodiscard]] glm::vec2 sampledGaze(const View& view) const;
     void frameSubmitted() override { ++mFrame; }
     [[nodiscard]] bool gazeDependent() const override { return true; }
+    // The path integrator's samples, when `view`'s denoiser is placed on the points.
+    [[nodiscard]] bool denoisesPoints(const View& view) const override;
 
     PointSetSettings settings;
 
@@ -164,7 +167,11 @@ private:
     addImage(rg::RenderGraph& graph, const shaders::trace::CameraPush& camera, glm::vec2 gaze,
              uint32_t rays, uint32_t lanes, const passes::InterpolateInputs& prepared,
              const std::optional<passes::PanelWarp>& warp, passes::InterpolateSettings s,
-             uint32_t frame, float siteJitter);
+             uint32_t frame, float siteJitter,
+             const std::optional<passes::PointDenoiseSettings>& denoise = std::nullopt);
+    // The point denoiser's settings for `view` (denoisesPoints), else none.
+    [[nodiscard]] std::optional<passes::PointDenoiseSettings>
+    pointDenoiseFor(const View& view) const;
     [[nodiscard]] std::optional<passes::PanelWarp> warpFor(const View& view) const;
     // Chunks (settings.onScreenChunks) or the whole set, for this frame's gaze and site moves.
     [[nodiscard]] passes::PointDispatch dispatchFor(glm::vec2 gaze, float siteJitter) const;
@@ -178,6 +185,7 @@ private:
     passes::PointSamplePass mPointSample;
     passes::InterpolatePass mInterpolate;
     passes::RbfSolvePass mRbfSolve;
+    passes::PointDenoisePass mPointDenoise;
     std::unique_ptr<passes::MotionViewPass> mMotionView; // --view motion, built on first use
     std::unique_ptr<passes::EdgeRaysPass> mEdgeRays;     // a scene that moves, built on first use
     std::optional<foveation::GpuRbfInverse> mRbfInverse;

@@ -317,7 +317,10 @@ void Renderer::addView(rg::RenderGraph& graph, const View& v, OutputTarget& targ
     MethodImage made = v.method->addRadiance(graph, v);
     const shaders::trace::CameraPush camera = v.cameraPush();
     const bool panel = v.method->rendersPanel(v);
-    if (v.post.denoise && !panel) {
+    const bool pointsOnly = v.post.denoise &&
+                            v.post.denoise->placement == passes::DenoisePlacement::Points &&
+                            v.method->denoisesPoints(v);
+    if (v.post.denoise && !panel && !pointsOnly) {
         made.radiance = mDenoise->add(graph, made.radiance, camera, v.gaze, *v.post.denoise);
     }
     rg::TextureId image = made.radiance;

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <map>
+#include <string>
 
 #include "core/error.hpp"
 
@@ -70,11 +72,21 @@ render::IntegratorSettings parseIntegrator(const IntegratorArgs& args) {
 }
 
 std::optional<passes::DenoiseSettings> parseDenoise(const IntegratorArgs& args) {
-    if (args.denoise == "on") return passes::DenoiseSettings{};
-    if (args.denoise != "off") {
-        throw ArgumentError("--denoise: expected on or off, got '" + args.denoise + "'");
+    using passes::DenoisePlacement;
+    static const std::map<std::string, DenoisePlacement, std::less<>> kPlacements{
+        {"on", passes::DenoiseSettings{}.placement},
+        {"image", DenoisePlacement::Image},
+        {"points", DenoisePlacement::Points},
+        {"both", DenoisePlacement::Both}};
+    if (args.denoise == "off") return std::nullopt;
+    const auto it = kPlacements.find(args.denoise);
+    if (it == kPlacements.end()) {
+        throw ArgumentError("--denoise: expected off, on, image, points or both, got '" +
+                            args.denoise + "'");
     }
-    return std::nullopt;
+    passes::DenoiseSettings s;
+    s.placement = it->second;
+    return s;
 }
 
 nlohmann::json integratorJson(const IntegratorArgs& args) {

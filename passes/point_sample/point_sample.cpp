@@ -91,7 +91,8 @@ const vk::ComputePipeline& PointSamplePass::pipeline(uint32_t lanes, bool alphaM
             trace::tracingBindings({VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, // kBindingPoints
                                     VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       // kBindingSamples
                                     VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       // kBindingChunks
-                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});     // kBindingSampleMotion
+                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       // kBindingSampleMotion
+                                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});     // kBindingSampleGuide
         slot = std::make_unique<vk::ComputePipeline>(
             mCtx,
             vk::ComputePipelineDesc{
@@ -154,17 +155,11 @@ SampledPoints PointSamplePass::addSamples(rg::RenderGraph& graph, const trace::G
                       std::max(lod ? static_cast<float>(scene.lodLevels()) : 0.0f, 0.5f)),
         glm::uvec4(w, h, raysPerPoint | (fovea.on() ? fovea.rays << 16 : 0u), points.count()),
         glm::vec4(0.0f),
-        glm::vec4(0.0f, 0.0f, 0.0f,
-                  static_cast<float>(frame % (1u << 16)) +
-                      0.5f * std::clamp(siteJitter, 0.0f, 1.9f))};
+        glm::vec4(0.0f, 0.0f, 0.0f, foveation::siteFrameField(frame, siteJitter))};
     if (warp) {
-        const float aspect = static_cast<float>(w) / static_cast<float>(h);
-        const glm::vec2 c = warp->centre;
-        const float dx = std::max(c.x, 1.0f - c.x) * aspect, dy = std::max(c.y, 1.0f - c.y);
-        push.lens = glm::vec4(c, aspect, std::sqrt(dx * dx + dy * dy));
-        push.lensCoeffs =
-            glm::vec4(warp->lens.k1, warp->lens.k2, 1.0f / (1.0f + warp->lens.k1 + warp->lens.k2),
-                      push.lensCoeffs.w);
+        const foveation::PanelWarpPush p = foveation::panelWarpPush(*warp, w, h);
+        push.lens = p.lens;
+        push.lensCoeffs = glm::vec4(glm::vec3(p.coeffs), push.lensCoeffs.w);
     }
     // Whole workgroups: the set's points, or `lanes` per chunk that can land on screen. The
     // chunks allow for the sites' moves exactly as the shader reads their scale back.
@@ -178,9 +173,10 @@ SampledPoints PointSamplePass::addSamples(rg::RenderGraph& graph, const trace::G
         groups = static_cast<uint32_t>(chunks->size()) * lanes;
         chunkList = addChunkList(graph, points.chunks(), std::move(chunks));
     }
+    const bool guided = integrator.integrator == trace::Integrator::Path;
     struct Data {
         rg::BufferId samples;
-        std::optional<rg::BufferId> chunks, motion;
+        std::optional<rg::BufferId> chunks, motion, guide;
     };
     const auto& data = graph.addPass<Data>(
         "point_sample",
@@ -192,6 +188,11 @@ SampledPoints PointSamplePass::addSamples(rg::RenderGraph& graph, const trace::G
                 d.motion = b.write(b.createBuffer("point_sample.motion",
                                                   {static_cast<VkDeviceSize>(points.count()) * 16}),
                                    rg::Access::StorageWrite);
+            }
+            if (guided) {
+                d.guide = b.write(b.createBuffer("point_sample.guide",
+                                                 {static_cast<VkDeviceSize>(points.count()) * 16}),
+                                  rg::Access::StorageWrite);
             }
             if (chunkList) {
                 d.chunks = b.read(*chunkList, rg::Access::StorageRead);
@@ -207,11 +208,14 @@ SampledPoints PointSamplePass::addSamples(rg::RenderGraph& graph, const trace::G
                 .storageBuffer(sh::kBindingChunks, d.chunks ? r.buffer(*d.chunks) : noChunks)
                 // A scene that does not move never writes it.
                 .storageBuffer(sh::kBindingSampleMotion,
-                               d.motion ? r.buffer(*d.motion) : r.buffer(d.samples));
+                               d.motion ? r.buffer(*d.motion) : r.buffer(d.samples))
+                // Only the path integrator writes it.
+                .storageBuffer(sh::kBindingSampleGuide,
+                               d.guide ? r.buffer(*d.guide) : r.buffer(d.samples));
             writer.push(*ctx, cmd, *pipeline);
             vk::dispatch(cmd, *pipeline, &push, sizeof(push), groups, 1);
         });
-    return {data.samples, data.motion};
+    return {data.samples, data.motion, data.guide};
 }
 
 } // namespace gt::passes

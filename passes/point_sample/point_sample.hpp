@@ -30,6 +30,7 @@ namespace gt::passes {
 
 using foveation::gazeOffset;
 using foveation::kSampleMargin;
+using foveation::PanelWarp;
 
 // How many threads trace the rays of one point side by side. On a GPU the largest power of two
 // up to min(R, 32), so that a subgroup traces the rays of one disc: on an H100 at R = 32 the
@@ -37,24 +38,18 @@ using foveation::kSampleMargin;
 // On a CPU driver 1: lavapipe at R = 8 took 2.05 s with 1 and 2.1-2.4 s with 8.
 [[nodiscard]] uint32_t pointSampleLanes(const vk::Context& ctx, uint32_t raysPerPoint);
 
-// The set laid on an HMD's panel: rays go through the lens model (display/hmd_profile.hpp)
-// from their panel position into the image; `gaze` is then the panel point that shows it.
-struct PanelWarp {
-    display::LensModel lens;
-    glm::vec2 centre{0.5f};
-};
-
 // Which threads point_sample starts: one per point of the chunks that can land on screen
 // (foveation::PointChunks), or one per point of the whole canvas set. Both trace the same
 // points with the same rays; the chunks skip the off-screen ones (29 % of the fove set with the
 // gaze centred, 73 % in a corner) and keep a workgroup's rays neighbours.
 enum class PointDispatch : uint8_t { OnScreenChunks, WholeSet };
 
-// What point_sample writes: per point the mean radiance and first-hit distance, and in a scene
-// that moves (trace::GpuScene::dynamic()) the first hit's motion (shaders/common/motion.glsl).
+// What point_sample writes: per point the mean radiance and first-hit distance, in a scene
+// that moves (trace::GpuScene::dynamic()) the first hit's motion (shaders/common/motion.glsl),
+// and from the path integrator the point denoiser's guides (shaders/common/point_guide.glsl).
 struct SampledPoints {
     rg::BufferId samples;
-    std::optional<rg::BufferId> motion;
+    std::optional<rg::BufferId> motion, guide;
 };
 
 // Paths per point by eccentricity: the points within `radiusPx` (canvas pixels) of the centre

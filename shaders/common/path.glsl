@@ -508,6 +508,18 @@ void recordFirstHit(Hit hit, vec3 origin, vec3 dir, out float depth) {
     if (kDynamic) gMotion = hitMotion(hit, origin + hit.t * dir);
 }
 
+// The first visible surface's shading normal (0 for the sky) and the colour its light is
+// divided by before the point denoiser filters it and multiplied by after (1 where the path
+// ends at that surface: the sky, an unlit material, an emitter). Filtering the light without
+// the texture keeps the texture's detail (Schied et al. 2017, 4: "demodulated albedo"); the
+// floor keeps a black texel from dividing the noise up.
+vec3 gFirstNormal = vec3(0.0), gFirstAlbedo = vec3(1.0);
+void recordFirstSurface(Surface s) {
+    gFirstNormal = s.n;
+    const bool ends = s.metallic < 0.0 || dot(s.emissive, s.emissive) > 0.0;
+    gFirstAlbedo = ends ? vec3(1.0) : clamp(s.base, vec3(0.02), vec3(1.0));
+}
+
 // ---- The integrators --------------------------------------------------------------------------
 // A thin transmissive sheet at s (passWeight): the path crosses it straight with probability by
 // the weight's luminance, `throughput` scaled for the choice either way. True: it crossed, and
@@ -537,6 +549,8 @@ vec3 tracePath(vec3 origin, vec3 dir, out float depth) {
     gConeSpread = gPixelSpread;
     gConeWidth = 0.0;
     depth = kInf;
+    gFirstNormal = vec3(0.0);
+    gFirstAlbedo = vec3(1.0);
     for (uint b = 0u; b <= kBounces;) {
         Hit hit = traceClosest(origin, dir, 0.0, kInf);
         if (b == 0u && passes == 0u) recordFirstHit(hit, origin, dir, depth);
@@ -547,6 +561,7 @@ vec3 tracePath(vec3 origin, vec3 dir, out float depth) {
         }
         gConeWidth += gConeSpread * hit.t;
         Surface s = surfaceAt(hit, origin, dir);
+        if (b == 0u && passes == 0u) recordFirstSurface(s);
         if (s.metallic < 0.0) { // KHR_materials_unlit: the base colour is what the eye sees
             radiance += clampIndirect(throughput * s.base, b);
             break;

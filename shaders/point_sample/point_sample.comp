@@ -27,6 +27,8 @@
 #include "trace.glsl"
 #include "path.glsl"
 #include "motion.glsl"
+#include "panel_warp.glsl"
+#include "point_guide.glsl"
 
 layout(local_size_x = kSampleGroupSize) in;
 layout(constant_id = 1) const uint kLanes = 1u; // a power of two up to kSampleGroupSize / 2
@@ -38,9 +40,12 @@ layout(std430, set = 0, binding = kBindingChunks) readonly buffer Chunks { uint 
 layout(std430, set = 0, binding = kBindingSampleMotion) writeonly buffer SampleMotion {
     vec4 sampleMotion[];
 };
+layout(std430, set = 0, binding = kBindingSampleGuide) writeonly buffer SampleGuide {
+    vec4 sampleGuide[];
+};
 layout(push_constant) uniform Push { PointSamplePush pc; };
 
-shared vec3 partial[kSampleGroupSize];
+shared vec4 partial[kSampleGroupSize]; // rgb and the sum of squared luminance
 // A ray lands within min(p, 0.6) px of its point's site, not anywhere in the point's disc of
 // radius p as in the thesis: averaging a sparse point's whole disc blurs the periphery by its
 // spacing (3-6 px beyond 20 deg) before interpolation blurs it again, and lets a lamp in the
@@ -60,13 +65,15 @@ const float kRayDiscSparsePx = 0.35;
 const float kSparseSpacingPx = 1.5;
 
 // Panel pixel -> image pixel through the lens (green), when the set is laid on the panel.
-vec2 toImage(vec2 panel, vec2 size) {
-    if (pc.lens.w <= 0.0) return panel;
-    vec2 d = panel / size - pc.lens.xy;
-    float r = length(d * vec2(pc.lens.z, 1.0)) / pc.lens.w;
-    float r2 = r * r;
-    float f = (1.0 + pc.lensCoeffs.x * r2 + pc.lensCoeffs.y * r2 * r2) * pc.lensCoeffs.z;
-    return (pc.lens.xy + d * f) * size;
+vec2 toImage(vec2 panel, vec2 size) { return panelToImage(panel, size, pc.lens, pc.lensCoeffs); }
+
+// The path tracer's points carry their guides for the point denoiser (point_guide.glsl).
+const bool kWritesGuide = kIntegrator == kIntegratorPath;
+
+// The variance of the mean of `rays` luminances from their sum and sum of squares (unbiased;
+// unknown, < 0, for one ray).
+float meanVariance(float sum, float sumSq, float rays) {
+    return rays > 1.0 ? max(sumSq - sum * sum / rays, 0.0) / (rays * (rays - 1.0)) : -1.0;
 }
 
 // The point this invocation traces rays of: a chunk takes kLanes workgroups, each
@@ -118,6 +125,8 @@ void main() {
         selectLod(min(uint(floor(log2(p.z * 0.5))), uint(lodLevels) - 1u));
     }
     vec3 sum = vec3(0.0);
+    float sumSq = 0.0; // of the rays' luminance
+    vec3 firstNormal = vec3(0.0), firstAlbedo = vec3(1.0);
     float firstDepth = 0.0; // first-hit distance of ray 0 (always lane 0's), for TAA
     vec4 firstMotion = vec4(0.0); // and its motion, in a scene that moves
     for (uint r = lane; onScreen && r < rays; r += kLanes) {
@@ -130,19 +139,30 @@ void main() {
             pos += radius * vec2(cos(angle), sin(angle));
         }
         float depth;
-        sum += traceIntegrator(pc.origin.xyz, cameraRay(cam, toImage(pos, size), size), i, r,
-                               rays, siteFrame, depth);
+        const vec3 radiance = traceIntegrator(pc.origin.xyz, cameraRay(cam, toImage(pos, size), size),
+                                              i, r, rays, siteFrame, depth);
+        sum += radiance;
+        sumSq += luminance(radiance) * luminance(radiance);
         if (r == 0u) {
             firstDepth = depth;
             if (kDynamic) firstMotion = storedMotion();
+            firstNormal = gFirstNormal;
+            firstAlbedo = gFirstAlbedo;
         }
     }
     if (kLanes > 1u) {
-        partial[gl_LocalInvocationIndex] = sum;
+        partial[gl_LocalInvocationIndex] = vec4(sum, sumSq);
         barrier(); // every thread of the group reaches it: off-screen ones only skip the tracing
         if (lane != 0u || !onScreen) return;
-        for (uint l = 1u; l < kLanes; ++l) sum += partial[gl_LocalInvocationIndex + l];
+        for (uint l = 1u; l < kLanes; ++l) {
+            sum += partial[gl_LocalInvocationIndex + l].rgb;
+            sumSq += partial[gl_LocalInvocationIndex + l].a;
+        }
     }
     samples[i] = vec4(sum / float(rays), firstDepth);
     if (kDynamic) sampleMotion[i] = firstMotion;
+    if (kWritesGuide) {
+        sampleGuide[i] = encodePointGuide(firstNormal, firstAlbedo,
+                                          meanVariance(luminance(sum), sumSq, float(rays)));
+    }
 }

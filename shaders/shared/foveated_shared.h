@@ -14,6 +14,9 @@ GT_CONST kBindingChunks = 11;
 // of its ray 0 as motion.glsl stores it (xyz: world position one frame ago minus now, w: the
 // signature code); unwritten otherwise
 GT_CONST kBindingSampleMotion = 12;
+// buffer of vec4, from the path integrator: per point the point denoiser's guides
+// (shaders/common/point_guide.glsl); unwritten otherwise
+GT_CONST kBindingSampleGuide = 13;
 GT_CONST kSampleGroupSize = 64;
 
 // Specialisation constant of point_sample (ids 0-3 are trace.glsl's and its own, 4-7 the

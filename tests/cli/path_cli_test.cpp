@@ -56,21 +56,31 @@ TEST(CliPath, ReferenceAndFoveatedTracePaths) {
     }
 }
 
-// --denoise on: the post chain runs pass `denoise` (its variance step and five levels) before
-// TAA, for the reference (whose gaze then places the fovea) and the foveated method.
+// --denoise on: the reference's post chain runs pass `denoise` (its variance step and five
+// levels) before TAA, its gaze placing the fovea; the foveated method filters its points
+// (point_denoise: demodulation and three steps) and not its image. --denoise both: it does both.
 TEST(CliPath, DenoiseRunsTheDenoisePasses) {
     const auto dir = test::tempDir("cli_path_denoise");
-    for (const char* method : {"reference --gaze 10,10", "foveated --profile desktop"}) {
-        const Result r = run(std::string("render --scene builtin:cornell --method ") + method +
-                             " --width 48 --height 32 --integrator path --bounces 2 --denoise on "
-                             "--validate --json --cache " +
-                             (dir / "cache").string() + " --out " + (dir / "d.png").string());
+    struct Case {
+        const char* method;
+        const char* denoise;
+        bool image, points;
+    };
+    for (const Case& c : {Case{"reference --gaze 10,10", "on", true, false},
+                          Case{"foveated --profile desktop", "on", false, true},
+                          Case{"foveated --profile desktop", "both", true, true}}) {
+        const Result r = run(std::string("render --scene builtin:cornell --method ") + c.method +
+                             " --width 48 --height 32 --integrator path --bounces 2 --denoise " +
+                             c.denoise + " --validate --json --cache " + (dir / "cache").string() +
+                             " --out " + (dir / "d.png").string());
         ASSERT_EQ(r.status, 0) << r.err;
         EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;
         const auto j = nlohmann::json::parse(r.out);
-        EXPECT_EQ(j["denoise"], "on");
-        EXPECT_TRUE(j["gpu_ms"].contains("denoise.variance")) << method;
-        EXPECT_TRUE(j["gpu_ms"].contains("denoise.level4")) << method;
+        EXPECT_EQ(j["denoise"], c.denoise);
+        EXPECT_EQ(j["gpu_ms"].contains("denoise.variance"), c.image) << c.method;
+        EXPECT_EQ(j["gpu_ms"].contains("denoise.level4"), c.image) << c.method;
+        EXPECT_EQ(j["gpu_ms"].contains("point_denoise.demodulate"), c.points) << c.method;
+        EXPECT_EQ(j["gpu_ms"].contains("point_denoise.step2"), c.points) << c.method;
     }
     const auto out = dir / "bad.png";
     expectCleanFailure(run("render --method layers --denoise on --out " + out.string()),
@@ -100,7 +110,9 @@ TEST(CliPath, FoveaRaysTraceMorePathsNearTheGaze) {
         rays[fovea == 0 ? 0 : 1] = j["rays"].get<uint64_t>();
         noise[fovea == 0 ? 0 : 1] = centreNoise(image::readPng(dir / "f.png"));
         sampled = j["points_sampled"].get<uint64_t>();
-        if (fovea > 0) EXPECT_NEAR(j["fovea_radius_px"].get<double>(), 194.3, 0.2);
+        if (fovea > 0) {
+            EXPECT_NEAR(j["fovea_radius_px"].get<double>(), 194.3, 0.2);
+        }
     }
     EXPECT_EQ(rays[0], 2 * sampled);
     ASSERT_GT(rays[1], rays[0]);

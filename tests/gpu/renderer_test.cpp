@@ -385,6 +385,55 @@ TEST_F(RendererTest, PathTracedPointsPoolFramesAndBlendNeighboursEqually) {
     EXPECT_LT(pooled, 0.9 * exactWeights);
 }
 
+// The path tracer's samples filtered on the points (passes::PointDenoisePass), one frame without
+// TAA against many paths per pixel: beyond the fovea it removes much of the noise of 4 paths
+// per point; within it the samples stay as traced, so the pixels near the gaze are those of the
+// unfiltered frame. Placed on the points alone, the image denoiser does not run; the direct
+// integrator, whose points carry no guides, keeps the image denoiser wherever it is placed.
+TEST_F(RendererTest, DenoisingThePointsCutsPeripheralNoiseAndKeepsTheFovea) {
+    const auto shepard = smallShepard("small-point-denoise", 4);
+    render::PointSetMethod& method = *shepard;
+    trace::IntegratorSettings path;
+    path.integrator = trace::Integrator::Path;
+    path.bounces = 2;
+    method.settings.integrator = path;
+    method.settings.jitter = false; // every frame traces the same rays: placements compare alone
+    render::FullResolution reference(renderer().methodContext(), {256, 0, path});
+    const render::View refView = view("point_denoise_reference", 160, 120, reference);
+    const auto truth = render(std::span(&refView, 1))[0];
+    const auto frame = [&](const std::string& name,
+                           std::optional<passes::DenoisePlacement> placement) {
+        render::View v = view(name, 160, 120, method);
+        if (placement) {
+            v.post.denoise = passes::DenoiseSettings{};
+            v.post.denoise->placement = *placement;
+        }
+        return render(std::span(&v, 1))[0];
+    };
+    const auto raw = frame("point_denoise_off", std::nullopt);
+    const auto points = frame("point_denoise_points", passes::DenoisePlacement::Points);
+    const auto both = frame("point_denoise_both", passes::DenoisePlacement::Both);
+    // 5 degrees is 15 px here (0.85 screen widths away, 160 px wide); the points within 8 px of
+    // the gaze blend only points within the fovea.
+    const auto within = [](float r) {
+        return [r](uint32_t x, uint32_t y) { return std::hypot(x - 79.5f, y - 59.5f) < r; };
+    };
+    const auto beyond = [](float r) {
+        return [r](uint32_t x, uint32_t y) { return std::hypot(x - 79.5f, y - 59.5f) >= r; };
+    };
+    const double rawFar = test::rgbRmseWhere(raw, truth, 160, beyond(45.0f));
+    const double pointsFar = test::rgbRmseWhere(points, truth, 160, beyond(45.0f));
+    RecordProperty("rmse_beyond_45px_raw", std::to_string(rawFar));
+    RecordProperty("rmse_beyond_45px_points", std::to_string(pointsFar));
+    EXPECT_LT(pointsFar, 0.85 * rawFar);
+    EXPECT_EQ(test::rgbRmseWhere(points, raw, 160, within(8.0f)), 0.0);
+    EXPECT_GT(test::meanAbsDiff(both, points), 0.0); // Both also filters the image
+
+    method.settings.integrator = {};
+    EXPECT_EQ(frame("direct_points", passes::DenoisePlacement::Points),
+              frame("direct_image", passes::DenoisePlacement::Image));
+}
+
 TEST_F(RendererTest, PanelLayoutShowsWhatTheLensPassShows) {
     foveation::PointSetParams params;
     params.display = {"small-eye", 160, 180, 0.85};

@@ -83,8 +83,10 @@ void addIntegratorOptions(CLI::App* cmd, IntegratorArgs& args, const std::string
         ->capture_default_str();
     cmd->add_option("--denoise", args.denoise,
                     "The spatial denoiser before TAA, stronger with eccentricity, none within 5 "
-                    "degrees of the gaze (docs/path-tracing.md): off | on")
-        ->check(CLI::IsMember({"off", "on"}))
+                    "degrees of the gaze (docs/path-tracing.md): off | on | image | points | "
+                    "both (a point set's samples before interpolation, the image, or both; on: "
+                    "points, and the image where no point set is traced)")
+        ->check(CLI::IsMember({"off", "on", "image", "points", "both"}))
         ->capture_default_str();
 }
 

@@ -1,0 +1,46 @@
+// Pass `point_denoise`: an edge-avoiding filter over the point set's neighbour graph, on the
+// path tracer's samples before interpolation, its strength rising with eccentricity.
+#ifndef POINT_DENOISE_SHARED_H
+#define POINT_DENOISE_SHARED_H
+#include "gt_shared.h"
+
+GT_NAMESPACE_BEGIN(point_denoise)
+
+GT_CONST kBindingPoints = 0;     // samplerBuffer RGBA32F: canvas x, y, spacing p, 0
+GT_CONST kBindingNeighbours = 1; // usamplerBuffer R32UI: the stored neighbours of every point
+GT_CONST kBindingSamples = 2;    // buffer of vec4: point_sample's mean radiance, first-hit distance
+GT_CONST kBindingGuide = 3;      // buffer of vec4: point_sample's guides (point_guide.glsl)
+GT_CONST kBindingInput = 4;      // buffer of vec4: demodulated light rgb, its luminance variance
+GT_CONST kBindingOutput = 5;     // buffer of vec4: the same after this step; the last step
+                                 // writes samples (rgb remodulated, first-hit distance)
+GT_CONST kGroupSize = 64;
+
+// Which step a dispatch runs (PointDenoisePush::step.y).
+GT_CONST kStepDemodulate = 0; // the samples' light without the albedo, and its variance
+GT_CONST kStepFilter = 1;     // one pass over every point's neighbours
+GT_CONST kStepLast = 2;       // the same, written back as samples
+
+struct PointDenoisePush {
+    // xy: canvas -> screen offset (point_sample's); z: the sampling margin (pixels); w: the
+    // frame and half the sites' jitter scale, as point_sample's lensCoeffs.w
+    vec4 offset;
+    // x = width, y = height, z = point count, w = neighbours stored per point
+    uvec4 params;
+    // The camera's tangent plane (trace::CameraPush): x = tan(yfov / 2), y = aspect,
+    // z = frustum centre x, w = centre y (tangents)
+    vec4 frustum;
+    // x = luminance sigma (in standard deviations), y = depth sigma (relative to the point's
+    // distance), z = eccentricity (degrees) below which nothing is filtered, w = eccentricity
+    // from which the filter has its full strength
+    vec4 sigmas;
+    vec4 lens;       // the panel warp, as point_sample's (w = 0: none)
+    vec4 lensCoeffs; // x = k1, y = k2, z = 1 / (1 + k1 + k2)
+    // x, y: the gaze (screen pixels); z = the normal term's exponent; w = the spatial kernel's
+    // standard deviation in units of the point's spacing
+    vec4 gaze;
+    // x = neighbours read per point (at most params.w), y = kStep*
+    uvec4 step;
+};
+
+GT_NAMESPACE_END
+#endif
