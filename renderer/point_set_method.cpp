@@ -206,7 +206,8 @@ passes::PointDispatch PointSetMethod::dispatchFor(glm::vec2 gaze, float siteJitt
                : passes::PointDispatch::WholeSet;
 }
 
-// point_sample -> (rbf_solve) -> interpolate, with `rays` per point traced by `lanes` threads.
+// point_sample -> (point_denoise) -> (rbf_solve) -> interpolate, with `rays` per point traced by
+// `lanes` threads.
 passes::InterpolatedImage PointSetMethod::addImage(
     rg::RenderGraph& graph, const shaders::trace::CameraPush& camera, glm::vec2 gaze, uint32_t rays,
     uint32_t lanes, const passes::InterpolateInputs& prepared,
@@ -290,7 +291,9 @@ bool PointSetMethod::denoisesPoints(const View& view) const {
 
 std::optional<passes::PointDenoiseSettings>
 PointSetMethod::pointDenoiseFor(const View& view) const {
-    if (!denoisesPoints(view)) return std::nullopt;
+    if (!denoisesPoints(view)) {
+        return std::nullopt;
+    }
     passes::PointDenoiseSettings d;
     d.neighbours = std::min(d.neighbours, mGpuPoints.storedNeighbours());
     d.foveaDeg = view.post.denoise->foveaDeg; // the image denoiser's fovea, kept sharp alike

@@ -78,7 +78,9 @@ std::optional<passes::DenoiseSettings> parseDenoise(const IntegratorArgs& args) 
         {"image", DenoisePlacement::Image},
         {"points", DenoisePlacement::Points},
         {"both", DenoisePlacement::Both}};
-    if (args.denoise == "off") return std::nullopt;
+    if (args.denoise == "off") {
+        return std::nullopt;
+    }
     const auto it = kPlacements.find(args.denoise);
     if (it == kPlacements.end()) {
         throw ArgumentError("--denoise: expected off, on, image, points or both, got '" +
