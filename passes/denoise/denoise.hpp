@@ -34,10 +34,11 @@ struct DenoiseSettings {
     // No filtering below this eccentricity (degrees): the fovea keeps its detail.
     float foveaDeg = 5.0f;
     float fullDeg = 15.0f; // full strength from here (a smooth ramp between)
-    // Read by the renderer and the point-set method, not by this pass. Points: on Cornell at
-    // 640 x 720 (docs/path-tracing.md, "Denoising on the points") it left flip_ecc beyond 20
-    // degrees at 0.113 against the image's 0.172 and both's 0.128.
-    DenoisePlacement placement = DenoisePlacement::Points;
+    // Read by the renderer and the point-set method, not by this pass. Image: the points (and
+    // both) leave a sharper periphery (Cornell at 640 x 720, flip_ecc beyond 20 degrees 0.113
+    // and 0.128 against 0.172) but flicker more walking through the market, beyond the
+    // full-resolution tracer's (docs/path-tracing.md, "Denoising on the points").
+    DenoisePlacement placement = DenoisePlacement::Image;
 
     friend bool operator==(const DenoiseSettings&, const DenoiseSettings&) = default;
 };

@@ -57,8 +57,9 @@ TEST(CliPath, ReferenceAndFoveatedTracePaths) {
 }
 
 // --denoise on: the reference's post chain runs pass `denoise` (its variance step and five
-// levels) before TAA, its gaze placing the fovea; the foveated method filters its points
-// (point_denoise: demodulation and three steps) and not its image. --denoise both: it does both.
+// levels) before TAA, its gaze placing the fovea. The foveated method filters its points
+// (point_denoise: demodulation and three steps) with --denoise points, and its image too with
+// both.
 TEST(CliPath, DenoiseRunsTheDenoisePasses) {
     const auto dir = test::tempDir("cli_path_denoise");
     struct Case {
@@ -67,7 +68,7 @@ TEST(CliPath, DenoiseRunsTheDenoisePasses) {
         bool image, points;
     };
     for (const Case& c : {Case{"reference --gaze 10,10", "on", true, false},
-                          Case{"foveated --profile desktop", "on", false, true},
+                          Case{"foveated --profile desktop", "points", false, true},
                           Case{"foveated --profile desktop", "both", true, true}}) {
         const Result r = run(std::string("render --scene builtin:cornell --method ") + c.method +
                              " --width 48 --height 32 --integrator path --bounces 2 --denoise " +
