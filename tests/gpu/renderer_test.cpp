@@ -93,6 +93,20 @@ protected:
         return m;
     }
 
+    // The path integrator at 2 bounces, and a 160 x 120 frame of it at 256 paths per pixel (the
+    // path-traced tests' reference), rendered under view name `name`.
+    static trace::IntegratorSettings twoBouncePaths() {
+        trace::IntegratorSettings path;
+        path.integrator = trace::Integrator::Path;
+        path.bounces = 2;
+        return path;
+    }
+    static std::vector<uint8_t> pathReference(const std::string& name) {
+        render::FullResolution reference(renderer().methodContext(), {256, 0, twoBouncePaths()});
+        const render::View refView = view(name, 160, 120, reference);
+        return render(std::span(&refView, 1))[0];
+    }
+
     // The last of `frames` frames of a still view `v`.
     static std::vector<uint8_t> lastOf(const render::View& v, int frames) {
         std::vector<uint8_t> last;
@@ -362,13 +376,8 @@ TEST_F(RendererTest, PoolingFramesBySupportBeatsTheirPlainMean) {
 TEST_F(RendererTest, PathTracedPointsPoolFramesAndBlendNeighboursEqually) {
     const auto shepard = smallShepard("small-path", 4);
     render::PointSetMethod& method = *shepard;
-    trace::IntegratorSettings path;
-    path.integrator = trace::Integrator::Path;
-    path.bounces = 2;
-    method.settings.integrator = path;
-    render::FullResolution reference(renderer().methodContext(), {256, 0, path});
-    const render::View refView = view("path_reference", 160, 120, reference);
-    const auto truth = render(std::span(&refView, 1))[0];
+    method.settings.integrator = twoBouncePaths();
+    const auto truth = pathReference("path_reference");
     auto settle = [&](const std::string& name, bool noisyWeights, int frames) {
         method.settings.noisySampleWeights = noisyWeights;
         render::View v = view(name, 160, 120, method);
@@ -393,14 +402,9 @@ TEST_F(RendererTest, PathTracedPointsPoolFramesAndBlendNeighboursEqually) {
 TEST_F(RendererTest, DenoisingThePointsCutsPeripheralNoiseAndKeepsTheFovea) {
     const auto shepard = smallShepard("small-point-denoise", 4);
     render::PointSetMethod& method = *shepard;
-    trace::IntegratorSettings path;
-    path.integrator = trace::Integrator::Path;
-    path.bounces = 2;
-    method.settings.integrator = path;
+    method.settings.integrator = twoBouncePaths();
     method.settings.jitter = false; // every frame traces the same rays: placements compare alone
-    render::FullResolution reference(renderer().methodContext(), {256, 0, path});
-    const render::View refView = view("point_denoise_reference", 160, 120, reference);
-    const auto truth = render(std::span(&refView, 1))[0];
+    const auto truth = pathReference("point_denoise_reference");
     const auto frame = [&](const std::string& name,
                            std::optional<passes::DenoisePlacement> placement) {
         render::View v = view(name, 160, 120, method);
