@@ -212,7 +212,7 @@ passes::InterpolatedImage PointSetMethod::addImage(
     rg::RenderGraph& graph, const shaders::trace::CameraPush& camera, glm::vec2 gaze, uint32_t rays,
     uint32_t lanes, const passes::InterpolateInputs& prepared,
     const std::optional<passes::PanelWarp>& warp, passes::InterpolateSettings s, uint32_t frame,
-    float siteJitter, const std::optional<passes::PointDenoiseSettings>& denoise) {
+    float siteJitter, const std::optional<PointDenoising>& denoise) {
     // Modified Shepard blends from the sites of this frame. RBF's weights were solved for the
     // fixed ones; nearest neighbour keeps them too, since its exact per-pixel nearest point is
     // what makes it the cheap real-time choice (moving them cost 7x: 239 ms against 34 ms at
@@ -227,7 +227,7 @@ passes::InterpolatedImage PointSetMethod::addImage(
     const rg::BufferId samples =
         denoise ? mPointDenoise.add(graph, mGpuPoints, {sampled.samples, sampled.guide},
                                     {camera, gaze, frame, s.siteJitter, warp ? &*warp : nullptr},
-                                    *denoise)
+                                    denoise->settings, denoise->history)
                 : sampled.samples;
     passes::InterpolateInputs in = prepared;
     if (passes::usesRbfSolve(s)) {
@@ -251,16 +251,19 @@ MethodImage PointSetMethod::addRadiance(rg::RenderGraph& graph, const View& view
     // roam their whole neighbourhood; a moving one, whose history is only reprojected, from
     // smaller moves that flicker less.
     const shaders::trace::CameraPush camera = view.cameraPush();
-    const auto last = mLastCamera.find(view.name);
+    const auto found = mLastFrame.find(view.name);
+    const std::optional<LastFrame> last =
+        found != mLastFrame.end() ? std::optional<LastFrame>(found->second) : std::nullopt;
     const bool pooled = view.post.taa && view.post.taaSettings.adaptive &&
-                        view.post.taaSettings.supportWeighted && supportsTaa() &&
-                        last != mLastCamera.end() && passes::sameCamera(last->second, camera);
-    const shaders::trace::CameraPush previous = last != mLastCamera.end() ? last->second : camera;
-    mLastCamera.insert_or_assign(view.name, camera);
+                        view.post.taaSettings.supportWeighted && supportsTaa() && last &&
+                        passes::sameCamera(last->camera, camera);
+    const shaders::trace::CameraPush previous = last ? last->camera : camera;
+    const glm::vec2 gaze = sampledGaze(view);
+    mLastFrame.insert_or_assign(view.name, LastFrame{camera, gaze});
     const passes::InterpolatedImage image =
-        addImage(graph, camera, sampledGaze(view), settings.raysPerPoint, lanes, prepared,
-                 warpFor(view), s, settings.jitter ? mFrame : 0u,
-                 pooled ? kSiteJitterStill : kSiteJitterMoving, pointDenoiseFor(view));
+        addImage(graph, camera, gaze, settings.raysPerPoint, lanes, prepared, warpFor(view), s,
+                 settings.jitter ? mFrame : 0u, pooled ? kSiteJitterStill : kSiteJitterMoving,
+                 pointDenoiseFor(view, last));
     if (s.method == passes::Interpolation::ViewMotion) {
         if (!mMotionView) {
             mMotionView = std::make_unique<passes::MotionViewPass>(mMc.ctx);
@@ -289,8 +292,8 @@ bool PointSetMethod::denoisesPoints(const View& view) const {
            view.post.denoise->placement != passes::DenoisePlacement::Image;
 }
 
-std::optional<passes::PointDenoiseSettings>
-PointSetMethod::pointDenoiseFor(const View& view) const {
+std::optional<PointSetMethod::PointDenoising>
+PointSetMethod::pointDenoiseFor(const View& view, const std::optional<LastFrame>& last) const {
     if (!denoisesPoints(view)) {
         return std::nullopt;
     }
@@ -298,7 +301,12 @@ PointSetMethod::pointDenoiseFor(const View& view) const {
     d.neighbours = std::min(d.neighbours, mGpuPoints.storedNeighbours());
     d.foveaDeg = view.post.denoise->foveaDeg; // the image denoiser's fovea, kept sharp alike
     d.fullDeg = view.post.denoise->fullDeg;
-    return d;
+    d.temporalAlpha = view.post.denoise->pointTemporalAlpha;
+    PointDenoising denoising{d, std::nullopt};
+    denoising.history.emplace(
+        passes::PointDenoiseHistory{mMc.history, last ? std::optional(last->camera) : std::nullopt,
+                                    last ? last->gaze : glm::vec2(0.0f)});
+    return denoising;
 }
 
 std::optional<WarmUp> PointSetMethod::warmUp(const View& view) {

@@ -161,6 +161,14 @@ private:
         double ms = 0.0;
     };
     PointSetMethod(const MethodContext& mc, TimedSet loaded);
+    struct LastFrame {
+        shaders::trace::CameraPush camera;
+        glm::vec2 gaze; // sampledGaze's
+    };
+    struct PointDenoising {
+        passes::PointDenoiseSettings settings;
+        std::optional<passes::PointDenoiseHistory> history;
+    };
     passes::InterpolateInputs tableInputs(const passes::InterpolateSettings& s);
     const foveation::GpuRbfInverse& inverseFor(const passes::InterpolateSettings& s);
     passes::InterpolatedImage
@@ -168,17 +176,18 @@ private:
              uint32_t rays, uint32_t lanes, const passes::InterpolateInputs& prepared,
              const std::optional<passes::PanelWarp>& warp, passes::InterpolateSettings s,
              uint32_t frame, float siteJitter,
-             const std::optional<passes::PointDenoiseSettings>& denoise = std::nullopt);
-    // The point denoiser's settings for `view` (denoisesPoints), else none.
-    [[nodiscard]] std::optional<passes::PointDenoiseSettings>
-    pointDenoiseFor(const View& view) const;
+             const std::optional<PointDenoising>& denoise = std::nullopt);
+    // The point denoiser's settings for `view` (denoisesPoints), else none; its temporal
+    // history from `last`, the view's previous frame (none: its first).
+    [[nodiscard]] std::optional<PointDenoising>
+    pointDenoiseFor(const View& view, const std::optional<LastFrame>& last) const;
     [[nodiscard]] std::optional<passes::PanelWarp> warpFor(const View& view) const;
     // Chunks (settings.onScreenChunks) or the whole set, for this frame's gaze and site moves.
     [[nodiscard]] passes::PointDispatch dispatchFor(glm::vec2 gaze, float siteJitter) const;
 
     MethodContext mMc;
     uint32_t mFrame = 0; // frames submitted: the ray-position rotation of the next one
-    std::map<std::string, shaders::trace::CameraPush> mLastCamera; // per view, its last frame's
+    std::map<std::string, LastFrame> mLastFrame; // per view, its last frame's camera and gaze
     foveation::PointSet mPoints;
     foveation::NeighbourIndex mNeighbours;
     foveation::GpuPointSet mGpuPoints;

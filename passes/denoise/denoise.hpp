@@ -39,6 +39,9 @@ struct DenoiseSettings {
     // and 0.128 against 0.172) but flicker more walking through the market, beyond the
     // full-resolution tracer's (docs/path-tracing.md, "Denoising on the points").
     DenoisePlacement placement = DenoisePlacement::Image;
+    // The point filter's temporal step: the current frame's weight once a point's history
+    // holds 1 / alpha frames (SVGF's 0.2); 0: each frame's points filtered on their own.
+    float pointTemporalAlpha = 0.2f;
 
     friend bool operator==(const DenoiseSettings&, const DenoiseSettings&) = default;
 };

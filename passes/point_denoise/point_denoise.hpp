@@ -35,6 +35,9 @@ struct PointDenoiseSettings {
     float normalPower = 32.0f;   // (n_i . n_j)^power
     float foveaDeg = 5.0f;       // no filtering below this eccentricity (degrees)
     float fullDeg = 15.0f;       // full strength from here (a smooth ramp between)
+    // The temporal step's weight of the current frame once a history holds 1 / alpha frames
+    // (SVGF's 0.2); 0: no temporal step (each frame filtered on its own).
+    float temporalAlpha = 0.2f;
 
     friend bool operator==(const PointDenoiseSettings&, const PointDenoiseSettings&) = default;
 };
@@ -55,20 +58,41 @@ struct PointDenoiseFrame {
     const foveation::PanelWarp* warp = nullptr;
 };
 
+// What the temporal step keeps across frames: its histories (named in the graph's scope) and
+// last frame's camera and gaze, which carry a point's hit to where it was seen.
+struct PointDenoiseHistory {
+    rg::HistoryPool& pool;
+    std::optional<shaders::trace::CameraPush> camera; // none: the view's first frame
+    glm::vec2 gaze{};
+};
+
 class PointDenoisePass {
 public:
     explicit PointDenoisePass(vk::Context& ctx);
     ~PointDenoisePass();
-    // Adds "point_denoise.demodulate" and "point_denoise.step0".. reading `sampled` (which
+    // Adds "point_denoise.temporal" (with a history, settings.temporalAlpha > 0 and no panel
+    // warp), "point_denoise.demodulate" and "point_denoise.step0".. reading `sampled` (which
     // must hold the path integrator's guides) and returns a new buffer laid out as its samples.
-    // Throws gt::ArgumentError without guides, for 0 steps or neighbours beyond those stored.
+    // Throws gt::ArgumentError without guides, for 0 steps, neighbours beyond those stored or
+    // an alpha outside [0, 1].
     rg::BufferId add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
                      const PointSamples& sampled, const PointDenoiseFrame& frame,
-                     const PointDenoiseSettings& settings) const;
+                     const PointDenoiseSettings& settings,
+                     const std::optional<PointDenoiseHistory>& history = std::nullopt) const;
 
 private:
+    // The accumulated light (and its variance) and the guides with the accumulated albedo.
+    struct TemporalOutput {
+        rg::BufferId light, guide;
+    };
+    TemporalOutput addTemporal(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
+                             const PointSamples& sampled, const PointDenoiseFrame& frame,
+                             const PointDenoiseSettings& settings,
+                             const PointDenoiseHistory& history) const;
+
     vk::Context& mCtx;
     std::unique_ptr<vk::ComputePipeline> mPipeline;
+    std::unique_ptr<vk::ComputePipeline> mTemporal;
 };
 
 } // namespace gt::passes

@@ -20,7 +20,7 @@
 #include "point_denoise_shared.h"
 #include "panel_warp.glsl"
 #include "point_guide.glsl"
-#include "site_jitter.glsl"
+#include "point_site.glsl"
 
 layout(local_size_x = kGroupSize) in;
 layout(set = 0, binding = kBindingPoints) uniform samplerBuffer uPoints;
@@ -31,38 +31,24 @@ layout(std430, set = 0, binding = kBindingInput) readonly buffer Input { vec4 li
 layout(std430, set = 0, binding = kBindingOutput) writeonly buffer Output { vec4 outputs[]; };
 layout(push_constant) uniform Push { PointDenoisePush pc; };
 
-const float kDegrees = 57.29577951;
-
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
-// Point i's site this frame on screen (point_sample's, jitter included), its spacing, and
-// whether point_sample traced it (the same test, so a neighbour it skipped is never read).
+// Point i's site this frame on screen, its spacing, and whether point_sample traced it.
 bool siteOf(uint i, out vec2 site, out float spacing) {
     vec4 p = texelFetch(uPoints, int(i));
-    float field = floor(pc.offset.w);
-    site = p.xy + pc.offset.xy + siteJitter(i, uint(field), p.z, 2.0 * (pc.offset.w - field));
     spacing = p.z;
-    vec2 size = vec2(pc.params.xy);
-    return all(greaterThanEqual(site, vec2(-pc.offset.z))) && all(lessThan(site, size + pc.offset.z));
+    return pointSite(i, p, pc.offset, vec2(pc.params.xy), site);
 }
 
 // The direction of screen position s in the camera's frame (x right, y up, z forward), through
 // the panel warp when the set is laid on a panel, as point_sample's rays leave.
 vec3 tangentOf(vec2 s) {
     vec2 size = vec2(pc.params.xy);
-    vec2 q = panelToImage(s, size, pc.lens, pc.lensCoeffs);
-    float sx = (2.0 * q.x / size.x - 1.0) * pc.frustum.x * pc.frustum.y + pc.frustum.z;
-    float sy = (1.0 - 2.0 * q.y / size.y) * pc.frustum.x + pc.frustum.w;
-    return normalize(vec3(sx, sy, 1.0));
+    return imageTangent(panelToImage(s, size, pc.lens, pc.lensCoeffs), size, pc.frustum);
 }
 
 // How much of the filtered value point i takes: 0 within the fovea, 1 past sigmas.w.
-float strengthAt(vec3 dir) {
-    float ecc = acos(clamp(dot(dir, tangentOf(pc.gaze.xy)), -1.0, 1.0)) * kDegrees;
-    return smoothstep(pc.sigmas.z, max(pc.sigmas.w, pc.sigmas.z + 1e-3), ecc);
-}
-
-bool isSky(float depth) { return isinf(depth) || depth <= 0.0; }
+float strengthAt(vec3 dir) { return filterStrength(dir, tangentOf(pc.gaze.xy), pc.sigmas.zw); }
 
 // SVGF's geometry weights between point i (hit at hitI with normal nI, distance dI) and
 // neighbour j: j's hit must lie on i's surface plane within sigma of i's distance and face
@@ -96,31 +82,37 @@ Tap tapOf(uint i) {
 
 uint neighbourOf(uint i, uint j) { return texelFetch(uNeighbours, int(i * pc.params.w + j)).r; }
 
-// The demodulated light and its luminance variance: the point's own from its paths, or where it
-// traced one ray, its neighbours' spread (SVGF's spatial fallback); then blurred over the
-// neighbours on the same surface.
-vec4 demodulated(uint i, Tap self) {
-    PointGuide g = decodePointGuide(guide[i]);
-    vec3 own = samples[i].rgb / g.albedo;
+// Point n's light with its first hit's albedo divided out, and the variance of its luminance
+// (< 0: unknown): from its samples, or as point_temporal accumulated them over frames.
+vec4 lightOf(uint n) {
+    if (pc.step.z == kInputTemporal) return light[n];
+    PointGuide g = decodePointGuide(guide[n]);
     float scale = luminance(g.albedo);
-    float sumVar = g.variance / (scale * scale), sumW = 1.0;
-    float sum = luminance(own), sumSq = sum * sum, count = 1.0;
+    return vec4(samples[n].rgb / g.albedo, g.variance / (scale * scale));
+}
+
+// The demodulated light and its luminance variance: the point's own, or where that is unknown
+// (one ray, no history), its neighbours' spread (SVGF's spatial fallback); then blurred over
+// the neighbours on the same surface.
+vec4 demodulated(uint i, Tap self) {
+    vec4 own = lightOf(i);
+    float sumVar = own.a, sumW = 1.0;
+    float sum = luminance(own.rgb), sumSq = sum * sum, count = 1.0;
     for (uint j = 0u; j < pc.step.x; ++j) {
         uint n = neighbourOf(i, j);
         Tap t = tapOf(n);
         if (!t.traced) continue;
-        PointGuide gn = decodePointGuide(guide[n]);
+        vec4 other = lightOf(n);
         float w = geometryWeight(self.hit, self.normal, self.depth, t.hit, t.normal, t.depth);
-        float sn = luminance(gn.albedo);
-        sumVar += w * gn.variance / (sn * sn);
+        sumVar += w * other.a;
         sumW += w;
-        float l = luminance(samples[n].rgb / gn.albedo);
+        float l = luminance(other.rgb);
         sum += l;
         sumSq += l * l;
         count += 1.0;
     }
     float spread = max(sumSq / count - (sum / count) * (sum / count), 0.0);
-    return vec4(own, g.variance < 0.0 ? spread : max(sumVar / sumW, 0.0));
+    return vec4(own.rgb, own.a < 0.0 ? spread : max(sumVar / sumW, 0.0));
 }
 
 // One step over the neighbour graph (see the top).
