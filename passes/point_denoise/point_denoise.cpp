@@ -175,12 +175,11 @@ rg::BufferId PointDenoisePass::add(rg::RenderGraph& graph, const foveation::GpuP
 
 // point_temporal: each point's demodulated light and variance, accumulated with the history
 // of its surface, into "point_denoise.temporal"; the histories for the next frame beside it.
-PointDenoisePass::TemporalOutput PointDenoisePass::addTemporal(rg::RenderGraph& graph,
-                                           const foveation::GpuPointSet& points,
-                                           const PointSamples& sampled,
-                                           const PointDenoiseFrame& frame,
-                                           const PointDenoiseSettings& settings,
-                                           const PointDenoiseHistory& history) const {
+PointDenoisePass::TemporalOutput
+PointDenoisePass::addTemporal(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
+                              const PointSamples& sampled, const PointDenoiseFrame& frame,
+                              const PointDenoiseSettings& settings,
+                              const PointDenoiseHistory& history) const {
     const uint32_t rows = (points.count() + sh::kHistoryWidth - 1) / sh::kHistoryWidth;
     const rg::HistoryTextures light =
         graph.importHistory(history.pool, kLightHistory, kLightFormat, sh::kHistoryWidth, rows);
@@ -217,8 +216,8 @@ PointDenoisePass::TemporalOutput PointDenoisePass::addTemporal(rg::RenderGraph& 
             d.albedoNext = b.write(albedo.next, rg::Access::StorageWrite);
             d.output = b.write(b.createBuffer("point_denoise.temporal", {bytes}),
                                rg::Access::StorageWrite);
-            d.guideOut = b.write(b.createBuffer("point_denoise.guide", {bytes}),
-                                 rg::Access::StorageWrite);
+            d.guideOut =
+                b.write(b.createBuffer("point_denoise.guide", {bytes}), rg::Access::StorageWrite);
         },
         [ctx = &mCtx, pipeline = mTemporal.get(), pts = &points,
          push](const rg::PassResources& r, const TemporalData& d, VkCommandBuffer cmd) {

@@ -86,9 +86,9 @@ private:
         rg::BufferId light, guide;
     };
     TemporalOutput addTemporal(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
-                             const PointSamples& sampled, const PointDenoiseFrame& frame,
-                             const PointDenoiseSettings& settings,
-                             const PointDenoiseHistory& history) const;
+                               const PointSamples& sampled, const PointDenoiseFrame& frame,
+                               const PointDenoiseSettings& settings,
+                               const PointDenoiseHistory& history) const;
 
     vk::Context& mCtx;
     std::unique_ptr<vk::ComputePipeline> mPipeline;
