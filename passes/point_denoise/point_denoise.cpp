@@ -100,7 +100,8 @@ PointDenoisePass::PointDenoisePass(vk::Context& ctx) : mCtx(ctx) {
                   VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                   VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                   VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                  VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                  VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                  VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
                  sizeof(sh::PointTemporalPush)});
 }
 
@@ -201,7 +202,7 @@ PointDenoisePass::addTemporal(rg::RenderGraph& graph, const foveation::GpuPointS
     }
     push.previous = glm::vec4(
         foveation::gazeOffset(history.gaze, points.displayWidth(), points.displayHeight()),
-        settings.temporalAlpha, valid ? 1.0f : 0.0f);
+        settings.temporalAlpha, valid ? static_cast<float>(points.storedNeighbours() + 1) : 0.0f);
     const VkDeviceSize bytes = static_cast<VkDeviceSize>(points.count()) * 16;
     const auto& data = graph.addPass<TemporalData>(
         "point_denoise.temporal",
@@ -224,6 +225,7 @@ PointDenoisePass::addTemporal(rg::RenderGraph& graph, const foveation::GpuPointS
             vk::DescriptorWriter writer;
             writer.texelBuffer(sh::kBindingPoints, pts->points())
                 .texelBuffer(sh::kBindingTemporalNearest, pts->nearest())
+                .texelBuffer(sh::kBindingTemporalNeighbours, pts->neighbours())
                 .storageBuffer(sh::kBindingSamples, r.buffer(d.samples))
                 .storageBuffer(sh::kBindingGuide, r.buffer(d.guide))
                 .storageBuffer(sh::kBindingTemporalOutput, r.buffer(d.output))

@@ -25,6 +25,7 @@
 layout(local_size_x = kGroupSize) in;
 layout(set = 0, binding = kBindingPoints) uniform samplerBuffer uPoints;
 layout(set = 0, binding = kBindingTemporalNearest) uniform usamplerBuffer uNearest;
+layout(set = 0, binding = kBindingTemporalNeighbours) uniform usamplerBuffer uNeighbours;
 layout(std430, set = 0, binding = kBindingSamples) readonly buffer Samples { vec4 samples[]; };
 layout(std430, set = 0, binding = kBindingGuide) readonly buffer Guide { vec4 guide[]; };
 layout(std430, set = 0, binding = kBindingTemporalOutput) writeonly buffer Output { vec4 outputs[]; };
@@ -40,6 +41,7 @@ layout(push_constant) uniform Push { PointTemporalPush pc; };
 const float kDepthSigma = 0.05;     // PointDenoiseSettings::sigmaDepth's default
 const float kMinNormalCos = 0.9;   // about 25 degrees
 const float kReachSpacings = 3.0;   // how far the history's hit may lie, in spacings
+const uint kHistoryCandidates = 6u; // the nearest point's neighbours read beside it
 
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
@@ -71,33 +73,63 @@ vec3 toPrevious(vec3 p, float w) {
     return vec3(dot(pc.toPrevious0, q), dot(pc.toPrevious1, q), dot(pc.toPrevious2, q));
 }
 
+// One of last frame's points as a candidate for the history of the surface at hitThen (last
+// frame's camera frame, normal nThen): its weight, 0 where it fails SVGF's consistency tests.
+float candidateWeight(uint j, vec3 hitThen, vec3 nThen, float depth, float spacing, float pixel,
+                      out uvec4 h) {
+    h = imageLoad(uHistoryHit, historyTexel(j));
+    if ((h.w & 255u) == 0u) return 0.0;
+    vec3 hitJ = uintBitsToFloat(h.xyz);
+    float d = distance(hitJ, hitThen) / pixel; // pixels
+    bool near = d <= kReachSpacings * spacing;
+    bool onPlane = abs(dot(nThen, hitJ - hitThen)) <= kDepthSigma * depth;
+    bool facing = dot(nThen, unpackNormal(h.w)) >= kMinNormalCos;
+    if (!near || !onPlane || !facing) return 0.0;
+    float sigma = 0.35 * spacing;
+    return exp(-d * d / (2.0 * sigma * sigma));
+}
+
 // Last frame's history of the surface at `hit` (this camera's frame, normal n, spacing in
-// pixels), or count 0 where none is consistent.
-bool historyOf(vec3 hit, vec3 n, float depth, float spacing, out vec4 prevLight,
+// pixels): over the point of last frame's set nearest where the hit was seen and that point's
+// stored neighbours, those that pass the consistency tests, weighted by a Gaussian of their
+// hits' distance (half a spacing). One point alone would hand each point the history of
+// whichever was nearest, and as the set shifts with the gaze that choice jumps. count 0
+// where none passes.
+void historyOf(vec3 hit, vec3 n, float depth, float spacing, out vec4 prevLight,
                out vec3 prevAlbedo, out uint prevCount) {
     prevCount = 0u;
     vec3 hitThen = toPrevious(hit, 1.0), nThen = toPrevious(n, 0.0);
-    if (hitThen.z <= 0.0) return false;
+    if (hitThen.z <= 0.0) return;
     vec2 size = vec2(pc.params.xy);
     ivec2 c = ivec2(floor(imageOf(hitThen, size, pc.frustum) - pc.previous.xy));
     ivec2 canvas = ivec2(pc.params.w & 0xffffu, pc.params.w >> 16u);
-    if (any(lessThan(c, ivec2(0))) || any(greaterThanEqual(c, canvas))) return false;
-    uint j = texelFetch(uNearest, c.y * canvas.x + c.x).r;
-    if (j >= pc.params.z) return false;
-    uvec4 h = imageLoad(uHistoryHit, historyTexel(j));
-    uint count = h.w & 255u;
-    if (count == 0u) return false;
-    vec3 hitJ = uintBitsToFloat(h.xyz), nJ = unpackNormal(h.w);
+    if (any(lessThan(c, ivec2(0))) || any(greaterThanEqual(c, canvas))) return;
+    uint nearest = texelFetch(uNearest, c.y * canvas.x + c.x).r;
+    if (nearest >= pc.params.z) return;
     // The footprint of a pixel at this distance, along the view axis (enough for a bound).
     float pixel = depth * 2.0 * pc.frustum.x / size.y;
-    bool near = distance(hitJ, hitThen) <= kReachSpacings * max(spacing, 1.0) * pixel;
-    bool onPlane = abs(dot(nThen, hitJ - hitThen)) <= kDepthSigma * depth;
-    bool facing = dot(nThen, nJ) >= kMinNormalCos;
-    if (!near || !onPlane || !facing) return false;
-    prevLight = imageLoad(uHistoryLight, historyTexel(j));
-    prevAlbedo = unpackAlbedo(imageLoad(uHistoryAlbedo, historyTexel(j)).r);
-    prevCount = count;
-    return true;
+    spacing = max(spacing, 1.0);
+    uint stored = uint(pc.previous.w) - 1u;
+    vec4 light = vec4(0.0);
+    vec3 albedo = vec3(0.0);
+    float count = 0.0, sumW = 0.0;
+    bool unknown = false;
+    for (uint k = 0u; k <= min(stored, kHistoryCandidates); ++k) {
+        uint j = k == 0u ? nearest : texelFetch(uNeighbours, int(nearest * stored + k - 1u)).r;
+        uvec4 h;
+        float w = candidateWeight(j, hitThen, nThen, depth, spacing, pixel, h);
+        if (w <= 0.0) continue;
+        vec4 l = imageLoad(uHistoryLight, historyTexel(j));
+        unknown = unknown || l.a < 0.0;
+        light += w * l;
+        albedo += w * unpackAlbedo(imageLoad(uHistoryAlbedo, historyTexel(j)).r);
+        count += w * float(h.w & 255u);
+        sumW += w;
+    }
+    if (sumW <= 1e-6) return;
+    prevLight = vec4(light.rgb / sumW, unknown ? -1.0 : light.a / sumW);
+    prevAlbedo = albedo / sumW;
+    prevCount = max(uint(count / sumW + 0.5), 1u);
 }
 
 void main() {
@@ -121,7 +153,7 @@ void main() {
     vec3 prevAlbedo;
     uint prevCount = 0u;
     bool surface = !isSky(depth) && dot(g.normal, g.normal) > 0.0;
-    if (surface && strength > 0.0 && pc.previous.w > 0.0) {
+    if (surface && strength > 0.0 && pc.previous.w > 0.0) { // w: stored neighbours + 1
         historyOf(dir * depth, g.normal, depth, p.z, prevLight, prevAlbedo, prevCount);
     }
     uint count = prevCount + 1u;

@@ -27,6 +27,7 @@ GT_CONST kBindingNextHit = 8;
 GT_CONST kBindingHistoryAlbedo = 9;   // r32ui: last frame's accumulated albedo (10 bits an rgb channel)
 GT_CONST kBindingNextAlbedo = 10;
 GT_CONST kBindingTemporalGuide = 11;  // buffer of vec4: the guides, the albedo accumulated
+GT_CONST kBindingTemporalNeighbours = 12; // as kBindingNeighbours
 // Point i's history lives at texel (i % kHistoryWidth, i / kHistoryWidth).
 GT_CONST kHistoryWidth = 4096;
 GT_CONST kHistoryMaxFrames = 255; // the count's 8 bits
@@ -72,7 +73,8 @@ struct PointTemporalPush {
     vec4 toPrevious1;
     vec4 toPrevious2;
     // xy: last frame's canvas -> screen offset; z = the blend weight alpha of this frame once a
-    // history holds enough frames; w = 1 when the history holds last frame
+    // history holds enough frames; w = the neighbours stored per point + 1 when the history
+    // holds last frame, else 0
     vec4 previous;
     // xy: the gaze (screen pixels); z, w: the fovea's eccentricities as PointDenoisePush::sigmas
     vec4 gaze;
