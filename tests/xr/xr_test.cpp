@@ -564,10 +564,13 @@ TEST(XrStudy, SigintEndsTheSessionWithItsJournalComplete) {
                         "placement": {"kind": "staircase", "max_trials": 400}}]
     })";
     const auto journal = dir / "journal.jsonl";
-    const Result r = test::runWith("timeout --foreground --preserve-status -s INT 10",
-                                   "study --display xr --design " + design.string() +
-                                       " --participant P01 --journal " + journal.string() +
-                                       " --observer level:1.5 --cache " + (dir / "cache").string());
+    // SIGINT once the first trial is journaled: after a fixed 10 s, a loaded machine had not
+    // finished one yet.
+    const Result r = test::runInterruptedWhen(
+        "",
+        "study --display xr --design " + design.string() + " --participant P01 --journal " +
+            journal.string() + " --observer level:1.5 --cache " + (dir / "cache").string(),
+        journal, "\"type\":\"trial\"", 300);
     ASSERT_EQ(r.status, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_TRUE(j["ended_early"].get<bool>());
