@@ -34,11 +34,11 @@ struct DenoiseSettings {
     // No filtering below this eccentricity (degrees): the fovea keeps its detail.
     float foveaDeg = 5.0f;
     float fullDeg = 15.0f; // full strength from here (a smooth ramp between)
-    // Read by the renderer and the point-set method, not by this pass. Image: the points (and
-    // both) leave a sharper periphery (Cornell at 640 x 720, flip_ecc beyond 20 degrees 0.113
-    // and 0.128 against 0.172) but flicker more walking through the market, beyond the
-    // full-resolution tracer's (docs/path-tracing.md, "Denoising on the points").
-    DenoisePlacement placement = DenoisePlacement::Image;
+    // Read by the renderer and the point-set method, not by this pass. Both: the points with
+    // their history, then the image, is the one placement that flickers less than the
+    // full-resolution tracer in every band walking through the market and leaves a sharper
+    // periphery than the image alone (docs/path-tracing.md, "Denoising on the points").
+    DenoisePlacement placement = DenoisePlacement::Both;
     // The point filter's temporal step: the current frame's weight once a point's history
     // holds 1 / alpha frames (SVGF's 0.2); 0: each frame's points filtered on their own.
     float pointTemporalAlpha = 0.2f;

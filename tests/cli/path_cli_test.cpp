@@ -58,8 +58,8 @@ TEST(CliPath, ReferenceAndFoveatedTracePaths) {
 
 // --denoise on: the reference's post chain runs pass `denoise` (its variance step and five
 // levels) before TAA, its gaze placing the fovea. The foveated method filters its points
-// (point_denoise: demodulation and three steps) with --denoise points, and its image too with
-// both.
+// (point_denoise: the temporal step, demodulation and three steps) with --denoise points, and
+// its image too with both, as with on.
 TEST(CliPath, DenoiseRunsTheDenoisePasses) {
     const auto dir = test::tempDir("cli_path_denoise");
     struct Case {
@@ -69,7 +69,8 @@ TEST(CliPath, DenoiseRunsTheDenoisePasses) {
     };
     for (const Case& c : {Case{"reference --gaze 10,10", "on", true, false},
                           Case{"foveated --profile desktop", "points", false, true},
-                          Case{"foveated --profile desktop", "both", true, true}}) {
+                          Case{"foveated --profile desktop", "both", true, true},
+                          Case{"foveated --profile desktop", "on", true, true}}) {
         const Result r = run(std::string("render --scene builtin:cornell --method ") + c.method +
                              " --width 48 --height 32 --integrator path --bounces 2 --denoise " +
                              c.denoise + " --validate --json --cache " + (dir / "cache").string() +
@@ -82,6 +83,7 @@ TEST(CliPath, DenoiseRunsTheDenoisePasses) {
         EXPECT_EQ(j["gpu_ms"].contains("denoise.level4"), c.image) << c.method;
         EXPECT_EQ(j["gpu_ms"].contains("point_denoise.demodulate"), c.points) << c.method;
         EXPECT_EQ(j["gpu_ms"].contains("point_denoise.step2"), c.points) << c.method;
+        EXPECT_EQ(j["gpu_ms"].contains("point_denoise.temporal"), c.points) << c.method;
     }
     const auto out = dir / "bad.png";
     expectCleanFailure(run("render --method layers --denoise on --out " + out.string()),

@@ -85,7 +85,7 @@ void addIntegratorOptions(CLI::App* cmd, IntegratorArgs& args, const std::string
                     "The spatial denoiser before TAA, stronger with eccentricity, none within 5 "
                     "degrees of the gaze (docs/path-tracing.md): off | on | image | points | "
                     "both (a point set's samples before interpolation, the image, or both; on: "
-                    "image)")
+                    "both)")
         ->check(CLI::IsMember({"off", "on", "image", "points", "both"}))
         ->capture_default_str();
 }
