@@ -21,12 +21,13 @@ GT_CONST kGroupSize = 64;
 GT_CONST kBindingTemporalNearest = 1; // usamplerBuffer R32UI: the nearest point per canvas pixel
 GT_CONST kBindingTemporalOutput = 4;  // buffer of vec4: accumulated light rgb, its variance
 GT_CONST kBindingHistoryLight = 5;    // rgba32f: last frame's accumulated light, frame variance
-GT_CONST kBindingHistoryHit = 6;      // rgba32ui: last frame's hit (its camera frame), normal, count
-GT_CONST kBindingNextLight = 7;       // the same, written for the next frame
+GT_CONST kBindingHistoryHit = 6; // rgba32ui: last frame's hit (its camera frame), normal, count
+GT_CONST kBindingNextLight = 7;  // the same, written for the next frame
 GT_CONST kBindingNextHit = 8;
-GT_CONST kBindingHistoryAlbedo = 9;   // r32ui: last frame's accumulated albedo (10 bits an rgb channel)
+GT_CONST kBindingHistoryAlbedo =
+    9; // r32ui: last frame's accumulated albedo (10 bits an rgb channel)
 GT_CONST kBindingNextAlbedo = 10;
-GT_CONST kBindingTemporalGuide = 11;  // buffer of vec4: the guides, the albedo accumulated
+GT_CONST kBindingTemporalGuide = 11;      // buffer of vec4: the guides, the albedo accumulated
 GT_CONST kBindingTemporalNeighbours = 12; // as kBindingNeighbours
 // Point i's history lives at texel (i % kHistoryWidth, i / kHistoryWidth).
 GT_CONST kHistoryWidth = 4096;
@@ -63,7 +64,7 @@ struct PointDenoisePush {
 };
 
 struct PointTemporalPush {
-    vec4 offset;  // as PointDenoisePush::offset
+    vec4 offset; // as PointDenoisePush::offset
     // x = width, y = height, z = point count, w = canvas width | canvas height << 16
     uvec4 params;
     vec4 frustum; // as PointDenoisePush::frustum, the same for both frames

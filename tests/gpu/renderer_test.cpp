@@ -116,6 +116,34 @@ protected:
         return last;
     }
 
+    // 8 frames of a fresh 4-ray Modified Shepard method (so two runs trace the same rays), path
+    // traced and filtered on the points with the temporal step at `alpha`; the camera moves by
+    // `cameraStep` and the gaze by `gazeStep` each frame, ending where view() puts them.
+    struct Settled {
+        std::vector<uint8_t> last, before;
+    };
+    static Settled settlePointHistory(const std::string& name, float alpha, glm::vec3 cameraStep,
+                                      glm::vec2 gazeStep = glm::vec2(0.0f)) {
+        const auto shepard = smallShepard("small-" + name, 4);
+        shepard->settings.integrator = twoBouncePaths();
+        render::View v = view(name, 160, 120, *shepard);
+        v.post.denoise = passes::DenoiseSettings{};
+        v.post.denoise->placement = passes::DenoisePlacement::Points;
+        v.post.denoise->pointTemporalAlpha = alpha;
+        const glm::vec3 end = v.camera.position;
+        const glm::vec2 gazeEnd = v.gaze;
+        constexpr int kFrames = 8;
+        Settled out;
+        for (int i = 0; i < kFrames; ++i) {
+            const auto back = static_cast<float>(kFrames - 1 - i);
+            v.camera.position = end - cameraStep * back;
+            v.gaze = gazeEnd - gazeStep * back;
+            out.before = std::move(out.last);
+            out.last = render(std::span(&v, 1))[0];
+        }
+        return out;
+    }
+
     inline static std::unique_ptr<render::Renderer> sRenderer;
 
 private:
@@ -448,31 +476,6 @@ TEST_F(RendererTest, DenoisingThePointsCutsPeripheralNoiseAndKeepsTheFovea) {
 // pixels there.
 TEST_F(RendererTest, PointHistoryAveragesEachSurfacesFrames) {
     const auto truth = pathReference("point_history_reference");
-    struct Settled {
-        std::vector<uint8_t> last, before;
-    };
-    // 8 frames of a fresh method (so both runs trace the same rays), the camera moving
-    // `step` to the right each frame and ending where the reference was rendered.
-    auto settle = [&](const std::string& name, float alpha, glm::vec3 step,
-                      glm::vec2 gazeStep = glm::vec2(0.0f)) {
-        const auto shepard = smallShepard("small-" + name, 4);
-        shepard->settings.integrator = twoBouncePaths();
-        render::View v = view(name, 160, 120, *shepard);
-        v.post.denoise = passes::DenoiseSettings{};
-        v.post.denoise->placement = passes::DenoisePlacement::Points;
-        v.post.denoise->pointTemporalAlpha = alpha;
-        const glm::vec3 end = v.camera.position;
-        const glm::vec2 gazeEnd = v.gaze;
-        constexpr int kFrames = 8;
-        Settled out;
-        for (int i = 0; i < kFrames; ++i) {
-            v.camera.position = end - step * static_cast<float>(kFrames - 1 - i);
-            v.gaze = gazeEnd - gazeStep * static_cast<float>(kFrames - 1 - i);
-            out.before = std::move(out.last);
-            out.last = render(std::span(&v, 1))[0];
-        }
-        return out;
-    };
     const auto beyond = [](uint32_t x, uint32_t y) {
         return std::hypot(x - 79.5f, y - 59.5f) >= 45.0f;
     };
@@ -482,8 +485,8 @@ TEST_F(RendererTest, PointHistoryAveragesEachSurfacesFrames) {
     for (const glm::vec3 step : {glm::vec3(0.0f), glm::vec3(0.1f, 0.0f, 0.0f)}) {
         const bool still = step.x == 0.0f;
         const std::string tag = still ? "still" : "pan";
-        const Settled kept = settle(tag + "-history", 0.2f, step);
-        const Settled alone = settle(tag + "-alone", 0.0f, step);
+        const Settled kept = settlePointHistory(tag + "-history", 0.2f, step);
+        const Settled alone = settlePointHistory(tag + "-alone", 0.0f, step);
         const double keptError = test::rgbRmseWhere(kept.last, truth, 160, beyond);
         const double aloneError = test::rgbRmseWhere(alone.last, truth, 160, beyond);
         const double keptChange = test::rgbRmseWhere(kept.last, kept.before, 160, beyond);
@@ -507,26 +510,15 @@ TEST_F(RendererTest, PointHistoryAveragesEachSurfacesFrames) {
 // point alone, 14.10 against a bound of 13.85.
 TEST_F(RendererTest, PointHistoryFollowsTheGaze) {
     const auto truth = pathReference("point_history_pursuit_reference");
-    auto settle = [&](const std::string& name, float alpha) {
-        const auto shepard = smallShepard("small-" + name, 4);
-        shepard->settings.integrator = twoBouncePaths();
-        render::View v = view(name, 160, 120, *shepard);
-        v.post.denoise = passes::DenoiseSettings{};
-        v.post.denoise->placement = passes::DenoisePlacement::Points;
-        v.post.denoise->pointTemporalAlpha = alpha;
-        const glm::vec2 gazeEnd = v.gaze;
-        std::vector<uint8_t> last;
-        for (int i = 0; i < 8; ++i) {
-            v.gaze = gazeEnd - glm::vec2(3.0f, 1.0f) * static_cast<float>(7 - i);
-            last = render(std::span(&v, 1))[0];
-        }
-        return last;
-    };
     const auto beyond = [](uint32_t x, uint32_t y) {
         return std::hypot(x - 79.5f, y - 59.5f) >= 45.0f;
     };
-    const double kept = test::rgbRmseWhere(settle("pursuit-history", 0.2f), truth, 160, beyond);
-    const double alone = test::rgbRmseWhere(settle("pursuit-alone", 0.0f), truth, 160, beyond);
+    const glm::vec3 still(0.0f);
+    const glm::vec2 gazeStep(3.0f, 1.0f);
+    const double kept = test::rgbRmseWhere(
+        settlePointHistory("pursuit-history", 0.2f, still, gazeStep).last, truth, 160, beyond);
+    const double alone = test::rgbRmseWhere(
+        settlePointHistory("pursuit-alone", 0.0f, still, gazeStep).last, truth, 160, beyond);
     RecordProperty("kept", std::to_string(kept));
     RecordProperty("alone", std::to_string(alone));
     EXPECT_LT(kept, 0.93 * alone);
