@@ -69,8 +69,9 @@ PointSetMethod::PointSetMethod(const MethodContext& mc, foveation::PointSet poin
                                double pointSetMs)
     : mMc(mc), mPoints(std::move(points)),
       mNeighbours(mPoints, foveation::NeighbourIndex::kMaxNeighbours),
-      mGpuPoints(mc.ctx, mPoints, mNeighbours), mPointSample(mc.ctx), mInterpolate(mc.ctx),
-      mRbfSolve(mc.ctx), mPointDenoise(mc.ctx), mPointSetMs(pointSetMs) {
+      mGpuPoints(mc.ctx, mPoints, mNeighbours, foveation::GpuPointSet::Index::OnDemand),
+      mPointSample(mc.ctx), mInterpolate(mc.ctx), mRbfSolve(mc.ctx), mPointDenoise(mc.ctx),
+      mPointSetMs(pointSetMs) {
     mNeighbourMs = mNeighbours.buildSeconds() * 1e3;
     mNeighbourMb = static_cast<double>(mNeighbours.bytes()) / 1e6;
 }
@@ -220,6 +221,10 @@ passes::InterpolatedImage PointSetMethod::addImage(
     const bool moveSites = frame > 0 && s.method == passes::Interpolation::Shepard;
     s.siteFrame = moveSites ? frame : 0u;
     s.siteJitter = moveSites ? siteJitter : 0.0f;
+    // The neighbour index goes to the GPU the first time a pass reads it, and stays.
+    if (passes::readsNeighbourIndex(s) || denoise) {
+        mGpuPoints.uploadIndex(mMc.ctx, mNeighbours);
+    }
     const passes::SampledPoints sampled = mPointSample.addSamples(
         graph, mMc.scene, camera, mGpuPoints, gaze, rays, lanes, warp ? &*warp : nullptr,
         settings.lod, frame, s.siteJitter, !settings.pixelRays, dispatchFor(gaze, s.siteJitter),

@@ -150,6 +150,9 @@ public:
     [[nodiscard]] double pointSetMs() const noexcept { return mPointSetMs; }
     [[nodiscard]] double neighbourIndexMs() const noexcept { return mNeighbourMs; }
     [[nodiscard]] double neighbourIndexMb() const noexcept { return mNeighbourMb; }
+    // Whether the neighbour index went to the GPU: only once a pass read it (not for Modified
+    // Shepard through the table).
+    [[nodiscard]] bool neighbourIndexOnGpu() const noexcept { return mGpuPoints.hasIndex(); }
     // For the RBF settings of the last RBF frame, and the k of the last frame that used the
     // per-pixel k-NN table.
     [[nodiscard]] Prepared rbfPrepared() const noexcept { return mRbfPrepared; }

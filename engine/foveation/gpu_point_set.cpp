@@ -1,6 +1,7 @@
 #include "foveation/gpu_point_set.hpp"
 
 #include <algorithm>
+#include <array>
 #include <span>
 #include <vector>
 
@@ -10,7 +11,19 @@
 
 namespace gt::foveation {
 
-GpuPointSet::GpuPointSet(vk::Context& ctx, const PointSet& set, const NeighbourIndex& index)
+namespace {
+
+void uploadTexels(vk::Context& ctx, vk::Buffer& buffer, const void* data, std::size_t bytes,
+                  const char* name) {
+    buffer = vk::Buffer(
+        ctx, {bytes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, vk::MemoryUsage::GpuOnly, name});
+    buffer.upload(std::span(static_cast<const std::byte*>(data), bytes));
+}
+
+} // namespace
+
+GpuPointSet::GpuPointSet(vk::Context& ctx, const PointSet& set, const NeighbourIndex& index,
+                         Index upload)
     : mChunks(set), mCount(static_cast<uint32_t>(set.points().size())), mK(index.k()),
       mCanvasW(set.canvasWidth()), mCanvasH(set.canvasHeight()),
       mDisplayW(set.params().display.width), mDisplayH(set.params().display.height),
@@ -19,19 +32,27 @@ GpuPointSet::GpuPointSet(vk::Context& ctx, const PointSet& set, const NeighbourI
     pts.reserve(set.points().size());
     for (const Point& p : set.points())
         pts.emplace_back(p.x, p.y, p.spacing, 0.0f);
-    auto make = [&](vk::Buffer& buffer, const void* data, std::size_t bytes, const char* name) {
-        buffer = vk::Buffer(
-            ctx, {bytes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, vk::MemoryUsage::GpuOnly, name});
-        buffer.upload(std::span(static_cast<const std::byte*>(data), bytes));
-    };
-    make(mPoints, pts.data(), pts.size() * sizeof(glm::vec4), "pointset.points");
-    const std::vector<uint32_t> nearest = index.nearestPerPixel();
-    make(mNearest, nearest.data(), nearest.size() * 4, "pointset.nearest");
-    make(mNeighbours, index.neighbours().data(), index.neighbours().size() * 4,
-         "pointset.neighbours");
+    uploadTexels(ctx, mPoints, pts.data(), pts.size() * sizeof(glm::vec4), "pointset.points");
     mPointsView = vk::BufferView(ctx, mPoints, VK_FORMAT_R32G32B32A32_SFLOAT);
-    mNearestView = vk::BufferView(ctx, mNearest, VK_FORMAT_R32_UINT);
+    const std::array<uint32_t, 4> none{};
+    uploadTexels(ctx, mStandIn, none.data(), sizeof none, "pointset.index_stand_in");
+    mStandInView = vk::BufferView(ctx, mStandIn, VK_FORMAT_R32_UINT);
+    if (upload == Index::Upload) {
+        uploadIndex(ctx, index);
+    }
+}
+
+void GpuPointSet::uploadIndex(vk::Context& ctx, const NeighbourIndex& index) {
+    if (hasIndex()) {
+        return;
+    }
+    const std::vector<uint32_t> nearest = index.nearestPerPixel();
+    uploadTexels(ctx, mNeighbours, index.neighbours().data(), index.neighbours().size() * 4,
+                 "pointset.neighbours");
     mNeighboursView = vk::BufferView(ctx, mNeighbours, VK_FORMAT_R32_UINT);
+    // The nearest buffer last: hasIndex() says the whole index is there.
+    uploadTexels(ctx, mNearest, nearest.data(), nearest.size() * 4, "pointset.nearest");
+    mNearestView = vk::BufferView(ctx, mNearest, VK_FORMAT_R32_UINT);
 }
 
 namespace {

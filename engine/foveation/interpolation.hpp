@@ -60,6 +60,14 @@ struct RbfWeights {
            (s.method == Interpolation::Shepard || s.method == Interpolation::Rbf);
 }
 
+// Whether interpolate reads the point set's neighbour index (nearest point per canvas pixel,
+// stored neighbours per point): every variant but Modified Shepard through the table, which
+// takes its candidates from the table alone. RBF through the table falls back to the index
+// where none of a pixel's k was sampled.
+[[nodiscard]] inline bool readsNeighbourIndex(const InterpolateSettings& s) {
+    return !(usesPixelTable(s) && s.method == Interpolation::Shepard);
+}
+
 // RBF over the neighbour lists: pass rbf_solve solves each point's weights every frame.
 [[nodiscard]] inline bool usesRbfSolve(const InterpolateSettings& s) {
     return s.method == Interpolation::Rbf && s.knn == KnnIndex::NeighbourLists;

@@ -33,6 +33,7 @@ using foveation::Interpolation;
 using foveation::KnnIndex;
 using foveation::RbfKernel;
 using foveation::RbfWeights;
+using foveation::readsNeighbourIndex;
 using foveation::usesPixelTable;
 using foveation::usesRbfSolve;
 

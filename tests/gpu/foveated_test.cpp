@@ -2,6 +2,7 @@
 // reference at the gaze point.
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "foveation/gpu_point_set.hpp"
@@ -69,7 +70,11 @@ protected:
         const uint32_t w = set.params().display.width, h = set.params().display.height;
         const foveation::NeighbourIndex index(
             set, std::min<uint32_t>(20, static_cast<uint32_t>(set.points().size() - 1)));
-        const foveation::GpuPointSet gpu(ctx(), set, index);
+        // The index on the GPU only where the variant reads it, as PointSetMethod does.
+        foveation::GpuPointSet gpu(ctx(), set, index, foveation::GpuPointSet::Index::OnDemand);
+        if (passes::readsNeighbourIndex(s)) {
+            gpu.uploadIndex(ctx(), index);
+        }
         std::optional<foveation::GpuPixelKnnTable> table;
         std::optional<foveation::GpuRbfPixelWeights> pixelWeights;
         if (passes::usesPixelTable(s)) {
@@ -178,6 +183,32 @@ TEST_F(FoveatedTest, EveryMethodReproducesPointsAtPixelCentres) {
             }
         }
     }
+}
+
+// A variant that reads the neighbour index refuses a point set whose index is not on the GPU
+// (it would read the one-texel stand-in); Modified Shepard through the table does not need it.
+TEST_F(FoveatedTest, InterpolateRefusesAPointSetWithoutTheIndexItReads) {
+    const PointSet set = test::pixelCentreGrid();
+    const foveation::NeighbourIndex index(set, 10);
+    const foveation::GpuPointSet gpu(ctx(), set, index, foveation::GpuPointSet::Index::OnDemand);
+    ASSERT_FALSE(gpu.hasIndex());
+    const foveation::PixelKnnTable cpuTable(set, index, 10);
+    const foveation::GpuPixelKnnTable table(ctx(), cpuTable);
+    vk::Buffer samples(ctx(), {set.points().size() * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                               vk::MemoryUsage::GpuOnly, "test.samples"});
+    rg::RenderGraph g(24, 16);
+    const auto sid = g.importBuffer(
+        "samples", {samples.handle(), samples.size(), rg::Access::TransferDst, std::nullopt});
+    const passes::InterpolatePass pass(ctx());
+    const glm::vec2 gaze(12.0f, 8.0f);
+    const passes::InterpolateInputs in{std::nullopt, &table, nullptr};
+    passes::InterpolateSettings s{passes::Interpolation::Nearest, 10, 1.0f};
+    EXPECT_THROW((void)pass.add(g, gpu, sid, gaze, s, in), std::logic_error);
+    s.method = passes::Interpolation::Shepard;
+    s.knn = passes::KnnIndex::NeighbourLists;
+    EXPECT_THROW((void)pass.add(g, gpu, sid, gaze, s, in), std::logic_error);
+    s.knn = passes::KnnIndex::PixelTable;
+    EXPECT_NO_THROW((void)pass.add(g, gpu, sid, gaze, s, in));
 }
 
 // Nearest neighbour where a screen pixel's nearest point lies beyond the sampling margin: a set

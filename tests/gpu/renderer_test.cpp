@@ -607,6 +607,29 @@ TEST_F(RendererTest, SaccadeStartsTheHistoryAfresh) {
 namespace gt {
 namespace {
 
+// Modified Shepard through the table reads neither the nearest point per canvas pixel nor the
+// stored neighbours, so they stay on the CPU (328 MB of GPU memory for a 3840 x 3744 eye); the
+// first nearest-neighbour frame uploads them, and Modified Shepard's image is the same with
+// them on the GPU as without.
+TEST_F(RendererTest, ShepardThroughTheTableLeavesTheNeighbourIndexOnTheCpu) {
+    const auto method = smallShepard("index_on_demand", 1);
+    method->settings.jitter = false; // every frame traces and blends the same sites
+    ASSERT_EQ(method->settings.interpolation.knn, passes::KnnIndex::PixelTable);
+    const render::View before = view("index_before", 160, 120, *method);
+    const std::vector<uint8_t> shepard = render(std::span(&before, 1))[0];
+    EXPECT_FALSE(method->neighbourIndexOnGpu());
+
+    method->settings.interpolation.method = passes::Interpolation::Nearest;
+    const render::View nn = view("index_nn", 160, 120, *method);
+    const std::vector<uint8_t> nearest = render(std::span(&nn, 1))[0];
+    EXPECT_TRUE(method->neighbourIndexOnGpu());
+    EXPECT_GT(meanAbsDiff(nearest, shepard), 0.1); // a different method: the test can tell
+
+    method->settings.interpolation.method = passes::Interpolation::Shepard;
+    const render::View after = view("index_after", 160, 120, *method);
+    EXPECT_EQ(render(std::span(&after, 1))[0], shepard);
+}
+
 // RBF through the per-pixel table (weights built once per setting) and through the neighbour
 // lists (per-point inverses, pass rbf_solve every frame) rebuild nearly the same image; what
 // each built is reported. Formerly a 9-second command-line test at the vive size.
