@@ -30,8 +30,9 @@ GpuPointSet::GpuPointSet(vk::Context& ctx, const PointSet& set, const NeighbourI
       mCoveringRadius(index.coveringRadius()) {
     std::vector<glm::vec4> pts;
     pts.reserve(set.points().size());
-    for (const Point& p : set.points())
+    for (const Point& p : set.points()) {
         pts.emplace_back(p.x, p.y, p.spacing, 0.0f);
+    }
     uploadTexels(ctx, mPoints, pts.data(), pts.size() * sizeof(glm::vec4), "pointset.points");
     mPointsView = vk::BufferView(ctx, mPoints, VK_FORMAT_R32G32B32A32_SFLOAT);
     const std::array<uint32_t, 4> none{};
