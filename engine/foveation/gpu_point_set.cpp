@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <span>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -40,6 +42,13 @@ GpuPointSet::GpuPointSet(vk::Context& ctx, const PointSet& set, const NeighbourI
     mStandInView = vk::BufferView(ctx, mStandIn, VK_FORMAT_R32_UINT);
     if (upload == Index::Upload) {
         uploadIndex(ctx, index);
+    }
+}
+
+void GpuPointSet::requireIndex(std::string_view reader) const {
+    if (!hasIndex()) {
+        throw std::logic_error(std::string(reader) +
+                               ": the point set's neighbour index is not on the GPU");
     }
 }
 

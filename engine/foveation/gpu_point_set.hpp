@@ -5,6 +5,7 @@
 // neighbours) can stay on the CPU until a pass reads it: Modified Shepard through the k-NN table
 // never does, and for a 3840x3744 eye it is 328 MB of the method's memory.
 #include <cstdint>
+#include <string_view>
 
 #include "foveation/neighbour_index.hpp"
 #include "foveation/pixel_knn_table.hpp"
@@ -25,6 +26,8 @@ public:
     // Uploads `index` (the one the set was made with) where it is not on the GPU yet.
     void uploadIndex(vk::Context& ctx, const NeighbourIndex& index);
     [[nodiscard]] bool hasIndex() const noexcept { return mNearestView.handle() != VK_NULL_HANDLE; }
+    // Throws std::logic_error naming `reader` where the index is not on the GPU.
+    void requireIndex(std::string_view reader) const;
 
     [[nodiscard]] VkBufferView points() const noexcept { return mPointsView.handle(); }
     // Without the index on the GPU, a one-texel stand-in of the same format: for the bindings

@@ -1,7 +1,6 @@
 #include "interpolate/interpolate.hpp"
 
 #include <cmath>
-#include <stdexcept>
 
 #include "core/error.hpp"
 #include "foveated_shared.h"
@@ -67,8 +66,8 @@ namespace {
 // What the settings need from the inputs: one line naming the missing or mismatched one.
 void checkInputs(const foveation::GpuPointSet& points, const InterpolateSettings& s,
                  const InterpolateInputs& in) {
-    if (readsNeighbourIndex(s) && !points.hasIndex()) {
-        throw std::logic_error("interpolate: the point set's neighbour index is not on the GPU");
+    if (readsNeighbourIndex(s)) {
+        points.requireIndex("interpolate");
     }
     if (usesRbfSolve(s) && !in.lambdas) {
         throw ArgumentError("RBF over the neighbour lists needs the rbf_solve pass's weights");

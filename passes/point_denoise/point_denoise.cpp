@@ -1,7 +1,6 @@
 #include "point_denoise/point_denoise.hpp"
 
 #include <algorithm>
-#include <stdexcept>
 #include <string>
 
 #include "core/error.hpp"
@@ -112,9 +111,7 @@ rg::BufferId PointDenoisePass::add(rg::RenderGraph& graph, const foveation::GpuP
                                    const PointSamples& sampled, const PointDenoiseFrame& frame,
                                    const PointDenoiseSettings& settings,
                                    const std::optional<PointDenoiseHistory>& history) const {
-    if (!points.hasIndex()) {
-        throw std::logic_error("point_denoise: the point set's neighbour index is not on the GPU");
-    }
+    points.requireIndex("point_denoise");
     if (!sampled.guide) {
         throw ArgumentError("point_denoise: the samples carry no guides (the path integrator "
                             "writes them)");

@@ -1,7 +1,6 @@
 #include "rbf_solve/rbf_solve.hpp"
 
 #include <algorithm>
-#include <stdexcept>
 
 #include "core/error.hpp"
 #include "foveated_shared.h"
@@ -36,9 +35,7 @@ RbfSolvePass::~RbfSolvePass() = default;
 RbfWeights RbfSolvePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
                              const foveation::GpuRbfInverse& inverse, rg::BufferId samples,
                              glm::vec2 gaze, const InterpolateSettings& s) const {
-    if (!points.hasIndex()) {
-        throw std::logic_error("rbf_solve: the point set's neighbour index is not on the GPU");
-    }
+    points.requireIndex("rbf_solve");
     if (inverse.k() != s.k || inverse.kernel() != s.kernel || inverse.shape() != s.rbfShape) {
         throw ArgumentError("rbf_solve: the precomputed inverse was built for other settings");
     }
