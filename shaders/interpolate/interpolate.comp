@@ -194,7 +194,10 @@ void main() {
     vec2 offset = pc.offset.xy;
     float margin = pc.offset.z;
     ivec2 c = clamp(ivec2(floor(pos - offset)), ivec2(0), ivec2(pc.canvas.xy) - 1);
-    uint q = texelFetch(uNearest, c.y * int(pc.canvas.x) + c.x).r;
+    // The canvas pixel's nearest point. Modified Shepard through the table never uses it, and
+    // its point set may hold a one-texel stand-in there (GpuPointSet::Index::OnDemand): no read.
+    const bool readsIndex = !(kUseTable && kMethod == kMethodShepard);
+    uint q = readsIndex ? texelFetch(uNearest, c.y * int(pc.canvas.x) + c.x).r : 0u;
     if (kMethod == kMethodNearest) {
         nearestNeighbour(px, pos, q, offset, size, margin);
         return;
