@@ -234,6 +234,10 @@ void Renderer::waitIdle() {
     mRing->waitIdle();
 }
 
+VkDeviceSize Renderer::frameImageBytes() const noexcept {
+    return mHistory->imageBytes() + mRing->transientImageBytes();
+}
+
 // An untimed frame through the method's pipelines and the tone mapper, into a throwaway pool,
 // waited for, never touching the history.
 void Renderer::runWarmUp(const WarmUp& warm) {

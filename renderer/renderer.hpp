@@ -124,6 +124,9 @@ public:
     [[nodiscard]] std::vector<rg::CompletedFrame> takeCompleted();
     void waitIdle();
     [[nodiscard]] uint32_t framesInFlight() const noexcept;
+    // Device memory of the views' frame images: their temporal histories and the transient
+    // images of every frame in flight (not the methods' buffers and tables, nor the scene's).
+    [[nodiscard]] VkDeviceSize frameImageBytes() const noexcept;
 
 private:
     struct ViewHistory {

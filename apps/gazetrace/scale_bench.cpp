@@ -64,6 +64,10 @@ double gpuUsedMb(vk::Context& ctx) {
     return static_cast<double>(ctx.allocator().stats().usedBytes) / 1e6;
 }
 
+double frameImagesMb(const render::Renderer& r) {
+    return static_cast<double>(r.frameImageBytes()) / 1e6;
+}
+
 // The headsets to measure, fewest pixels per eye first.
 std::vector<display::HmdProfile> profilesOf(const ScaleBenchOptions& o) {
     std::vector<display::HmdProfile> out;
@@ -113,8 +117,9 @@ struct Slot {
     render::FoveationMethod* method = nullptr;
     bool taa = false;
     int framesPerSample = 1;
-    double gpuMb = 0.0; // allocator growth from its construction through its warm-up frames
-    std::string error;  // why it could not be set up; then it is not measured
+    double gpuMb = 0.0;    // allocator growth from its construction through its warm-up frames
+    double imagesMb = 0.0; // of which its view's frame images (histories, transients)
+    std::string error;     // why it could not be set up; then it is not measured
 };
 
 // One row: a method at one ray count, its samples and the reference's of the same rounds.
@@ -209,6 +214,7 @@ void ProfileRun::warmUp(const Slot& s) {
 void ProfileRun::setUp(Slot& s, const std::function<void()>& construct,
                        const std::function<void()>& release) {
     const double before = gpuUsedMb(mRenderer.context());
+    const double imagesBefore = frameImagesMb(mRenderer);
     try {
         construct();
         warmUp(s);
@@ -226,6 +232,7 @@ void ProfileRun::setUp(Slot& s, const std::function<void()>& construct,
         return;
     }
     s.gpuMb = gpuUsedMb(mRenderer.context()) - before;
+    s.imagesMb = frameImagesMb(mRenderer) - imagesBefore;
 }
 
 // Rounds of one frame (or sample) per method, the reference first; a method left out at set-up
@@ -302,7 +309,10 @@ nlohmann::json ProfileRun::rowJson(const Row& r, const Slot& s, const Row& refer
             {"neighbour_index_mb", nullable(ps, indexMb)},
             {"knn_table_mb", nullable(table, tableMb)},
             {"gpu_mb", s.gpuMb},
-            {"method_mb", setMb + indexMb + tableMb + s.gpuMb}};
+            {"images_mb", s.imagesMb},
+            // The method's buffers are what it allocated beyond its view's images (layers: none
+            // but rounding, so no negative zero).
+            {"method_mb", setMb + indexMb + tableMb + std::max(0.0, s.gpuMb - s.imagesMb)}};
 }
 
 // Each method built and warmed up in turn at the first ray count.
@@ -436,8 +446,9 @@ void printProfile(const nlohmann::json& p) {
                 num(b["neighbour_index_ms"]), b["knn_table_k"].get<uint32_t>(),
                 num(b["knn_table_ms"]), num(b["knn_table_mb"]), p["peak_rss_mb"].get<double>(),
                 p["wall_s"].get<double>());
-    std::printf("  %-9s %4s %10s %11s %9s %9s %9s %9s %6s %9s\n", "method", "rays", "points",
-                "rays/frame", "ray ratio", "GPU ms", "wall ms", "time rat.", "eff.", "method MB");
+    std::printf("  %-9s %4s %10s %11s %9s %9s %9s %9s %6s %9s %9s\n", "method", "rays", "points",
+                "rays/frame", "ray ratio", "GPU ms", "wall ms", "time rat.", "eff.", "method MB",
+                "images MB");
     for (const auto& r : p["rows"]) {
         if (r.contains("error")) {
             std::printf("  %-9s %4u left out: %s\n", r["method"].get<std::string>().c_str(),
@@ -445,12 +456,13 @@ void printProfile(const nlohmann::json& p) {
                         r["error"].get<std::string>().c_str());
             continue;
         }
-        std::printf("  %-9s %4u %10.0f %11.0f %9.2f %9.1f %9.1f %9.2f %6.2f %9.0f\n",
+        std::printf("  %-9s %4u %10.0f %11.0f %9.2f %9.1f %9.1f %9.2f %6.2f %9.0f %9.0f\n",
                     r["method"].get<std::string>().c_str(), r["rays_per_sample"].get<uint32_t>(),
                     r["points"].get<double>(), r["rays"].get<double>(),
                     r["ray_ratio"].get<double>(), r["gpu_ms"].get<double>(),
                     r["wall_ms"].get<double>(), r["time_ratio"].get<double>(),
-                    r["efficiency"].get<double>(), r["method_mb"].get<double>());
+                    r["efficiency"].get<double>(), r["method_mb"].get<double>(),
+                    r["images_mb"].get<double>());
     }
     std::fflush(stdout);
 }

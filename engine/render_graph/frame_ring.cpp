@@ -76,6 +76,14 @@ uint32_t FrameRing::framesInFlight() const noexcept {
     return static_cast<uint32_t>(mSlots.size());
 }
 
+VkDeviceSize FrameRing::transientImageBytes() const noexcept {
+    VkDeviceSize sum = 0;
+    for (const std::unique_ptr<FrameSlot>& s : mSlots) {
+        sum += s->transients->imageBytes();
+    }
+    return sum;
+}
+
 void FrameRing::finish(FrameSlot& s) {
     if (!s.inFlight) return;
     GT_VK_CHECK(vkWaitForFences(mCtx.device(), 1, &s.fence, VK_TRUE, UINT64_MAX));

@@ -324,6 +324,14 @@ std::size_t TransientPool::created() const noexcept {
     return mImpl->created;
 }
 
+VkDeviceSize TransientPool::imageBytes() const noexcept {
+    VkDeviceSize sum = 0;
+    for (const auto& [name, image] : mImpl->images) {
+        sum += image.bytes();
+    }
+    return sum;
+}
+
 vk::Image& TransientPool::image(const std::string& name, uint32_t w, uint32_t h, VkFormat f,
                                 VkImageUsageFlags usage) {
     auto it = mImpl->images.find(name);
@@ -564,6 +572,16 @@ bool HistoryPool::holds(std::string_view name, uint32_t width, uint32_t height,
     }
     const vk::ImageDesc& d = it->second->images[0]->desc();
     return d.width == width && d.height == height && d.format == format;
+}
+
+VkDeviceSize HistoryPool::imageBytes() const noexcept {
+    VkDeviceSize sum = 0;
+    for (const auto& [name, e] : mEntries) {
+        for (const std::shared_ptr<vk::Image>& image : e->images) {
+            sum += image ? image->bytes() : 0;
+        }
+    }
+    return sum;
 }
 
 void HistoryPool::commit(const RenderGraph& graph) {

@@ -72,6 +72,8 @@ public:
     [[nodiscard]] VkImageView view() const noexcept { return mView; }
     [[nodiscard]] const ImageDesc& desc() const noexcept { return mDesc; }
     [[nodiscard]] bool valid() const noexcept { return mImage != VK_NULL_HANDLE; }
+    // The device memory bound to it (what the driver asked for, padding included).
+    [[nodiscard]] VkDeviceSize bytes() const noexcept { return mAllocation.size; }
 
 private:
     void reset() noexcept;

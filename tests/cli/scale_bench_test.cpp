@@ -64,7 +64,7 @@ TEST(CliScaleBench, EveryMethodAtBothRayCountsWithItsFigures) {
         expectFields(row, {"method", "k", "rays_per_sample", "points", "rays", "ray_ratio",
                            "gpu_ms", "wall_ms", "time_ratio", "wall_time_ratio", "efficiency",
                            "frames", "frames_per_sample", "set_mb", "neighbour_index_mb",
-                           "knn_table_mb", "gpu_mb", "method_mb"});
+                           "knn_table_mb", "gpu_mb", "images_mb", "method_mb"});
         const std::string method = row["method"];
         const auto rays = row["rays_per_sample"].get<uint32_t>();
         SCOPED_TRACE(method + " " + std::to_string(rays));
@@ -76,9 +76,14 @@ TEST(CliScaleBench, EveryMethodAtBothRayCountsWithItsFigures) {
         EXPECT_EQ(row["frames"], 1);
         const double ratio = row["ray_ratio"].get<double>();
         EXPECT_NEAR(ratio, kW * kH * rays / row["rays"].get<double>(), 1e-9 * ratio);
+        const double images = row["images_mb"].get<double>();
+        EXPECT_LE(images, row["gpu_mb"].get<double>());
         if (method == "reference") {
             EXPECT_EQ(row["rays"].get<double>(), kW * kH * rays);
             EXPECT_EQ(row["time_ratio"].get<double>(), 1.0);
+            // Its radiance (RGBA32F) and tonemapped output (RGBA8), no TAA: 20 bytes a pixel,
+            // give or take the driver's padding.
+            EXPECT_NEAR(images, kW * kH * 20 / 1e6, 0.05 * kW * kH * 20 / 1e6);
             continue;
         }
         // Never more rays than the reference at the same rays per pixel.
@@ -89,9 +94,11 @@ TEST(CliScaleBench, EveryMethodAtBothRayCountsWithItsFigures) {
             EXPECT_TRUE(row["set_mb"].is_null());
             continue;
         }
+        // Beyond the reference's two images, the TAA history at least (two RGBA32F).
+        EXPECT_GE(images, kW * kH * (20 + 32) / 1e6);
         const double parts = row["set_mb"].get<double>() + row["neighbour_index_mb"].get<double>() +
                              (method == "msm" ? row["knn_table_mb"].get<double>() : 0.0) +
-                             row["gpu_mb"].get<double>();
+                             row["gpu_mb"].get<double>() - images;
         EXPECT_NEAR(row["method_mb"].get<double>(), parts, 1e-6);
         if (method == "msm") {
             EXPECT_EQ(row["knn_table_mb"].get<double>(), b["knn_table_mb"].get<double>());
