@@ -303,13 +303,28 @@ const ResolvedTexture& PassResources::texture(TextureId t) const {
 VkBuffer PassResources::buffer(BufferId b) const {
     return mBuffers.at(b.index).first;
 }
+VkBufferView PassResources::texelView(BufferId b) const {
+    const VkBufferView v = b.index < mTexelViews.size() ? mTexelViews[b.index] : VK_NULL_HANDLE;
+    if (v == VK_NULL_HANDLE) {
+        throw GraphError("buffer " + std::to_string(b.index) +
+                         " has no texel view: create it with a texel format and read it as "
+                         "uniform");
+    }
+    return v;
+}
+
 VkDeviceSize PassResources::bufferSize(BufferId b) const {
     return mBuffers.at(b.index).second;
 }
 
 struct TransientPool::Impl {
+    struct BufferEntry {
+        vk::Buffer buffer;
+        VkBufferUsageFlags usage = 0;
+        std::optional<std::pair<VkFormat, vk::BufferView>> view;
+    };
     std::map<std::string, vk::Image> images;
-    std::map<std::string, vk::Buffer> buffers;
+    std::map<std::string, BufferEntry> buffers;
     std::size_t created = 0;
 };
 
@@ -349,12 +364,29 @@ vk::Image& TransientPool::image(const std::string& name, uint32_t w, uint32_t h,
 vk::Buffer& TransientPool::buffer(const std::string& name, VkDeviceSize size,
                                   VkBufferUsageFlags usage) {
     auto it = mImpl->buffers.find(name);
-    if (it != mImpl->buffers.end() && it->second.size() == size) return it->second;
-    if (it != mImpl->buffers.end()) mImpl->buffers.erase(it);
+    if (it != mImpl->buffers.end() && it->second.buffer.size() == size &&
+        (it->second.usage & usage) == usage) {
+        return it->second.buffer;
+    }
+    if (it != mImpl->buffers.end()) {
+        mImpl->buffers.erase(it); // its view goes with it
+    }
     ++mImpl->created;
-    return mImpl->buffers
-        .emplace(name, vk::Buffer(mCtx, {size, usage, vk::MemoryUsage::GpuOnly, name}))
-        .first->second;
+    Impl::BufferEntry e{vk::Buffer(mCtx, {size, usage, vk::MemoryUsage::GpuOnly, name}), usage,
+                        std::nullopt};
+    return mImpl->buffers.emplace(name, std::move(e)).first->second.buffer;
+}
+
+VkBufferView TransientPool::texelView(const std::string& name, VkFormat format) {
+    const auto it = mImpl->buffers.find(name);
+    if (it == mImpl->buffers.end()) {
+        throw GraphError("no transient buffer '" + name + "' to view");
+    }
+    Impl::BufferEntry& e = it->second;
+    if (!e.view || e.view->first != format) {
+        e.view.emplace(format, vk::BufferView(mCtx, e.buffer, format));
+    }
+    return e.view->second.handle();
 }
 
 namespace {
@@ -421,6 +453,7 @@ RecordedFrame RenderGraph::record(const CompiledGraph& compiled, TransientPool& 
     const std::size_t rc = mResources.size();
     res.mTextures.resize(rc);
     res.mBuffers.resize(rc);
+    res.mTexelViews.resize(rc, VK_NULL_HANDLE);
     std::vector<VkImage> images(rc, VK_NULL_HANDLE);
     std::vector<VkBuffer> buffers(rc, VK_NULL_HANDLE);
     for (uint32_t r = 0; r < rc; ++r) {
@@ -443,6 +476,10 @@ RecordedFrame RenderGraph::record(const CompiledGraph& compiled, TransientPool& 
             } else {
                 vk::Buffer& buf = pool.buffer(x.name, x.buffer.size, compiled.bufferUsage[r]);
                 res.mBuffers[r] = {buf.handle(), buf.size()};
+                if (x.buffer.texelFormat != VK_FORMAT_UNDEFINED &&
+                    (compiled.bufferUsage[r] & VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT) != 0) {
+                    res.mTexelViews[r] = pool.texelView(x.name, x.buffer.texelFormat);
+                }
             }
             buffers[r] = res.mBuffers[r].first;
         }

@@ -87,6 +87,10 @@ struct TextureDesc {
 
 struct BufferDesc {
     VkDeviceSize size = 0;
+    // A pass that declares Access::UniformRead may read it as a uniform texel buffer of this
+    // format (PassResources::texelView): random reads of texels were far cheaper than of a
+    // storage buffer's vec4s on lavapipe (docs/lavapipe.md). Undefined: no view.
+    VkFormat texelFormat = VK_FORMAT_UNDEFINED;
 };
 
 // A resource the graph does not own: the caller keeps it alive until the frame is finished.
@@ -178,11 +182,15 @@ public:
     [[nodiscard]] const ResolvedTexture& texture(TextureId t) const;
     [[nodiscard]] VkBuffer buffer(BufferId b) const;
     [[nodiscard]] VkDeviceSize bufferSize(BufferId b) const;
+    // The texel view of a transient buffer created with BufferDesc::texelFormat and read this
+    // frame as Access::UniformRead; throws GraphError for any other.
+    [[nodiscard]] VkBufferView texelView(BufferId b) const;
 
 private:
     friend class RenderGraph;
     std::vector<ResolvedTexture> mTextures;
     std::vector<std::pair<VkBuffer, VkDeviceSize>> mBuffers;
+    std::vector<VkBufferView> mTexelViews;
 };
 
 struct PassTiming {
@@ -220,7 +228,10 @@ public:
     TransientPool& operator=(const TransientPool&) = delete;
     vk::Image& image(const std::string& name, uint32_t w, uint32_t h, VkFormat f,
                      VkImageUsageFlags usage);
+    // A buffer made again where its size changed or it lacks one of `usage`'s bits.
     vk::Buffer& buffer(const std::string& name, VkDeviceSize size, VkBufferUsageFlags usage);
+    // A view of the buffer `name` (made by buffer() before), kept while the buffer is.
+    VkBufferView texelView(const std::string& name, VkFormat format);
     [[nodiscard]] vk::Context& context() noexcept { return mCtx; }
     [[nodiscard]] std::size_t imageCount() const noexcept;
     // Images and buffers created so far (a reused transient is not created again).

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <unistd.h>
 
+#include "core/error.hpp"
 #include "readback/readback.hpp"
 #include "reference/reference.hpp"
 #include "render_graph/render_graph.hpp"
@@ -83,6 +84,61 @@ TEST_F(RenderGraphGpuTest, ClearCopyChainProducesDataAndTimings) {
     ASSERT_EQ(firstFrame.size(), 2u);
     EXPECT_EQ(firstFrame, secondFrame);
     EXPECT_NE(firstFrame[0], firstFrame[1]);
+}
+
+// A transient buffer made with a texel format has a texel view where a pass reads it as a
+// uniform (texel) buffer: none where it is only a storage buffer (no texel usage to view it
+// with), one once a frame reads it so (the buffer made again with that usage), the same one
+// while the buffer is kept.
+TEST_F(RenderGraphGpuTest, TexelViewsOfTransientBuffersReadAsUniform) {
+    rg::TransientPool pool(ctx());
+    auto frame = [&](rg::Access read) {
+        rg::RenderGraph g(16, 16);
+        struct D {
+            rg::BufferId t, out;
+        };
+        rg::BufferId filled, written;
+        g.addPass<D>(
+            "fill",
+            [&](rg::PassBuilder& b, D& d) {
+                d.t = filled = b.write(b.createBuffer("t", {1024, VK_FORMAT_R32_UINT}),
+                                       rg::Access::TransferDst);
+            },
+            [](const rg::PassResources& r, const D& d, VkCommandBuffer cmd) {
+                vkCmdFillBuffer(cmd, r.buffer(d.t), 0, VK_WHOLE_SIZE, 7u);
+            });
+        VkBufferView view = VK_NULL_HANDLE;
+        bool threw = false;
+        g.addPass<D>(
+            "read",
+            [&](rg::PassBuilder& b, D& d) {
+                d.t = b.read(filled, read);
+                // Something to keep the pass: the graph culls a pass that writes nothing.
+                d.out = written = b.write(b.createBuffer("out", {16}), rg::Access::TransferDst);
+            },
+            [&](const rg::PassResources& r, const D& d, VkCommandBuffer cmd) {
+                try {
+                    view = r.texelView(d.t);
+                } catch (const GraphError&) {
+                    threw = true;
+                }
+                vkCmdFillBuffer(cmd, r.buffer(d.out), 0, VK_WHOLE_SIZE, 1u);
+            });
+        g.sink(written, rg::Access::TransferDst);
+        (void)g.executeAndWait(g.compile(), pool);
+        return std::pair(view, threw);
+    };
+    const auto [storageView, storageThrew] = frame(rg::Access::StorageRead);
+    EXPECT_TRUE(storageThrew);
+    EXPECT_EQ(storageView, VK_NULL_HANDLE);
+    const auto [view, threw] = frame(rg::Access::UniformRead);
+    EXPECT_FALSE(threw);
+    EXPECT_NE(view, VK_NULL_HANDLE);
+    EXPECT_EQ(pool.created(), 3u); // "t" made again with the texel usage (and "out" once)
+    const auto [again, threwAgain] = frame(rg::Access::UniformRead);
+    EXPECT_FALSE(threwAgain);
+    EXPECT_EQ(again, view);
+    EXPECT_EQ(pool.created(), 3u);
 }
 
 TEST_F(RenderGraphGpuTest, TraceTonemapReadbackIsValidationClean) {
