@@ -1,5 +1,6 @@
 #include "interpolate/interpolate.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -7,6 +8,7 @@
 #include "foveation/gpu_point_set.hpp"
 #include "foveation/sample_canvas.hpp"
 #include "interpolate_comp.h"
+#include "interpolate_sites_comp.h"
 #include "vk/context.hpp"
 #include "vk/pipeline.hpp"
 
@@ -24,7 +26,14 @@ const std::vector<VkDescriptorType>& interpolateBindings() {
         VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,       VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER};
+    return bindings;
+}
+
+const std::vector<VkDescriptorType>& sitesBindings() {
+    static const std::vector<VkDescriptorType> bindings = {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+                                                           VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
     return bindings;
 }
 
@@ -41,7 +50,13 @@ std::unique_ptr<vk::ComputePipeline> makePipeline(vk::Context& ctx,
 }
 } // namespace
 
-InterpolatePass::InterpolatePass(vk::Context& ctx) : mCtx(ctx) {
+InterpolatePass::InterpolatePass(vk::Context& ctx)
+    : mCtx(ctx), mSites(std::make_unique<vk::ComputePipeline>(
+                     ctx, vk::ComputePipelineDesc{"interpolate.sites",
+                                                  gt_spv_interpolate_sites_comp,
+                                                  sitesBindings(),
+                                                  sizeof(sh::SitesPush),
+                                                  {}})) {
     const std::pair<uint32_t, bool> variants[] = {
         {sh::kMethodNearest, false}, {sh::kMethodShepard, false}, {sh::kMethodShepard, true},
         {sh::kMethodRbf, false},     {sh::kMethodRbf, true},      {sh::kViewPoints, false},
@@ -78,8 +93,9 @@ void checkInputs(const foveation::GpuPointSet& points, const InterpolateSettings
     }
     const bool useTable = usesPixelTable(s);
     const foveation::GpuPixelKnnTable* table = useTable ? in.table : nullptr;
-    if (useTable && (table == nullptr || table->k() < s.k)) {
-        throw ArgumentError("the k-NN table must hold at least k = " + std::to_string(s.k) +
+    if (useTable && (table == nullptr || table->k() != s.k)) {
+        // The shader blends a table row as the pixel's k nearest, all of them.
+        throw ArgumentError("the k-NN table must hold k = " + std::to_string(s.k) +
                             " neighbours per pixel");
     }
     const bool pixelWeights = useTable && s.method == Interpolation::Rbf;
@@ -137,10 +153,44 @@ sh::InterpolatePush interpolatePush(const rg::RenderGraph& graph,
                    s.kernel == RbfKernel::Gaussian ? sh::kKernelGaussian : sh::kKernelMultiquadric),
         glm::vec4(s.rbfShape, s.displayExposure, s.edgeTolerance, s.rangeSigma),
         table ? glm::uvec4(table->texelsPerRow(), table->k(), (s.k + 3) / 4, s.siteFrame)
-              : glm::uvec4(0u, 0u, 0u, s.siteFrame),
-        glm::vec4(s.siteJitter, 0.0f, 0.0f, 0.0f)};
+              : glm::uvec4(0u, 0u, 0u, s.siteFrame)};
 }
 } // namespace
+
+rg::BufferId InterpolatePass::addSites(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
+                                       glm::vec2 gaze, const InterpolateSettings& s) const {
+    // Groups in two dimensions beyond the 65,535 a dimension is sure to allow.
+    constexpr uint32_t kMaxGroupsX = 65535;
+    const uint32_t groups = (points.count() + sh::kSitesGroup - 1) / sh::kSitesGroup;
+    const uint32_t groupsX = std::max(1u, std::min(groups, kMaxGroupsX));
+    const uint32_t groupsY = (groups + groupsX - 1) / groupsX;
+    const glm::vec2 off =
+        foveation::gazeOffset(gaze, points.displayWidth(), points.displayHeight());
+    const sh::SitesPush push{glm::vec4(off, s.siteJitter, 0.0f),
+                             glm::uvec4(points.count(), s.siteFrame, groupsX, 0u)};
+    struct Data {
+        rg::BufferId sites;
+    };
+    const auto& data = graph.addPass<Data>(
+        "interpolate.sites",
+        [&](rg::PassBuilder& b, Data& d) {
+            // Read as texels: on lavapipe a texel fetch per candidate cost half what a
+            // storage buffer's vec4 did.
+            d.sites = b.write(
+                b.createBuffer("interpolate.sites", {static_cast<VkDeviceSize>(points.count()) * 16,
+                                                     VK_FORMAT_R32G32B32A32_SFLOAT}),
+                rg::Access::StorageWrite);
+        },
+        [ctx = &mCtx, pipeline = mSites.get(), pts = &points, push, groupsX,
+         groupsY](const rg::PassResources& r, const Data& d, VkCommandBuffer cmd) {
+            vk::DescriptorWriter writer;
+            writer.texelBuffer(sh::kBindingSitesPoints, pts->points())
+                .storageBuffer(sh::kBindingSitesOut, r.buffer(d.sites));
+            writer.push(*ctx, cmd, *pipeline);
+            vk::dispatch(cmd, *pipeline, &push, sizeof(push), groupsX, groupsY);
+        });
+    return data.sites;
+}
 
 InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
                                        rg::BufferId samples, glm::vec2 gaze,
@@ -157,8 +207,13 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
     const vk::ComputePipeline& pipe =
         pipeline({method, useTable, flat, sampleMotion.has_value(),
                   method == sh::kMethodNearest && nearestIsSampled(points, gaze)});
+    // Every method but nearest neighbour weighs candidates where they sit this frame.
+    const std::optional<rg::BufferId> sites = method == sh::kMethodNearest
+                                                  ? std::nullopt
+                                                  : std::optional(addSites(graph, points, gaze, s));
     struct Data {
         rg::BufferId samples;
+        std::optional<rg::BufferId> sites;
         rg::TextureId output, support;
         std::optional<RbfWeights> weights;
         std::optional<rg::BufferId> sampleMotion;
@@ -168,6 +223,9 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
         "interpolate",
         [&](rg::PassBuilder& b, Data& d) {
             d.samples = b.read(samples, rg::Access::StorageRead);
+            if (sites) {
+                d.sites = b.read(*sites, rg::Access::UniformRead);
+            }
             if (usesRbfSolve(s)) {
                 d.weights = RbfWeights{b.read(in.lambdas->r, rg::Access::StorageRead),
                                        b.read(in.lambdas->g, rg::Access::StorageRead),
@@ -217,6 +275,9 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
                                d.sampleMotion ? r.buffer(*d.sampleMotion) : samplesBuffer)
                 .storageImage(sh::kBindingInterpMotion,
                               r.texture(d.motion ? *d.motion : d.output).view);
+            // Nearest neighbour never reads the sites.
+            writer.texelBuffer(sh::kBindingInterpSites,
+                               d.sites ? r.texelView(*d.sites) : pts->points());
             writer.push(*ctx, cmd, *pipeline);
             vk::dispatch(cmd, *pipeline, &push, sizeof(push),
                          (push.params.x + sh::kInterpGroupX - 1) / sh::kInterpGroupX,

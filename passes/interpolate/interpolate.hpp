@@ -61,7 +61,8 @@ public:
     explicit InterpolatePass(vk::Context& ctx);
     ~InterpolatePass();
     // Adds "interpolate" reading the samples, writing new textures "interpolate.radiance" and
-    // "interpolate.support". `in` must hold what the settings need (see InterpolateInputs).
+    // "interpolate.support"; before it, for every method but nearest neighbour,
+    // "interpolate.sites". `in` must hold what the settings need (see InterpolateInputs).
     // With `sampleMotion` (point_sample's, a scene that moves) also "interpolate.motion".
     InterpolatedImage add(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
                           rg::BufferId samples, glm::vec2 gaze, const InterpolateSettings& s,
@@ -75,8 +76,13 @@ public:
 
 private:
     const vk::ComputePipeline& pipeline(const Variant& variant) const;
+    // Adds "interpolate.sites": every point of the set on the screen this frame, moved as the
+    // settings say (a new buffer of the set's size, vec4 x, y, spacing, 0).
+    rg::BufferId addSites(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
+                          glm::vec2 gaze, const InterpolateSettings& s) const;
 
     vk::Context& mCtx;
+    std::unique_ptr<vk::ComputePipeline> mSites;
     // The common variants are built with the pass; the others on first use.
     mutable std::map<Variant, std::unique_ptr<vk::ComputePipeline>> mPipelines;
 };

@@ -7,11 +7,12 @@
 #extension GL_GOOGLE_include_directive : require
 #include "foveated_shared.h"
 #include "rbf.glsl"
-#include "site_jitter.glsl"
 
 layout(local_size_x = kInterpGroupX, local_size_y = kInterpGroupY) in;
 layout(set = 0, binding = kBindingInterpPoints) uniform samplerBuffer uPoints;
 layout(std430, set = 0, binding = kBindingInterpSamples) readonly buffer Samples { vec4 samples[]; };
+// interpolate_sites.comp's: each point on the screen this frame (x, y) and its spacing p.
+layout(set = 0, binding = kBindingInterpSites) uniform samplerBuffer uSites;
 layout(set = 0, binding = kBindingNearest) uniform usamplerBuffer uNearest;
 layout(set = 0, binding = kBindingNeighbours) uniform usamplerBuffer uNeighbours;
 layout(set = 0, binding = kBindingKnnTable) uniform usamplerBuffer uKnnSlots;
@@ -186,6 +187,71 @@ void nearestNeighbour(ivec2 px, vec2 pos, uint q, vec2 offset, ivec2 size, float
     }
 }
 
+// The j-th point of a table row, and where it sits this frame (x, y, spacing p): false where
+// point_sample did not trace it (beyond the margin).
+bool rowSite(uvec2 row, uint j, inout uvec4 slots, vec2 size, float margin, out uint i,
+             out vec4 site) {
+    i = knnEntry(row, j, slots);
+    site = texelFetch(uSites, int(i));
+    return !(any(lessThan(site.xy, vec2(-margin))) || any(greaterThanEqual(site.xy, size + margin)));
+}
+
+// Modified Shepard through the k-NN table (thesis eqs. 5-6). A row is the canvas pixel's k
+// nearest points as a set, and every one of them point_sample traced is blended, so nothing is
+// sorted: one walk over the row finds the nearest (in `before`'s order) and the farthest, a
+// second sums the weights. Sorting cost llvmpipe half this pass: with the sites moving, rows
+// arrive out of order and each insertion shifted private arrays lane by lane.
+void shepardThroughTable(ivec2 px, vec2 pos, ivec2 c, vec2 size, float margin) {
+    uvec2 row = knnRow(c);
+    uvec4 slots = uvec4(0u);
+    uint n = 0u, nearest = kNoSample, i;
+    float nearestD2 = 0.0, farthestD2 = 0.0;
+    vec4 nearestSite = vec4(0.0), site;
+    for (uint j = 0u; j < pc.table.y; ++j) {
+        if (!rowSite(row, j, slots, size, margin, i, site)) continue;
+        vec2 d = site.xy - pos;
+        float dd = dot(d, d);
+        if (n == 0u || before(dd, i, nearestD2, nearest, true, c)) {
+            nearest = i;
+            nearestD2 = dd;
+            nearestSite = site;
+        }
+        farthestD2 = max(farthestD2, dd);
+        ++n;
+    }
+    storeMotion(px, nearest);
+    if (n == 0u) {
+        store(px, vec4(vec3(0.0), 1.0 / 0.0), vec2(0.0), -1.0);
+        return;
+    }
+    vec4 near = samples[nearest];
+    vec3 colour = near.rgb;
+    if (n > 1u) {
+        vec3 nearestT = compress(colour);
+        vec3 sum = nearestT; // a site at the pixel centre: its sample alone
+        float wsum = 1.0;
+        if (sqrt(nearestD2) >= 1e-6) {
+            float r = sqrt(farthestD2);
+            sum = vec3(0.0);
+            wsum = 0.0;
+            slots = uvec4(0u);
+            for (uint j = 0u; j < pc.table.y; ++j) {
+                if (!rowSite(row, j, slots, size, margin, i, site)) continue;
+                vec2 d = site.xy - pos;
+                float h = sqrt(dot(d, d));
+                vec4 sample_ = samples[i];
+                vec3 t = compress(sample_.rgb);
+                float w = pow(max(r - h, 0.0) / (r * h), pc.offset.w)
+                          * edgeWeight(near.w, sample_.w) * rangeWeight(nearestT, t);
+                sum += w * t;
+                wsum += w;
+            }
+        }
+        if (wsum > 0.0) colour = expand(sum / wsum);
+    }
+    store(px, vec4(colour, near.w), nearestSite.xy, nearestSite.z);
+}
+
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = ivec2(pc.params.xy);
@@ -200,6 +266,10 @@ void main() {
     uint q = readsIndex ? texelFetch(uNearest, c.y * int(pc.canvas.x) + c.x).r : 0u;
     if (kMethod == kMethodNearest) {
         nearestNeighbour(px, pos, q, offset, size, margin);
+        return;
+    }
+    if (kUseTable && kMethod == kMethodShepard) {
+        shepardThroughTable(px, pos, c, vec2(size), margin);
         return;
     }
     uint k = min(pc.params.z, kMaxK);
@@ -282,8 +352,8 @@ void main() {
     for (uint j = 0u; j < candidates; ++j) {
         uint i = table ? knnEntry(row, j, slots)
                        : (j == 0u ? q : texelFetch(uNeighbours, int(q * pc.canvas.z + j - 1u)).r);
-        vec4 pt = texelFetch(uPoints, int(i));
-        vec2 s = pt.xy + offset + siteJitter(i, siteFrame, pt.z, pc.site.x);
+        vec4 site = texelFetch(uSites, int(i));
+        vec2 s = site.xy;
         if (any(lessThan(s, vec2(-margin))) || any(greaterThanEqual(s, vec2(size) + margin))) continue;
         vec2 d = s - pos;
         float dd = dot(d, d);
@@ -298,7 +368,7 @@ void main() {
         d2[m] = dd;
         if (m == 0u) {
             site0 = s;
-            spacing0 = pt.z;
+            spacing0 = site.z;
         }
         n = min(n + 1u, k);
         // The index's nearest point is exact: nothing closer follows (with the sites moved, the

@@ -57,6 +57,9 @@ GT_CONST kBindingInterpSupport = 10;
 // and per pixel the motion of its nearest sample out (image2D rgba32f, as the samples').
 GT_CONST kBindingInterpSampleMotion = 14;
 GT_CONST kBindingInterpMotion = 15;
+// Every method but nearest neighbour: where each point sits on the screen this frame, its sites
+// pass's buffer (kBindingSitesOut) as a samplerBuffer RGBA32F.
+GT_CONST kBindingInterpSites = 16;
 GT_CONST kInterpGroupX = 8;
 GT_CONST kInterpGroupY = 8;
 GT_CONST kMaxK = 20;
@@ -81,8 +84,20 @@ struct InterpolatePush {
                   // colour-guided weights (0: off)
     uvec4 table;  // x = slot texels per row (flat: per pixel) of the k-NN table, y = its
                   // k, z = texels per canvas pixel of the RBF pixel weights (RBF with the table),
-                  // w = the frame whose moved sites to blend from (site_jitter.glsl; 0: fixed)
-    vec4 site;    // x = the scale of the sites' moves (site_jitter.glsl), yzw unused
+                  // w = the frame whose moved sites it blends from (kBindingInterpSites; 0: the
+                  // sites stay put)
+};
+
+// interpolate's sites pass (interpolate_sites.comp): where every point of the set sits on the
+// screen this frame (site_jitter.glsl), once per point rather than once for every pixel that
+// weighs it.
+GT_CONST kBindingSitesPoints = 0; // samplerBuffer RGBA32F (as kBindingPoints)
+GT_CONST kBindingSitesOut = 1;    // buffer of vec4: screen x, y, spacing p, 0
+GT_CONST kSitesGroup = 64;
+
+struct SitesPush {
+    vec4 offset;  // x, y: canvas -> screen offset; z: the scale of the sites' moves; w unused
+    uvec4 params; // x = points, y = the frame whose moved sites (0: fixed), z = groups in x
 };
 
 // interpolate, RBF only: the weights rbf_solve wrote, one float per neighbour and channel.
