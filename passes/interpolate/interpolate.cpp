@@ -158,15 +158,13 @@ sh::InterpolatePush interpolatePush(const rg::RenderGraph& graph,
 } // namespace
 
 rg::BufferId InterpolatePass::addSites(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
-                                       glm::vec2 gaze, const InterpolateSettings& s) const {
+                                       glm::vec2 offset, const InterpolateSettings& s) const {
     // Groups in two dimensions beyond the 65,535 a dimension is sure to allow.
     constexpr uint32_t kMaxGroupsX = 65535;
     const uint32_t groups = (points.count() + sh::kSitesGroup - 1) / sh::kSitesGroup;
     const uint32_t groupsX = std::max(1u, std::min(groups, kMaxGroupsX));
     const uint32_t groupsY = (groups + groupsX - 1) / groupsX;
-    const glm::vec2 off =
-        foveation::gazeOffset(gaze, points.displayWidth(), points.displayHeight());
-    const sh::SitesPush push{glm::vec4(off, s.siteJitter, 0.0f),
+    const sh::SitesPush push{glm::vec4(offset, s.siteJitter, 0.0f),
                              glm::uvec4(points.count(), s.siteFrame, groupsX, 0u)};
     struct Data {
         rg::BufferId sites;
@@ -208,9 +206,10 @@ InterpolatedImage InterpolatePass::add(rg::RenderGraph& graph, const foveation::
         pipeline({method, useTable, flat, sampleMotion.has_value(),
                   method == sh::kMethodNearest && nearestIsSampled(points, gaze)});
     // Every method but nearest neighbour weighs candidates where they sit this frame.
-    const std::optional<rg::BufferId> sites = method == sh::kMethodNearest
-                                                  ? std::nullopt
-                                                  : std::optional(addSites(graph, points, gaze, s));
+    const std::optional<rg::BufferId> sites =
+        method == sh::kMethodNearest
+            ? std::nullopt
+            : std::optional(addSites(graph, points, glm::vec2(push.offset), s));
     struct Data {
         rg::BufferId samples;
         std::optional<rg::BufferId> sites;

@@ -76,10 +76,11 @@ public:
 
 private:
     const vk::ComputePipeline& pipeline(const Variant& variant) const;
-    // Adds "interpolate.sites": every point of the set on the screen this frame, moved as the
-    // settings say (a new buffer of the set's size, vec4 x, y, spacing, 0).
+    // Adds "interpolate.sites": every point of the set on the screen this frame (`offset`: the
+    // canvas -> screen offset of the gaze), moved as the settings say (a new buffer of the set's
+    // size, vec4 x, y, spacing, 0).
     rg::BufferId addSites(rg::RenderGraph& graph, const foveation::GpuPointSet& points,
-                          glm::vec2 gaze, const InterpolateSettings& s) const;
+                          glm::vec2 offset, const InterpolateSettings& s) const;
 
     vk::Context& mCtx;
     std::unique_ptr<vk::ComputePipeline> mSites;

@@ -126,11 +126,11 @@ float tableDistance2(vec2 point, ivec2 canvasPixel) {
     return d2;
 }
 
-// Whether candidate a (squared distance this frame dd, point index i) goes before b: by
-// distance this frame; with the table, equal distances in the table's order, which the flat
-// table's rows were sorted in (rare: only then are the points fetched again).
-bool before(float ddA, uint iA, float ddB, uint iB, bool table, ivec2 canvasPixel) {
-    if (ddA != ddB || !table) return ddA < ddB;
+// Whether table candidate a (squared distance this frame dd, point index i) goes before b: by
+// distance this frame, equal distances in the table's order, which the flat table's rows were
+// sorted in (rare: only then are the points fetched again).
+bool before(float ddA, uint iA, float ddB, uint iB, ivec2 canvasPixel) {
+    if (ddA != ddB) return ddA < ddB;
     float tdA = tableDistance2(texelFetch(uPoints, int(iA)).xy, canvasPixel);
     float tdB = tableDistance2(texelFetch(uPoints, int(iB)).xy, canvasPixel);
     return tdA < tdB || (tdA == tdB && iA < iB);
@@ -211,7 +211,7 @@ void shepardThroughTable(ivec2 px, vec2 pos, ivec2 c, vec2 size, float margin) {
         if (!rowSite(row, j, slots, size, margin, i, site)) continue;
         vec2 d = site.xy - pos;
         float dd = dot(d, d);
-        if (n == 0u || before(dd, i, nearestD2, nearest, true, c)) {
+        if (n == 0u || before(dd, i, nearestD2, nearest, c)) {
             nearest = i;
             nearestD2 = dd;
             nearestSite = site;
@@ -273,7 +273,6 @@ void main() {
         return;
     }
     uint k = min(pc.params.z, kMaxK);
-    bool fallBackToLists = false;
     if (kMethod == kMethodRbf && kUseTable) {
         // s(x) = sum_j w_j f_j over the canvas pixel's k table neighbours (the thesis's
         // per-pixel solve of eq. 8, done once: rbf_pixel_weights.hpp). Neighbours beyond the
@@ -323,7 +322,6 @@ void main() {
             return;
         }
         k = 1u; // no neighbour sampled: the nearest sampled point through the lists below
-        fallBackToLists = true;
     }
     if (kMethod == kMethodRbf && !kUseTable) {
         vec4 qpoint = texelFetch(uPoints, int(q));
@@ -337,29 +335,24 @@ void main() {
     }
     const uint siteFrame = pc.table.w; // sites moved this frame (site_jitter.glsl); 0: fixed
 
-    // Candidates, kept sorted by distance: the canvas pixel's set of the k-NN table (thesis),
-    // or the nearest point and its stored neighbours. Points that point_sample skipped (beyond
-    // the margin) are left out.
+    // Candidates, kept sorted by distance: the nearest point and its stored neighbours (Modified
+    // Shepard through the table blends its row unsorted above). Points that point_sample skipped
+    // (beyond the margin) are left out.
     uint idx[kMaxK + 1];
     float d2[kMaxK + 1];
     vec2 site0 = vec2(0.0); // where the nearest one sits this frame, and its spacing
     float spacing0 = -1.0;
     uint n = 0u;
-    const bool table = kUseTable && !fallBackToLists;
-    uvec2 row = table ? knnRow(c) : uvec2(0u);
-    uvec4 slots = uvec4(0u);
-    uint candidates = table ? pc.table.y : pc.canvas.z + 1u;
-    for (uint j = 0u; j < candidates; ++j) {
-        uint i = table ? knnEntry(row, j, slots)
-                       : (j == 0u ? q : texelFetch(uNeighbours, int(q * pc.canvas.z + j - 1u)).r);
+    for (uint j = 0u; j <= pc.canvas.z; ++j) {
+        uint i = j == 0u ? q : texelFetch(uNeighbours, int(q * pc.canvas.z + j - 1u)).r;
         vec4 site = texelFetch(uSites, int(i));
         vec2 s = site.xy;
         if (any(lessThan(s, vec2(-margin))) || any(greaterThanEqual(s, vec2(size) + margin))) continue;
         vec2 d = s - pos;
         float dd = dot(d, d);
-        if (n == k && !before(dd, i, d2[n - 1u], idx[n - 1u], table, c)) continue;
+        if (n == k && !(dd < d2[n - 1u])) continue;
         uint m = min(n, k - 1u);
-        while (m > 0u && before(dd, i, d2[m - 1u], idx[m - 1u], table, c)) {
+        while (m > 0u && dd < d2[m - 1u]) {
             idx[m] = idx[m - 1u];
             d2[m] = d2[m - 1u];
             --m;
@@ -372,8 +365,8 @@ void main() {
         }
         n = min(n + 1u, k);
         // The index's nearest point is exact: nothing closer follows (with the sites moved, the
-        // rest of the candidates may still hold a closer one). A table row is a set: all of it.
-        if (siteFrame == 0u && n == k && !table && j == 0u) break;
+        // rest of the candidates may still hold a closer one).
+        if (siteFrame == 0u && n == k && j == 0u) break;
     }
     vec3 colour = vec3(0.0);
     float depth = 1.0 / 0.0; // first-hit distance of the nearest sample, for TAA
