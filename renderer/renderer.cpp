@@ -234,8 +234,8 @@ void Renderer::waitIdle() {
     mRing->waitIdle();
 }
 
-VkDeviceSize Renderer::frameImageBytes() const noexcept {
-    return mHistory->imageBytes() + mRing->transientImageBytes();
+VkDeviceSize Renderer::frameImageBytes(std::optional<VkExtent2D> extent) const noexcept {
+    return mHistory->imageBytes(extent) + mRing->transientImageBytes(extent);
 }
 
 // An untimed frame through the method's pipelines and the tone mapper, into a throwaway pool,

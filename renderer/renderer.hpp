@@ -125,8 +125,10 @@ public:
     void waitIdle();
     [[nodiscard]] uint32_t framesInFlight() const noexcept;
     // Device memory of the views' frame images: their temporal histories and the transient
-    // images of every frame in flight (not the methods' buffers and tables, nor the scene's).
-    [[nodiscard]] VkDeviceSize frameImageBytes() const noexcept;
+    // images of every frame in flight (not the methods' buffers and tables, nor the scene's);
+    // of `extent` only, where given (a view's own size, apart from a method's coarser grids).
+    [[nodiscard]] VkDeviceSize
+    frameImageBytes(std::optional<VkExtent2D> extent = {}) const noexcept;
 
 private:
     struct ViewHistory {

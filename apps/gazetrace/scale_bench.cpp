@@ -60,12 +60,13 @@ double peakRssMb() {
     return static_cast<double>(u.ru_maxrss) * 1024.0 / 1e6;
 }
 
-double gpuUsedMb(vk::Context& ctx) {
-    return static_cast<double>(ctx.allocator().stats().usedBytes) / 1e6;
+// Memory figures are counted in bytes, so that a difference of equal sums is exactly zero.
+int64_t gpuUsedBytes(vk::Context& ctx) {
+    return static_cast<int64_t>(ctx.allocator().stats().usedBytes);
 }
 
-double frameImagesMb(const render::Renderer& r) {
-    return static_cast<double>(r.frameImageBytes()) / 1e6;
+double mb(int64_t bytes) {
+    return static_cast<double>(bytes) / 1e6;
 }
 
 // The headsets to measure, fewest pixels per eye first.
@@ -117,9 +118,11 @@ struct Slot {
     render::FoveationMethod* method = nullptr;
     bool taa = false;
     int framesPerSample = 1;
-    double gpuMb = 0.0;    // allocator growth from its construction through its warm-up frames
-    double imagesMb = 0.0; // of which its view's frame images (histories, transients)
-    std::string error;     // why it could not be set up; then it is not measured
+    int64_t gpuBytes = 0; // allocator growth from its construction through its warm-up frames
+    // Of which its view's frame images at the eye's size (histories, radiance, output): every
+    // method at that size holds such images. A method's coarser grids (layers) are its own.
+    int64_t eyeImageBytes = 0;
+    std::string error; // why it could not be set up; then it is not measured
 };
 
 // One row: a method at one ray count, its samples and the reference's of the same rounds.
@@ -213,8 +216,9 @@ void ProfileRun::warmUp(const Slot& s) {
 // device memory that took: its buffers, tables and its view's frame resources.
 void ProfileRun::setUp(Slot& s, const std::function<void()>& construct,
                        const std::function<void()>& release) {
-    const double before = gpuUsedMb(mRenderer.context());
-    const double imagesBefore = frameImagesMb(mRenderer);
+    const VkExtent2D eye{mHmd.eyeWidth, mHmd.eyeHeight};
+    const int64_t before = gpuUsedBytes(mRenderer.context());
+    const auto imagesBefore = static_cast<int64_t>(mRenderer.frameImageBytes(eye));
     try {
         construct();
         warmUp(s);
@@ -231,8 +235,8 @@ void ProfileRun::setUp(Slot& s, const std::function<void()>& construct,
                      e.what());
         return;
     }
-    s.gpuMb = gpuUsedMb(mRenderer.context()) - before;
-    s.imagesMb = frameImagesMb(mRenderer) - imagesBefore;
+    s.gpuBytes = gpuUsedBytes(mRenderer.context()) - before;
+    s.eyeImageBytes = static_cast<int64_t>(mRenderer.frameImageBytes(eye)) - imagesBefore;
 }
 
 // Rounds of one frame (or sample) per method, the reference first; a method left out at set-up
@@ -308,11 +312,11 @@ nlohmann::json ProfileRun::rowJson(const Row& r, const Slot& s, const Row& refer
             {"set_mb", nullable(ps, setMb)},
             {"neighbour_index_mb", nullable(ps, indexMb)},
             {"knn_table_mb", nullable(table, tableMb)},
-            {"gpu_mb", s.gpuMb},
-            {"images_mb", s.imagesMb},
-            // The method's buffers are what it allocated beyond its view's images (layers: none
-            // but rounding, so no negative zero).
-            {"method_mb", setMb + indexMb + tableMb + std::max(0.0, s.gpuMb - s.imagesMb)}};
+            {"gpu_mb", mb(s.gpuBytes)},
+            {"images_mb", mb(s.eyeImageBytes)},
+            // Its GPU buffers and grids: what it allocated beyond its view's images.
+            {"method_mb",
+             setMb + indexMb + tableMb + mb(std::max<int64_t>(0, s.gpuBytes - s.eyeImageBytes))}};
 }
 
 // Each method built and warmed up in turn at the first ray count.

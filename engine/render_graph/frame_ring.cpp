@@ -76,10 +76,10 @@ uint32_t FrameRing::framesInFlight() const noexcept {
     return static_cast<uint32_t>(mSlots.size());
 }
 
-VkDeviceSize FrameRing::transientImageBytes() const noexcept {
+VkDeviceSize FrameRing::transientImageBytes(std::optional<VkExtent2D> extent) const noexcept {
     VkDeviceSize sum = 0;
     for (const std::unique_ptr<FrameSlot>& s : mSlots) {
-        sum += s->transients->imageBytes();
+        sum += s->transients->imageBytes(extent);
     }
     return sum;
 }

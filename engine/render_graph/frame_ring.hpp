@@ -70,8 +70,9 @@ public:
     // Every frame up to this number has finished on the GPU.
     [[nodiscard]] uint64_t completedFrame() const noexcept { return mCompleted; }
     [[nodiscard]] DeferredRelease& deferredRelease() noexcept { return mRelease; }
-    // Device memory of the transient images every slot holds.
-    [[nodiscard]] VkDeviceSize transientImageBytes() const noexcept;
+    // Device memory of the transient images every slot holds (of `extent` only, where given).
+    [[nodiscard]] VkDeviceSize
+    transientImageBytes(std::optional<VkExtent2D> extent = {}) const noexcept;
     // GPU times of the frames finished since the last call, oldest first.
     [[nodiscard]] std::vector<CompletedFrame> takeCompleted();
 

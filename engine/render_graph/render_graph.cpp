@@ -14,6 +14,16 @@
 
 namespace gt::rg {
 
+namespace {
+
+// Whether `image` is of `extent`, or any size where none is given (memory figures by size).
+bool hasExtent(const vk::Image& image, std::optional<VkExtent2D> extent) noexcept {
+    return !extent ||
+           (image.desc().width == extent->width && image.desc().height == extent->height);
+}
+
+} // namespace
+
 // ---------------------------------------------------------------------------------------------
 // Access vocabulary
 
@@ -339,10 +349,10 @@ std::size_t TransientPool::created() const noexcept {
     return mImpl->created;
 }
 
-VkDeviceSize TransientPool::imageBytes() const noexcept {
+VkDeviceSize TransientPool::imageBytes(std::optional<VkExtent2D> extent) const noexcept {
     VkDeviceSize sum = 0;
     for (const auto& [name, image] : mImpl->images) {
-        sum += image.bytes();
+        sum += hasExtent(image, extent) ? image.bytes() : 0;
     }
     return sum;
 }
@@ -611,11 +621,11 @@ bool HistoryPool::holds(std::string_view name, uint32_t width, uint32_t height,
     return d.width == width && d.height == height && d.format == format;
 }
 
-VkDeviceSize HistoryPool::imageBytes() const noexcept {
+VkDeviceSize HistoryPool::imageBytes(std::optional<VkExtent2D> extent) const noexcept {
     VkDeviceSize sum = 0;
     for (const auto& [name, e] : mEntries) {
         for (const std::shared_ptr<vk::Image>& image : e->images) {
-            sum += image ? image->bytes() : 0;
+            sum += image && hasExtent(*image, extent) ? image->bytes() : 0;
         }
     }
     return sum;

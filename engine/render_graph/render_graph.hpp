@@ -236,8 +236,8 @@ public:
     [[nodiscard]] std::size_t imageCount() const noexcept;
     // Images and buffers created so far (a reused transient is not created again).
     [[nodiscard]] std::size_t created() const noexcept;
-    // Device memory of the images it holds now.
-    [[nodiscard]] VkDeviceSize imageBytes() const noexcept;
+    // Device memory of the images it holds now (of `extent` only, where given).
+    [[nodiscard]] VkDeviceSize imageBytes(std::optional<VkExtent2D> extent = {}) const noexcept;
 
 private:
     struct Impl;
@@ -283,8 +283,8 @@ public:
     [[nodiscard]] bool holds(std::string_view name, uint32_t width, uint32_t height,
                              VkFormat format) const;
     void setFrameNumber(uint64_t frame) noexcept { mFrame = frame; }
-    // Device memory of every history's two images.
-    [[nodiscard]] VkDeviceSize imageBytes() const noexcept;
+    // Device memory of every history's two images (of `extent` only, where given).
+    [[nodiscard]] VkDeviceSize imageBytes(std::optional<VkExtent2D> extent = {}) const noexcept;
 
 private:
     friend class RenderGraph;
