@@ -384,6 +384,9 @@ void checkEvalOptions(const EvalOptions& o) {
     if (!o.match.empty() && o.match != "uniform" && o.match != "full") {
         throw ArgumentError("--match: expected uniform or full, got '" + o.match + "'");
     }
+    if (o.matchDoublings && o.match != "uniform") {
+        throw ArgumentError("--match-doublings: with --match uniform only");
+    }
 }
 
 // The options checked; whether --reconstruction is the thesis's.
@@ -1116,15 +1119,17 @@ nlohmann::json EvalRun::timedInTurns(const MatchEntry& match) {
     return t;
 }
 
+// Where --match-doublings is unset: up to 8x the foveated rays per point.
+constexpr uint32_t kMatchDoublings = 3;
+
 // The speed-up at equal picture quality: the cheapest uniform render whose flip_ecc is no higher
 // than the foveated frame's in every band, found by findLowestMatch over its width (uniform: at
 // the foveated rays per point, from the size that spends the foveated rays up to full size, to
 // 2 % in pixels) or its rays per pixel at full size (full: exact), at most 8 candidates. Where
-// even full size does not match, `uniform` doubles its rays per pixel (up to kMatchDoublings
+// even full size does not match, `uniform` doubles its rays per pixel (up to --match-doublings
 // times) and searches the width again from full size: a foveated frame that spends more paths
 // in its fovea (--fovea-rays) is matched only by a uniform tracer with more paths per pixel.
 void EvalRun::match(nlohmann::json& summary) {
-    constexpr uint32_t kMatchDoublings = 3;
     const EvalOptions& o = mOptions;
     const Geometry& g = mGeometry;
     const bool full = o.match == "full";
@@ -1145,7 +1150,8 @@ void EvalRun::match(nlohmann::json& summary) {
     std::vector<MatchEntry> tried;
     RgbaImage picture, matched;
     const RaysMatchResult found = findLowestMatchDoublingRays(
-        limits, o.raysPerPoint, full ? 0 : kMatchDoublings, [&](uint32_t n, uint32_t rpp) {
+        limits, o.raysPerPoint, full ? 0 : o.matchDoublings.value_or(kMatchDoublings),
+        [&](uint32_t n, uint32_t rpp) {
             const uint32_t h = std::max<uint32_t>(
                 1, static_cast<uint32_t>(std::lround(static_cast<double>(n) * g.height / g.width)));
             tried.push_back(full ? matchCandidate(g.width, g.height, n, picture)
@@ -1160,6 +1166,7 @@ void EvalRun::match(nlohmann::json& summary) {
     nlohmann::json m = {{"against", o.match},
                         {"criterion", "flip_ecc no higher in every band"},
                         {"upscale", full ? "none" : "bilinear"},
+                        {"doublings", full ? 0 : o.matchDoublings.value_or(kMatchDoublings)},
                         {"foveated",
                          {{"method", o.method},
                           {"rays", mTarget.rays},

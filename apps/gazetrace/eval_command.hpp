@@ -61,6 +61,9 @@ struct EvalOptions {
     // higher than the foveated frame's in every band. "" (off) | uniform (the lowest resolution
     // at the same rays per pixel, upscaled) | full (the fewest rays per pixel at full size).
     std::string match;
+    // uniform: how many times the search may double the uniform render's rays per pixel where
+    // even full size does not match (unset: kMatchDoublings, up to 8x the rays per point).
+    std::optional<uint32_t> matchDoublings;
     std::string out = "out/eval"; // folder for eval.json and the PNGs
     std::string cacheDir;
     bool lod = true;

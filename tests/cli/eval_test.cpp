@@ -138,6 +138,7 @@ TEST(Eval, MatchNamesTheCheapestUniformRenderNoWorseInEveryBand) {
     const auto& m = j["match"];
     EXPECT_EQ(m["against"], "uniform");
     EXPECT_EQ(m["upscale"], "bilinear");
+    EXPECT_EQ(m["doublings"], 3); // by default up to 8x the rays per point
     const auto& fov = m["foveated"];
     EXPECT_EQ(fov["rays"], j["methods"]["foveated"]["rays"]);
     EXPECT_GT(fov["gpu_ms_median"].get<double>(), 0.0);
@@ -239,6 +240,8 @@ TEST(Eval, BadInputsAreOneLine) {
     expectCleanFailure(run(base + "--blend sideways"), "--blend", out);
     expectCleanFailure(run(base + "--baseline lanczos"), "--baseline", out);
     expectCleanFailure(run(base + "--match lower"), "--match", out);
+    expectCleanFailure(run(base + "--match full --match-doublings 2"), "--match-doublings", out);
+    expectCleanFailure(run(base + "--match uniform --match-doublings 7"), "--match-doublings", out);
     expectCleanFailure(run(base + "--method grid"), "--method", out);
     expectCleanFailure(run(base + "--method layers --sweep"), "--sweep", out);
     expectCleanFailure(run(base + "--gaze 500,5"), "--gaze", out);

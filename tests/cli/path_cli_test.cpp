@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <set>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -170,13 +171,14 @@ TEST(CliPath, EvalDenoisesSmallerFramesAroundTheSameGaze) {
 // eval --match with the path integrator also checks the fovea against full resolution at the
 // paths per display pixel the foveated frame spends within 5 degrees: here the whole 64 x 48
 // window (5 degrees is 194 px on the desktop screen), its points (at most one per pixel, the
-// set thinned for the coarse window) tracing 4 paths each.
+// set thinned for the coarse window) tracing 4 paths each. The uniform search may double its
+// one path per pixel once: full size at 1 and 2 paths per pixel is all it renders.
 TEST(CliPath, EvalChecksTheFoveaAgainstFullResolutionAtItsPathsPerPixel) {
     const auto dir = test::tempDir("cli_path_fovea_check");
     const Result r = run("eval --scene builtin:cornell --profile desktop --width 64 --height 48 "
                          "--integrator path --bounces 1 --rays-per-point 1 --fovea-rays 4 "
-                         "--reference-spp 4 --frames 2 --match uniform --baseline none "
-                         "--validate --json --cache " +
+                         "--reference-spp 4 --frames 2 --match uniform --match-doublings 1 "
+                         "--baseline none --validate --json --cache " +
                          (dir / "cache").string() + " --out " + (dir / "e").string());
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;
@@ -192,6 +194,16 @@ TEST(CliPath, EvalChecksTheFoveaAgainstFullResolutionAtItsPathsPerPixel) {
               static_cast<uint32_t>(std::lround(perPixel)));
     EXPECT_EQ(f["no_worse"].get<bool>(),
               f["flip_0_5_foveated"].get<double>() <= f["flip_0_5_full_resolution"].get<double>());
+
+    // The fovea's 4 paths are more than full size at 1 path per pixel gives: the search doubles,
+    // once and no more.
+    const auto& m = j["match"];
+    EXPECT_EQ(m["doublings"], 1);
+    std::set<uint32_t> paths;
+    for (const auto& e : m["tried"]) {
+        paths.insert(e["rays_per_pixel"].get<uint32_t>());
+    }
+    EXPECT_EQ(paths, (std::set<uint32_t>{1, 2})) << m.dump();
 }
 
 TEST(CliPath, EvalTracesEveryFrameWithTheIntegrator) {

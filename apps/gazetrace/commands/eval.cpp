@@ -166,6 +166,11 @@ private:
                              "Equal picture quality: the cheapest uniform render whose flip_ecc is "
                              "no higher in every band: uniform (lowest resolution, upscaled) | "
                              "full (fewest rays per pixel at full size)");
+        mCommand
+            ->add_option("--match-doublings", mOptions.matchDoublings,
+                         "--match uniform: times the search may double the rays per pixel where "
+                         "even full size does not match (default 3: up to 8x the rays per point)")
+            ->check(CLI::Range(0u, 6u));
         mCommand->add_option("--out", mOptions.out, "Folder for eval.json and the PNGs")
             ->capture_default_str();
         mCommand->add_option("--cache", mOptions.cacheDir, "Point-set cache folder");
