@@ -1133,6 +1133,7 @@ void EvalRun::match(nlohmann::json& summary) {
     const EvalOptions& o = mOptions;
     const Geometry& g = mGeometry;
     const bool full = o.match == "full";
+    const uint32_t doublings = full ? 0 : o.matchDoublings.value_or(kMatchDoublings);
     MatchSearchLimits limits{.maxTries = 8};
     if (full) {
         const double equal =
@@ -1150,8 +1151,7 @@ void EvalRun::match(nlohmann::json& summary) {
     std::vector<MatchEntry> tried;
     RgbaImage picture, matched;
     const RaysMatchResult found = findLowestMatchDoublingRays(
-        limits, o.raysPerPoint, full ? 0 : o.matchDoublings.value_or(kMatchDoublings),
-        [&](uint32_t n, uint32_t rpp) {
+        limits, o.raysPerPoint, doublings, [&](uint32_t n, uint32_t rpp) {
             const uint32_t h = std::max<uint32_t>(
                 1, static_cast<uint32_t>(std::lround(static_cast<double>(n) * g.height / g.width)));
             tried.push_back(full ? matchCandidate(g.width, g.height, n, picture)
@@ -1166,7 +1166,7 @@ void EvalRun::match(nlohmann::json& summary) {
     nlohmann::json m = {{"against", o.match},
                         {"criterion", "flip_ecc no higher in every band"},
                         {"upscale", full ? "none" : "bilinear"},
-                        {"doublings", full ? 0 : o.matchDoublings.value_or(kMatchDoublings)},
+                        {"doublings", doublings},
                         {"foveated",
                          {{"method", o.method},
                           {"rays", mTarget.rays},
